@@ -1,0 +1,5 @@
+"""Allow `python -m codegen ...`."""
+
+from codegen.cli import main
+
+raise SystemExit(main())
