@@ -12,9 +12,10 @@ from __future__ import annotations
 import hashlib
 import math
 import re
-from fractions import Fraction
 from collections.abc import Mapping
 from dataclasses import dataclass
+from decimal import Context, Decimal
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -45,7 +46,13 @@ def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode) -> dict[An
     seen: dict[Any, int] = {}
     for key_node, _ in node.value:
         key = loader.construct_object(key_node)
-        if key in seen:
+        try:
+            duplicate = key in seen
+        except TypeError:
+            raise yaml.constructor.ConstructorError(
+                None, None, "found unhashable key", key_node.start_mark
+            ) from None
+        if duplicate:
             raise yaml.constructor.ConstructorError(
                 None,
                 None,
@@ -80,9 +87,18 @@ class _Range:
     def describe(self) -> str:
         left = "[" if self.low_inclusive else "("
         right = "]" if self.high_inclusive else ")"
-        low = "-inf" if self.low is None else f"{self.low:g}"
-        high = "inf" if self.high is None else f"{self.high:g}"
+        low = "-inf" if self.low is None else _g(self.low)
+        high = "inf" if self.high is None else _g(self.high)
         return f"{left}{low}, {high}{right} {self.unit}".rstrip()
+
+
+def _g(value: float | Fraction) -> str:
+    """%g of an int, float or Fraction; exact Fractions too large for a float still print."""
+    try:
+        return f"{float(value):g}"
+    except OverflowError:
+        exact = Context(prec=6).divide(Decimal(value.numerator), Decimal(value.denominator))
+        return f"{exact.normalize():g}"
 
 
 def _positive(high: float, unit: str) -> _Range:
@@ -129,16 +145,20 @@ class _Reader:
             raise self.error(where, raw, str(exc), rng.describe()) from None
         if not rng.contains(parsed.si_value):
             raise self.error(
-                where, raw, f"{float(parsed.si_value):g} {dim.si_unit} is out of range", rng.describe()
+                where, raw, f"{_g(parsed.si_value)} {dim.si_unit} is out of range", rng.describe()
             )
         return parsed.si_value
 
     def number(self, data: Mapping[str, Any], key: str, path: str, rng: _Range) -> Fraction:
         where = f"{path}.{key}" if path else key
         raw = data[key]
-        if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not math.isfinite(raw):
+        if (
+            isinstance(raw, bool)
+            or not isinstance(raw, (int, float))
+            or (isinstance(raw, float) and not math.isfinite(raw))
+        ):
             raise self.error(where, raw, "must be a plain number", rng.describe())
-        if not rng.contains(float(raw)):
+        if not rng.contains(raw):
             raise self.error(where, raw, "out of range", rng.describe())
         return Fraction(str(raw))
 
@@ -147,7 +167,7 @@ class _Reader:
         raw = data[key]
         if isinstance(raw, bool) or not isinstance(raw, int):
             raise self.error(where, raw, "must be an integer", rng.describe())
-        if not rng.contains(float(raw)):
+        if not rng.contains(raw):
             raise self.error(where, raw, "out of range", rng.describe())
         return raw
 
@@ -166,19 +186,22 @@ def _yaml_lines(text: str) -> dict[str, int]:
     except yaml.YAMLError:
         return lines
 
-    def walk(node: yaml.Node, path: str) -> None:
+    def walk(node: yaml.Node, path: str, ancestors: frozenset[int]) -> None:
         if path:
             lines[path] = node.start_mark.line + 1
+        if id(node) in ancestors:  # a recursive alias such as `&x [*x]`
+            return
+        inner = ancestors | {id(node)}
         if isinstance(node, yaml.MappingNode):
             for key_node, value_node in node.value:
                 key = str(key_node.value)
-                walk(value_node, f"{path}.{key}" if path else key)
+                walk(value_node, f"{path}.{key}" if path else key, inner)
         elif isinstance(node, yaml.SequenceNode):
             for index, item in enumerate(node.value):
-                walk(item, f"{path}[{index}]")
+                walk(item, f"{path}[{index}]", inner)
 
     if root is not None:
-        walk(root, "")
+        walk(root, "", frozenset())
     return lines
 
 
@@ -232,7 +255,7 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor:
     )
     if convention == "line_to_line":
         # Flat-top line-to-line EMF of the two conducting phases is 2E (paper Eq. 4).
-        k_e /= 2.0
+        k_e /= 2
     return Motor(
         rated_voltage_v=r.quantity(sec, "rated_voltage", "motor", units.VOLTAGE, _positive(1000, "V")),
         phase_resistance_ohm=r.quantity(
@@ -483,14 +506,14 @@ def _check_physics(
         raise r.error(
             "controller.speed_min", data["controller"]["speed_min"],
             f"its 60 deg Hall period is {slowest:.0f} ticks, beyond the {hall.counter_bits}-bit counter",
-            f">= {ticks_per_rpm_60deg / counter_max:.1f} rpm at {hall.timer_clock_hz:g} Hz",
+            f">= {ticks_per_rpm_60deg / counter_max:.1f} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
     fastest = ticks_per_rpm_60deg / controller.speed_max_rpm
     if fastest < 64:
         raise r.error(
             "controller.speed_max", data["controller"]["speed_max"],
             f"its 60 deg Hall period is only {fastest:.1f} ticks: speed resolution worse than 1.6 %",
-            f"<= {ticks_per_rpm_60deg / 64:.1f} rpm at {hall.timer_clock_hz:g} Hz",
+            f"<= {ticks_per_rpm_60deg / 64:.1f} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
     bus_full_scale = float(adc.reference_v * adc.bus_voltage_divider)
     if inverter.bus_voltage_max_v > bus_full_scale:
@@ -538,7 +561,7 @@ def load_spec(path: str | Path) -> Spec:
     r = _Reader(source, lines)
     r.only_keys(data, _TOP_KEYS, "")
     name = data["name"]
-    if not isinstance(name, str) or not _NAME.match(name):
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise r.error("name", name, "must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}")
     description = data["description"]
     if not isinstance(description, str):

@@ -1,0 +1,550 @@
+"""Tests of codegen.spec_loader: the default spec loads exactly, and bad specs are refused.
+
+Every bad spec is the default spec with one mutation. Each case checks that the SpecError
+message names the key path, a fragment of the problem or the allowed range and, for
+quantities, the unit, so a user can fix the YAML from the message alone.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from codegen.errors import SpecError
+from codegen.spec_loader import load_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_SPEC = ROOT / "spec" / "paper_motor.yaml"
+DEFAULT_TEXT = DEFAULT_SPEC.read_text(encoding="utf-8")
+
+Mutation = Callable[[str], str]
+
+
+def _line_of(fragment: str) -> int:
+    """1-based line of the one line of the default spec that contains `fragment`."""
+    hits = [n for n, line in enumerate(DEFAULT_TEXT.splitlines(), start=1) if fragment in line]
+    assert len(hits) == 1, f"{fragment!r} is not on exactly one line of {DEFAULT_SPEC}"
+    return hits[0]
+
+
+INDUCTANCE_LINE = _line_of("phase_inductance: 0.56 mH")
+POLES_LINE = _line_of("  poles: 2")
+
+
+def _replace(old: str, new: str) -> Mutation:
+    """Text mutation: replace the one occurrence of `old` (keeps comments and lines)."""
+
+    def mutate(text: str) -> str:
+        assert text.count(old) == 1, f"{old!r} is not unique in the default spec"
+        return text.replace(old, new)
+
+    return mutate
+
+
+def _edit_line(start: str, new: str) -> Mutation:
+    """Text mutation: replace the whole line that starts with `start`."""
+
+    def mutate(text: str) -> str:
+        lines = text.splitlines(keepends=True)
+        hits = [n for n, line in enumerate(lines) if line.startswith(start)]
+        assert len(hits) == 1, f"{start!r} does not start exactly one line of the default spec"
+        lines[hits[0]] = new + "\n"
+        return "".join(lines)
+
+    return mutate
+
+
+def _edit(change: Callable[[dict[str, Any]], object]) -> Mutation:
+    """Data mutation: load the YAML, change the parsed mapping in place, dump it again."""
+
+    def mutate(text: str) -> str:
+        data = yaml.safe_load(text)
+        change(data)
+        return yaml.safe_dump(data, sort_keys=False)
+
+    return mutate
+
+
+def _as_list(text: str) -> str:
+    return yaml.safe_dump([yaml.safe_load(text)], sort_keys=False)
+
+
+def _write(tmp_path: Path, text: str, name: str = "bad.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+# --------------------------------------------------------------------------- good specs
+
+
+def test_default_spec_loads_in_exact_si() -> None:
+    spec = load_spec(DEFAULT_SPEC)
+
+    assert spec.name == "paper_motor"
+    assert spec.source_path == str(DEFAULT_SPEC)
+    assert spec.sha256 == hashlib.sha256(DEFAULT_SPEC.read_bytes()).hexdigest()
+
+    motor = spec.motor
+    assert motor.rated_voltage_v == Fraction(24)
+    assert motor.phase_resistance_ohm == Fraction(21, 100)
+    assert motor.phase_inductance_h == Fraction(7, 12500)
+    assert motor.back_emf_constant_v_per_rpm == Fraction(236, 100000)
+    assert motor.back_emf_convention == "phase"
+    assert motor.rotor_inertia_kg_m2 == Fraction(119, 100000)
+    assert motor.poles == 2
+    assert motor.pole_pairs == 1
+
+    inverter = spec.inverter
+    assert inverter.bus_voltage_nominal_v == 24
+    assert (inverter.bus_voltage_min_v, inverter.bus_voltage_max_v) == (20, 30)
+    assert inverter.pwm_frequency_hz == 20_000
+    assert inverter.timer_clock_hz == 72_000_000
+    assert inverter.pwm_alignment == "edge"
+    assert inverter.dead_time_s == Fraction(1, 2_000_000)
+
+    assert spec.hall.sequence == (5, 4, 6, 2, 3, 1)
+    assert spec.hall.timer_clock_hz == 1_000_000
+    assert spec.hall.counter_bits == 16
+
+    assert spec.adc.bits == 12
+    assert spec.adc.reference_v == Fraction(33, 10)
+    assert spec.adc.bus_voltage_divider == 11
+    assert spec.adc.current_gain_v_per_a == Fraction(1, 20)
+    assert spec.adc.current_offset_v == Fraction(33, 20)
+
+    controller = spec.controller
+    assert controller.method == "improved"
+    assert controller.braking_current_min_a == 0
+    assert controller.braking_current_nominal_a == 5
+    assert controller.braking_current_max_a == 10
+    assert (controller.speed_min_rpm, controller.speed_max_rpm) == (200, 5000)
+
+    assert spec.accuracy.duty_counts == 1
+    assert spec.accuracy.commutation_time_ticks == 4
+
+    assert [(p.speed_rpm, p.main_duty) for p in spec.operating_points] == [
+        (1500, Fraction(21, 50)),
+        (4600, Fraction(21, 50)),
+    ]
+
+    # Every SI value is an exact Fraction, never a binary float.
+    exact = [
+        motor.rated_voltage_v,
+        motor.phase_resistance_ohm,
+        motor.phase_inductance_h,
+        motor.back_emf_constant_v_per_rpm,
+        motor.rotor_inertia_kg_m2,
+        inverter.bus_voltage_nominal_v,
+        inverter.pwm_frequency_hz,
+        inverter.dead_time_s,
+        spec.adc.current_gain_v_per_a,
+        controller.speed_max_rpm,
+        spec.accuracy.duty_counts,
+        *(p.main_duty for p in spec.operating_points),
+    ]
+    assert all(type(value) is Fraction for value in exact)
+
+    sources = dict(spec.sources)
+    assert sources["motor.phase_inductance"] == "paper Table 3"
+    assert ("inverter.dead_time", sources["inverter.dead_time"]) in spec.assumptions
+
+
+def test_line_to_line_convention_halves_back_emf_constant(tmp_path: Path) -> None:
+    text = _replace("back_emf_convention: phase", "back_emf_convention: line_to_line")(DEFAULT_TEXT)
+    spec = load_spec(_write(tmp_path, text, "line_to_line.yaml"))
+
+    assert spec.motor.back_emf_convention == "line_to_line"
+    assert spec.motor.back_emf_constant_v_per_rpm == Fraction(118, 100000)
+    assert type(spec.motor.back_emf_constant_v_per_rpm) is Fraction
+
+
+# --------------------------------------------------------------------------- bad specs
+
+BAD_SPECS = [
+    # ---- YAML structure
+    pytest.param(
+        _replace("phase_inductance: 0.56 mH", "phase_inductance: 0.56 mH: oops"),
+        "<document>",
+        ("malformed YAML", "mapping values are not allowed", f"bad.yaml:{INDUCTANCE_LINE}"),
+        id="malformed-yaml-cites-line",
+    ),
+    pytest.param(
+        _replace("  poles: 2\n", "  poles: 2\n  poles: 4\n"),
+        "<document>",
+        (
+            "duplicate key 'poles'",
+            f"first defined on line {POLES_LINE}",
+            f"bad.yaml:{POLES_LINE + 1}",
+        ),
+        id="duplicate-key",
+    ),
+    pytest.param(
+        _replace("name: paper_motor\n", "name: paper_motor\n? [a, b]\n: 1\n"),
+        "<document>",
+        ("malformed YAML", "unhashable key"),
+        id="unhashable-key",
+    ),
+    pytest.param(_as_list, "<document>", ("must be a YAML mapping",), id="top-level-is-list"),
+    pytest.param(lambda _: "", "<document>", ("must be a YAML mapping",), id="empty-document"),
+    pytest.param(
+        _replace("name: paper_motor\n", "name: paper_motor\ncolour: red\n"),
+        "colour",
+        ("unknown key", "name, description, motor"),
+        id="unknown-top-level-key",
+    ),
+    pytest.param(
+        _replace("  poles: 2\n", "  poles: 2\n  colour: red\n"),
+        "motor.colour",
+        ("unknown key", "rated_voltage, phase_resistance"),
+        id="unknown-nested-key",
+    ),
+    pytest.param(
+        _edit(lambda d: d.pop("hall")), "hall", ("missing required key",), id="missing-section"
+    ),
+    pytest.param(
+        _edit(lambda d: d.update(motor=5)),
+        "motor",
+        ("must be a mapping, got int",),
+        id="section-not-a-mapping",
+    ),
+    pytest.param(
+        _edit(lambda d: d["motor"].pop("phase_inductance")),
+        "motor.phase_inductance",
+        ("missing required key",),
+        id="missing-key",
+    ),
+    pytest.param(
+        _edit_line("description:", "description: &x [*x]"),
+        "description",
+        ("must be a string",),
+        id="recursive-alias",
+    ),
+    # ---- quantities and units
+    pytest.param(
+        _replace("0.56 mH", "0.56 mF"),
+        "motor.phase_inductance",
+        ("unit 'mF' is not a inductance unit", "H, mH, uH", f"bad.yaml:{INDUCTANCE_LINE}"),
+        id="wrong-unit",
+    ),
+    pytest.param(
+        _replace("0.56 mH", "0.56"),
+        "motor.phase_inductance",
+        ("missing unit for a inductance", "H, mH, uH", "(0, 1] H"),
+        id="missing-unit-bare-number",
+    ),
+    pytest.param(
+        _replace("rated_voltage: 24 V", "rated_voltage: '24'"),
+        "motor.rated_voltage",
+        ("missing unit for a voltage", "V, mV, kV"),
+        id="missing-unit-in-string",
+    ),
+    pytest.param(
+        _replace("0.56 mH", "lots mH"),
+        "motor.phase_inductance",
+        ("not a number followed by a unit", "H, mH, uH"),
+        id="non-numeric-quantity",
+    ),
+    pytest.param(
+        _replace("0.56 mH", "[0.56, mH]"),
+        "motor.phase_inductance",
+        ("got a list", "H"),
+        id="quantity-is-a-list",
+    ),
+    pytest.param(
+        _replace("0.21 ohm", "-0.21 ohm"),
+        "motor.phase_resistance",
+        ("-0.21 ohm is out of range", "(0, 100] ohm"),
+        id="negative-resistance",
+    ),
+    pytest.param(
+        _replace("0.56 mH", "0 mH"),
+        "motor.phase_inductance",
+        ("0 H is out of range", "(0, 1] H"),
+        id="zero-inductance",
+    ),
+    pytest.param(
+        _replace("0.56 mH", "1e400 mH"),
+        "motor.phase_inductance",
+        ("1e+397 H is out of range", "(0, 1] H"),
+        id="inductance-beyond-float-range",
+    ),
+    pytest.param(
+        _replace("timer_clock: 72 MHz", "timer_clock: 100 MHz"),
+        "inverter.timer_clock",
+        ("1e+08 Hz is out of range", "[1e+06, 7.2e+07] Hz"),
+        id="timer-clock-too-fast",
+    ),
+    pytest.param(
+        _replace("current_offset: 1.65 V", "current_offset: 4 V"),
+        "adc.current_offset",
+        ("4 V is out of range", "[0, 3.3] V"),
+        id="current-offset-above-reference",
+    ),
+    # ---- integers, numbers and choices
+    pytest.param(
+        _replace("  poles: 2\n", "  poles: 3\n"),
+        "motor.poles",
+        ("even number of poles", "2, 4, 6"),
+        id="odd-pole-count",
+    ),
+    pytest.param(
+        _replace("  poles: 2\n", "  poles: 2.5\n"),
+        "motor.poles",
+        ("must be an integer", "[2, 128] poles"),
+        id="pole-count-not-integer",
+    ),
+    pytest.param(
+        _replace("  poles: 2\n", f"  poles: {'9' * 400}\n"),
+        "motor.poles",
+        ("out of range", "[2, 128] poles"),
+        id="pole-count-huge-integer",
+    ),
+    pytest.param(
+        _replace("counter_bits: 16", "counter_bits: 32"),
+        "hall.counter_bits",
+        ("out of range", "[16, 16] bits"),
+        id="hall-counter-not-16-bit",
+    ),
+    pytest.param(
+        _replace("duty_counts: 1.0", "duty_counts: .nan"),
+        "accuracy.duty_counts",
+        ("must be a plain number", "[0.5, 64] TIM1 counts"),
+        id="duty-accuracy-nan",
+    ),
+    pytest.param(
+        _replace("duty_counts: 1.0", f"duty_counts: {'9' * 400}"),
+        "accuracy.duty_counts",
+        ("out of range", "[0.5, 64] TIM1 counts"),
+        id="duty-accuracy-huge-integer",
+    ),
+    pytest.param(
+        _replace("back_emf_convention: phase", "back_emf_convention: line"),
+        "motor.back_emf_convention",
+        ("not a known option", "phase, line_to_line"),
+        id="emf-convention-unknown",
+    ),
+    pytest.param(
+        _replace("method: improved", "method: magic"),
+        "controller.method",
+        ("not a known option", "improved, conventional, none"),
+        id="method-magic",
+    ),
+    # ---- inverter
+    pytest.param(
+        _edit(lambda d: d["inverter"].update(bus_voltage_min="30 V", bus_voltage_max="20 V")),
+        "inverter.bus_voltage_max",
+        ("bus voltage range is empty or inverted", "> bus_voltage_min = 30 V"),
+        id="bus-voltage-range-inverted",
+    ),
+    pytest.param(
+        _replace("bus_voltage_nominal: 24 V", "bus_voltage_nominal: 35 V"),
+        "inverter.bus_voltage_nominal",
+        ("outside the operating range", "[20, 30] V"),
+        id="bus-voltage-nominal-outside-range",
+    ),
+    pytest.param(
+        _replace("rated_voltage: 24 V", "rated_voltage: 12 V"),
+        "inverter.bus_voltage_nominal",
+        ("more than 1.5 x the motor's rated 12 V", "<= 18 V"),
+        id="bus-voltage-far-above-motor-rating",
+    ),
+    pytest.param(
+        _replace("pwm_frequency: 20 kHz", "pwm_frequency: 7 kHz"),
+        "inverter.pwm_frequency",
+        ("10285.7 TIM1 counts", "a whole number of counts in [256, 65536]"),
+        id="pwm-period-not-integer",
+    ),
+    pytest.param(
+        _replace("dead_time: 500 ns", "dead_time: 3 us"),
+        "inverter.dead_time",
+        ("more than 10 % of the PWM period", "< 2.5e-06 s at 20000 Hz"),
+        id="dead-time-too-long",
+    ),
+    pytest.param(
+        _replace("bus_voltage_max: 30 V", "bus_voltage_max: 40 V"),
+        "inverter.bus_voltage_max",
+        ("beyond the ADC full scale", "<= 36.3 V"),
+        id="bus-voltage-beyond-adc-full-scale",
+    ),
+    # ---- Hall sensor
+    pytest.param(
+        _replace("[5, 4, 6, 2, 3, 1]", "[5, 4, 6, 2, 3, 0]"),
+        "hall.sequence[5]",
+        ("000 and 111 are the invalid", "six distinct codes 1..6"),
+        id="hall-code-0",
+    ),
+    pytest.param(
+        _replace("[5, 4, 6, 2, 3, 1]", "[5, 4, 7, 2, 3, 1]"),
+        "hall.sequence[2]",
+        ("000 and 111 are the invalid", "six distinct codes 1..6"),
+        id="hall-code-7",
+    ),
+    pytest.param(
+        _replace("[5, 4, 6, 2, 3, 1]", "[5, 4, 6, 2, 3, 3]"),
+        "hall.sequence",
+        ("Hall codes repeat", "six distinct codes 1..6"),
+        id="hall-code-repeated",
+    ),
+    pytest.param(
+        _replace("[5, 4, 6, 2, 3, 1]", "[5, 4, 6, 2, 1, 3]"),
+        "hall.sequence[4]",
+        ("not a Gray step from 010 to 001", "differing in exactly one bit"),
+        id="hall-sequence-not-gray",
+    ),
+    pytest.param(
+        _replace("[5, 4, 6, 2, 3, 1]", "[5, 4, 6, 2, 3]"),
+        "hall.sequence",
+        ("must list the six Hall codes", "six distinct codes 1..6"),
+        id="hall-sequence-wrong-length",
+    ),
+    pytest.param(
+        _replace("[5, 4, 6, 2, 3, 1]", "[5, 4, 6, 2, 3, '1']"),
+        "hall.sequence[5]",
+        ("Hall code must be an integer",),
+        id="hall-code-not-integer",
+    ),
+    # ---- controller
+    pytest.param(
+        _replace("speed_max: 5000 rpm", "speed_max: 5100 rpm"),
+        "controller.speed_max",
+        ("U_d/(2 k_e) = 5084.7 rpm", "< 5084.7 rpm"),
+        id="speed-max-above-emf-limit",
+    ),
+    pytest.param(
+        _edit(lambda d: d["controller"].update(speed_min="3000 rpm", speed_max="2000 rpm")),
+        "controller.speed_max",
+        ("speed range is empty or inverted", "> speed_min = 3000 rpm"),
+        id="speed-range-inverted",
+    ),
+    pytest.param(
+        _replace("speed_min: 200 rpm", "speed_min: 100 rpm"),
+        "controller.speed_min",
+        ("beyond the 16-bit counter", ">= 152.6 rpm at 1e+06 Hz"),
+        id="speed-min-overflows-hall-counter",
+    ),
+    pytest.param(
+        _edit(
+            lambda d: d["controller"].update(braking_current_min="10 A", braking_current_max="5 A")
+        ),
+        "controller.braking_current_max",
+        ("braking current range is empty or inverted", "> braking_current_min = 10 A"),
+        id="braking-current-range-inverted",
+    ),
+    pytest.param(
+        _replace("braking_current_nominal: 5 A", "braking_current_nominal: 15 A"),
+        "controller.braking_current_nominal",
+        ("outside its range", "[0, 10] A"),
+        id="braking-current-nominal-outside-range",
+    ),
+    pytest.param(
+        _replace("braking_current_nominal: 5 A", "braking_current_nominal: 0 A"),
+        "controller.braking_current_nominal",
+        ("braking needs a current", "(0, 10] A"),
+        id="braking-current-nominal-zero",
+    ),
+    pytest.param(
+        _replace("braking_current_max: 10 A", "braking_current_max: 40 A"),
+        "controller.braking_current_max",
+        ("beyond the current-sense range", "<= 33 A"),
+        id="braking-current-beyond-current-sense",
+    ),
+    # ---- operating points
+    pytest.param(
+        _replace("{speed: 4600 rpm", "{speed: 6000 rpm"),
+        "operating_points[1].speed",
+        ("outside the controller speed range", "[200, 5000] rpm"),
+        id="operating-point-speed-outside-range",
+    ),
+    pytest.param(
+        _replace("{speed: 1500 rpm, main_duty: 0.42}", "{speed: 1500 rpm, main_duty: 1.5}"),
+        "operating_points[0].main_duty",
+        ("out of range", "[0, 1]"),
+        id="main-duty-above-one",
+    ),
+    pytest.param(
+        _replace("{speed: 1500 rpm, main_duty: 0.42}", "{speed: 1500 rpm, duty: 0.42}"),
+        "operating_points[0].duty",
+        ("unknown key", "speed, main_duty"),
+        id="operating-point-unknown-key",
+    ),
+    # ---- sources and identity
+    pytest.param(
+        _replace("sources:\n", 'sources:\n  motor.colour: "paper Table 3"\n'),
+        "sources.motor.colour",
+        ("names a key that the spec does not have",),
+        id="source-for-missing-key",
+    ),
+    pytest.param(
+        _replace('hall.sequence: "paper Table 1"', 'hall.sequence: ""'),
+        "sources.hall.sequence",
+        ("must be a non-empty description",),
+        id="source-empty",
+    ),
+    pytest.param(
+        _replace("name: paper_motor", "name: Paper Motor"),
+        "name",
+        ("must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}"),
+        id="name-not-identifier",
+    ),
+    pytest.param(
+        _replace("name: paper_motor", 'name: "paper_motor\\n"'),
+        "name",
+        ("must be a lower-case identifier",),
+        id="name-with-trailing-newline",
+    ),
+]
+
+
+@pytest.mark.parametrize(("mutate", "key_path", "fragments"), BAD_SPECS)
+def test_bad_spec_is_refused(
+    tmp_path: Path, mutate: Mutation, key_path: str, fragments: tuple[str, ...]
+) -> None:
+    path = _write(tmp_path, mutate(DEFAULT_TEXT))
+
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+
+    error = caught.value
+    message = str(error)
+    assert error.path == key_path
+    assert f"{key_path} = " in message
+    assert message.startswith(str(path))
+    for fragment in fragments:
+        assert fragment in message, f"{fragment!r} not in {message!r}"
+
+
+def test_out_of_range_quantity_states_value_and_allowed_range(tmp_path: Path) -> None:
+    path = _write(tmp_path, _replace("0.56 mH", "2 H")(DEFAULT_TEXT))
+
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+
+    error = caught.value
+    assert error.path == "motor.phase_inductance"
+    assert error.value == "2 H"
+    assert error.problem == "2 H is out of range"
+    assert error.allowed == "(0, 1] H"
+    assert error.line == INDUCTANCE_LINE
+    assert str(error) == (
+        f"{path}:{INDUCTANCE_LINE}: motor.phase_inductance = '2 H': 2 H is out of range"
+        " (allowed: (0, 1] H)"
+    )
+
+
+def test_unreadable_file_is_a_spec_error(tmp_path: Path) -> None:
+    missing = tmp_path / "missing.yaml"
+    with pytest.raises(SpecError, match="cannot read spec") as caught:
+        load_spec(missing)
+    assert caught.value.path == "<file>"
+
+    latin1 = tmp_path / "latin1.yaml"
+    latin1.write_bytes(DEFAULT_TEXT.replace("Table 3", "Tabl\xe9 3").encode("latin-1"))
+    with pytest.raises(SpecError, match="not UTF-8"):
+        load_spec(latin1)
