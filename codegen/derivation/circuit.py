@@ -36,7 +36,9 @@ def solve_slopes(
         # Use i_a + i_b + i_c = 0 to leave each slope with its own phase current only.
         others = [c for k, c in enumerate(currents) if k != index]
         eliminated = slope.subs(others[0], -currents[index] - others[1])
-        slopes.append(sp.simplify(sp.expand(eliminated)))
+        # cancel() puts the rational function in canonical p/q form, which is all
+        # the later equality tests need, at a fraction of simplify()'s cost.
+        slopes.append(sp.cancel(sp.expand(eliminated)))
     return slopes[0], slopes[1], slopes[2]
 
 

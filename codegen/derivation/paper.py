@@ -20,6 +20,7 @@ import sympy as sp
 
 from codegen.derivation import symbols as s
 from codegen.derivation.circuit import integrate_constant_slopes, solve_slopes
+from codegen.derivation.intervals import interval_where, must_hold
 from codegen.derivation.switching import SwitchingTable, derive_switching_table
 from codegen.errors import DerivationError
 
@@ -40,6 +41,11 @@ class DerivedResult:
     rows: tuple[Row, ...]
     method: str
     neglects_resistance: bool
+    #: Why a row is what it is where that is not obvious (e.g. an excluded end point).
+    row_notes: tuple[tuple[str, str], ...] = ()
+
+    def note(self, name: str) -> str:
+        return dict(self.row_notes).get(name, "")
 
     def row(self, name: str = "") -> sp.Basic:
         for row_name, value in self.rows:
@@ -78,7 +84,7 @@ def _rows(names: str, values: tuple[sp.Basic, ...]) -> tuple[Row, ...]:
 
 
 def _no_r(expr: sp.Basic) -> sp.Basic:
-    return sp.simplify(expr.subs(s.R, 0))
+    return sp.cancel(expr.subs(s.R, 0))
 
 
 def _solve_one(equation: sp.Basic, unknown: sp.Symbol, what: str) -> sp.Expr:
@@ -86,46 +92,6 @@ def _solve_one(equation: sp.Basic, unknown: sp.Symbol, what: str) -> sp.Expr:
     if len(solutions) != 1:
         raise DerivationError(f"{what}: expected one solution for {unknown}, got {solutions}")
     return sp.simplify(solutions[0])
-
-
-def _intersect(intervals: list[sp.Set]) -> sp.Interval:
-    """Intersection of intervals with symbolic ends that SymPy can order (positive symbols)."""
-    for interval in intervals:
-        if not isinstance(interval, sp.Interval):
-            raise DerivationError(f"expected an interval, got {interval}")
-    start = sp.Max(*(i.start for i in intervals))
-    end = sp.Min(*(i.end for i in intervals))
-    if start.has(sp.Max) or end.has(sp.Min):
-        raise DerivationError(f"cannot order the interval ends of {intervals}")
-    left_open = any(i.left_open for i in intervals if sp.simplify(i.start - start) == 0)
-    right_open = any(i.right_open for i in intervals if sp.simplify(i.end - end) == 0)
-    return sp.Interval(start, end, left_open, right_open)
-
-
-def _interval_in(expr: sp.Expr, low: sp.Expr, high: sp.Expr, var: sp.Symbol) -> sp.Interval:
-    """Set of `var` (positive where its symbol says so) for which low <= expr <= high."""
-    lower = sp.solve_univariate_inequality(expr >= low, var, relational=False)
-    upper = sp.solve_univariate_inequality(expr <= high, var, relational=False)
-    domain = sp.Interval.open(0, sp.oo) if var.is_positive else sp.Interval(-sp.oo, sp.oo)
-    return _intersect([lower, upper, domain])
-
-
-def _must_hold(condition: sp.Basic, var: sp.Symbol, region: sp.Set, what: str) -> None:
-    """Prove that `condition` holds for every var in `region`."""
-    holds = sp.solve_univariate_inequality(condition, var, relational=False)
-    if not (isinstance(holds, sp.Interval) and _contains(holds, region)):
-        raise DerivationError(f"{what}: not true on {region} (holds on {holds})")
-
-
-def _contains(outer: sp.Interval, inner: sp.Interval) -> bool:
-    """inner is a subset of outer, decided from the symbols' sign assumptions."""
-    low = sp.simplify(inner.start - outer.start)
-    high = sp.simplify(outer.end - inner.end)
-    low_ok = bool(low.is_extended_positive) or (bool(low.is_zero) and (inner.left_open or not outer.left_open))
-    high_ok = bool(high.is_extended_positive) or (
-        bool(high.is_zero) and (inner.right_open or not outer.right_open)
-    )
-    return low_ok and high_ok
 
 
 @lru_cache(maxsize=1)
@@ -195,7 +161,7 @@ def derive() -> Derivation:
             (("", d_on_free),), "Eq. 8 solved for D_on", True,
         )
     )
-    emf_range = _interval_in(d_on_free, sp.S.Zero, sp.S.One, s.E)
+    emf_range = interval_where(d_on_free, sp.S.Zero, sp.S.One, s.E)
     results.append(
         DerivedResult(
             "10", "ripple_free_emf_range", "Back-EMF range where Eq. 9 is a duty",
@@ -203,7 +169,7 @@ def derive() -> Derivation:
         )
     )
     d_on_free_n = d_on_free.subs(s.E, s.k_e * s.n)
-    speed_range = _interval_in(d_on_free_n, sp.S.Zero, sp.S.One, s.n)
+    speed_range = interval_where(d_on_free_n, sp.S.Zero, sp.S.One, s.n)
     results.append(
         DerivedResult(
             "11", "ripple_free_speed_range", "Speed range where Eq. 9 is a duty",
@@ -245,7 +211,7 @@ def derive() -> Derivation:
         )
     )
     d_off_conventional = _solve_one(slopes_no_r[0], s.D_off, "Eq. 16")
-    feasible = _interval_in(d_off_conventional, sp.S.Zero, sp.S.One, s.D_on)
+    feasible = interval_where(d_off_conventional, sp.S.Zero, sp.S.One, s.D_on)
     results.append(
         DerivedResult(
             "16", "off_duty_conventional", "Turn-off duty of conventional overlapping",
@@ -272,14 +238,14 @@ def derive() -> Derivation:
     # Where the turn-off phase is the faster one, hold the turn-on phase fully on and
     # slow the turn-off phase down; elsewhere hold the turn-off phase off and slow the
     # turn-on phase. Prove which region is which instead of assuming it.
-    _must_hold(-slope_off_max >= slope_on_max, s.E, low_region, "turn-off faster at low speed")
-    _must_hold(-slope_off_max <= slope_on_max, s.E, high_region, "turn-on faster at high speed")
+    must_hold(-slope_off_max >= slope_on_max, s.E, low_region, "turn-off faster at low speed")
+    must_hold(-slope_off_max <= slope_on_max, s.E, high_region, "turn-on faster at high speed")
     d_off_low = _solve_one(slopes_no_r[0].subs(s.D_on, 1), s.D_off, "Eq. 18 low")
     d_on_high = _solve_one(slopes_no_r[0].subs(s.D_off, 0), s.D_on, "Eq. 18 high")
     for bound in (d_off_low >= 0, d_off_low <= 1):
-        _must_hold(bound, s.E, low_region, "Eq. 18 low-speed D_off is a duty")
+        must_hold(bound, s.E, low_region, "Eq. 18 low-speed D_off is a duty")
     for bound in (d_on_high >= 0, d_on_high <= 1):
-        _must_hold(bound, s.E, high_region, "Eq. 18 high-speed D_on is a duty")
+        must_hold(bound, s.E, high_region, "Eq. 18 high-speed D_on is a duty")
     boundary_speed = sp.simplify(boundary_emf / s.k_e)
     upper_speed = sp.simplify(upper_emf / s.k_e)
     results.append(
@@ -289,10 +255,17 @@ def derive() -> Derivation:
                 ("on_high", d_on_high), ("off_high", sp.S.Zero),
                 ("on_low", sp.S.One), ("off_low", d_off_low),
                 ("boundary_speed", boundary_speed), ("upper_speed", upper_speed),
+                ("high_region", sp.Interval.Lopen(boundary_speed, upper_speed)),
+                ("low_region", sp.Interval.Lopen(0, boundary_speed)),
             ),
             "compare |Eq. 17 b| with |Eq. 17 c|; saturate the slower phase's partner at its "
             "extreme and solve Eq. 15 for the other",
             True,
+            (
+                ("low_region", "n = 0 is excluded: there E = 0, D_off = 1 holds the turn-off current"
+                 " and the low-speed commutation time I L/(2E) (Eq. 20) is unbounded; Table 2"
+                 " also writes 0 < n"),
+            ),
         )
     )
     i_off = currents[1]

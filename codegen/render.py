@@ -1,0 +1,69 @@
+"""Jinja2 rendering: one strict environment, and the provenance every output carries.
+
+Templates receive ready-made strings and integers (SymForce's "print in Python, lay out
+in templates"); a missing variable is an error, never an empty string.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import jinja2
+
+from codegen.spec_model import Spec
+
+PROJECT_ROOT = Path(__file__).resolve().parents[1]
+TEMPLATE_DIR = PROJECT_ROOT / "templates"
+
+
+def markdown_cell(text: object) -> str:
+    """Text safe inside a Markdown table cell: pipes escaped, one line."""
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def environment() -> jinja2.Environment:
+    env = jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+    )
+    env.filters["cell"] = markdown_cell
+    return env
+
+
+def project_relative(path: str | Path) -> str:
+    """A path as it should appear in generated files: relative to the project when
+    inside it, else just the file name, so output never depends on the checkout."""
+    resolved = Path(path).resolve()
+    try:
+        return resolved.relative_to(PROJECT_ROOT).as_posix()
+    except ValueError:
+        return resolved.name
+
+
+def provenance(template: str, spec: Spec) -> str:
+    """One line naming the template, the spec and its hash; no time, no version."""
+    return (
+        f"Generated from template {template} with spec {project_relative(spec.source_path)}"
+        f" (sha256 {spec.sha256}). Do not edit: regenerate with `make`."
+    )
+
+
+def render(template: str, **context: object) -> str:
+    return environment().get_template(template).render(**context)
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Write beside the target and rename, so a reader never sees half a file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        tmp.write_text(text, encoding="utf-8", newline="\n")
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
