@@ -77,7 +77,9 @@ class _Range:
     high_inclusive: bool = True
 
     def contains(self, value: float) -> bool:
-        if self.low is not None and (value < self.low or (value == self.low and not self.low_inclusive)):
+        if self.low is not None and (
+            value < self.low or (value == self.low and not self.low_inclusive)
+        ):
             return False
         return not (
             self.high is not None
@@ -207,12 +209,14 @@ def _yaml_lines(text: str) -> dict[str, int]:
 
 def _parse_yaml(text: str, source: str) -> Mapping[str, Any]:
     try:
-        data = yaml.load(text, Loader=_StrictLoader)  # noqa: S506 - SafeLoader subclass
+        data = yaml.load(text, Loader=_StrictLoader)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
         problem = exc.problem or str(exc)
-        raise SpecError("<document>", None, f"malformed YAML: {problem}", "", source, line) from None
+        raise SpecError(
+            "<document>", None, f"malformed YAML: {problem}", "", source, line
+        ) from None
     except yaml.YAMLError as exc:
         raise SpecError("<document>", None, f"malformed YAML: {exc}", "", source) from None
     if not isinstance(data, Mapping):
@@ -248,16 +252,18 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor:
     r.only_keys(sec, keys, "motor")
     poles = r.integer(sec, "poles", "motor", _Range(2, 128, "poles"))
     if poles % 2:
-        raise r.error("motor.poles", poles, "a rotor has an even number of poles", "2, 4, 6, ... 128")
+        raise r.error(
+            "motor.poles", poles, "a rotor has an even number of poles", "2, 4, 6, ... 128"
+        )
     convention = r.choice(sec, "back_emf_convention", "motor", ("phase", "line_to_line"))
-    k_e = r.quantity(
-        sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _positive(1.0, "V/rpm")
-    )
+    k_e = r.quantity(sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _positive(1.0, "V/rpm"))
     if convention == "line_to_line":
         # Flat-top line-to-line EMF of the two conducting phases is 2E (paper Eq. 4).
         k_e /= 2
     return Motor(
-        rated_voltage_v=r.quantity(sec, "rated_voltage", "motor", units.VOLTAGE, _positive(1000, "V")),
+        rated_voltage_v=r.quantity(
+            sec, "rated_voltage", "motor", units.VOLTAGE, _positive(1000, "V")
+        ),
         phase_resistance_ohm=r.quantity(
             sec, "phase_resistance", "motor", units.RESISTANCE, _positive(100, "ohm")
         ),
@@ -291,13 +297,17 @@ def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter:
     v_max = r.quantity(sec, "bus_voltage_max", "inverter", units.VOLTAGE, volts)
     if not v_min < v_max:
         raise r.error(
-            "inverter.bus_voltage_max", sec["bus_voltage_max"],
-            "bus voltage range is empty or inverted", f"> bus_voltage_min = {float(v_min):g} V",
+            "inverter.bus_voltage_max",
+            sec["bus_voltage_max"],
+            "bus voltage range is empty or inverted",
+            f"> bus_voltage_min = {float(v_min):g} V",
         )
     if not v_min <= v_nom <= v_max:
         raise r.error(
-            "inverter.bus_voltage_nominal", sec["bus_voltage_nominal"],
-            "nominal bus voltage outside the operating range", f"[{float(v_min):g}, {float(v_max):g}] V",
+            "inverter.bus_voltage_nominal",
+            sec["bus_voltage_nominal"],
+            "nominal bus voltage outside the operating range",
+            f"[{float(v_min):g}, {float(v_max):g}] V",
         )
     timer_clock = r.quantity(
         sec, "timer_clock", "inverter", units.FREQUENCY, _Range(1e6, 72e6, "Hz")
@@ -307,7 +317,8 @@ def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter:
     period_counts = timer_clock / f_pwm / (2 if alignment == "center" else 1)
     if not 256 <= period_counts <= 65536 or period_counts.denominator != 1:
         raise r.error(
-            "inverter.pwm_frequency", sec["pwm_frequency"],
+            "inverter.pwm_frequency",
+            sec["pwm_frequency"],
             f"gives {float(period_counts):g} TIM1 counts per period at {float(timer_clock):g} Hz"
             f" ({alignment})",
             "a whole number of counts in [256, 65536]",
@@ -315,7 +326,9 @@ def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter:
     dead = r.quantity(sec, "dead_time", "inverter", units.TIME, _Range(0.0, 5e-6, "s"))
     if dead * f_pwm * 2 >= Fraction(1, 10):
         raise r.error(
-            "inverter.dead_time", sec["dead_time"], "dead time eats more than 10 % of the PWM period",
+            "inverter.dead_time",
+            sec["dead_time"],
+            "dead time eats more than 10 % of the PWM period",
             f"< {0.05 / float(f_pwm):g} s at {float(f_pwm):g} Hz",
         )
     return Inverter(
@@ -349,8 +362,10 @@ def _hall_sequence(r: _Reader, raw: object) -> tuple[int, ...]:
         following = raw[(index + 1) % 6]
         if bin(code ^ following).count("1") != 1:
             raise r.error(
-                f"{path}[{(index + 1) % 6}]", following,
-                f"not a Gray step from {code:03b} to {following:03b}", allowed,
+                f"{path}[{(index + 1) % 6}]",
+                following,
+                f"not a Gray step from {code:03b} to {following:03b}",
+                allowed,
             )
     return tuple(raw)
 
@@ -361,7 +376,9 @@ def _hall(r: _Reader, data: Mapping[str, Any]) -> HallSensor:
     bits = r.integer(sec, "counter_bits", "hall", _Range(16, 16, "bits"))
     return HallSensor(
         sequence=_hall_sequence(r, sec["sequence"]),
-        timer_clock_hz=r.quantity(sec, "timer_clock", "hall", units.FREQUENCY, _Range(1e3, 72e6, "Hz")),
+        timer_clock_hz=r.quantity(
+            sec, "timer_clock", "hall", units.FREQUENCY, _Range(1e3, 72e6, "Hz")
+        ),
         counter_bits=bits,
     )
 
@@ -401,25 +418,33 @@ def _controller(r: _Reader, data: Mapping[str, Any]) -> Controller:
     i_max = r.quantity(sec, "braking_current_max", "controller", units.CURRENT, amps)
     if not i_min < i_max:
         raise r.error(
-            "controller.braking_current_max", sec["braking_current_max"],
-            "braking current range is empty or inverted", f"> braking_current_min = {float(i_min):g} A",
+            "controller.braking_current_max",
+            sec["braking_current_max"],
+            "braking current range is empty or inverted",
+            f"> braking_current_min = {float(i_min):g} A",
         )
     if not i_min <= i_nom <= i_max:
         raise r.error(
-            "controller.braking_current_nominal", sec["braking_current_nominal"],
-            "nominal braking current outside its range", f"[{float(i_min):g}, {float(i_max):g}] A",
+            "controller.braking_current_nominal",
+            sec["braking_current_nominal"],
+            "nominal braking current outside its range",
+            f"[{float(i_min):g}, {float(i_max):g}] A",
         )
     if i_nom <= 0.0:
         raise r.error(
-            "controller.braking_current_nominal", sec["braking_current_nominal"],
-            "braking needs a current", f"(0, {float(i_max):g}] A",
+            "controller.braking_current_nominal",
+            sec["braking_current_nominal"],
+            "braking needs a current",
+            f"(0, {float(i_max):g}] A",
         )
     speeds = _positive(1e6, "rpm")
     n_min = r.quantity(sec, "speed_min", "controller", units.SPEED, speeds)
     n_max = r.quantity(sec, "speed_max", "controller", units.SPEED, speeds)
     if not n_min < n_max:
         raise r.error(
-            "controller.speed_max", sec["speed_max"], "speed range is empty or inverted",
+            "controller.speed_max",
+            sec["speed_max"],
+            "speed range is empty or inverted",
             f"> speed_min = {float(n_min):g} rpm",
         )
     return Controller(
@@ -462,7 +487,9 @@ def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoi
     return tuple(points)
 
 
-def _sources(r: _Reader, data: Mapping[str, Any], lines: Mapping[str, int]) -> tuple[tuple[str, str], ...]:
+def _sources(
+    r: _Reader, data: Mapping[str, Any], lines: Mapping[str, int]
+) -> tuple[tuple[str, str], ...]:
     raw = data["sources"]
     if not isinstance(raw, Mapping):
         raise r.error("sources", raw, "must map key paths to where each value comes from")
@@ -494,7 +521,8 @@ def _check_physics(
     n_limit = float(inverter.bus_voltage_nominal_v) / (2.0 * k_e)
     if controller.speed_max_rpm >= n_limit:
         raise r.error(
-            "controller.speed_max", data["controller"]["speed_max"],
+            "controller.speed_max",
+            data["controller"]["speed_max"],
             f"at or above U_d/(2 k_e) = {n_limit:.1f} rpm, where 2E reaches the bus voltage",
             f"< {n_limit:.1f} rpm",
         )
@@ -504,41 +532,47 @@ def _check_physics(
     counter_max = 2**hall.counter_bits - 1
     if slowest > counter_max:
         raise r.error(
-            "controller.speed_min", data["controller"]["speed_min"],
+            "controller.speed_min",
+            data["controller"]["speed_min"],
             f"its 60 deg Hall period is {slowest:.0f} ticks, beyond the {hall.counter_bits}-bit counter",
             f">= {ticks_per_rpm_60deg / counter_max:.1f} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
     fastest = ticks_per_rpm_60deg / controller.speed_max_rpm
     if fastest < 64:
         raise r.error(
-            "controller.speed_max", data["controller"]["speed_max"],
+            "controller.speed_max",
+            data["controller"]["speed_max"],
             f"its 60 deg Hall period is only {fastest:.1f} ticks: speed resolution worse than 1.6 %",
             f"<= {ticks_per_rpm_60deg / 64:.1f} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
     bus_full_scale = float(adc.reference_v * adc.bus_voltage_divider)
     if inverter.bus_voltage_max_v > bus_full_scale:
         raise r.error(
-            "inverter.bus_voltage_max", data["inverter"]["bus_voltage_max"],
+            "inverter.bus_voltage_max",
+            data["inverter"]["bus_voltage_max"],
             f"beyond the ADC full scale reference x divider = {bus_full_scale:g} V",
             f"<= {bus_full_scale:g} V",
         )
     i_span = float((adc.reference_v - adc.current_offset_v) / adc.current_gain_v_per_a)
     if controller.braking_current_max_a > i_span:
         raise r.error(
-            "controller.braking_current_max", data["controller"]["braking_current_max"],
+            "controller.braking_current_max",
+            data["controller"]["braking_current_max"],
             f"beyond the current-sense range (reference - offset) / gain = {i_span:g} A",
             f"<= {i_span:g} A",
         )
     if inverter.bus_voltage_nominal_v > 1.5 * motor.rated_voltage_v:
         raise r.error(
-            "inverter.bus_voltage_nominal", data["inverter"]["bus_voltage_nominal"],
+            "inverter.bus_voltage_nominal",
+            data["inverter"]["bus_voltage_nominal"],
             f"more than 1.5 x the motor's rated {float(motor.rated_voltage_v):g} V",
             f"<= {1.5 * float(motor.rated_voltage_v):g} V",
         )
     for index, point in enumerate(points):
         if not controller.speed_min_rpm <= point.speed_rpm <= controller.speed_max_rpm:
             raise r.error(
-                f"operating_points[{index}].speed", data["operating_points"][index]["speed"],
+                f"operating_points[{index}].speed",
+                data["operating_points"][index]["speed"],
                 "outside the controller speed range",
                 f"[{float(controller.speed_min_rpm):g}, {float(controller.speed_max_rpm):g}] rpm",
             )

@@ -95,9 +95,7 @@ def parse_quantity(raw: object, dimension: Dimension) -> ParsedQuantity:
         raise QuantityError(f"not a number followed by a unit (units: {dimension.accepted()})")
     unit = match.group("unit")
     if unit is None:
-        raise QuantityError(
-            f"missing unit for a {dimension.name} (units: {dimension.accepted()})"
-        )
+        raise QuantityError(f"missing unit for a {dimension.name} (units: {dimension.accepted()})")
     factor = dimension.scale(unit)
     if factor is None:
         raise QuantityError(

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
+from itertools import pairwise
 
 import sympy as sp
 
@@ -58,19 +59,40 @@ def equation_labels(tr: Transcription) -> list[Check]:
             where = ", ".join(
                 f"display {eq.sequence} ({eq.title})" for eq in tr.equations if eq.label == label
             )
-            out.append(Check(f"label-{label}-twice", "labels", f"({label})", CONTRADICTION,
-                             f"label ({label}) is printed {count} times: {where}"))
-    for previous, current in zip(labels, labels[1:], strict=False):
+            out.append(
+                Check(
+                    f"label-{label}-twice",
+                    "labels",
+                    f"({label})",
+                    CONTRADICTION,
+                    f"label ({label}) is printed {count} times: {where}",
+                )
+            )
+    for previous, current in pairwise(labels):
         if current < previous:
-            out.append(Check(f"label-{current}-order", "labels", f"({current})", CONTRADICTION,
-                             f"label ({current}) follows ({previous}): out of order"))
+            out.append(
+                Check(
+                    f"label-{current}-order",
+                    "labels",
+                    f"({current})",
+                    CONTRADICTION,
+                    f"label ({current}) follows ({previous}): out of order",
+                )
+            )
     shifted = [eq for eq in tr.equations if eq.sequence - eq.label == 2]
     if shifted:
         first = min(eq.sequence for eq in shifted)
-        out.append(Check("labels-shifted", "labels", "(3) ... (20)", CONTRADICTION,
-                         f"from display equation {first} on, every printed label is its position"
-                         f" minus 2 ({len(shifted)} equations): the paper has 22 display equations"
-                         " but labels them (1)-(20)"))
+        out.append(
+            Check(
+                "labels-shifted",
+                "labels",
+                "(3) ... (20)",
+                CONTRADICTION,
+                f"from display equation {first} on, every printed label is its position"
+                f" minus 2 ({len(shifted)} equations): the paper has 22 display equations"
+                " but labels them (1)-(20)",
+            )
+        )
     return out
 
 
@@ -79,13 +101,20 @@ def citations(tr: Transcription) -> list[Check]:
     for index, cite in enumerate(tr.citations):
         eq = tr.equation(cite.means)
         if cite.cited == eq.label:
-            verdict, detail = CONSISTENT, f"cites ({cite.cited}), the printed label of Eq. {eq.label}"
+            verdict, detail = (
+                CONSISTENT,
+                f"cites ({cite.cited}), the printed label of Eq. {eq.label}",
+            )
         else:
             by_sequence = " = its position in the paper" if cite.cited == eq.sequence else ""
             verdict = CONTRADICTION
-            detail = (f"cites ({cite.cited}) for the equation printed as ({eq.label}), "
-                      f"display equation {eq.sequence}{by_sequence}: {eq.title}")
-        out.append(Check(f"cite-{index + 1}", f"section {cite.section}", cite.quote, verdict, detail))
+            detail = (
+                f"cites ({cite.cited}) for the equation printed as ({eq.label}), "
+                f"display equation {eq.sequence}{by_sequence}: {eq.title}"
+            )
+        out.append(
+            Check(f"cite-{index + 1}", f"section {cite.section}", cite.quote, verdict, detail)
+        )
     return out
 
 
@@ -98,26 +127,49 @@ def table2(tr: Transcription, d: Derivation) -> list[Check]:
         speed = _interval(row.speed, tr)
         emf = _interval(row.emf, tr)
         emf_from_speed = sp.Interval(
-            sp.simplify(speed.start * s.k_e), sp.simplify(speed.end * s.k_e), speed.left_open, speed.right_open
+            sp.simplify(speed.start * s.k_e),
+            sp.simplify(speed.end * s.k_e),
+            speed.left_open,
+            speed.right_open,
         )
         problems = []
         if not _same_interval(speed, derived_speed[row.region]):
-            problems.append(f"speed range ${sp.latex(speed)}$ differs from Eq. 18's "
-                            f"${sp.latex(derived_speed[row.region])}$")
+            problems.append(
+                f"speed range ${sp.latex(speed)}$ differs from Eq. 18's "
+                f"${sp.latex(derived_speed[row.region])}$"
+            )
         if not _same_interval(emf, emf_from_speed):
-            problems.append(f"back-EMF range ${sp.latex(emf)}$ contradicts the row's own speed range"
-                            f" (E = k_e n gives ${sp.latex(emf_from_speed)}$)")
+            problems.append(
+                f"back-EMF range ${sp.latex(emf)}$ contradicts the row's own speed range"
+                f" (E = k_e n gives ${sp.latex(emf_from_speed)}$)"
+            )
         duty = parse_printed(row.duty, tr).expr
         derived_duty = rule.row(f"{'on' if row.quantity == 'D_on' else 'off'}_{row.region}")
         if sp.simplify(duty - derived_duty) != 0:
-            problems.append(f"duty ${sp.latex(duty)}$ differs from Eq. 18's ${sp.latex(derived_duty)}$")
+            problems.append(
+                f"duty ${sp.latex(duty)}$ differs from Eq. 18's ${sp.latex(derived_duty)}$"
+            )
         quote = f"{row.quantity}: n in ${sp.latex(speed)}$, E in ${sp.latex(emf)}$, duty ${sp.latex(duty)}$"
         if problems:
-            out.append(Check(f"table2-{row.quantity}-{row.region}", where, quote, CONTRADICTION,
-                             "; ".join(problems)))
+            out.append(
+                Check(
+                    f"table2-{row.quantity}-{row.region}",
+                    where,
+                    quote,
+                    CONTRADICTION,
+                    "; ".join(problems),
+                )
+            )
         else:
-            out.append(Check(f"table2-{row.quantity}-{row.region}", where, quote, CONSISTENT,
-                             "speed range, EMF range and duty agree with Eq. 18"))
+            out.append(
+                Check(
+                    f"table2-{row.quantity}-{row.region}",
+                    where,
+                    quote,
+                    CONSISTENT,
+                    "speed range, EMF range and duty agree with Eq. 18",
+                )
+            )
     return out
 
 
@@ -133,17 +185,31 @@ def table4(tr: Transcription, d: Derivation) -> list[Check]:
             expected = "turn-off phase held off (1 transition), turn-on phase modulated"
             ok = row.improved_off == 1 and row.improved_on > 1
         both_modulated = row.conventional_on > 1 and row.conventional_off > 1
-        quote = (f"{row.speed_rpm} rpm: conventional on/off {row.conventional_on}/{row.conventional_off},"
-                 f" improved on/off {row.improved_on}/{row.improved_off}")
-        detail = (f"{row.speed_rpm} rpm is in Eq. 18's {region}-speed segment (cut-off "
-                  f"{float(boundary):.1f} rpm with Table 3): expected {expected}")
+        quote = (
+            f"{row.speed_rpm} rpm: conventional on/off {row.conventional_on}/{row.conventional_off},"
+            f" improved on/off {row.improved_on}/{row.improved_off}"
+        )
+        detail = (
+            f"{row.speed_rpm} rpm is in Eq. 18's {region}-speed segment (cut-off "
+            f"{float(boundary):.1f} rpm with Table 3): expected {expected}"
+        )
         if ok and both_modulated:
             out.append(Check(f"table4-{row.speed_rpm}", "Table 4", quote, CONSISTENT, detail))
         else:
-            observed = ("turn-on phase modulated and turn-off phase switched once"
-                        if row.improved_off == 1 else "turn-on phase switched once")
-            out.append(Check(f"table4-{row.speed_rpm}", "Table 4", quote, CONTRADICTION,
-                             f"{detail}; the table shows {observed}, the other segment's pattern"))
+            observed = (
+                "turn-on phase modulated and turn-off phase switched once"
+                if row.improved_off == 1
+                else "turn-on phase switched once"
+            )
+            out.append(
+                Check(
+                    f"table4-{row.speed_rpm}",
+                    "Table 4",
+                    quote,
+                    CONTRADICTION,
+                    f"{detail}; the table shows {observed}, the other segment's pattern",
+                )
+            )
     return out
 
 
@@ -151,12 +217,26 @@ def figures(tr: Transcription) -> list[Check]:
     out = []
     for fig in tr.figures:
         if fig.text == fig.caption:
-            out.append(Check(f"fig-{fig.text}", "figure captions", fig.caption_text, CONSISTENT,
-                             f"text and caption both number it {fig.text}"))
+            out.append(
+                Check(
+                    f"fig-{fig.text}",
+                    "figure captions",
+                    fig.caption_text,
+                    CONSISTENT,
+                    f"text and caption both number it {fig.text}",
+                )
+            )
         else:
-            out.append(Check(f"fig-{fig.text}", "figure captions", fig.caption_text, CONTRADICTION,
-                             f"the text calls it Fig. {fig.text}; its caption is numbered {fig.caption},"
-                             " a number already used by an earlier figure"))
+            out.append(
+                Check(
+                    f"fig-{fig.text}",
+                    "figure captions",
+                    fig.caption_text,
+                    CONTRADICTION,
+                    f"the text calls it Fig. {fig.text}; its caption is numbered {fig.caption},"
+                    " a number already used by an earlier figure",
+                )
+            )
     return out
 
 
@@ -167,8 +247,11 @@ def _region_at(d: Derivation, tr: Transcription, speed: float) -> str:
 
 def claims(tr: Transcription, d: Derivation) -> list[Check]:
     example = d.switching.paper_example()
-    roles = {example.non_commutating: "non_commutating", example.turn_off: "turn_off",
-             example.turn_on: "turn_on"}
+    roles = {
+        example.non_commutating: "non_commutating",
+        example.turn_off: "turn_off",
+        example.turn_on: "turn_on",
+    }
     phase_index = {"a": 0, "b": 1, "c": 2}
     values = _table3(tr)
     out = []
@@ -179,57 +262,84 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
             actual = roles[phase_index[claim.get("phase")]]
             claimed = claim.get("role")
             verdict = CONSISTENT if actual == claimed else CONTRADICTION
-            detail = (f"calls i_{claim.get('phase')} the {claimed.replace('_', '-')} phase current; at the"
-                      f" paper's 60 deg edge (BA to CA) phase {claim.get('phase').upper()} is the"
-                      f" {actual.replace('_', '-')} phase")
+            detail = (
+                f"calls i_{claim.get('phase')} the {claimed.replace('_', '-')} phase current; at the"
+                f" paper's 60 deg edge (BA to CA) phase {claim.get('phase').upper()} is the"
+                f" {actual.replace('_', '-')} phase"
+            )
         elif claim.kind == "switch_pattern":
             got = (example.modulated_on, example.modulated_off, example.freewheel_diode)
             want = (claim.get("modulated_on"), claim.get("modulated_off"), claim.get("freewheel"))
             verdict = CONSISTENT if got == want else CONTRADICTION
-            detail = (f"switching table: {example.describe()}")
+            detail = f"switching table: {example.describe()}"
         elif claim.kind == "faster_phase":
             slopes = d["17"]
             margin = -slopes.row("b") - slopes.row("c")  # |off slope| - |on slope|
             cond = margin > 0 if claim.get("faster") == "turn_off" else margin < 0
             holds = sp.solve_univariate_inequality(cond, s.E, relational=False)
-            holds_n = sp.Interval(sp.simplify(holds.start / s.k_e), sp.simplify(holds.end / s.k_e),
-                                  holds.left_open, holds.right_open)
-            low_text, high_text = claim.get("region").split("<")[0], claim.get("region").split("<")[-1]
-            region = sp.Interval(parse_printed(low_text.strip(), tr).expr,
-                                 parse_printed(high_text.strip(), tr).expr, True, True)
-            inside = bool(sp.simplify(region.start - holds_n.start).is_extended_nonnegative) and bool(
-                sp.simplify(holds_n.end - region.end).is_extended_nonnegative
+            holds_n = sp.Interval(
+                sp.simplify(holds.start / s.k_e),
+                sp.simplify(holds.end / s.k_e),
+                holds.left_open,
+                holds.right_open,
             )
+            low_text, high_text = (
+                claim.get("region").split("<")[0],
+                claim.get("region").split("<")[-1],
+            )
+            region = sp.Interval(
+                parse_printed(low_text.strip(), tr).expr,
+                parse_printed(high_text.strip(), tr).expr,
+                True,
+                True,
+            )
+            inside = bool(
+                sp.simplify(region.start - holds_n.start).is_extended_nonnegative
+            ) and bool(sp.simplify(holds_n.end - region.end).is_extended_nonnegative)
             verdict = CONSISTENT if inside else CONTRADICTION
-            detail = (f"Eq. 17: the {claim.get('faster').replace('_', '-')} phase is faster for n in"
-                      f" ${sp.latex(holds_n.intersect(sp.Interval.open(0, sp.oo)))}$")
+            detail = (
+                f"Eq. 17: the {claim.get('faster').replace('_', '-')} phase is faster for n in"
+                f" ${sp.latex(holds_n.intersect(sp.Interval.open(0, sp.oo)))}$"
+            )
         elif claim.kind == "fail_area":
-            condition = parse_printed(claim.get("condition").split(">")[0].split("<")[0].strip(), tr).expr
+            condition = parse_printed(
+                claim.get("condition").split(">")[0].split("<")[0].strip(), tr
+            ).expr
             d_off = d["16"].row("")
             # Eq. 16: D_off = 2 - (D_on + 4E/U_d): negative iff the sum exceeds 2, above 1 iff
             # the sum is below 1.
             below = claim.get("consequence") == "below"
             ok = sp.simplify(d_off + condition - 2) == 0
             verdict = CONSISTENT if ok else CONTRADICTION
-            detail = (f"Eq. 16 gives $D_{{off}} = {sp.latex(d_off)}$, so $D_{{off}}$ is "
-                      f"{'negative' if below else 'above 1'} exactly when "
-                      f"${sp.latex(condition)} {'>' if below else '<'} {2 if below else 1}$")
+            detail = (
+                f"Eq. 16 gives $D_{{off}} = {sp.latex(d_off)}$, so $D_{{off}}$ is "
+                f"{'negative' if below else 'above 1'} exactly when "
+                f"${sp.latex(condition)} {'>' if below else '<'} {2 if below else 1}$"
+            )
         elif claim.kind == "equivalent_conditions":
             first = claim.get("first")
             lhs, rhs = (parse_printed(x.strip(), tr).expr for x in first.split("<"))
-            set_first = sp.solve_univariate_inequality((lhs < rhs).subs(s.E, s.k_e * s.n), s.n,
-                                                       relational=False)
+            set_first = sp.solve_univariate_inequality(
+                (lhs < rhs).subs(s.E, s.k_e * s.n), s.n, relational=False
+            )
             second = claim.get("second")
             bound = parse_printed(second.split("\\leq")[-1].strip(), tr).expr
             set_second = sp.Interval(0, bound)
             same_ends = sp.simplify(set_first.end - set_second.end) == 0
-            verdict = MINOR if same_ends and set_first.right_open != set_second.right_open else (
-                CONSISTENT if same_ends else CONTRADICTION)
-            detail = (f"${first}$ means $n < {sp.latex(set_first.end)}$ (open), but 'namely' "
-                      f"${second}$ includes $n = {sp.latex(bound)}$, where 2E = U_d and braking is lost")
+            verdict = (
+                MINOR
+                if same_ends and set_first.right_open != set_second.right_open
+                else (CONSISTENT if same_ends else CONTRADICTION)
+            )
+            detail = (
+                f"${first}$ means $n < {sp.latex(set_first.end)}$ (open), but 'namely' "
+                f"${second}$ includes $n = {sp.latex(bound)}$, where 2E = U_d and braking is lost"
+            )
         elif claim.kind == "number":
             value = d["18"].row(claim.get("expression")).subs(values)
-            verdict = CONSISTENT if round(float(value)) == int(claim.get("value")) else CONTRADICTION
+            verdict = (
+                CONSISTENT if round(float(value)) == int(claim.get("value")) else CONTRADICTION
+            )
             detail = f"Eq. 18 with Table 3: U_d/(4 k_e) = {float(value):.2f} rpm"
         elif claim.kind == "region_overlap":
             rule = d["18"]
@@ -237,29 +347,37 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
             on_gap = sp.simplify(rule.row("on_high").subs(at) - rule.row("on_low").subs(at))
             off_gap = sp.simplify(rule.row("off_high").subs(at) - rule.row("off_low").subs(at))
             verdict = CONSISTENT if on_gap == 0 and off_gap == 0 else CONTRADICTION
-            detail = ("both segments claim the cut-off speed, which is harmless: Eq. 18 is continuous"
-                      " there (both give D_on = 1, D_off = 0)")
+            detail = (
+                "both segments claim the cut-off speed, which is harmless: Eq. 18 is continuous"
+                " there (both give D_on = 1, D_off = 0)"
+            )
         elif claim.kind == "speed_condition":
             region = _region_at(d, tr, claim.get("speed"))
             four_e = float(4 * values[s.k_e] * claim.get("speed"))
             verdict = CONSISTENT if region == claim.get("region") else CONTRADICTION
-            detail = (f"4 k_e n = {four_e:.2f} V against U_d = {float(values[s.U_d]):g} V: "
-                      f"{region}-speed segment")
+            detail = (
+                f"4 k_e n = {four_e:.2f} V against U_d = {float(values[s.U_d]):g} V: "
+                f"{region}-speed segment"
+            )
         elif claim.kind == "conventional_fails":
             n = sp.nsimplify(claim.get("speed"))
             duty = sp.nsimplify(str(claim.get("main_duty")))
             d_off = d["16"].row("").subs({**values, s.E: values[s.k_e] * n, s.D_on: duty})
             fails = not 0 <= d_off <= 1
             verdict = CONSISTENT if fails else CONTRADICTION
-            detail = (f"Eq. 16 with D_on = {float(duty):g} at {n} rpm: D_off = {float(d_off):.3f}, "
-                      f"{'outside' if fails else 'inside'} [0, 1] (control fail area), so the"
-                      " residual ripple of Fig. 13 is what the equations predict")
+            detail = (
+                f"Eq. 16 with D_on = {float(duty):g} at {n} rpm: D_off = {float(d_off):.3f}, "
+                f"{'outside' if fails else 'inside'} [0, 1] (control fail area), so the"
+                " residual ripple of Fig. 13 is what the equations predict"
+            )
         elif claim.kind == "pattern_speed":
             region = _region_at(d, tr, claim.get("speed"))
             verdict = CONSISTENT if region == claim.get("pattern") else CONTRADICTION
-            detail = (f"turn-on phase held on while the turn-off phase is modulated is Eq. 18's "
-                      f"{claim.get('pattern')}-speed branch; {claim.get('speed')} rpm is in the "
-                      f"{region}-speed segment")
+            detail = (
+                f"turn-on phase held on while the turn-off phase is modulated is Eq. 18's "
+                f"{claim.get('pattern')}-speed branch; {claim.get('speed')} rpm is in the "
+                f"{region}-speed segment"
+            )
         else:
             raise ValueError(f"unknown claim kind {claim.kind!r}")
         out.append(Check(claim.id, where, claim.quote, verdict, detail))
@@ -267,5 +385,7 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
 
 
 def defects(tr: Transcription) -> list[Check]:
-    return [Check(f"defect-{i + 1}", f"section {x.section}", x.quote, CONTRADICTION, x.what)
-            for i, x in enumerate(tr.defects)]
+    return [
+        Check(f"defect-{i + 1}", f"section {x.section}", x.quote, CONTRADICTION, x.what)
+        for i, x in enumerate(tr.defects)
+    ]

@@ -75,7 +75,9 @@ def _sign_flips(printed: sp.Expr, derived: sp.Expr) -> list[str]:
     out = []
     for term in terms:
         if sp.simplify(sp.expand(printed - 2 * term - derived)) == 0:
-            out.append(f"the term ${sp.latex(term)}$ has the wrong sign (derived: ${sp.latex(-term)}$)")
+            out.append(
+                f"the term ${sp.latex(term)}$ has the wrong sign (derived: ${sp.latex(-term)}$)"
+            )
     return out
 
 
@@ -115,7 +117,8 @@ def _explain(printed: sp.Expr, derived: sp.Expr) -> tuple[list[str], bool]:
 
 def _interval_verdict(printed: sp.Interval, derived: sp.Interval) -> tuple[Verdict, list[str]]:
     ends_equal = (
-        sp.simplify(printed.start - derived.start) == 0 and sp.simplify(printed.end - derived.end) == 0
+        sp.simplify(printed.start - derived.start) == 0
+        and sp.simplify(printed.end - derived.end) == 0
     )
     if not ends_equal:
         return Verdict.MISMATCH, [f"printed ${sp.latex(printed)}$, derived ${sp.latex(derived)}$"]
@@ -134,11 +137,19 @@ def _solve(expr: sp.Basic, var: sp.Symbol) -> list[sp.Expr]:
 
 
 def compare_row(
-    key: str, row: PrintedRow, derived: sp.Basic, transcription: Transcription, derived_note: str = ""
+    key: str,
+    row: PrintedRow,
+    derived: sp.Basic,
+    transcription: Transcription,
+    derived_note: str = "",
 ) -> RowResult:
     notes: list[str] = []
     if row.parse_note:
-        notes.append(f"parsed as ${row.parse}$: {row.parse_note}" if row.parse != row.latex else row.parse_note)
+        notes.append(
+            f"parsed as ${row.parse}$: {row.parse_note}"
+            if row.parse != row.latex
+            else row.parse_note
+        )
     seed = f"{key}/{row.name}"
     vanishes = False
     if row.compare == "interval":
@@ -161,7 +172,10 @@ def compare_row(
                 printed_expr, sp.sympify(row.low), sp.sympify(row.high), var
             )
             verdict, findings = _interval_verdict(printed_set, derived)
-            printed_latex, method = sp.latex(printed_set), f"solved {row.low} <= . <= {row.high} for {row.var}"
+            printed_latex, method = (
+                sp.latex(printed_set),
+                f"solved {row.low} <= . <= {row.high} for {row.var}",
+            )
         elif row.compare in ("zero_set", "relation"):
             var = s.BY_NAME[row.solve_for]
             if row.compare == "relation":
@@ -170,12 +184,20 @@ def compare_row(
             else:
                 printed_rel = printed_expr
             derived_rel = derived.lhs - derived.rhs if isinstance(derived, sp.Equality) else derived
-            printed_zero = printed_rel.lhs - printed_rel.rhs if isinstance(printed_rel, sp.Equality) else printed_rel
+            printed_zero = (
+                printed_rel.lhs - printed_rel.rhs
+                if isinstance(printed_rel, sp.Equality)
+                else printed_rel
+            )
             a, b = _solve(printed_zero, var), _solve(derived_rel, var)
-            same = len(a) == len(b) and all(sp.simplify(x - y) == 0 for x, y in zip(a, b, strict=True))
+            same = len(a) == len(b) and all(
+                sp.simplify(x - y) == 0 for x, y in zip(a, b, strict=True)
+            )
             verdict = Verdict.MATCH if same else Verdict.MISMATCH
             if not same:
-                findings.append(f"solving for ${sp.latex(var)}$ gives ${sp.latex(a)}$, derived ${sp.latex(b)}$")
+                findings.append(
+                    f"solving for ${sp.latex(var)}$ gives ${sp.latex(a)}$, derived ${sp.latex(b)}$"
+                )
             printed_latex, method = sp.latex(printed_rel), f"same solution for {row.solve_for}"
         else:
             same, method = _same(printed_expr, derived, seed)

@@ -62,7 +62,7 @@ class DimensionClash:
     terms: tuple[tuple[str, str], ...]  # (term LaTeX, dimension)
 
 
-class _Clash(Exception):
+class _ClashError(Exception):
     def __init__(self, clash: DimensionClash) -> None:
         super().__init__(str(clash))
         self.clash = clash
@@ -85,7 +85,7 @@ def _dimension(expr: sp.Basic) -> u.Dimension:
         first = dims[0][1]
         if all(dimsys_SI.equivalent_dims(first, d) for _, d in dims[1:]):
             return first
-        raise _Clash(DimensionClash(tuple((sp.latex(t), dimension_name(d)) for t, d in dims)))
+        raise _ClashError(DimensionClash(tuple((sp.latex(t), dimension_name(d)) for t, d in dims)))
     raise TypeError(f"no dimension rule for {type(expr).__name__}")
 
 
@@ -93,7 +93,7 @@ def check_dimensions(expr: sp.Basic) -> DimensionClash | None:
     """The first clash in `expr` (outermost sum first), or None if consistent."""
     try:
         _dimension(sp.expand(expr))
-    except _Clash as clash:
+    except _ClashError as clash:
         return clash.clash
     return None
 

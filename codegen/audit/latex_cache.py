@@ -53,7 +53,11 @@ class LatexCache:
     def save(self) -> None:
         if not self.dirty:
             return
-        payload = {"note": _HEADER, "sympy": sp.__version__, "entries": dict(sorted(self.entries.items()))}
+        payload = {
+            "note": _HEADER,
+            "sympy": sp.__version__,
+            "entries": dict(sorted(self.entries.items())),
+        }
         tmp = self.path.with_suffix(".json.tmp")
         tmp.write_text(json.dumps(payload, indent=1, sort_keys=False) + "\n", encoding="utf-8")
         tmp.replace(self.path)

@@ -67,7 +67,9 @@ def _derived_block(eq: EquationAudit, derivation: Derivation, tr: Transcription)
     return " \\\\ ".join(lines)
 
 
-def _equation_context(eq: EquationAudit, derivation: Derivation, tr: Transcription) -> dict[str, object]:
+def _equation_context(
+    eq: EquationAudit, derivation: Derivation, tr: Transcription
+) -> dict[str, object]:
     return {
         "label": eq.label,
         "key": eq.key,
@@ -98,23 +100,42 @@ def _fmt(value: sp.Expr, digits: int = 4) -> str:
 
 def _figures_context(figs: SpecFigures, spec: Spec) -> list[dict[str, str]]:
     rows = [
-        {"quantity": "segment cut-off $U_d/(4k_e)$", "value": f"{_fmt(figs.boundary_speed_rpm, 5)} rpm",
-         "source": "Eq. 18"},
-        {"quantity": "upper limit $U_d/(2k_e)$", "value": f"{_fmt(figs.upper_speed_rpm, 5)} rpm",
-         "source": "Eqs. 11, 18"},
+        {
+            "quantity": "segment cut-off $U_d/(4k_e)$",
+            "value": f"{_fmt(figs.boundary_speed_rpm, 5)} rpm",
+            "source": "Eq. 18",
+        },
+        {
+            "quantity": "upper limit $U_d/(2k_e)$",
+            "value": f"{_fmt(figs.upper_speed_rpm, 5)} rpm",
+            "source": "Eqs. 11, 18",
+        },
     ]
     for p in figs.points:
         n = f"{int(p.speed_rpm)} rpm"
         rows += [
             {"quantity": f"segment at {n}", "value": p.region, "source": "Eq. 18"},
-            {"quantity": f"improved $D_{{on}}$ at {n}", "value": _fmt(p.improved_on), "source": "Eq. 18"},
-            {"quantity": f"improved $D_{{off}}$ at {n}", "value": _fmt(p.improved_off), "source": "Eq. 18"},
-            {"quantity": f"improved $t_{{com}}$ at {n}, I = {float(spec.controller.braking_current_nominal_a):g} A",
-             "value": f"{float(p.improved_t_com_s) * 1e6:.0f} us of a {float(p.sector_time_s) * 1e6:.0f} us sector",
-             "source": "Eq. 20"},
-            {"quantity": f"conventional $D_{{off}}$ at {n}, $D_{{on}}$ = {float(p.main_duty):g}",
-             "value": _fmt(p.conventional_off) + (" (control fail area)" if p.conventional_fails else ""),
-             "source": "Eq. 16"},
+            {
+                "quantity": f"improved $D_{{on}}$ at {n}",
+                "value": _fmt(p.improved_on),
+                "source": "Eq. 18",
+            },
+            {
+                "quantity": f"improved $D_{{off}}$ at {n}",
+                "value": _fmt(p.improved_off),
+                "source": "Eq. 18",
+            },
+            {
+                "quantity": f"improved $t_{{com}}$ at {n}, I = {float(spec.controller.braking_current_nominal_a):g} A",
+                "value": f"{float(p.improved_t_com_s) * 1e6:.0f} us of a {float(p.sector_time_s) * 1e6:.0f} us sector",
+                "source": "Eq. 20",
+            },
+            {
+                "quantity": f"conventional $D_{{off}}$ at {n}, $D_{{on}}$ = {float(p.main_duty):g}",
+                "value": _fmt(p.conventional_off)
+                + (" (control fail area)" if p.conventional_fails else ""),
+                "source": "Eq. 16",
+            },
         ]
     return rows
 
@@ -126,25 +147,33 @@ def _switching_context(derivation: Derivation, spec: Spec) -> list[dict[str, str
         sectors = table.sectors(direction)
         for k in range(6):
             edge = table.edge_into(k, direction)
-            rows.append({
-                "direction": direction,
-                "hall": f"{spec.hall.sequence[k]} ({spec.hall.sequence[k]:03b})",
-                "sector": f"{60 * k}-{60 * (k + 1)}",
-                "pair": sectors[k].pair_name(),
-                "edge": f"{edge.angle_deg % 360}",
-                "non_commutating": f"{PHASE_NAMES[edge.non_commutating]} via {edge.freewheel_diode}",
-                "turn_off": f"{PHASE_NAMES[edge.turn_off]}: {edge.modulated_off} at $D_{{off}}$",
-                "turn_on": f"{PHASE_NAMES[edge.turn_on]}: {edge.modulated_on} at $D_{{on}}$",
-                "kind": edge.kind,
-                "after": f"{edge.modulated_on} at main duty",
-            })
+            rows.append(
+                {
+                    "direction": direction,
+                    "hall": f"{spec.hall.sequence[k]} ({spec.hall.sequence[k]:03b})",
+                    "sector": f"{60 * k}-{60 * (k + 1)}",
+                    "pair": sectors[k].pair_name(),
+                    "edge": f"{edge.angle_deg % 360}",
+                    "non_commutating": f"{PHASE_NAMES[edge.non_commutating]} via {edge.freewheel_diode}",
+                    "turn_off": f"{PHASE_NAMES[edge.turn_off]}: {edge.modulated_off} at $D_{{off}}$",
+                    "turn_on": f"{PHASE_NAMES[edge.turn_on]}: {edge.modulated_on} at $D_{{on}}$",
+                    "kind": edge.kind,
+                    "after": f"{edge.modulated_on} at main duty",
+                }
+            )
     return rows
 
 
 def _checks(group: tuple) -> list[dict[str, str]]:
     return [
-        {"id": c.id, "where": c.where, "quote": c.quote, "icon": CHECK_ICONS[c.verdict],
-         "verdict": c.verdict, "detail": c.detail}
+        {
+            "id": c.id,
+            "where": c.where,
+            "quote": c.quote,
+            "icon": CHECK_ICONS[c.verdict],
+            "verdict": c.verdict,
+            "detail": c.detail,
+        }
         for c in group
     ]
 
@@ -164,7 +193,9 @@ def counts(result: AuditResult) -> Counts:
     )
 
 
-def render_report(result: AuditResult, derivation: Derivation, tr: Transcription, spec: Spec) -> str:
+def render_report(
+    result: AuditResult, derivation: Derivation, tr: Transcription, spec: Spec
+) -> str:
     figs = spec_figures(derivation, spec)
     return render(
         TEMPLATE,
@@ -173,7 +204,13 @@ def render_report(result: AuditResult, derivation: Derivation, tr: Transcription
         spec_name=spec.name,
         counts=counts(result),
         findings=[
-            {"n": i + 1, "where": f.where, "severity": f.severity, "what": f.what, "relied_on": f.relied_on}
+            {
+                "n": i + 1,
+                "where": f.where,
+                "severity": f.severity,
+                "what": f.what,
+                "relied_on": f.relied_on,
+            }
             for i, f in enumerate(result.findings)
         ],
         equations=[_equation_context(eq, derivation, tr) for eq in result.equations],

@@ -53,14 +53,18 @@ class AuditResult:
         return sum(1 for eq in self.equations for row in eq.rows if row.verdict == verdict)
 
 
-def _reliance(eq: PrintedEquation, rows: tuple[RowResult, ...], audited: dict[str, EquationAudit]) -> str:
+def _reliance(
+    eq: PrintedEquation, rows: tuple[RowResult, ...], audited: dict[str, EquationAudit]
+) -> str:
     bad = [r for r in rows if r.verdict.is_finding]
     if not bad:
         return ""
     parts = []
     if all(r.vanishes_without_r for r in bad):
-        parts.append("Only the resistance term is wrong. The paper sets R = 0 from the next step on,"
-                     " so no later result inherits the error.")
+        parts.append(
+            "Only the resistance term is wrong. The paper sets R = 0 from the next step on,"
+            " so no later result inherits the error."
+        )
     for key in eq.downstream:
         after = audited.get(key)
         if after is None:
@@ -68,8 +72,10 @@ def _reliance(eq: PrintedEquation, rows: tuple[RowResult, ...], audited: dict[st
         if after.verdict.is_finding:
             parts.append(f"Eq. ({after.label}) carries the printed form forward.")
         else:
-            parts.append(f"Eq. ({after.label}), which follows from this one, agrees with the derived"
-                         " form: the rest of the paper relies on the derived form.")
+            parts.append(
+                f"Eq. ({after.label}), which follows from this one, agrees with the derived"
+                " form: the rest of the paper relies on the derived form."
+            )
     return " ".join(parts)
 
 
@@ -79,18 +85,35 @@ def audit_equations(tr: Transcription, d: Derivation) -> tuple[EquationAudit, ..
     for eq in sorted(tr.equations, key=lambda e: -e.sequence):
         if eq.kind == "model":
             audited[eq.key] = EquationAudit(
-                eq.key, eq.label, eq.sequence, eq.section, eq.title, eq.printed, Verdict.MODEL, (),
-                "the model the derivation starts from", "",
+                eq.key,
+                eq.label,
+                eq.sequence,
+                eq.section,
+                eq.title,
+                eq.printed,
+                Verdict.MODEL,
+                (),
+                "the model the derivation starts from",
+                "",
             )
             continue
         derived = d[eq.key]
         rows = tuple(
-            compare_row(eq.key, row, derived.row(row.name), tr, derived.note(row.name)) for row in eq.rows
+            compare_row(eq.key, row, derived.row(row.name), tr, derived.note(row.name))
+            for row in eq.rows
         )
         verdict = max((r.verdict for r in rows), key=lambda v: v.severity)
         audited[eq.key] = EquationAudit(
-            eq.key, eq.label, eq.sequence, eq.section, eq.title, eq.printed, verdict, rows,
-            derived.method, _reliance(eq, rows, audited),
+            eq.key,
+            eq.label,
+            eq.sequence,
+            eq.section,
+            eq.title,
+            eq.printed,
+            verdict,
+            rows,
+            derived.method,
+            _reliance(eq, rows, audited),
         )
     return tuple(sorted(audited.values(), key=lambda e: e.sequence))
 
@@ -116,7 +139,14 @@ def _grouped(where: str, group: tuple[checks.Check, ...], summary: str) -> list[
     if not failed:
         return []
     listed = "; ".join(f"{c.where}: {c.detail}" for c in failed)
-    return [Finding(where, "inconsistency", f"{summary.format(n=len(failed), total=len(group))} {listed}", "")]
+    return [
+        Finding(
+            where,
+            "inconsistency",
+            f"{summary.format(n=len(failed), total=len(group))} {listed}",
+            "",
+        )
+    ]
 
 
 def _check_findings(group: tuple[checks.Check, ...]) -> list[Finding]:
@@ -144,7 +174,8 @@ def run_audit(tr: Transcription, d: Derivation) -> AuditResult:
         _equation_findings(equations)
         + _check_findings(labels)
         + _grouped(
-            "equation citations", citations,
+            "equation citations",
+            citations,
             "{n} of {total} citations in the text do not match the printed label; each cites the"
             " equation's position in the paper instead, which is the numbering the text uses"
             " throughout.",
@@ -152,17 +183,21 @@ def run_audit(tr: Transcription, d: Derivation) -> AuditResult:
         + _check_findings(table2)
         + _check_findings(table4)
         + _grouped(
-            "section 3.1", role_claims,
+            "section 3.1",
+            role_claims,
             "Cases (1)-(3) swap the turn-on and turn-off labels of i_b and i_c ({n} places), while"
             " section 3.2 and the cases' own descriptions (i_b falls to zero) use B = turn-off,"
             " C = turn-on.",
         )
         + _check_findings(other_claims)
         + _grouped(
-            "figure captions", figures,
+            "figure captions",
+            figures,
             "{n} of {total} figure captions restart the numbering: Figs. 10-15 are captioned"
             " Fig. 4-9, numbers already used by Figs. 4-9.",
         )
         + _check_findings(defects)
     )
-    return AuditResult(equations, labels, citations, table2, table4, claims, figures, defects, findings)
+    return AuditResult(
+        equations, labels, citations, table2, table4, claims, figures, defects, findings
+    )

@@ -174,7 +174,10 @@ def _row(raw: Mapping[str, Any], key: str, printed: str) -> PrintedRow:
 
 def _range(raw: Mapping[str, Any]) -> Range:
     return Range(
-        str(raw["low"]), bool(raw.get("low_open", True)), str(raw["high"]), bool(raw.get("high_open", False))
+        str(raw["low"]),
+        bool(raw.get("low_open", True)),
+        str(raw["high"]),
+        bool(raw.get("high_open", False)),
     )
 
 
@@ -204,7 +207,9 @@ def load_transcription(path: Path = DEFAULT_TRANSCRIPTION) -> Transcription:
             kind=str(c["kind"]),
             section=str(c["section"]),
             quote=str(c["quote"]),
-            fields=tuple((k, v) for k, v in c.items() if k not in ("id", "kind", "section", "quote")),
+            fields=tuple(
+                (k, v) for k, v in c.items() if k not in ("id", "kind", "section", "quote")
+            ),
         )
         for c in data["claims"]
     )
@@ -212,11 +217,18 @@ def load_transcription(path: Path = DEFAULT_TRANSCRIPTION) -> Transcription:
     return Transcription(
         paper=str(data["paper"]),
         symbols=tuple(
-            (str(k), str(v["symbol"]), str(v.get("notation", ""))) for k, v in data["symbols"].items()
+            (str(k), str(v["symbol"]), str(v.get("notation", "")))
+            for k, v in data["symbols"].items()
         ),
         equations=tuple(equations),
         table2=tuple(
-            Table2Row(str(r["quantity"]), str(r["region"]), _range(r["speed"]), _range(r["emf"]), str(r["duty"]))
+            Table2Row(
+                str(r["quantity"]),
+                str(r["region"]),
+                _range(r["speed"]),
+                _range(r["emf"]),
+                str(r["duty"]),
+            )
             for r in data["table2"]
         ),
         table3_voltage=sp.nsimplify(str(table3["rated_voltage_v"])),
@@ -227,8 +239,13 @@ def load_transcription(path: Path = DEFAULT_TRANSCRIPTION) -> Transcription:
             for c in data["citations"]
         ),
         claims=claims,
-        figures=tuple(FigureRef(int(f["text"]), int(f["caption"]), str(f["caption_text"])) for f in data["figures"]),
-        defects=tuple(Defect(str(d["section"]), str(d["quote"]), str(d["what"])) for d in data["defects"]),
+        figures=tuple(
+            FigureRef(int(f["text"]), int(f["caption"]), str(f["caption_text"]))
+            for f in data["figures"]
+        ),
+        defects=tuple(
+            Defect(str(d["section"]), str(d["quote"]), str(d["what"])) for d in data["defects"]
+        ),
     )
 
 

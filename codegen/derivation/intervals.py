@@ -45,7 +45,9 @@ def contains(outer: sp.Interval, inner: sp.Interval) -> bool:
     """inner is a subset of outer, decided from the symbols' sign assumptions."""
     low = sp.simplify(inner.start - outer.start)
     high = sp.simplify(outer.end - inner.end)
-    low_ok = bool(low.is_extended_positive) or (bool(low.is_zero) and (inner.left_open or not outer.left_open))
+    low_ok = bool(low.is_extended_positive) or (
+        bool(low.is_zero) and (inner.left_open or not outer.left_open)
+    )
     high_ok = bool(high.is_extended_positive) or (
         bool(high.is_zero) and (inner.right_open or not outer.right_open)
     )

@@ -106,42 +106,58 @@ def derive() -> Derivation:
     emfs = edge.back_emfs()
     results.append(
         DerivedResult(
-            "3b", "terminal_voltages_no_suppression",
+            "3b",
+            "terminal_voltages_no_suppression",
             "Terminal voltages during commutation, turn-off switch off",
             _rows("a b c", u_none),
-            "switching table at the 60 deg edge, PWM-averaged, D_off = 0", False,
+            "switching table at the 60 deg edge, PWM-averaged, D_off = 0",
+            False,
         )
     )
     slopes_none = solve_slopes(u_none, emfs)
     results.append(
         DerivedResult(
-            "4", "current_slopes_no_suppression", "Phase current slopes, D_off = 0",
+            "4",
+            "current_slopes_no_suppression",
+            "Phase current slopes, D_off = 0",
             _rows("a b c", slopes_none),
-            "Eq. 1 with i_a + i_b + i_c = 0 eliminating u_n, R kept", False,
+            "Eq. 1 with i_a + i_b + i_c = 0 eliminating u_n, R kept",
+            False,
         )
     )
     initial = edge.initial_currents()
     currents_none = integrate_constant_slopes([_no_r(x) for x in slopes_none], initial)
     results.append(
         DerivedResult(
-            "5", "currents_no_suppression", "Phase currents during commutation, D_off = 0",
+            "5",
+            "currents_no_suppression",
+            "Phase currents during commutation, D_off = 0",
             _rows("a b c", tuple(sp.expand(c) for c in currents_none)),
-            "Eq. 4 with R = 0 integrated from i_a = -I, i_b = I, i_c = 0", True,
+            "Eq. 4 with R = 0 integrated from i_a = -I, i_b = I, i_c = 0",
+            True,
         )
     )
     # Eq. 2 (printed as a second "(1)"): P_e = T_e omega_m = sum e_x i_x.
     torque = sp.expand(sum(e * i for e, i in zip(emfs, currents_none, strict=True)) / s.omega_m)
     results.append(
         DerivedResult(
-            "6", "torque_no_suppression", "Electromagnetic torque during commutation",
-            (("", torque),), "T_e = sum(e_x i_x) / omega_m with the currents of Eq. 5", True,
+            "6",
+            "torque_no_suppression",
+            "Electromagnetic torque during commutation",
+            (("", torque),),
+            "T_e = sum(e_x i_x) / omega_m with the currents of Eq. 5",
+            True,
         )
     )
     ripple = sp.expand(torque - torque.subs(s.t, 0))
     results.append(
         DerivedResult(
-            "7", "torque_ripple_no_suppression", "Commutation torque ripple",
-            (("", ripple),), "T_e(t) - T_e(0)", True,
+            "7",
+            "torque_ripple_no_suppression",
+            "Commutation torque ripple",
+            (("", ripple),),
+            "T_e(t) - T_e(0)",
+            True,
         )
     )
     ripple_rate = sp.factor(sp.diff(ripple, s.t))
@@ -149,31 +165,46 @@ def derive() -> Derivation:
     numerator = sp.expand(ripple_rate * 3 * s.L * s.omega_m)
     results.append(
         DerivedResult(
-            "8", "ripple_free_condition", "Ripple-free condition",
+            "8",
+            "ripple_free_condition",
+            "Ripple-free condition",
             (("", ripple), ("condition", numerator)),
-            "Delta T_e = 0 for all t: the t coefficient times 3 L omega_m must vanish", True,
+            "Delta T_e = 0 for all t: the t coefficient times 3 L omega_m must vanish",
+            True,
         )
     )
     d_on_free = _solve_one(numerator, s.D_on, "Eq. 9")
     results.append(
         DerivedResult(
-            "9", "ripple_free_on_duty", "Ripple-free turn-on duty, D_off = 0",
-            (("", d_on_free),), "Eq. 8 solved for D_on", True,
+            "9",
+            "ripple_free_on_duty",
+            "Ripple-free turn-on duty, D_off = 0",
+            (("", d_on_free),),
+            "Eq. 8 solved for D_on",
+            True,
         )
     )
     emf_range = interval_where(d_on_free, sp.S.Zero, sp.S.One, s.E)
     results.append(
         DerivedResult(
-            "10", "ripple_free_emf_range", "Back-EMF range where Eq. 9 is a duty",
-            (("", d_on_free), ("set", emf_range)), "0 <= D_on <= 1 solved for E > 0", True,
+            "10",
+            "ripple_free_emf_range",
+            "Back-EMF range where Eq. 9 is a duty",
+            (("", d_on_free), ("set", emf_range)),
+            "0 <= D_on <= 1 solved for E > 0",
+            True,
         )
     )
     d_on_free_n = d_on_free.subs(s.E, s.k_e * s.n)
     speed_range = interval_where(d_on_free_n, sp.S.Zero, sp.S.One, s.n)
     results.append(
         DerivedResult(
-            "11", "ripple_free_speed_range", "Speed range where Eq. 9 is a duty",
-            (("", d_on_free_n), ("set", speed_range)), "Eq. 10 with E = k_e n (Eq. 3)", True,
+            "11",
+            "ripple_free_speed_range",
+            "Speed range where Eq. 9 is a duty",
+            (("", d_on_free_n), ("set", speed_range)),
+            "Eq. 10 with E = k_e n (Eq. 3)",
+            True,
         )
     )
 
@@ -181,15 +212,22 @@ def derive() -> Derivation:
     u_overlap = edge.terminal_voltages(d_on=s.D_on, d_off=s.D_off)
     results.append(
         DerivedResult(
-            "12", "terminal_voltages_overlap", "Terminal voltages, overlapping commutation",
-            _rows("a b c", u_overlap), "switching table at the 60 deg edge, PWM-averaged", False,
+            "12",
+            "terminal_voltages_overlap",
+            "Terminal voltages, overlapping commutation",
+            _rows("a b c", u_overlap),
+            "switching table at the 60 deg edge, PWM-averaged",
+            False,
         )
     )
     slopes = solve_slopes(u_overlap, emfs)
     results.append(
         DerivedResult(
-            "13", "current_slopes_overlap", "Phase current slopes, overlapping commutation",
-            _rows("a b c", slopes), "Eq. 1 with i_a + i_b + i_c = 0 eliminating u_n, R kept",
+            "13",
+            "current_slopes_overlap",
+            "Phase current slopes, overlapping commutation",
+            _rows("a b c", slopes),
+            "Eq. 1 with i_a + i_b + i_c = 0 eliminating u_n, R kept",
             False,
         )
     )
@@ -197,24 +235,32 @@ def derive() -> Derivation:
     currents = integrate_constant_slopes(slopes_no_r, initial)
     results.append(
         DerivedResult(
-            "14", "currents_overlap", "Phase currents, overlapping commutation",
+            "14",
+            "currents_overlap",
+            "Phase currents, overlapping commutation",
             _rows("a b c", tuple(sp.expand(c) for c in currents)),
-            "Eq. 13 with R = 0 integrated from i_a = -I, i_b = I, i_c = 0", True,
+            "Eq. 13 with R = 0 integrated from i_a = -I, i_b = I, i_c = 0",
+            True,
         )
     )
     duty_sum = _solve_one(slopes_no_r[0], s.D_off, "Eq. 15") + s.D_on
     results.append(
         DerivedResult(
-            "15", "duty_sum_overlap", "Duty sum that holds the non-commutating current",
+            "15",
+            "duty_sum_overlap",
+            "Duty sum that holds the non-commutating current",
             (("", sp.Eq(s.D_on + s.D_off, sp.simplify(duty_sum))),),
-            "d i_a/dt of Eq. 14 set to zero", True,
+            "d i_a/dt of Eq. 14 set to zero",
+            True,
         )
     )
     d_off_conventional = _solve_one(slopes_no_r[0], s.D_off, "Eq. 16")
     feasible = interval_where(d_off_conventional, sp.S.Zero, sp.S.One, s.D_on)
     results.append(
         DerivedResult(
-            "16", "off_duty_conventional", "Turn-off duty of conventional overlapping",
+            "16",
+            "off_duty_conventional",
+            "Turn-off duty of conventional overlapping",
             (("", d_off_conventional), ("feasible_on_duty", feasible)),
             "Eq. 15 solved for D_off; 0 <= D_off <= 1 bounds D_on (outside: control fail area)",
             True,
@@ -227,8 +273,12 @@ def derive() -> Derivation:
     slope_on_max = sp.simplify(slopes_no_r[2].subs(extreme))
     results.append(
         DerivedResult(
-            "17", "extreme_slopes", "Fastest turn-off and turn-on slopes (D_on = 1, D_off = 0)",
-            _rows("b c", (slope_off_max, slope_on_max)), "Eq. 13 rows b and c, R = 0", True,
+            "17",
+            "extreme_slopes",
+            "Fastest turn-off and turn-on slopes (D_on = 1, D_off = 0)",
+            _rows("b c", (slope_off_max, slope_on_max)),
+            "Eq. 13 rows b and c, R = 0",
+            True,
         )
     )
     boundary_emf = _solve_one(sp.Eq(-slope_off_max, slope_on_max), s.E, "Eq. 18 boundary")
@@ -250,11 +300,16 @@ def derive() -> Derivation:
     upper_speed = sp.simplify(upper_emf / s.k_e)
     results.append(
         DerivedResult(
-            "18", "improved_duty_rule", "Improved (segmented) duty distribution",
+            "18",
+            "improved_duty_rule",
+            "Improved (segmented) duty distribution",
             (
-                ("on_high", d_on_high), ("off_high", sp.S.Zero),
-                ("on_low", sp.S.One), ("off_low", d_off_low),
-                ("boundary_speed", boundary_speed), ("upper_speed", upper_speed),
+                ("on_high", d_on_high),
+                ("off_high", sp.S.Zero),
+                ("on_low", sp.S.One),
+                ("off_low", d_off_low),
+                ("boundary_speed", boundary_speed),
+                ("upper_speed", upper_speed),
                 ("high_region", sp.Interval.Lopen(boundary_speed, upper_speed)),
                 ("low_region", sp.Interval.Lopen(0, boundary_speed)),
             ),
@@ -262,32 +317,47 @@ def derive() -> Derivation:
             "extreme and solve Eq. 15 for the other",
             True,
             (
-                ("low_region", "n = 0 is excluded: there E = 0, D_off = 1 holds the turn-off current"
-                 " and the low-speed commutation time I L/(2E) (Eq. 20) is unbounded; Table 2"
-                 " also writes 0 < n"),
+                (
+                    "low_region",
+                    "n = 0 is excluded: there E = 0, D_off = 1 holds the turn-off current"
+                    " and the low-speed commutation time I L/(2E) (Eq. 20) is unbounded; Table 2"
+                    " also writes 0 < n",
+                ),
             ),
         )
     )
     i_off = currents[1]
     results.append(
         DerivedResult(
-            "19", "turn_off_current", "Turn-off phase current reaching zero",
-            (("", i_off),), "Eq. 14 row b", True,
+            "19",
+            "turn_off_current",
+            "Turn-off phase current reaching zero",
+            (("", i_off),),
+            "Eq. 14 row b",
+            True,
         )
     )
     t_com = _solve_one(i_off, s.t, "Eq. 20")
     t_low = sp.simplify(t_com.subs({s.D_on: 1, s.D_off: d_off_low}))
     t_high = sp.simplify(t_com.subs({s.D_on: d_on_high, s.D_off: 0}))
-    t_conventional = sp.simplify(t_com.subs({s.D_on: s.D, s.D_off: d_off_conventional.subs(s.D_on, s.D)}))
+    t_conventional = sp.simplify(
+        t_com.subs({s.D_on: s.D, s.D_off: d_off_conventional.subs(s.D_on, s.D)})
+    )
     t_none = sp.simplify(t_com.subs({s.D_on: s.D, s.D_off: 0}))
     results.append(
         DerivedResult(
-            "20", "commutation_time", "Commutation time",
+            "20",
+            "commutation_time",
+            "Commutation time",
             (
-                ("", t_com), ("improved_low", t_low), ("improved_high", t_high),
-                ("conventional", t_conventional), ("none", t_none),
+                ("", t_com),
+                ("improved_low", t_low),
+                ("improved_high", t_high),
+                ("conventional", t_conventional),
+                ("none", t_none),
             ),
-            "Eq. 19 solved for t; then each method's duties substituted", True,
+            "Eq. 19 solved for t; then each method's duties substituted",
+            True,
         )
     )
     return Derivation(results=tuple(results), switching=table)

@@ -30,6 +30,7 @@ modulated. From the anchor alone:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import pairwise
 from typing import Literal
 
 import sympy as sp
@@ -192,9 +193,10 @@ def _emf_signs_from_anchor(anchor: Anchor) -> tuple[Sector, ...]:
             signs[(start + offset) % 6][phase] = sign
             signs[(start + 3 + offset) % 6][phase] = -sign
     positive_starts = sorted(
-        (start if sign > 0 else (start + 3) % 6, phase) for phase, (start, sign) in flat_start.items()
+        (start if sign > 0 else (start + 3) % 6, phase)
+        for phase, (start, sign) in flat_start.items()
     )
-    gaps = {(b[0] - a[0]) % 6 for a, b in zip(positive_starts, positive_starts[1:], strict=False)}
+    gaps = {(b[0] - a[0]) % 6 for a, b in pairwise(positive_starts)}
     if gaps != {2}:
         raise DerivationError(f"anchor does not give a balanced three-phase EMF: {positive_starts}")
     return tuple(Sector(k, tuple(signs[k])) for k in range(6))  # type: ignore[arg-type]
@@ -204,7 +206,9 @@ def _edge(direction: Direction, before: Sector, after: Sector, angle: int) -> Ed
     cur_before, cur_after = before.current_signs(), after.current_signs()
     common = [p for p in range(3) if cur_before[p] and cur_after[p]]
     if len(common) != 1:
-        raise DerivationError(f"sectors {before.index}->{after.index} share {common}, not one phase")
+        raise DerivationError(
+            f"sectors {before.index}->{after.index} share {common}, not one phase"
+        )
     nc = common[0]
     off = next(p for p in range(3) if cur_before[p] and not cur_after[p])
     on = next(p for p in range(3) if cur_after[p] and not cur_before[p])
@@ -237,8 +241,11 @@ def _check_mirror(edge: Edge, canonical: tuple[sp.Expr, ...]) -> None:
     slopes = solve_slopes(u, edge.back_emfs())
     order = (edge.non_commutating, edge.turn_off, edge.turn_on)
     mirror = 1 if edge.kind == "upper" else -1
-    rename = {s.i_a: mirror * s.CURRENTS[order[0]], s.i_b: mirror * s.CURRENTS[order[1]],
-              s.i_c: mirror * s.CURRENTS[order[2]]}
+    rename = {
+        s.i_a: mirror * s.CURRENTS[order[0]],
+        s.i_b: mirror * s.CURRENTS[order[1]],
+        s.i_c: mirror * s.CURRENTS[order[2]],
+    }
     for role, phase, reference in zip(("nc", "off", "on"), order, canonical, strict=True):
         expected = mirror * reference.xreplace(rename)
         if sp.cancel(slopes[phase] - expected) != 0:
@@ -258,7 +265,10 @@ def derive_switching_table(anchor: Anchor | None = None) -> SwitchingTable:
     table = SwitchingTable(forward_sectors=forward, edges=tuple(edges))
     example = table.paper_example()
     if (example.non_commutating, example.turn_off, example.turn_on, example.kind) != (
-        anchor.non_commutating, anchor.turn_off, anchor.turn_on, "upper"
+        anchor.non_commutating,
+        anchor.turn_off,
+        anchor.turn_on,
+        "upper",
     ) or (example.modulated_on, example.freewheel_diode) != ("T5", "D1"):
         raise DerivationError(f"table does not reproduce the anchor: {example.describe()}")
     canonical = solve_slopes(example.terminal_voltages(s.D_on, s.D_off), example.back_emfs())

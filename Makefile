@@ -1,0 +1,76 @@
+# Two entry points for a fresh machine (see README):
+#   make        main job on the default spec: set up, derive, audit
+#   make test   every test (sets itself up the same way)
+SHELL := /bin/bash
+.DEFAULT_GOAL := all
+
+PYTHON ?= python3
+VENV   ?= .venv
+PY     := $(VENV)/bin/python
+SPEC   ?= spec/paper_motor.yaml
+SPEC_NAME = $(shell sed -n 's/^name: *//p' $(SPEC) | head -n 1)
+
+# Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
+APT_PACKAGES ?= python3-venv
+
+.PHONY: all setup sysdeps derive audit test lint format check-generated bench clean
+
+all: setup derive audit
+
+sysdeps:
+	@missing=""; for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:$$missing"; \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
+	fi
+
+$(VENV)/.installed: pyproject.toml
+	@$(PYTHON) -m venv --help >/dev/null 2>&1 || $(MAKE) sysdeps
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[dev]'
+	@touch $@
+
+setup: sysdeps $(VENV)/.installed
+
+derive: setup
+	$(PY) -m codegen derive $(SPEC)
+
+audit: setup
+	$(PY) -m codegen audit $(SPEC)
+
+lint: setup
+	$(PY) -m ruff check codegen verify tests
+	$(PY) -m ruff format --check codegen verify tests
+
+format: setup
+	$(PY) -m ruff format codegen verify tests
+	$(PY) -m ruff check --fix codegen verify tests
+
+# Regenerate into a temporary folder and fail with a diff if generated/ is stale.
+check-generated: setup
+	@tmp=$$(mktemp -d); trap 'rm -rf "$$tmp"' EXIT; \
+	cp spec/paper_printed.parsed.json "$$tmp/parsed.json"; \
+	for spec in spec/paper_motor.yaml; do \
+	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
+	  $(PY) -m codegen audit $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
+	  if ! diff -ru generated/$$name "$$tmp/$$name"; then \
+	    echo "generated/$$name is stale: run 'make audit SPEC=$$spec' and commit it"; exit 1; \
+	  fi; \
+	done; \
+	if ! diff -u "$$tmp/parsed.json" spec/paper_printed.parsed.json; then \
+	  echo "spec/paper_printed.parsed.json was stale and has been refreshed: commit it"; exit 1; \
+	fi; \
+	echo "check-generated: generated/ is up to date"
+
+test: setup lint check-generated
+	$(PY) -m pytest
+
+bench: setup
+	$(PY) -m codegen.bench $(SPEC)
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache
