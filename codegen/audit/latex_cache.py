@@ -33,6 +33,7 @@ class LatexCache:
         self.path = path
         self.entries: dict[str, dict[str, object]] = {}
         self.dirty = False
+        self.used: set[str] = set()
         if path.exists():
             data = json.loads(path.read_text(encoding="utf-8"))
             if data.get("sympy") == sp.__version__:
@@ -40,6 +41,7 @@ class LatexCache:
 
     def parse(self, latex: str, convert: Callable[[sp.Expr], Converted]) -> Converted:
         """Parse `latex` and apply `convert` (symbol mapping), through the cache."""
+        self.used.add(latex)
         cached = self.entries.get(latex)
         if cached is not None:
             notes = cached["notations"]

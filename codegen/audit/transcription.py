@@ -7,7 +7,7 @@ transcription does not declare is an error: it would otherwise compare as a stra
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -255,8 +255,10 @@ class Parsed:
     notations: tuple[str, ...]  # notation notes for symbol spellings that were used
 
 
-def parse_printed(latex: str, transcription: Transcription) -> Parsed:
-    """Parse printed LaTeX and map the paper's symbols onto the derivation's."""
+def symbol_mapper(
+    latex: str, transcription: Transcription
+) -> Callable[[sp.Expr], tuple[sp.Expr, tuple[str, ...]]]:
+    """Map the parser's symbols (D_{on}, L_s, ...) onto the derivation's symbols."""
     spellings = {name: (symbol, note) for name, symbol, note in transcription.symbols}
 
     def convert(expr: sp.Expr) -> tuple[sp.Expr, tuple[str, ...]]:
@@ -272,5 +274,10 @@ def parse_printed(latex: str, transcription: Transcription) -> Parsed:
                 notes.add(f"{spelling}: {note}")
         return expr.xreplace(mapping), tuple(sorted(notes))
 
-    expr, notes = shared_cache().parse(latex, convert)
+    return convert
+
+
+def parse_printed(latex: str, transcription: Transcription) -> Parsed:
+    """Parse printed LaTeX (through the checked-in cache) onto the derivation's symbols."""
+    expr, notes = shared_cache().parse(latex, symbol_mapper(latex, transcription))
     return Parsed(expr=expr, notations=notes)

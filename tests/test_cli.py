@@ -1,0 +1,84 @@
+"""The command line: outputs, exit codes, determinism and atomic writes."""
+
+from __future__ import annotations
+
+import hashlib
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from codegen import cli
+from codegen.errors import DerivationError
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+
+
+def test_audit_should_write_a_report_that_states_its_provenance(tmp_path: Path) -> None:
+    assert cli.main(["audit", str(SPEC), "-o", str(tmp_path)]) == 0
+    report = (tmp_path / "AUDIT.md").read_text(encoding="utf-8")
+    digest = hashlib.sha256(SPEC.read_bytes()).hexdigest()
+    first = report.splitlines()[0]
+    assert "templates/AUDIT.md.j2" in first
+    assert "spec/paper_motor.yaml" in first
+    assert digest in first
+    assert "Do not edit" in first
+    assert str(ROOT) not in report  # no absolute paths
+
+
+def test_two_audits_should_be_byte_identical(tmp_path: Path) -> None:
+    for out in ("one", "two"):
+        assert cli.main(["audit", str(SPEC), "-o", str(tmp_path / out)]) == 0
+    assert (tmp_path / "one" / "AUDIT.md").read_bytes() == (
+        tmp_path / "two" / "AUDIT.md"
+    ).read_bytes()
+
+
+def test_checked_in_report_should_match_a_fresh_one(tmp_path: Path) -> None:
+    assert cli.main(["audit", str(SPEC), "-o", str(tmp_path)]) == 0
+    checked_in = ROOT / "generated" / "paper_motor" / "AUDIT.md"
+    assert checked_in.read_bytes() == (tmp_path / "AUDIT.md").read_bytes()
+
+
+def test_derive_should_print_the_default_spec_numbers(capsys: pytest.CaptureFixture[str]) -> None:
+    assert cli.main(["derive", str(SPEC)]) == 0
+    out = capsys.readouterr().out
+    assert "U_d/(4 k_e) = 2542.4 rpm" in out
+    assert "U_d/(2 k_e) = 5084.7 rpm" in out
+    assert "D_on = 0.1907" in out
+    assert "control fail area" in out
+
+
+def test_a_bad_spec_should_exit_2_naming_the_key(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SPEC.read_text().replace("speed_max: 5000 rpm", "speed_max: 5100 rpm"))
+    assert cli.main(["audit", str(bad), "-o", str(tmp_path / "out")]) == cli.EXIT_SPEC
+    err = capsys.readouterr().err
+    assert "controller.speed_max" in err and "5084.7" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_failing_derivation_should_exit_3_and_keep_the_old_report(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert cli.main(["audit", str(SPEC), "-o", str(tmp_path)]) == 0
+    before = (tmp_path / "AUDIT.md").read_bytes()
+
+    def broken() -> None:
+        raise DerivationError("planted")
+
+    monkeypatch.setattr("codegen.derivation.derive", broken)
+    assert cli.main(["audit", str(SPEC), "-o", str(tmp_path)]) == cli.EXIT_DERIVATION
+    assert (tmp_path / "AUDIT.md").read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["AUDIT.md"]
+
+
+def test_module_and_console_entry_points_should_run() -> None:
+    result = subprocess.run(
+        [sys.executable, "-m", "codegen", "--help"], capture_output=True, text=True, check=False
+    )
+    assert result.returncode == 0 and "audit" in result.stdout
