@@ -66,7 +66,7 @@ def _same(a: sp.Expr, b: sp.Expr, seed: str) -> tuple[bool, str]:
         return True, "difference simplifies to 0"
     if _equal_at_random_points(a, b, seed):
         return True, f"equal at {RANDOM_POINTS} random rational points"
-    return False, "differs"
+    return False, "non-zero at a random rational point"
 
 
 def _sign_flips(printed: sp.Expr, derived: sp.Expr) -> list[str]:

@@ -45,14 +45,15 @@ class Counts:
     minor: int
 
 
-def _row_display(eq_key: str, row: RowResult, value: sp.Basic, var: str) -> str:
+def _row_display(row: RowResult, value: sp.Basic, var: str) -> str:
+    """One aligned line of the derived block: `lhs &= rhs`."""
     if isinstance(value, sp.Equality):
-        return sp.latex(value)
+        return f"{sp.latex(value.lhs)} &= {sp.latex(value.rhs)}"
     if isinstance(value, sp.Set):
-        return f"{var} \\in {sp.latex(value)}"
+        return f"{var} &\\in {sp.latex(value)}"
     if row.lhs == "0":
-        return f"{sp.latex(value)} = 0"
-    return f"{row.lhs} = {sp.latex(value)}"
+        return f"{sp.latex(value)} &= 0"
+    return f"{row.lhs} &= {sp.latex(value)}"
 
 
 def _derived_block(eq: EquationAudit, derivation: Derivation, tr: Transcription) -> str:
@@ -63,7 +64,7 @@ def _derived_block(eq: EquationAudit, derivation: Derivation, tr: Transcription)
     lines = []
     for row, printed_row in zip(eq.rows, printed.rows, strict=True):
         var = printed_row.var or "x"
-        lines.append(_row_display(eq.key, row, result.row(row.name), var))
+        lines.append(_row_display(row, result.row(row.name), var))
     return " \\\\ ".join(lines)
 
 
