@@ -1,5 +1,5 @@
 # Two entry points for a fresh machine (see README):
-#   make        main job on the default spec: set up, derive, audit
+#   make        main job on the default spec: set up, derive, generate (C, Python, audit)
 #   make test   every test (sets itself up the same way)
 SHELL := /bin/bash
 .DEFAULT_GOAL := all
@@ -11,11 +11,13 @@ SPEC   ?= spec/paper_motor.yaml
 SPEC_NAME = $(shell sed -n 's/^name: *//p' $(SPEC) | head -n 1)
 
 # Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
-APT_PACKAGES ?= python3-venv
+APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi
+# Specs whose output is checked in under generated/.
+SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit test lint format check-generated bench clean
+.PHONY: all setup sysdeps derive audit generate test lint format check-generated bench clean
 
-all: setup derive audit
+all: setup derive generate
 
 sysdeps:
 	@missing=""; for p in $(APT_PACKAGES); do \
@@ -42,6 +44,9 @@ derive: setup
 audit: setup
 	$(PY) -m codegen audit $(SPEC)
 
+generate: setup
+	$(PY) -m codegen generate $(SPEC)
+
 lint: setup
 	$(PY) -m ruff check codegen verify tests
 	$(PY) -m ruff format --check codegen verify tests
@@ -54,11 +59,11 @@ format: setup
 check-generated: setup
 	@tmp=$$(mktemp -d); trap 'rm -rf "$$tmp"' EXIT; \
 	cp spec/paper_printed.parsed.json "$$tmp/parsed.json"; \
-	for spec in spec/paper_motor.yaml; do \
+	for spec in $(SPECS); do \
 	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
-	  $(PY) -m codegen audit $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
+	  $(PY) -m codegen generate $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
 	  if ! diff -ru generated/$$name "$$tmp/$$name"; then \
-	    echo "generated/$$name is stale: run 'make audit SPEC=$$spec' and commit it"; exit 1; \
+	    echo "generated/$$name is stale: run 'make generate SPEC=$$spec' and commit it"; exit 1; \
 	  fi; \
 	done; \
 	if ! diff -u "$$tmp/parsed.json" spec/paper_printed.parsed.json; then \

@@ -1,8 +1,9 @@
 """Command line: `python -m codegen <command> SPEC` (also installed as `bldc-codegen`).
 
 Commands:
-  derive SPEC          print the derived equations and the spec's key numbers
-  audit SPEC [-o DIR]  write the derivation audit, DIR/AUDIT.md (default generated/<name>/)
+  derive SPEC             print the derived equations and the spec's key numbers
+  audit SPEC [-o DIR]     write the derivation audit, DIR/AUDIT.md (default generated/<name>/)
+  generate SPEC [-o DIR]  write everything: audit, fixed-point C, Python models (atomically)
 
 One process derives once (codegen.derivation.derive is cached) and every command reuses
 that result. Exit status: 0 on success (also when the paper has errors: finding them
@@ -87,6 +88,30 @@ def cmd_audit(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_generate(args: argparse.Namespace) -> int:
+    from codegen.fixedpoint.design import FixedPointError
+    from codegen.generate import generate
+
+    started = time.perf_counter()
+    try:
+        result = generate(args.spec, args.output, PROJECT_ROOT)
+    except FixedPointError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_SPEC
+    fx = result.design
+    out = Path(args.output) if args.output else PROJECT_ROOT / "generated" / result.spec.name
+    print(
+        f"generate: {len(result.files)} files -> {project_relative(out)}"
+        f" [{time.perf_counter() - started:.2f} s]"
+    )
+    print(
+        f"generate: X in Q{fx.x_frac_bits}, T*B >> {fx.tb_shift}; error bounds: duties"
+        f" {float(fx.duty_error_bound_counts):.3f} counts, t_com"
+        f" {float(fx.time_error_bound_ticks):.2f} ticks"
+    )
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="codegen", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -97,6 +122,10 @@ def build_parser() -> argparse.ArgumentParser:
     audit_p.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
     audit_p.add_argument("-o", "--output", help="output folder (default generated/<spec name>)")
     audit_p.set_defaults(func=cmd_audit)
+    gen_p = sub.add_parser("generate", help="generate C, Python models and the audit")
+    gen_p.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
+    gen_p.add_argument("-o", "--output", help="output folder (default generated/<spec name>)")
+    gen_p.set_defaults(func=cmd_generate)
     return parser
 
 

@@ -127,7 +127,7 @@ def test_default_spec_loads_in_exact_si() -> None:
     assert (controller.speed_min_rpm, controller.speed_max_rpm) == (200, 5000)
 
     assert spec.accuracy.duty_counts == 1
-    assert spec.accuracy.commutation_time_ticks == 4
+    assert spec.accuracy.commutation_time_ticks == 8
 
     assert [(p.speed_rpm, p.main_duty) for p in spec.operating_points] == [
         (1500, Fraction(21, 50)),

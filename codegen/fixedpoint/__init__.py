@@ -1,0 +1,1 @@
+"""Fixed-point design: scaling from physical units, formats, overflow proof, error bounds."""

@@ -1,0 +1,110 @@
+"""`generate SPEC`: write generated/<spec name>/ atomically.
+
+Everything is rendered in memory, written to a temporary sibling folder and then
+swapped into place with renames, so a failure at any step leaves the previous output
+untouched. A manifest lists every file with its SHA-256.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from codegen.audit.latex_cache import shared_cache
+from codegen.audit.report import render_report
+from codegen.audit.run import AuditResult, run_audit
+from codegen.audit.transcription import load_transcription
+from codegen.core_context import core_context, float_model_context
+from codegen.derivation import derive
+from codegen.fixedpoint.design import FixedPointDesign, design
+from codegen.fixedpoint.scaling import scaling
+from codegen.render import project_relative, provenance, render
+from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
+
+#: output path -> template (relative to templates/)
+CORE_FILES = {
+    "c/bldc_commutation.h": "c/bldc_commutation.h.j2",
+    "c/bldc_commutation.c": "c/bldc_commutation.c.j2",
+    "python/bldc_fixed.py": "python/bldc_fixed.py.j2",
+}
+
+
+@dataclass(frozen=True)
+class Generated:
+    spec: Spec
+    design: FixedPointDesign
+    audit: AuditResult
+    files: dict[str, str]
+
+
+def fixed_point_design(spec: Spec) -> FixedPointDesign:
+    return design(
+        scaling(spec, derive()), spec.accuracy.duty_counts, spec.accuracy.commutation_time_ticks
+    )
+
+
+def render_all(spec_path: str | Path) -> Generated:
+    spec = load_spec(spec_path)
+    derivation = derive()
+    fx = fixed_point_design(spec)
+    transcription = load_transcription()
+    audit = run_audit(transcription, derivation)
+    files: dict[str, str] = {"AUDIT.md": render_report(audit, derivation, transcription, spec)}
+    context = core_context(spec, derivation, fx)
+    for out, template in CORE_FILES.items():
+        files[out] = render(
+            template, provenance=provenance(f"templates/{template}", spec), **context
+        )
+    float_template = "python/bldc_float.py.j2"
+    files["python/bldc_float.py"] = render(
+        float_template,
+        provenance=provenance(f"templates/{float_template}", spec),
+        **float_model_context(spec, derivation),
+    )
+    manifest = {
+        "spec": project_relative(spec.source_path),
+        "spec_sha256": spec.sha256,
+        "files": {
+            name: hashlib.sha256(text.encode()).hexdigest() for name, text in sorted(files.items())
+        },
+    }
+    files["manifest.json"] = json.dumps(manifest, indent=2) + "\n"
+    shared_cache().save()
+    return Generated(spec, fx, audit, files)
+
+
+def write_tree(files: dict[str, str], target: Path) -> None:
+    """Write all files to a sibling temporary folder, then swap it in by renaming."""
+    target = target.resolve()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = target.with_name(f".{target.name}.new-{os.getpid()}")
+    retired = target.with_name(f".{target.name}.old-{os.getpid()}")
+    shutil.rmtree(staging, ignore_errors=True)
+    try:
+        for name, text in files.items():
+            path = staging / name
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8", newline="\n")
+        if target.exists():
+            os.replace(target, retired)
+        try:
+            os.replace(staging, target)
+        except OSError:
+            if retired.exists():
+                os.replace(retired, target)  # put the previous output back
+            raise
+        shutil.rmtree(retired, ignore_errors=True)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def generate(spec_path: str | Path, output: str | Path | None, project_root: Path) -> Generated:
+    result = render_all(spec_path)
+    target = Path(output) if output else project_root / "generated" / result.spec.name
+    write_tree(result.files, target)
+    return result
