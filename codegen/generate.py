@@ -22,6 +22,7 @@ from codegen.core_context import core_context, float_model_context
 from codegen.derivation import derive
 from codegen.fixedpoint.design import FixedPointDesign, design
 from codegen.fixedpoint.scaling import scaling
+from codegen.port import render_port_files
 from codegen.render import project_relative, provenance, render
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -60,6 +61,7 @@ def render_all(spec_path: str | Path) -> Generated:
         files[out] = render(
             template, provenance=provenance(f"templates/{template}", spec), **context
         )
+    files.update({f"c/{name}": text for name, text in render_port_files(spec).items()})
     float_template = "python/bldc_float.py.j2"
     files["python/bldc_float.py"] = render(
         float_template,

@@ -217,3 +217,26 @@ def test_core_should_build_for_cortex_m3_without_helpers(generated: Path, tmp_pa
     ).stdout
     assert "__aeabi" not in listing and "vfp" not in listing.lower()
     assert "udiv" in listing  # the hardware divide, not a library call
+
+
+@pytest.mark.parametrize("compiler", ["gcc", "arm-none-eabi-gcc"])
+def test_generated_c_should_compile_warning_free(
+    generated: Path, tmp_path: Path, compiler: str
+) -> None:
+    if shutil.which(compiler) is None:
+        pytest.skip(f"{compiler} missing")
+    target = ["-mcpu=cortex-m3", "-mthumb"] if compiler.startswith("arm") else []
+    for source in ("bldc_commutation.c", "stm32f103_port.c"):
+        subprocess.run(
+            [
+                compiler,
+                *WARNINGS,
+                *target,
+                "-O2",
+                "-c",
+                str(generated / "c" / source),
+                "-o",
+                str(tmp_path / f"{source}.o"),
+            ],
+            check=True,
+        )

@@ -1,0 +1,572 @@
+"""STM32F103 register map from the vendor SVD, and the minimal CMSIS header built from it.
+
+No address, offset or bit position of the generated `stm32f103_regs.h` is typed by
+hand: they all come from ST's CMSIS-SVD description of the STM32F103, which the pyocd
+package ships (`pyocd/debug/svd/svd_data.zip`, member `STM32F103xx.svd`). Typing them in
+would make the header a second, unchecked copy of RM0008; reading them keeps one source.
+
+The header is deliberately small (only what the port uses) and CMSIS/Cube compatible:
+the same type, instance, field and IRQ names as STM32Cube's `stm32f103xb.h`, so that a
+Cube project can define USE_CMSIS_DEVICE_HEADER and get Cube's own `stm32f1xx.h`.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib.resources
+import re
+import xml.etree.ElementTree as ET
+import zipfile
+from dataclasses import dataclass
+
+from codegen.render import provenance, render
+from codegen.spec_model import Spec
+
+SVD_PACKAGE = "pyocd.debug.svd"
+SVD_ARCHIVE = "svd_data.zip"
+SVD_MEMBER = "STM32F103xx.svd"
+
+REGS_TEMPLATE = "c/stm32f103_regs.h.j2"
+REGS_HEADER = "stm32f103_regs.h"
+
+
+@dataclass(frozen=True)
+class Field:
+    name: str
+    bit_offset: int
+    bit_width: int
+    description: str
+
+
+@dataclass(frozen=True)
+class Register:
+    name: str
+    address_offset: int
+    size_bits: int
+    access: str  # "read-write", "read-only", "write-only", ...
+    fields: tuple[Field, ...]
+    #: Name of the register this one overlays (SVD <alternateRegister>), e.g. the
+    #: capture view CCMR1_Input of the compare view CCMR1_Output.
+    alternate_of: str | None
+    description: str
+
+
+@dataclass(frozen=True)
+class Interrupt:
+    name: str
+    value: int
+    description: str
+
+
+@dataclass(frozen=True)
+class Peripheral:
+    name: str
+    group_name: str
+    base_address: int
+    #: SVD derivedFrom: the peripheral whose registers this one reuses (TIM3 <- TIM2).
+    derived_from: str | None
+    registers: tuple[Register, ...]
+    interrupts: tuple[Interrupt, ...]
+
+    def register(self, name: str) -> Register:
+        for reg in self.registers:
+            if reg.name == name:
+                return reg
+        raise KeyError(f"{self.name} has no register {name!r}")
+
+
+@dataclass(frozen=True)
+class Device:
+    name: str
+    version: str
+    source: str  # archive member the device was read from
+    sha256: str  # of the SVD bytes, so the header says exactly which file it used
+    peripherals: tuple[Peripheral, ...]
+
+    def peripheral(self, name: str) -> Peripheral:
+        for p in self.peripherals:
+            if p.name == name:
+                return p
+        raise KeyError(f"{self.name} SVD has no peripheral {name!r}")
+
+
+# --------------------------------------------------------------------------- parsing
+
+
+def _int(text: str) -> int:
+    """SVD scaledNonNegativeInteger: 0x.., #binary or decimal (no size suffixes here)."""
+    t = text.strip()
+    if t.lower().startswith("0x"):
+        return int(t, 16)
+    if t.startswith("#"):
+        return int(t[1:].replace("x", "0"), 2)
+    return int(t, 10)
+
+
+def _text(el: ET.Element, tag: str, default: str | None = None) -> str | None:
+    child = el.find(tag)
+    if child is None or child.text is None:
+        return default
+    return " ".join(child.text.split())
+
+
+def _required(el: ET.Element, tag: str, where: str) -> str:
+    value = _text(el, tag)
+    if value is None:
+        raise ValueError(f"SVD: {where} has no <{tag}>")
+    return value
+
+
+def _field(el: ET.Element, where: str) -> Field:
+    name = _required(el, "name", where)
+    where = f"{where}.{name}"
+    if el.find("bitOffset") is not None:
+        offset = _int(_required(el, "bitOffset", where))
+        width = _int(_text(el, "bitWidth", "1") or "1")
+    elif el.find("lsb") is not None:
+        offset = _int(_required(el, "lsb", where))
+        width = _int(_required(el, "msb", where)) - offset + 1
+    else:
+        match = re.fullmatch(r"\[(\d+):(\d+)\]", _required(el, "bitRange", where))
+        if match is None:
+            raise ValueError(f"SVD: {where} has a malformed <bitRange>")
+        offset = int(match.group(2))
+        width = int(match.group(1)) - offset + 1
+    return Field(name, offset, width, _text(el, "description", "") or "")
+
+
+def _register(el: ET.Element, where: str, size: int, access: str) -> Register:
+    name = _required(el, "name", where)
+    if el.find("dim") is not None:
+        raise ValueError(f"SVD: {where}.{name} is a dim array, which this reader does not expand")
+    where = f"{where}.{name}"
+    fields_el = el.find("fields")
+    fields = () if fields_el is None else tuple(_field(f, where) for f in fields_el.iter("field"))
+    return Register(
+        name=name,
+        address_offset=_int(_required(el, "addressOffset", where)),
+        size_bits=_int(_text(el, "size") or str(size)),
+        access=_text(el, "access") or access,
+        fields=tuple(sorted(fields, key=lambda f: f.bit_offset)),
+        alternate_of=_text(el, "alternateRegister"),
+        description=_text(el, "description", "") or "",
+    )
+
+
+def parse_svd(data: bytes, source: str = SVD_MEMBER) -> Device:
+    """Parse CMSIS-SVD bytes; resolve derivedFrom so every peripheral has its registers.
+
+    A derived peripheral keeps its own name, base address and interrupts (SVD lists
+    interrupts per instance) and inherits the registers, group and description of its
+    base unless it redefines them.
+    """
+    root = ET.fromstring(data)
+    device_size = _int(_text(root, "size", "32") or "32")
+    device_access = _text(root, "access", "read-write") or "read-write"
+    raw: dict[str, ET.Element] = {}
+    order: list[str] = []
+    peripherals_el = root.find("peripherals")
+    if peripherals_el is None:
+        raise ValueError("SVD: no <peripherals>")
+    for el in peripherals_el.findall("peripheral"):
+        name = _required(el, "name", "peripheral")
+        raw[name] = el
+        order.append(name)
+
+    resolved: dict[str, Peripheral] = {}
+
+    def resolve(name: str, chain: tuple[str, ...] = ()) -> Peripheral:
+        if name in resolved:
+            return resolved[name]
+        if name in chain:
+            raise ValueError(f"SVD: derivedFrom cycle {' -> '.join((*chain, name))}")
+        if name not in raw:
+            raise ValueError(f"SVD: {chain[-1]} is derived from unknown peripheral {name!r}")
+        el = raw[name]
+        base_name = el.get("derivedFrom")
+        base = resolve(base_name, (*chain, name)) if base_name else None
+        size = _int(_text(el, "size") or str(device_size))
+        access = _text(el, "access") or device_access
+        regs_el = el.find("registers")
+        if regs_el is not None:
+            registers = tuple(_register(r, name, size, access) for r in regs_el.findall("register"))
+        elif base is not None:
+            registers = base.registers
+        else:
+            registers = ()
+        interrupts = tuple(
+            Interrupt(
+                name=_required(i, "name", f"{name} interrupt"),
+                value=_int(_required(i, "value", f"{name} interrupt")),
+                description=_text(i, "description", "") or "",
+            )
+            for i in el.findall("interrupt")
+        )
+        group = _text(el, "groupName") or (base.group_name if base else name)
+        peripheral = Peripheral(
+            name=name,
+            group_name=group,
+            base_address=_int(_required(el, "baseAddress", name)),
+            derived_from=base_name,
+            registers=registers,
+            interrupts=interrupts,
+        )
+        resolved[name] = peripheral
+        return peripheral
+
+    return Device(
+        name=_required(root, "name", "device"),
+        version=_text(root, "version", "") or "",
+        source=source,
+        sha256=hashlib.sha256(data).hexdigest(),
+        peripherals=tuple(resolve(n) for n in order),
+    )
+
+
+def svd_bytes(member: str = SVD_MEMBER) -> bytes:
+    """The SVD as shipped inside the installed pyocd package (found as a package resource,
+    so it works from a wheel, a zip import or an editable install alike)."""
+    archive = importlib.resources.files(SVD_PACKAGE).joinpath(SVD_ARCHIVE)
+    with archive.open("rb") as raw, zipfile.ZipFile(raw) as zf:
+        return zf.read(member)
+
+
+@functools.lru_cache(maxsize=4)
+def load_device(member: str = SVD_MEMBER) -> Device:
+    """The parsed STM32F103 device (cached: the SVD is 850 kB)."""
+    return parse_svd(svd_bytes(member), member)
+
+
+# ------------------------------------------------------------ the CMSIS header's content
+
+#: Known misspellings in ST's STM32F103xx.svd v1.3, mapped to the names RM0008 and Cube
+#: use: (group, CMSIS register, SVD field) -> field. The merge below checks that the
+#: corrected name lands on the same bits as the correctly spelled field of the other
+#: timer instance (TIM1's ICPCS sits where TIM3's IC1PSC does).
+SVD_FIELD_ERRATA: dict[tuple[str, str, str], str] = {
+    ("TIM", "CCMR1", "ICPCS"): "IC1PSC",
+    ("TIM", "CCMR2", "O24CE"): "OC4CE",
+}
+
+
+@dataclass(frozen=True)
+class CmsisType:
+    """One CMSIS struct type, e.g. TIM_TypeDef, shared by several SVD instances."""
+
+    type_name: str
+    #: Peripheral whose register map lays out the struct: the superset (TIM1 is the
+    #: advanced timer; TIM3's map must match it wherever both have a register).
+    layout_from: str
+    instances: tuple[str, ...]
+    #: Registers whose fields get _Pos/_Msk macros: the ones the port reads or writes.
+    field_registers: tuple[str, ...]
+    #: Cube declares runs of numbered registers as one array (AFIO EXTICR1..4 ->
+    #: EXTICR[4]); other numbered registers (TIM CCR1..4) stay separate members.
+    arrays: tuple[str, ...] = ()
+
+
+CMSIS_TYPES: tuple[CmsisType, ...] = (
+    CmsisType(
+        "TIM_TypeDef",
+        layout_from="TIM1",
+        instances=("TIM1", "TIM3"),
+        field_registers=(
+            "CR1",
+            "CR2",
+            "SMCR",
+            "DIER",
+            "SR",
+            "EGR",
+            "CCMR1",
+            "CCMR2",
+            "CCER",
+            "CNT",
+            "PSC",
+            "ARR",
+            "CCR1",
+            "CCR2",
+            "CCR3",
+            "BDTR",
+        ),
+    ),
+    CmsisType(
+        "RCC_TypeDef",
+        layout_from="RCC",
+        instances=("RCC",),
+        field_registers=("APB2ENR", "APB1ENR"),
+    ),
+    CmsisType(
+        "GPIO_TypeDef",
+        layout_from="GPIOA",
+        instances=("GPIOA", "GPIOB"),
+        field_registers=("CRL", "CRH", "IDR", "BSRR"),
+    ),
+    CmsisType(
+        "AFIO_TypeDef",
+        layout_from="AFIO",
+        instances=("AFIO",),
+        field_registers=("MAPR",),
+        arrays=("EXTICR",),
+    ),
+)
+
+#: Cube IRQn name (without _IRQn) -> the peripheral whose SVD <interrupt> gives its
+#: number. The SVD describes the XL-density line, where TIM9..11 share TIM1's vectors
+#: (TIM1_UP_TIM10); Cube's stm32f103xb.h calls the same vector TIM1_UP_IRQn.
+CMSIS_IRQS: tuple[tuple[str, str], ...] = (
+    ("TIM1_UP", "TIM1"),
+    ("TIM1_CC", "TIM1"),
+    ("TIM3", "TIM3"),
+)
+
+#: The SVD's NVIC peripheral gives the one core register the header needs.
+NVIC_PERIPHERAL = "NVIC"
+NVIC_ENABLE_REGISTER = "ISER0"
+
+_QUALIFIER = {
+    "read-only": "__I",
+    "write-only": "__O",
+    "read-write": "__IO",
+    "writeOnce": "__IO",
+    "read-writeOnce": "__IO",
+}
+
+
+@dataclass(frozen=True)
+class _Member:
+    """A struct member: one register, an alternate-view group, or a Cube array."""
+
+    name: str
+    offset: int
+    count: int  # 1, or the array length
+    access: str
+    description: str
+
+
+def _cmsis_register_name(group: list[Register]) -> str:
+    """Registers sharing an offset are views of one register (CCMR1_Output and
+    CCMR1_Input); Cube names the member by their common stem (CCMR1)."""
+    if len(group) == 1:
+        return group[0].name
+    stem = group[0].name
+    for reg in group[1:]:
+        while not reg.name.startswith(stem):
+            stem = stem[:-1]
+    stem = stem.rstrip("_")
+    if not stem:
+        raise ValueError(f"SVD: registers {[r.name for r in group]} share an offset but no name")
+    return stem
+
+
+def _by_offset(p: Peripheral) -> dict[int, list[Register]]:
+    groups: dict[int, list[Register]] = {}
+    for reg in p.registers:
+        groups.setdefault(reg.address_offset, []).append(reg)
+    return groups
+
+
+def _members(p: Peripheral, arrays: tuple[str, ...]) -> list[_Member]:
+    members: list[_Member] = []
+    for offset, group in sorted(_by_offset(p).items()):
+        for reg in group:
+            if reg.size_bits != 32:
+                raise ValueError(
+                    f"SVD: {p.name}.{reg.name} is {reg.size_bits} bits; CMSIS structs here are 32-bit"
+                )
+        primary = next((r for r in group if r.alternate_of is None), group[0])
+        members.append(
+            _Member(_cmsis_register_name(group), offset, 1, primary.access, primary.description)
+        )
+    collapsed: list[_Member] = []
+    for m in members:
+        match = re.fullmatch(r"([A-Z]+)(\d+)", m.name)
+        if match and match.group(1) in arrays:
+            stem, index = match.group(1), int(match.group(2))
+            if collapsed and collapsed[-1].name == stem:
+                last = collapsed[-1]
+                if index != last.count + 1 or m.offset != last.offset + 4 * last.count:
+                    raise ValueError(f"SVD: {p.name}.{m.name} does not continue array {stem}")
+                count = last.count + 1
+                collapsed[-1] = _Member(
+                    stem, last.offset, count, last.access, f"{stem}1..{stem}{count}"
+                )
+                continue
+            if index != 1:
+                raise ValueError(f"SVD: {p.name} array {stem} does not start at {stem}1")
+            collapsed.append(_Member(stem, m.offset, 1, m.access, f"{stem}1"))
+            continue
+        collapsed.append(m)
+    return collapsed
+
+
+def _comment(text: str) -> str:
+    """One line, safe inside a C block comment."""
+    return " ".join(text.split()).replace("*/", "* /")
+
+
+def _struct(device: Device, ctype: CmsisType) -> dict[str, object]:
+    layout = device.peripheral(ctype.layout_from)
+    members = _members(layout, ctype.arrays)
+    # Every instance must agree with the layout wherever it has a register: TIM3 (a
+    # general-purpose timer) lacks RCR and BDTR but must not move anything.
+    layout_offsets = {m.name: m.offset for m in _members(layout, ())}
+    for name in ctype.instances:
+        inst = device.peripheral(name)
+        if inst.group_name != layout.group_name:
+            raise ValueError(f"SVD: {name} is in group {inst.group_name}, not {layout.group_name}")
+        for m in _members(inst, ()):
+            if layout_offsets.get(m.name) != m.offset:
+                raise ValueError(
+                    f"SVD: {name}.{m.name} at offset {m.offset:#x} does not fit"
+                    f" {ctype.type_name} laid out from {ctype.layout_from}"
+                )
+    lines: list[dict[str, str]] = []
+    next_offset = 0
+    reserved = 0
+    for m in members:
+        gap = m.offset - next_offset
+        if gap < 0 or gap % 4:
+            raise ValueError(f"SVD: {layout.name}.{m.name} overlaps or misaligns the struct")
+        if gap:
+            words = gap // 4
+            lines.append(
+                {
+                    "qualifier": "uint32_t",
+                    "declarator": f"RESERVED{reserved}" + (f"[{words}]" if words > 1 else ""),
+                    "comment": f"Reserved, {next_offset:#04x}-{m.offset - 1:#04x}",
+                }
+            )
+            reserved += 1
+        declarator = m.name + (f"[{m.count}]" if m.count > 1 else "")
+        lines.append(
+            {
+                "qualifier": f"{_QUALIFIER.get(m.access, '__IO')} uint32_t",
+                "declarator": declarator,
+                "comment": f"{_comment(m.description)}, offset {m.offset:#04x}",
+            }
+        )
+        next_offset = m.offset + 4 * m.count
+    return {"type_name": ctype.type_name, "members": lines}
+
+
+def _merged_fields(device: Device, ctype: CmsisType) -> dict[str, list[Field]]:
+    """Fields per CMSIS register name, merged over the instances and the alternate
+    views (capture and compare), misspellings corrected, conflicts refused."""
+    group = device.peripheral(ctype.layout_from).group_name
+    merged: dict[str, dict[str, Field]] = {}
+    for name in dict.fromkeys((ctype.layout_from, *ctype.instances)):
+        inst = device.peripheral(name)
+        for regs in _by_offset(inst).values():
+            reg_name = _cmsis_register_name(regs)
+            if reg_name not in ctype.field_registers:
+                continue
+            for reg in regs:
+                for f in reg.fields:
+                    fname = SVD_FIELD_ERRATA.get((group, reg_name, f.name), f.name)
+                    field = Field(fname, f.bit_offset, f.bit_width, f.description)
+                    known = merged.setdefault(reg_name, {}).get(fname)
+                    if known is None:
+                        merged[reg_name][fname] = field
+                    elif (known.bit_offset, known.bit_width) != (f.bit_offset, f.bit_width):
+                        raise ValueError(
+                            f"SVD: {group}_{reg_name}_{fname} is bits {known.bit_offset}+{known.bit_width}"
+                            f" in one instance and {f.bit_offset}+{f.bit_width} in {name}"
+                        )
+    missing = set(ctype.field_registers) - merged.keys()
+    if missing:
+        raise ValueError(f"SVD: {ctype.layout_from} has no register(s) {sorted(missing)}")
+    return {
+        reg: sorted(fields.values(), key=lambda f: (f.bit_offset, f.name))
+        for reg, fields in merged.items()
+    }
+
+
+def _field_macros(group: str, reg: str, fields: list[Field]) -> list[dict[str, str]]:
+    """Cube's pattern: X_Pos (n), X_Msk (m << X_Pos), X = X_Msk, and X_0.. X_k for
+    each bit of a multi-bit field (up to 8 bits, as Cube does for codes like OC1M)."""
+    out: list[dict[str, str]] = []
+    for f in fields:
+        base = f"{group}_{reg}_{f.name}"
+        ones = (1 << f.bit_width) - 1
+        mask = ones << f.bit_offset
+        out.append({"name": f"{base}_Pos", "value": f"({f.bit_offset}U)", "comment": ""})
+        out.append(
+            {
+                "name": f"{base}_Msk",
+                "value": f"({ones:#x}U << {base}_Pos)",
+                "comment": f"0x{mask:08X}",
+            }
+        )
+        out.append({"name": base, "value": f"{base}_Msk", "comment": _comment(f.description)})
+        if 1 < f.bit_width <= 8:
+            for bit in range(f.bit_width):
+                out.append(
+                    {
+                        "name": f"{base}_{bit}",
+                        "value": f"({1 << bit:#x}U << {base}_Pos)",
+                        "comment": f"0x{1 << (f.bit_offset + bit):08X}",
+                    }
+                )
+    return out
+
+
+def _irq(device: Device, cmsis: str, peripheral: str) -> dict[str, str]:
+    p = device.peripheral(peripheral)
+    hits = [i for i in p.interrupts if i.name == cmsis or i.name.startswith(cmsis + "_")]
+    if len(hits) != 1:
+        raise ValueError(
+            f"SVD: {peripheral} interrupts {[i.name for i in p.interrupts]} give"
+            f" {len(hits)} candidates for {cmsis}_IRQn"
+        )
+    irq = hits[0]
+    return {
+        "name": f"{cmsis}_IRQn",
+        "value": str(irq.value),
+        "comment": f"{_comment(irq.description)} (SVD {irq.name})",
+    }
+
+
+def regs_context(device: Device | None = None) -> dict[str, object]:
+    """Everything stm32f103_regs.h.j2 needs, printed: structs, bases, IRQs, fields."""
+    dev = device if device is not None else load_device()
+    structs = [_struct(dev, t) for t in CMSIS_TYPES]
+    instances = []
+    fields = []
+    for t in CMSIS_TYPES:
+        group = dev.peripheral(t.layout_from).group_name
+        for name in t.instances:
+            p = dev.peripheral(name)
+            derived = f", registers of {p.derived_from}" if p.derived_from else ""
+            instances.append(
+                {
+                    "name": name,
+                    "base": f"0x{p.base_address:08X}UL",
+                    "type_name": t.type_name,
+                    "comment": f"SVD {name}{derived}",
+                }
+            )
+        merged = _merged_fields(dev, t)
+        for reg in t.field_registers:
+            fields.append(
+                {"title": f"{group}_{reg}", "macros": _field_macros(group, reg, merged[reg])}
+            )
+    nvic = dev.peripheral(NVIC_PERIPHERAL)
+    iser = nvic.register(NVIC_ENABLE_REGISTER)
+    return {
+        "svd_name": dev.name,
+        "svd_version": dev.version,
+        "svd_source": f"pyocd {SVD_PACKAGE.replace('.', '/')}/{SVD_ARCHIVE}:{dev.source}",
+        "svd_sha256": dev.sha256,
+        "structs": structs,
+        "instances": instances,
+        "irqs": [_irq(dev, c, p) for c, p in CMSIS_IRQS],
+        "nvic_iser_base": f"0x{nvic.base_address + iser.address_offset:08X}UL",
+        "nvic_iser_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_ENABLE_REGISTER}: {_comment(iser.description)}",
+        "field_groups": fields,
+    }
+
+
+def render_regs_header(spec: Spec, device: Device | None = None) -> str:
+    """Text of stm32f103_regs.h (spec-independent content; the spec only names the run)."""
+    return render(REGS_TEMPLATE, provenance=provenance(REGS_TEMPLATE, spec), **regs_context(device))

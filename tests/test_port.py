@@ -1,0 +1,491 @@
+"""The STM32F103 port: its numbers, its dead-time code, and its C on target and host.
+
+The port is compiled against a stub of the core's header (the contract only), for the
+Cortex-M3 with warnings as errors, and its object code is checked for library division
+and floating-point helpers. On the host, the same source runs against fake register
+blocks, so the register values of each commutation step can be checked against
+RM0008 without hardware.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import shutil
+import subprocess
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from codegen import port
+from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+ARM_GCC = shutil.which("arm-none-eabi-gcc")
+ARM_OBJDUMP = shutil.which("arm-none-eabi-objdump")
+HOST_CC = shutil.which("cc") or shutil.which("gcc")
+ARM_FLAGS = [
+    "-std=c99",
+    "-mcpu=cortex-m3",
+    "-mthumb",
+    "-O2",
+    "-Wall",
+    "-Wextra",
+    "-Wconversion",
+    "-Wpedantic",
+    "-Werror",
+]
+
+STUB_CORE_HEADER = """\
+/* Stub of the generated core's header: the contract only. */
+#ifndef BLDC_COMMUTATION_H
+#define BLDC_COMMUTATION_H
+#include <stdint.h>
+#define BLDC_PWM_PERIOD_COUNTS   {period}u
+#define BLDC_NO_SWITCH           0xFFu
+#define BLDC_FLAG_HIGH_SPEED        0x01u
+#define BLDC_FLAG_FAIL_AREA_CLAMPED 0x02u
+#define BLDC_FLAG_INPUT_SATURATED   0x04u
+#define BLDC_FLAG_INVALID_HALL      0x08u
+#define BLDC_FLAG_TIME_CLAMPED      0x10u
+typedef struct {{
+    uint8_t  hall_code;
+    uint8_t  previous_hall_code;
+    uint16_t hall_period_ticks;
+    uint16_t bus_voltage_adc;
+    uint16_t phase_current_adc;
+    uint16_t main_duty_counts;
+}} bldc_inputs_t;
+typedef struct {{
+    uint16_t turn_on_compare;
+    uint16_t turn_off_compare;
+    uint16_t commutation_ticks;
+    uint8_t  turn_on_switch;
+    uint8_t  turn_off_switch;
+    uint8_t  sector;
+    uint8_t  flags;
+}} bldc_outputs_t;
+void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out);
+#endif
+"""
+
+
+@pytest.fixture(scope="module")
+def spec() -> Spec:
+    return load_spec(SPEC)
+
+
+def _write_port(directory: Path, spec: Spec, period: int = 3600) -> None:
+    for name, text in port.render_port_files(spec).items():
+        (directory / name).write_text(text, encoding="utf-8")
+    (directory / "bldc_commutation.h").write_text(
+        STUB_CORE_HEADER.format(period=period), encoding="utf-8"
+    )
+
+
+def _defines(ctx: dict[str, object]) -> dict[str, str]:
+    return {d["name"]: d["value"] for d in ctx["defines"]}  # type: ignore[attr-defined]
+
+
+# ------------------------------------------------------------------- dead-time code
+
+
+@pytest.mark.parametrize(
+    ("dead_time_ns", "dtg", "ticks"),
+    [
+        (0, 0x00, 0),
+        (500, 0x24, 36),  # DTG[7] = 0: 36 t_DTS at 72 MHz
+        (1750, 0x7E, 126),  # last step of range 1 exactly
+        (2000, 0x88, 144),  # DTG[7:6] = 10: (64 + 8) x 2
+        (5000, 0xCD, 360),  # DTG[7:5] = 110: (32 + 13) x 8
+        (10000, 0xED, 720),  # DTG[7:5] = 111: (32 + 13) x 16
+        (14000, 0xFF, 1008),  # the longest: (32 + 31) x 16
+    ],
+)
+def test_dead_time_should_encode_per_rm0008(dead_time_ns: int, dtg: int, ticks: int) -> None:
+    code = port.encode_dead_time(Fraction(dead_time_ns, 10**9), Fraction(72_000_000))
+    assert (code.dtg, code.dts_ticks) == (dtg, ticks)
+    assert code.programmed_s == Fraction(ticks, 72_000_000)
+
+
+def test_dead_time_should_round_up_never_down() -> None:
+    code = port.encode_dead_time(Fraction(100, 10**9), Fraction(72_000_000))  # 7.2 t_DTS
+    assert (code.dtg, code.dts_ticks) == (8, 8)
+    code = port.encode_dead_time(Fraction(3600, 10**9), Fraction(72_000_000))  # 259.2 t_DTS
+    assert (code.dtg, code.dts_ticks) == (0xC1, 264)  # range 3 steps by 8
+
+
+def test_dead_time_encoding_should_be_minimal_for_every_tick_count() -> None:
+    one_hz = Fraction(1)  # at 1 Hz a dead time in seconds is a count of t_DTS
+    for wanted in range(port.DTG_MAX_TICKS + 1):
+        code = port.encode_dead_time(Fraction(wanted), one_hz)
+        assert code.dts_ticks >= wanted
+        assert port.dtg_dead_time_ticks(code.dtg) == code.dts_ticks
+        shorter = [c for c in range(256) if wanted <= port.dtg_dead_time_ticks(c) < code.dts_ticks]
+        assert not shorter
+
+
+def test_unrepresentable_dead_time_should_raise_a_clear_error() -> None:
+    with pytest.raises(ValueError, match=r"15 us .* not representable .*1008 t_DTS = 14 us"):
+        port.encode_dead_time(Fraction(15, 10**6), Fraction(72_000_000))
+
+
+# ------------------------------------------------------------------- render context
+
+
+def test_context_should_give_the_paper_motor_timer_numbers(spec: Spec) -> None:
+    ctx = port.port_context(spec)
+    d = _defines(ctx)
+    assert d["BLDC_PORT_TIM1_PSC"] == "0u"
+    assert d["BLDC_PORT_TIM1_ARR"] == "3599u"
+    assert d["BLDC_PORT_TIM1_CMS"] == "0u"
+    assert d["BLDC_PORT_DUTY_FULL_SCALE"] == "3600u"
+    assert d["BLDC_PORT_TIM1_DTG"] == "0x24u"
+    assert d["BLDC_PORT_TIM3_PSC"] == "71u"
+    assert d["BLDC_PORT_TIM3_ARR"] == "65535u"
+    comments = {x["name"]: x["comment"] for x in ctx["defines"]}  # type: ignore[attr-defined]
+    assert comments["BLDC_PORT_TIM1_ARR"] == "20 kHz edge-aligned at 72 MHz"
+
+
+def test_centre_aligned_pwm_should_halve_the_reload(spec: Spec) -> None:
+    centre = dataclasses.replace(
+        spec, inverter=dataclasses.replace(spec.inverter, pwm_alignment="center")
+    )
+    d = _defines(port.port_context(centre))
+    assert d["BLDC_PORT_TIM1_ARR"] == "1800u"
+    assert d["BLDC_PORT_DUTY_FULL_SCALE"] == "1800u"
+    assert d["BLDC_PORT_TIM1_CMS"] == "1u"
+
+
+def test_hall_clock_without_a_whole_prescaler_should_raise(spec: Spec) -> None:
+    with pytest.raises(ValueError, match="whole prescaler"):
+        port.port_context(spec, hall_timer_input_clock_hz=Fraction(1_500_000))
+
+
+def test_every_port_file_should_start_with_its_provenance(spec: Spec) -> None:
+    files = port.render_port_files(spec)
+    assert sorted(files) == ["stm32f103_port.c", "stm32f103_port.h", "stm32f103_regs.h"]
+    for name, text in files.items():
+        first = text.splitlines()[0]
+        assert first.startswith(
+            f"/* Generated from template c/{name}.j2 with spec spec/paper_motor.yaml"
+        )
+        assert spec.sha256 in first
+    assert files == port.render_port_files(spec)  # byte-stable
+
+
+# ------------------------------------------------------------------- target compile
+
+
+def _compile_arm(directory: Path, *extra: str) -> subprocess.CompletedProcess[str]:
+    assert ARM_GCC is not None
+    return subprocess.run(
+        [ARM_GCC, *ARM_FLAGS, *extra, "-c", "stm32f103_port.c", "-o", "stm32f103_port.o"],
+        cwd=directory,
+        capture_output=True,
+        text=True,
+    )
+
+
+@pytest.mark.skipif(ARM_GCC is None or ARM_OBJDUMP is None, reason="arm-none-eabi-gcc missing")
+def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
+    tmp_path: Path, spec: Spec
+) -> None:
+    _write_port(tmp_path, spec)
+    run = _compile_arm(tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert ARM_OBJDUMP is not None
+    dump = subprocess.run(
+        [ARM_OBJDUMP, "-d", "-r", "stm32f103_port.o"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert "<TIM3_IRQHandler>:" in dump
+    assert "<bldc_port_init>:" in dump
+    assert "__aeabi_" not in dump
+    assert not re.search(r"\b[us]div\b", dump)
+    called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
+    assert called == {"bldc_commutate"}  # nothing else leaves the object
+
+
+@pytest.mark.skipif(ARM_GCC is None, reason="arm-none-eabi-gcc missing")
+def test_port_should_refuse_a_core_with_another_pwm_full_scale(tmp_path: Path, spec: Spec) -> None:
+    _write_port(tmp_path, spec, period=3599)
+    run = _compile_arm(tmp_path)
+    assert run.returncode != 0
+    assert "core and port disagree on the PWM full scale" in run.stderr
+
+
+# ------------------------------------------------------------------- host behaviour
+
+HOST_SHIM = """\
+/* Force-included before the port: the generated register header, with the
+ * peripheral instances pointing at plain memory instead of the STM32 address map. */
+#include "stm32f103_regs.h"
+extern TIM_TypeDef fake_tim1, fake_tim3;
+extern RCC_TypeDef fake_rcc;
+extern GPIO_TypeDef fake_gpioa, fake_gpiob;
+extern int fake_nvic_enabled;
+#undef TIM1
+#undef TIM3
+#undef RCC
+#undef GPIOA
+#undef GPIOB
+#define TIM1 (&fake_tim1)
+#define TIM3 (&fake_tim3)
+#define RCC (&fake_rcc)
+#define GPIOA (&fake_gpioa)
+#define GPIOB (&fake_gpiob)
+#define NVIC_EnableIRQ(n) (fake_nvic_enabled = (int)(n))
+"""
+
+HOST_HARNESS = r"""
+#include <stdio.h>
+#include "stm32f103_port.h"
+
+TIM_TypeDef fake_tim1, fake_tim3;
+RCC_TypeDef fake_rcc;
+GPIO_TypeDef fake_gpioa, fake_gpiob;
+int fake_nvic_enabled = -1;
+
+static bldc_inputs_t seen;
+static bldc_outputs_t next;
+
+void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out) { seen = *in; *out = next; }
+
+#define SET(reg, value) (*(volatile uint32_t *)&(reg) = (uint32_t)(value))
+
+static void hall(unsigned code)
+{
+    SET(fake_gpioa.IDR, ((code >> 2) & 1u) << 6 | ((code >> 1) & 1u) << 7);
+    SET(fake_gpiob.IDR, code & 1u);
+}
+
+static void edge(unsigned code, unsigned captured, unsigned cnt, unsigned off, unsigned off_cmp,
+                 unsigned on, unsigned on_cmp, unsigned ticks, unsigned flags)
+{
+    hall(code);
+    fake_tim3.CCR1 = captured;
+    fake_tim3.CNT = cnt;
+    fake_tim3.EGR = 0u;
+    fake_tim1.EGR = 0u;
+    next.turn_off_switch = (uint8_t)off; next.turn_off_compare = (uint16_t)off_cmp;
+    next.turn_on_switch = (uint8_t)on; next.turn_on_compare = (uint16_t)on_cmp;
+    next.commutation_ticks = (uint16_t)ticks; next.flags = (uint8_t)flags;
+    fake_tim3.SR = TIM_SR_CC1IF;
+    TIM3_IRQHandler();
+}
+
+static void end_of_commutation(void)
+{
+    fake_tim1.EGR = 0u;
+    fake_tim3.SR = TIM_SR_CC2IF;
+    TIM3_IRQHandler();
+}
+
+static void show(const char *step)
+{
+    printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu "
+           "in hall=%u prev=%u period=%u duty=%u bus=%u cur=%u\n",
+           step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
+           (unsigned long)fake_tim1.CCR2, (unsigned long)fake_tim1.CCR3,
+           (unsigned long)fake_tim1.EGR, (unsigned long)fake_tim3.CCR2,
+           (unsigned long)fake_tim3.EGR, seen.hall_code, seen.previous_hall_code,
+           seen.hall_period_ticks, seen.main_duty_counts, seen.bus_voltage_adc,
+           seen.phase_current_adc);
+}
+
+int main(void)
+{
+    fake_gpioa.CRL = fake_gpioa.CRH = fake_gpiob.CRL = fake_gpiob.CRH = 0x44444444u; /* reset */
+    hall(4u);
+    bldc_port_init();
+    printf("init tim1 cr1=%lu cr2=%lu ccmr1=%lu ccmr2=%lu ccer=%lu bdtr=%lu psc=%lu arr=%lu "
+           "tim3 cr1=%lu cr2=%lu smcr=%lu ccmr1=%lu ccer=%lu dier=%lu psc=%lu arr=%lu "
+           "rcc apb2=%lu apb1=%lu gpioa crl=%lu crh=%lu gpiob crl=%lu crh=%lu core nvic=%d\n",
+           (unsigned long)fake_tim1.CR1, (unsigned long)fake_tim1.CR2,
+           (unsigned long)fake_tim1.CCMR1, (unsigned long)fake_tim1.CCMR2,
+           (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.BDTR,
+           (unsigned long)fake_tim1.PSC, (unsigned long)fake_tim1.ARR,
+           (unsigned long)fake_tim3.CR1, (unsigned long)fake_tim3.CR2,
+           (unsigned long)fake_tim3.SMCR, (unsigned long)fake_tim3.CCMR1,
+           (unsigned long)fake_tim3.CCER, (unsigned long)fake_tim3.DIER,
+           (unsigned long)fake_tim3.PSC, (unsigned long)fake_tim3.ARR,
+           (unsigned long)fake_rcc.APB2ENR, (unsigned long)fake_rcc.APB1ENR,
+           (unsigned long)fake_gpioa.CRL, (unsigned long)fake_gpioa.CRH,
+           (unsigned long)fake_gpiob.CRL, (unsigned long)fake_gpiob.CRH, fake_nvic_enabled);
+
+    bldc_adc_bus_voltage = 2000u;
+    bldc_adc_phase_current = 2500u;
+    bldc_main_duty = 1500u;
+    /* first edge into code 5: T3 (B upper) turning off at 1000, T5 (C upper) on at 2000 */
+    edge(5u, 1234u, 10u, 2u, 1000u, 4u, 2000u, 300u, 0u);
+    show("edge1");
+    end_of_commutation();
+    show("end1");
+    bldc_main_duty = 1700u;
+    bldc_port_apply_main_duty();
+    show("duty");
+    bldc_main_duty = 4000u;
+    bldc_port_apply_main_duty();
+    show("clamp");
+    bldc_main_duty = 1500u;
+    /* lower switch: T5 (C upper) off at 800, T2 (A lower) on at 500; latency past t_com */
+    edge(1u, 5000u, 400u, 4u, 800u, 1u, 500u, 300u, 0u);
+    show("edge2");
+    end_of_commutation();
+    show("end2");
+    /* a phase handing over from its lower to its upper switch: refused, all off */
+    edge(3u, 5000u, 10u, 2u, 900u, 0u, 700u, 300u, 0u);
+    show("swap");
+    end_of_commutation();
+    show("after_swap");
+    /* from all-off anything is safe again */
+    edge(2u, 5000u, 10u, 2u, 900u, 0u, 700u, 300u, 0u);
+    show("recover");
+    /* invalid Hall: all off, and the pending end is dropped */
+    edge(7u, 5000u, 10u, 2u, 900u, 0u, 700u, 300u, 0x08u);
+    show("invalid");
+    end_of_commutation();
+    show("after_invalid");
+    /* Hall timer overflow, then an edge: the interval reads as the full counter */
+    fake_tim3.SR = TIM_SR_UIF;
+    TIM3_IRQHandler();
+    edge(6u, 17u, 10u, 2u, 900u, 4u, 700u, 300u, 0u);
+    show("timeout");
+    return 0;
+}
+"""
+
+
+def _parse(line: str) -> dict[str, int]:
+    values: dict[str, int] = {}
+    section = ""
+    for word in line.split()[1:]:
+        if "=" not in word:
+            section = word
+            continue
+        key, value = word.split("=")
+        values[f"{section}.{key}"] = int(value)
+    return values
+
+
+@pytest.fixture(scope="module")
+def host_run(tmp_path_factory: pytest.TempPathFactory, spec: Spec) -> dict[str, dict[str, int]]:
+    if HOST_CC is None:
+        pytest.skip("no host C compiler")
+    directory = tmp_path_factory.mktemp("host")
+    _write_port(directory, spec)
+    (directory / "shim.h").write_text(HOST_SHIM, encoding="utf-8")
+    (directory / "harness.c").write_text(HOST_HARNESS, encoding="utf-8")
+    build = subprocess.run(
+        [
+            HOST_CC,
+            "-std=c99",
+            "-O1",
+            "-include",
+            "shim.h",
+            "-I.",
+            "harness.c",
+            "stm32f103_port.c",
+            "-o",
+            "harness",
+        ],
+        cwd=directory,
+        capture_output=True,
+        text=True,
+    )
+    assert build.returncode == 0, build.stderr
+    out = subprocess.run(
+        ["./harness"], cwd=directory, capture_output=True, text=True, check=True
+    ).stdout
+    return {line.split()[0]: _parse(line) for line in out.splitlines()}
+
+
+def test_init_should_configure_the_timers_per_rm0008(host_run: dict[str, dict[str, int]]) -> None:
+    r = host_run["init"]
+    assert r["tim1.cr2"] == 0x1  # CCPC: enables preloaded until a COM event
+    assert r["tim1.ccmr1"] == 0x6868  # OC1M = OC2M = 110 (PWM 1), OC1PE, OC2PE
+    assert r["tim1.ccmr2"] == 0x68  # OC3M = 110, OC3PE
+    assert r["tim1.ccer"] == 0  # every output disabled
+    assert r["tim1.bdtr"] == 0x8000 | 0x800 | 0x400 | 0x24  # MOE, OSSR, OSSI, DTG
+    assert (r["tim1.psc"], r["tim1.arr"]) == (0, 3599)
+    assert r["tim1.cr1"] == 0x81  # ARPE, CEN, edge-aligned
+    assert r["tim3.cr2"] == 0x80  # TI1S: XOR of CH1..CH3
+    assert r["tim3.smcr"] == 0x44  # TS = 100 (TI1F_ED), SMS = 100 (reset)
+    assert r["tim3.ccmr1"] == 0x33  # CC1S = 11 (TRC), IC1F = 0011; CC2 frozen compare
+    assert r["tim3.ccer"] == 0x1  # CC1 capture on, CC2 output off
+    assert r["tim3.dier"] == 0x7  # UIE, CC1IE, CC2IE
+    assert (r["tim3.psc"], r["tim3.arr"]) == (71, 65535)
+    assert r["tim3.cr1"] == 0x5  # URS, CEN
+    assert r["rcc.apb2"] == (1 << 2) | (1 << 3) | (1 << 11)  # IOPA, IOPB, TIM1
+    assert r["rcc.apb1"] == 1 << 1  # TIM3
+    assert r["gpioa.crh"] == 0x44444BBB  # PA8..10 AF push-pull 50 MHz
+    assert r["gpiob.crh"] == 0xBBB44444  # PB13..15 AF push-pull 50 MHz
+    assert r["gpioa.crl"] == 0x88444444  # PA6, PA7 input with pull
+    assert r["gpiob.crl"] == 0x44444448  # PB0 input with pull
+    assert r["core.nvic"] == 29
+
+
+def test_hall_edge_should_apply_the_commutation_pattern_at_one_com_event(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["edge1"]
+    assert (r["in.hall"], r["in.prev"]) == (5, 4)
+    assert r["in.period"] == 65535  # the first interval after start-up is unknown
+    assert (r["in.duty"], r["in.bus"], r["in.cur"]) == (1500, 2000, 2500)
+    assert r["tim1.ccer"] == 0x110  # CC2E (T3), CC3E (T5)
+    assert (r["tim1.ccr1"], r["tim1.ccr2"], r["tim1.ccr3"]) == (0, 1000, 2000)
+    assert r["tim1.egr"] == 0x21  # COMG | UG
+    assert r["tim3.ccr2"] == 300  # counter restarted at the edge: compare = t_com
+    assert r["tim3.egr"] == 0  # still ahead: the hardware match will end it
+
+
+def test_commutation_end_should_leave_the_incoming_switch_at_main_duty(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["end1"]
+    assert r["tim1.ccer"] == 0x100  # CC3E only: T3 off
+    assert (r["tim1.ccr2"], r["tim1.ccr3"]) == (0, 1500)
+    assert r["tim1.egr"] == 0x21
+    assert host_run["duty"]["tim1.ccr3"] == 1700
+    assert host_run["clamp"]["tim1.ccr3"] == 3600
+
+
+def test_lower_switch_should_get_its_on_time_as_compare(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["edge2"]
+    assert r["in.period"] == 5000
+    assert r["in.prev"] == 5
+    # CC1NE alone: OCxN = OCxREF (RM0008 Table 83), so CCR1 = 500, not ARR - 500.
+    assert r["tim1.ccer"] == 0x104  # CC1NE (T2), CC3E (T5)
+    assert (r["tim1.ccr1"], r["tim1.ccr3"]) == (500, 800)
+    assert r["tim3.egr"] == 0x4  # CNT 400 already past 300: CC2G raises the end
+    assert host_run["end2"]["tim1.ccer"] == 0x4
+
+
+def test_a_phase_swapping_switches_should_turn_everything_off(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    assert host_run["swap"]["tim1.ccer"] == 0
+    assert host_run["swap"]["tim1.egr"] == 0x21
+    assert host_run["after_swap"]["tim1.ccer"] == 0
+    assert host_run["after_swap"]["tim1.egr"] == 0  # no end was pending
+    assert host_run["recover"]["tim1.ccer"] == 0x011  # CC1E (T1), CC2E (T3)
+
+
+def test_invalid_hall_should_disable_all_outputs(host_run: dict[str, dict[str, int]]) -> None:
+    assert host_run["invalid"]["tim1.ccer"] == 0
+    assert host_run["after_invalid"]["tim1.ccer"] == 0
+    assert host_run["after_invalid"]["tim1.egr"] == 0
+
+
+def test_hall_timeout_should_report_the_full_counter(host_run: dict[str, dict[str, int]]) -> None:
+    assert host_run["timeout"]["in.period"] == 65535
+    assert host_run["timeout"]["in.prev"] == 7
