@@ -15,7 +15,7 @@ APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi 
 # Specs whose output is checked in under generated/.
 SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit generate test lint format check-generated bench clean
+.PHONY: all setup sysdeps derive audit generate firmware test lint format check-generated bench clean
 
 all: setup derive generate
 
@@ -46,6 +46,10 @@ audit: setup
 
 generate: setup
 	$(PY) -m codegen generate $(SPEC)
+
+# Cross-compile the checked-in output of SPEC for the Cortex-M3; sizes by section.
+firmware: setup
+	$(PY) -m codegen.build_firmware generated/$(SPEC_NAME) build/$(SPEC_NAME)
 
 lint: setup
 	$(PY) -m ruff check codegen verify tests

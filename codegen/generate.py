@@ -20,6 +20,7 @@ from codegen.audit.run import AuditResult, run_audit
 from codegen.audit.transcription import load_transcription
 from codegen.core_context import core_context, float_model_context
 from codegen.derivation import derive
+from codegen.firmware import render_firmware_files
 from codegen.fixedpoint.design import FixedPointDesign, design
 from codegen.fixedpoint.scaling import scaling
 from codegen.port import render_port_files
@@ -62,6 +63,7 @@ def render_all(spec_path: str | Path) -> Generated:
             template, provenance=provenance(f"templates/{template}", spec), **context
         )
     files.update({f"c/{name}": text for name, text in render_port_files(spec).items()})
+    files.update(render_firmware_files(spec))
     float_template = "python/bldc_float.py.j2"
     files["python/bldc_float.py"] = render(
         float_template,
