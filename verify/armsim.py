@@ -1,0 +1,368 @@
+"""Run functions of a Cortex-M3 ELF in the unicorn emulator and record what executed.
+
+Why an emulator: instruction counts and cycle estimates of the interrupt handlers come from
+the very Thumb-2 code arm-none-eabi-gcc produced, run on many inputs, without a board.
+The image is loaded as the startup code would leave it (.data at its run address, .bss
+zeroed); no startup code runs. Peripheral space is plain read/write memory, so handler
+register writes land and a test can pre-load what a handler reads (a capture register).
+
+A call runs one function under the AAPCS: arguments in r0-r3, the stack at the top of
+RAM, LR pointing at a return address outside the image where emulation stops. Anything
+else, an unmapped or forbidden access, an undefined instruction or a runaway loop,
+raises `SimulationError` naming the PC and the address.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NamedTuple
+
+from elftools.elf.constants import P_FLAGS
+from elftools.elf.elffile import ELFFile
+from elftools.elf.sections import SymbolTableSection
+from unicorn import (
+    UC_ARCH_ARM,
+    UC_HOOK_CODE,
+    UC_HOOK_MEM_INVALID,
+    UC_MEM_FETCH_PROT,
+    UC_MEM_FETCH_UNMAPPED,
+    UC_MEM_READ_PROT,
+    UC_MEM_READ_UNMAPPED,
+    UC_MEM_WRITE_PROT,
+    UC_MEM_WRITE_UNMAPPED,
+    UC_MODE_MCLASS,
+    UC_MODE_THUMB,
+    UC_PROT_EXEC,
+    UC_PROT_READ,
+    UC_PROT_WRITE,
+    Uc,
+    UcError,
+)
+from unicorn import arm_const as uc_arm
+
+from verify.cycles import disassemble, estimate_cycles
+
+PAGE = 0x1000  # unicorn maps whole 4 KiB pages
+STM32F103_RAM_BASE = 0x2000_0000
+STM32F103_RAM_SIZE = 20 * 1024  # STM32F103x8/xB
+PERIPHERAL_REGIONS = (
+    (0x4000_0000, 0x4003_0000),  # APB1, APB2, AHB (TIM1 at 0x40012C00, GPIO, ADC, ...)
+    (0xE000_0000, 0xE010_0000),  # private peripheral bus: NVIC, SCB, SysTick
+)
+# LR holds this (| 1 for Thumb) during a call; it lies outside every mapping, and
+# emulation stops when the PC reaches it, before anything is fetched there.
+RETURN_ADDRESS = 0x0FFF_FFF0
+_CORE_REGISTERS = (
+    *(getattr(uc_arm, f"UC_ARM_REG_R{n}") for n in range(13)),
+    uc_arm.UC_ARM_REG_SP,
+    uc_arm.UC_ARM_REG_LR,
+    uc_arm.UC_ARM_REG_PC,
+)
+_SYMBOL_TYPES = ("STT_FUNC", "STT_OBJECT", "STT_NOTYPE")
+_ACCESS_NAMES = {
+    UC_MEM_READ_UNMAPPED: "read from unmapped address",
+    UC_MEM_WRITE_UNMAPPED: "write to unmapped address",
+    UC_MEM_FETCH_UNMAPPED: "instruction fetch from unmapped address",
+    UC_MEM_READ_PROT: "read from non-readable address",
+    UC_MEM_WRITE_PROT: "write to read-only address",
+    UC_MEM_FETCH_PROT: "instruction fetch from non-executable address",
+}
+
+
+class SimulationError(RuntimeError):
+    """The emulated code did something a correct handler never does, or the call was bad."""
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A PT_LOAD program header's contents at its run address, .bss zeros included."""
+
+    address: int
+    data: bytes
+    writable: bool
+    executable: bool
+
+
+@dataclass(frozen=True)
+class Symbol:
+    name: str
+    address: int  # the Thumb bit of a function is cleared
+    size: int
+    is_function: bool
+
+
+@dataclass(frozen=True)
+class ArmImage:
+    path: Path
+    segments: tuple[Segment, ...]
+    symbols: dict[str, Symbol]
+    ambiguous: frozenset[str] = field(default_factory=frozenset)
+
+    def symbol(self, name: str) -> Symbol:
+        if name in self.ambiguous:
+            raise SimulationError(f"{self.path}: symbol {name!r} is defined more than once")
+        if name not in self.symbols:
+            near = difflib.get_close_matches(name, self.symbols, n=3)
+            hint = f" (did you mean {', '.join(near)}?)" if near else ""
+            raise SimulationError(f"{self.path}: no symbol {name!r}{hint}")
+        return self.symbols[name]
+
+
+class Step(NamedTuple):
+    """One executed instruction. A UDIV/SDIV also records (Rn, Rm) as read before it ran,
+    because its cycle count depends on the values."""
+
+    address: int
+    size: int
+    divide_operands: tuple[int, int] | None = None
+
+
+@dataclass(frozen=True)
+class CallResult:
+    instructions: int  # executed; condition-failed IT-block instructions are not counted
+    cycles: int  # `verify.cycles.estimate_cycles` with its defaults
+    trace: tuple[Step, ...]
+    return_value: int  # r0
+
+
+def _read_symbols(elf: ELFFile) -> tuple[dict[str, Symbol], frozenset[str]]:
+    """Defined functions, objects and labels by name, and the names that are not unique.
+
+    A global definition wins over local ones (a static of the same name elsewhere); two
+    different definitions of equal binding make the name ambiguous.
+    """
+    symbols: dict[str, Symbol] = {}
+    is_global: dict[str, bool] = {}
+    ambiguous: set[str] = set()
+    for table in elf.iter_sections():
+        if not isinstance(table, SymbolTableSection):
+            continue
+        for entry in table.iter_symbols():
+            kind = entry["st_info"]["type"]
+            # "$t", "$d" and "$a" are mapping symbols marking code and data, not names.
+            named = bool(entry.name) and not entry.name.startswith("$")
+            if not named or kind not in _SYMBOL_TYPES or entry["st_shndx"] == "SHN_UNDEF":
+                continue
+            is_function = kind == "STT_FUNC"
+            value = entry["st_value"] & ~1 if is_function else entry["st_value"]
+            symbol = Symbol(entry.name, value, entry["st_size"], is_function)
+            binds_global = entry["st_info"]["bind"] != "STB_LOCAL"
+            previous = symbols.get(entry.name)
+            if previous is None or (binds_global and not is_global[entry.name]):
+                symbols[entry.name] = symbol
+                is_global[entry.name] = binds_global
+                ambiguous.discard(entry.name)
+            elif previous.address != value and binds_global == is_global[entry.name]:
+                ambiguous.add(entry.name)
+    return symbols, frozenset(ambiguous)
+
+
+def load_elf(path: str | Path) -> ArmImage:
+    """Loadable segments and named symbols of a 32-bit little-endian ARM executable."""
+    path = Path(path)
+    with path.open("rb") as stream:
+        elf = ELFFile(stream)
+        if elf["e_machine"] != "EM_ARM" or elf.elfclass != 32 or not elf.little_endian:
+            raise SimulationError(f"{path}: not a 32-bit little-endian ARM ELF")
+        segments = tuple(
+            Segment(
+                address=segment["p_vaddr"],
+                data=segment.data().ljust(segment["p_memsz"], b"\0"),
+                writable=bool(segment["p_flags"] & P_FLAGS.PF_W),
+                executable=bool(segment["p_flags"] & P_FLAGS.PF_X),
+            )
+            for segment in elf.iter_segments()
+            if segment["p_type"] == "PT_LOAD" and segment["p_memsz"] > 0
+        )
+        symbols, ambiguous = _read_symbols(elf)
+    return ArmImage(path, segments, symbols, ambiguous)
+
+
+def _divide_sites(segments: Sequence[Segment]) -> dict[int, tuple[int, int]]:
+    """Address -> (Rn, Rm) register ids of every UDIV/SDIV encoding in executable code.
+
+    T1 encodings: 0xFBB0|Rn (UDIV) or 0xFB90|Rn (SDIV), then 0xF0F0|Rd<<8|Rm. A match in a
+    literal pool is harmless: only executed addresses are ever looked up.
+    """
+    sites: dict[int, tuple[int, int]] = {}
+    for segment in segments:
+        if not segment.executable:
+            continue
+        code = segment.data
+        for offset in range(0, len(code) - 3, 2):
+            first = int.from_bytes(code[offset : offset + 2], "little")
+            second = int.from_bytes(code[offset + 2 : offset + 4], "little")
+            if first & 0xFFF0 in (0xFBB0, 0xFB90) and second & 0xF0F0 == 0xF0F0:
+                sites[segment.address + offset] = (
+                    _CORE_REGISTERS[first & 0xF],
+                    _CORE_REGISTERS[second & 0xF],
+                )
+    return sites
+
+
+def _page_permissions(image: ArmImage, ram_base: int, ram_size: int) -> dict[int, int]:
+    """Page number -> unicorn protection, the union over everything that page holds."""
+    pages: dict[int, int] = {}
+
+    def cover(start: int, end: int, protection: int) -> None:
+        for page in range(start // PAGE, (end + PAGE - 1) // PAGE):
+            pages[page] = pages.get(page, 0) | protection
+
+    for segment in image.segments:
+        protection = UC_PROT_READ
+        protection |= UC_PROT_WRITE if segment.writable else 0
+        protection |= UC_PROT_EXEC if segment.executable else 0
+        cover(segment.address, segment.address + len(segment.data), protection)
+    # RAM may hold code copied there (.ramfunc), so it is executable too.
+    cover(ram_base, ram_base + ram_size, UC_PROT_READ | UC_PROT_WRITE | UC_PROT_EXEC)
+    for start, end in PERIPHERAL_REGIONS:
+        cover(start, end, UC_PROT_READ | UC_PROT_WRITE)
+    return pages
+
+
+class CortexM3Sim:
+    """An emulated Cortex-M3 holding one image; `call` runs one function of it."""
+
+    def __init__(
+        self,
+        image: ArmImage,
+        *,
+        ram_base: int = STM32F103_RAM_BASE,
+        ram_size: int = STM32F103_RAM_SIZE,
+    ) -> None:
+        self.image = image
+        self.stack_top = ram_base + ram_size
+        for segment in image.segments:
+            end = segment.address + len(segment.data)
+            if segment.writable and ram_base <= segment.address < self.stack_top < end:
+                raise SimulationError(
+                    f"{image.path}: RAM segment at 0x{segment.address:08x} ends at 0x{end:08x}, "
+                    f"past the end of the {ram_size} bytes of RAM"
+                )
+        self._uc = Uc(UC_ARCH_ARM, UC_MODE_THUMB | UC_MODE_MCLASS)
+        if hasattr(uc_arm, "UC_CPU_ARM_CORTEX_M3"):
+            self._uc.ctl_set_cpu_model(uc_arm.UC_CPU_ARM_CORTEX_M3)
+        self._map(_page_permissions(image, ram_base, ram_size))
+        for segment in image.segments:
+            self._uc.mem_write(segment.address, segment.data)
+        self._divides = _divide_sites(image.segments)
+        self._steps: list[Step] = []
+        self._fault: tuple[int, int, int, int] | None = None  # access, address, size, pc
+        self._uc.hook_add(UC_HOOK_CODE, self._on_instruction)
+        self._uc.hook_add(UC_HOOK_MEM_INVALID, self._on_invalid_access)
+
+    def _map(self, pages: dict[int, int]) -> None:
+        """Map runs of consecutive pages with equal protection as one region each."""
+        run_start: int | None = None
+        ordered = sorted(pages)
+        for index, page in enumerate(ordered):
+            if run_start is None:
+                run_start = page
+            following = ordered[index + 1] if index + 1 < len(ordered) else None
+            if following != page + 1 or pages[following] != pages[page]:
+                size = (page + 1 - run_start) * PAGE
+                self._uc.mem_map(run_start * PAGE, size, pages[page])
+                run_start = None
+
+    def _on_instruction(self, uc: Uc, address: int, size: int, _data: object) -> None:
+        registers = self._divides.get(address)
+        if registers is None:
+            self._steps.append(Step(address, size))
+        else:
+            operands = (uc.reg_read(registers[0]), uc.reg_read(registers[1]))
+            self._steps.append(Step(address, size, operands))
+
+    def _on_invalid_access(
+        self, uc: Uc, access: int, address: int, size: int, _value: int, _data: object
+    ) -> bool:
+        self._fault = (access, address, size, uc.reg_read(uc_arm.UC_ARM_REG_PC))
+        return False  # do not recover: emu_start raises
+
+    def read_code(self, address: int, size: int) -> bytes:
+        return self.read_bytes(address, size)
+
+    def read_bytes(self, address: int, size: int) -> bytes:
+        try:
+            return bytes(self._uc.mem_read(address, size))
+        except UcError as error:
+            raise SimulationError(f"cannot read {size} bytes at 0x{address:08x}: {error}") from None
+
+    def write_bytes(self, address: int, data: bytes) -> None:
+        try:
+            self._uc.mem_write(address, data)
+        except UcError as error:
+            raise SimulationError(
+                f"cannot write {len(data)} bytes at 0x{address:08x}: {error}"
+            ) from None
+
+    def read_u16(self, address: int) -> int:
+        return int.from_bytes(self.read_bytes(address, 2), "little")
+
+    def read_u32(self, address: int) -> int:
+        return int.from_bytes(self.read_bytes(address, 4), "little")
+
+    def write_u16(self, address: int, value: int) -> None:
+        self.write_bytes(address, (value & 0xFFFF).to_bytes(2, "little"))
+
+    def write_u32(self, address: int, value: int) -> None:
+        self.write_bytes(address, (value & 0xFFFF_FFFF).to_bytes(4, "little"))
+
+    def call(
+        self,
+        function: str | int,
+        args: Sequence[int] = (),
+        *,
+        max_instructions: int = 100_000,
+    ) -> CallResult:
+        """Run `function` (a symbol name or an address) with up to four word arguments."""
+        if len(args) > 4:
+            raise SimulationError(f"at most 4 register arguments (r0-r3), got {len(args)}")
+        if isinstance(function, str):
+            entry, name = self.image.symbol(function).address, function
+        else:
+            entry, name = function & ~1, f"0x{function:08x}"
+        uc = self._uc
+        for index, register in enumerate(_CORE_REGISTERS[:13]):
+            uc.reg_write(register, args[index] & 0xFFFF_FFFF if index < len(args) else 0)
+        uc.reg_write(uc_arm.UC_ARM_REG_SP, self.stack_top)
+        uc.reg_write(uc_arm.UC_ARM_REG_LR, RETURN_ADDRESS | 1)
+        self._steps = []
+        self._fault = None
+        try:
+            uc.emu_start(entry | 1, RETURN_ADDRESS, count=max_instructions)
+        except UcError as error:
+            raise SimulationError(self._failure(name, str(error))) from None
+        pc = uc.reg_read(uc_arm.UC_ARM_REG_PC)
+        if pc != RETURN_ADDRESS:
+            raise SimulationError(
+                self._failure(name, f"no return after {max_instructions} instructions")
+            )
+        trace = tuple(self._steps)
+        return CallResult(
+            instructions=len(trace),
+            cycles=estimate_cycles(trace, self).cycles,
+            trace=trace,
+            return_value=uc.reg_read(uc_arm.UC_ARM_REG_R0),
+        )
+
+    def _describe(self, address: int) -> str:
+        try:
+            return disassemble(self.read_bytes(address, 4), address)
+        except SimulationError:
+            return "unreadable"
+
+    def _failure(self, name: str, problem: str) -> str:
+        pc = self._uc.reg_read(uc_arm.UC_ARM_REG_PC)
+        text = f"emulating {name}: {problem}"
+        if self._fault is not None:
+            access, address, size, pc = self._fault
+            what = _ACCESS_NAMES.get(access, f"invalid access {access}")
+            text += f"; {what} 0x{address:08x} ({size} bytes)"
+        text += f"; PC=0x{pc:08x}"
+        if self._steps:
+            last = self._steps[-1].address
+            text += f", last executed 0x{last:08x} ({self._describe(last)})"
+        return f"{text} [{self.image.path.name}]"
