@@ -13,7 +13,6 @@ import sympy as sp
 from codegen.audit.compare import RowResult, Verdict
 from codegen.audit.run import AuditResult, EquationAudit
 from codegen.audit.transcription import Transcription
-from codegen.derivation import symbols as s
 from codegen.derivation.figures import SpecFigures, spec_figures
 from codegen.derivation.paper import Derivation
 from codegen.derivation.switching import PHASE_NAMES
@@ -224,5 +223,4 @@ def render_report(
         defects=_checks(result.defects),
         spec_figures=_figures_context(figs, spec),
         switching=_switching_context(derivation, spec),
-        symbols=", ".join(f"${sp.latex(x)}$" for x in (s.U_d, s.E, s.L, s.R, s.I, s.D_on, s.D_off)),
     )
