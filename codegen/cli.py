@@ -105,9 +105,10 @@ def cmd_generate(args: argparse.Namespace) -> int:
         f" [{time.perf_counter() - started:.2f} s]"
     )
     print(
-        f"generate: X in Q{fx.x_frac_bits}, T*B >> {fx.tb_shift}; error bounds: duties"
+        f"generate: X in Q{fx.x_frac_bits}; error bounds: duties"
         f" {float(fx.duty_error_bound_counts):.3f} counts, t_com"
-        f" {float(fx.time_error_bound_ticks):.2f} ticks"
+        f" {float(fx.time_error_bound_ticks):.2f} ticks where W >="
+        f" {float(fx.time_bound_min_w_counts):g} counts"
     )
     return 0
 

@@ -46,7 +46,10 @@ class Generated:
 
 def fixed_point_design(spec: Spec) -> FixedPointDesign:
     return design(
-        scaling(spec, derive()), spec.accuracy.duty_counts, spec.accuracy.commutation_time_ticks
+        scaling(spec, derive()),
+        spec.accuracy.duty_counts,
+        spec.accuracy.commutation_time_ticks,
+        spec.controller.method,
     )
 
 

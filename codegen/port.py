@@ -16,6 +16,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
+from codegen.core_context import edge_index
+from codegen.derivation import derive
 from codegen.render import provenance, render
 from codegen.spec_model import Spec
 from codegen.svd import REGS_HEADER, render_regs_header
@@ -160,6 +162,58 @@ def _pin(p: Pin, code_bit: int | None = None) -> dict[str, str]:
     }
 
 
+def _switch_registers(switch: str) -> tuple[str, str, str]:
+    """T1..T6 -> (its CCER enable bit, its partner's, its compare register)."""
+    index = int(switch[1:]) - 1
+    channel = index // 2 + 1
+    own = f"TIM_CCER_CC{channel}{'N' if index % 2 else ''}E"
+    partner = f"TIM_CCER_CC{channel}{'' if index % 2 else 'N'}E"
+    return own, partner, f"CCR{channel}"
+
+
+def _edge_context(spec: Spec) -> dict[str, object]:
+    """The port's per-edge register table, in the core's edge numbering, and the Hall
+    pin decoding."""
+    switching = derive().switching
+    edges = []
+    for direction in ("forward", "reverse"):
+        for sector in range(6):
+            edge = switching.edge_into(sector, direction)
+            on, on_partner, on_ccr = _switch_registers(edge.modulated_on)
+            off, off_partner, off_ccr = _switch_registers(edge.modulated_off)
+            edges.append(
+                {
+                    "index": edge_index(direction, sector),
+                    "ccer_during": f"{on} | {off}",
+                    "forbidden": f"{on_partner} | {off_partner}",
+                    "ccer_after": on,
+                    "on_ccr": on_ccr,
+                    "off_ccr": off_ccr,
+                    "comment": f"{direction} into sector {sector}: {edge.modulated_on} on,"
+                    f" {edge.modulated_off} off",
+                }
+            )
+    a, b, c = HALL_PINS
+    if not (a.port == b.port and b.number == a.number + 1 and c.port != a.port):
+        raise ValueError("the Hall pin read expects two neighbouring pins and one on another port")
+    hall_of_pins = []
+    for raw in range(8):
+        code = sum(((raw >> i) & 1) << (2 - i) for i in range(3))
+        levels = ", ".join(
+            f"P{pin.port[-1]}{pin.number}={(raw >> i) & 1}" for i, pin in enumerate(HALL_PINS)
+        )
+        hall_of_pins.append({"code": code, "comment": f"{levels}: Hall code {code:03b}"})
+    return {
+        # The improved rule (Eq. 18) does not use the main duty at the edge.
+        "edge_main_duty": "0u" if spec.controller.method == "improved" else "port.main_duty",
+        "port_edges": edges,
+        "hall_of_pins": hall_of_pins,
+        "pins_expression": f"(({a.port}->IDR >> {a.number}) & 3u) | (({c.port}->IDR >> {c.number} & 1u) << 2)",
+        "pins_expression_text": f"P{a.port[-1]}{a.number} | P{b.port[-1]}{b.number} << 1 |"
+        f" P{c.port[-1]}{c.number} << 2",
+    }
+
+
 def port_context(
     spec: Spec, *, hall_timer_input_clock_hz: Fraction | None = None
 ) -> dict[str, object]:
@@ -254,6 +308,7 @@ def port_context(
         ),
     ]
     return {
+        **_edge_context(spec),
         "core_header": CORE_HEADER,
         "regs_header": REGS_HEADER,
         "port_header": PORT_HEADER,

@@ -7,6 +7,7 @@ numbers and the safe-state and saturation paths are asserted.
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import importlib.util
 import random
 import shutil
@@ -15,6 +16,7 @@ from pathlib import Path
 from types import ModuleType
 
 import pytest
+import sympy as sp
 
 from codegen.derivation import derive
 from codegen.fixedpoint.design import FixedPointError, design
@@ -148,11 +150,26 @@ def test_over_speed_and_over_voltage_should_switch_everything_off(core: ctypes.C
 
 
 def test_under_range_inputs_should_saturate_and_flag(core: ctypes.CDLL, twin: ModuleType) -> None:
+    low_bus = run_c(core, 4, 5, ticks(1500), 1000, CURRENT_5A, 1000)
+    floor_bus = run_c(core, 4, 5, ticks(1500), twin.BUS_CODE_MIN, CURRENT_5A, 1000)
+    assert low_bus[:6] == floor_bus[:6] and low_bus[6] & 0x04 and not floor_bus[6] & 0x04
+    negative = run_c(core, 4, 5, ticks(1500), BUS_24V, 1000, 1000)
+    assert negative[2] == 0 and negative[6] & 0x04  # nothing to commutate
+
+
+def test_inputs_beyond_the_spec_but_within_their_type_should_stay_exact_and_flag(
+    core: ctypes.CDLL, twin: ModuleType
+) -> None:
+    # Below the minimum speed Eq. 18 still holds: D_off = 1 - 4E/U_d keeps rising
+    # towards 1 instead of freezing at the minimum speed's value.
     slow = run_c(core, 4, 5, 65535, BUS_24V, CURRENT_5A, 1000)
     floor = run_c(core, 4, 5, twin.PERIOD_MAX_TICKS, BUS_24V, CURRENT_5A, 1000)
-    assert slow[:6] == floor[:6] and slow[6] & 0x04 and not floor[6] & 0x04
-    huge_duty = run_c(core, 4, 5, ticks(1500), BUS_24V, CURRENT_5A, 65535)
-    assert huge_duty[6] & 0x04
+    assert slow[6] & 0x04 and not floor[6] & 0x04
+    assert floor[1] < slow[1] < twin.PERIOD_COUNTS
+    # A current above the braking range lengthens t_com (Eq. 20 is linear in I).
+    big = run_c(core, 4, 5, ticks(1500), BUS_24V, 4095, 1000)
+    nominal = run_c(core, 4, 5, ticks(1500), BUS_24V, CURRENT_5A, 1000)
+    assert big[6] & 0x04 and big[2] > nominal[2]
 
 
 def test_commutation_time_should_clamp_to_the_sector_near_top_speed(twin: ModuleType) -> None:
@@ -167,13 +184,13 @@ def _design_of(tmp_path: Path, text: str) -> None:
     design(scaling(spec, derive()), spec.accuracy.duty_counts, spec.accuracy.commutation_time_ticks)
 
 
-def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow(tmp_path: Path) -> None:
-    # 1.125 kHz PWM gives 64000 counts per period; with a 16-bit ADC, B * W_q cannot
-    # fit 32 bits in any format.
-    text = SPEC.read_text().replace("pwm_frequency: 20 kHz", "pwm_frequency: 1.125 kHz")
-    text = text.replace("bits: 12", "bits: 16")
-    with pytest.raises(FixedPointError, match=r"B\*W_q .* does not fit uint32_t"):
-        _design_of(tmp_path, text)
+def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow() -> None:
+    # A K_X a thousand times the paper motor's (say a far faster Hall clock) makes
+    # round(K_X / B) overflow 32 bits in every format, even Q0.
+    spec = load_spec(SPEC)
+    sc = scaling(spec, derive())
+    with pytest.raises(FixedPointError, match=r"N_X / B = .* does not fit uint32_t"):
+        design(dataclasses.replace(sc, k_x=sc.k_x * 1000), sp.Integer(1), sp.Integer(8))
 
 
 def test_design_should_reject_an_unreachable_accuracy_target(tmp_path: Path) -> None:
@@ -188,11 +205,12 @@ def test_design_should_prove_every_intermediate_of_the_default_spec() -> None:
         scaling(spec, derive()), spec.accuracy.duty_counts, spec.accuracy.commutation_time_ticks
     )
     limits = {"uint32_t": 2**32 - 1, "int32_t": 2**31 - 1, "uint64_t": 2**64 - 1}
-    assert len(fx.ranges) == 8
+    assert len(fx.ranges) == 13
     for proven in fx.ranges:
         assert proven.high <= limits[proven.c_type], proven
     assert fx.duty_error_bound_counts < spec.accuracy.duty_counts
-    assert fx.time_error_bound_ticks < spec.accuracy.commutation_time_ticks
+    assert fx.time_error_bound_ticks <= spec.accuracy.commutation_time_ticks
+    assert fx.duty_error_bound_counts < sp.Rational(51, 100)  # 1/2 plus the quantisation
 
 
 @pytest.mark.skipif(shutil.which("arm-none-eabi-gcc") is None, reason="arm-none-eabi-gcc missing")

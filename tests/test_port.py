@@ -40,35 +40,46 @@ ARM_FLAGS = [
 ]
 
 STUB_CORE_HEADER = """\
-/* Stub of the generated core's header: the contract only. */
+/* Stub of the generated core's header: the contract only. bldc_commutate_edge() records
+ * its arguments and returns what the harness scripted. */
 #ifndef BLDC_COMMUTATION_H
 #define BLDC_COMMUTATION_H
 #include <stdint.h>
 #define BLDC_PWM_PERIOD_COUNTS   {period}u
-#define BLDC_NO_SWITCH           0xFFu
-#define BLDC_FLAG_HIGH_SPEED        0x01u
-#define BLDC_FLAG_FAIL_AREA_CLAMPED 0x02u
-#define BLDC_FLAG_INPUT_SATURATED   0x04u
-#define BLDC_FLAG_INVALID_HALL      0x08u
-#define BLDC_FLAG_TIME_CLAMPED      0x10u
+#define BLDC_EDGE_NONE           0xFFu
+#define BLDC_EDGE_COUNT          12u
 typedef struct {{
-    uint8_t  hall_code;
-    uint8_t  previous_hall_code;
-    uint16_t hall_period_ticks;
-    uint16_t bus_voltage_adc;
-    uint16_t phase_current_adc;
-    uint16_t main_duty_counts;
-}} bldc_inputs_t;
+    uint32_t x_numerator;
+    uint32_t high_speed_period;
+    int32_t time_numerator;
+    uint32_t period_min;
+    uint32_t bus_code;
+    uint32_t flags;
+}} bldc_bus_t;
 typedef struct {{
-    uint16_t turn_on_compare;
-    uint16_t turn_off_compare;
-    uint16_t commutation_ticks;
-    uint8_t  turn_on_switch;
-    uint8_t  turn_off_switch;
-    uint8_t  sector;
-    uint8_t  flags;
-}} bldc_outputs_t;
-void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out);
+    uint32_t turn_on_compare;
+    uint32_t turn_off_compare;
+    uint32_t commutation_ticks;
+    uint32_t edge;
+    uint32_t flags;
+}} bldc_edge_result_t;
+bldc_bus_t bldc_bus_condition(uint32_t bus_code);
+extern bldc_edge_result_t stub_next;
+extern uint32_t stub_seen[6];
+static inline bldc_edge_result_t bldc_commutate_edge(const bldc_bus_t *bus,
+                                                     uint32_t previous_hall_code,
+                                                     uint32_t hall_code, uint32_t period_ticks,
+                                                     uint32_t current_adc,
+                                                     uint32_t main_duty_counts)
+{{
+    stub_seen[0] = bus->bus_code;
+    stub_seen[1] = previous_hall_code;
+    stub_seen[2] = hall_code;
+    stub_seen[3] = period_ticks;
+    stub_seen[4] = current_adc;
+    stub_seen[5] = main_duty_counts;
+    return stub_next;
+}}
 #endif
 """
 
@@ -210,7 +221,7 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     assert "__aeabi_" not in dump
     assert not re.search(r"\b[us]div\b", dump)
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
-    assert called == {"bldc_commutate"}  # nothing else leaves the object
+    assert called == {"bldc_bus_condition"}  # nothing else leaves the object
 
 
 @pytest.mark.skipif(ARM_GCC is None, reason="arm-none-eabi-gcc missing")
@@ -253,10 +264,14 @@ RCC_TypeDef fake_rcc;
 GPIO_TypeDef fake_gpioa, fake_gpiob;
 int fake_nvic_enabled = -1;
 
-static bldc_inputs_t seen;
-static bldc_outputs_t next;
+bldc_edge_result_t stub_next;
+uint32_t stub_seen[6];
 
-void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out) { seen = *in; *out = next; }
+bldc_bus_t bldc_bus_condition(uint32_t bus_code)
+{
+    bldc_bus_t bus = {0u, 0u, 0, 0u, bus_code, 0u};
+    return bus;
+}
 
 #define SET(reg, value) (*(volatile uint32_t *)&(reg) = (uint32_t)(value))
 
@@ -266,18 +281,21 @@ static void hall(unsigned code)
     SET(fake_gpiob.IDR, code & 1u);
 }
 
-static void edge(unsigned code, unsigned captured, unsigned cnt, unsigned off, unsigned off_cmp,
-                 unsigned on, unsigned on_cmp, unsigned ticks, unsigned flags)
+/* A Hall edge into `code` whose core result is (edge, on, off, ticks). */
+static void edge(unsigned code, unsigned status, unsigned captured, unsigned cnt, unsigned number,
+                 unsigned on_cmp, unsigned off_cmp, unsigned ticks)
 {
     hall(code);
     fake_tim3.CCR1 = captured;
     fake_tim3.CNT = cnt;
     fake_tim3.EGR = 0u;
     fake_tim1.EGR = 0u;
-    next.turn_off_switch = (uint8_t)off; next.turn_off_compare = (uint16_t)off_cmp;
-    next.turn_on_switch = (uint8_t)on; next.turn_on_compare = (uint16_t)on_cmp;
-    next.commutation_ticks = (uint16_t)ticks; next.flags = (uint8_t)flags;
-    fake_tim3.SR = TIM_SR_CC1IF;
+    stub_next.edge = number;
+    stub_next.turn_on_compare = on_cmp;
+    stub_next.turn_off_compare = off_cmp;
+    stub_next.commutation_ticks = ticks;
+    stub_next.flags = 0u;
+    fake_tim3.SR = status;
     TIM3_IRQHandler();
 }
 
@@ -290,23 +308,24 @@ static void end_of_commutation(void)
 
 static void show(const char *step)
 {
-    printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu "
-           "in hall=%u prev=%u period=%u duty=%u bus=%u cur=%u\n",
+    printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu sr=%lu "
+           "in bus=%lu prev=%lu hall=%lu period=%lu cur=%lu duty=%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
            (unsigned long)fake_tim1.CCR2, (unsigned long)fake_tim1.CCR3,
            (unsigned long)fake_tim1.EGR, (unsigned long)fake_tim3.CCR2,
-           (unsigned long)fake_tim3.EGR, seen.hall_code, seen.previous_hall_code,
-           seen.hall_period_ticks, seen.main_duty_counts, seen.bus_voltage_adc,
-           seen.phase_current_adc);
+           (unsigned long)fake_tim3.EGR, (unsigned long)fake_tim3.SR,
+           (unsigned long)stub_seen[0], (unsigned long)stub_seen[1],
+           (unsigned long)stub_seen[2], (unsigned long)stub_seen[3],
+           (unsigned long)stub_seen[4], (unsigned long)stub_seen[5]);
 }
 
 int main(void)
 {
     fake_gpioa.CRL = fake_gpioa.CRH = fake_gpiob.CRL = fake_gpiob.CRH = 0x44444444u; /* reset */
-    hall(4u);
+    hall(5u);
     bldc_port_init();
     printf("init tim1 cr1=%lu cr2=%lu ccmr1=%lu ccmr2=%lu ccer=%lu bdtr=%lu psc=%lu arr=%lu "
-           "tim3 cr1=%lu cr2=%lu smcr=%lu ccmr1=%lu ccer=%lu dier=%lu psc=%lu arr=%lu "
+           "tim3 cr1=%lu cr2=%lu smcr=%lu ccmr1=%lu ccer=%lu dier=%lu psc=%lu arr=%lu cnt=%lu "
            "rcc apb2=%lu apb1=%lu gpioa crl=%lu crh=%lu gpiob crl=%lu crh=%lu core nvic=%d\n",
            (unsigned long)fake_tim1.CR1, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.CCMR1, (unsigned long)fake_tim1.CCMR2,
@@ -316,47 +335,51 @@ int main(void)
            (unsigned long)fake_tim3.SMCR, (unsigned long)fake_tim3.CCMR1,
            (unsigned long)fake_tim3.CCER, (unsigned long)fake_tim3.DIER,
            (unsigned long)fake_tim3.PSC, (unsigned long)fake_tim3.ARR,
+           (unsigned long)fake_tim3.CNT,
            (unsigned long)fake_rcc.APB2ENR, (unsigned long)fake_rcc.APB1ENR,
            (unsigned long)fake_gpioa.CRL, (unsigned long)fake_gpioa.CRH,
            (unsigned long)fake_gpiob.CRL, (unsigned long)fake_gpiob.CRH, fake_nvic_enabled);
 
-    bldc_adc_bus_voltage = 2000u;
+    /* before any bus voltage: the published bus state is the over-voltage one */
+    edge(5u, TIM_SR_CC1IF, 5000u, 10u, BLDC_EDGE_NONE, 0u, 0u, 0u);
+    show("nobus");
+    bldc_port_set_bus_voltage(2000u);
     bldc_adc_phase_current = 2500u;
-    bldc_main_duty = 1500u;
-    /* first edge into code 5: T3 (B upper) turning off at 1000, T5 (C upper) on at 2000 */
-    edge(5u, 1234u, 10u, 2u, 1000u, 4u, 2000u, 300u, 0u);
+    bldc_port_set_main_duty(1500u);
+    hall(5u);
+    /* forward into sector 1 (edge 1): T5 (C upper) on at 2000, T3 (B upper) off at 1000;
+     * the first interval after start-up is unknown (UIF from the counter preset) */
+    edge(4u, TIM_SR_CC1IF | TIM_SR_UIF, 1234u, 10u, 1u, 2000u, 1000u, 300u);
     show("edge1");
     end_of_commutation();
     show("end1");
-    bldc_main_duty = 1700u;
-    bldc_port_apply_main_duty();
+    bldc_port_set_main_duty(1700u);
     show("duty");
-    bldc_main_duty = 4000u;
-    bldc_port_apply_main_duty();
+    bldc_port_set_main_duty(4000u);
     show("clamp");
-    bldc_main_duty = 1500u;
-    /* lower switch: T5 (C upper) off at 800, T2 (A lower) on at 500; latency past t_com */
-    edge(1u, 5000u, 400u, 4u, 800u, 1u, 500u, 300u, 0u);
+    bldc_port_set_main_duty(1500u);
+    /* forward into sector 2 (edge 2): T4 (B lower) on at 500, T2 (A lower) off at 800;
+     * latency past t_com */
+    edge(6u, TIM_SR_CC1IF, 5000u, 400u, 2u, 500u, 800u, 300u);
     show("edge2");
     end_of_commutation();
     show("end2");
-    /* a phase handing over from its lower to its upper switch: refused, all off */
-    edge(3u, 5000u, 10u, 2u, 900u, 0u, 700u, 300u, 0u);
+    /* back into sector 1 (reverse edge 7): T1 (A upper) on, T3 (B upper) off, while T4
+     * (B lower) conducts: phase B would swap switches, refused, all off */
+    edge(4u, TIM_SR_CC1IF, 5000u, 10u, 7u, 900u, 700u, 300u);
     show("swap");
     end_of_commutation();
     show("after_swap");
     /* from all-off anything is safe again */
-    edge(2u, 5000u, 10u, 2u, 900u, 0u, 700u, 300u, 0u);
+    edge(6u, TIM_SR_CC1IF, 5000u, 10u, 2u, 900u, 700u, 300u);
     show("recover");
     /* invalid Hall: all off, and the pending end is dropped */
-    edge(7u, 5000u, 10u, 2u, 900u, 0u, 700u, 300u, 0x08u);
+    edge(7u, TIM_SR_CC1IF, 5000u, 10u, BLDC_EDGE_NONE, 0u, 0u, 0u);
     show("invalid");
     end_of_commutation();
     show("after_invalid");
-    /* Hall timer overflow, then an edge: the interval reads as the full counter */
-    fake_tim3.SR = TIM_SR_UIF;
-    TIM3_IRQHandler();
-    edge(6u, 17u, 10u, 2u, 900u, 4u, 700u, 300u, 0u);
+    /* Hall timer overflow since the last edge: the interval reads as the full counter */
+    edge(6u, TIM_SR_CC1IF | TIM_SR_UIF, 17u, 10u, BLDC_EDGE_NONE, 0u, 0u, 0u);
     show("timeout");
     return 0;
 }
@@ -420,7 +443,8 @@ def test_init_should_configure_the_timers_per_rm0008(host_run: dict[str, dict[st
     assert r["tim3.smcr"] == 0x44  # TS = 100 (TI1F_ED), SMS = 100 (reset)
     assert r["tim3.ccmr1"] == 0x33  # CC1S = 11 (TRC), IC1F = 0011; CC2 frozen compare
     assert r["tim3.ccer"] == 0x1  # CC1 capture on, CC2 output off
-    assert r["tim3.dier"] == 0x7  # UIE, CC1IE, CC2IE
+    assert r["tim3.dier"] == 0x6  # CC1IE, CC2IE; UIF is polled by the next edge
+    assert r["tim3.cnt"] == 65535  # preset: the first tick overflows and sets UIF
     assert (r["tim3.psc"], r["tim3.arr"]) == (71, 65535)
     assert r["tim3.cr1"] == 0x5  # URS, CEN
     assert r["rcc.apb2"] == (1 << 2) | (1 << 3) | (1 << 11)  # IOPA, IOPB, TIM1
@@ -436,14 +460,23 @@ def test_hall_edge_should_apply_the_commutation_pattern_at_one_com_event(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     r = host_run["edge1"]
-    assert (r["in.hall"], r["in.prev"]) == (5, 4)
+    assert (r["in.hall"], r["in.prev"]) == (4, 5)
     assert r["in.period"] == 65535  # the first interval after start-up is unknown
-    assert (r["in.duty"], r["in.bus"], r["in.cur"]) == (1500, 2000, 2500)
+    assert (r["in.bus"], r["in.cur"]) == (2000, 2500)
+    assert r["in.duty"] == 0  # the improved rule does not read the main duty at the edge
     assert r["tim1.ccer"] == 0x110  # CC2E (T3), CC3E (T5)
-    assert (r["tim1.ccr1"], r["tim1.ccr2"], r["tim1.ccr3"]) == (0, 1000, 2000)
+    assert (r["tim1.ccr2"], r["tim1.ccr3"]) == (1000, 2000)
     assert r["tim1.egr"] == 0x21  # COMG | UG
     assert r["tim3.ccr2"] == 300  # counter restarted at the edge: compare = t_com
     assert r["tim3.egr"] == 0  # still ahead: the hardware match will end it
+
+
+def test_port_should_keep_the_bridge_off_until_it_knows_the_bus_voltage(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["nobus"]
+    assert r["in.bus"] > 0xFFF  # the start-up bus state is the over-voltage one
+    assert r["tim1.ccer"] == 0
 
 
 def test_commutation_end_should_leave_the_incoming_switch_at_main_duty(
@@ -451,7 +484,7 @@ def test_commutation_end_should_leave_the_incoming_switch_at_main_duty(
 ) -> None:
     r = host_run["end1"]
     assert r["tim1.ccer"] == 0x100  # CC3E only: T3 off
-    assert (r["tim1.ccr2"], r["tim1.ccr3"]) == (0, 1500)
+    assert r["tim1.ccr3"] == 1500
     assert r["tim1.egr"] == 0x21
     assert host_run["duty"]["tim1.ccr3"] == 1700
     assert host_run["clamp"]["tim1.ccr3"] == 3600
@@ -462,12 +495,12 @@ def test_lower_switch_should_get_its_on_time_as_compare(
 ) -> None:
     r = host_run["edge2"]
     assert r["in.period"] == 5000
-    assert r["in.prev"] == 5
-    # CC1NE alone: OCxN = OCxREF (RM0008 Table 83), so CCR1 = 500, not ARR - 500.
-    assert r["tim1.ccer"] == 0x104  # CC1NE (T2), CC3E (T5)
-    assert (r["tim1.ccr1"], r["tim1.ccr3"]) == (500, 800)
+    assert r["in.prev"] == 4
+    # CCxNE alone: OCxN = OCxREF (RM0008 Table 83), so CCR = the ON time, not ARR - it.
+    assert r["tim1.ccer"] == 0x044  # CC1NE (T2), CC2NE (T4)
+    assert (r["tim1.ccr1"], r["tim1.ccr2"]) == (800, 500)
     assert r["tim3.egr"] == 0x4  # CNT 400 already past 300: CC2G raises the end
-    assert host_run["end2"]["tim1.ccer"] == 0x4
+    assert host_run["end2"]["tim1.ccer"] == 0x40
 
 
 def test_a_phase_swapping_switches_should_turn_everything_off(
@@ -477,7 +510,7 @@ def test_a_phase_swapping_switches_should_turn_everything_off(
     assert host_run["swap"]["tim1.egr"] == 0x21
     assert host_run["after_swap"]["tim1.ccer"] == 0
     assert host_run["after_swap"]["tim1.egr"] == 0  # no end was pending
-    assert host_run["recover"]["tim1.ccer"] == 0x011  # CC1E (T1), CC2E (T3)
+    assert host_run["recover"]["tim1.ccer"] == 0x044
 
 
 def test_invalid_hall_should_disable_all_outputs(host_run: dict[str, dict[str, int]]) -> None:

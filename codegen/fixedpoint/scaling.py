@@ -10,7 +10,8 @@ the firmware needs from the paper's equations:
     t_com * f_hall = K_G * I_code / (B * W),            (Eq. 20)
         W = 2P + 2 C_on - 4 C_off - X  (all in TIM1 counts)
 
-so that the speed enters through one product T*B and one hardware divide.
+so that the bus voltage enters through one reciprocal (K_X/B and K_G/B, recomputed when
+the bus voltage is sampled) and the speed through one hardware divide per Hall edge.
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ class Scaling:
     k_g: sp.Rational  # t_ticks = k_g I_code / (B W)
     period_min_ticks: int  # T at speed_max (rounded up)
     period_max_ticks: int  # T at speed_min (rounded down)
+    period_cap_ticks: int  # largest period the Hall counter can report (its full range)
     bus_code_min: int
     bus_code_max: int
     current_code_min: int  # offset-removed current code range
@@ -121,6 +123,7 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
         k_g=sp.Rational(k_g),
         period_min_ticks=int(sp.ceiling(ticks_per_rpm / n_max)),
         period_max_ticks=int(sp.floor(ticks_per_rpm / n_min)),
+        period_cap_ticks=2**spec.hall.counter_bits - 1,
         bus_code_min=int(sp.ceiling(bus_min)),
         bus_code_max=int(sp.floor(bus_max)),
         current_code_min=int(sp.ceiling(i_min)),

@@ -1,189 +1,163 @@
 /* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`. */
 #include "bldc_commutation.h"
 
-#define P_COUNTS ((int32_t)BLDC_PWM_PERIOD_COUNTS)
-#define X_FRAC_BITS 2u
-#define TB_SHIFT 3u
-#define K_XQ 2196945455u              /* round(K_X 2^2 / 2^3), Eqs. 3, 9 */
-#define K_X_NUM 48332800000ull /* K_X = X T B exactly, numerator */
-#define K_X_DEN 11ull /* K_X denominator */
-#define K_GQ 8897143u              /* round(K_G 2^2), Eq. 20 */
-#define PERIOD_MIN_TICKS 228u /* 5500 rpm */
-#define PERIOD_MAX_TICKS 8333u /* 150 rpm */
-#define BUS_CODE_MIN 2306u  /* 39 V */
-#define BUS_CODE_MAX 3546u  /* 60 V */
-#define CURRENT_OFFSET_CODE 2048u /* 0 A */
-#define CURRENT_CODE_MAX 1191u /* 2.4 A above the offset */
-#define INVALID 0xFFu
+#define BUS_CODE_MIN 2306u /* 39 V */
+#define BUS_CODE_MAX 3546u /* 60 V */
+#define K_X_HIGH 2196945454u /* N_X >> 11, N_X = round(K_X 2^10) = 4499344290909 (Eqs. 3, 9) */
+#define K_X_LOW 1117u  /* N_X mod 2^11 */
+#define K_X_SHIFT 11u
+#define K_G_HIGH 2277668571u /* N_G >> 0, N_G = round(K_G 2^10) = 2277668571 (Eq. 20) */
+#define K_G_LOW 0u  /* N_G mod 2^0 */
+#define K_G_SHIFT 0u
+#define HIGH_SPEED_TB 1220526u /* C = ceil(K_X / P): 4E > U_d <=> T B < C (Eq. 18) */
+#define INVALID_SECTOR 0xFFu
 
-/* Table 1 (this spec's Hall sequence): Hall code -> sector, 0xFF for 000/111. */
-static const uint8_t bldc_sector_of_hall[8] = {
-    255u, /* 000: code 0, invalid */
-    5u, /* 001: code 1, sector 5 */
-    3u, /* 002: code 2, sector 3 */
-    4u, /* 003: code 3, sector 4 */
-    1u, /* 004: code 4, sector 1 */
-    0u, /* 005: code 5, sector 0 */
-    2u, /* 006: code 6, sector 2 */
-    255u, /* 007: code 7, invalid */
+const uint8_t bldc_sector_of_hall[8] = {
+    255u, /* 000: invalid */
+    5u, /* 001: sector 5 */
+    3u, /* 010: sector 3 */
+    4u, /* 011: sector 4 */
+    1u, /* 100: sector 1 */
+    0u, /* 101: sector 0 */
+    2u, /* 110: sector 2 */
+    255u, /* 111: invalid */
 };
 
-/* Switching table (codegen/derivation/switching.py): transistor at D_on and at D_off
- * for the edge entering each sector, [direction][sector][on, off]. */
-static const uint8_t bldc_edge_switch[2][6][2] = {
-    { /* forward */
-        {1u, 5u}, /* sector 0 (0-60 deg), forward 0 deg: non-commutating B via D4, off C (T6), on A (T2) */
-        {4u, 2u}, /* sector 1 (60-120 deg), forward 60 deg: non-commutating A via D1, off B (T3), on C (T5) */
-        {3u, 1u}, /* sector 2 (120-180 deg), forward 120 deg: non-commutating C via D6, off A (T2), on B (T4) */
-        {0u, 4u}, /* sector 3 (180-240 deg), forward 180 deg: non-commutating B via D3, off C (T5), on A (T1) */
-        {5u, 3u}, /* sector 4 (240-300 deg), forward 240 deg: non-commutating A via D2, off B (T4), on C (T6) */
-        {2u, 0u}, /* sector 5 (300-360 deg), forward 300 deg: non-commutating C via D5, off A (T1), on B (T3) */
-    },
-    { /* reverse */
-        {3u, 5u}, /* sector 0 (0-60 deg), reverse 60 deg: non-commutating A via D2, off C (T6), on B (T4) */
-        {0u, 2u}, /* sector 1 (60-120 deg), reverse 120 deg: non-commutating C via D5, off B (T3), on A (T1) */
-        {5u, 1u}, /* sector 2 (120-180 deg), reverse 180 deg: non-commutating B via D4, off A (T2), on C (T6) */
-        {2u, 4u}, /* sector 3 (180-240 deg), reverse 240 deg: non-commutating A via D1, off C (T5), on B (T3) */
-        {1u, 3u}, /* sector 4 (240-300 deg), reverse 300 deg: non-commutating C via D6, off B (T4), on A (T2) */
-        {4u, 0u}, /* sector 5 (300-360 deg), reverse 0 deg: non-commutating B via D3, off A (T1), on C (T5) */
-    },
+const uint8_t bldc_edge_of_hall_pair[64] = {
+    255u, /* 000 -> 000: invalid: every switch off */
+    255u, /* 000 -> 001: invalid: every switch off */
+    255u, /* 000 -> 010: invalid: every switch off */
+    255u, /* 000 -> 011: invalid: every switch off */
+    255u, /* 000 -> 100: invalid: every switch off */
+    255u, /* 000 -> 101: invalid: every switch off */
+    255u, /* 000 -> 110: invalid: every switch off */
+    255u, /* 000 -> 111: invalid: every switch off */
+    255u, /* 001 -> 000: invalid: every switch off */
+    255u, /* 001 -> 001: invalid: every switch off */
+    255u, /* 001 -> 010: invalid: every switch off */
+    10u, /* 001 -> 011: reverse into sector 4 */
+    255u, /* 001 -> 100: invalid: every switch off */
+    0u, /* 001 -> 101: forward into sector 0 */
+    255u, /* 001 -> 110: invalid: every switch off */
+    255u, /* 001 -> 111: invalid: every switch off */
+    255u, /* 010 -> 000: invalid: every switch off */
+    255u, /* 010 -> 001: invalid: every switch off */
+    255u, /* 010 -> 010: invalid: every switch off */
+    4u, /* 010 -> 011: forward into sector 4 */
+    255u, /* 010 -> 100: invalid: every switch off */
+    255u, /* 010 -> 101: invalid: every switch off */
+    8u, /* 010 -> 110: reverse into sector 2 */
+    255u, /* 010 -> 111: invalid: every switch off */
+    255u, /* 011 -> 000: invalid: every switch off */
+    5u, /* 011 -> 001: forward into sector 5 */
+    9u, /* 011 -> 010: reverse into sector 3 */
+    255u, /* 011 -> 011: invalid: every switch off */
+    255u, /* 011 -> 100: invalid: every switch off */
+    255u, /* 011 -> 101: invalid: every switch off */
+    255u, /* 011 -> 110: invalid: every switch off */
+    255u, /* 011 -> 111: invalid: every switch off */
+    255u, /* 100 -> 000: invalid: every switch off */
+    255u, /* 100 -> 001: invalid: every switch off */
+    255u, /* 100 -> 010: invalid: every switch off */
+    255u, /* 100 -> 011: invalid: every switch off */
+    255u, /* 100 -> 100: invalid: every switch off */
+    6u, /* 100 -> 101: reverse into sector 0 */
+    2u, /* 100 -> 110: forward into sector 2 */
+    255u, /* 100 -> 111: invalid: every switch off */
+    255u, /* 101 -> 000: invalid: every switch off */
+    11u, /* 101 -> 001: reverse into sector 5 */
+    255u, /* 101 -> 010: invalid: every switch off */
+    255u, /* 101 -> 011: invalid: every switch off */
+    1u, /* 101 -> 100: forward into sector 1 */
+    255u, /* 101 -> 101: invalid: every switch off */
+    255u, /* 101 -> 110: invalid: every switch off */
+    255u, /* 101 -> 111: invalid: every switch off */
+    255u, /* 110 -> 000: invalid: every switch off */
+    255u, /* 110 -> 001: invalid: every switch off */
+    3u, /* 110 -> 010: forward into sector 3 */
+    255u, /* 110 -> 011: invalid: every switch off */
+    7u, /* 110 -> 100: reverse into sector 1 */
+    255u, /* 110 -> 101: invalid: every switch off */
+    255u, /* 110 -> 110: invalid: every switch off */
+    255u, /* 110 -> 111: invalid: every switch off */
+    255u, /* 111 -> 000: invalid: every switch off */
+    255u, /* 111 -> 001: invalid: every switch off */
+    255u, /* 111 -> 010: invalid: every switch off */
+    255u, /* 111 -> 011: invalid: every switch off */
+    255u, /* 111 -> 100: invalid: every switch off */
+    255u, /* 111 -> 101: invalid: every switch off */
+    255u, /* 111 -> 110: invalid: every switch off */
+    255u, /* 111 -> 111: invalid: every switch off */
 };
 
-static uint32_t divide_rounded(uint32_t numerator, uint32_t denominator)
+const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2] = {
+    {1u, 5u}, /* edge 0: into sector 0 (0-60 deg), forward 0 deg: non-commutating B via D4, off C (T6), on A (T2) */
+    {4u, 2u}, /* edge 1: into sector 1 (60-120 deg), forward 60 deg: non-commutating A via D1, off B (T3), on C (T5) */
+    {3u, 1u}, /* edge 2: into sector 2 (120-180 deg), forward 120 deg: non-commutating C via D6, off A (T2), on B (T4) */
+    {0u, 4u}, /* edge 3: into sector 3 (180-240 deg), forward 180 deg: non-commutating B via D3, off C (T5), on A (T1) */
+    {5u, 3u}, /* edge 4: into sector 4 (240-300 deg), forward 240 deg: non-commutating A via D2, off B (T4), on C (T6) */
+    {2u, 0u}, /* edge 5: into sector 5 (300-360 deg), forward 300 deg: non-commutating C via D5, off A (T1), on B (T3) */
+    {3u, 5u}, /* edge 6: into sector 0 (0-60 deg), reverse 60 deg: non-commutating A via D2, off C (T6), on B (T4) */
+    {0u, 2u}, /* edge 7: into sector 1 (60-120 deg), reverse 120 deg: non-commutating C via D5, off B (T3), on A (T1) */
+    {5u, 1u}, /* edge 8: into sector 2 (120-180 deg), reverse 180 deg: non-commutating B via D4, off A (T2), on C (T6) */
+    {2u, 4u}, /* edge 9: into sector 3 (180-240 deg), reverse 240 deg: non-commutating A via D1, off C (T5), on B (T3) */
+    {1u, 3u}, /* edge 10: into sector 4 (240-300 deg), reverse 300 deg: non-commutating C via D6, off B (T4), on A (T2) */
+    {4u, 0u}, /* edge 11: into sector 5 (300-360 deg), reverse 0 deg: non-commutating B via D3, off A (T1), on C (T5) */
+};
+
+/* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper.
+ * N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
+static uint32_t bldc_divide_long(uint32_t high, uint32_t low, uint32_t shift, uint32_t divisor)
 {
-    /* Round to nearest without overflowing numerator + denominator / 2. */
-    uint32_t quotient = numerator / denominator;
-    uint32_t remainder = numerator - quotient * denominator;
-    if (remainder >= denominator - remainder) {
-        quotient++;
-    }
-    return quotient;
+    const uint32_t q_high = high / divisor;
+    const uint32_t remainder = ((high - q_high * divisor) << shift) | low;
+    return (q_high << shift) + (remainder + (divisor >> 1u)) / divisor;
 }
 
-static void bldc_safe_state(bldc_outputs_t *out, uint8_t sector, uint8_t flags)
+bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
-    out->turn_on_compare = 0u;
-    out->turn_off_compare = 0u;
-    out->commutation_ticks = 0u;
-    out->turn_on_switch = BLDC_NO_SWITCH;
-    out->turn_off_switch = BLDC_NO_SWITCH;
-    out->sector = sector;
-    out->flags = flags;
-}
+    bldc_bus_t bus;
+    uint32_t code = bus_code;
 
-static int32_t clamp_duty(int32_t counts)
-{
-    if (counts < 0) {
-        return 0;
+    bus.flags = 0u;
+    bus.period_min = BLDC_PERIOD_MIN_TICKS;
+    if (code > BUS_CODE_MAX) {
+        code = BUS_CODE_MAX;
+        bus.period_min = BLDC_PERIOD_NEVER; /* over-voltage: every edge goes to the safe state */
+        bus.flags = BLDC_FLAG_INPUT_SATURATED;
+    } else if (code < BUS_CODE_MIN) {
+        code = BUS_CODE_MIN;
+        bus.flags = BLDC_FLAG_INPUT_SATURATED;
     }
-    if (counts > P_COUNTS) {
-        return P_COUNTS;
-    }
-    return counts;
+    bus.bus_code = code;
+    bus.x_numerator = bldc_divide_long(K_X_HIGH, K_X_LOW, K_X_SHIFT, code);
+    bus.high_speed_period = (HIGH_SPEED_TB + code - 1u) / code;
+    bus.time_numerator = (int32_t)bldc_divide_long(K_G_HIGH, K_G_LOW, K_G_SHIFT, code);
+    return bus;
 }
 
 void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out)
 {
-    uint8_t flags = 0u;
-    const uint8_t sector = bldc_sector_of_hall[in->hall_code & 7u];
-    const uint8_t previous = bldc_sector_of_hall[in->previous_hall_code & 7u];
-    uint32_t direction;
+    bldc_edge_result_t result = {0u, 0u, 0u, BLDC_EDGE_NONE, BLDC_FLAG_INVALID_HALL};
+    uint8_t sector = INVALID_SECTOR;
 
-    if (in->hall_code > 7u || in->previous_hall_code > 7u || sector == INVALID || previous == INVALID) {
-        bldc_safe_state(out, INVALID, BLDC_FLAG_INVALID_HALL);
-        return;
+    if (in->hall_code <= 7u && in->previous_hall_code <= 7u) {
+        const bldc_bus_t bus = bldc_bus_condition(in->bus_voltage_adc);
+        result = bldc_commutate_edge(&bus, in->previous_hall_code, in->hall_code,
+                                     in->hall_period_ticks, in->phase_current_adc,
+                                     in->main_duty_counts);
+        sector = bldc_sector_of_hall[in->hall_code];
     }
-    if (sector == (uint8_t)((previous + 1u) % 6u)) {
-        direction = 0u; /* forward: Table 1 order */
-    } else if (previous == (uint8_t)((sector + 1u) % 6u)) {
-        direction = 1u; /* reverse */
+    out->turn_on_compare = (uint16_t)result.turn_on_compare;
+    out->turn_off_compare = (uint16_t)result.turn_off_compare;
+    out->commutation_ticks = (uint16_t)result.commutation_ticks;
+    if (result.edge < BLDC_EDGE_COUNT) {
+        out->turn_on_switch = bldc_edge_switch[result.edge][0];
+        out->turn_off_switch = bldc_edge_switch[result.edge][1];
     } else {
-        bldc_safe_state(out, sector, BLDC_FLAG_INVALID_HALL);
-        return;
+        out->turn_on_switch = BLDC_NO_SWITCH;
+        out->turn_off_switch = BLDC_NO_SWITCH;
     }
-
-    uint32_t period = in->hall_period_ticks;
-    uint32_t bus = in->bus_voltage_adc;
-    if (period < PERIOD_MIN_TICKS || bus > BUS_CODE_MAX) {
-        /* Above the top speed or over-voltage: braking is no longer controlled. */
-        bldc_safe_state(out, sector, BLDC_FLAG_INPUT_SATURATED);
-        return;
-    }
-    if (period > PERIOD_MAX_TICKS) {
-        period = PERIOD_MAX_TICKS;
-        flags |= BLDC_FLAG_INPUT_SATURATED;
-    }
-    if (bus < BUS_CODE_MIN) {
-        bus = BUS_CODE_MIN;
-        flags |= BLDC_FLAG_INPUT_SATURATED;
-    }
-    uint32_t current = 0u;
-    if (in->phase_current_adc < CURRENT_OFFSET_CODE) {
-        flags |= BLDC_FLAG_INPUT_SATURATED;
-    } else {
-        current = (uint32_t)in->phase_current_adc - CURRENT_OFFSET_CODE;
-        if (current > CURRENT_CODE_MAX) {
-            current = CURRENT_CODE_MAX;
-            flags |= BLDC_FLAG_INPUT_SATURATED;
-        }
-    }
-    int32_t main_duty = (int32_t)in->main_duty_counts;
-    if (main_duty > P_COUNTS) {
-        main_duty = P_COUNTS;
-        flags |= BLDC_FLAG_INPUT_SATURATED;
-    }
-
-    /* X = P 4E/U_d (Eqs. 3, 9), in Q2 counts. */
-    const uint32_t tb = period * bus;
-    const uint32_t tb_shifted = (tb + 4u) >> TB_SHIFT;
-    const uint32_t x_q = divide_rounded(K_XQ, tb_shifted);
-    const int32_t x_c = (int32_t)((x_q + 2u) >> X_FRAC_BITS);
-    /* P T B K_X_DEN, compared exactly with K_X_NUM: X > P  <=>  4E > U_d. */
-    const uint64_t ptb = (uint64_t)tb * K_X_DEN;
-    int32_t on;
-    int32_t off;
-    /* Eq. 18: low speed, turn-on phase fully on and turn-off phase modulated; high
-     * speed, turn-off phase off and turn-on phase modulated. */
-    if (K_X_NUM > ptb * (uint64_t)P_COUNTS) {
-        flags |= BLDC_FLAG_HIGH_SPEED;
-        on = clamp_duty(2 * P_COUNTS - x_c);
-        off = 0;
-    } else {
-        on = P_COUNTS;
-        off = clamp_duty(P_COUNTS - x_c);
-    }
-
-    /* Eq. 20 at the emitted duties: t = K_G I / (B W). */
-    uint32_t ticks = period;
-    const int32_t w_q = (2 * P_COUNTS + 2 * on - 4 * off) * 4 - (int32_t)x_q;
-    if (current == 0u) {
-        ticks = 0u;
-    } else if (w_q <= 0) {
-        flags |= BLDC_FLAG_TIME_CLAMPED; /* the turn-off current never reaches zero */
-    } else {
-        const uint64_t numerator = (uint64_t)K_GQ * current;
-        const uint32_t denominator = bus * (uint32_t)w_q;
-        const uint32_t high = (uint32_t)(numerator >> 32);
-        const uint32_t shift = (high == 0u) ? 0u : 32u - (uint32_t)__builtin_clz(high);
-        const uint32_t low = (uint32_t)numerator;
-        const uint32_t num32 = (shift == 0u) ? low : ((low >> shift) | (high << (32u - shift)));
-        const uint32_t den32 = denominator >> shift;
-        if (den32 == 0u) {
-            flags |= BLDC_FLAG_TIME_CLAMPED;
-        } else {
-            ticks = divide_rounded(num32, den32);
-            if (ticks > period) {
-                ticks = period;
-                flags |= BLDC_FLAG_TIME_CLAMPED;
-            }
-        }
-    }
-
-    out->turn_on_compare = (uint16_t)on;
-    out->turn_off_compare = (uint16_t)off;
-    out->commutation_ticks = (uint16_t)ticks;
-    out->turn_on_switch = bldc_edge_switch[direction][sector][0];
-    out->turn_off_switch = bldc_edge_switch[direction][sector][1];
     out->sector = sector;
-    out->flags = flags;
+    out->flags = (uint8_t)result.flags;
 }

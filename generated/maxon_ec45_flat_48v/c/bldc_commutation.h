@@ -4,8 +4,16 @@
 
 /*
  * Portable commutation core: PWM-OFF-PWM braking, method "improved".
- * A pure function of its inputs: no register access, no floating point, no division
- * helpers (one 32-bit hardware UDIV for the speed, one for Eq. 20), no dynamic memory.
+ * Pure functions of their inputs: no register access, no floating point, no library
+ * division helpers (32-bit hardware UDIV/SDIV only), no dynamic memory.
+ *
+ * Two steps, split by how fast their inputs change:
+ *   bldc_bus_condition()  when the bus voltage is sampled: saturates it and computes
+ *                         everything that depends on it alone (three 32-bit divides).
+ *   bldc_commutate_edge() at each Hall edge (inline, for the interrupt): one divide for
+ *                         the speed and one for Eq. 20.
+ *   bldc_commutate()      both in one call, on plain inputs: the reference API that
+ *                         tests and the verifier call.
  *
  * Units
  *   TIM1 counts      BLDC_PWM_PERIOD_COUNTS = duty 1 (20000 Hz PWM)
@@ -14,40 +22,61 @@
  *   current code     I = (code - 2048) * 0.00201416 A
  *
  * Fixed-point formats and rounding (chosen and proven by codegen/fixedpoint/design.py)
- *   X = P * 4E/U_d = K_X / (T B), K_X = 4.393891e+09 (Eqs. 3, 9)
- *   X_q, Q2: round(K_Xq / round(T B / 2^3)), K_Xq = 2196945455
- *   duties: Eq. 18 / 16 in counts from X_c = round(X_q / 2^2), clamped to [0, P]
- *   t_com (Eq. 20 at the emitted duties): round(K_Gq I / (B W_q)),
- *       W_q = (2P + 2 C_on - 4 C_off) 2^2 - X_q, K_Gq = 8897143 (K_G = 2.224286e+06 in Q2)
- *   all divisions round to nearest; segment and fail-area flags use exact integer
- *   comparisons against K_X = 48332800000 / 11.
- *   Error bounds against the exact symbolic model: duties <= 0.689 counts,
- *   t_com <= 1.622 ticks.
+ *   X = P 4E/U_d = K_X / (T B), K_X = 4.393891e+09 counts ticks codes (Eqs. 3, 9)
+ *   per bus code B, rounded to nearest by a two-step 32-bit long division:
+ *     x_numerator       = round(N_X / B), N_X = round(K_X 2^10) = 4499344290909
+ *     time_numerator    = round(N_G / B), N_G = round(K_G 2^10) = 2277668571,
+ *                         K_G = 2.224286e+06 (Eq. 20: t_com f_hall = K_G I_code / (B W))
+ *     high_speed_period = ceil(C / B), C = ceil(K_X / P) = 1220526: T < it <=> 4E > U_d
+ *   per Hall edge, period T in ticks:
+ *     X_q = round(x_numerator / T), Q10 counts; X_c = round(X_q / 2^10)
+ *     duties: Eq. 18 / 16 in counts from X_c, clamped to [0, P]
+ *     W_q = (2P + 2 C_on - 4 C_off) 2^10 - X_q, Eq. 20's denominator at the emitted duties
+ *     t_com = round(time_numerator i / W_q), i = current code - offset, saturated to
+ *     [0, T] (Eq. 20 at the emitted duties; W_q <= 0: the turn-off current never
+ *     reaches zero, t_com = T)
+ *   rounding is half up everywhere; the segment and fail-area decisions are exact
+ *   integer comparisons (K_X = 48332800000 / 11).
+ *   Error bounds against the exact symbolic model: duties <= 0.500 counts
+ *   (1/2 for the final rounding plus the quantisation of X); t_com <= 4.000 ticks
+ *   wherever W >= 9.32 counts. Closer to the top-speed limit (W -> 0) Eq. 20's
+ *   sensitivity t/W dominates; the verifier checks those points against their interval.
  *
- * Intermediate ranges proven over the whole input domain (bits of headroom)
- *   T*B: uint32_t in [525768, 29548818] (7.2 bits spare)
- *   K_Xq + (T*B >> s)/2: uint32_t in [2196978315, 2198792257] (1.0 bits spare)
- *   X_q: uint32_t in [595, 33430] (17.0 bits spare)
- *   W_q: int32_t in [86994, 119829] (14.1 bits spare)
- *   B*W_q: uint32_t in [200610003, 424911376] (3.3 bits spare)
- *   K_Gq*I: uint64_t in [0, 10596497313] (30.7 bits spare)
- *   P*T*B*K_X_den: uint64_t in [41640825600, 2340266385600] (22.9 bits spare)
- *   duty sums: int32_t in [10948, 19158] (16.8 bits spare)
+ * Intermediate ranges proven over the whole input domain: bus codes
+ * [2306, 3546], periods [228, 65535] ticks (up to the full Hall counter),
+ * current codes over the whole ADC range (bits of headroom)
+ *   N_X high part: uint32_t in [2196945454, 2196945454] (1.0 bits spare)
+ *   N_X remainder + B/2: uint32_t in [4723840, 7263980] (9.2 bits spare)
+ *   N_X / B: uint32_t in [1268850618, 1951146702] (1.1 bits spare)
+ *   N_G high part: uint32_t in [2277668571, 2277668571] (0.9 bits spare)
+ *   N_G remainder + B/2: uint32_t in [3458, 5318] (19.6 bits spare)
+ *   N_G / B: uint32_t in [642321, 987716] (12.1 bits spare)
+ *   C + B - 1: uint32_t in [1222831, 1224071] (11.8 bits spare)
+ *   x_numerator + T/2: uint32_t in [1268850732, 1951179469] (1.1 bits spare)
+ *   X_q: uint32_t in [19362, 8557806] (9.0 bits spare)
+ *   W_q: int32_t in [14764962, 23303406] (6.5 bits spare)
+ *   W_q low: int32_t in [-15930606, -7392162] (7.1 bits spare)
+ *   time_numerator i + W_q/2: int32_t in [-2015467598, 2029225483] (0.1 bits spare)
+ *   time_numerator i - W_q/2: int32_t in [-2046143802, 2007087721] (0.1 bits spare)
  *
  * Safety
  *   Hall code 000 or 111, or a jump that is not one sector forward or back: every
- *   switch off (turn_on_switch = turn_off_switch = BLDC_NO_SWITCH), FLAG_INVALID_HALL.
+ *   switch off (edge BLDC_EDGE_NONE, BLDC_NO_SWITCH), BLDC_FLAG_INVALID_HALL.
  *   Hall period below 228 ticks (speed above 5500 rpm) or bus
- *   code above 3546 (60 V): every switch off, FLAG_INPUT_SATURATED.
- *   Period above 8333 ticks (below 150 rpm), bus below 2306
- *   (39 V), current outside [0, 2.4] A, main duty above P: saturated
- *   to the range, FLAG_INPUT_SATURATED.
+ *   code above 3546 (60 V): every switch off, BLDC_FLAG_INPUT_SATURATED.
+ *   Bus code below 2306 (39 V) and main duty above P: saturated, flagged.
+ *   Period above 8333 ticks (below 150 rpm) and current outside
+ *   [0, 2.4] A: flagged but not clamped, because the equations are proven
+ *   over the whole counter and ADC range and the true values give the right answer; a
+ *   negative current gives t_com = 0 and the commutation time saturates at the sector.
  */
 
 #include <stdint.h>
 
 #define BLDC_PWM_PERIOD_COUNTS 3600u /* TIM1 counts per PWM period */
 #define BLDC_NO_SWITCH 0xFFu
+#define BLDC_EDGE_NONE 0xFFu   /* no valid commutation: every switch off */
+#define BLDC_EDGE_COUNT 12u    /* edge = 6 direction + sector entered (0 forward, 1 reverse) */
 
 /* Switch index 0..5 = T1..T6: T1/T2, T3/T4, T5/T6 are the upper/lower transistors of
  * phases A, B, C (TIM1 CH1/CH1N, CH2/CH2N, CH3/CH3N). */
@@ -56,6 +85,14 @@
 #define BLDC_FLAG_INPUT_SATURATED 0x04u   /* an input was outside the spec's range */
 #define BLDC_FLAG_INVALID_HALL 0x08u      /* all switches off */
 #define BLDC_FLAG_TIME_CLAMPED 0x10u      /* Eq. 20 exceeds the sector: clamped to it */
+
+#define BLDC_X_FRAC_BITS 10u
+#define BLDC_X_SCALE 1024 /* 2^BLDC_X_FRAC_BITS */
+#define BLDC_PERIOD_MIN_TICKS 228u  /* 5500 rpm */
+#define BLDC_PERIOD_MAX_TICKS 8333u /* 150 rpm */
+#define BLDC_PERIOD_NEVER 0x10000u   /* above every 16-bit period: the safe state */
+#define BLDC_CURRENT_OFFSET_CODE 2048 /* 0 A */
+#define BLDC_CURRENT_CODE_MAX 1191     /* 2.4 A above the offset */
 
 typedef struct {
     uint8_t hall_code;          /* A B C as bits 2 1 0 */
@@ -76,7 +113,124 @@ typedef struct {
     uint8_t flags;              /* BLDC_FLAG_* */
 } bldc_outputs_t;
 
-/* Commutation decision at a Hall edge (pure, reentrant). */
+/* What the Hall-edge step needs of the bus voltage (see the formats above). */
+typedef struct {
+    uint32_t x_numerator;       /* round(K_X 2^f / B) */
+    uint32_t high_speed_period; /* ceil(C / B): Eq. 18 high-speed segment below it */
+    int32_t time_numerator;     /* round(K_G 2^f / B) */
+    uint32_t period_min;        /* BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage */
+    uint32_t bus_code;          /* the saturated bus code B */
+    uint32_t flags;             /* BLDC_FLAG_INPUT_SATURATED when the code was saturated */
+} bldc_bus_t;
+
+/* Result of one Hall edge. */
+typedef struct {
+    uint32_t turn_on_compare;   /* D_on in TIM1 counts, 0..P */
+    uint32_t turn_off_compare;  /* D_off in TIM1 counts, 0..P */
+    uint32_t commutation_ticks; /* Eq. 20 in Hall ticks, 0..T */
+    uint32_t edge;              /* 0..11 (see bldc_edge_switch), or BLDC_EDGE_NONE */
+    uint32_t flags;             /* BLDC_FLAG_* */
+} bldc_edge_result_t;
+
+/* (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid. */
+extern const uint8_t bldc_edge_of_hall_pair[64];
+/* edge -> {switch at D_on, switch at D_off} (codegen/derivation/switching.py). */
+extern const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2];
+/* Hall code -> sector (Table 1 order), 0xFF for 000 and 111. */
+extern const uint8_t bldc_sector_of_hall[8];
+
+/* Saturate a bus code and precompute its reciprocals (pure, reentrant). */
+bldc_bus_t bldc_bus_condition(uint32_t bus_code);
+
+/* Commutation decision at a Hall edge (pure, reentrant). Hall codes must be 0..7;
+ * period in Hall ticks (16-bit counter), current as its ADC code, main duty in TIM1
+ * counts. */
+static inline bldc_edge_result_t bldc_commutate_edge(const bldc_bus_t *bus,
+                                                     uint32_t previous_hall_code,
+                                                     uint32_t hall_code, uint32_t period_ticks,
+                                                     uint32_t current_adc,
+                                                     uint32_t main_duty_counts)
+{
+    bldc_edge_result_t result = {0u, 0u, 0u, BLDC_EDGE_NONE, BLDC_FLAG_INVALID_HALL};
+    const uint32_t edge = bldc_edge_of_hall_pair[(previous_hall_code << 3) | hall_code];
+    const int32_t period_counts = (int32_t)BLDC_PWM_PERIOD_COUNTS;
+    uint32_t flags = bus->flags;
+    int32_t on;
+    int32_t off;
+
+    (void)main_duty_counts; /* the improved rule does not use the main duty (Eq. 18) */
+    if (edge >= BLDC_EDGE_COUNT) {
+        return result;
+    }
+    if (period_ticks < bus->period_min) {
+        /* Above the top speed or over-voltage: braking is no longer controlled. */
+        result.flags = flags | BLDC_FLAG_INPUT_SATURATED;
+        return result;
+    }
+    if (period_ticks > BLDC_PERIOD_MAX_TICKS) {
+        flags |= BLDC_FLAG_INPUT_SATURATED; /* below the minimum speed: still exact */
+    }
+    const int32_t current = (int32_t)current_adc - BLDC_CURRENT_OFFSET_CODE;
+    if (current < 0 || current > BLDC_CURRENT_CODE_MAX) {
+        flags |= BLDC_FLAG_INPUT_SATURATED;
+    }
+
+    /* X = P 4E/U_d (Eqs. 3, 9) in Q10 counts, then in counts. */
+    const uint32_t x_q = (bus->x_numerator + (period_ticks >> 1)) / period_ticks;
+    const int32_t x_c = (int32_t)((x_q + 512u) >> BLDC_X_FRAC_BITS);
+    const uint32_t high_speed = (period_ticks < bus->high_speed_period) ? 1u : 0u;
+    if (high_speed != 0u) {
+        flags |= BLDC_FLAG_HIGH_SPEED;
+    }
+    /* Eq. 18: low speed, turn-on phase fully on and turn-off phase modulated; high
+     * speed, turn-off phase off and turn-on phase modulated. */
+    if (high_speed != 0u) {
+        on = 2 * period_counts - x_c; /* D_on = 2 - 4E/U_d */
+        if (on < 0) {
+            on = 0; /* above the upper speed limit 4E > 2 U_d */
+        }
+        off = 0;
+    } else {
+        on = period_counts;
+        off = period_counts - x_c; /* D_off = 1 - 4E/U_d */
+        if (off < 0) {
+            off = 0;
+        }
+    }
+
+    /* Eq. 20 at the emitted duties: t = time_numerator i / W_q. */
+    const int32_t w_q = (2 * period_counts + 2 * on - 4 * off) * BLDC_X_SCALE - (int32_t)x_q;
+    uint32_t ticks;
+    if (w_q <= 0) {
+        /* The turn-off current never reaches zero: the whole sector, unless there is
+         * no current to commutate. */
+        ticks = 0u;
+        if (current > 0) {
+            ticks = period_ticks;
+            flags |= BLDC_FLAG_TIME_CLAMPED;
+        }
+    } else {
+        int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q;
+        if (t < 0) {
+            t = 0; /* negative braking current: nothing to commutate */
+        }
+        ticks = (uint32_t)t;
+        if (ticks > period_ticks) {
+            ticks = period_ticks;
+            flags |= BLDC_FLAG_TIME_CLAMPED;
+        }
+    }
+
+    result.turn_on_compare = (uint32_t)on;
+    result.turn_off_compare = (uint32_t)off;
+    result.commutation_ticks = ticks;
+    result.edge = edge;
+    result.flags = flags;
+    return result;
+}
+
+/* Commutation decision on plain inputs: bldc_bus_condition() then
+ * bldc_commutate_edge() (pure, reentrant). */
 void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out);
 
 #endif /* BLDC_COMMUTATION_H */

@@ -46,166 +46,116 @@
 #define BLDC_PORT_GPIO_MODE_INPUT 0u       /* MODE = 00: input */
 #define BLDC_PORT_GPIO_CNF_INPUT_PULL 2u   /* CNF = 10 with MODE = 00: input with pull-up/down (ODR picks) */
 
-#define BLDC_PORT_SWITCH_COUNT 6u /* T1..T6; switch s is on phase s >> 1, upper when s is even */
-#define BLDC_PORT_PHASE_COUNT 3u  /* A, B, C on TIM1 channels 1, 2, 3 */
+#define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG) /* enables and compares together */
 
-volatile uint16_t bldc_adc_bus_voltage;
 volatile uint16_t bldc_adc_phase_current;
-volatile uint16_t bldc_main_duty;
 
-/* CCER enable bit of each switch T1..T6 (core contract: CHx upper, CHxN lower). */
-static const uint32_t port_switch_ccer[BLDC_PORT_SWITCH_COUNT] = {
-    TIM_CCER_CC1E, TIM_CCER_CC1NE, /* T1, T2: phase A */
-    TIM_CCER_CC2E, TIM_CCER_CC2NE, /* T3, T4: phase B */
-    TIM_CCER_CC3E, TIM_CCER_CC3NE, /* T5, T6: phase C */
+/* One commutation edge of the switching table (codegen/derivation/switching.py), as the
+ * registers want it. The core numbers the edges; this table is generated from the
+ * same derivation. */
+typedef struct {
+    uint16_t ccer_during;        /* turn-on and turn-off switches: CHx upper, CHxN lower */
+    uint16_t forbidden;          /* their phase partners: on now means a leg would swap */
+    uint16_t ccer_after;         /* the incoming (turn-on) switch alone */
+    volatile uint32_t *on_ccr;   /* compare register of the turn-on switch's phase */
+    volatile uint32_t *off_ccr;  /* compare register of the turn-off switch's phase */
+} port_edge_t;
+
+static const port_edge_t port_edges[BLDC_EDGE_COUNT] = {
+    {TIM_CCER_CC1NE | TIM_CCER_CC3NE, TIM_CCER_CC1E | TIM_CCER_CC3E, TIM_CCER_CC1NE, &TIM1->CCR1, &TIM1->CCR3}, /* edge 0: forward into sector 0: T2 on, T6 off */
+    {TIM_CCER_CC3E | TIM_CCER_CC2E, TIM_CCER_CC3NE | TIM_CCER_CC2NE, TIM_CCER_CC3E, &TIM1->CCR3, &TIM1->CCR2}, /* edge 1: forward into sector 1: T5 on, T3 off */
+    {TIM_CCER_CC2NE | TIM_CCER_CC1NE, TIM_CCER_CC2E | TIM_CCER_CC1E, TIM_CCER_CC2NE, &TIM1->CCR2, &TIM1->CCR1}, /* edge 2: forward into sector 2: T4 on, T2 off */
+    {TIM_CCER_CC1E | TIM_CCER_CC3E, TIM_CCER_CC1NE | TIM_CCER_CC3NE, TIM_CCER_CC1E, &TIM1->CCR1, &TIM1->CCR3}, /* edge 3: forward into sector 3: T1 on, T5 off */
+    {TIM_CCER_CC3NE | TIM_CCER_CC2NE, TIM_CCER_CC3E | TIM_CCER_CC2E, TIM_CCER_CC3NE, &TIM1->CCR3, &TIM1->CCR2}, /* edge 4: forward into sector 4: T6 on, T4 off */
+    {TIM_CCER_CC2E | TIM_CCER_CC1E, TIM_CCER_CC2NE | TIM_CCER_CC1NE, TIM_CCER_CC2E, &TIM1->CCR2, &TIM1->CCR1}, /* edge 5: forward into sector 5: T3 on, T1 off */
+    {TIM_CCER_CC2NE | TIM_CCER_CC3NE, TIM_CCER_CC2E | TIM_CCER_CC3E, TIM_CCER_CC2NE, &TIM1->CCR2, &TIM1->CCR3}, /* edge 6: reverse into sector 0: T4 on, T6 off */
+    {TIM_CCER_CC1E | TIM_CCER_CC2E, TIM_CCER_CC1NE | TIM_CCER_CC2NE, TIM_CCER_CC1E, &TIM1->CCR1, &TIM1->CCR2}, /* edge 7: reverse into sector 1: T1 on, T3 off */
+    {TIM_CCER_CC3NE | TIM_CCER_CC1NE, TIM_CCER_CC3E | TIM_CCER_CC1E, TIM_CCER_CC3NE, &TIM1->CCR3, &TIM1->CCR1}, /* edge 8: reverse into sector 2: T6 on, T2 off */
+    {TIM_CCER_CC2E | TIM_CCER_CC3E, TIM_CCER_CC2NE | TIM_CCER_CC3NE, TIM_CCER_CC2E, &TIM1->CCR2, &TIM1->CCR3}, /* edge 9: reverse into sector 3: T3 on, T5 off */
+    {TIM_CCER_CC1NE | TIM_CCER_CC2NE, TIM_CCER_CC1E | TIM_CCER_CC2E, TIM_CCER_CC1NE, &TIM1->CCR1, &TIM1->CCR2}, /* edge 10: reverse into sector 4: T2 on, T4 off */
+    {TIM_CCER_CC3E | TIM_CCER_CC1E, TIM_CCER_CC3NE | TIM_CCER_CC1NE, TIM_CCER_CC3E, &TIM1->CCR3, &TIM1->CCR1}, /* edge 11: reverse into sector 5: T5 on, T1 off */
 };
 
-/* State, touched only by TIM3_IRQHandler and (at the same priority) the functions
- * it shares it with. */
-static uint8_t port_previous_hall_code;  /* code of the sector being left */
-static uint8_t port_hall_timed_out;      /* TIM3 overflowed since the last edge */
-static uint8_t port_commutating;         /* between a Hall edge and its CC2 end */
-static uint8_t port_incoming_switch;     /* runs at main duty once the commutation ends */
-static uint8_t port_steady_switch;       /* switch at main duty between commutations */
-static uint32_t port_ccer;               /* CCER of the pattern in force */
+/* Hall code of the pin levels read as PA6 | PA7 << 1 | PB0 << 2. */
+static const uint8_t port_hall_of_pins[8] = {
+    0u, /* PA6=0, PA7=0, PB0=0: Hall code 000 */
+    4u, /* PA6=1, PA7=0, PB0=0: Hall code 100 */
+    2u, /* PA6=0, PA7=1, PB0=0: Hall code 010 */
+    6u, /* PA6=1, PA7=1, PB0=0: Hall code 110 */
+    1u, /* PA6=0, PA7=0, PB0=1: Hall code 001 */
+    5u, /* PA6=1, PA7=0, PB0=1: Hall code 101 */
+    3u, /* PA6=0, PA7=1, PB0=1: Hall code 011 */
+    7u, /* PA6=1, PA7=1, PB0=1: Hall code 111 */
+};
 
-static uint8_t port_read_hall(void)
+/* State, touched only by TIM3_IRQHandler and (at the same priority)
+ * bldc_port_set_main_duty(). */
+static struct {
+    const port_edge_t *pending; /* commutation running until its CC2 end, else 0 */
+    const port_edge_t *steady;  /* incoming switch at main duty between commutations, or 0 */
+    uint32_t previous_hall_code;
+    uint32_t main_duty;         /* TIM1 counts, already clamped to the full scale */
+} port;
+
+/* Bus voltage, double-buffered: bldc_port_set_bus_voltage() fills the idle buffer and
+ * then publishes it with one pointer write, which the Hall edge reads atomically. */
+static bldc_bus_t port_bus[2];
+static const bldc_bus_t *volatile port_bus_active = &port_bus[0];
+
+static uint32_t port_read_hall(void)
 {
-    uint8_t code = 0u;
-    if ((GPIOA->IDR & GPIO_IDR_IDR6) != 0u) { /* PA6: Hall A, code bit 2 */
-        code |= 0x4u;
-    }
-    if ((GPIOA->IDR & GPIO_IDR_IDR7) != 0u) { /* PA7: Hall B, code bit 1 */
-        code |= 0x2u;
-    }
-    if ((GPIOB->IDR & GPIO_IDR_IDR0) != 0u) { /* PB0: Hall C, code bit 0 */
-        code |= 0x1u;
-    }
-    return code;
-}
-
-static uint16_t port_main_duty(void)
-{
-    const uint16_t duty = bldc_main_duty;
-    return (duty > BLDC_PORT_DUTY_FULL_SCALE) ? (uint16_t)BLDC_PORT_DUTY_FULL_SCALE : duty;
-}
-
-/* Would going from `from` to `to` hand a phase from one of its switches to the other?
- * Single-output mode has no dead time, so that must never happen in one COM event. */
-static uint8_t port_swaps_a_leg(uint32_t from, uint32_t to)
-{
-    uint8_t phase;
-    for (phase = 0u; phase < BLDC_PORT_PHASE_COUNT; phase++) {
-        const uint32_t upper = port_switch_ccer[2u * phase];
-        const uint32_t lower = port_switch_ccer[2u * phase + 1u];
-        if ((((from & upper) != 0u) && ((to & lower) != 0u)) ||
-            (((from & lower) != 0u) && ((to & upper) != 0u))) {
-            return 1u;
-        }
-    }
-    return 0u;
-}
-
-/* Apply a pattern of at most two modulated switches (BLDC_NO_SWITCH for none) at one
- * COM event; every other output off. Returns 0 and applies all-off instead when the
- * pattern is unsafe: two switches on one phase, or a phase swapping switches. */
-static uint8_t port_apply(uint8_t first_switch, uint16_t first_counts,
-                          uint8_t second_switch, uint16_t second_counts)
-{
-    uint16_t ccr[BLDC_PORT_PHASE_COUNT] = {0u, 0u, 0u};
-    uint32_t ccer = 0u;
-    uint8_t safe = 1u;
-
-    if (first_switch < BLDC_PORT_SWITCH_COUNT) {
-        ccer |= port_switch_ccer[first_switch];
-        ccr[first_switch >> 1u] = first_counts;
-    }
-    if (second_switch < BLDC_PORT_SWITCH_COUNT) {
-        if ((first_switch < BLDC_PORT_SWITCH_COUNT) &&
-            ((first_switch >> 1u) == (second_switch >> 1u))) {
-            safe = 0u;
-        }
-        ccer |= port_switch_ccer[second_switch];
-        ccr[second_switch >> 1u] = second_counts;
-    }
-    if ((safe == 0u) || (port_swaps_a_leg(port_ccer, ccer) != 0u)) {
-        safe = 0u;
-        ccer = 0u;
-        ccr[0] = 0u;
-        ccr[1] = 0u;
-        ccr[2] = 0u;
-    }
-    TIM1->CCR1 = ccr[0];
-    TIM1->CCR2 = ccr[1];
-    TIM1->CCR3 = ccr[2];
-    TIM1->CCER = ccer;                    /* preloaded (CCPC = 1) */
-    TIM1->EGR = TIM_EGR_COMG | TIM_EGR_UG; /* enables and compares take effect together */
-    port_ccer = ccer;
-    return safe;
+    return port_hall_of_pins[((GPIOA->IDR >> 6) & 3u) | ((GPIOB->IDR >> 0 & 1u) << 2)];
 }
 
 static void port_outputs_off(void)
 {
-    port_commutating = 0u;
-    port_steady_switch = BLDC_NO_SWITCH;
-    (void)port_apply(BLDC_NO_SWITCH, 0u, BLDC_NO_SWITCH, 0u);
-}
-
-static void port_write_phase_ccr(uint8_t phase, uint16_t counts)
-{
-    if (phase == 0u) {
-        TIM1->CCR1 = counts;
-    } else if (phase == 1u) {
-        TIM1->CCR2 = counts;
-    } else {
-        TIM1->CCR3 = counts;
-    }
+    TIM1->CCER = 0u; /* preloaded (CCPC = 1) */
+    TIM1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    port.pending = 0;
+    port.steady = 0;
 }
 
 /* Hall edge: TIM3 reset its counter and captured the 60 degree interval in CCR1. */
-static void port_on_hall_edge(void)
+static void port_on_hall_edge(uint32_t status)
 {
-    bldc_inputs_t in;
-    bldc_outputs_t out;
-    const uint16_t captured = (uint16_t)TIM3->CCR1; /* reading CCR1 clears CC1IF */
-
-    TIM3->SR = ~(TIM_SR_CC1IF | TIM_SR_CC1OF);
-    in.hall_code = port_read_hall();
-    in.previous_hall_code = port_previous_hall_code;
-    /* After an overflow the capture has wrapped: the interval is at least the full
-     * counter range, the slowest speed the core can be told. */
-    in.hall_period_ticks = (port_hall_timed_out != 0u) ? (uint16_t)BLDC_PORT_TIM3_ARR : captured;
-    in.bus_voltage_adc = bldc_adc_bus_voltage;
-    in.phase_current_adc = bldc_adc_phase_current;
-    in.main_duty_counts = bldc_main_duty;
-    port_hall_timed_out = 0u;
-    port_previous_hall_code = in.hall_code;
-
-    bldc_commutate(&in, &out);
-
-    if ((out.flags & BLDC_FLAG_INVALID_HALL) != 0u) {
+    uint32_t period = TIM3->CCR1; /* reading CCR1 clears CC1IF */
+    if ((status & TIM_SR_UIF) != 0u) {
+        /* The counter wrapped since the last edge: the interval is at least the full
+         * counter range, the slowest speed the core can be told. */
+        period = BLDC_PORT_TIM3_ARR;
+        TIM3->SR = ~TIM_SR_UIF;
+    }
+    const uint32_t hall_code = port_read_hall();
+    const bldc_edge_result_t r =
+        bldc_commutate_edge(port_bus_active, port.previous_hall_code, hall_code, period,
+                            bldc_adc_phase_current, 0u);
+    port.previous_hall_code = hall_code;
+    if (r.edge >= BLDC_EDGE_COUNT) {
+        port_outputs_off(); /* invalid Hall code or sequence, over-speed, over-voltage */
+        return;
+    }
+    const port_edge_t *edge = &port_edges[r.edge];
+    /* CCER reads back the pattern in force: every write is followed by its COM event. */
+    if ((TIM1->CCER & edge->forbidden) != 0u) {
+        /* A phase would hand over from one of its switches to the other in one COM
+         * event, with no dead time in single-output mode (a direction reversal). */
         port_outputs_off();
         return;
     }
     /* During the commutation: turn-off switch at D_off, turn-on switch at D_on. */
-    if (port_apply(out.turn_off_switch, out.turn_off_compare,
-                   out.turn_on_switch, out.turn_on_compare) == 0u) {
-        port_commutating = 0u;
-        port_steady_switch = BLDC_NO_SWITCH;
-        return;
-    }
-    port_incoming_switch = out.turn_on_switch;
-    port_steady_switch = BLDC_NO_SWITCH;
-    port_commutating = 1u;
+    *edge->on_ccr = r.turn_on_compare;
+    *edge->off_ccr = r.turn_off_compare;
+    TIM1->CCER = edge->ccer_during;
+    TIM1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    port.pending = edge;
 
     /* End of the commutation (Eq. 20) at commutation_ticks after this edge: the counter
      * restarted from 0 at the edge (reset mode), so the compare value is the duration
-     * itself. Write it, drop any stale match of the previous value, and if the counter
-     * is already past it (interrupt latency longer than t_com) raise the match by
-     * software so the end is never missed until the counter wraps. */
-    TIM3->CCR2 = out.commutation_ticks;
+     * itself. Drop any stale match of the previous value, and if the counter is
+     * already past it (latency longer than t_com) raise the match by software. */
+    TIM3->CCR2 = r.commutation_ticks;
     TIM3->SR = ~TIM_SR_CC2IF;
-    if (TIM3->CNT >= (uint32_t)out.commutation_ticks) {
+    if (TIM3->CNT >= r.commutation_ticks) {
         TIM3->EGR = TIM_EGR_CC2G;
     }
 }
@@ -213,43 +163,54 @@ static void port_on_hall_edge(void)
 /* Commutation end: outgoing switch off, incoming switch at the main duty. */
 static void port_on_commutation_end(void)
 {
-    if (port_commutating == 0u) {
+    const port_edge_t *edge = port.pending;
+    TIM3->SR = ~TIM_SR_CC2IF;
+    if (edge == 0) {
         return; /* a compare match outside a commutation: nothing scheduled */
     }
-    port_commutating = 0u;
-    if (port_apply(port_incoming_switch, port_main_duty(), BLDC_NO_SWITCH, 0u) != 0u) {
-        port_steady_switch = port_incoming_switch;
-    } else {
-        port_steady_switch = BLDC_NO_SWITCH;
-    }
+    *edge->on_ccr = port.main_duty;
+    TIM1->CCER = edge->ccer_after; /* a subset of the pattern in force: always safe */
+    TIM1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    port.steady = edge;
+    port.pending = 0;
 }
 
-/* One vector for all TIM3 events on the STM32F103. The update (overflow) is handled
- * first, then a pending commutation end (it belongs to the previous edge), then the
- * new Hall edge. */
+/* One vector for all TIM3 events on the STM32F103: a pending commutation end first (it
+ * belongs to the previous edge), then the new Hall edge. The overflow (UIF) raises no
+ * interrupt; the next edge reads it. */
 void TIM3_IRQHandler(void)
 {
     const uint32_t status = TIM3->SR;
 
-    if ((status & TIM_SR_UIF) != 0u) {
-        TIM3->SR = ~TIM_SR_UIF;
-        port_hall_timed_out = 1u;
-    }
     if ((status & TIM_SR_CC2IF) != 0u) {
-        TIM3->SR = ~TIM_SR_CC2IF;
         port_on_commutation_end();
     }
     if ((status & TIM_SR_CC1IF) != 0u) {
-        port_on_hall_edge();
+        port_on_hall_edge(status);
     }
 }
 
-void bldc_port_apply_main_duty(void)
+void bldc_port_set_bus_voltage(uint16_t adc_code)
 {
-    if ((port_commutating == 0u) && (port_steady_switch < BLDC_PORT_SWITCH_COUNT)) {
+    bldc_bus_t *idle = (port_bus_active == &port_bus[0]) ? &port_bus[1] : &port_bus[0];
+    *idle = bldc_bus_condition(adc_code);
+    port_bus_active = idle;
+}
+
+void bldc_port_set_main_duty(uint16_t duty_counts)
+{
+    const uint32_t duty = (duty_counts > BLDC_PORT_DUTY_FULL_SCALE) ? BLDC_PORT_DUTY_FULL_SCALE
+                                                                     : duty_counts;
+    /* A Hall edge between the test and the write would leave this writing the compare
+     * register of a phase that is now commutating: mask interrupts for the two lines. */
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    port.main_duty = duty;
+    if ((port.pending == 0) && (port.steady != 0)) {
         /* CCRx is preloaded: the new duty starts with the next PWM period. */
-        port_write_phase_ccr((uint8_t)(port_steady_switch >> 1u), port_main_duty());
+        *port.steady->on_ccr = duty;
     }
+    __set_PRIMASK(primask);
 }
 
 static void port_init_pwm_timer(void)
@@ -267,8 +228,7 @@ static void port_init_pwm_timer(void)
     TIM1->CCMR2 = (BLDC_PORT_OC_MODE_PWM1 << TIM_CCMR2_OC3M_Pos) | TIM_CCMR2_OC3PE;
     TIM1->CCER = 0u; /* every output disabled: the safe state */
     TIM1->BDTR = (BLDC_PORT_TIM1_DTG << TIM_BDTR_DTG_Pos) | TIM_BDTR_OSSR | TIM_BDTR_OSSI;
-    TIM1->EGR = TIM_EGR_COMG | TIM_EGR_UG; /* load PSC, ARR, CCRx, CCER and OCxM */
-    port_ccer = 0u;
+    TIM1->EGR = BLDC_PORT_EGR_COMMUTATE; /* load PSC, ARR, CCRx, CCER and OCxM */
     TIM1->BDTR |= TIM_BDTR_MOE;
     TIM1->CR1 = (BLDC_PORT_TIM1_CMS << TIM_CR1_CMS_Pos) | TIM_CR1_ARPE | TIM_CR1_CEN;
 }
@@ -288,7 +248,10 @@ static void port_init_hall_timer(void)
     TIM3->CCR2 = BLDC_PORT_TIM3_ARR;
     TIM3->EGR = TIM_EGR_UG; /* load PSC */
     TIM3->SR = 0u;
-    TIM3->DIER = TIM_DIER_CC1IE | TIM_DIER_CC2IE | TIM_DIER_UIE;
+    /* The first edge has no valid interval (the counter ran since start-up): start at
+     * the top so the first tick overflows and sets UIF, which that edge reads. */
+    TIM3->CNT = BLDC_PORT_TIM3_ARR;
+    TIM3->DIER = TIM_DIER_CC1IE | TIM_DIER_CC2IE; /* UIF is polled by the Hall edge */
     TIM3->CR1 = TIM_CR1_URS | TIM_CR1_CEN;
 }
 
@@ -342,18 +305,20 @@ void bldc_port_init(void)
     RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
     (void)RCC->APB1ENR; /* read back: the clocks run before the first register access */
 
-    port_commutating = 0u;
-    port_incoming_switch = BLDC_NO_SWITCH;
-    port_steady_switch = BLDC_NO_SWITCH;
+    port.pending = 0;
+    port.steady = 0;
+    port.main_duty = 0u;
+    /* Until the application reports a bus voltage, every edge is treated as
+     * over-voltage: the bridge stays off. */
+    port_bus[0] = bldc_bus_condition(UINT16_MAX);
+    port_bus_active = &port_bus[0];
 
     port_init_hall_pins();
     port_init_pwm_timer();   /* outputs disabled before the pins become timer outputs */
     port_init_output_pins();
 
-    /* The first edge has no valid interval (the counter ran since start-up): mark it
-     * as timed out. Its previous code is the sector the rotor is in now. */
-    port_previous_hall_code = port_read_hall();
-    port_hall_timed_out = 1u;
+    /* The first edge's previous code is the sector the rotor is in now. */
+    port.previous_hall_code = port_read_hall();
     port_init_hall_timer();
 
     NVIC_EnableIRQ(TIM3_IRQn);

@@ -4,7 +4,7 @@
 
 /*
  * STM32F103 port of the braking commutation core: reads the Hall timer and the
- * latest ADC values, calls bldc_commutate() and writes TIM1. No floating point, no
+ * latest ADC values, calls bldc_commutate_edge() and writes TIM1. No floating point, no
  * division, no dynamic memory.
  *
  * Resources (default pin mapping, no AFIO remap)
@@ -21,7 +21,8 @@
  *         PA6  TIM3_CH1  Hall A, code bit 2 (input, pull-up)
  *         PA7  TIM3_CH2  Hall B, code bit 1 (input, pull-up)
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
- *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2), Hall timeout (update)
+ *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2); a Hall timeout (update
+ *         flag, no interrupt) is read by the next edge
  *
  * The port never drives both switches of one phase: each phase has at most one of
  * CCxE / CCxNE set, and a request that would move a phase from its upper to its lower
@@ -47,32 +48,33 @@
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
 
 /*
- * Inputs filled outside the port.
+ * Inputs from outside the port.
  *
- * bldc_adc_bus_voltage, bldc_adc_phase_current: latest ADC results in counts (bus
- * voltage divider output, commutated phase current I), written by the user's ADC
- * conversion-complete interrupt or as the destination of a circular DMA (16-bit
- * half-word transfers). The Hall-edge interrupt reads them once per commutation.
+ * bldc_port_set_bus_voltage(): the latest bus-voltage ADC result in counts. It
+ * saturates the code and computes the bus voltage's reciprocals (bldc_bus_condition(),
+ * three hardware divides), so the Hall edge only multiplies and divides by the speed.
+ * Call it whenever the bus voltage is sampled (a few hundred Hz is plenty: the bus
+ * changes slowly), from thread mode or any interrupt that cannot preempt
+ * TIM3_IRQHandler. Until the first call the bridge stays off (treated as over-voltage).
  *
- * bldc_main_duty: output of the braking current controller, in TIM1 counts
- * 0..BLDC_PWM_PERIOD_COUNTS (larger values are clamped). It takes effect at the end of
- * each commutation, and between commutations when the controller calls
- * bldc_port_apply_main_duty().
+ * bldc_adc_phase_current: latest ADC result of the commutated phase current I in
+ * counts, written by the user's ADC conversion-complete interrupt or as the destination
+ * of a circular DMA (16-bit half-word transfers). The Hall edge reads it once.
+ *
+ * bldc_port_set_main_duty(): output of the braking current controller, in TIM1
+ * counts 0..BLDC_PWM_PERIOD_COUNTS (larger values are clamped). It takes effect from the
+ * next PWM period when no commutation is running, and at the end of each commutation.
+ * Callable from thread mode or any interrupt: it masks interrupts (PRIMASK) for the
+ * few instructions that touch the port's state.
  */
-extern volatile uint16_t bldc_adc_bus_voltage;
+void bldc_port_set_bus_voltage(uint16_t adc_code);
+void bldc_port_set_main_duty(uint16_t duty_counts);
 extern volatile uint16_t bldc_adc_phase_current;
-extern volatile uint16_t bldc_main_duty;
 
 /* Enable the clocks of GPIOA, GPIOB, TIM1 and TIM3, configure TIM1 (PWM, dead time,
  * all outputs off, MOE set) and TIM3 (Hall interface), set up the pins and enable
  * TIM3_IRQn. The bridge stays off until the first Hall edge. */
 void bldc_port_init(void);
-
-/* Apply bldc_main_duty to the switch that conducts between commutations (from the
- * next PWM period on). Call it after writing bldc_main_duty, from an interrupt of the
- * same NVIC priority as TIM3_IRQn (they share the port's state and must not preempt
- * each other). Does nothing during a commutation or with the outputs off. */
-void bldc_port_apply_main_duty(void);
 
 /* Vector table entry (CMSIS/Cube name): Hall edge, commutation end, Hall timeout. */
 void TIM3_IRQHandler(void);

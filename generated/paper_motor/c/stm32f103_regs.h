@@ -1096,6 +1096,41 @@ static inline void NVIC_EnableIRQ(IRQn_Type IRQn)
     iser[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
 }
 
+/* CMSIS cmsis_gcc.h's PRIMASK intrinsics. A host build (the project's tests) has no
+ * interrupts to mask, so there they do nothing. */
+#if defined(__arm__)
+static inline uint32_t __get_PRIMASK(void)
+{
+    uint32_t primask;
+    __asm__ volatile("mrs %0, primask" : "=r"(primask));
+    return primask;
+}
+
+static inline void __set_PRIMASK(uint32_t primask)
+{
+    __asm__ volatile("msr primask, %0" : : "r"(primask) : "memory");
+}
+
+static inline void __disable_irq(void)
+{
+    __asm__ volatile("cpsid i" : : : "memory");
+}
+#else
+static inline uint32_t __get_PRIMASK(void)
+{
+    return 0U;
+}
+
+static inline void __set_PRIMASK(uint32_t primask)
+{
+    (void)primask;
+}
+
+static inline void __disable_irq(void)
+{
+}
+#endif
+
 #endif /* USE_CMSIS_DEVICE_HEADER */
 
 #endif /* STM32F103_REGS_H */

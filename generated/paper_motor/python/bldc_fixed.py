@@ -11,24 +11,25 @@ from typing import NamedTuple
 
 PERIOD_COUNTS = 3600
 NO_SWITCH = 0xFF
-INVALID = 0xFF
+EDGE_NONE = 0xFF
+INVALID_SECTOR = 0xFF
 FLAG_HIGH_SPEED = 0x01
 FLAG_FAIL_AREA_CLAMPED = 0x02
 FLAG_INPUT_SATURATED = 0x04
 FLAG_INVALID_HALL = 0x08
 FLAG_TIME_CLAMPED = 0x10
 
-X_FRAC_BITS = 3
-X_SCALE = 8
-X_ROUND = 4
-TB_SHIFT = 7
-TB_ROUND = 64
-K_XQ = 2396667769
+X_FRAC_BITS = 6
+X_SCALE = 64
+X_ROUND = 32
+K_X_HIGH, K_X_LOW, K_X_SHIFT = 2396667768, 609, 10
+K_G_HIGH, K_G_LOW, K_G_SHIFT = 1407534545, 0, 0
+HIGH_SPEED_TB = 10651857
 K_X_NUM = 4639948800000
 K_X_DEN = 121
-K_GQ = 175941818
 PERIOD_MIN_TICKS = 2000
 PERIOD_MAX_TICKS = 50000
+PERIOD_NEVER = 0x10000
 BUS_CODE_MIN = 2257
 BUS_CODE_MAX = 3385
 CURRENT_OFFSET_CODE = 2048
@@ -36,10 +37,8 @@ CURRENT_CODE_MAX = 620
 METHOD = "improved"
 
 SECTOR_OF_HALL = (255, 5, 3, 4, 1, 0, 2, 255, )
-EDGE_SWITCH = (
-    ((1, 5), (4, 2), (3, 1), (0, 4), (5, 3), (2, 0), ),  # forward
-    ((3, 5), (0, 2), (5, 1), (2, 4), (1, 3), (4, 0), ),  # reverse
-)
+EDGE_OF_HALL_PAIR = (255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 10, 255, 0, 255, 255, 255, 255, 255, 4, 255, 255, 8, 255, 255, 5, 9, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 6, 2, 255, 255, 11, 255, 255, 1, 255, 255, 255, 255, 255, 3, 255, 7, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, )
+EDGE_SWITCH = ((1, 5), (4, 2), (3, 1), (0, 4), (5, 3), (2, 0), (3, 5), (0, 2), (5, 1), (2, 4), (1, 3), (4, 0), )
 
 
 class Outputs(NamedTuple):
@@ -52,18 +51,95 @@ class Outputs(NamedTuple):
     flags: int
 
 
-def _divide_rounded(numerator: int, denominator: int) -> int:
-    quotient = numerator // denominator
-    remainder = numerator - quotient * denominator
-    return quotient + 1 if remainder >= denominator - remainder else quotient
+class Bus(NamedTuple):
+    x_numerator: int
+    high_speed_period: int
+    time_numerator: int
+    period_min: int
+    bus_code: int
+    flags: int
 
 
-def _clamp_duty(counts: int) -> int:
-    return min(max(counts, 0), PERIOD_COUNTS)
+def _divide_long(high: int, low: int, shift: int, divisor: int) -> int:
+    q_high = high // divisor
+    remainder = ((high - q_high * divisor) << shift) | low
+    return (q_high << shift) + (remainder + (divisor >> 1)) // divisor
 
 
-def _safe(sector: int, flags: int) -> Outputs:
-    return Outputs(0, 0, 0, NO_SWITCH, NO_SWITCH, sector, flags)
+def bus_condition(bus_code: int) -> Bus:
+    """bldc_bus_condition()."""
+    code, period_min, flags = bus_code, PERIOD_MIN_TICKS, 0
+    if code > BUS_CODE_MAX:
+        code, period_min, flags = BUS_CODE_MAX, PERIOD_NEVER, FLAG_INPUT_SATURATED
+    elif code < BUS_CODE_MIN:
+        code, flags = BUS_CODE_MIN, FLAG_INPUT_SATURATED
+    return Bus(
+        _divide_long(K_X_HIGH, K_X_LOW, K_X_SHIFT, code),
+        (HIGH_SPEED_TB + code - 1) // code,
+        _divide_long(K_G_HIGH, K_G_LOW, K_G_SHIFT, code),
+        period_min,
+        code,
+        flags,
+    )
+
+
+def _c_divide(numerator: int, denominator: int) -> int:
+    """C's signed division: truncates toward zero."""
+    quotient = abs(numerator) // abs(denominator)
+    return quotient if (numerator >= 0) == (denominator > 0) else -quotient
+
+
+def commutate_edge(
+    bus: Bus, previous_hall_code: int, hall_code: int, period: int, current_adc: int, main_duty: int
+) -> tuple[int, int, int, int, int]:
+    """bldc_commutate_edge(): (turn_on, turn_off, ticks, edge, flags)."""
+    edge = EDGE_OF_HALL_PAIR[(previous_hall_code << 3) | hall_code]
+    flags = bus.flags
+    if edge == EDGE_NONE:
+        return 0, 0, 0, EDGE_NONE, FLAG_INVALID_HALL
+    if period < bus.period_min:
+        return 0, 0, 0, EDGE_NONE, flags | FLAG_INPUT_SATURATED
+    if period > PERIOD_MAX_TICKS:
+        flags |= FLAG_INPUT_SATURATED
+    current = current_adc - CURRENT_OFFSET_CODE
+    if current < 0 or current > CURRENT_CODE_MAX:
+        flags |= FLAG_INPUT_SATURATED
+    x_q = (bus.x_numerator + (period >> 1)) // period
+    x_c = (x_q + X_ROUND) >> X_FRAC_BITS
+    high_speed = period < bus.high_speed_period
+    if high_speed:
+        flags |= FLAG_HIGH_SPEED
+    if METHOD == "improved":
+        if high_speed:
+            on, off = max(2 * PERIOD_COUNTS - x_c, 0), 0
+        else:
+            on, off = PERIOD_COUNTS, max(PERIOD_COUNTS - x_c, 0)
+    else:
+        if main_duty > PERIOD_COUNTS:
+            main_duty = PERIOD_COUNTS
+            flags |= FLAG_INPUT_SATURATED
+        on = main_duty
+        if METHOD == "conventional":
+            ptb = period * bus.bus_code * K_X_DEN
+            if K_X_NUM > ptb * (2 * PERIOD_COUNTS - main_duty) or K_X_NUM < ptb * (
+                PERIOD_COUNTS - main_duty
+            ):
+                flags |= FLAG_FAIL_AREA_CLAMPED
+            off = min(max(2 * PERIOD_COUNTS - x_c - on, 0), PERIOD_COUNTS)
+        else:
+            off = 0
+    w_q = (2 * PERIOD_COUNTS + 2 * on - 4 * off) * X_SCALE - x_q
+    if w_q <= 0:
+        ticks = 0
+        if current > 0:
+            ticks = period
+            flags |= FLAG_TIME_CLAMPED
+    else:
+        ticks = max(_c_divide(bus.time_numerator * current + (w_q >> 1), w_q), 0)
+        if ticks > period:
+            ticks = period
+            flags |= FLAG_TIME_CLAMPED
+    return on, off, ticks, edge, flags
 
 
 def commutate(
@@ -75,80 +151,15 @@ def commutate(
     main_duty_counts: int,
 ) -> Outputs:
     """bldc_commutate() for uint8/uint16 inputs."""
-    flags = 0
-    sector = SECTOR_OF_HALL[hall_code & 7]
-    previous = SECTOR_OF_HALL[previous_hall_code & 7]
-    if hall_code > 7 or previous_hall_code > 7 or sector == INVALID or previous == INVALID:
-        return _safe(INVALID, FLAG_INVALID_HALL)
-    if sector == (previous + 1) % 6:
-        direction = 0
-    elif previous == (sector + 1) % 6:
-        direction = 1
-    else:
-        return _safe(sector, FLAG_INVALID_HALL)
-    period, bus = hall_period_ticks, bus_voltage_adc
-    if period < PERIOD_MIN_TICKS or bus > BUS_CODE_MAX:
-        return _safe(sector, FLAG_INPUT_SATURATED)
-    if period > PERIOD_MAX_TICKS:
-        period = PERIOD_MAX_TICKS
-        flags |= FLAG_INPUT_SATURATED
-    if bus < BUS_CODE_MIN:
-        bus = BUS_CODE_MIN
-        flags |= FLAG_INPUT_SATURATED
-    current = 0
-    if phase_current_adc < CURRENT_OFFSET_CODE:
-        flags |= FLAG_INPUT_SATURATED
-    else:
-        current = phase_current_adc - CURRENT_OFFSET_CODE
-        if current > CURRENT_CODE_MAX:
-            current = CURRENT_CODE_MAX
-            flags |= FLAG_INPUT_SATURATED
-    main_duty = main_duty_counts
-    if main_duty > PERIOD_COUNTS:
-        main_duty = PERIOD_COUNTS
-        flags |= FLAG_INPUT_SATURATED
-
-    tb = period * bus
-    tb_shifted = (tb + TB_ROUND) >> TB_SHIFT
-    x_q = _divide_rounded(K_XQ, tb_shifted)
-    x_c = (x_q + X_ROUND) >> X_FRAC_BITS
-    ptb = tb * K_X_DEN
-    high_speed = K_X_NUM > ptb * PERIOD_COUNTS
-    if high_speed:
-        flags |= FLAG_HIGH_SPEED
-    if METHOD == "improved":
-        if high_speed:
-            on, off = _clamp_duty(2 * PERIOD_COUNTS - x_c), 0
-        else:
-            on, off = PERIOD_COUNTS, _clamp_duty(PERIOD_COUNTS - x_c)
-    elif METHOD == "conventional":
-        on = main_duty
-        off = 2 * PERIOD_COUNTS - x_c - main_duty
-        below = ptb * (2 * PERIOD_COUNTS - main_duty)
-        above = ptb * (PERIOD_COUNTS - main_duty)
-        if K_X_NUM > below or K_X_NUM < above:
-            flags |= FLAG_FAIL_AREA_CLAMPED
-        off = _clamp_duty(off)
-    else:
-        on, off = main_duty, 0
-
-    ticks = period
-    w_q = (2 * PERIOD_COUNTS + 2 * on - 4 * off) * X_SCALE - x_q
-    if current == 0:
-        ticks = 0
-    elif w_q <= 0:
-        flags |= FLAG_TIME_CLAMPED
-    else:
-        numerator = K_GQ * current
-        denominator = bus * w_q
-        high = numerator >> 32
-        shift = high.bit_length()
-        den32 = denominator >> shift
-        if den32 == 0:
-            flags |= FLAG_TIME_CLAMPED
-        else:
-            ticks = _divide_rounded(numerator >> shift, den32)
-            if ticks > period:
-                ticks = period
-                flags |= FLAG_TIME_CLAMPED
-    return Outputs(on, off, ticks, EDGE_SWITCH[direction][sector][0], EDGE_SWITCH[direction][sector][1], sector, flags)
+    if hall_code > 7 or previous_hall_code > 7:
+        return Outputs(0, 0, 0, NO_SWITCH, NO_SWITCH, INVALID_SECTOR, FLAG_INVALID_HALL)
+    on, off, ticks, edge, flags = commutate_edge(
+        bus_condition(bus_voltage_adc),
+        previous_hall_code,
+        hall_code,
+        hall_period_ticks,
+        phase_current_adc,
+        main_duty_counts,
+    )
+    on_switch, off_switch = EDGE_SWITCH[edge] if edge != EDGE_NONE else (NO_SWITCH, NO_SWITCH)
+    return Outputs(on, off, ticks, on_switch, off_switch, SECTOR_OF_HALL[hall_code], flags)
