@@ -27,6 +27,8 @@ from codegen.port import render_port_files
 from codegen.render import project_relative, provenance, render
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
+from codegen.unity_cases import unity_cases
+from codegen.unity_render import render_unity_tests
 
 #: output path -> template (relative to templates/)
 CORE_FILES = {
@@ -72,6 +74,12 @@ def render_all(spec_path: str | Path) -> Generated:
         float_template,
         provenance=provenance(f"templates/{float_template}", spec),
         **float_model_context(spec, derivation),
+    )
+    files.update(
+        render_unity_tests(
+            unity_cases(spec, derivation, fx),
+            lambda template: provenance(template, spec),
+        )
     )
     manifest = {
         "spec": project_relative(spec.source_path),

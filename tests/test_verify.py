@@ -1,0 +1,111 @@
+"""The verifier: green on the generated core, red on every deliberately broken one.
+
+A green verify proves nothing unless it goes red when the C is wrong, so each mutant
+below plants one classic fault in a copy of the generated core and the verifier must
+reject it through a symbolic check, not only through the twin comparison (the twin is
+left unmutated, so it disagrees with every mutant by construction).
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from verify.run import VerifyResult, verify
+
+ROOT = Path(__file__).resolve().parents[1]
+SPECS = {
+    "paper_motor": ROOT / "spec" / "paper_motor.yaml",
+    "maxon_ec45_flat_48v": ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
+}
+
+
+def _verify(name: str, generated: Path, tmp_path: Path) -> VerifyResult:
+    result, _, _, _ = verify(
+        SPECS[name],
+        generated,
+        tmp_path / "build",
+        seed=20261121,
+        random_count=4000,
+        exhaustive_stride=5,
+        show_progress=False,
+    )
+    return result
+
+
+@pytest.mark.parametrize("name", sorted(SPECS))
+def test_verify_should_pass_on_the_checked_in_core(name: str, tmp_path: Path) -> None:
+    result = _verify(name, ROOT / "generated" / name, tmp_path)
+    assert result.passed, {k: (c.failures, c.max_error) for k, c in result.checks.items()}
+    assert result.sets["random"] == 4000 and result.sets["boundary"] > 1000
+    assert result.checks["turn_on"].max_error <= result.checks["turn_on"].bound  # type: ignore[operator]
+
+
+#: (mutant, file, original text, replacement, the symbolic check that must fail)
+MUTANTS = [
+    (
+        "flipped_sign_of_2E",
+        "bldc_commutation.h",
+        "* BLDC_X_SCALE - (int32_t)x_q;",
+        "* BLDC_X_SCALE + (int32_t)x_q;",
+        "commutation_time",
+    ),
+    (
+        "region_boundary_one_code_off",
+        "bldc_commutation.h",
+        "(period_ticks < bus->high_speed_period)",
+        "(period_ticks <= bus->high_speed_period)",
+        "flags",
+    ),
+    (
+        "truncation_instead_of_rounding",
+        "bldc_commutation.h",
+        "((x_q + 32u) >> BLDC_X_FRAC_BITS)",
+        "(x_q >> BLDC_X_FRAC_BITS)",
+        "turn_on",
+    ),
+    (
+        "swapped_turn_on_and_turn_off",
+        "bldc_commutation.h",
+        "result.turn_on_compare = (uint32_t)on;\n    result.turn_off_compare = (uint32_t)off;",
+        "result.turn_on_compare = (uint32_t)off;\n    result.turn_off_compare = (uint32_t)on;",
+        "turn_on",
+    ),
+    (
+        "overflowing_intermediate",
+        "bldc_commutation.h",
+        "(bus->x_numerator + (period_ticks >> 1)) / period_ticks",
+        "(bus->x_numerator * 4u + (period_ticks << 1)) / (period_ticks << 2)",
+        "turn_on",
+    ),
+    (
+        "wrong_hall_table_entry",
+        "bldc_commutation.c",
+        "1u, /* 101 -> 100: forward into sector 1 */",
+        "2u, /* 101 -> 100: forward into sector 1 */",
+        "pattern",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("mutant", "file", "original", "replacement", "caught_by"),
+    MUTANTS,
+    ids=[m[0] for m in MUTANTS],
+)
+def test_verify_should_catch_every_mutant(
+    tmp_path: Path, mutant: str, file: str, original: str, replacement: str, caught_by: str
+) -> None:
+    generated = tmp_path / "generated"
+    shutil.copytree(ROOT / "generated" / "paper_motor", generated)
+    source = generated / "c" / file
+    text = source.read_text(encoding="utf-8")
+    assert text.count(original) == 1, f"{mutant}: the pattern no longer matches the template"
+    source.write_text(text.replace(original, replacement), encoding="utf-8")
+    result = _verify("paper_motor", generated, tmp_path)
+    assert not result.passed
+    assert result.checks[caught_by].verdict == "FAIL", {
+        k: c.failures for k, c in result.checks.items()
+    }

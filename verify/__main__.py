@@ -1,0 +1,42 @@
+"""python -m verify SPEC [--generated DIR] [--seed N] [--random N]."""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+from pathlib import Path
+
+from codegen.render import PROJECT_ROOT
+from codegen.spec_loader import load_spec
+from verify.run import DEFAULT_RANDOM_POINTS, plot, table, verify, write_json
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="verify", description=__doc__)
+    parser.add_argument("spec")
+    parser.add_argument("--generated", type=Path, help="default: generated/<spec name>")
+    parser.add_argument("--seed", type=int, help="replay a random set")
+    parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS)
+    parser.add_argument("--no-progress", action="store_true")
+    args = parser.parse_args(argv)
+    spec = load_spec(args.spec)
+    generated = args.generated or PROJECT_ROOT / "generated" / spec.name
+    with tempfile.TemporaryDirectory() as build:
+        result, evaluated, fx, sc = verify(
+            args.spec,
+            generated,
+            Path(build),
+            seed=args.seed,
+            random_count=args.random,
+            show_progress=not args.no_progress,
+        )
+    print(table(result))
+    out = generated / "verify"
+    write_json(result, fx, out / "report.json")
+    plot(evaluated, fx, sc, out / "error_vs_speed.png")
+    print(f"verify: wrote {out / 'report.json'} and {out / 'error_vs_speed.png'}")
+    return 0 if result.passed else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,105 @@
+"""The generated core, built for the host as a shared library and called in batches.
+
+One ctypes call per point would cost more than the core itself, so a small shim in the
+library loops over arrays of the core's input and output structs. The structs are
+mirrored as numpy structured dtypes with the C layout (aligned), checked against
+sizeof() at load time.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+
+INPUT_DTYPE = np.dtype(
+    [
+        ("hall_code", np.uint8),
+        ("previous_hall_code", np.uint8),
+        ("hall_period_ticks", np.uint16),
+        ("bus_voltage_adc", np.uint16),
+        ("phase_current_adc", np.uint16),
+        ("main_duty_counts", np.uint16),
+    ],
+    align=True,
+)
+OUTPUT_DTYPE = np.dtype(
+    [
+        ("turn_on_compare", np.uint16),
+        ("turn_off_compare", np.uint16),
+        ("commutation_ticks", np.uint16),
+        ("turn_on_switch", np.uint8),
+        ("turn_off_switch", np.uint8),
+        ("sector", np.uint8),
+        ("flags", np.uint8),
+    ],
+    align=True,
+)
+OUTPUT_FIELDS: tuple[str, ...] = tuple(OUTPUT_DTYPE.names or ())
+
+SHIM = """\
+/* Batch entry for the verifier: not part of the firmware. */
+#include <stddef.h>
+#include "bldc_commutation.h"
+size_t verify_sizeof_inputs(void) { return sizeof(bldc_inputs_t); }
+size_t verify_sizeof_outputs(void) { return sizeof(bldc_outputs_t); }
+void verify_batch(const bldc_inputs_t *in, bldc_outputs_t *out, size_t n)
+{
+    size_t k;
+    for (k = 0; k < n; k++) {
+        bldc_commutate(&in[k], &out[k]);
+    }
+}
+"""
+CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wconversion", "-Werror", "-fPIC", "-shared"]
+
+
+@dataclass(frozen=True)
+class HostCore:
+    library: ctypes.CDLL
+    path: Path
+
+    def run(self, inputs: npt.NDArray[np.void]) -> npt.NDArray[np.void]:
+        inputs = np.ascontiguousarray(inputs, dtype=INPUT_DTYPE)
+        outputs = np.zeros(inputs.shape, dtype=OUTPUT_DTYPE)
+        self.library.verify_batch(
+            inputs.ctypes.data_as(ctypes.c_void_p),
+            outputs.ctypes.data_as(ctypes.c_void_p),
+            ctypes.c_size_t(inputs.size),
+        )
+        return outputs
+
+
+def build_host_core(c_dir: Path, build_dir: Path) -> HostCore:
+    """Compile c_dir/bldc_commutation.c with the batch shim; fail on any warning."""
+    build_dir.mkdir(parents=True, exist_ok=True)
+    shim = build_dir / "verify_batch.c"
+    shim.write_text(SHIM, encoding="utf-8")
+    library = build_dir / "libbldc_verify.so"
+    subprocess.run(
+        [
+            "gcc",
+            *CFLAGS,
+            f"-I{c_dir}",
+            str(c_dir / "bldc_commutation.c"),
+            str(shim),
+            "-o",
+            str(library),
+        ],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    dll = ctypes.CDLL(str(library))
+    dll.verify_batch.restype = None
+    dll.verify_batch.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t]
+    for name, dtype in (("inputs", INPUT_DTYPE), ("outputs", OUTPUT_DTYPE)):
+        size = getattr(dll, f"verify_sizeof_{name}")
+        size.restype = ctypes.c_size_t
+        if size() != dtype.itemsize:
+            raise RuntimeError(f"bldc_{name}_t is {size()} bytes in C, {dtype.itemsize} here")
+    return HostCore(dll, library)
