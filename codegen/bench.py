@@ -4,7 +4,9 @@
 * regeneration in a warm process;
 * flash and RAM of the commutation code (core + port) and of the whole image;
 * instructions and estimated Cortex-M3 cycles of both interrupt handlers, run in unicorn
-  over all Hall codes, both directions and a sweep of inputs (verify/isr_bench.py).
+  over all Hall codes, both directions and a sweep of inputs (verify/isr_bench.py);
+* the exhaustive host verification of the spec (`python -m verify`, whole run);
+* the generated Unity tests built for and run on the emulated Cortex-M3 (qemu).
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ from pathlib import Path
 RUNS = 5
 TARGET_DERIVE_AUDIT_S = 3.0
 TARGET_REGENERATE_WARM_S = 2.0
+TARGET_VERIFY_S = 10.0
+TARGET_QEMU_S = 60.0
 
 
 def cold_audit_seconds(spec: str) -> list[float]:
@@ -82,6 +86,28 @@ def main(argv: list[str]) -> int:
     )
     for line in report(bench(spec, generated, build_dir)):
         print(f"bench: {line}")
+    started = time.perf_counter()
+    subprocess.run(
+        [sys.executable, "-m", "verify", spec, "--no-progress"],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    seconds = time.perf_counter() - started
+    print(
+        f"bench: verify (exhaustive + 20000 random + boundary, host) {seconds:.1f} s ->"
+        f" {_verdict(seconds < TARGET_VERIFY_S)} the 10 s target"
+    )
+    from verify.unity_run import run_qemu
+
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory() as qemu_build:
+        run = run_qemu(generated, Path(qemu_build))
+    seconds = time.perf_counter() - started
+    print(
+        f"bench: Unity tests on the emulated Cortex-M3 (build + qemu run,"
+        f" {len(run.results)} tests, {'pass' if run.passed else 'FAIL'}) {seconds:.1f} s ->"
+        f" {_verdict(seconds < TARGET_QEMU_S and run.passed)} the 60 s target"
+    )
     return 0
 
 

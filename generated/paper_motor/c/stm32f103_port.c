@@ -97,10 +97,9 @@ static struct {
     uint32_t main_duty;         /* TIM1 counts, already clamped to the full scale */
 } port;
 
-/* Bus voltage, double-buffered: bldc_port_set_bus_voltage() fills the idle buffer and
- * then publishes it with one pointer write, which the Hall edge reads atomically. */
-static bldc_bus_t port_bus[2];
-static const bldc_bus_t *volatile port_bus_active = &port_bus[0];
+/* Bus voltage state: written by bldc_port_set_bus_voltage() with interrupts masked, so
+ * the Hall edge never reads half of an update. */
+static bldc_bus_t port_bus;
 
 static uint32_t port_read_hall(void)
 {
@@ -127,7 +126,7 @@ static void port_on_hall_edge(uint32_t status)
     }
     const uint32_t hall_code = port_read_hall();
     const bldc_edge_result_t r =
-        bldc_commutate_edge(port_bus_active, port.previous_hall_code, hall_code, period,
+        bldc_commutate_edge(&port_bus, port.previous_hall_code, hall_code, period,
                             bldc_adc_phase_current, 0u);
     port.previous_hall_code = hall_code;
     if (r.edge >= BLDC_EDGE_COUNT) {
@@ -192,9 +191,11 @@ void TIM3_IRQHandler(void)
 
 void bldc_port_set_bus_voltage(uint16_t adc_code)
 {
-    bldc_bus_t *idle = (port_bus_active == &port_bus[0]) ? &port_bus[1] : &port_bus[0];
-    *idle = bldc_bus_condition(adc_code);
-    port_bus_active = idle;
+    const bldc_bus_t bus = bldc_bus_condition(adc_code); /* the divides, interrupts on */
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    port_bus = bus;
+    __set_PRIMASK(primask);
 }
 
 void bldc_port_set_main_duty(uint16_t duty_counts)
@@ -310,8 +311,7 @@ void bldc_port_init(void)
     port.main_duty = 0u;
     /* Until the application reports a bus voltage, every edge is treated as
      * over-voltage: the bridge stays off. */
-    port_bus[0] = bldc_bus_condition(UINT16_MAX);
-    port_bus_active = &port_bus[0];
+    port_bus = bldc_bus_condition(UINT16_MAX);
 
     port_init_hall_pins();
     port_init_pwm_timer();   /* outputs disabled before the pins become timer outputs */
