@@ -175,14 +175,16 @@ static void port_on_commutation_end(void)
 }
 
 /* One vector for all TIM3 events on the STM32F103: a pending commutation end first (it
- * belongs to the previous edge), then the new Hall edge. The overflow (UIF) raises no
- * interrupt; the next edge reads it. */
+ * belongs to the previous edge). A Hall edge pending at the same time keeps the TIM3
+ * interrupt line asserted, so the NVIC enters again at once (tail-chaining) and takes it
+ * then. The overflow (UIF) raises no interrupt; the next edge reads it. */
 void TIM3_IRQHandler(void)
 {
     const uint32_t status = TIM3->SR;
 
     if ((status & TIM_SR_CC2IF) != 0u) {
         port_on_commutation_end();
+        return;
     }
     if ((status & TIM_SR_CC1IF) != 0u) {
         port_on_hall_edge(status);
