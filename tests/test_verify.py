@@ -109,3 +109,14 @@ def test_verify_should_catch_every_mutant(
     assert result.checks[caught_by].verdict == "FAIL", {
         k: c.failures for k, c in result.checks.items()
     }
+
+
+def test_verify_should_refuse_a_missing_spec_or_core_clearly(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from verify.__main__ import main
+
+    assert main([str(tmp_path / "absent.yaml")]) == 2
+    assert "cannot read spec" in capsys.readouterr().err
+    assert main([str(SPECS["paper_motor"]), "--generated", str(tmp_path)]) == 2
+    assert "no generated core" in capsys.readouterr().err

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import sys
 import tempfile
 from pathlib import Path
 
+from codegen.errors import SpecError
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, plot, table, verify, write_json
@@ -19,8 +21,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS)
     parser.add_argument("--no-progress", action="store_true")
     args = parser.parse_args(argv)
-    spec = load_spec(args.spec)
+    try:
+        spec = load_spec(args.spec)
+    except SpecError as exc:
+        print(f"verify: {exc}", file=sys.stderr)
+        return 2
     generated = args.generated or PROJECT_ROOT / "generated" / spec.name
+    if not (generated / "c" / "bldc_commutation.c").is_file():
+        print(
+            f"verify: no generated core in {generated}: run `make generate SPEC={args.spec}`",
+            file=sys.stderr,
+        )
+        return 2
     with tempfile.TemporaryDirectory() as build:
         result, evaluated, fx, sc = verify(
             args.spec,
