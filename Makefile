@@ -15,7 +15,7 @@ APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi 
 # Specs whose output is checked in under generated/.
 SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit generate firmware verify unity test lint format check-generated bench clean
+.PHONY: all setup sysdeps derive audit generate firmware verify unity simulate test lint format check-generated bench clean
 
 all: setup derive generate
 
@@ -56,6 +56,11 @@ firmware: setup
 verify: setup
 	@for spec in $(SPECS); do $(PY) -m verify $$spec || exit 1; done
 
+# Commutation simulation (casadi plants, the generated core in the loop): figures and
+# SIMULATION.md into generated/<spec>/simulation/, for every checked-in spec.
+simulate: setup
+	@for spec in $(SPECS); do $(PY) -m sim $$spec || exit 1; done
+
 # The generated Unity tests: host (ASan/UBSan) and Cortex-M3 under qemu mps2-an385.
 # Real Unity when UNITY_DIR points to a checkout, else the stand-in runner.
 unity: setup
@@ -65,12 +70,12 @@ unity: setup
 	done
 
 lint: setup
-	$(PY) -m ruff check codegen verify tests
-	$(PY) -m ruff format --check codegen verify tests
+	$(PY) -m ruff check codegen verify sim tests
+	$(PY) -m ruff format --check codegen verify sim tests
 
 format: setup
-	$(PY) -m ruff format codegen verify tests
-	$(PY) -m ruff check --fix codegen verify tests
+	$(PY) -m ruff format codegen verify sim tests
+	$(PY) -m ruff check --fix codegen verify sim tests
 
 # Regenerate into a temporary folder and fail with a diff if generated/ is stale.
 check-generated: setup

@@ -1,0 +1,76 @@
+"""`python -m sim SPEC [-o DIR]`: simulate the spec's drive and write the report.
+
+Writes DIR/SIMULATION.md and its PNG figures (default generated/<spec name>/simulation/).
+Exit status: 0 on success, 2 for a bad spec, 3 if the derivation fails, 4 if the C
+core cannot be generated, compiled or loaded.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from codegen.errors import DerivationError, SpecError
+from codegen.render import PROJECT_ROOT, project_relative, write_atomically
+from codegen.spec_loader import load_spec
+
+EXIT_SPEC = 2
+EXIT_DERIVATION = 3
+EXIT_SIL = 4
+REPORT_NAME = "SIMULATION.md"
+
+
+def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
+    from sim.figures import all_figures
+    from sim.limits import limits
+    from sim.report import render_report
+    from sim.sweep import run_all
+
+    start = time.perf_counter()
+    spec = load_spec(spec_path)
+    out = Path(output) if output else PROJECT_ROOT / "generated" / spec.name / "simulation"
+    results = run_all(spec, progress=progress)
+    bounds = limits(results.drive)
+    figure_start = time.perf_counter()
+    names = all_figures(results, bounds.boundary_r_rpm, out)
+    write_atomically(out / REPORT_NAME, render_report(results, bounds, names))
+    results.seconds["figures and report"] = time.perf_counter() - figure_start
+    total = time.perf_counter() - start
+    timing = ", ".join(f"{k} {v:.1f} s" for k, v in results.seconds.items() if k != "total")
+    print(
+        f"sim: {len(names)} figures + {REPORT_NAME} -> {project_relative(out)} [{total:.1f} s: {timing}]"
+    )
+    for point in results.operating:
+        cells = []
+        for (method, model, policy), metrics in sorted(point.metrics.items()):
+            if model == "switched":
+                duty = "steady" if policy == "steady" else f"{point.main_duty:g}"
+                cells.append(f"{method} ({duty}) {metrics.deviation_worst_pct:+.1f} %")
+        print(f"sim: {point.speed_rpm:g} rpm: " + ", ".join(cells))
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m sim", description=__doc__.splitlines()[0])
+    parser.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
+    parser.add_argument(
+        "-o", "--output", help="output folder (default generated/<spec name>/simulation)"
+    )
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    args = parser.parse_args(argv)
+    from sim.sil import SilError
+
+    try:
+        return simulate_spec(args.spec, args.output, progress=not args.no_progress)
+    except SpecError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_SPEC
+    except DerivationError as exc:
+        print(f"derivation failed: {exc}", file=sys.stderr)
+        return EXIT_DERIVATION
+    except SilError as exc:
+        print(f"software in the loop failed: {exc}", file=sys.stderr)
+        return EXIT_SIL

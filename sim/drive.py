@@ -1,0 +1,87 @@
+"""The spec's drive as floats in SI units, and the speed-dependent quantities.
+
+The spec keeps exact fractions for the symbolic chain; the simulation needs floats,
+converted once here so no other module touches `Spec` fields directly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from codegen.spec_model import PwmAlignment, Spec
+
+
+@dataclass(frozen=True)
+class Drive:
+    name: str
+    resistance_ohm: float
+    inductance_h: float
+    #: Phase flat-top EMF per mechanical rpm (paper Eq. 3, E = k_e n).
+    emf_v_per_rpm: float
+    pole_pairs: int
+    bus_voltage_v: float
+    pwm_frequency_hz: float
+    pwm_alignment: PwmAlignment
+    braking_current_a: float
+    speed_min_rpm: float
+    speed_max_rpm: float
+
+    @staticmethod
+    def from_spec(spec: Spec) -> Drive:
+        return Drive(
+            name=spec.name,
+            resistance_ohm=float(spec.motor.phase_resistance_ohm),
+            inductance_h=float(spec.motor.phase_inductance_h),
+            emf_v_per_rpm=float(spec.motor.back_emf_constant_v_per_rpm),
+            pole_pairs=spec.motor.pole_pairs,
+            bus_voltage_v=float(spec.inverter.bus_voltage_nominal_v),
+            pwm_frequency_hz=float(spec.inverter.pwm_frequency_hz),
+            pwm_alignment=spec.inverter.pwm_alignment,
+            braking_current_a=float(spec.controller.braking_current_nominal_a),
+            speed_min_rpm=float(spec.controller.speed_min_rpm),
+            speed_max_rpm=float(spec.controller.speed_max_rpm),
+        )
+
+    def with_pwm_frequency(self, frequency_hz: float) -> Drive:
+        return replace(self, pwm_frequency_hz=frequency_hz)
+
+    @property
+    def pwm_period_s(self) -> float:
+        return 1.0 / self.pwm_frequency_hz
+
+    @property
+    def decay_rate(self) -> float:
+        """R/L in 1/s: the only dynamics of the winding (all phases share R and L)."""
+        return self.resistance_ohm / self.inductance_h
+
+    def emf_v(self, speed_rpm: float) -> float:
+        return self.emf_v_per_rpm * speed_rpm
+
+    def sector_time_s(self, speed_rpm: float) -> float:
+        """One Hall interval, 60 electrical degrees: 10 / (n p) seconds for n in rpm."""
+        return 10.0 / (speed_rpm * self.pole_pairs)
+
+    def mechanical_speed_rad_s(self, speed_rpm: float) -> float:
+        return 2.0 * math.pi * speed_rpm / 60.0
+
+    def steady_duty(self, speed_rpm: float, current_a: float) -> float:
+        """Main duty that holds `current_a` between commutations (an ideal current loop).
+
+        Two phases in series: (1 - D) U_d = 2E - 2 R I, the duty of the modulated
+        transistor at which the averaged voltage balances EMF and resistive drop. The
+        periodic steady state of a linear RL circuit has exactly this average current.
+        """
+        emf = self.emf_v(speed_rpm)
+        duty = 1.0 - (2.0 * emf - 2.0 * self.resistance_ohm * current_a) / self.bus_voltage_v
+        return min(max(duty, 0.0), 1.0)
+
+    @property
+    def boundary_speed_rpm(self) -> float:
+        """Eq. 18's segment cut-off U_d / (4 k_e)."""
+        return self.bus_voltage_v / (4.0 * self.emf_v_per_rpm)
+
+    @property
+    def upper_speed_rpm(self) -> float:
+        """U_d / (2 k_e): above it the EMF alone exceeds the bus."""
+        return self.bus_voltage_v / (2.0 * self.emf_v_per_rpm)

@@ -1,0 +1,306 @@
+"""PNG figures of the simulation (matplotlib, Agg backend, byte-stable output).
+
+Byte stability: the Agg backend, a fixed size and dpi, no timestamps, and PNG metadata
+without the "Software" entry that would carry the matplotlib version.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from sim.runs import METHODS
+from sim.scenario import Case
+from sim.sweep import DEFAULT_SHAPE, POINT_POLICIES, STEADY, OperatingPoint, Results
+
+DPI = 110
+METHOD_COLOURS = {
+    "none": "tab:gray",
+    "conventional": "tab:orange",
+    "improved": "tab:blue",
+    "improved_r": "tab:green",
+    "optimum": "black",
+}
+PHASE_COLOURS = ("tab:red", "tab:olive", "tab:purple")
+PHASE_NAMES = ("A", "B", "C")
+
+
+def _save(fig: plt.Figure, path: Path) -> None:
+    fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    plt.close(fig)
+
+
+def _role_label(case: Case, phase: int) -> str:
+    roles = {case.edge.non_commutating: "non-commutating", case.edge.turn_off: "turn-off"}
+    roles[case.edge.turn_on] = "turn-on"
+    return f"i_{PHASE_NAMES[phase].lower()} ({roles[phase]})"
+
+
+def currents_figure(point: OperatingPoint, method: str, policy: str, out: Path) -> str:
+    """Three phase currents through one commutation (analogue of Figs. 10-14)."""
+    switched = point.runs[(method, "switched", policy)]
+    averaged = point.runs[(method, "averaged", policy)]
+    case = switched.case
+    fig, ax = plt.subplots(figsize=(7.0, 3.8))
+    for phase in range(3):
+        colour = PHASE_COLOURS[phase]
+        ax.plot(
+            switched.trace.times * 1e3,
+            switched.trace.currents[:, phase],
+            color=colour,
+            lw=0.8,
+            label=_role_label(case, phase),
+        )
+        ax.plot(
+            averaged.trace.times * 1e3,
+            averaged.trace.currents[:, phase],
+            color=colour,
+            lw=1.2,
+            ls="--",
+        )
+    ax.axvline(0.0, color="k", lw=0.6)
+    t_com = switched.command.commutation_time_s * 1e3
+    ax.axvline(t_com, color="k", lw=0.6, ls=":")
+    ax.text(t_com, ax.get_ylim()[1] * 0.95, " commanded end", fontsize=7, va="top")
+    ax.axhline(-case.current_a, color="0.6", lw=0.5)
+    ax.axhline(case.current_a, color="0.6", lw=0.5)
+    metrics = point.metrics[(method, "switched", policy)]
+    ax.set_title(
+        f"{method} at {point.speed_rpm:g} rpm, main duty {switched.command.main_duty:.3f}: "
+        f"worst period {metrics.deviation_worst_pct:+.1f} %",
+        fontsize=9,
+    )
+    ax.set_xlabel("time from the Hall edge (ms)")
+    ax.set_ylabel("phase current (A)")
+    ax.legend(
+        fontsize=7, loc="center right", title="solid switched, dashed averaged", title_fontsize=7
+    )
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    suffix = "" if policy == STEADY else "_spec_duty"
+    name = f"currents_{point.speed_rpm:g}rpm_{method}{suffix}.png"
+    _save(fig, out / name)
+    return name
+
+
+def _series(
+    results: Results, method: str, attribute: str, **match: object
+) -> tuple[np.ndarray, np.ndarray]:
+    rows = results.rows(method=method, **match)
+    speeds = np.array([r.speed_rpm for r in rows])
+    values = np.array(
+        [
+            np.nan if getattr(r.metrics, attribute) is None else getattr(r.metrics, attribute)
+            for r in rows
+        ],
+        dtype=float,
+    )
+    return speeds, values
+
+
+def _speed_marks(ax: plt.Axes, results: Results, boundary_r_rpm: float) -> None:
+    ax.axvline(results.drive.boundary_speed_rpm, color="0.5", lw=0.6, ls="--")
+    ax.axvline(boundary_r_rpm, color="tab:green", lw=0.6, ls="--")
+
+
+def deviation_figure(results: Results, boundary_r_rpm: float, out: Path) -> str:
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True)
+    for method in METHODS:
+        colour = METHOD_COLOURS[method]
+        speeds, worst = _series(
+            results,
+            method,
+            "deviation_worst_pct",
+            model="switched",
+            emf_shape=DEFAULT_SHAPE,
+            duty_policy=STEADY,
+        )
+        top.plot(speeds, worst, color=colour, marker="o", ms=3, label=f"{method}")
+        speeds, flat = _series(
+            results,
+            method,
+            "deviation_worst_pct",
+            model="switched",
+            emf_shape="flat",
+            duty_policy=STEADY,
+        )
+        top.plot(speeds, flat, color=colour, ls=":", lw=1.0)
+        speeds, ripple = _series(
+            results,
+            method,
+            "torque_ripple_pct",
+            model="switched",
+            emf_shape=DEFAULT_SHAPE,
+            duty_policy=STEADY,
+        )
+        bottom.plot(speeds, ripple, color=colour, marker="o", ms=3, label=method)
+    for policy in sorted({r.duty_policy for r in results.sweep} - {STEADY}):
+        speeds, worst = _series(results, "conventional", "deviation_worst_pct", duty_policy=policy)
+        rows = results.rows(method="conventional", duty_policy=policy)
+        fail = np.array(["FAIL_AREA_CLAMPED" in r.flags for r in rows])
+        top.plot(
+            speeds, worst, color="tab:brown", lw=1.0, label=f"conventional, main duty {policy}"
+        )
+        top.plot(
+            speeds[fail], worst[fail], "x", color="tab:brown", label="control fail area (core flag)"
+        )
+    top.axhspan(-3, 3, color="tab:green", alpha=0.12)
+    top.set_ylabel("worst per-period deviation of |i_nc| (% of I)")
+    top.set_title(
+        "solid: trapezoidal EMF, dotted: flat EMF (paper's idealisation); switched plant",
+        fontsize=9,
+    )
+    top.legend(fontsize=7, ncol=2)
+    top.grid(alpha=0.3)
+    bottom.set_ylabel("torque ripple (max-min)/mean (%)")
+    bottom.set_xlabel("speed (rpm); dashed: U_d/(4 k_e) grey, R-aware boundary green")
+    bottom.grid(alpha=0.3)
+    for ax in (top, bottom):
+        _speed_marks(ax, results, boundary_r_rpm)
+    fig.tight_layout()
+    name = "deviation_vs_speed.png"
+    _save(fig, out / name)
+    return name
+
+
+def commutation_time_figure(results: Results, out: Path) -> str:
+    fig, ax = plt.subplots(figsize=(7.0, 3.8))
+    for method in METHODS:
+        colour = METHOD_COLOURS[method]
+        match = {"model": "switched", "emf_shape": DEFAULT_SHAPE, "duty_policy": STEADY}
+        speeds, actual = _series(results, method, "commutation_fraction", **match)
+        ax.plot(
+            speeds,
+            actual,
+            color=colour,
+            marker="o",
+            ms=3,
+            label=f"{method}: turn-off current at zero",
+        )
+        speeds, commanded = _series(results, method, "commanded_fraction", **match)
+        ax.plot(speeds, commanded, color=colour, ls=":", lw=1.0)
+    ax.axhline(1.0, color="k", lw=0.6)
+    ax.set_ylim(0, 1.05)
+    ax.set_xlabel("speed (rpm)")
+    ax.set_ylabel("fraction of the 60 deg interval")
+    ax.set_title(
+        "commutation time: solid measured in the plant, dotted commanded by the controller",
+        fontsize=9,
+    )
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    name = "commutation_time_vs_speed.png"
+    _save(fig, out / name)
+    return name
+
+
+def switching_figure(results: Results, out: Path) -> str:
+    fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.6), sharey=True)
+    width = 0.2
+    for ax, method in zip(axes, ("conventional", "improved"), strict=True):
+        speeds = [row.speed_rpm for row in results.table4]
+        x = np.arange(len(speeds))
+        paper_on = [getattr(r, f"{method}_on") for r in results.table4]
+        paper_off = [getattr(r, f"{method}_off") for r in results.table4]
+        sim_rows = [
+            results.rows(
+                method=method,
+                model="switched",
+                emf_shape=DEFAULT_SHAPE,
+                duty_policy=STEADY,
+                speed_rpm=float(s),
+            )
+            for s in speeds
+        ]
+        sim_on = [r[0].metrics.on_pulses if r else np.nan for r in sim_rows]
+        sim_off = [r[0].metrics.off_pulses if r else np.nan for r in sim_rows]
+        ax.bar(
+            x - 1.5 * width, paper_on, width, color="tab:blue", alpha=0.5, label="paper, on phase"
+        )
+        ax.bar(x - 0.5 * width, sim_on, width, color="tab:blue", label="simulated pulses, on")
+        ax.bar(
+            x + 0.5 * width, paper_off, width, color="tab:red", alpha=0.5, label="paper, off phase"
+        )
+        ax.bar(x + 1.5 * width, sim_off, width, color="tab:red", label="simulated pulses, off")
+        ax.set_xticks(x, [f"{s:g}" for s in speeds])
+        ax.set_title(method, fontsize=9)
+        ax.set_xlabel("speed (rpm)")
+        ax.grid(alpha=0.3, axis="y")
+    axes[0].set_ylabel("switchings in one commutation")
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    name = "switching_counts.png"
+    _save(fig, out / name)
+    return name
+
+
+def optimum_figure(results: Results, out: Path) -> str:
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)
+    rows = [r for r in results.optima if r.emf_shape == DEFAULT_SHAPE]
+    speeds = np.array([r.optimum.speed_rpm for r in rows])
+    top.plot(speeds, [r.optimum.on_duty for r in rows], "k-o", ms=3, label="Ipopt optimum D_on")
+    top.plot(speeds, [r.optimum.off_duty for r in rows], "k--s", ms=3, label="Ipopt optimum D_off")
+    for method, marker in (("improved", "o"), ("improved_r", "^")):
+        match = {"model": "averaged", "emf_shape": DEFAULT_SHAPE, "duty_policy": STEADY}
+        sweep_rows = [
+            r for r in results.rows(method=method, **match) if r.speed_rpm in set(speeds.tolist())
+        ]
+        colour = METHOD_COLOURS[method]
+        top.plot(
+            [r.speed_rpm for r in sweep_rows],
+            [r.on_duty for r in sweep_rows],
+            marker,
+            color=colour,
+            ms=4,
+            ls="none",
+            label=f"{method} D_on (first period)",
+        )
+        top.plot(
+            [r.speed_rpm for r in sweep_rows],
+            [r.off_duty for r in sweep_rows],
+            marker,
+            color=colour,
+            ms=4,
+            ls="none",
+            mfc="none",
+            label=f"{method} D_off",
+        )
+    top.set_ylabel("duty")
+    top.legend(fontsize=7, ncol=2)
+    top.grid(alpha=0.3)
+    for key in ("optimum", *METHODS):
+        values = [abs(r.worst_pct[key]) for r in rows]
+        bottom.semilogy(
+            speeds, np.maximum(values, 1e-3), "-o", ms=3, color=METHOD_COLOURS[key], label=key
+        )
+    bottom.set_ylabel("|worst per-period deviation| (%), averaged plant")
+    bottom.set_xlabel("speed (rpm)")
+    bottom.legend(fontsize=7, ncol=3)
+    bottom.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    name = "optimum_vs_rules.png"
+    _save(fig, out / name)
+    return name
+
+
+def all_figures(results: Results, boundary_r_rpm: float, out: Path) -> dict[str, str]:
+    """Write every figure into `out`; returns key -> file name."""
+    out.mkdir(parents=True, exist_ok=True)
+    names: dict[str, str] = {}
+    for point in results.operating:
+        for policy, methods in POINT_POLICIES.items():
+            for method in methods:
+                key = f"currents:{point.speed_rpm:g}:{method}:{policy}"
+                names[key] = currents_figure(point, method, policy, out)
+    names["deviation"] = deviation_figure(results, boundary_r_rpm, out)
+    names["commutation_time"] = commutation_time_figure(results, out)
+    names["switching"] = switching_figure(results, out)
+    names["optimum"] = optimum_figure(results, out)
+    return names

@@ -1,0 +1,87 @@
+"""One commutation from method to metrics: controller command, plant run, measurement.
+
+The controller sees what the firmware sees: the measured current is the pre-edge
+period average (what a PWM-centred ADC sample gives) rounded to ADC codes, the main
+duty is rounded to TIM1 counts. The paper's three methods are the generated C core;
+`improved_r` is the Python rule of `sim.improved_r` (its C chain is pending).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from codegen.spec_model import Spec
+from sim.command import Command
+from sim.improved_r import METHOD as IMPROVED_R
+from sim.improved_r import improved_r_command
+from sim.metrics import CommutationMetrics, commutation_end, measure
+from sim.scenario import Case, PlantModel, run_case
+from sim.sil import CoreSet, core_command
+from sim.trace import Trace
+
+C_METHODS: tuple[str, ...] = ("none", "conventional", "improved")
+METHODS: tuple[str, ...] = (*C_METHODS, IMPROVED_R)
+#: Carrier periods simulated after the commutation, so its end is inside the run.
+TAIL_PERIODS = 3
+
+
+@dataclass(frozen=True)
+class Run:
+    method: str
+    model: PlantModel
+    case: Case
+    command: Command
+    trace: Trace
+    metrics: CommutationMetrics
+
+
+class Controller:
+    """Commands for every method at a Hall edge."""
+
+    def __init__(self, spec: Spec, cores: CoreSet) -> None:
+        self.spec = spec
+        self.cores = cores
+
+    @property
+    def period_counts(self) -> int:
+        return self.cores.scaling.period_counts
+
+    def measured_current(self, case: Case) -> float:
+        per_code = float(self.cores.scaling.amps_per_current_code)
+        return round(case.current_a / per_code) * per_code
+
+    def quantised_duty(self, duty: float) -> float:
+        return round(min(max(duty, 0.0), 1.0) * self.period_counts) / self.period_counts
+
+    def command(self, method: str, case: Case, main_duty: float) -> Command:
+        if method == IMPROVED_R:
+            return improved_r_command(
+                case,
+                self.measured_current(case),
+                self.quantised_duty(main_duty),
+                self.period_counts,
+                float(self.cores.scaling.hall_clock_hz),
+            )
+        core = self.cores.cores[method]
+        return core_command(
+            core, self.spec, self.cores.scaling, case, self.measured_current(case), main_duty
+        )
+
+    def flag_names(self, command: Command) -> tuple[str, ...]:
+        any_core = next(iter(self.cores.cores.values()))
+        return any_core.constants.flag_names(command.flags)
+
+
+def simulate(case: Case, command: Command, model: PlantModel, end: float | None = None) -> Run:
+    """Run to `end`, or (None) just past the end of the commutation."""
+    sector = case.sector_time_s
+    period = case.drive.pwm_period_s
+    if end is not None:
+        trace = run_case(case, command, model, min(end, sector))
+    else:
+        guess = min(sector, command.commutation_time_s + TAIL_PERIODS * period)
+        trace = run_case(case, command, model, guess)
+        _, zero = commutation_end(case, command, trace)
+        if zero is None and guess < sector:
+            trace = run_case(case, command, model, sector)
+    return Run(command.method, model, case, command, trace, measure(case, command, trace))

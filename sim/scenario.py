@@ -1,0 +1,184 @@
+"""One commutation: the edge, the operating point, the gate schedule around it.
+
+Time 0 is the Hall edge. The run starts a few carrier periods earlier in the previous
+sector's second half, where PWM-OFF-PWM modulates the transistor that the edge turns
+off (T3 before the paper's 60 deg edge) at the duty that holds the braking current.
+After the commutation the turn-on transistor runs at the main duty until the middle
+of the sector, then the transistor that the next edge will turn off takes over: each
+transistor is modulated in the first and last 30 deg of its 120 deg conduction and
+off in between, which is what keeps the inactive phase free of current.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Literal
+
+import numpy as np
+
+from codegen.derivation import derive
+from codegen.derivation.switching import Edge, SwitchingTable
+from sim.command import Command
+from sim.drive import Drive
+from sim.emf import BackEmf, EmfShape
+from sim.schedule import OFF, Schedule, Segment, switch_index
+from sim.trace import Trace
+
+PlantModel = Literal["switched", "averaged"]
+#: Carrier periods simulated before the edge (the last one gives the measured current).
+PRE_EDGE_PERIODS = 2
+
+
+@lru_cache(maxsize=1)
+def switching_table() -> SwitchingTable:
+    return derive().switching
+
+
+def paper_edge() -> Edge:
+    """Section 3.2's example: 60 deg, forward, BA -> CA (T3 off, T5 modulated)."""
+    return switching_table().paper_example()
+
+
+def next_edge(edge: Edge) -> Edge:
+    step = 1 if edge.direction == "forward" else -1
+    return switching_table().edge_into((edge.sector_to + step) % 6, edge.direction)
+
+
+@dataclass(frozen=True)
+class Case:
+    drive: Drive
+    edge: Edge
+    speed_rpm: float
+    current_a: float
+    emf_shape: EmfShape
+
+    @property
+    def sector_time_s(self) -> float:
+        return self.drive.sector_time_s(self.speed_rpm)
+
+    @property
+    def emf(self) -> BackEmf:
+        return BackEmf(
+            self.emf_shape,
+            self.edge,
+            switching_table().sectors(self.edge.direction),
+            self.drive.emf_v(self.speed_rpm),
+            self.sector_time_s,
+        )
+
+    @property
+    def pre_edge_duty(self) -> float:
+        return self.drive.steady_duty(self.speed_rpm, self.current_a)
+
+    @property
+    def start_time(self) -> float:
+        return -PRE_EDGE_PERIODS * self.drive.pwm_period_s
+
+    def roles(self) -> tuple[int, int, int]:
+        return self.edge.non_commutating, self.edge.turn_off, self.edge.turn_on
+
+    def edge_currents(self, magnitude: float) -> np.ndarray:
+        """Currents of the conduction before the edge: nc and off carry +-magnitude."""
+        signs = self.edge.current_signs
+        out = np.zeros(3)
+        out[self.edge.non_commutating] = signs[self.edge.non_commutating] * magnitude
+        out[self.edge.turn_off] = signs[self.edge.turn_off] * magnitude
+        return out
+
+
+def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
+    """Gate duties from the run's start to `end`; `command` None: pre-edge only."""
+    period = case.drive.pwm_period_s
+    pre_switch = switch_index(case.edge.modulated_off)
+    segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
+    if command is not None and end > 0.0:
+        segments.extend(_after_edge(case, command, period, end))
+    return Schedule(tuple(segments), period, case.drive.pwm_alignment)
+
+
+def _after_edge(case: Case, command: Command, period: float, end: float) -> list[Segment]:
+    if command.turn_on_switch is None or command.turn_off_switch is None:
+        return [Segment(0.0, end, OFF)]
+    on, off = command.turn_on_switch, command.turn_off_switch
+    t_com = min(max(command.commutation_time_s, 0.0), end)
+    out: list[Segment] = []
+    if command.constant_duties:
+        if t_com > 0.0:
+            out.append(
+                Segment(0.0, t_com, _only({on: command.on_duty(0), off: command.off_duty(0)}))
+            )
+    else:
+        k = 0
+        while k * period < t_com:
+            duties = _only({on: command.on_duty(k), off: command.off_duty(k)})
+            out.append(Segment(k * period, min((k + 1) * period, t_com), duties))
+            k += 1
+    middle = max(0.5 * case.sector_time_s, t_com)
+    if t_com < min(middle, end):
+        out.append(Segment(t_com, min(middle, end), _only({on: command.main_duty})))
+    if middle < end:
+        takeover = switch_index(next_edge(case.edge).modulated_off)
+        out.append(Segment(middle, end, _only({takeover: command.main_duty})))
+    return out
+
+
+def _only(duties: dict[int, float]) -> tuple[float, ...]:
+    out = list(OFF)
+    for switch, duty in duties.items():
+        out[switch] = min(max(duty, 0.0), 1.0)
+    return tuple(out)
+
+
+Plant = Callable[[Drive, BackEmf, Schedule, float, float, np.ndarray], Trace]
+
+
+def plant(model: PlantModel) -> Plant:
+    if model == "switched":
+        from sim.switched import simulate_switched
+
+        return simulate_switched
+    from sim.averaged import simulate_averaged
+
+    return simulate_averaged
+
+
+def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
+    """Currents at the run's start such that the last pre-edge period averages I.
+
+    The averaged plant holds I exactly. The switched plant's ripple makes the
+    instantaneous value at a carrier start differ from the period average, so the
+    start value is solved for: the period average is affine in it (linear circuit).
+    """
+    magnitude = case.current_a
+    if model == "averaged":
+        return case.edge_currents(magnitude)
+    run = plant(model)
+    schedule = schedule_for(case, None, 0.0)
+    off = case.edge.turn_off
+    sign = case.edge.current_signs[off]
+
+    def last_mean(start_magnitude: float) -> float:
+        trace = run(
+            case.drive,
+            case.emf,
+            schedule,
+            case.start_time,
+            0.0,
+            case.edge_currents(start_magnitude),
+        )
+        return sign * float(trace.period_currents[-1, off])
+
+    low, high = last_mean(magnitude), last_mean(magnitude + 1.0)
+    gain = high - low
+    start = magnitude + (magnitude - low) / gain if gain > 1e-9 else magnitude
+    return case.edge_currents(start)
+
+
+def run_case(case: Case, command: Command, model: PlantModel, end: float) -> Trace:
+    """Simulate from the pre-edge start to `end` under `command`."""
+    schedule = schedule_for(case, command, end)
+    return plant(model)(
+        case.drive, case.emf, schedule, case.start_time, end, pre_edge_state(case, model)
+    )

@@ -1,0 +1,109 @@
+"""What each of the six transistors does over time: duties per interval and the carrier.
+
+Both plants read the same schedule: the averaged plant uses the duties, the switched
+plant expands them into gate edges on the PWM carrier. A compare value change takes
+effect immediately (the commutation time is not aligned to the carrier).
+
+Carrier: period T starting at t = origin + k T. Edge-aligned, a duty d switches on at
+the period start for d T; centre-aligned, the on-time is centred in the period.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import dataclass
+
+from codegen.spec_model import PwmAlignment
+
+SWITCHES = 6
+OFF: tuple[float, ...] = (0.0,) * SWITCHES
+
+
+def switch_name(index: int) -> str:
+    """0..5 -> T1..T6 (T1/T2, T3/T4, T5/T6: upper/lower of phases A, B, C)."""
+    return f"T{index + 1}"
+
+
+def switch_index(name: str) -> int:
+    return int(name[1:]) - 1
+
+
+@dataclass(frozen=True)
+class Segment:
+    start: float
+    end: float
+    duties: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Schedule:
+    segments: tuple[Segment, ...]
+    period: float
+    alignment: PwmAlignment
+    origin: float = 0.0
+
+    @property
+    def start(self) -> float:
+        return self.segments[0].start
+
+    @property
+    def end(self) -> float:
+        return self.segments[-1].end
+
+    def duties_at(self, t: float) -> tuple[float, ...]:
+        starts = [s.start for s in self.segments]
+        index = max(bisect.bisect_right(starts, t) - 1, 0)
+        return self.segments[index].duties
+
+    def period_index(self, t: float) -> int:
+        return math.floor((t - self.origin) / self.period + 1e-12)
+
+    def period_start(self, index: int) -> float:
+        return self.origin + index * self.period
+
+    def _on_window(self, duty: float, index: int) -> tuple[float, float]:
+        start = self.period_start(index)
+        if self.alignment == "edge":
+            return start, start + duty * self.period
+        half = 0.5 * (1.0 - duty) * self.period
+        return start + half, start + self.period - half
+
+    def gate(self, duty: float, t: float) -> bool:
+        if duty >= 1.0:
+            return True
+        if duty <= 0.0:
+            return False
+        on, off = self._on_window(duty, self.period_index(t))
+        return on <= t < off
+
+    def gates_at(self, t: float) -> tuple[float, ...]:
+        """Gate state (1.0 on, 0.0 off) of each switch at t."""
+        return tuple(1.0 if self.gate(d, t) else 0.0 for d in self.duties_at(t))
+
+    def breakpoints(self, t0: float, t1: float, gate_edges: bool) -> list[float]:
+        """Sorted times in [t0, t1]: segment and carrier-period boundaries, and, for the
+        switched plant, every gate edge."""
+        times = {t0, t1}
+        for segment in self.segments:
+            for t in (segment.start, segment.end):
+                if t0 < t < t1:
+                    times.add(t)
+        first = self.period_index(t0)
+        last = self.period_index(t1)
+        for k in range(first, last + 1):
+            start = self.period_start(k)
+            if t0 < start < t1:
+                times.add(start)
+        if gate_edges:
+            for segment in self.segments:
+                lo, hi = max(segment.start, t0), min(segment.end, t1)
+                if hi <= lo:
+                    continue
+                for k in range(self.period_index(lo), self.period_index(hi) + 1):
+                    for duty in set(segment.duties):
+                        if 0.0 < duty < 1.0:
+                            for t in self._on_window(duty, k):
+                                if lo < t < hi:
+                                    times.add(t)
+        return sorted(times)

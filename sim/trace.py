@@ -1,0 +1,102 @@
+"""What a plant run returns: the current waveform, per-PWM-period averages, events.
+
+Per-period averages are what the paper's comparisons are about (the non-commutating
+current "remains constant" up to the PWM ripple), so both plants integrate the
+currents and the electrical power sum e_x i_x exactly over each carrier period.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Event:
+    time: float
+    kind: str  # "zero": a current reached zero; "conducts": a floating phase started
+    phase: int
+
+
+@dataclass(frozen=True)
+class Transition:
+    time: float
+    switch: int  # 0..5
+    on: bool
+
+
+@dataclass(frozen=True)
+class Trace:
+    model: str  # "switched" or "averaged"
+    times: np.ndarray  # (N,)
+    currents: np.ndarray  # (N, 3)
+    #: Carrier periods fully inside the run: start time, mean currents, mean power.
+    period_starts: np.ndarray  # (K,)
+    period_currents: np.ndarray  # (K, 3)
+    period_power: np.ndarray  # (K,) mean of sum e_x i_x, W
+    events: tuple[Event, ...]
+    transitions: tuple[Transition, ...]
+
+    def current_at(self, t: float) -> np.ndarray:
+        return np.array([np.interp(t, self.times, self.currents[:, k]) for k in range(3)])
+
+    def first_zero(self, phase: int, after: float = 0.0) -> float | None:
+        for event in self.events:
+            if event.kind == "zero" and event.phase == phase and event.time >= after:
+                return event.time
+        return None
+
+    def transitions_of(self, switch: int, start: float, end: float) -> int:
+        return sum(1 for t in self.transitions if t.switch == switch and start <= t.time < end)
+
+    def turn_ons_of(self, switch: int, start: float, end: float) -> int:
+        return sum(
+            1 for t in self.transitions if t.switch == switch and t.on and start <= t.time < end
+        )
+
+
+@dataclass
+class TraceBuilder:
+    """Accumulates a run; `finish` freezes it."""
+
+    model: str
+    period: float
+    origin: float
+    times: list[float] = field(default_factory=list)
+    currents: list[np.ndarray] = field(default_factory=list)
+    events: list[Event] = field(default_factory=list)
+    transitions: list[Transition] = field(default_factory=list)
+    _charge: dict[int, np.ndarray] = field(default_factory=dict)
+    _energy: dict[int, float] = field(default_factory=dict)
+    _covered: dict[int, float] = field(default_factory=dict)
+
+    def point(self, t: float, currents: np.ndarray) -> None:
+        self.times.append(t)
+        self.currents.append(np.array(currents, dtype=float))
+
+    def accumulate(self, period: int, duration: float, charge: np.ndarray, energy: float) -> None:
+        """Add int i dt (3,) and int sum e i dt over `duration` seconds of `period`."""
+        if period not in self._charge:
+            self._charge[period] = np.zeros(3)
+            self._energy[period] = 0.0
+            self._covered[period] = 0.0
+        self._charge[period] += charge
+        self._energy[period] += energy
+        self._covered[period] += duration
+
+    def finish(self) -> Trace:
+        full = sorted(k for k, d in self._covered.items() if d >= self.period * (1.0 - 1e-9))
+        starts = np.array([self.origin + k * self.period for k in full])
+        mean_i = np.array([self._charge[k] / self.period for k in full]).reshape(-1, 3)
+        power = np.array([self._energy[k] / self.period for k in full])
+        return Trace(
+            model=self.model,
+            times=np.array(self.times),
+            currents=np.array(self.currents).reshape(-1, 3),
+            period_starts=starts,
+            period_currents=mean_i,
+            period_power=power,
+            events=tuple(self.events),
+            transitions=tuple(self.transitions),
+        )

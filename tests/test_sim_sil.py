@@ -1,0 +1,136 @@
+"""Software in the loop: the generated C core is really called and really obeyed."""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
+from sim.drive import Drive
+from sim.runs import Controller, simulate
+from sim.scenario import Case, paper_edge, schedule_for
+from sim.sil import (
+    CORE_HEADER,
+    CoreInputs,
+    CoreLibrary,
+    CoreOutputs,
+    CoreSet,
+    core_command,
+    expected_switches,
+    load_core,
+    prepare_cores,
+    spec_with_method,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+
+
+@pytest.fixture(scope="module")
+def spec() -> Spec:
+    return load_spec(SPEC)
+
+
+@pytest.fixture(scope="module")
+def cores(spec: Spec) -> CoreSet:
+    return prepare_cores(spec, ("none", "conventional", "improved"))
+
+
+def _case(spec: Spec, speed: float) -> Case:
+    drive = Drive.from_spec(spec)
+    return Case(drive, paper_edge(), speed, drive.braking_current_a, "trapezoidal")
+
+
+def _header_fields(header: str, type_name: str) -> list[str]:
+    body = re.search(r"typedef struct \{([^{}]*)\} " + type_name, header)
+    assert body is not None
+    return re.findall(r"uint\d+_t (\w+);", body.group(1))
+
+
+def test_ctypes_structs_should_follow_the_generated_header() -> None:
+    text = (ROOT / "generated" / "paper_motor" / "c" / CORE_HEADER).read_text(encoding="utf-8")
+    assert _header_fields(text, "bldc_inputs_t") == [name for name, _ in CoreInputs._fields_]
+    assert _header_fields(text, "bldc_outputs_t") == [name for name, _ in CoreOutputs._fields_]
+
+
+def test_plant_should_apply_the_cores_compare_values_and_switches(
+    spec: Spec, cores: CoreSet
+) -> None:
+    case = _case(spec, 1500.0)
+    command = core_command(cores.cores["improved"], spec, cores.scaling, case, 5.0, 0.42)
+    raw = command.core_outputs
+    assert (raw["turn_on_switch"], raw["turn_off_switch"]) == expected_switches(case)  # T5, T3
+    schedule = schedule_for(case, command, case.sector_time_s)
+    during = schedule.duties_at(0.5 * command.commutation_time_s)
+    counts = cores.scaling.period_counts
+    assert during[raw["turn_on_switch"]] == raw["turn_on_compare"] / counts
+    assert during[raw["turn_off_switch"]] == raw["turn_off_compare"] / counts
+    assert sum(1 for d in during if d > 0) == 2
+    assert command.commutation_time_s == raw["commutation_ticks"] / float(
+        cores.scaling.hall_clock_hz
+    )
+    segment_ends = [s.end for s in schedule.segments]
+    assert command.commutation_time_s in segment_ends
+    after = schedule.duties_at(command.commutation_time_s + 1e-9)
+    assert after[raw["turn_off_switch"]] == 0.0
+    assert after[raw["turn_on_switch"]] == raw["in.main_duty_counts"] / counts
+
+
+def test_conventional_core_should_flag_the_fail_area_at_4600_rpm(
+    spec: Spec, cores: CoreSet
+) -> None:
+    case = _case(spec, 4600.0)
+    core = cores.cores["conventional"]
+    command = core_command(core, spec, cores.scaling, case, 5.0, 0.42)
+    assert "FAIL_AREA_CLAMPED" in core.constants.flag_names(command.flags)
+    assert command.off_duty(0) == 0.0  # Eq. 16 gives -0.229, clamped
+
+
+def _stub_core(tmp_path: Path, method: str) -> CoreLibrary:
+    """A core with the same API that ignores its inputs: half duty, 100 ticks."""
+    c_dir = tmp_path / "stub"
+    c_dir.mkdir()
+    shutil.copy(ROOT / "generated" / "paper_motor" / "c" / CORE_HEADER, c_dir / CORE_HEADER)
+    (c_dir / "bldc_commutation.c").write_text(
+        '#include "bldc_commutation.h"\n'
+        "void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out)\n"
+        "{\n"
+        "    (void)in;\n"
+        "    out->turn_on_compare = BLDC_PWM_PERIOD_COUNTS / 2u;\n"
+        "    out->turn_off_compare = BLDC_PWM_PERIOD_COUNTS / 2u;\n"
+        "    out->commutation_ticks = 100u;\n"
+        "    out->turn_on_switch = 4u;\n"
+        "    out->turn_off_switch = 2u;\n"
+        "    out->sector = 1u;\n"
+        "    out->flags = 0u;\n"
+        "}\n",
+        encoding="utf-8",
+    )
+    return load_core(c_dir, method, tmp_path / "build")
+
+
+def test_simulation_should_change_when_the_c_core_changes(
+    spec: Spec, cores: CoreSet, tmp_path: Path
+) -> None:
+    case = _case(spec, 1500.0)
+    real = Controller(spec, cores)
+    stub_cores = CoreSet(spec, {**cores.cores, "improved": _stub_core(tmp_path, "improved")})
+    stub = Controller(spec, stub_cores)
+    real_command = real.command("improved", case, case.pre_edge_duty)
+    stub_command = stub.command("improved", case, case.pre_edge_duty)
+    assert stub_command.core_outputs["commutation_ticks"] == 100
+    assert stub_command.on_duties == (0.5,) and stub_command.commutation_time_s == 1e-4
+    real_run = simulate(case, real_command, "switched")
+    stub_run = simulate(case, stub_command, "switched")
+    assert abs(real_run.metrics.deviation_worst_pct - stub_run.metrics.deviation_worst_pct) > 5.0
+
+
+def test_spec_with_method_should_only_change_the_method(spec: Spec) -> None:
+    text = SPEC.read_text(encoding="utf-8")
+    changed = spec_with_method(text, "none")
+    diff = [(a, b) for a, b in zip(text.splitlines(), changed.splitlines(), strict=True) if a != b]
+    assert diff == [("  method: improved", "  method: none")]
