@@ -272,6 +272,17 @@ def time_interval(
     return lo - SLACK, hi + SLACK
 
 
+def operating_codes(spec: Spec, sc: Scaling) -> tuple[int, int, int]:
+    """Bus code at the nominal voltage, current code at the nominal braking current and
+    the first operating point's main duty in counts: the inputs a check holds fixed."""
+    bus = round(spec.inverter.bus_voltage_nominal_v / sc.volts_per_bus_code)
+    current = sc.current_offset_code + round(
+        spec.controller.braking_current_nominal_a / sc.amps_per_current_code
+    )
+    duty = round(spec.operating_points[0].main_duty * sc.period_counts)
+    return int(bus), int(current), int(duty)
+
+
 def build_model(spec: Spec, derivation: Derivation, sc: Scaling) -> ExactModel:
     rule = derivation["18"]
     mods = "numpy"

@@ -16,7 +16,14 @@ import numpy as np
 from codegen.derivation.paper import Derivation
 from codegen.fixedpoint.design import FixedPointDesign
 from codegen.fixedpoint.scaling import Scaling
-from codegen.reference import FLAG_TIME_CLAMPED, ExactModel, build_model, expected, time_interval
+from codegen.reference import (
+    FLAG_TIME_CLAMPED,
+    ExactModel,
+    build_model,
+    expected,
+    operating_codes,
+    time_interval,
+)
 from codegen.spec_model import Spec
 
 
@@ -131,13 +138,7 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
     invalid codes, with expectations from codegen.reference."""
     sc = fx.scaling
     model = build_model(spec, derivation, sc)
-    bus, current, duty = (
-        round(spec.inverter.bus_voltage_nominal_v / sc.volts_per_bus_code),
-        sc.current_offset_code
-        + round(spec.controller.braking_current_nominal_a / sc.amps_per_current_code),
-        round(spec.operating_points[0].main_duty * sc.period_counts),
-    )
-    bus, current, duty = int(bus), int(current), int(duty)
+    bus, current, duty = operating_codes(spec, sc)
     cases: list[UnityCase] = []
     sequence = spec.hall.sequence
     for point in spec.operating_points:

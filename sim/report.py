@@ -13,7 +13,7 @@ from pathlib import Path
 import jinja2
 import sympy as sp
 
-from codegen.render import markdown_cell, project_relative
+from codegen.render import environment, project_relative
 from sim.improved_r import METHOD as IMPROVED_R
 from sim.limits import Limits
 from sim.metrics import CommutationMetrics, acts_like_main_duty
@@ -38,16 +38,7 @@ PAPER_FIGURES = {
 
 
 def _environment() -> jinja2.Environment:
-    env = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)),
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-        keep_trailing_newline=True,
-        autoescape=False,
-    )
-    env.filters["cell"] = markdown_cell
-    return env
+    return environment(TEMPLATE_DIR)
 
 
 def pct(value: float | None) -> str:

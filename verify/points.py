@@ -9,7 +9,7 @@ import numpy as np
 import numpy.typing as npt
 
 from codegen.fixedpoint.scaling import Scaling
-from codegen.reference import ExactModel
+from codegen.reference import ExactModel, operating_codes
 from codegen.spec_model import Spec
 from verify.host_core import INPUT_DTYPE
 
@@ -29,21 +29,10 @@ def valid_edges(model: ExactModel) -> list[tuple[int, int]]:
     return [(a, b) for a in model.hall_sequence for b in model.hall_sequence if model.edge(a, b)]
 
 
-def nominal_codes(spec: Spec, sc: Scaling) -> tuple[int, int, int]:
-    """Bus code at the nominal voltage, current code at the nominal braking current,
-    main duty of the first operating point."""
-    bus = round(spec.inverter.bus_voltage_nominal_v / sc.volts_per_bus_code)
-    current = sc.current_offset_code + round(
-        spec.controller.braking_current_nominal_a / sc.amps_per_current_code
-    )
-    duty = round(spec.operating_points[0].main_duty * sc.period_counts)
-    return int(bus), int(current), int(duty)
-
-
 def exhaustive(spec: Spec, sc: Scaling, model: ExactModel) -> Inputs:
     """Every period code of the spec's speed range, at the bus minimum, nominal and
     maximum, for every valid Hall transition (both directions)."""
-    bus_nominal, current, duty = nominal_codes(spec, sc)
+    bus_nominal, current, duty = operating_codes(spec, sc)
     periods = np.arange(sc.period_min_ticks, sc.period_max_ticks + 1)
     buses = np.array([sc.bus_code_min, bus_nominal, sc.bus_code_max])
     edges = np.array(valid_edges(model))
@@ -82,7 +71,7 @@ def random_points(sc: Scaling, model: ExactModel, seed: int, count: int) -> Inpu
 def boundaries(spec: Spec, sc: Scaling, model: ExactModel) -> Inputs:
     """The segment cut-off and one code either side, the speed limits, zero current,
     out-of-range inputs and invalid Hall codes."""
-    bus_nominal, current, duty = nominal_codes(spec, sc)
+    bus_nominal, current, duty = operating_codes(spec, sc)
     forward = valid_edges(model)[0]
     rows: list[tuple[int, int, int, int, int, int]] = []
     buses = (sc.bus_code_min, bus_nominal, sc.bus_code_max)
