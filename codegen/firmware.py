@@ -2,7 +2,7 @@
 
 `make firmware` links them with the generated core and port to measure flash and RAM.
 The vector table is laid out here (a plain list of handler names) so the template stays
-free of arithmetic; the TIM3 interrupt number comes from the vendor SVD.
+free of arithmetic; the interrupt numbers come from the vendor SVD.
 """
 
 from __future__ import annotations
@@ -20,22 +20,42 @@ TEMPLATES = {
 }
 
 
-def tim3_irq_number() -> int:
-    tim3 = load_device().peripheral("TIM3")
-    (irq,) = [i.value for i in tim3.interrupts if i.name == "TIM3"]
+#: The port's handlers: (SVD peripheral, SVD interrupt name) -> CMSIS handler name. The
+#: SVD describes the XL-density line, whose TIM1 trigger/COM vector TIM11 shares.
+PORT_HANDLERS: tuple[tuple[str, str, str], ...] = (
+    ("TIM1", "TIM1_TRG_COM_TIM11", "TIM1_TRG_COM_IRQHandler"),
+    ("TIM3", "TIM3", "TIM3_IRQHandler"),
+)
+
+
+def irq_number(peripheral: str, interrupt: str) -> int:
+    p = load_device().peripheral(peripheral)
+    (irq,) = [i.value for i in p.interrupts if i.name == interrupt]
     return irq
+
+
+def tim3_irq_number() -> int:
+    return irq_number("TIM3", "TIM3")
+
+
+def port_handlers() -> list[dict[str, object]]:
+    return [
+        {"name": handler, "irq": irq_number(peripheral, interrupt), "svd": interrupt}
+        for peripheral, interrupt, handler in PORT_HANDLERS
+    ]
 
 
 def vector_table() -> list[str]:
     """Handler of each vector: initial SP slot first, then exceptions, then IRQs."""
     table = ["Reset_Handler"] + ["Default_Handler"] * (15 + PERIPHERAL_IRQS - 1)
-    table[15 + tim3_irq_number()] = "TIM3_IRQHandler"
+    for handler in port_handlers():
+        table[15 + int(str(handler["irq"]))] = str(handler["name"])
     return table
 
 
 def render_firmware_files(spec: Spec) -> dict[str, str]:
     context = {
-        "tim3_irq": tim3_irq_number(),
+        "handlers": port_handlers(),
         "vectors": vector_table(),
         "vector_count": 16 + PERIPHERAL_IRQS,
     }

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from codegen.core_context import edge_index
+from codegen.core_context import edge_index, edge_of_hall_pair
 from codegen.derivation import derive
 from codegen.render import provenance, render
 from codegen.spec_model import Spec
@@ -171,6 +171,11 @@ def _switch_registers(switch: str) -> tuple[str, str, str]:
     return own, partner, f"CCR{channel}"
 
 
+def hall_code_of_pins(raw: int) -> int:
+    """Pin levels as read (HALL_PINS[i] in bit i) -> Hall code (A B C as bits 2 1 0)."""
+    return sum(((raw >> i) & 1) << (2 - i) for i in range(3))
+
+
 def _edge_context(spec: Spec) -> dict[str, object]:
     """The port's per-edge register table, in the core's edge numbering, and the Hall
     pin decoding."""
@@ -198,16 +203,29 @@ def _edge_context(spec: Spec) -> dict[str, object]:
         raise ValueError("the Hall pin read expects two neighbouring pins and one on another port")
     hall_of_pins = []
     for raw in range(8):
-        code = sum(((raw >> i) & 1) << (2 - i) for i in range(3))
+        code = hall_code_of_pins(raw)
         levels = ", ".join(
             f"P{pin.port[-1]}{pin.number}={(raw >> i) & 1}" for i, pin in enumerate(HALL_PINS)
         )
         hall_of_pins.append({"code": code, "comment": f"{levels}: Hall code {code:03b}"})
+    core_edges = edge_of_hall_pair(spec.hall.sequence)
+    edge_of_pins = []
+    for index in range(64):
+        previous, now = hall_code_of_pins(index >> 3), hall_code_of_pins(index & 7)
+        edge = core_edges[(previous << 3) | now]
+        what = "invalid" if edge >= len(edges) else f"edge {edge}"
+        edge_of_pins.append(
+            {
+                "value": edge,
+                "comment": f"pins {index >> 3:03b} -> {index & 7:03b}: Hall {previous:03b} -> {now:03b}, {what}",
+            }
+        )
     return {
-        # The improved rule (Eq. 18) does not use the main duty at the edge.
-        "edge_main_duty": "0u" if spec.controller.method == "improved" else "port.main_duty",
+        # The improved rule (Eq. 18) does not use the main duty for the commutation.
+        "method": spec.controller.method,
         "port_edges": edges,
         "hall_of_pins": hall_of_pins,
+        "edge_of_pins": edge_of_pins,
         "pins_expression": f"(({a.port}->IDR >> {a.number}) & 3u) | (({c.port}->IDR >> {c.number} & 1u) << 2)",
         "pins_expression_text": f"P{a.port[-1]}{a.number} | P{b.port[-1]}{b.number} << 1 |"
         f" P{c.port[-1]}{c.number} << 2",

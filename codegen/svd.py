@@ -316,13 +316,16 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
 #: (TIM1_UP_TIM10); Cube's stm32f103xb.h calls the same vector TIM1_UP_IRQn.
 CMSIS_IRQS: tuple[tuple[str, str], ...] = (
     ("TIM1_UP", "TIM1"),
+    ("TIM1_TRG_COM", "TIM1"),
     ("TIM1_CC", "TIM1"),
     ("TIM3", "TIM3"),
 )
 
-#: The SVD's NVIC peripheral gives the one core register the header needs.
+#: The SVD's NVIC peripheral gives the core registers the header needs.
 NVIC_PERIPHERAL = "NVIC"
 NVIC_ENABLE_REGISTER = "ISER0"
+NVIC_PENDING_REGISTER = "ISPR0"
+NVIC_PRIORITY_REGISTER = "IPR0"
 
 _QUALIFIER = {
     "read-only": "__I",
@@ -553,6 +556,8 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
             )
     nvic = dev.peripheral(NVIC_PERIPHERAL)
     iser = nvic.register(NVIC_ENABLE_REGISTER)
+    ispr = nvic.register(NVIC_PENDING_REGISTER)
+    ipr = nvic.register(NVIC_PRIORITY_REGISTER)
     return {
         "svd_name": dev.name,
         "svd_version": dev.version,
@@ -563,6 +568,10 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
         "irqs": [_irq(dev, c, p) for c, p in CMSIS_IRQS],
         "nvic_iser_base": f"0x{nvic.base_address + iser.address_offset:08X}UL",
         "nvic_iser_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_ENABLE_REGISTER}: {_comment(iser.description)}",
+        "nvic_ispr_base": f"0x{nvic.base_address + ispr.address_offset:08X}UL",
+        "nvic_ispr_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_PENDING_REGISTER}: {_comment(ispr.description)}",
+        "nvic_ipr_base": f"0x{nvic.base_address + ipr.address_offset:08X}UL",
+        "nvic_ipr_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_PRIORITY_REGISTER}: {_comment(ipr.description)}",
         "field_groups": fields,
     }
 

@@ -40,14 +40,15 @@ ARM_FLAGS = [
 ]
 
 STUB_CORE_HEADER = """\
-/* Stub of the generated core's header: the contract only. bldc_commutate_edge() records
- * its arguments and returns what the harness scripted. */
+/* Stub of the generated core's header: the contract only. bldc_commutation_timing()
+ * records its arguments and returns what the harness scripted. */
 #ifndef BLDC_COMMUTATION_H
 #define BLDC_COMMUTATION_H
 #include <stdint.h>
 #define BLDC_PWM_PERIOD_COUNTS   {period}u
 #define BLDC_EDGE_NONE           0xFFu
 #define BLDC_EDGE_COUNT          12u
+#define BLDC_PERIOD_NEVER        0x10000u
 typedef struct {{
     uint32_t x_numerator;
     uint32_t high_speed_period;
@@ -57,29 +58,15 @@ typedef struct {{
     uint32_t flags;
 }} bldc_bus_t;
 typedef struct {{
-    uint32_t turn_on_compare;
-    uint32_t turn_off_compare;
-    uint32_t commutation_ticks;
-    uint32_t edge;
-    uint32_t flags;
-}} bldc_edge_result_t;
+    uint32_t period_min;
+    uint16_t turn_on_compare;
+    uint16_t turn_off_compare;
+    uint16_t commutation_ticks;
+    uint16_t flags;
+}} bldc_timing_t;
 bldc_bus_t bldc_bus_condition(uint32_t bus_code);
-extern bldc_edge_result_t stub_next;
-extern uint32_t stub_seen[6];
-static inline bldc_edge_result_t bldc_commutate_edge(const bldc_bus_t *bus,
-                                                     uint32_t previous_hall_code,
-                                                     uint32_t hall_code, uint32_t period_ticks,
-                                                     uint32_t current_adc,
-                                                     uint32_t main_duty_counts)
-{{
-    stub_seen[0] = bus->bus_code;
-    stub_seen[1] = previous_hall_code;
-    stub_seen[2] = hall_code;
-    stub_seen[3] = period_ticks;
-    stub_seen[4] = current_adc;
-    stub_seen[5] = main_duty_counts;
-    return stub_next;
-}}
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
+                                      uint32_t current_adc, uint32_t main_duty_counts);
 #endif
 """
 
@@ -221,7 +208,11 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     assert "__aeabi_" not in dump
     assert not re.search(r"\b[us]div\b", dump)
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
-    assert called == {"bldc_bus_condition"}  # nothing else leaves the object
+    # nothing else leaves the object (port_outputs_off is the port's own cold path, in
+    # .text.unlikely), and the Hall edge does not call the core
+    assert called == {"bldc_bus_condition", "bldc_commutation_timing", "port_outputs_off"}
+    handler = dump[dump.index("<TIM3_IRQHandler>:") :].split("\n\n")[0]
+    assert "bldc_" not in handler
 
 
 @pytest.mark.skipif(ARM_GCC is None, reason="arm-none-eabi-gcc missing")
@@ -236,12 +227,14 @@ def test_port_should_refuse_a_core_with_another_pwm_full_scale(tmp_path: Path, s
 
 HOST_SHIM = """\
 /* Force-included before the port: the generated register header, with the
- * peripheral instances pointing at plain memory instead of the STM32 address map. */
+ * peripheral instances pointing at plain memory instead of the STM32 address map, and
+ * the NVIC calls recorded. */
 #include "stm32f103_regs.h"
 extern TIM_TypeDef fake_tim1, fake_tim3;
 extern RCC_TypeDef fake_rcc;
 extern GPIO_TypeDef fake_gpioa, fake_gpiob;
-extern int fake_nvic_enabled;
+extern unsigned long fake_nvic_enabled, fake_nvic_pending;
+extern unsigned fake_nvic_priority[64];
 #undef TIM1
 #undef TIM3
 #undef RCC
@@ -252,7 +245,9 @@ extern int fake_nvic_enabled;
 #define RCC (&fake_rcc)
 #define GPIOA (&fake_gpioa)
 #define GPIOB (&fake_gpiob)
-#define NVIC_EnableIRQ(n) (fake_nvic_enabled = (int)(n))
+#define NVIC_EnableIRQ(n) (fake_nvic_enabled |= 1ul << (n))
+#define NVIC_SetPendingIRQ(n) (fake_nvic_pending |= 1ul << (n))
+#define NVIC_SetPriority(n, p) (fake_nvic_priority[(n)] = (p))
 """
 
 HOST_HARNESS = r"""
@@ -262,10 +257,13 @@ HOST_HARNESS = r"""
 TIM_TypeDef fake_tim1, fake_tim3;
 RCC_TypeDef fake_rcc;
 GPIO_TypeDef fake_gpioa, fake_gpiob;
-int fake_nvic_enabled = -1;
+unsigned long fake_nvic_enabled, fake_nvic_pending;
+unsigned fake_nvic_priority[64];
 
-bldc_edge_result_t stub_next;
-uint32_t stub_seen[6];
+static bldc_timing_t stub_next = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
+static uint32_t stub_seen[4];
+static unsigned timing_runs;
+static unsigned long raw_egr, raw_sr; /* TIM1 EGR and TIM3 SR as the Hall edge left them */
 
 bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
@@ -273,7 +271,47 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code)
     return bus;
 }
 
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
+                                      uint32_t current_adc, uint32_t main_duty_counts)
+{
+    stub_seen[0] = bus->bus_code;
+    stub_seen[1] = period_ticks;
+    stub_seen[2] = current_adc;
+    stub_seen[3] = main_duty_counts;
+    ++timing_runs;
+    return stub_next;
+}
+
 #define SET(reg, value) (*(volatile uint32_t *)&(reg) = (uint32_t)(value))
+
+/* The NVIC: a COM event with COMIE set, or a software pend, runs the timing handler
+ * once the higher-priority TIM3 handler has returned. */
+static void settle_after(int handler_wrote_egr)
+{
+    const int com = handler_wrote_egr && (fake_tim1.EGR & TIM_EGR_COMG) != 0u &&
+                    (fake_tim1.DIER & TIM_DIER_COMIE) != 0u;
+    const int pended = (fake_nvic_pending & (1ul << TIM1_TRG_COM_IRQn)) != 0u;
+    fake_nvic_pending = 0u;
+    if (com || pended) {
+        TIM1_TRG_COM_IRQHandler();
+    }
+}
+
+static void settle(void)
+{
+    settle_after(0);
+}
+
+/* The duties and commutation time the next timing computation returns. */
+static void plan(unsigned period_min, unsigned on_cmp, unsigned off_cmp, unsigned ticks)
+{
+    stub_next.period_min = period_min;
+    stub_next.turn_on_compare = (uint16_t)on_cmp;
+    stub_next.turn_off_compare = (uint16_t)off_cmp;
+    stub_next.commutation_ticks = (uint16_t)ticks;
+    fake_nvic_pending |= 1ul << TIM1_TRG_COM_IRQn; /* as a new input would */
+    settle();
+}
 
 static void hall(unsigned code)
 {
@@ -281,42 +319,41 @@ static void hall(unsigned code)
     SET(fake_gpiob.IDR, code & 1u);
 }
 
-/* A Hall edge into `code` whose core result is (edge, on, off, ticks). */
-static void edge(unsigned code, unsigned status, unsigned captured, unsigned cnt, unsigned number,
-                 unsigned on_cmp, unsigned off_cmp, unsigned ticks)
+/* A Hall edge into `code`: the TIM3 handler, then whatever it raised. */
+static void edge(unsigned code, unsigned status, unsigned captured, unsigned cnt)
 {
     hall(code);
     fake_tim3.CCR1 = captured;
     fake_tim3.CNT = cnt;
     fake_tim3.EGR = 0u;
     fake_tim1.EGR = 0u;
-    stub_next.edge = number;
-    stub_next.turn_on_compare = on_cmp;
-    stub_next.turn_off_compare = off_cmp;
-    stub_next.commutation_ticks = ticks;
-    stub_next.flags = 0u;
     fake_tim3.SR = status;
+    timing_runs = 0u;
     TIM3_IRQHandler();
+    raw_egr = fake_tim1.EGR;
+    raw_sr = fake_tim3.SR;
+    settle_after(1);
 }
 
 static void end_of_commutation(void)
 {
     fake_tim1.EGR = 0u;
     fake_tim3.SR = TIM_SR_CC2IF;
+    timing_runs = 0u;
     TIM3_IRQHandler();
+    settle_after(1);
 }
 
 static void show(const char *step)
 {
-    printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu sr=%lu "
-           "in bus=%lu prev=%lu hall=%lu period=%lu cur=%lu duty=%lu\n",
+    printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu "
+           "in bus=%lu period=%lu cur=%lu duty=%lu runs=%u edge egr=%lu sr=%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
            (unsigned long)fake_tim1.CCR2, (unsigned long)fake_tim1.CCR3,
            (unsigned long)fake_tim1.EGR, (unsigned long)fake_tim3.CCR2,
-           (unsigned long)fake_tim3.EGR, (unsigned long)fake_tim3.SR,
-           (unsigned long)stub_seen[0], (unsigned long)stub_seen[1],
-           (unsigned long)stub_seen[2], (unsigned long)stub_seen[3],
-           (unsigned long)stub_seen[4], (unsigned long)stub_seen[5]);
+           (unsigned long)fake_tim3.EGR, (unsigned long)stub_seen[0],
+           (unsigned long)stub_seen[1], (unsigned long)stub_seen[2],
+           (unsigned long)stub_seen[3], timing_runs, raw_egr, raw_sr);
 }
 
 int main(void)
@@ -325,12 +362,14 @@ int main(void)
     hall(5u);
     bldc_port_init();
     printf("init tim1 cr1=%lu cr2=%lu ccmr1=%lu ccmr2=%lu ccer=%lu bdtr=%lu psc=%lu arr=%lu "
-           "tim3 cr1=%lu cr2=%lu smcr=%lu ccmr1=%lu ccer=%lu dier=%lu psc=%lu arr=%lu cnt=%lu "
-           "rcc apb2=%lu apb1=%lu gpioa crl=%lu crh=%lu gpiob crl=%lu crh=%lu core nvic=%d\n",
+           "dier=%lu tim3 cr1=%lu cr2=%lu smcr=%lu ccmr1=%lu ccer=%lu dier=%lu psc=%lu arr=%lu "
+           "cnt=%lu rcc apb2=%lu apb1=%lu gpioa crl=%lu crh=%lu gpiob crl=%lu crh=%lu "
+           "nvic enabled=%lu hall=%u timing=%u\n",
            (unsigned long)fake_tim1.CR1, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.CCMR1, (unsigned long)fake_tim1.CCMR2,
            (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.BDTR,
            (unsigned long)fake_tim1.PSC, (unsigned long)fake_tim1.ARR,
+           (unsigned long)fake_tim1.DIER,
            (unsigned long)fake_tim3.CR1, (unsigned long)fake_tim3.CR2,
            (unsigned long)fake_tim3.SMCR, (unsigned long)fake_tim3.CCMR1,
            (unsigned long)fake_tim3.CCER, (unsigned long)fake_tim3.DIER,
@@ -338,48 +377,68 @@ int main(void)
            (unsigned long)fake_tim3.CNT,
            (unsigned long)fake_rcc.APB2ENR, (unsigned long)fake_rcc.APB1ENR,
            (unsigned long)fake_gpioa.CRL, (unsigned long)fake_gpioa.CRH,
-           (unsigned long)fake_gpiob.CRL, (unsigned long)fake_gpiob.CRH, fake_nvic_enabled);
+           (unsigned long)fake_gpiob.CRL, (unsigned long)fake_gpiob.CRH, fake_nvic_enabled,
+           fake_nvic_priority[TIM3_IRQn], fake_nvic_priority[TIM1_TRG_COM_IRQn]);
+    settle_after(1); /* the COM event of the initial UG | COMG */
 
-    /* before any bus voltage: the published bus state is the over-voltage one */
-    edge(5u, TIM_SR_CC1IF, 5000u, 10u, BLDC_EDGE_NONE, 0u, 0u, 0u);
+    /* before any bus voltage: the timing is the safe state */
+    edge(5u, TIM_SR_CC1IF, 5000u, 10u);
     show("nobus");
     bldc_port_set_bus_voltage(2000u);
+    settle();
     bldc_adc_phase_current = 2500u;
     bldc_port_set_main_duty(1500u);
-    hall(5u);
+    settle();
+    show("inputs");
     /* forward into sector 1 (edge 1): T5 (C upper) on at 2000, T3 (B upper) off at 1000;
      * the first interval after start-up is unknown (UIF from the counter preset) */
-    edge(4u, TIM_SR_CC1IF | TIM_SR_UIF, 1234u, 10u, 1u, 2000u, 1000u, 300u);
+    plan(100u, 2000u, 1000u, 300u);
+    edge(4u, TIM_SR_CC1IF | TIM_SR_UIF, 1234u, 10u);
     show("edge1");
     end_of_commutation();
     show("end1");
+    timing_runs = 0u;
     bldc_port_set_main_duty(1700u);
+    settle();
     show("duty");
     bldc_port_set_main_duty(4000u);
+    settle();
     show("clamp");
+    timing_runs = 0u;
+    bldc_port_set_main_duty(4000u);
+    settle();
+    show("same");
     bldc_port_set_main_duty(1500u);
+    settle();
     /* forward into sector 2 (edge 2): T4 (B lower) on at 500, T2 (A lower) off at 800;
      * latency past t_com */
-    edge(6u, TIM_SR_CC1IF, 5000u, 400u, 2u, 500u, 800u, 300u);
+    plan(100u, 500u, 800u, 300u);
+    edge(6u, TIM_SR_CC1IF, 5000u, 400u);
     show("edge2");
     end_of_commutation();
     show("end2");
     /* back into sector 1 (reverse edge 7): T1 (A upper) on, T3 (B upper) off, while T4
      * (B lower) conducts: phase B would swap switches, refused, all off */
-    edge(4u, TIM_SR_CC1IF, 5000u, 10u, 7u, 900u, 700u, 300u);
+    plan(100u, 900u, 700u, 300u);
+    edge(4u, TIM_SR_CC1IF, 5000u, 10u);
     show("swap");
     end_of_commutation();
     show("after_swap");
     /* from all-off anything is safe again */
-    edge(6u, TIM_SR_CC1IF, 5000u, 10u, 2u, 900u, 700u, 300u);
+    edge(6u, TIM_SR_CC1IF, 5000u, 10u);
     show("recover");
+    /* over-speed now: an interval below the timing's minimum period */
+    plan(6000u, 900u, 700u, 300u);
+    edge(2u, TIM_SR_CC1IF, 5000u, 10u);
+    show("overspeed");
+    plan(100u, 900u, 700u, 300u);
     /* invalid Hall: all off, and the pending end is dropped */
-    edge(7u, TIM_SR_CC1IF, 5000u, 10u, BLDC_EDGE_NONE, 0u, 0u, 0u);
+    edge(7u, TIM_SR_CC1IF, 5000u, 10u);
     show("invalid");
     end_of_commutation();
     show("after_invalid");
-    /* Hall timer overflow since the last edge: the interval reads as the full counter */
-    edge(6u, TIM_SR_CC1IF | TIM_SR_UIF, 17u, 10u, BLDC_EDGE_NONE, 0u, 0u, 0u);
+    /* Hall timeout since the last edge: the interval reads as the full counter */
+    edge(6u, TIM_SR_CC1IF | TIM_SR_UIF, 17u, 10u);
     show("timeout");
     return 0;
 }
@@ -439,6 +498,7 @@ def test_init_should_configure_the_timers_per_rm0008(host_run: dict[str, dict[st
     assert r["tim1.bdtr"] == 0x8000 | 0x800 | 0x400 | 0x24  # MOE, OSSR, OSSI, DTG
     assert (r["tim1.psc"], r["tim1.arr"]) == (0, 3599)
     assert r["tim1.cr1"] == 0x81  # ARPE, CEN, edge-aligned
+    assert r["tim1.dier"] == 0x20  # COMIE: every COM event runs the next edge's timing
     assert r["tim3.cr2"] == 0x80  # TI1S: XOR of CH1..CH3
     assert r["tim3.smcr"] == 0x44  # TS = 100 (TI1F_ED), SMS = 100 (reset)
     assert r["tim3.ccmr1"] == 0x33  # CC1S = 11 (TRC), IC1F = 0011; CC2 frozen compare
@@ -453,30 +513,56 @@ def test_init_should_configure_the_timers_per_rm0008(host_run: dict[str, dict[st
     assert r["gpiob.crh"] == 0xBBB44444  # PB13..15 AF push-pull 50 MHz
     assert r["gpioa.crl"] == 0x88444444  # PA6, PA7 input with pull
     assert r["gpiob.crl"] == 0x44444448  # PB0 input with pull
-    assert r["core.nvic"] == 29
+    assert r["nvic.enabled"] == (1 << 26) | (1 << 29)  # TIM1_TRG_COM, TIM3 (SVD numbers)
+    assert r["nvic.hall"] < r["nvic.timing"]  # the Hall edge preempts the timing
 
 
-def test_hall_edge_should_apply_the_commutation_pattern_at_one_com_event(
+def test_hall_edge_should_apply_the_precomputed_pattern_at_one_com_event(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     r = host_run["edge1"]
-    assert (r["in.hall"], r["in.prev"]) == (4, 5)
-    assert r["in.period"] == 65535  # the first interval after start-up is unknown
-    assert (r["in.bus"], r["in.cur"]) == (2000, 2500)
-    assert r["in.duty"] == 0  # the improved rule does not read the main duty at the edge
     assert r["tim1.ccer"] == 0x110  # CC2E (T3), CC3E (T5)
     assert (r["tim1.ccr2"], r["tim1.ccr3"]) == (1000, 2000)
-    assert r["tim1.egr"] == 0x21  # COMG | UG
+    assert r["edge.egr"] == 0x21  # COMG | UG
     assert r["tim3.ccr2"] == 300  # counter restarted at the edge: compare = t_com
     assert r["tim3.egr"] == 0  # still ahead: the hardware match will end it
+    assert r["edge.sr"] == 0xFFFFFFFF & ~0x5  # CC2IF and the timeout's UIF cleared
+
+
+def test_every_hall_edge_should_recompute_the_timing_from_the_interval_just_measured(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["edge1"]
+    assert r["in.runs"] == 1  # the edge's COM event ran the timing once
+    assert r["in.period"] == 65535  # the first interval after start-up is unknown
+    assert (r["in.bus"], r["in.cur"], r["in.duty"]) == (2000, 2500, 1500)
+    assert host_run["edge2"]["in.period"] == 5000
+    assert host_run["timeout"]["in.period"] == 65535  # a wrapped counter reads as its range
+    for step in ("nobus", "swap", "invalid", "overspeed"):
+        assert host_run[step]["in.runs"] == 1  # the safe state is a COM event too
+
+
+def test_new_inputs_should_recompute_the_timing_only_when_they_matter(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    assert host_run["inputs"]["in.bus"] == 2000  # a new bus voltage pends the timing
+    # The improved rule (Eq. 18) does not use the main duty: a new one changes the
+    # steady switch's compare value but pends no recomputation.
+    assert host_run["inputs"]["in.duty"] == 0
+    assert host_run["duty"]["in.runs"] == 0
+    assert host_run["same"]["in.runs"] == 0
+    # A commutation end is a COM event too: the timing is recomputed with the latest
+    # current after it.
+    assert host_run["end1"]["in.runs"] == 1
 
 
 def test_port_should_keep_the_bridge_off_until_it_knows_the_bus_voltage(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     r = host_run["nobus"]
-    assert r["in.bus"] > 0xFFF  # the start-up bus state is the over-voltage one
+    assert r["in.bus"] == 0xFFFF  # the start-up bus code is the over-voltage one
     assert r["tim1.ccer"] == 0
+    assert r["edge.egr"] == 0x21
 
 
 def test_commutation_end_should_leave_the_incoming_switch_at_main_duty(
@@ -494,8 +580,6 @@ def test_lower_switch_should_get_its_on_time_as_compare(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     r = host_run["edge2"]
-    assert r["in.period"] == 5000
-    assert r["in.prev"] == 4
     # CCxNE alone: OCxN = OCxREF (RM0008 Table 83), so CCR = the ON time, not ARR - it.
     assert r["tim1.ccer"] == 0x044  # CC1NE (T2), CC2NE (T4)
     assert (r["tim1.ccr1"], r["tim1.ccr2"]) == (800, 500)
@@ -507,10 +591,19 @@ def test_a_phase_swapping_switches_should_turn_everything_off(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     assert host_run["swap"]["tim1.ccer"] == 0
-    assert host_run["swap"]["tim1.egr"] == 0x21
+    assert host_run["swap"]["edge.egr"] == 0x21
     assert host_run["after_swap"]["tim1.ccer"] == 0
     assert host_run["after_swap"]["tim1.egr"] == 0  # no end was pending
     assert host_run["recover"]["tim1.ccer"] == 0x044
+
+
+def test_an_interval_below_the_timings_minimum_should_turn_everything_off(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["overspeed"]
+    assert r["tim1.ccer"] == 0
+    assert r["edge.egr"] == 0x21
+    assert r["edge.sr"] == 0xFFFFFFFF & ~0x5  # no commutation end left to run
 
 
 def test_invalid_hall_should_disable_all_outputs(host_run: dict[str, dict[str, int]]) -> None:
@@ -519,6 +612,20 @@ def test_invalid_hall_should_disable_all_outputs(host_run: dict[str, dict[str, i
     assert host_run["after_invalid"]["tim1.egr"] == 0
 
 
-def test_hall_timeout_should_report_the_full_counter(host_run: dict[str, dict[str, int]]) -> None:
-    assert host_run["timeout"]["in.period"] == 65535
-    assert host_run["timeout"]["in.prev"] == 7
+def test_pin_indexed_edge_table_should_give_the_cores_edge_for_every_pair(spec: Spec) -> None:
+    """PA6 = Hall A, PA7 = Hall B, PB0 = Hall C, read as PA6 | PA7 << 1 | PB0 << 2."""
+
+    def pins(code: int) -> int:
+        a, b, c = (code >> 2) & 1, (code >> 1) & 1, code & 1
+        return a | b << 1 | c << 2
+
+    table = [e["value"] for e in port.port_context(spec)["edge_of_pins"]]  # type: ignore[index]
+    sequence = spec.hall.sequence
+    expected = {}
+    for sector, code in enumerate(sequence):
+        expected[(sequence[sector - 1], code)] = sector  # forward into `sector`
+        expected[(sequence[(sector + 1) % 6], code)] = 6 + sector  # reverse into it
+    for previous in range(8):
+        for code in range(8):
+            want = expected.get((previous, code), 0xFF)
+            assert table[pins(previous) << 3 | pins(code)] == want, (previous, code)

@@ -1,14 +1,16 @@
 """Choose the integer formats of the core and prove them safe over the input domain.
 
-The bus voltage changes slowly, so everything that depends on it alone is computed when
-it is sampled (`bldc_bus_condition`, off the Hall-edge path), once per bus code B:
+Everything that depends on the bus voltage alone is computed once per bus code B
+(`bldc_bus_condition`):
 
     x_numerator      = round(N_X / B),  N_X = round(K_X 2^f)        uint32, long division
     high_speed_period = ceil(C / B),    C = ceil(K_X / P)            uint32
     time_numerator   = round(N_G / B),  N_G = round(K_G 2^f)        uint32, long division
 
 A long division splits N = hi 2^k + lo and divides twice in 32 bits, so no 64-bit divide
-helper is needed. The Hall edge then costs one divide for the speed and one for Eq. 20:
+helper is needed. The speed-dependent part (`bldc_commutation_timing`, which the port
+runs after each Hall edge for the next one) costs one divide for the speed and one for
+Eq. 20:
 
     X_q  = round(x_numerator / T)                        uint32, X = P 4E/U_d in Q(f)
     X_c  = round(X_q / 2^f)                              TIM1 counts

@@ -136,28 +136,114 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code)
     return bus;
 }
 
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
+                                      uint32_t current_adc, uint32_t main_duty_counts)
+{
+    bldc_timing_t timing = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
+    const int32_t period_counts = (int32_t)BLDC_PWM_PERIOD_COUNTS;
+    uint32_t flags = bus->flags;
+    int32_t on;
+    int32_t off;
+
+    (void)main_duty_counts; /* the improved rule does not use the main duty (Eq. 18) */
+    if (period_ticks > BLDC_PERIOD_CAP_TICKS) {
+        period_ticks = BLDC_PERIOD_CAP_TICKS; /* the proven range: the full Hall counter */
+    }
+    if (period_ticks < bus->period_min) {
+        /* Above the top speed or over-voltage: braking is no longer controlled. */
+        timing.flags = (uint16_t)(flags | BLDC_FLAG_INPUT_SATURATED);
+        return timing;
+    }
+    if (period_ticks > BLDC_PERIOD_MAX_TICKS) {
+        flags |= BLDC_FLAG_INPUT_SATURATED; /* below the minimum speed: still exact */
+    }
+    const int32_t current = (int32_t)current_adc - BLDC_CURRENT_OFFSET_CODE;
+    if (current < 0 || current > BLDC_CURRENT_CODE_MAX) {
+        flags |= BLDC_FLAG_INPUT_SATURATED;
+    }
+
+    /* X = P 4E/U_d (Eqs. 3, 9) in Q10 counts, then in counts. */
+    const uint32_t x_q = (bus->x_numerator + (period_ticks >> 1)) / period_ticks;
+    const int32_t x_c = (int32_t)((x_q + 512u) >> BLDC_X_FRAC_BITS);
+    const uint32_t high_speed = (period_ticks < bus->high_speed_period) ? 1u : 0u;
+    if (high_speed != 0u) {
+        flags |= BLDC_FLAG_HIGH_SPEED;
+    }
+    /* Eq. 18: low speed, turn-on phase fully on and turn-off phase modulated; high
+     * speed, turn-off phase off and turn-on phase modulated. */
+    if (high_speed != 0u) {
+        on = 2 * period_counts - x_c; /* D_on = 2 - 4E/U_d */
+        if (on < 0) {
+            on = 0; /* above the upper speed limit 4E > 2 U_d */
+        }
+        off = 0;
+    } else {
+        on = period_counts;
+        off = period_counts - x_c; /* D_off = 1 - 4E/U_d */
+        if (off < 0) {
+            off = 0;
+        }
+    }
+
+    /* Eq. 20 at the emitted duties: t = time_numerator i / W_q. */
+    const int32_t w_q = (2 * period_counts + 2 * on - 4 * off) * BLDC_X_SCALE - (int32_t)x_q;
+    uint32_t ticks;
+    if (w_q <= 0) {
+        /* The turn-off current never reaches zero: the whole sector, unless there is
+         * no current to commutate. */
+        ticks = 0u;
+        if (current > 0) {
+            ticks = period_ticks;
+            flags |= BLDC_FLAG_TIME_CLAMPED;
+        }
+    } else {
+        int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q;
+        if (t < 0) {
+            t = 0; /* negative braking current: nothing to commutate */
+        }
+        ticks = (uint32_t)t;
+        if (ticks > period_ticks) {
+            ticks = period_ticks;
+            flags |= BLDC_FLAG_TIME_CLAMPED;
+        }
+    }
+
+    timing.turn_on_compare = (uint16_t)on;
+    timing.turn_off_compare = (uint16_t)off;
+    timing.commutation_ticks = (uint16_t)ticks;
+    timing.flags = (uint16_t)flags;
+    timing.period_min = bus->period_min;
+    return timing;
+}
+
 void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out)
 {
-    bldc_edge_result_t result = {0u, 0u, 0u, BLDC_EDGE_NONE, BLDC_FLAG_INVALID_HALL};
+    bldc_timing_t timing = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, BLDC_FLAG_INVALID_HALL};
+    uint32_t edge = BLDC_EDGE_NONE;
     uint8_t sector = INVALID_SECTOR;
 
     if (in->hall_code <= 7u && in->previous_hall_code <= 7u) {
-        const bldc_bus_t bus = bldc_bus_condition(in->bus_voltage_adc);
-        result = bldc_commutate_edge(&bus, in->previous_hall_code, in->hall_code,
-                                     in->hall_period_ticks, in->phase_current_adc,
-                                     in->main_duty_counts);
         sector = bldc_sector_of_hall[in->hall_code];
+        edge = bldc_edge_of(in->previous_hall_code, in->hall_code);
     }
-    out->turn_on_compare = (uint16_t)result.turn_on_compare;
-    out->turn_off_compare = (uint16_t)result.turn_off_compare;
-    out->commutation_ticks = (uint16_t)result.commutation_ticks;
-    if (result.edge < BLDC_EDGE_COUNT) {
-        out->turn_on_switch = bldc_edge_switch[result.edge][0];
-        out->turn_off_switch = bldc_edge_switch[result.edge][1];
+    if (edge < BLDC_EDGE_COUNT) {
+        const bldc_bus_t bus = bldc_bus_condition(in->bus_voltage_adc);
+        timing = bldc_commutation_timing(&bus, in->hall_period_ticks, in->phase_current_adc,
+                                         in->main_duty_counts);
+        if (in->hall_period_ticks < timing.period_min) {
+            edge = BLDC_EDGE_NONE; /* the safe state */
+        }
+    }
+    out->turn_on_compare = timing.turn_on_compare;
+    out->turn_off_compare = timing.turn_off_compare;
+    out->commutation_ticks = timing.commutation_ticks;
+    if (edge < BLDC_EDGE_COUNT) {
+        out->turn_on_switch = bldc_edge_switch[edge][0];
+        out->turn_off_switch = bldc_edge_switch[edge][1];
     } else {
         out->turn_on_switch = BLDC_NO_SWITCH;
         out->turn_off_switch = BLDC_NO_SWITCH;
     }
     out->sector = sector;
-    out->flags = (uint8_t)result.flags;
+    out->flags = (uint8_t)timing.flags;
 }

@@ -7,13 +7,19 @@
  * Pure functions of their inputs: no register access, no floating point, no library
  * division helpers (32-bit hardware UDIV/SDIV only), no dynamic memory.
  *
- * Two steps, split by how fast their inputs change:
- *   bldc_bus_condition()  when the bus voltage is sampled: saturates it and computes
- *                         everything that depends on it alone (three 32-bit divides).
- *   bldc_commutate_edge() at each Hall edge (inline, for the interrupt): one divide for
- *                         the speed and one for Eq. 20.
- *   bldc_commutate()      both in one call, on plain inputs: the reference API that
- *                         tests and the verifier call.
+ * Three steps, split by how fast their inputs change and by how little time the Hall
+ * edge has:
+ *   bldc_bus_condition()       saturates the bus code and computes everything that
+ *                              depends on it alone (five 32-bit divides).
+ *   bldc_commutation_timing()  everything that depends on speed, current and main duty:
+ *                              duties (Eq. 16/18) and commutation time (Eq. 20), one
+ *                              divide for the speed and one for Eq. 20. The port runs it
+ *                              at low priority right after each Hall edge, with the
+ *                              interval just measured, for the next edge.
+ *   bldc_edge_of()             at the Hall edge (inline): which of the 12 commutations
+ *                              the Hall code pair is, or none. One table lookup.
+ *   bldc_commutate()           all three in one call, on plain inputs: the reference API
+ *                              that tests and the verifier call.
  *
  * Units
  *   TIM1 counts      BLDC_PWM_PERIOD_COUNTS = duty 1 (20000 Hz PWM)
@@ -28,7 +34,7 @@
  *     time_numerator    = round(N_G / B), N_G = round(K_G 2^10) = 2277668571,
  *                         K_G = 2.224286e+06 (Eq. 20: t_com f_hall = K_G I_code / (B W))
  *     high_speed_period = ceil(C / B), C = ceil(K_X / P) = 1220526: T < it <=> 4E > U_d
- *   per Hall edge, period T in ticks:
+ *   per speed (bldc_commutation_timing()), period T in ticks:
  *     X_q = round(x_numerator / T), Q10 counts; X_c = round(X_q / 2^10)
  *     duties: Eq. 18 / 16 in counts from X_c, clamped to [0, P]
  *     W_q = (2P + 2 C_on - 4 C_off) 2^10 - X_q, Eq. 20's denominator at the emitted duties
@@ -90,6 +96,7 @@
 #define BLDC_X_SCALE 1024 /* 2^BLDC_X_FRAC_BITS */
 #define BLDC_PERIOD_MIN_TICKS 228u  /* 5500 rpm */
 #define BLDC_PERIOD_MAX_TICKS 8333u /* 150 rpm */
+#define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
 #define BLDC_PERIOD_NEVER 0x10000u   /* above every 16-bit period: the safe state */
 #define BLDC_CURRENT_OFFSET_CODE 2048 /* 0 A */
 #define BLDC_CURRENT_CODE_MAX 1191     /* 2.4 A above the offset */
@@ -123,14 +130,17 @@ typedef struct {
     uint32_t flags;             /* BLDC_FLAG_INPUT_SATURATED when the code was saturated */
 } bldc_bus_t;
 
-/* Result of one Hall edge. */
+/* Duties and commutation time for one speed, current and main duty: what the next
+ * Hall edge applies. */
 typedef struct {
-    uint32_t turn_on_compare;   /* D_on in TIM1 counts, 0..P */
-    uint32_t turn_off_compare;  /* D_off in TIM1 counts, 0..P */
-    uint32_t commutation_ticks; /* Eq. 20 in Hall ticks, 0..T */
-    uint32_t edge;              /* 0..11 (see bldc_edge_switch), or BLDC_EDGE_NONE */
-    uint32_t flags;             /* BLDC_FLAG_* */
-} bldc_edge_result_t;
+    uint32_t period_min;        /* an edge with a shorter interval goes to the safe state:
+                                   BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when these
+                                   values are not valid (over-speed, over-voltage) */
+    uint16_t turn_on_compare;   /* D_on in TIM1 counts, 0..P */
+    uint16_t turn_off_compare;  /* D_off in TIM1 counts, 0..P */
+    uint16_t commutation_ticks; /* Eq. 20 in Hall ticks, 0..T */
+    uint16_t flags;             /* BLDC_FLAG_* */
+} bldc_timing_t;
 
 /* (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid. */
 extern const uint8_t bldc_edge_of_hall_pair[64];
@@ -142,95 +152,22 @@ extern const uint8_t bldc_sector_of_hall[8];
 /* Saturate a bus code and precompute its reciprocals (pure, reentrant). */
 bldc_bus_t bldc_bus_condition(uint32_t bus_code);
 
-/* Commutation decision at a Hall edge (pure, reentrant). Hall codes must be 0..7;
- * period in Hall ticks (16-bit counter), current as its ADC code, main duty in TIM1
- * counts. */
-static inline bldc_edge_result_t bldc_commutate_edge(const bldc_bus_t *bus,
-                                                     uint32_t previous_hall_code,
-                                                     uint32_t hall_code, uint32_t period_ticks,
-                                                     uint32_t current_adc,
-                                                     uint32_t main_duty_counts)
+/* Duties and commutation time (pure, reentrant): period in Hall ticks (16-bit counter,
+ * longer periods saturate), current as its ADC code, main duty in TIM1 counts. Below the
+ * bus state's minimum period (above the top speed, or over-voltage) the result is the
+ * safe state: period_min = BLDC_PERIOD_NEVER, every value 0. */
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
+                                      uint32_t current_adc, uint32_t main_duty_counts);
+
+/* The commutation of a Hall edge (pure): 0..11 (see bldc_edge_switch), or
+ * BLDC_EDGE_NONE for 000, 111 or a jump that is not one sector. Codes must be 0..7. */
+static inline uint32_t bldc_edge_of(uint32_t previous_hall_code, uint32_t hall_code)
 {
-    bldc_edge_result_t result = {0u, 0u, 0u, BLDC_EDGE_NONE, BLDC_FLAG_INVALID_HALL};
-    const uint32_t edge = bldc_edge_of_hall_pair[(previous_hall_code << 3) | hall_code];
-    const int32_t period_counts = (int32_t)BLDC_PWM_PERIOD_COUNTS;
-    uint32_t flags = bus->flags;
-    int32_t on;
-    int32_t off;
-
-    (void)main_duty_counts; /* the improved rule does not use the main duty (Eq. 18) */
-    if (edge >= BLDC_EDGE_COUNT) {
-        return result;
-    }
-    if (period_ticks < bus->period_min) {
-        /* Above the top speed or over-voltage: braking is no longer controlled. */
-        result.flags = flags | BLDC_FLAG_INPUT_SATURATED;
-        return result;
-    }
-    if (period_ticks > BLDC_PERIOD_MAX_TICKS) {
-        flags |= BLDC_FLAG_INPUT_SATURATED; /* below the minimum speed: still exact */
-    }
-    const int32_t current = (int32_t)current_adc - BLDC_CURRENT_OFFSET_CODE;
-    if (current < 0 || current > BLDC_CURRENT_CODE_MAX) {
-        flags |= BLDC_FLAG_INPUT_SATURATED;
-    }
-
-    /* X = P 4E/U_d (Eqs. 3, 9) in Q10 counts, then in counts. */
-    const uint32_t x_q = (bus->x_numerator + (period_ticks >> 1)) / period_ticks;
-    const int32_t x_c = (int32_t)((x_q + 512u) >> BLDC_X_FRAC_BITS);
-    const uint32_t high_speed = (period_ticks < bus->high_speed_period) ? 1u : 0u;
-    if (high_speed != 0u) {
-        flags |= BLDC_FLAG_HIGH_SPEED;
-    }
-    /* Eq. 18: low speed, turn-on phase fully on and turn-off phase modulated; high
-     * speed, turn-off phase off and turn-on phase modulated. */
-    if (high_speed != 0u) {
-        on = 2 * period_counts - x_c; /* D_on = 2 - 4E/U_d */
-        if (on < 0) {
-            on = 0; /* above the upper speed limit 4E > 2 U_d */
-        }
-        off = 0;
-    } else {
-        on = period_counts;
-        off = period_counts - x_c; /* D_off = 1 - 4E/U_d */
-        if (off < 0) {
-            off = 0;
-        }
-    }
-
-    /* Eq. 20 at the emitted duties: t = time_numerator i / W_q. */
-    const int32_t w_q = (2 * period_counts + 2 * on - 4 * off) * BLDC_X_SCALE - (int32_t)x_q;
-    uint32_t ticks;
-    if (w_q <= 0) {
-        /* The turn-off current never reaches zero: the whole sector, unless there is
-         * no current to commutate. */
-        ticks = 0u;
-        if (current > 0) {
-            ticks = period_ticks;
-            flags |= BLDC_FLAG_TIME_CLAMPED;
-        }
-    } else {
-        int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q;
-        if (t < 0) {
-            t = 0; /* negative braking current: nothing to commutate */
-        }
-        ticks = (uint32_t)t;
-        if (ticks > period_ticks) {
-            ticks = period_ticks;
-            flags |= BLDC_FLAG_TIME_CLAMPED;
-        }
-    }
-
-    result.turn_on_compare = (uint32_t)on;
-    result.turn_off_compare = (uint32_t)off;
-    result.commutation_ticks = ticks;
-    result.edge = edge;
-    result.flags = flags;
-    return result;
+    return bldc_edge_of_hall_pair[(previous_hall_code << 3) | hall_code];
 }
 
-/* Commutation decision on plain inputs: bldc_bus_condition() then
- * bldc_commutate_edge() (pure, reentrant). */
+/* Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and
+ * bldc_commutation_timing() for the same inputs (pure, reentrant). */
 void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out);
 
 #endif /* BLDC_COMMUTATION_H */

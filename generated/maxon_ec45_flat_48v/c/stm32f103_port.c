@@ -48,6 +48,15 @@
 
 #define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG) /* enables and compares together */
 
+/* Branch hints: lay the rare paths out of line, so the Hall edge runs straight through. */
+#if defined(__GNUC__)
+#define BLDC_PORT_RARE(condition) __builtin_expect((condition) != 0, 0)
+#define BLDC_PORT_COLD __attribute__((cold, noinline))
+#else
+#define BLDC_PORT_RARE(condition) ((condition) != 0)
+#define BLDC_PORT_COLD
+#endif
+
 volatile uint16_t bldc_adc_phase_current;
 
 /* One commutation edge of the switching table (codegen/derivation/switching.py), as the
@@ -76,64 +85,128 @@ static const port_edge_t port_edges[BLDC_EDGE_COUNT] = {
     {TIM_CCER_CC3E | TIM_CCER_CC1E, TIM_CCER_CC3NE | TIM_CCER_CC1NE, TIM_CCER_CC3E, &TIM1->CCR3, &TIM1->CCR1}, /* edge 11: reverse into sector 5: T5 on, T1 off */
 };
 
-/* Hall code of the pin levels read as PA6 | PA7 << 1 | PB0 << 2. */
-static const uint8_t port_hall_of_pins[8] = {
-    0u, /* PA6=0, PA7=0, PB0=0: Hall code 000 */
-    4u, /* PA6=1, PA7=0, PB0=0: Hall code 100 */
-    2u, /* PA6=0, PA7=1, PB0=0: Hall code 010 */
-    6u, /* PA6=1, PA7=1, PB0=0: Hall code 110 */
-    1u, /* PA6=0, PA7=0, PB0=1: Hall code 001 */
-    5u, /* PA6=1, PA7=0, PB0=1: Hall code 101 */
-    3u, /* PA6=0, PA7=1, PB0=1: Hall code 011 */
-    7u, /* PA6=1, PA7=1, PB0=1: Hall code 111 */
+/* The core's edge of a Hall code pair (bldc_edge_of()), indexed by the pin levels as
+ * read, PA6 | PA7 << 1 | PB0 << 2 (previous << 3 | now): the pin decoding and the
+ * edge lookup folded into one table, generated from the core's (codegen/port.py). */
+static const uint8_t port_edge_of_pins[64] = {
+    255u, /* pins 000 -> 000: Hall 000 -> 000, invalid */
+    255u, /* pins 000 -> 001: Hall 000 -> 100, invalid */
+    255u, /* pins 000 -> 010: Hall 000 -> 010, invalid */
+    255u, /* pins 000 -> 011: Hall 000 -> 110, invalid */
+    255u, /* pins 000 -> 100: Hall 000 -> 001, invalid */
+    255u, /* pins 000 -> 101: Hall 000 -> 101, invalid */
+    255u, /* pins 000 -> 110: Hall 000 -> 011, invalid */
+    255u, /* pins 000 -> 111: Hall 000 -> 111, invalid */
+    255u, /* pins 001 -> 000: Hall 100 -> 000, invalid */
+    255u, /* pins 001 -> 001: Hall 100 -> 100, invalid */
+    255u, /* pins 001 -> 010: Hall 100 -> 010, invalid */
+    2u, /* pins 001 -> 011: Hall 100 -> 110, edge 2 */
+    255u, /* pins 001 -> 100: Hall 100 -> 001, invalid */
+    6u, /* pins 001 -> 101: Hall 100 -> 101, edge 6 */
+    255u, /* pins 001 -> 110: Hall 100 -> 011, invalid */
+    255u, /* pins 001 -> 111: Hall 100 -> 111, invalid */
+    255u, /* pins 010 -> 000: Hall 010 -> 000, invalid */
+    255u, /* pins 010 -> 001: Hall 010 -> 100, invalid */
+    255u, /* pins 010 -> 010: Hall 010 -> 010, invalid */
+    8u, /* pins 010 -> 011: Hall 010 -> 110, edge 8 */
+    255u, /* pins 010 -> 100: Hall 010 -> 001, invalid */
+    255u, /* pins 010 -> 101: Hall 010 -> 101, invalid */
+    4u, /* pins 010 -> 110: Hall 010 -> 011, edge 4 */
+    255u, /* pins 010 -> 111: Hall 010 -> 111, invalid */
+    255u, /* pins 011 -> 000: Hall 110 -> 000, invalid */
+    7u, /* pins 011 -> 001: Hall 110 -> 100, edge 7 */
+    3u, /* pins 011 -> 010: Hall 110 -> 010, edge 3 */
+    255u, /* pins 011 -> 011: Hall 110 -> 110, invalid */
+    255u, /* pins 011 -> 100: Hall 110 -> 001, invalid */
+    255u, /* pins 011 -> 101: Hall 110 -> 101, invalid */
+    255u, /* pins 011 -> 110: Hall 110 -> 011, invalid */
+    255u, /* pins 011 -> 111: Hall 110 -> 111, invalid */
+    255u, /* pins 100 -> 000: Hall 001 -> 000, invalid */
+    255u, /* pins 100 -> 001: Hall 001 -> 100, invalid */
+    255u, /* pins 100 -> 010: Hall 001 -> 010, invalid */
+    255u, /* pins 100 -> 011: Hall 001 -> 110, invalid */
+    255u, /* pins 100 -> 100: Hall 001 -> 001, invalid */
+    0u, /* pins 100 -> 101: Hall 001 -> 101, edge 0 */
+    10u, /* pins 100 -> 110: Hall 001 -> 011, edge 10 */
+    255u, /* pins 100 -> 111: Hall 001 -> 111, invalid */
+    255u, /* pins 101 -> 000: Hall 101 -> 000, invalid */
+    1u, /* pins 101 -> 001: Hall 101 -> 100, edge 1 */
+    255u, /* pins 101 -> 010: Hall 101 -> 010, invalid */
+    255u, /* pins 101 -> 011: Hall 101 -> 110, invalid */
+    11u, /* pins 101 -> 100: Hall 101 -> 001, edge 11 */
+    255u, /* pins 101 -> 101: Hall 101 -> 101, invalid */
+    255u, /* pins 101 -> 110: Hall 101 -> 011, invalid */
+    255u, /* pins 101 -> 111: Hall 101 -> 111, invalid */
+    255u, /* pins 110 -> 000: Hall 011 -> 000, invalid */
+    255u, /* pins 110 -> 001: Hall 011 -> 100, invalid */
+    9u, /* pins 110 -> 010: Hall 011 -> 010, edge 9 */
+    255u, /* pins 110 -> 011: Hall 011 -> 110, invalid */
+    5u, /* pins 110 -> 100: Hall 011 -> 001, edge 5 */
+    255u, /* pins 110 -> 101: Hall 011 -> 101, invalid */
+    255u, /* pins 110 -> 110: Hall 011 -> 011, invalid */
+    255u, /* pins 110 -> 111: Hall 011 -> 111, invalid */
+    255u, /* pins 111 -> 000: Hall 111 -> 000, invalid */
+    255u, /* pins 111 -> 001: Hall 111 -> 100, invalid */
+    255u, /* pins 111 -> 010: Hall 111 -> 010, invalid */
+    255u, /* pins 111 -> 011: Hall 111 -> 110, invalid */
+    255u, /* pins 111 -> 100: Hall 111 -> 001, invalid */
+    255u, /* pins 111 -> 101: Hall 111 -> 101, invalid */
+    255u, /* pins 111 -> 110: Hall 111 -> 011, invalid */
+    255u, /* pins 111 -> 111: Hall 111 -> 111, invalid */
 };
 
-/* State, touched only by TIM3_IRQHandler and (at the same priority)
- * bldc_port_set_main_duty(). */
+/* State. Written by TIM3_IRQHandler, TIM1_TRG_COM_IRQHandler and the two setters;
+ * every field but the timing is one aligned word or half-word, so each read and write
+ * is atomic, and the multi-word updates mask interrupts (PRIMASK). */
 static struct {
-    const port_edge_t *pending; /* commutation running until its CC2 end, else 0 */
-    const port_edge_t *steady;  /* incoming switch at main duty between commutations, or 0 */
-    uint32_t previous_hall_code;
-    uint32_t main_duty;         /* TIM1 counts, already clamped to the full scale */
+    bldc_timing_t timing;           /* what the next Hall edge applies */
+    const port_edge_t *pending;     /* commutation running until its CC2 end, else 0 */
+    const port_edge_t *steady;      /* incoming switch at main duty between commutations, or 0 */
+    uint32_t period;                /* last Hall interval in ticks, for the next timing */
+    uint32_t previous_pins;         /* Hall pin levels of the sector being left */
+    uint16_t main_duty;             /* TIM1 counts, already clamped to the full scale */
+    uint16_t bus_code;              /* last bus-voltage ADC code */
 } port;
 
-/* Bus voltage state: written by bldc_port_set_bus_voltage() with interrupts masked, so
- * the Hall edge never reads half of an update. */
-static bldc_bus_t port_bus;
-
-static uint32_t port_read_hall(void)
+static uint32_t port_read_pins(void)
 {
-    return port_hall_of_pins[((GPIOA->IDR >> 6) & 3u) | ((GPIOB->IDR >> 0 & 1u) << 2)];
+    return ((GPIOA->IDR >> 6) & 3u) | ((GPIOB->IDR >> 0 & 1u) << 2);
 }
 
-static void port_outputs_off(void)
+BLDC_PORT_COLD static void port_outputs_off(void)
 {
     TIM1->CCER = 0u; /* preloaded (CCPC = 1) */
     TIM1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    TIM3->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF); /* no commutation to end; the wrap is read */
     port.pending = 0;
     port.steady = 0;
 }
 
-/* Hall edge: TIM3 reset its counter and captured the 60 degree interval in CCR1. */
+/* Hall edge: TIM3 reset its counter and captured the 60 degree interval in CCR1. The
+ * duties and the commutation time were computed after the previous edge, from the
+ * interval before this one (TIM1_TRG_COM_IRQHandler); this handler only checks, applies
+ * and schedules. */
 static void port_on_hall_edge(uint32_t status)
 {
     uint32_t period = TIM3->CCR1; /* reading CCR1 clears CC1IF */
     if ((status & TIM_SR_UIF) != 0u) {
         /* The counter wrapped since the last edge: the interval is at least the full
-         * counter range, the slowest speed the core can be told. */
+         * counter range, the slowest speed the core can be told. UIF is cleared below,
+         * with CC2IF, on every path. */
         period = BLDC_PORT_TIM3_ARR;
-        TIM3->SR = ~TIM_SR_UIF;
     }
-    const uint32_t hall_code = port_read_hall();
-    const bldc_edge_result_t r =
-        bldc_commutate_edge(&port_bus, port.previous_hall_code, hall_code, period,
-                            bldc_adc_phase_current, 0u);
-    port.previous_hall_code = hall_code;
-    if (r.edge >= BLDC_EDGE_COUNT) {
-        port_outputs_off(); /* invalid Hall code or sequence, over-speed, over-voltage */
+    const uint32_t pins = port_read_pins();
+    const uint32_t edge_index = port_edge_of_pins[(port.previous_pins << 3) | pins];
+    const bldc_timing_t *const timing = &port.timing;
+    port.previous_pins = pins;
+    port.period = period; /* every path below ends in a COM event, which runs the timing */
+    if ((edge_index >= BLDC_EDGE_COUNT) || (period < timing->period_min)) {
+        /* Invalid Hall code or sequence; over-speed now, or over-voltage or over-speed
+         * when the timing was computed. */
+        port_outputs_off();
         return;
     }
-    const port_edge_t *edge = &port_edges[r.edge];
+    const port_edge_t *const edge = &port_edges[edge_index];
     /* CCER reads back the pattern in force: every write is followed by its COM event. */
     if ((TIM1->CCER & edge->forbidden) != 0u) {
         /* A phase would hand over from one of its switches to the other in one COM
@@ -142,8 +215,8 @@ static void port_on_hall_edge(uint32_t status)
         return;
     }
     /* During the commutation: turn-off switch at D_off, turn-on switch at D_on. */
-    *edge->on_ccr = r.turn_on_compare;
-    *edge->off_ccr = r.turn_off_compare;
+    *edge->on_ccr = timing->turn_on_compare;
+    *edge->off_ccr = timing->turn_off_compare;
     TIM1->CCER = edge->ccer_during;
     TIM1->EGR = BLDC_PORT_EGR_COMMUTATE;
     port.pending = edge;
@@ -152,9 +225,10 @@ static void port_on_hall_edge(uint32_t status)
      * restarted from 0 at the edge (reset mode), so the compare value is the duration
      * itself. Drop any stale match of the previous value, and if the counter is
      * already past it (latency longer than t_com) raise the match by software. */
-    TIM3->CCR2 = r.commutation_ticks;
-    TIM3->SR = ~TIM_SR_CC2IF;
-    if (TIM3->CNT >= r.commutation_ticks) {
+    const uint32_t ticks = timing->commutation_ticks;
+    TIM3->CCR2 = ticks;
+    TIM3->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
+    if (TIM3->CNT >= ticks) {
         TIM3->EGR = TIM_EGR_CC2G;
     }
 }
@@ -184,28 +258,48 @@ void TIM3_IRQHandler(void)
 
     if ((status & TIM_SR_CC2IF) != 0u) {
         port_on_commutation_end();
-        return;
-    }
-    if ((status & TIM_SR_CC1IF) != 0u) {
+    } else if (!BLDC_PORT_RARE((status & TIM_SR_CC1IF) == 0u)) {
         port_on_hall_edge(status);
     }
 }
 
-void bldc_port_set_bus_voltage(uint16_t adc_code)
+/* The next edge's duties and commutation time, at a lower priority than TIM3. Raised
+ * by every COM event (DIER.COMIE), which every Hall edge generates, and pended by
+ * software when the bus voltage or the main duty changes. A Hall edge that arrives
+ * meanwhile preempts it, raises it again, and the NVIC runs it once more afterwards;
+ * the extra run after a commutation end recomputes with the latest current. */
+void TIM1_TRG_COM_IRQHandler(void)
 {
-    const bldc_bus_t bus = bldc_bus_condition(adc_code); /* the divides, interrupts on */
+    TIM1->SR = ~TIM_SR_COMIF;
+    const bldc_bus_t bus = bldc_bus_condition(port.bus_code);
+    const bldc_timing_t next =
+        bldc_commutation_timing(&bus, port.period, bldc_adc_phase_current, port.main_duty);
+    /* Publish with the Hall edge masked for the 12-byte copy, so it never reads half of
+     * an update (a few cycles of extra latency for it). */
     const uint32_t primask = __get_PRIMASK();
     __disable_irq();
-    port_bus = bus;
+    port.timing = next;
     __set_PRIMASK(primask);
+}
+
+void bldc_port_set_bus_voltage(uint16_t adc_code)
+{
+    if (adc_code != port.bus_code) {
+        port.bus_code = adc_code;
+        NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
+    }
 }
 
 void bldc_port_set_main_duty(uint16_t duty_counts)
 {
-    const uint32_t duty = (duty_counts > BLDC_PORT_DUTY_FULL_SCALE) ? BLDC_PORT_DUTY_FULL_SCALE
-                                                                     : duty_counts;
+    const uint16_t duty = (duty_counts > BLDC_PORT_DUTY_FULL_SCALE)
+                              ? (uint16_t)BLDC_PORT_DUTY_FULL_SCALE
+                              : duty_counts;
     /* A Hall edge between the test and the write would leave this writing the compare
      * register of a phase that is now commutating: mask interrupts for the two lines. */
+    if (duty == port.main_duty) {
+        return; /* unchanged: nothing to recompute */
+    }
     const uint32_t primask = __get_PRIMASK();
     __disable_irq();
     port.main_duty = duty;
@@ -232,6 +326,8 @@ static void port_init_pwm_timer(void)
     TIM1->CCER = 0u; /* every output disabled: the safe state */
     TIM1->BDTR = (BLDC_PORT_TIM1_DTG << TIM_BDTR_DTG_Pos) | TIM_BDTR_OSSR | TIM_BDTR_OSSI;
     TIM1->EGR = BLDC_PORT_EGR_COMMUTATE; /* load PSC, ARR, CCRx, CCER and OCxM */
+    TIM1->SR = ~TIM_SR_COMIF;
+    TIM1->DIER = TIM_DIER_COMIE; /* each COM event runs the next edge's timing */
     TIM1->BDTR |= TIM_BDTR_MOE;
     TIM1->CR1 = (BLDC_PORT_TIM1_CMS << TIM_CR1_CMS_Pos) | TIM_CR1_ARPE | TIM_CR1_CEN;
 }
@@ -312,16 +408,22 @@ void bldc_port_init(void)
     port.steady = 0;
     port.main_duty = 0u;
     /* Until the application reports a bus voltage, every edge is treated as
-     * over-voltage: the bridge stays off. */
-    port_bus = bldc_bus_condition(UINT16_MAX);
+     * over-voltage: the bridge stays off. The first timing is the safe state. */
+    port.bus_code = UINT16_MAX;
+    port.period = BLDC_PORT_TIM3_ARR;
+    port.timing = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
 
     port_init_hall_pins();
     port_init_pwm_timer();   /* outputs disabled before the pins become timer outputs */
     port_init_output_pins();
 
     /* The first edge's previous code is the sector the rotor is in now. */
-    port.previous_hall_code = port_read_hall();
+    port.previous_pins = port_read_pins();
     port_init_hall_timer();
 
+    /* The Hall edge preempts the timing computation, never the other way round. */
+    NVIC_SetPriority(TIM3_IRQn, BLDC_PORT_HALL_PRIORITY);
+    NVIC_SetPriority(TIM1_TRG_COM_IRQn, BLDC_PORT_TIMING_PRIORITY);
+    NVIC_EnableIRQ(TIM1_TRG_COM_IRQn);
     NVIC_EnableIRQ(TIM3_IRQn);
 }

@@ -4,8 +4,19 @@
 
 /*
  * STM32F103 port of the braking commutation core: reads the Hall timer and the
- * latest ADC values, calls bldc_commutate_edge() and writes TIM1. No floating point, no
- * division, no dynamic memory.
+ * latest ADC values, runs the core and writes TIM1. No floating point, no library
+ * division helpers, no dynamic memory.
+ *
+ * Compute ahead. The Hall edge has no time for divides, so it applies duties and a
+ * commutation time computed before it: right after each Hall edge, at a lower
+ * priority, TIM1_TRG_COM_IRQHandler runs bldc_commutation_timing() on the interval
+ * just measured, the latest current and main duty, for the next edge. The speed the
+ * next commutation is computed for is therefore one 60 degree interval old; at a
+ * constant speed (the paper's assumption through a commutation) it is the same, and
+ * while braking decelerates the drive the relative error is the relative speed change
+ * over one sector. The edge itself still checks, with what it has just measured: the
+ * Hall code pair (invalid code or sequence) and the interval (over-speed) put every
+ * switch off at once.
  *
  * Resources (default pin mapping, no AFIO remap)
  *   TIM1  20 kHz edge-aligned PWM, complementary outputs, commutation by COM event
@@ -22,7 +33,10 @@
  *         PA7  TIM3_CH2  Hall B, code bit 1 (input, pull-up)
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
  *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2); a Hall timeout (update
- *         flag, no interrupt) is read by the next edge
+ *         flag, no interrupt) is read by the next edge. Priority BLDC_PORT_HALL_PRIORITY.
+ *   TIM1_TRG_COM_IRQHandler: the next edge's duties and commutation time, pended by
+ *         software (NVIC set-pending; the TIM1 COM interrupt enable stays off).
+ *         Priority BLDC_PORT_TIMING_PRIORITY, lower than the Hall edge's.
  *
  * The port never drives both switches of one phase: each phase has at most one of
  * CCxE / CCxNE set, and a request that would move a phase from its upper to its lower
@@ -47,19 +61,33 @@
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
 
+/* NVIC priorities (0 is the most urgent; the STM32F103 implements 4 bits). Define them
+ * before including this header to fit another interrupt plan; the Hall edge must stay
+ * more urgent than the timing. */
+#ifndef BLDC_PORT_HALL_PRIORITY
+#define BLDC_PORT_HALL_PRIORITY 1u
+#endif
+#ifndef BLDC_PORT_TIMING_PRIORITY
+#define BLDC_PORT_TIMING_PRIORITY 2u
+#endif
+#if BLDC_PORT_HALL_PRIORITY >= BLDC_PORT_TIMING_PRIORITY
+#error "the Hall edge must preempt the timing computation"
+#endif
+
 /*
  * Inputs from outside the port.
  *
- * bldc_port_set_bus_voltage(): the latest bus-voltage ADC result in counts. It
- * saturates the code and computes the bus voltage's reciprocals (bldc_bus_condition(),
- * three hardware divides), so the Hall edge only multiplies and divides by the speed.
- * Call it whenever the bus voltage is sampled (a few hundred Hz is plenty: the bus
- * changes slowly), from thread mode or any interrupt that cannot preempt
- * TIM3_IRQHandler. Until the first call the bridge stays off (treated as over-voltage).
+ * bldc_port_set_bus_voltage(): the latest bus-voltage ADC result in counts. It stores
+ * the code and pends the timing computation, which saturates it and computes the bus
+ * voltage's reciprocals (bldc_bus_condition()). Call it whenever the bus voltage is
+ * sampled (a few hundred Hz is plenty: the bus changes slowly), from thread mode or any
+ * interrupt. Until the first call the bridge stays off (treated as over-voltage); an
+ * over-voltage code turns it off from the next edge on.
  *
  * bldc_adc_phase_current: latest ADC result of the commutated phase current I in
  * counts, written by the user's ADC conversion-complete interrupt or as the destination
- * of a circular DMA (16-bit half-word transfers). The Hall edge reads it once.
+ * of a circular DMA (16-bit half-word transfers). The timing computation after each
+ * Hall edge reads it once.
  *
  * bldc_port_set_main_duty(): output of the braking current controller, in TIM1
  * counts 0..BLDC_PWM_PERIOD_COUNTS (larger values are clamped). It takes effect from the
@@ -72,11 +100,14 @@ void bldc_port_set_main_duty(uint16_t duty_counts);
 extern volatile uint16_t bldc_adc_phase_current;
 
 /* Enable the clocks of GPIOA, GPIOB, TIM1 and TIM3, configure TIM1 (PWM, dead time,
- * all outputs off, MOE set) and TIM3 (Hall interface), set up the pins and enable
- * TIM3_IRQn. The bridge stays off until the first Hall edge. */
+ * all outputs off, MOE set) and TIM3 (Hall interface), set up the pins, and set the
+ * priorities of and enable TIM3_IRQn and TIM1_TRG_COM_IRQn. The bridge stays off until
+ * the first Hall edge after a bus voltage is known. */
 void bldc_port_init(void);
 
-/* Vector table entry (CMSIS/Cube name): Hall edge, commutation end, Hall timeout. */
-void TIM3_IRQHandler(void);
+/* Vector table entries (CMSIS/Cube names). A Cube project that already uses the TIM1
+ * trigger/commutation interrupt must hand it over to the port. */
+void TIM3_IRQHandler(void);          /* Hall edge, commutation end, Hall timeout */
+void TIM1_TRG_COM_IRQHandler(void);  /* the next edge's duties and commutation time */
 
 #endif /* STM32F103_PORT_H */

@@ -1,8 +1,8 @@
 /* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`. */
 /* Firmware entry for the project's own build: bring up the port, then sleep. The
- * Hall-edge and commutation-end work happens in TIM3_IRQHandler; thread mode hands the
- * latest bus-voltage sample and main duty to the port after every wake-up (the bus changes slowly, so
- * its reciprocals are computed here and not at the edge). */
+ * Hall-edge and commutation-end work happens in TIM3_IRQHandler, the next edge's timing
+ * in TIM1_TRG_COM_IRQHandler; thread mode hands the latest bus-voltage sample and main
+ * duty to the port after every wake-up (the port recomputes only when they change). */
 #include "stm32f103_port.h"
 
 /* Bus-voltage ADC result, written by the application's ADC (e.g. a circular DMA), and

@@ -40,6 +40,7 @@
 /* Interrupt numbers (position in the vector table after the 16 core exceptions) */
 typedef enum {
     TIM1_UP_IRQn = 25, /* TIM1 Update interrupt and TIM10 global interrupt (SVD TIM1_UP_TIM10) */
+    TIM1_TRG_COM_IRQn = 26, /* TIM1 Trigger and Commutation interrupts and TIM11 global interrupt (SVD TIM1_TRG_COM_TIM11) */
     TIM1_CC_IRQn = 27, /* TIM1 Capture Compare interrupt (SVD TIM1_CC) */
     TIM3_IRQn = 29 /* TIM3 global interrupt (SVD TIM3) */
 } IRQn_Type;
@@ -1089,11 +1090,33 @@ typedef struct {
  * interrupt, 32 interrupts per register; writing 0 bits has no effect). */
 #define NVIC_ISER_BASE 0xE000E100UL /* SVD NVIC.ISER0: Interrupt Set-Enable Register */
 
-/* CMSIS core_cm3.h's NVIC_EnableIRQ for device interrupts (IRQn >= 0). */
+/* NVIC interrupt set-pending registers (B3.4.6: NVIC_ISPR0..n, same layout) and
+ * priority registers (B3.4.9: NVIC_IPR0..n, one byte per interrupt, byte-accessible). */
+#define NVIC_ISPR_BASE 0xE000E200UL /* SVD NVIC.ISPR0: Interrupt Set-Pending Register */
+#define NVIC_IPR_BASE 0xE000E400UL /* SVD NVIC.IPR0: Interrupt Priority Register */
+
+/* Implemented priority bits: the STM32F10x has 16 levels in the upper nibble of each
+ * priority byte (PM0056 4.3.7; Cube's stm32f103xb.h: __NVIC_PRIO_BITS 4). */
+#define __NVIC_PRIO_BITS 4U
+
+/* CMSIS core_cm3.h's NVIC_EnableIRQ, NVIC_SetPendingIRQ and NVIC_SetPriority for
+ * device interrupts (IRQn >= 0). */
 static inline void NVIC_EnableIRQ(IRQn_Type IRQn)
 {
     volatile uint32_t *const iser = (volatile uint32_t *)NVIC_ISER_BASE;
     iser[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
+}
+
+static inline void NVIC_SetPendingIRQ(IRQn_Type IRQn)
+{
+    volatile uint32_t *const ispr = (volatile uint32_t *)NVIC_ISPR_BASE;
+    ispr[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
+}
+
+static inline void NVIC_SetPriority(IRQn_Type IRQn, uint32_t priority)
+{
+    volatile uint8_t *const ipr = (volatile uint8_t *)NVIC_IPR_BASE;
+    ipr[(uint32_t)IRQn] = (uint8_t)((priority << (8U - __NVIC_PRIO_BITS)) & 0xFFU);
 }
 
 /* CMSIS cmsis_gcc.h's PRIMASK intrinsics. A host build (the project's tests) has no

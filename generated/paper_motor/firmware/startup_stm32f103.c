@@ -8,6 +8,7 @@ extern uint32_t _estack, _etext, _sdata, _edata, _sbss, _ebss;
 int main(void);
 void Reset_Handler(void);
 void Default_Handler(void);
+void TIM1_TRG_COM_IRQHandler(void);
 void TIM3_IRQHandler(void);
 
 void Default_Handler(void)
@@ -31,7 +32,7 @@ void Reset_Handler(void)
 }
 
 /* 16 system exceptions, then the STM32F103xB's 43 peripheral interrupts (RM0008
- * Table 63); TIM3 is IRQ 29. */
+ * Table 63); the port's: TIM1_TRG_COM_IRQHandler at IRQ 26 (SVD TIM1_TRG_COM_TIM11), TIM3_IRQHandler at IRQ 29 (SVD TIM3). */
 typedef void (*vector_t)(void);
 typedef union {
     vector_t handler;
@@ -80,7 +81,7 @@ __attribute__((section(".isr_vector"), used)) static const vector_entry_t vector
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
-    {.handler = Default_Handler},
+    {.handler = TIM1_TRG_COM_IRQHandler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = TIM3_IRQHandler},

@@ -29,6 +29,7 @@ K_X_NUM = 4639948800000
 K_X_DEN = 121
 PERIOD_MIN_TICKS = 2000
 PERIOD_MAX_TICKS = 50000
+PERIOD_CAP_TICKS = 65535
 PERIOD_NEVER = 0x10000
 BUS_CODE_MIN = 2257
 BUS_CODE_MAX = 3385
@@ -48,6 +49,16 @@ class Outputs(NamedTuple):
     turn_on_switch: int
     turn_off_switch: int
     sector: int
+    flags: int
+
+
+class Timing(NamedTuple):
+    """bldc_timing_t."""
+
+    period_min: int
+    on: int
+    off: int
+    ticks: int
     flags: int
 
 
@@ -89,16 +100,17 @@ def _c_divide(numerator: int, denominator: int) -> int:
     return quotient if (numerator >= 0) == (denominator > 0) else -quotient
 
 
-def commutate_edge(
-    bus: Bus, previous_hall_code: int, hall_code: int, period: int, current_adc: int, main_duty: int
-) -> tuple[int, int, int, int, int]:
-    """bldc_commutate_edge(): (turn_on, turn_off, ticks, edge, flags)."""
-    edge = EDGE_OF_HALL_PAIR[(previous_hall_code << 3) | hall_code]
+def edge_of(previous_hall_code: int, hall_code: int) -> int:
+    """bldc_edge_of(): 0..11, or EDGE_NONE."""
+    return EDGE_OF_HALL_PAIR[(previous_hall_code << 3) | hall_code]
+
+
+def commutation_timing(bus: Bus, period: int, current_adc: int, main_duty: int) -> Timing:
+    """bldc_commutation_timing()."""
     flags = bus.flags
-    if edge == EDGE_NONE:
-        return 0, 0, 0, EDGE_NONE, FLAG_INVALID_HALL
+    period = min(period, PERIOD_CAP_TICKS)
     if period < bus.period_min:
-        return 0, 0, 0, EDGE_NONE, flags | FLAG_INPUT_SATURATED
+        return Timing(PERIOD_NEVER, 0, 0, 0, flags | FLAG_INPUT_SATURATED)
     if period > PERIOD_MAX_TICKS:
         flags |= FLAG_INPUT_SATURATED
     current = current_adc - CURRENT_OFFSET_CODE
@@ -139,7 +151,22 @@ def commutate_edge(
         if ticks > period:
             ticks = period
             flags |= FLAG_TIME_CLAMPED
-    return on, off, ticks, edge, flags
+    return Timing(bus.period_min, on, off, ticks, flags)
+
+
+
+
+def commutate_edge(
+    bus: Bus, previous_hall_code: int, hall_code: int, period: int, current_adc: int, main_duty: int
+) -> tuple[int, int, int, int, int]:
+    """bldc_commutate() after the Hall codes' range check: (on, off, ticks, edge, flags)."""
+    edge = edge_of(previous_hall_code, hall_code)
+    if edge == EDGE_NONE:
+        return 0, 0, 0, EDGE_NONE, FLAG_INVALID_HALL
+    timing = commutation_timing(bus, period, current_adc, main_duty)
+    if period < timing.period_min:
+        edge = EDGE_NONE
+    return timing.on, timing.off, timing.ticks, edge, timing.flags
 
 
 def commutate(
