@@ -6,8 +6,11 @@
 * instructions and estimated Cortex-M3 cycles of the three interrupt handlers (Hall
   edge, commutation end, and the next edge's timing at low priority), run in unicorn
   over all Hall codes, both directions and a sweep of inputs (verify/isr_bench.py);
+* the bus reciprocal: hardware divide (measured) against a lookup table sized for the
+  accuracy target (verify/reciprocal_bench.py), and which one the budget allows;
 * the exhaustive host verification of the spec (`python -m verify`, whole run);
-* the generated Unity tests built for and run on the emulated Cortex-M3 (qemu).
+* the generated Unity tests built for and run on the emulated Cortex-M3 (qemu);
+* the whole simulation of the spec (`python -m sim`: sweep, figures, report).
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ TARGET_DERIVE_AUDIT_S = 3.0
 TARGET_REGENERATE_WARM_S = 2.0
 TARGET_VERIFY_S = 10.0
 TARGET_QEMU_S = 60.0
+TARGET_SIMULATE_S = 60.0
 
 
 def cold_audit_seconds(spec: str) -> list[float]:
@@ -60,8 +64,10 @@ def _verdict(ok: bool) -> str:
 
 def main(argv: list[str]) -> int:
     from codegen.build_firmware import build
+    from codegen.generate import fixed_point_design
     from codegen.spec_loader import load_spec
     from verify.isr_bench import bench, report, shortest_sector_cycles
+    from verify.reciprocal_bench import ReciprocalChoice, table_option
 
     spec = argv[0] if argv else "spec/paper_motor.yaml"
     cold = cold_audit_seconds(spec)
@@ -85,7 +91,16 @@ def main(argv: list[str]) -> int:
         f" {_verdict(code <= 2048 and ram <= 64)} the 2 KiB / 64 B target;"
         f" whole image {sizes['firmware.elf'].flash} B flash, {sizes['firmware.elf'].ram} B RAM"
     )
-    for line in report(bench(spec, generated, build_dir), shortest_sector_cycles(spec)):
+    stats = bench(spec, generated, build_dir)
+    for line in report(stats, shortest_sector_cycles(spec)):
+        print(f"bench: {line}")
+    reciprocal = ReciprocalChoice(
+        table=table_option(load_spec(spec), fixed_point_design(load_spec(spec))),
+        divide_instructions=stats[3].instructions_worst,
+        divide_cycles=stats[3].cycles_worst,
+        flash_in_use=code,
+    )
+    for line in reciprocal.lines():
         print(f"bench: {line}")
     started = time.perf_counter()
     subprocess.run(
@@ -108,6 +123,18 @@ def main(argv: list[str]) -> int:
         f"bench: Unity tests on the emulated Cortex-M3 (build + qemu run,"
         f" {len(run.results)} tests, {'pass' if run.passed else 'FAIL'}) {seconds:.1f} s ->"
         f" {_verdict(seconds < TARGET_QEMU_S and run.passed)} the 60 s target"
+    )
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory() as sim_out:
+        subprocess.run(
+            [sys.executable, "-m", "sim", spec, "-o", sim_out, "--no-progress"],
+            check=True,
+            stdout=subprocess.DEVNULL,
+        )
+    seconds = time.perf_counter() - started
+    print(
+        f"bench: simulate (full sweep, operating points, Ipopt optimum, figures, report)"
+        f" {seconds:.1f} s -> {_verdict(seconds < TARGET_SIMULATE_S)} the 60 s target"
     )
     return 0
 

@@ -73,9 +73,10 @@ class NvicError(AssertionError):
     """The Hall edge did not raise the timing interrupt."""
 
 
-def bench(
-    spec_path: str | Path, generated: Path, build_dir: Path
-) -> tuple[HandlerStats, HandlerStats, HandlerStats]:
+Stats = tuple[HandlerStats, HandlerStats, HandlerStats, HandlerStats]
+
+
+def bench(spec_path: str | Path, generated: Path, build_dir: Path) -> Stats:
     spec = load_spec(spec_path)
     sc = scaling(spec, derive())
     build(generated, build_dir)
@@ -117,6 +118,8 @@ def bench(
     duties = (0, sc.period_counts // 2, sc.period_counts)
     hall_edge: list[tuple[int, int, int]] = []
     timing: list[tuple[int, int, int]] = []
+    bus_part: list[tuple[int, int, int]] = []
+    bus_symbol = sim.image.symbol("bldc_bus_condition")
     commutation_end: list[tuple[int, int, int]] = []
 
     def stage_hall(code: int) -> None:
@@ -139,6 +142,19 @@ def bench(
 
     def run(samples: list[tuple[int, int, int]], handler: str = "TIM3_IRQHandler") -> None:
         result = sim.call(handler)
+        if handler == TIMING_HANDLER:
+            inside = [
+                s
+                for s in result.trace
+                if bus_symbol.address <= s.address < bus_symbol.address + bus_symbol.size
+            ]
+            bus_part.append(
+                (
+                    len(inside),
+                    estimate_cycles(inside, sim, udiv_mode="worst").cycles,
+                    estimate_cycles(inside, sim, udiv_mode="estimate").cycles,
+                )
+            )
         worst = isr_cycles(estimate_cycles(result.trace, sim, udiv_mode="worst"))
         typical = isr_cycles(estimate_cycles(result.trace, sim, udiv_mode="estimate"))
         samples.append((result.instructions, worst, typical))
@@ -182,6 +198,7 @@ def bench(
         _stats("Hall edge (TIM3 CC1)", hall_edge),
         _stats("commutation end (TIM3 CC2)", commutation_end),
         _stats("next edge's timing (TIM1_TRG_COM, low priority)", timing),
+        _stats("bldc_bus_condition() inside it", bus_part),
     )
 
 
@@ -192,10 +209,8 @@ def shortest_sector_cycles(spec_path: str | Path) -> int:
     return int(sc.period_min_ticks * CPU_HZ / spec.hall.timer_clock_hz)
 
 
-def report(
-    stats: tuple[HandlerStats, HandlerStats, HandlerStats], sector_cycles: int | None = None
-) -> list[str]:
-    hall, end, timing = stats
+def report(stats: Stats, sector_cycles: int | None = None) -> list[str]:
+    hall, end, timing, _ = stats
     lines = []
     for s, target_i, target_c in (
         (hall, TARGET_HALL_INSTRUCTIONS, TARGET_HALL_CYCLES),
