@@ -3,7 +3,9 @@
 The controller sees what the firmware sees: the measured current is the pre-edge
 period average (what a PWM-centred ADC sample gives) rounded to ADC codes, the main
 duty is rounded to TIM1 counts. The paper's three methods are the generated C core;
-`improved_r` is the Python rule of `sim.improved_r` (its C chain is pending).
+`improved_r` is the Python rule of `sim.improved_r` (its C chain is pending);
+`improved_r_fw` is its firmware form (one constant pair, the integer prototype of
+`codegen.improved_r_rule`).
 """
 
 from __future__ import annotations
@@ -14,6 +16,8 @@ from codegen.spec_model import Spec
 from sim.command import Command
 from sim.improved_r import METHOD as IMPROVED_R
 from sim.improved_r import improved_r_command
+from sim.improved_r_fw import METHOD as IMPROVED_R_FW
+from sim.improved_r_fw import improved_r_fw_command
 from sim.metrics import CommutationMetrics, commutation_end, measure
 from sim.scenario import Case, PlantModel, run_case
 from sim.sil import CoreSet, core_command
@@ -54,6 +58,10 @@ class Controller:
         return round(min(max(duty, 0.0), 1.0) * self.period_counts) / self.period_counts
 
     def command(self, method: str, case: Case, main_duty: float) -> Command:
+        if method == IMPROVED_R_FW:  # not in METHODS (yet): the reports stay as they are
+            return improved_r_fw_command(
+                self.spec, case, self.measured_current(case), self.quantised_duty(main_duty)
+            )
         if method == IMPROVED_R:
             return improved_r_command(
                 case,

@@ -1,0 +1,100 @@
+"""The rule's spec constants, exact, and the input box the firmware is proven over.
+
+The firmware sees the Hall period T (ticks), the bus code B and the offset-removed
+current code i. The rule's quantities in duty counts (`derive_firmware_rule().counts`)
+are, with E = k_e n, n = 10 f_hall/(p T) (Eq. 3) and U_d = B v, I = i a:
+
+    X   = 4 P E / U_d             = K_X / (T B)
+    Y   = 3 P R I / U_d           = K_Y i / B
+    A   = 3 P L I / (U_d T_s)     = kappa i X   (E T_s = 10 k_e / p: no T, no B)
+    rho = R T_s / L               = K_rho T
+
+so the edge needs one divide (X, as the paper's core already does) and products.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from codegen.derivation import symbols as s
+from codegen.derivation.constant_pair import A_c, P, T_s, X_c, Y_c, derive_firmware_rule
+from codegen.errors import DerivationError
+from codegen.fixedpoint.scaling import Scaling
+from codegen.spec_model import Spec
+
+
+def _q(value: object) -> sp.Rational:
+    return sp.Rational(str(value)) if not isinstance(value, sp.Basic) else sp.Rational(value)
+
+
+@dataclass(frozen=True)
+class RuleConstants:
+    """Exact constants (SymPy rationals) and integer input ranges of one spec."""
+
+    period_counts: int  # P
+    hall_clock_hz: sp.Rational
+    k_x: sp.Rational  # X = k_x / (T B), duty counts
+    k_y: sp.Rational  # Y = k_y i / B
+    kappa: sp.Rational  # A = kappa i X
+    k_rho: sp.Rational  # rho = k_rho T
+    ramp_weight: sp.Expr  # theta (irrational: sqrt(2) - 1)
+    period_low: int  # T at speed_max, rounded down (the rule clamps T to [low, high])
+    period_high: int  # T at speed_min, rounded up (at most the Hall counter's range)
+    bus_low: int
+    bus_high: int
+    current_offset: int
+    current_high: int  # largest offset-removed current code (ADC full scale)
+    time_target_ticks: sp.Rational
+    duty_target_counts: sp.Rational
+
+    @property
+    def rho_max(self) -> sp.Rational:
+        return self.k_rho * self.period_high
+
+
+def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
+    rule = derive_firmware_rule()
+    T, B, i = sp.symbols("T B i", positive=True)
+    n = 10 * sc.hall_clock_hz / (sc.pole_pairs * T)
+    physical = {
+        s.E: _q(spec.motor.back_emf_constant_v_per_rpm) * n,
+        s.U_d: B * sc.volts_per_bus_code,
+        s.I: i * sc.amps_per_current_code,
+        s.R: _q(spec.motor.phase_resistance_ohm),
+        s.L: _q(spec.motor.phase_inductance_h),
+        T_s: T / sc.hall_clock_hz,
+        P: sc.period_counts,
+    }
+    x_counts = sp.simplify(rule.counts[X_c].subs(physical))
+    k_x = sp.simplify(x_counts * T * B)
+    k_y = sp.simplify(rule.counts[Y_c].subs(physical) * B / i)
+    kappa = sp.simplify(rule.counts[A_c].subs(physical) / (i * x_counts))
+    k_rho = sp.simplify((s.R * T_s / s.L).subs(physical) / T)
+    for name, value in (("K_X", k_x), ("K_Y", k_y), ("kappa", kappa), ("K_rho", k_rho)):
+        if value.free_symbols or not value.is_positive:
+            raise DerivationError(f"{name} is not a positive constant: {value}")
+    ticks_per_rpm = 10 * sc.hall_clock_hz / sc.pole_pairs
+    if k_x != sc.k_x:
+        raise DerivationError(f"K_X {k_x} differs from the core's {sc.k_x} (Eq. 9)")
+    return RuleConstants(
+        period_counts=sc.period_counts,
+        hall_clock_hz=sc.hall_clock_hz,
+        k_x=sp.Rational(k_x),
+        k_y=sp.Rational(k_y),
+        kappa=sp.Rational(kappa),
+        k_rho=sp.Rational(k_rho),
+        ramp_weight=rule.ramp_weight_minimax,
+        period_low=int(sp.floor(ticks_per_rpm / _q(spec.controller.speed_max_rpm))),
+        period_high=min(
+            int(sp.ceiling(ticks_per_rpm / _q(spec.controller.speed_min_rpm))),
+            sc.period_cap_ticks,
+        ),
+        bus_low=sc.bus_code_min,
+        bus_high=sc.bus_code_max,
+        current_offset=sc.current_offset_code,
+        current_high=sc.adc_full_scale - 1 - sc.current_offset_code,
+        time_target_ticks=_q(spec.accuracy.commutation_time_ticks),
+        duty_target_counts=_q(spec.accuracy.duty_counts),
+    )

@@ -1,0 +1,130 @@
+"""The firmware form of the resistance-aware rule: derivation, integer prototype, target."""
+
+from __future__ import annotations
+
+import random
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+from codegen.derivation import derive
+from codegen.derivation import symbols as s
+from codegen.derivation.constant_pair import derive_firmware_rule
+from codegen.fixedpoint.scaling import scaling
+from codegen.improved_r_rule.accuracy import point_bound
+from codegen.improved_r_rule.constants import RuleConstants, rule_constants
+from codegen.improved_r_rule.design import RuleDesign, design_grid, design_rule
+from codegen.improved_r_rule.fixed import run_fixed
+from codegen.improved_r_rule.reference import (
+    FLAG_CANNOT_HOLD,
+    FLAG_SPEED_CLAMPED,
+    RuleInputs,
+    psi_values,
+    reference,
+)
+from codegen.improved_r_rule.table import error_at, lookup
+from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
+from sim.drive import Drive
+from sim.improved_r_fw import improved_r_fw_command
+from sim.runs import simulate
+from sim.scenario import Case, paper_edge
+
+ROOT = Path(__file__).resolve().parents[1]
+SPECS = ("paper_motor.yaml", "example_maxon_ec45_flat_48v.yaml")
+
+
+@pytest.fixture(scope="module", params=SPECS)
+def spec(request: pytest.FixtureRequest) -> Spec:
+    return load_spec(ROOT / "spec" / request.param)
+
+
+@pytest.fixture(scope="module")
+def design(spec: Spec) -> RuleDesign:
+    sc = scaling(spec, derive())
+    return design_rule(rule_constants(spec, sc), sc.current_code_max)
+
+
+def test_ramp_weight_should_be_the_minimax_of_a_linear_ramp() -> None:
+    rule = derive_firmware_rule()
+    assert rule.ramp_weight_mean == sp.Rational(1, 2)
+    assert sp.simplify(rule.ramp_weight_minimax - (sp.sqrt(2) - 1)) == 0
+    # The held sum at the edge is the flat sum, Eq. 15 without resistance.
+    flat = rule.duty_sum_held.subs(s.R, 0).subs(sp.Symbol("x", nonnegative=True), 0)
+    assert sp.simplify(flat - (2 - 4 * s.E / s.U_d)) == 0
+
+
+def test_table_should_stay_within_its_error_bound(design: RuleDesign) -> None:
+    table = design.rule.table
+    rng = random.Random(3)
+    for _ in range(3000):
+        y_q = rng.randint(0, table.y_limit)
+        y_value = y_q / 2**table.y_frac_bits
+        got = lookup(table, y_q)
+        bound = error_at(table, y_value)
+        for value, exact, limit in zip(got, psi_values(y_value), bound, strict=True):
+            assert abs(value / 2**16 - exact) <= limit
+
+
+def _grid(c: RuleConstants, braking_codes: int) -> list[RuleInputs]:
+    rng = random.Random(7)
+    extra = [
+        RuleInputs(
+            rng.randint(c.period_low, c.period_high),
+            rng.randint(c.bus_low, c.bus_high),
+            c.current_offset + rng.randint(0, braking_codes),
+        )
+        for _ in range(60)
+    ]
+    return design_grid(c, braking_codes) + extra
+
+
+def test_integer_prototype_should_match_the_reference_within_its_bounds(
+    spec: Spec, design: RuleDesign
+) -> None:
+    rule = design.rule
+    c = rule.constants
+    sc = scaling(spec, derive())
+    for inputs in _grid(c, sc.current_code_max):
+        ref = reference(c, inputs)
+        got = run_fixed(rule, inputs).outputs
+        bound = point_bound(rule, inputs, ref)
+        exact_ticks = min(ref.ticks_exact, inputs.period_ticks)
+        assert abs(got.commutation_ticks - exact_ticks) <= bound.ticks, inputs
+        assert abs(got.on_counts - ref.on_exact) <= bound.duty_counts, inputs
+        assert abs(got.off_counts - ref.off_exact) <= bound.duty_counts, inputs
+        if not ref.outputs.flags:
+            assert bound.ticks <= bound.time_allowance(float(c.time_target_ticks)), inputs
+            assert bound.duty_counts <= c.duty_target_counts, inputs
+
+
+def test_design_should_prove_every_intermediate(design: RuleDesign) -> None:
+    assert design.ranges
+    assert all(r.headroom_bits >= 0 for r in design.ranges)
+    assert design.time_ratio <= 1.0 and design.duty_bound <= 1.0
+    assert design.rule.table.flash_bytes <= 1024
+
+
+def test_rule_should_flag_what_it_cannot_do(design: RuleDesign) -> None:
+    c = design.rule.constants
+    nominal_bus = (c.bus_low + c.bus_high) // 2
+    slow = run_fixed(design.rule, RuleInputs(c.period_high, nominal_bus, c.current_offset + 300))
+    assert slow.outputs.flags & FLAG_CANNOT_HOLD
+    assert slow.outputs.on_counts == slow.outputs.off_counts == c.period_counts
+    fast = run_fixed(design.rule, RuleInputs(c.period_low - 1, nominal_bus, c.current_offset))
+    assert fast.outputs.flags & FLAG_SPEED_CLAMPED
+
+
+@pytest.mark.parametrize("speed", [500.0, 3000.0, 4600.0])
+def test_firmware_rule_should_hold_the_current_within_3_percent(speed: float) -> None:
+    spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+    drive = Drive.from_spec(spec)
+    case = Case(drive, paper_edge(), speed, drive.braking_current_a, "trapezoidal")
+    per_code = float(scaling(spec, derive()).amps_per_current_code)
+    measured = round(case.current_a / per_code) * per_code
+    command = improved_r_fw_command(spec, case, measured, case.pre_edge_duty)
+    assert command.constant_duties and not command.flags
+    run = simulate(case, command, "switched")
+    assert run.metrics.finished
+    assert abs(run.metrics.deviation_worst_pct) <= 3.0
