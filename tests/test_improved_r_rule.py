@@ -15,7 +15,7 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.improved_r_rule.accuracy import point_bound
 from codegen.improved_r_rule.constants import RuleConstants, rule_constants
 from codegen.improved_r_rule.design import RuleDesign, design_grid, design_rule
-from codegen.improved_r_rule.fixed import run_fixed
+from codegen.improved_r_rule.fixed import edge_state, loop_terms, run_fixed
 from codegen.improved_r_rule.reference import (
     FLAG_CANNOT_HOLD,
     FLAG_SPEED_CLAMPED,
@@ -128,3 +128,33 @@ def test_firmware_rule_should_hold_the_current_within_3_percent(speed: float) ->
     run = simulate(case, command, "switched")
     assert run.metrics.finished
     assert abs(run.metrics.deviation_worst_pct) <= 3.0
+
+
+def test_loop_intermediates_should_stay_inside_their_proven_ranges(design: RuleDesign) -> None:
+    rule = design.rule
+    c = rule.constants
+    proven = {r.name: r for r in design.ranges}
+
+    def inside(value: int, *names: str) -> bool:
+        low = min(proven[n].low for n in names)
+        high = max(proven[n].high for n in names)
+        return low <= value <= high
+
+    rng = random.Random(11)
+    for _ in range(400):
+        st = edge_state(
+            rule,
+            rng.randint(c.period_low, c.period_high),
+            rng.randint(c.bus_low, c.bus_high),
+            rng.randint(0, c.current_high),
+        )
+        assert inside(st.x, "X") and inside(2 * st.a, "2 A") and inside(st.s1, "S1")
+        assert inside(st.s0, "S0 low", "S0 high")
+        for x_q in (0, 1, rng.randint(0, 1 << rule.steps), 1 << rule.steps):
+            t = loop_terms(rule, st, x_q)
+            assert inside(t.y, "y (inside the table)")
+            assert 0 <= t.e <= 1 << rule.unit_frac_bits
+            assert inside(t.u1, "x psi")
+            assert inside(t.total, "S low", "S high")
+            assert inside(t.f2, "F2 low", "F2 high")
+            assert inside(t.twice_g, "2g low", "2g high")

@@ -16,7 +16,9 @@ Formats (Qf: value = integer / 2^f; all shifts of non-negative values unless not
   functions are kept in Q fu, fu = min(K + 16, 30):
     y   = (RHO x) >> (frho + K - fy)          Q fy   (64-bit product)
     psi1, psi2 = 2^16 - interpolated complements          Q16 (table.lookup)
-    e   = 2^fu - round(y psi1 / 2^(fy+16-fu))  Q fu  e^{-y} = 1 - y psi1 (64-bit product)
+    e   = max(2^fu - round(y psi1 / 2^(fy+16-fu)), 0)   Q fu   e^{-y} = 1 - y psi1
+          (64-bit product; the table's error can make y psi1 exceed 1 at large y, and
+          e^{-y} > 0, hence the clamp: e stays in uint32 [0, 2^fu])
     u1  = x psi1 >> (K + 16 - fu)            Q fu   x psi1 (exact for K <= 14)
     v2  = round(x (x psi2) / 2^(2K+16-fu))   Q fu   x^2 psi2 (64-bit product)
     S   = S0 + round(S1 x / 2^K)             Q fc   int32
@@ -146,12 +148,27 @@ def duty_sum(rule: FixedRule, st: EdgeState, x_q: int, frac_bits: int) -> int:
     return st.s0 + _round_shift(st.s1 * x_q, frac_bits)
 
 
-def twice_g(rule: FixedRule, st: EdgeState, x_q: int) -> int:
-    """2 g(x) in Q(fc + fu), the sign the bisection tests."""
+@dataclass(frozen=True)
+class LoopTerms:
+    """One evaluation of the bisection's test, every intermediate (for the range tests)."""
+
+    y: int
+    psi1: int
+    psi2: int
+    e: int
+    u1: int
+    v2: int
+    total: int
+    f2: int
+    twice_g: int
+
+
+def loop_terms(rule: FixedRule, st: EdgeState, x_q: int) -> LoopTerms:
+    """2 g(x) in Q(fc + fu), the sign the bisection tests, and what it is made of."""
     k, fu = rule.steps, rule.unit_frac_bits
     y_q = (st.rho * x_q) >> rule.y_shift
     psi1, psi2 = lookup(rule.table, y_q)
-    e = (1 << fu) - _round_shift(y_q * psi1, rule.table.y_frac_bits + 16 - fu)
+    e = max((1 << fu) - _round_shift(y_q * psi1, rule.table.y_frac_bits + 16 - fu), 0)
     u1 = _round_shift(x_q * psi1, k + 16 - fu)
     v2 = _round_shift(x_q * (x_q * psi2), 2 * k + 16 - fu)
     total = duty_sum(rule, st, x_q, k)
@@ -159,7 +176,12 @@ def twice_g(rule: FixedRule, st: EdgeState, x_q: int) -> int:
     on = min(max(total, 0), pq)
     off = min(max(total - pq, 0), pq)
     f2 = 4 * off - 2 * on - 2 * pq + st.x
-    return 2 * st.a * e + f2 * u1 - st.x * v2
+    g2 = 2 * st.a * e + f2 * u1 - st.x * v2
+    return LoopTerms(y_q, psi1, psi2, e, u1, v2, total, f2, g2)
+
+
+def twice_g(rule: FixedRule, st: EdgeState, x_q: int) -> int:
+    return loop_terms(rule, st, x_q).twice_g
 
 
 def run_fixed(rule: FixedRule, inputs: RuleInputs) -> FixedResult:

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from codegen.improved_r_rule.fixed import THETA_FRAC_BITS, FixedRule, LongDivision
-from codegen.improved_r_rule.table import ONE_Q16, PsiTable
+from codegen.improved_r_rule.table import ONE_Q16, PsiTable, grid_point
 
 LIMITS = {
     "uint32_t": (0, 2**32 - 1),
@@ -67,6 +67,16 @@ def prove(name: str, c_type: str, expr: sp.Expr, box: Box) -> ProvenRange:
     return ProvenRange(name, c_type, int(sp.floor(low)), int(sp.ceiling(high)), str(expr))
 
 
+def prove_narrowest(name: str, expr: sp.Expr, box: Box, signed: bool = False) -> ProvenRange:
+    """The narrowest of (u)int32_t and (u)int64_t that holds expr over the box, so the
+    C uses a 32-bit multiply wherever the proof allows it."""
+    types = ("int32_t", "int64_t") if signed else ("uint32_t", "uint64_t")
+    try:
+        return prove(name, types[0], expr, box)
+    except RuleFormatError:
+        return prove(name, types[1], expr, box)
+
+
 def _long_division(name: str, ld: LongDivision, bus: sp.Symbol, box: Box) -> list[ProvenRange]:
     return [
         prove(f"{name} high part", "uint32_t", sp.Integer(ld.high), box),
@@ -89,6 +99,17 @@ def interpolation_product_max(table: PsiTable) -> int:
             table.complement2[k + 1] - table.complement2[k],
         )
         worst = max(worst, diff * ((1 << shift) - 1) + (1 << (shift - 1)))
+    return worst
+
+
+def unit_product_max(table: PsiTable) -> int:
+    """Largest y psi1 (Q(fy + 16)) of any y the table covers: y psi1 = 1 - e^{-y} <= 1
+    in exact arithmetic, but not for the interpolated table at large y. On entry k's
+    interval y <= y_(k+1) and psi1 <= psi1_k (it decreases), so their product bounds it."""
+    worst = 0
+    for k in range(table.entries - 1):
+        y_next = int(grid_point(k + 1, table.segment_bits) * 2**table.y_frac_bits)
+        worst = max(worst, y_next * (ONE_Q16 - table.complement1[k]))
     return worst
 
 
@@ -133,14 +154,14 @@ def prove_rule(rule: FixedRule) -> tuple[ProvenRange, ...]:
         prove("X", "int32_t", x_q, box),
         prove("yn i + 2^(gy-1)", "uint32_t", yn * i + 2 ** (rule.y_guard_bits - 1), box),
         prove("KAPPA i", "uint32_t", ki, box),
-        prove("X KAPPA i + half", "uint64_t", x_q * ki + 2**rule.kappa_frac_bits, box),
+        prove_narrowest("X KAPPA i + half", x_q * ki + 2**rule.kappa_frac_bits, box),
         prove("2 A", "int32_t", 2 * a_q, box),
         prove("RHO = KRHO T", "uint32_t", rho, box),
-        prove("X THETA + half", "uint64_t", x_q * rule.theta_half_q + 2**THETA_FRAC_BITS, box),
+        prove_narrowest("X THETA + half", x_q * rule.theta_half_q + 2**THETA_FRAC_BITS, box),
         prove("S1", "int32_t", s1, box),
         prove("S0 low", "int32_t", 2 * pq - x_q, box),
         prove("S0 high", "int32_t", 2 * pq + y_c, box),
-        prove("RHO x", "uint64_t", rho * x, box),
+        prove_narrowest("RHO x", rho * x, box),
         prove_at_most("y (inside the table)", y_q, table.y_limit, box),
         prove(
             "interpolation product",
@@ -148,21 +169,27 @@ def prove_rule(rule: FixedRule) -> tuple[ProvenRange, ...]:
             sp.Integer(interpolation_product_max(table)),
             box,
         ),
-        prove("y psi1 + half", "uint64_t", y_q * psi + 2**table.y_frac_bits, box),
-        prove("e", "uint32_t", sp.Integer(unit), box),
+        prove_narrowest("y psi1 + half", y_q * psi + 2**table.y_frac_bits, box),
+        prove(
+            "round(y psi1) in Q fu (e = max(2^fu - it, 0))",
+            "uint32_t",
+            sp.Integer(unit_product_max(table)) / 2 ** (table.y_frac_bits + 16 - fu) + 1,
+            box,
+        ),
         prove("x psi", "uint32_t", x * psi, box),
-        prove("x (x psi2) + half", "uint64_t", x * x * psi + 2 ** (2 * k + 16 - fu), box),
-        prove("S1 x + half", "uint64_t", s1 * x + 2 ** (k + 1), box),
+        prove_narrowest("x (x psi2) + half", x * x * psi + 2 ** (2 * k + 16 - fu), box),
+        prove_narrowest("S1 x + half", s1 * x + 2 ** (k + 1), box),
         prove("S low", "int32_t", total_low, box),
         prove("S high", "int32_t", total_high, box),
         prove("S - P 2^fc", "int32_t", total_low - pq, box),
         prove("F2 low", "int32_t", sp.Integer(f2_low), box),
         prove("F2 high", "int32_t", f2_high, box),
-        prove("2 A e", "int64_t", 2 * a_q * unit, box),
-        prove("F2 u1 low", "int64_t", f2_low * unit, box),
-        prove("F2 u1 high", "int64_t", f2_high * unit, box),
-        prove("X v2", "int64_t", x_q * unit, box),
-        prove("2g", "int64_t", 2 * a_q * unit + sp.Max(-f2_low, f2_high) * unit + x_q * unit, box),
+        prove_narrowest("2 A e", 2 * a_q * unit, box, signed=True),
+        prove_narrowest("F2 u1 low", f2_low * unit, box, signed=True),
+        prove_narrowest("F2 u1 high", f2_high * unit, box, signed=True),
+        prove_narrowest("X v2", x_q * unit, box, signed=True),
+        prove_narrowest("2g high", 2 * a_q * unit + f2_high * unit, box, signed=True),
+        prove_narrowest("2g low", f2_low * unit - x_q * unit, box, signed=True),
         prove("x_c T + half", "uint32_t", 2 ** (k + 1) * T + 2**k, box),
         prove("S(x_c) rounding", "int32_t", pq + 2**fc, box),
     ]
