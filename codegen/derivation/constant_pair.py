@@ -11,7 +11,8 @@ and the switching table, what a constant pair needs:
   theta - x/x_c, so the non-commutating deviation is int_0^tau (theta - s) ds in units
   of x_c. theta = 1/2 zeroes it at the end (the mean-slope condition); the minimax
   weight theta = sqrt(2) - 1 makes the peak of the swell equal the final sag, the
-  smallest worst case (R -> 0; with R the decay shrinks both);
+  smallest worst case (R -> 0; with the decay R t_com / L = 1.4 of 500 rpm the optimum
+  moves only to 0.47, so the firmware keeps the constant);
 * the turn-off current under the constant pair and the ramping EMF:
   L di_b/dt = alpha L + beta L t - R i_b, and its value in duty counts
   g(x) = A e^{-y} + F x psi1(y) - X x^2/2 psi2(y), y = rho x, rho = R T_s / L,

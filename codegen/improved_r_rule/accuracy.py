@@ -41,7 +41,9 @@ from codegen.improved_r_rule.reference import (
 )
 from codegen.improved_r_rule.table import error_at
 
-_SCAN = 256
+#: The sign scan of g -/+ eps: g is unimodal in x (rises, then falls through its one
+#: zero), so a coarse scan finds the crossing and bisection refines it.
+_SCAN = 32
 _REFINE = 40
 
 

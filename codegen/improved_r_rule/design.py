@@ -13,6 +13,7 @@
 
 from __future__ import annotations
 
+import random
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -32,8 +33,10 @@ from codegen.improved_r_rule.table import PsiTable, design_psi_table
 
 MAX_COUNTS_FRAC_BITS = 12
 MAX_Y_FRAC_BITS = 24
-SEGMENT_BITS = range(2, 9)
-GRID_SPEEDS = 24
+SEGMENT_BITS = range(3, 9)
+GRID_SPEEDS = 40
+GRID_CURRENT_EIGHTHS = (1, 2, 3, 4, 6, 8)  # braking currents in eighths of the maximum
+GRID_RANDOM = 200
 
 
 @dataclass(frozen=True)
@@ -49,17 +52,27 @@ class RuleDesign:
 
 
 def design_grid(c: RuleConstants, braking_current_codes: int) -> list[RuleInputs]:
-    periods = np.unique(np.geomspace(c.period_low, c.period_high, GRID_SPEEDS).round().astype(int))
+    """Speeds (geometric), bus min/mid/max, braking currents from 1 code to the spec's
+    maximum, and seeded random points of the same box."""
+    # Slowest first: the ill-conditioned points (long commutations) come early, so a
+    # table that is too small fails fast.
+    spaced = np.geomspace(c.period_low, c.period_high, GRID_SPEEDS).round().astype(int)
+    periods = sorted(set(spaced.tolist()), reverse=True)
     buses = sorted({c.bus_low, (c.bus_low + c.bus_high) // 2, c.bus_high})
-    currents = sorted(
-        {1, braking_current_codes // 4, braking_current_codes // 2, braking_current_codes}
-    )
-    return [
-        RuleInputs(int(t), b, c.current_offset + i)
-        for t in periods
-        for b in buses
-        for i in currents
+    currents = sorted({1, *(braking_current_codes * k // 8 for k in GRID_CURRENT_EIGHTHS)})
+    grid = [
+        RuleInputs(t, b, c.current_offset + i) for t in periods for b in buses for i in currents
     ]
+    rng = random.Random(0)
+    grid += [
+        RuleInputs(
+            rng.randint(c.period_low, c.period_high),
+            rng.randint(c.bus_low, c.bus_high),
+            c.current_offset + rng.randint(1, braking_current_codes),
+        )
+        for _ in range(GRID_RANDOM)
+    ]
+    return grid
 
 
 def _table(c: RuleConstants, segment_bits: int) -> PsiTable:
@@ -83,8 +96,11 @@ def _formats(
     raise RuleFormatError("no counts format fits: " + "; ".join(reasons))
 
 
-def worst_bounds(rule: FixedRule, grid: list[RuleInputs]) -> tuple[float, float, float, int]:
-    """(worst time bound, worst bound/allowance ratio, worst duty bound, points used)."""
+def worst_bounds(
+    rule: FixedRule, grid: list[RuleInputs], stop_above: float = float("inf")
+) -> tuple[float, float, float, int]:
+    """(worst time bound, worst bound/allowance ratio, worst duty bound, points used);
+    stops early once the ratio exceeds stop_above."""
     target = float(rule.constants.time_target_ticks)
     ticks = ratio = duty = 0.0
     used = 0
@@ -97,6 +113,8 @@ def worst_bounds(rule: FixedRule, grid: list[RuleInputs]) -> tuple[float, float,
         ratio = max(ratio, bound.ticks / bound.time_allowance(target))
         duty = max(duty, bound.duty_counts)
         used += 1
+        if ratio > stop_above or duty > stop_above * float(rule.constants.duty_target_counts):
+            break
     return ticks, ratio, duty, used
 
 
@@ -107,7 +125,7 @@ def design_rule(c: RuleConstants, braking_current_codes: int) -> RuleDesign:
     last = ""
     for n in SEGMENT_BITS:
         rule, ranges = _formats(c, _table(c, n), steps)
-        ticks, ratio, duty, used = worst_bounds(rule, grid)
+        ticks, ratio, duty, used = worst_bounds(rule, grid, stop_above=1.0)
         if ratio <= 1.0 and duty <= c.duty_target_counts:
             return RuleDesign(rule, ranges, ticks, ratio, duty, used)
         last = f"2^{n} entries per octave: time bound/allowance {ratio:.2f}, {duty:.2f} counts"
