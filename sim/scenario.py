@@ -60,10 +60,12 @@ class Case:
 
     @property
     def emf(self) -> BackEmf:
+        # BackEmf negates the forward trapezoid itself for reverse rotation (paper 2.2),
+        # so it takes the forward sectors in both directions.
         return BackEmf(
             self.emf_shape,
             self.edge,
-            switching_table().sectors(self.edge.direction),
+            switching_table().sectors("forward"),
             self.drive.emf_v(self.speed_rpm),
             self.sector_time_s,
         )

@@ -134,3 +134,24 @@ def test_spec_with_method_should_only_change_the_method(spec: Spec) -> None:
     changed = spec_with_method(text, "none")
     diff = [(a, b) for a, b in zip(text.splitlines(), changed.splitlines(), strict=True) if a != b]
     assert diff == [("  method: improved", "  method: none")]
+
+
+def test_all_twelve_edges_should_brake_alike_through_the_c_core(spec: Spec, cores: CoreSet) -> None:
+    """Reverse rotation negates every EMF (paper 2.2) and runs the sectors backwards;
+    by symmetry each of the 12 commutations of the switching table, forward or
+    reverse, upper or lower, must give the same non-commutating current."""
+    from sim.scenario import switching_table
+
+    drive = Drive.from_spec(spec)
+    controller = Controller(spec, cores)
+    worst = {}
+    for edge in switching_table().edges:
+        case = Case(drive, edge, 1500.0, drive.braking_current_a, "trapezoidal")
+        command = controller.command("improved", case, case.pre_edge_duty)
+        worst[(edge.direction, edge.sector_to)] = simulate(
+            case, command, "switched"
+        ).metrics.deviation_worst_pct
+    reference = worst[("forward", paper_edge().sector_to)]
+    assert -20.0 < reference < -5.0  # the paper's rule with R: a sag, not a collapse
+    for key, value in worst.items():
+        assert value == pytest.approx(reference, abs=0.05), key
