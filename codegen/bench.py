@@ -58,6 +58,13 @@ def warm_generate_seconds(spec: str) -> list[float]:
     return times
 
 
+def module_seconds(module: str, *args: str) -> float:
+    """Wall time of `python -m module args` in a fresh interpreter (output discarded)."""
+    started = time.perf_counter()
+    subprocess.run([sys.executable, "-m", module, *args], check=True, stdout=subprocess.DEVNULL)
+    return time.perf_counter() - started
+
+
 def _verdict(ok: bool) -> str:
     return "meets" if ok else "MISSES"
 
@@ -102,13 +109,7 @@ def main(argv: list[str]) -> int:
     )
     for line in reciprocal.lines():
         print(f"bench: {line}")
-    started = time.perf_counter()
-    subprocess.run(
-        [sys.executable, "-m", "verify", spec, "--no-progress"],
-        check=True,
-        stdout=subprocess.DEVNULL,
-    )
-    seconds = time.perf_counter() - started
+    seconds = module_seconds("verify", spec, "--no-progress")
     print(
         f"bench: verify (exhaustive + 20000 random + boundary, host) {seconds:.1f} s ->"
         f" {_verdict(seconds < TARGET_VERIFY_S)} the 10 s target"
@@ -124,14 +125,8 @@ def main(argv: list[str]) -> int:
         f" {len(run.results)} tests, {'pass' if run.passed else 'FAIL'}) {seconds:.1f} s ->"
         f" {_verdict(seconds < TARGET_QEMU_S and run.passed)} the 60 s target"
     )
-    started = time.perf_counter()
     with tempfile.TemporaryDirectory() as sim_out:
-        subprocess.run(
-            [sys.executable, "-m", "sim", spec, "-o", sim_out, "--no-progress"],
-            check=True,
-            stdout=subprocess.DEVNULL,
-        )
-    seconds = time.perf_counter() - started
+        seconds = module_seconds("sim", spec, "-o", sim_out, "--no-progress")
     print(
         f"bench: simulate (full sweep, operating points, Ipopt optimum, figures, report)"
         f" {seconds:.1f} s -> {_verdict(seconds < TARGET_SIMULATE_S)} the 60 s target"

@@ -47,6 +47,7 @@ LIMITS = {
     "uint32_t": (0, UINT32_MAX),
     "int32_t": (INT32_MIN, INT32_MAX),
     "uint64_t": (0, UINT64_MAX),
+    "int64_t": (-(2**63), 2**63 - 1),
 }
 MAX_FRACTION_BITS = 12
 

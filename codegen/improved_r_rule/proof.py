@@ -11,39 +11,15 @@ expression and range.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import sympy as sp
 
+from codegen.fixedpoint.design import LIMITS, ProvenRange
 from codegen.improved_r_rule.fixed import THETA_FRAC_BITS, FixedRule, LongDivision
 from codegen.improved_r_rule.table import ONE_Q16, PsiTable, grid_point
-
-LIMITS = {
-    "uint32_t": (0, 2**32 - 1),
-    "int32_t": (-(2**31), 2**31 - 1),
-    "uint64_t": (0, 2**64 - 1),
-    "int64_t": (-(2**63), 2**63 - 1),
-}
 
 
 class RuleFormatError(ValueError):
     """An intermediate of the integer rule does not fit its type over the input box."""
-
-
-@dataclass(frozen=True)
-class ProvenRange:
-    name: str
-    c_type: str
-    low: int
-    high: int
-    expression: str
-
-    @property
-    def headroom_bits(self) -> float:
-        lo, hi = LIMITS[self.c_type]
-        used = max(self.high / hi, self.low / lo if self.low < 0 else 0.0)
-        return -math.log2(used) if used > 0 else float("inf")
 
 
 Box = dict[sp.Symbol, tuple[int, int]]
