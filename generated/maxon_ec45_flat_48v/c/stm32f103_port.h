@@ -34,8 +34,9 @@
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
  *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2); a Hall timeout (update
  *         flag, no interrupt) is read by the next edge. Priority BLDC_PORT_HALL_PRIORITY.
- *   TIM1_TRG_COM_IRQHandler: the next edge's duties and commutation time, pended by
- *         software (NVIC set-pending; the TIM1 COM interrupt enable stays off).
+ *   TIM1_TRG_COM_IRQHandler: the next edge's duties and commutation time, raised by
+ *         every COM event (DIER.COMIE: each Hall edge and each commutation end) and
+ *         pended by software (NVIC set-pending) when the bus voltage or main duty changes.
  *         Priority BLDC_PORT_TIMING_PRIORITY, lower than the Hall edge's.
  *
  * The port never drives both switches of one phase: each phase has at most one of
