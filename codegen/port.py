@@ -201,13 +201,6 @@ def _edge_context(spec: Spec) -> dict[str, object]:
     a, b, c = HALL_PINS
     if not (a.port == b.port and b.number == a.number + 1 and c.port != a.port):
         raise ValueError("the Hall pin read expects two neighbouring pins and one on another port")
-    hall_of_pins = []
-    for raw in range(8):
-        code = hall_code_of_pins(raw)
-        levels = ", ".join(
-            f"P{pin.port[-1]}{pin.number}={(raw >> i) & 1}" for i, pin in enumerate(HALL_PINS)
-        )
-        hall_of_pins.append({"code": code, "comment": f"{levels}: Hall code {code:03b}"})
     core_edges = edge_of_hall_pair(spec.hall.sequence)
     edge_of_pins = []
     for index in range(64):
@@ -224,7 +217,6 @@ def _edge_context(spec: Spec) -> dict[str, object]:
         # The improved rule (Eq. 18) does not use the main duty for the commutation.
         "method": spec.controller.method,
         "port_edges": edges,
-        "hall_of_pins": hall_of_pins,
         "edge_of_pins": edge_of_pins,
         "pins_expression": f"(({a.port}->IDR >> {a.number}) & 3u) | (({c.port}->IDR >> {c.number} & 1u) << 2)",
         "pins_expression_text": f"P{a.port[-1]}{a.number} | P{b.port[-1]}{b.number} << 1 |"
