@@ -10,6 +10,7 @@ import sympy as sp
 
 from codegen.derivation.paper import Derivation
 from codegen.fixedpoint.design import FixedPointDesign
+from codegen.improved_r_rule.context import rule_context
 from codegen.spec_model import Spec
 
 NO_SWITCH = 0xFF
@@ -36,6 +37,11 @@ def edge_of_hall_pair(sequence: tuple[int, ...]) -> list[int]:
             elif before == (after + 1) % 6:
                 table[(previous << 3) | code] = edge_index("reverse", after)
     return table
+
+
+def uses_main_duty(method: str) -> bool:
+    """Whether the method's commutation duties depend on the current controller's duty."""
+    return method in ("none", "conventional")
 
 
 def core_context(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> dict[str, object]:
@@ -67,8 +73,12 @@ def core_context(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> di
             what = f"{direction} into sector {edge_number % 6}"
         pairs.append({"value": edge_number, "comment": f"{previous:03b} -> {code:03b}: {what}"})
     p = sc.period_counts
+    method = spec.controller.method
+    rule = rule_context(spec, sc) if method == "improved_r" else {}
     return {
-        "method": spec.controller.method,
+        **rule,
+        "method": method,
+        "uses_main_duty": uses_main_duty(method),
         "period_counts": p,
         "pwm_hz": f"{float(spec.inverter.pwm_frequency_hz):g}",
         "hall_hz": f"{float(sc.hall_clock_hz):g}",

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from codegen.core_context import edge_index, edge_of_hall_pair
+from codegen.core_context import edge_index, edge_of_hall_pair, uses_main_duty
 from codegen.derivation import derive
 from codegen.render import provenance, render
 from codegen.spec_model import Spec
@@ -216,6 +216,7 @@ def _edge_context(spec: Spec) -> dict[str, object]:
     return {
         # The improved rule (Eq. 18) does not use the main duty for the commutation.
         "method": spec.controller.method,
+        "uses_main_duty": uses_main_duty(spec.controller.method),
         "port_edges": edges,
         "edge_of_pins": edge_of_pins,
         "pins_expression": f"(({a.port}->IDR >> {a.number}) & 3u) | (({c.port}->IDR >> {c.number} & 1u) << 2)",

@@ -10,11 +10,11 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Literal
 
-CommutationMethod = Literal["improved", "conventional", "none"]
+CommutationMethod = Literal["improved", "conventional", "none", "improved_r"]
 PwmAlignment = Literal["edge", "center"]
 EmfConvention = Literal["phase", "line_to_line"]
 
-COMMUTATION_METHODS: tuple[str, ...] = ("improved", "conventional", "none")
+COMMUTATION_METHODS: tuple[str, ...] = ("improved", "conventional", "none", "improved_r")
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ from codegen.improved_r_rule.reference import (
     FLAG_SPEED_CLAMPED,
     RuleInputs,
     psi_values,
-    reference,
+    reference_points,
 )
 from codegen.improved_r_rule.table import error_at, lookup
 from codegen.spec_loader import load_spec
@@ -86,8 +86,8 @@ def test_integer_prototype_should_match_the_reference_within_its_bounds(
     rule = design.rule
     c = rule.constants
     sc = scaling(spec, derive())
-    for inputs in _grid(c, sc.current_code_max):
-        ref = reference(c, inputs)
+    grid = _grid(c, sc.current_code_max)
+    for inputs, ref in zip(grid, reference_points(c, grid), strict=True):
         got = run_fixed(rule, inputs).outputs
         bound = point_bound(rule, inputs, ref)
         exact_ticks = min(ref.ticks_exact, inputs.period_ticks)

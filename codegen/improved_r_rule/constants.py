@@ -40,8 +40,8 @@ class RuleConstants:
     kappa: sp.Rational  # A = kappa i X
     k_rho: sp.Rational  # rho = k_rho T
     ramp_weight: sp.Expr  # theta (irrational: sqrt(2) - 1)
-    period_low: int  # T at speed_max, rounded down (the rule clamps T to [low, high])
-    period_high: int  # T at speed_min, rounded up (at most the Hall counter's range)
+    period_low: int  # the core's shortest period (speed_max): shorter ones are the safe state
+    period_high: int  # the core's longest period (speed_min): the rule clamps T to it
     bus_low: int
     bus_high: int
     current_offset: int
@@ -75,7 +75,6 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
     for name, value in (("K_X", k_x), ("K_Y", k_y), ("kappa", kappa), ("K_rho", k_rho)):
         if value.free_symbols or not value.is_positive:
             raise DerivationError(f"{name} is not a positive constant: {value}")
-    ticks_per_rpm = 10 * sc.hall_clock_hz / sc.pole_pairs
     if k_x != sc.k_x:
         raise DerivationError(f"K_X {k_x} differs from the core's {sc.k_x} (Eq. 9)")
     return RuleConstants(
@@ -86,11 +85,8 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
         kappa=sp.Rational(kappa),
         k_rho=sp.Rational(k_rho),
         ramp_weight=rule.ramp_weight_minimax,
-        period_low=int(sp.floor(ticks_per_rpm / _q(spec.controller.speed_max_rpm))),
-        period_high=min(
-            int(sp.ceiling(ticks_per_rpm / _q(spec.controller.speed_min_rpm))),
-            sc.period_cap_ticks,
-        ),
+        period_low=sc.period_min_ticks,
+        period_high=sc.period_max_ticks,
         bus_low=sc.bus_code_min,
         bus_high=sc.bus_code_max,
         current_offset=sc.current_offset_code,

@@ -28,7 +28,7 @@ from codegen.improved_r_rule.proof import (
     interpolation_product_max,
     prove_rule,
 )
-from codegen.improved_r_rule.reference import RuleInputs, reference
+from codegen.improved_r_rule.reference import RuleInputs, reference_points
 from codegen.improved_r_rule.table import PsiTable, design_psi_table
 
 MAX_COUNTS_FRAC_BITS = 12
@@ -104,8 +104,7 @@ def worst_bounds(
     target = float(rule.constants.time_target_ticks)
     ticks = ratio = duty = 0.0
     used = 0
-    for inputs in grid:
-        ref = reference(rule.constants, inputs)
+    for inputs, ref in zip(grid, reference_points(rule.constants, grid), strict=True):
         if ref.outputs.flags:
             continue
         bound: PointBound = point_bound(rule, inputs, ref)

@@ -154,7 +154,8 @@ def prove_rule(rule: FixedRule) -> tuple[ProvenRange, ...]:
         ),
         prove("x psi", "uint32_t", x * psi, box),
         prove_narrowest("x (x psi2) + half", x * x * psi + 2 ** (2 * k + 16 - fu), box),
-        prove_narrowest("S1 x + half", s1 * x + 2 ** (k + 1), box),
+        # the loop's S(x) (x in Q K) and the result's S(x_c) (x_c in Q(K + 1))
+        prove_narrowest("S1 x + half", s1 * 2 * x + 2**k, box),
         prove("S low", "int32_t", total_low, box),
         prove("S high", "int32_t", total_high, box),
         prove("S - P 2^fc", "int32_t", total_low - pq, box),

@@ -20,9 +20,12 @@ constants, in duty counts and fractions x of the sector:
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
+import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from codegen.derivation.constant_pair import psi1, psi2, y
@@ -75,11 +78,52 @@ class ReferenceResult:
     on_exact: float  # C_on(x_c) before rounding
     off_exact: float
     ticks_exact: float  # x_c T'
-    slope: float  # dg/dx at x_c (counts per sector), for error bounds
     x: float
     y: float
     a: float
     rho: float
+
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class ReferenceBatch:
+    """`reference` over arrays of inputs (one element per input point)."""
+
+    period: IntArray  # T after clamping
+    bus: IntArray
+    current: IntArray  # offset removed, clamped
+    fraction: FloatArray
+    total: FloatArray  # Sigma(x_c), counts
+    on_exact: FloatArray
+    off_exact: FloatArray
+    ticks_exact: FloatArray
+    flags: IntArray
+    x: FloatArray
+    y: FloatArray
+    a: FloatArray
+    rho: FloatArray
+
+    def result(self, k: int, measured_period: int) -> ReferenceResult:
+        outputs = RuleOutputs(
+            on_counts=round(float(self.on_exact[k])),
+            off_counts=round(float(self.off_exact[k])),
+            commutation_ticks=min(round(float(self.ticks_exact[k])), measured_period),
+            flags=int(self.flags[k]),
+        )
+        return ReferenceResult(
+            outputs,
+            float(self.fraction[k]),
+            float(self.on_exact[k]),
+            float(self.off_exact[k]),
+            float(self.ticks_exact[k]),
+            float(self.x[k]),
+            float(self.y[k]),
+            float(self.a[k]),
+            float(self.rho[k]),
+        )
 
 
 def clamp_inputs(c: RuleConstants, inputs: RuleInputs) -> Clamped:
@@ -104,8 +148,23 @@ def _series() -> tuple[tuple[float, ...], tuple[float, ...]]:
     return out[0], out[1]
 
 
+def psi_arrays(value: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(psi1, psi2) at y >= 0, elementwise in double precision: the series near 0
+    (no cancellation), the closed forms elsewhere."""
+    c1, c2 = _series()
+    small = value < SERIES_BELOW
+    safe = np.where(small, 1.0, value)
+    closed1 = -np.expm1(-safe) / safe
+    closed2 = 2.0 * (safe - 1.0 + np.exp(-safe)) / safe**2
+    return (
+        np.where(small, np.polynomial.polynomial.polyval(value, c1), closed1),
+        np.where(small, np.polynomial.polynomial.polyval(value, c2), closed2),
+    )
+
+
 def psi_values(value: float) -> tuple[float, float]:
-    """(psi1, psi2) at y >= 0 in double precision."""
+    """(psi1, psi2) at one y >= 0: `psi_arrays` in scalar arithmetic (the error bounds
+    evaluate it point by point, where array overhead would dominate)."""
     if value < SERIES_BELOW:
         c1, c2 = _series()
         return (
@@ -115,58 +174,59 @@ def psi_values(value: float) -> tuple[float, float]:
     return -math.expm1(-value) / value, 2.0 * (value - 1.0 + math.exp(-value)) / value**2
 
 
-def _duties(period_counts: int, total: float) -> tuple[float, float]:
-    on = min(max(total, 0.0), period_counts)
-    off = min(max(total - period_counts, 0.0), period_counts)
-    return on, off
+def _duties(period_counts: int, total: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return np.clip(total, 0.0, period_counts), np.clip(total - period_counts, 0.0, period_counts)
+
+
+def reference_batch(
+    c: RuleConstants, periods: npt.ArrayLike, buses: npt.ArrayLike, current_codes: npt.ArrayLike
+) -> ReferenceBatch:
+    """The rule at every (T, B, C) given (broadcast), clamped as `clamp_inputs` does."""
+    t_in, b_in, c_in = np.broadcast_arrays(
+        *(np.atleast_1d(np.asarray(v, dtype=np.int64)) for v in (periods, buses, current_codes))
+    )
+    t = np.clip(t_in, c.period_low, c.period_high)
+    b = np.clip(b_in, c.bus_low, c.bus_high)
+    i = np.clip(c_in - c.current_offset, 0, c.current_high)
+    flags = np.where(t != t_in, FLAG_SPEED_CLAMPED, 0) | np.where(b != b_in, FLAG_BUS_CLAMPED, 0)
+    p = c.period_counts
+    x_counts = float(c.k_x) / (t.astype(np.float64) * b)
+    y_counts = float(c.k_y) * i / b
+    a = float(c.kappa) * i * x_counts
+    rho = float(c.k_rho) * t
+    base = 2 * p + y_counts - x_counts
+    ramp = float(c.ramp_weight) * x_counts / 2
+
+    def g(frac: FloatArray) -> FloatArray:
+        on, off = _duties(p, base + ramp * frac)
+        forcing = 2 * off - on - p + x_counts / 2
+        q1, q2 = psi_arrays(rho * frac)
+        return a * np.exp(-rho * frac) + forcing * frac * q1 - x_counts * frac**2 / 2 * q2
+
+    unfinished = g(np.ones_like(x_counts)) > 0.0
+    lo, hi = np.zeros_like(x_counts), np.ones_like(x_counts)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        above = g(mid) > 0.0
+        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
+    frac = np.where(unfinished, 1.0, 0.5 * (lo + hi))
+    flags |= np.where(unfinished, FLAG_NOT_FINISHED, 0)
+    total = base + ramp * frac
+    flags |= np.where(total > 2 * p, FLAG_CANNOT_HOLD, 0) | np.where(total < 0, FLAG_ABOVE_BUS, 0)
+    on, off = _duties(p, total)
+    return ReferenceBatch(
+        t, b, i, frac, total, on, off, frac * t, flags, x_counts, y_counts, a, rho
+    )
+
+
+def reference_points(c: RuleConstants, points: Sequence[RuleInputs]) -> list[ReferenceResult]:
+    """`reference` at many points, evaluated as one batch."""
+    periods = [q.period_ticks for q in points]
+    batch = reference_batch(
+        c, periods, [q.bus_code for q in points], [q.current_code for q in points]
+    )
+    return [batch.result(k, period) for k, period in enumerate(periods)]
 
 
 def reference(c: RuleConstants, inputs: RuleInputs) -> ReferenceResult:
-    clamped = clamp_inputs(c, inputs)
-    p = c.period_counts
-    t, b, i = clamped.period, clamped.bus, clamped.current
-    x_counts = float(c.k_x / (t * b))
-    y_counts = float(c.k_y * i / b)
-    a = float(c.kappa * i) * x_counts
-    rho = float(c.k_rho * t)
-    theta = float(c.ramp_weight)
-    base = 2 * p + y_counts - x_counts
-    ramp = theta * x_counts / 2
-
-    def g(frac: float) -> float:
-        on, off = _duties(p, base + ramp * frac)
-        forcing = 2 * off - on - p + x_counts / 2
-        q1, q2 = psi_values(rho * frac)
-        return a * math.exp(-rho * frac) + forcing * frac * q1 - x_counts * frac**2 / 2 * q2
-
-    flags = clamped.flags
-    if g(1.0) > 0.0:
-        frac = 1.0
-        flags |= FLAG_NOT_FINISHED
-    else:
-        lo, hi = 0.0, 1.0
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            if g(mid) > 0.0:
-                lo = mid
-            else:
-                hi = mid
-        frac = 0.5 * (lo + hi)
-    total = base + ramp * frac
-    if total > 2 * p:
-        flags |= FLAG_CANNOT_HOLD
-    if total < 0:
-        flags |= FLAG_ABOVE_BUS
-    on, off = _duties(p, total)
-    step = 1e-7
-    slope = (g(min(frac + step, 1.0)) - g(max(frac - step, 0.0))) / (
-        min(frac + step, 1.0) - max(frac - step, 0.0)
-    )
-    ticks = frac * t
-    outputs = RuleOutputs(
-        on_counts=round(on),
-        off_counts=round(off),
-        commutation_ticks=min(round(ticks), inputs.period_ticks),
-        flags=flags,
-    )
-    return ReferenceResult(outputs, frac, on, off, ticks, slope, x_counts, y_counts, a, rho)
+    return reference_points(c, [inputs])[0]

@@ -17,7 +17,7 @@ from codegen.improved_r_rule.accuracy import point_bound
 from codegen.improved_r_rule.constants import rule_constants
 from codegen.improved_r_rule.design import RuleDesign, design_grid, design_rule
 from codegen.improved_r_rule.fixed import THETA_FRAC_BITS, run_fixed
-from codegen.improved_r_rule.reference import RuleInputs, reference
+from codegen.improved_r_rule.reference import RuleInputs, reference_points
 from codegen.spec_loader import load_spec
 
 RANDOM_POINTS = 400
@@ -50,8 +50,7 @@ def error_stats(design: RuleDesign, braking_codes: int, seed: int = 1) -> ErrorS
     target = float(c.time_target_ticks)
     ticks = conditioned = counts = ticks_all = counts_all = ratio = 0.0
     unflagged = 0
-    for inputs in grid:
-        ref = reference(c, inputs)
+    for inputs, ref in zip(grid, reference_points(c, grid), strict=True):
         out = run_fixed(rule, inputs).outputs
         dt = abs(out.commutation_ticks - min(ref.ticks_exact, inputs.period_ticks))
         dc = max(abs(out.on_counts - ref.on_exact), abs(out.off_counts - ref.off_exact))

@@ -3,6 +3,7 @@
 
 #define BUS_CODE_MIN 2306u /* 39 V */
 #define BUS_CODE_MAX 3546u /* 60 V */
+#define INVALID_SECTOR 0xFFu
 #define K_X_HIGH 2196945454u /* N_X >> 11, N_X = round(K_X 2^10) = 4499344290909 (Eqs. 3, 9) */
 #define K_X_LOW 1117u  /* N_X mod 2^11 */
 #define K_X_SHIFT 11u
@@ -10,7 +11,6 @@
 #define K_G_LOW 0u  /* N_G mod 2^0 */
 #define K_G_SHIFT 0u
 #define HIGH_SPEED_TB 1220526u /* C = ceil(K_X / P): 4E > U_d <=> T B < C (Eq. 18) */
-#define INVALID_SECTOR 0xFFu
 
 const uint8_t bldc_sector_of_hall[8] = {
     255u, /* 000: invalid */
