@@ -26,7 +26,7 @@ REPORT_NAME = "SIMULATION.md"
 def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
     from sim.figures import all_figures
     from sim.limits import limits
-    from sim.report import render_report
+    from sim.report import TARGET_HIGH_RPM, TARGET_LOW_RPM, TARGET_PCT, render_report
     from sim.sweep import run_all
 
     start = time.perf_counter()
@@ -35,7 +35,8 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
     results = run_all(spec, progress=progress)
     bounds = limits(results.drive)
     figure_start = time.perf_counter()
-    names = all_figures(results, bounds.boundary_r_rpm, out)
+    target = (TARGET_LOW_RPM, TARGET_HIGH_RPM, TARGET_PCT)
+    names = all_figures(results, bounds.boundary_r_rpm, target, out)
     write_atomically(out / REPORT_NAME, render_report(results, bounds, names))
     results.seconds["figures and report"] = time.perf_counter() - figure_start
     total = time.perf_counter() - start

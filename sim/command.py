@@ -1,4 +1,5 @@
-"""A controller's decision at a Hall edge, whatever computed it (C core or Python rule)."""
+"""A controller's decision at a Hall edge, whatever computed it (the C core, or the
+per-period Python ideal `improved_r_pp`)."""
 
 from __future__ import annotations
 
@@ -23,7 +24,7 @@ class Command:
     commutation_time_s: float
     main_duty: float
     flags: int = 0
-    #: Raw integer outputs of the C core (empty for Python rules), for the report.
+    #: The C core's inputs ("in." keys) and outputs (empty for the Python ideal).
     core_outputs: dict[str, int] = field(default_factory=dict)
 
     def on_duty(self, period: int) -> float:

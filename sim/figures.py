@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from sim.runs import METHODS
+from sim.runs import IDEAL_METHODS, IMPROVED_R, METHODS
 from sim.scenario import Case
 from sim.sweep import DEFAULT_SHAPE, POINT_POLICIES, STEADY, OperatingPoint, Results
 
@@ -25,6 +25,7 @@ METHOD_COLOURS = {
     "conventional": "tab:orange",
     "improved": "tab:blue",
     "improved_r": "tab:green",
+    "improved_r_pp": "tab:cyan",
     "optimum": "black",
 }
 PHASE_COLOURS = ("tab:red", "tab:olive", "tab:purple")
@@ -111,7 +112,7 @@ def _speed_marks(ax: plt.Axes, results: Results, boundary_r_rpm: float) -> None:
 
 def deviation_figure(results: Results, boundary_r_rpm: float, out: Path) -> str:
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True)
-    for method in METHODS:
+    for method in (*METHODS, *IDEAL_METHODS):
         colour = METHOD_COLOURS[method]
         speeds, worst = _series(
             results,
@@ -165,6 +166,41 @@ def deviation_figure(results: Results, boundary_r_rpm: float, out: Path) -> str:
         _speed_marks(ax, results, boundary_r_rpm)
     fig.tight_layout()
     name = "deviation_vs_speed.png"
+    _save(fig, out / name)
+    return name
+
+
+def target_figure(
+    results: Results, low_rpm: float, high_rpm: float, tolerance_pct: float, out: Path
+) -> str:
+    """The paper's rule and the resistance-aware C core on one axis, against the target;
+    the lower panel is the same axis zoomed to twice the tolerance."""
+    fig, axes = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)
+    match = {"model": "switched", "emf_shape": DEFAULT_SHAPE, "duty_policy": STEADY}
+    for ax in axes:
+        for method, style in (("improved", "-o"), (IMPROVED_R, "-^"), (IDEAL_METHODS[0], ":")):
+            speeds, worst = _series(results, method, "deviation_worst_pct", **match)
+            ax.plot(speeds, worst, style, color=METHOD_COLOURS[method], ms=4, label=method)
+            rows = results.rows(method=method, **match)
+            clamped = np.array(["TIME_CLAMPED" in r.flags for r in rows], dtype=bool)
+            if clamped.any():
+                ax.plot(speeds[clamped], worst[clamped], "x", color="k", ms=7)
+        ax.axhspan(-tolerance_pct, tolerance_pct, color="tab:green", alpha=0.12)
+        ax.axvspan(low_rpm, high_rpm, color="0.85", alpha=0.35, lw=0)
+        ax.grid(alpha=0.3)
+    top, zoom = axes
+    zoom.set_ylim(-2.0 * tolerance_pct, 2.0 * tolerance_pct)
+    top.set_ylabel("worst per-period deviation\nof |i_nc| (% of I)")
+    zoom.set_ylabel("zoom to +-2x the tolerance (%)")
+    zoom.set_xlabel("speed (rpm); grey: the target's speed range; x: core flag TIME_CLAMPED")
+    top.set_title(
+        f"switched plant, trapezoidal EMF, I = {results.drive.braking_current_a:g} A, "
+        f"{results.drive.pwm_frequency_hz / 1e3:g} kHz; green band: +-{tolerance_pct:g} %",
+        fontsize=9,
+    )
+    top.legend(fontsize=7)
+    fig.tight_layout()
+    name = "target_vs_speed.png"
     _save(fig, out / name)
     return name
 
@@ -247,7 +283,7 @@ def optimum_figure(results: Results, out: Path) -> str:
     speeds = np.array([r.optimum.speed_rpm for r in rows])
     top.plot(speeds, [r.optimum.on_duty for r in rows], "k-o", ms=3, label="Ipopt optimum D_on")
     top.plot(speeds, [r.optimum.off_duty for r in rows], "k--s", ms=3, label="Ipopt optimum D_off")
-    for method, marker in (("improved", "o"), ("improved_r", "^")):
+    for method, marker in (("improved", "o"), (IMPROVED_R, "^")):
         match = {"model": "averaged", "emf_shape": DEFAULT_SHAPE, "duty_policy": STEADY}
         sweep_rows = [
             r for r in results.rows(method=method, **match) if r.speed_rpm in set(speeds.tolist())
@@ -275,7 +311,7 @@ def optimum_figure(results: Results, out: Path) -> str:
     top.set_ylabel("duty")
     top.legend(fontsize=7, ncol=2)
     top.grid(alpha=0.3)
-    for key in ("optimum", *METHODS):
+    for key in ("optimum", *METHODS, *IDEAL_METHODS):
         values = [abs(r.worst_pct[key]) for r in rows]
         bottom.semilogy(
             speeds, np.maximum(values, 1e-3), "-o", ms=3, color=METHOD_COLOURS[key], label=key
@@ -290,8 +326,16 @@ def optimum_figure(results: Results, out: Path) -> str:
     return name
 
 
-def all_figures(results: Results, boundary_r_rpm: float, out: Path) -> dict[str, str]:
-    """Write every figure into `out`; returns key -> file name."""
+def all_figures(
+    results: Results,
+    boundary_r_rpm: float,
+    target: tuple[float, float, float],
+    out: Path,
+) -> dict[str, str]:
+    """Write every figure into `out`; returns key -> file name.
+
+    target: (low rpm, high rpm, tolerance %) of the resistance-aware method's target.
+    """
     out.mkdir(parents=True, exist_ok=True)
     names: dict[str, str] = {}
     for point in results.operating:
@@ -300,6 +344,7 @@ def all_figures(results: Results, boundary_r_rpm: float, out: Path) -> dict[str,
                 key = f"currents:{point.speed_rpm:g}:{method}:{policy}"
                 names[key] = currents_figure(point, method, policy, out)
     names["deviation"] = deviation_figure(results, boundary_r_rpm, out)
+    names["target"] = target_figure(results, *target, out)
     names["commutation_time"] = commutation_time_figure(results, out)
     names["switching"] = switching_figure(results, out)
     names["optimum"] = optimum_figure(results, out)

@@ -2,10 +2,11 @@
 
 The controller sees what the firmware sees: the measured current is the pre-edge
 period average (what a PWM-centred ADC sample gives) rounded to ADC codes, the main
-duty is rounded to TIM1 counts. The paper's three methods are the generated C core;
-`improved_r` is the Python rule of `sim.improved_r` (its C chain is pending);
-`improved_r_fw` is its firmware form (one constant pair, the integer prototype of
-`codegen.improved_r_rule`).
+duty is rounded to TIM1 counts. Every method of `METHODS` is the generated C core:
+the paper's three and the resistance-aware `improved_r` (one constant duty pair per
+commutation, t_com by bisection on the turn-off current). `improved_r_pp`
+(`sim.improved_r_pp`) is no firmware: the same rule re-solved every PWM period along the
+EMF ramp in Python, the per-period ideal the constant pair is compared with.
 """
 
 from __future__ import annotations
@@ -14,17 +15,20 @@ from dataclasses import dataclass
 
 from codegen.spec_model import Spec
 from sim.command import Command
-from sim.improved_r import METHOD as IMPROVED_R
-from sim.improved_r import improved_r_command
-from sim.improved_r_fw import METHOD as IMPROVED_R_FW
-from sim.improved_r_fw import improved_r_fw_command
+from sim.improved_r_pp import METHOD as IMPROVED_R_PP
+from sim.improved_r_pp import improved_r_pp_command
 from sim.metrics import CommutationMetrics, commutation_end, measure
 from sim.scenario import Case, PlantModel, run_case
 from sim.sil import CoreSet, core_command
 from sim.trace import Trace
 
-C_METHODS: tuple[str, ...] = ("none", "conventional", "improved")
-METHODS: tuple[str, ...] = (*C_METHODS, IMPROVED_R)
+#: The resistance-aware rule beyond the paper (`controller.method: improved_r`).
+IMPROVED_R = "improved_r"
+C_METHODS: tuple[str, ...] = ("none", "conventional", "improved", IMPROVED_R)
+#: The methods the report simulates everywhere: the firmware's, all through the C core.
+METHODS: tuple[str, ...] = C_METHODS
+#: Comparison lines that are no firmware (the sweep and the optimum table only).
+IDEAL_METHODS: tuple[str, ...] = (IMPROVED_R_PP,)
 #: Carrier periods simulated after the commutation, so its end is inside the run.
 TAIL_PERIODS = 3
 
@@ -58,12 +62,8 @@ class Controller:
         return round(min(max(duty, 0.0), 1.0) * self.period_counts) / self.period_counts
 
     def command(self, method: str, case: Case, main_duty: float) -> Command:
-        if method == IMPROVED_R_FW:  # not in METHODS (yet): the reports stay as they are
-            return improved_r_fw_command(
-                self.spec, case, self.measured_current(case), self.quantised_duty(main_duty)
-            )
-        if method == IMPROVED_R:
-            return improved_r_command(
+        if method == IMPROVED_R_PP:
+            return improved_r_pp_command(
                 case,
                 self.measured_current(case),
                 self.quantised_duty(main_duty),

@@ -1,5 +1,6 @@
 """Everything the report shows, computed once: the speed sweep, the operating points,
-Table 4's switching counts, and the Ipopt optimum at sampled speeds.
+Table 4's switching counts, the Ipopt optimum at sampled speeds, and where the cores
+clamp the commutation time.
 
 Main duty: in the sweep the main duty is the one that holds the braking current
 between commutations (`Drive.steady_duty`, what a settled current loop outputs). The
@@ -19,13 +20,13 @@ from tqdm import tqdm
 
 from codegen.audit.transcription import Table4Row, load_transcription
 from codegen.spec_model import Spec
+from sim.clamp import ClampScan, clamp_scans
 from sim.command import Command
 from sim.drive import Drive
 from sim.emf import EmfShape
-from sim.improved_r import METHOD as IMPROVED_R
 from sim.metrics import CommutationMetrics
 from sim.optimise import Optimum, optimise
-from sim.runs import METHODS, Controller, Run, simulate
+from sim.runs import IDEAL_METHODS, METHODS, Controller, Run, simulate
 from sim.scenario import Case, PlantModel, paper_edge
 from sim.sil import prepare_cores
 
@@ -50,6 +51,8 @@ class SweepRow:
     commanded_time_s: float
     flags: tuple[str, ...]
     metrics: CommutationMetrics
+    #: The C core's inputs ("in." keys) and outputs; empty for the Python ideal.
+    core_outputs: dict[str, int] = field(default_factory=dict)
 
 
 #: Operating-point runs: at the steady-state main duty every method; at the spec's
@@ -89,6 +92,7 @@ class Results:
     operating: tuple[OperatingPoint, ...]
     optima: tuple[OptimumRow, ...]
     table4: tuple[Table4Row, ...]
+    clamps: tuple[ClampScan, ...]
     seconds: dict[str, float] = field(default_factory=dict)
 
     def rows(self, **match: object) -> list[SweepRow]:
@@ -115,7 +119,7 @@ class _Job:
 def _jobs(speeds: tuple[float, ...], fixed_duties: tuple[float, ...]) -> list[_Job]:
     jobs: list[_Job] = []
     for speed in speeds:
-        for method in METHODS:
+        for method in (*METHODS, *IDEAL_METHODS):
             jobs.append(_Job(speed, method, "switched", DEFAULT_SHAPE, STEADY))
             jobs.append(_Job(speed, method, "averaged", DEFAULT_SHAPE, STEADY))
             jobs.append(_Job(speed, method, "switched", "flat", STEADY))
@@ -141,6 +145,7 @@ def _row(controller: Controller, drive: Drive, job: _Job) -> SweepRow:
         commanded_time_s=command.commutation_time_s,
         flags=controller.flag_names(command),
         metrics=run.metrics,
+        core_outputs=command.core_outputs,
     )
 
 
@@ -188,7 +193,7 @@ def _optimum_row(controller: Controller, drive: Drive, speed: float, shape: EmfS
         main_duty=improved.main_duty,
     )
     worst["optimum"] = simulate(case, best, "averaged").metrics.deviation_worst_pct
-    for method in METHODS:
+    for method in (*METHODS, *IDEAL_METHODS):
         command = controller.command(method, case, case.pre_edge_duty)
         worst[method] = simulate(case, command, "averaged").metrics.deviation_worst_pct
     return OptimumRow(optimum, shape, worst)
@@ -199,7 +204,7 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     drive = Drive.from_spec(spec)
-    cores = prepare_cores(spec, tuple(m for m in METHODS if m != IMPROVED_R))
+    cores = prepare_cores(spec, METHODS)
     controller = Controller(spec, cores)
     seconds["cores"] = time.perf_counter() - clock
 
@@ -248,6 +253,7 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     sweep = timed("sweep", do_sweep)
     operating = timed("operating points", do_operating)
     optima = timed("optimiser", do_optima)
+    clamps = timed("clamp scan", lambda: clamp_scans(controller, drive, spec))
     bar.close()
     seconds["total"] = time.perf_counter() - clock
     return Results(
@@ -257,5 +263,6 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
         operating=tuple(operating),  # type: ignore[arg-type]
         optima=tuple(optima),  # type: ignore[arg-type]
         table4=load_transcription().table4,
+        clamps=clamps,  # type: ignore[arg-type]
         seconds=seconds,
     )

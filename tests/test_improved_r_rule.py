@@ -27,9 +27,9 @@ from codegen.improved_r_rule.table import error_at, lookup
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from sim.drive import Drive
-from sim.improved_r_fw import improved_r_fw_command
-from sim.runs import simulate
+from sim.runs import Controller, simulate
 from sim.scenario import Case, paper_edge
+from sim.sil import prepare_cores
 
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = ("paper_motor.yaml", "example_maxon_ec45_flat_48v.yaml")
@@ -117,17 +117,32 @@ def test_rule_should_flag_what_it_cannot_do(design: RuleDesign) -> None:
 
 
 @pytest.mark.parametrize("speed", [500.0, 3000.0, 4600.0])
-def test_firmware_rule_should_hold_the_current_within_3_percent(speed: float) -> None:
-    spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+def test_firmware_rule_should_hold_the_current_within_3_percent(
+    spec: Spec, design: RuleDesign, speed: float
+) -> None:
+    """The generated C core (`improved_r`, through sim's software in the loop) at the
+    simulated edge: bit for bit the integer prototype, and on the paper's motor within
+    3 % in the switched plant."""
+    controller = Controller(spec, prepare_cores(spec, ("improved_r",)))
     drive = Drive.from_spec(spec)
     case = Case(drive, paper_edge(), speed, drive.braking_current_a, "trapezoidal")
-    per_code = float(scaling(spec, derive()).amps_per_current_code)
-    measured = round(case.current_a / per_code) * per_code
-    command = improved_r_fw_command(spec, case, measured, case.pre_edge_duty)
-    assert command.constant_duties and not command.flags
-    run = simulate(case, command, "switched")
-    assert run.metrics.finished
-    assert abs(run.metrics.deviation_worst_pct) <= 3.0
+    command = controller.command("improved_r", case, case.pre_edge_duty)
+    raw = command.core_outputs
+    inputs = RuleInputs(
+        raw["in.hall_period_ticks"], raw["in.bus_voltage_adc"], raw["in.phase_current_adc"]
+    )
+    prototype = run_fixed(design.rule, inputs).outputs
+    assert (raw["turn_on_compare"], raw["turn_off_compare"], raw["commutation_ticks"]) == (
+        prototype.on_counts,
+        prototype.off_counts,
+        prototype.commutation_ticks,
+    )
+    assert command.constant_duties and not prototype.flags
+    assert controller.flag_names(command) in ((), ("HIGH_SPEED",))
+    if spec.name == "paper_motor":
+        run = simulate(case, command, "switched")
+        assert run.metrics.finished
+        assert abs(run.metrics.deviation_worst_pct) <= 3.0
 
 
 def test_loop_intermediates_should_stay_inside_their_proven_ranges(design: RuleDesign) -> None:

@@ -1,4 +1,8 @@
-"""The resistance-aware rule as a controller: `improved_r` (Python only, for now).
+"""`improved_r_pp`: the resistance-aware rule re-solved every PWM period (Python only).
+
+No firmware runs this: the shipped `improved_r` is the generated C core, which holds
+one constant duty pair per commutation. This is its per-period ideal, the comparison
+line that shows what the constant pair gives away.
 
 At the Hall edge it knows what the C core knows (speed from the Hall period, bus
 voltage, the measured current I) plus R, L and the EMF shape of the motor model. For
@@ -25,7 +29,7 @@ from sim.resistance import numeric_rule
 from sim.scenario import Case
 from sim.schedule import switch_index
 
-METHOD = "improved_r"
+METHOD = "improved_r_pp"
 
 
 def _canonical(case: Case, emf: BackEmf, t: float) -> tuple[float, float, float]:
@@ -44,21 +48,17 @@ def _quantised(duty: float, period_counts: int) -> float:
     return round(min(max(duty, 0.0), 1.0) * period_counts) / period_counts
 
 
-def improved_r_command(
+def improved_r_pp_command(
     case: Case,
     measured_current_a: float,
     main_duty: float,
     period_counts: int,
     hall_clock_hz: float,
-    rule_emf: BackEmf | None = None,
 ) -> Command:
-    """Duties per carrier period and the commutation time, from the derived rule.
-
-    rule_emf: the EMF the controller assumes (default: the plant's own model).
-    """
+    """Duties per carrier period and the commutation time, from the derived rule."""
     rule = numeric_rule()
     drive = case.drive
-    emf = rule_emf if rule_emf is not None else case.emf
+    emf = case.emf
     period = drive.pwm_period_s
     sector = case.sector_time_s
     r, ell, bus = drive.resistance_ohm, drive.inductance_h, drive.bus_voltage_v
