@@ -6,6 +6,11 @@
 * instructions and estimated Cortex-M3 cycles of the three interrupt handlers (Hall
   edge, commutation end, and the next edge's timing at low priority), run in unicorn
   over all Hall codes, both directions and a sweep of inputs (verify/isr_bench.py);
+* the same for the resistance-aware rule: the SPEC with its method replaced by
+  improved_r, generated and linked under build/bench/ (verify/rule_bench.py): flash and
+  RAM with the psi table's share, the three handlers, and the timing handler that runs
+  the rule's bisection over a sweep of the whole speed range, bus voltage and current,
+  as a share of the shortest sector; no library helper reachable from it;
 * the bus reciprocal: hardware divide (measured) against a lookup table sized for the
   accuracy target (verify/reciprocal_bench.py), and which one the budget allows;
 * the exhaustive host verification of the spec (`python -m verify`, whole run);
@@ -28,6 +33,8 @@ TARGET_REGENERATE_WARM_S = 2.0
 TARGET_VERIFY_S = 10.0
 TARGET_QEMU_S = 60.0
 TARGET_SIMULATE_S = 60.0
+#: Where the improved_r variant of the spec is generated and built.
+RULE_BENCH_DIR = Path("build") / "bench"
 
 
 def cold_audit_seconds(spec: str) -> list[float]:
@@ -109,6 +116,15 @@ def main(argv: list[str]) -> int:
     )
     for line in reciprocal.lines():
         print(f"bench: {line}")
+    from verify import rule_bench
+
+    started = time.perf_counter()
+    rule = rule_bench.run(spec, RULE_BENCH_DIR)
+    for line in rule.lines():
+        print(f"bench: {line}")
+    print(
+        f"bench: {rule_bench.METHOD} generate + build + measure {time.perf_counter() - started:.1f} s"
+    )
     seconds = module_seconds("verify", spec, "--no-progress")
     print(
         f"bench: verify (exhaustive + 20000 random + boundary, host) {seconds:.1f} s ->"

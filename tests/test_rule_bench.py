@@ -1,0 +1,179 @@
+"""The improved_r part of `make bench` (verify/rule_bench.py): the variant it builds, the
+helper check it reports and the sweep it measures the rule's handler over.
+
+Figures (instructions, cycles) are measured by `make bench`, never asserted here. What
+is asserted: the variant is the paper's improved_r spec; the timing handler and the
+core reach no library helper, and the check does find one where there is; the sweep
+covers the speed, bus and current ranges and every point of it runs the whole bisection
+and applies exactly what the generated Python twin computes.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+import shutil
+import subprocess
+from collections.abc import Iterator
+from dataclasses import replace
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+from codegen.build_firmware import build
+from codegen.derivation import derive
+from codegen.fixedpoint.scaling import scaling
+from codegen.generate import generate
+from codegen.render import PROJECT_ROOT
+from codegen.spec_loader import load_spec
+from verify.armsim import load_elf
+from verify.isr_bench import HALL_HANDLER, TIMING_HANDLER, reached_functions, timing_sweep
+from verify.rule_bench import (
+    METHOD,
+    helper_names,
+    improved_r_spec,
+    rule_sweep,
+    undefined_symbols,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "spec" / "paper_motor.yaml"
+PAPER_IMPROVED_R = ROOT / "spec" / "paper_motor_improved_r.yaml"
+#: The rule's bisection in the generated core (one call per step).
+BISECTION_STEP = "bldc_current_remains"
+
+pytestmark = pytest.mark.skipif(
+    shutil.which("arm-none-eabi-gcc") is None, reason="arm-none-eabi-gcc missing"
+)
+
+
+@pytest.fixture(scope="module")
+def variant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Path, Path, Path]]:
+    """(spec, generated folder, build folder) of the paper motor's improved_r variant,
+    made the way `make bench` makes it."""
+    work = tmp_path_factory.mktemp("rule_bench")
+    spec = improved_r_spec(PAPER, work)
+    generated, build_dir = work / "generated", work / "build"
+    generate(spec, generated, PROJECT_ROOT)
+    build(generated, build_dir)
+    yield spec, generated, build_dir
+
+
+def _twin(generated: Path) -> ModuleType:
+    loader = importlib.util.spec_from_file_location(
+        "bldc_fixed_rule_bench", generated / "python" / "bldc_fixed.py"
+    )
+    assert loader is not None and loader.loader is not None
+    module = importlib.util.module_from_spec(loader)
+    loader.loader.exec_module(module)
+    return module
+
+
+def test_variant_should_be_the_paper_motor_with_the_improved_r_method(tmp_path: Path) -> None:
+    made = load_spec(improved_r_spec(PAPER, tmp_path))
+    checked_in = load_spec(PAPER_IMPROVED_R)
+    assert made.controller.method == METHOD
+    assert made.name == checked_in.name
+    for part in ("motor", "inverter", "hall", "adc", "controller", "accuracy"):
+        assert getattr(made, part) == getattr(checked_in, part), part
+    assert made.operating_points == checked_in.operating_points
+    # a spec that already has the method is measured as it is
+    assert improved_r_spec(PAPER_IMPROVED_R, tmp_path) == PAPER_IMPROVED_R
+
+
+def test_timing_handler_and_core_should_reach_no_library_helper(
+    variant: tuple[Path, Path, Path],
+) -> None:
+    _, generated, build_dir = variant
+    image = load_elf(build_dir / "firmware.elf")
+    reached, indirect = reached_functions(image, TIMING_HANDLER)
+    # the walk really follows the calls into the core, down to the bisection step
+    assert {"bldc_bus_condition", "bldc_commutation_timing", TIMING_HANDLER} <= reached
+    assert BISECTION_STEP in reached or BISECTION_STEP not in image.symbols
+    assert not indirect
+    assert helper_names(reached) == frozenset()
+    functions = {s.name for s in image.symbols.values() if s.is_function}
+    assert helper_names(functions) == frozenset()  # none linked at all
+    # the core object calls nothing outside itself (no __aeabi_*div*, __aeabi_l*, float)
+    assert undefined_symbols(build_dir / "core.o") == frozenset()
+    # the Hall edge does no arithmetic: it reaches no core function
+    hall, _ = reached_functions(image, HALL_HANDLER)
+    assert not any(name.startswith("bldc_") for name in hall)
+    # the C really is the bisection with 64-bit products the check must see through
+    source = (generated / "c" / "bldc_commutation.c").read_text()
+    assert "int64_t" in source and "bldc_psi_complement" in source
+
+
+def test_helper_check_should_find_helpers_where_there_are(tmp_path: Path) -> None:
+    """The same check on a handler that divides 64-bit integers and multiplies floats."""
+    (tmp_path / "s.c").write_text(
+        "unsigned long long divide(unsigned long long a, unsigned long long b)"
+        " { return a / b; }\n"
+        "float scale(float a) { return a * 3.0f; }\n"
+        "unsigned long long handler(unsigned long long a, unsigned long long b)"
+        " { return divide(a, b) + (unsigned long long)scale((float)a); }\n"
+    )
+    flags = ["-mcpu=cortex-m3", "-mthumb", "-O2"]
+    subprocess.run(
+        ["arm-none-eabi-gcc", *flags, "-c", "s.c", "-o", "s.o"], cwd=tmp_path, check=True
+    )
+    subprocess.run(
+        ["arm-none-eabi-gcc", *flags, "-nostdlib", "-Wl,-e,handler", "s.o", "-lgcc", "-o", "s.elf"],
+        cwd=tmp_path,
+        check=True,
+    )
+    reached, _ = reached_functions(load_elf(tmp_path / "s.elf"), "handler")
+    assert {"__aeabi_uldivmod", "__aeabi_fmul"} <= helper_names(reached)
+    assert {"__aeabi_uldivmod", "__aeabi_fmul"} <= helper_names(undefined_symbols(tmp_path / "s.o"))
+
+
+def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
+    variant: tuple[Path, Path, Path],
+) -> None:
+    spec_path, generated, build_dir = variant
+    spec = load_spec(spec_path)
+    sc = scaling(spec, derive())
+    within, saturated = rule_sweep(spec_path)
+    # the whole speed range, the slowest periods included, and the counter's full range
+    assert within.periods[0] == sc.period_min_ticks
+    assert sc.period_max_ticks in within.periods
+    assert within.periods[-1] == sc.period_cap_ticks
+    assert len(within.periods) >= 24
+    assert (within.buses[0], within.buses[-1]) == (sc.bus_code_min, sc.bus_code_max)
+    offset = sc.current_offset_code
+    assert within.currents == (offset, offset + 310, offset + sc.current_code_max)  # 0, 5, 10 A
+    assert saturated.currents == (sc.adc_full_scale - 1,)
+
+    steps = int(
+        re.search(r"#define STEPS (\d+)u", (generated / "c" / "bldc_commutation.c").read_text())[1]
+    )
+    twin = _twin(generated)
+    octaves: set[int] = set()
+    psi = twin.psi
+
+    def watched_psi(y: int) -> tuple[int, int]:
+        octaves.add((y >> twin.Y_FRAC_BITS).bit_length())
+        return psi(y)
+
+    twin.psi = watched_psi
+    # the rule does not read the main duty: one of the sweep's duties keeps the test short
+    for inputs in (replace(within, duties=within.duties[1:2]), saturated):
+        result = timing_sweep(spec, build_dir / "firmware.elf", inputs)
+        assert len(result.points) == len(inputs)
+        image = load_elf(build_dir / "firmware.elf")
+        for point in result.points:
+            if BISECTION_STEP in image.symbols:
+                assert point.entries[BISECTION_STEP] in (steps, steps + 1)
+            expected = twin.commutation_timing(
+                twin.bus_condition(point.bus), point.period, point.current, point.duty
+            )
+            assert point.applied == (
+                expected.ticks,
+                tuple(sorted((expected.on, expected.off))),
+            ), point
+        ticks = {p.applied[0] for p in result.points if p.applied is not None}
+        # t_com varies over the sweep; within the spec with bus and current too
+        assert len(ticks) > (len(inputs.periods) if inputs is not saturated else 1)
+    # the bisection's table lookups run through the octaves of rho x, fast to slow
+    assert {0, 1, 2, 3, 4} <= octaves

@@ -1,0 +1,247 @@
+"""`make bench`'s figures for the resistance-aware rule (controller.method improved_r).
+
+The bench's SPEC is re-used with its method replaced by improved_r (a spec that already
+has it is used as it is), generated and linked into a folder of its own (build/bench/ by
+default), and measured with the machinery of verify/isr_bench.py:
+
+* flash and RAM of core + port, with the share of the core's largest table (the octave
+  psi table of the rule);
+* the three handlers in their order over `bench`'s sweep (the Hall edge must stay at
+  its targets: it does no arithmetic);
+* TIM1_TRG_COM_IRQHandler, which runs the rule (a K-step bisection on the turn-off
+  current with table lookups whose branches depend on the octave of rho x), once per
+  point of a denser sweep of the Hall period over the whole speed range plus the
+  counter's full range, bus min/middle/max and braking current 0/nominal/max; and
+  again with the current ADC at full scale (beyond the spec's maximum, saturated), the
+  input that can make the bisection's last check run;
+* which functions the timing handler can reach in the linked image (no library divide,
+  64-bit or float helper) and which symbols the core object leaves undefined.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import yaml
+from elftools.elf.elffile import ELFFile
+from elftools.elf.sections import SymbolTableSection
+
+from codegen.build_firmware import Sizes, build
+from codegen.derivation import derive
+from codegen.fixedpoint.scaling import scaling
+from codegen.generate import generate
+from codegen.render import PROJECT_ROOT
+from codegen.spec_loader import load_spec
+from verify.isr_bench import (
+    TIMING_HANDLER,
+    PortRig,
+    Sample,
+    Stats,
+    Sweep,
+    TimingPoint,
+    TimingSweep,
+    bench,
+    meets_hall_targets,
+    reached_functions,
+    report,
+    sector_share,
+    shortest_sector_cycles,
+    sweep,
+    timing_sweep,
+)
+
+METHOD = "improved_r"
+#: Log-spaced Hall periods of the rule sweep, top speed to slowest (the counter's full
+#: range is added).
+RULE_PERIOD_POINTS = 32
+FLASH_TARGET_BYTES = 2048
+RAM_TARGET_BYTES = 64
+
+
+def improved_r_spec(spec_path: str | Path, folder: Path) -> Path:
+    """The spec with controller.method improved_r: itself if it has it, else a copy in
+    `folder` named <name>_improved_r, identical in every other value."""
+    spec = load_spec(spec_path)
+    if spec.controller.method == METHOD:
+        return Path(spec_path)
+    data = yaml.safe_load(Path(spec_path).read_text(encoding="utf-8"))
+    data["name"] = f"{spec.name}_{METHOD}"[:64]
+    data["controller"]["method"] = METHOD
+    data["sources"]["controller.method"] = (
+        f"bench: {spec.source_path} with the method replaced by {METHOD}"
+    )
+    folder.mkdir(parents=True, exist_ok=True)
+    out = folder / f"{data['name']}.yaml"
+    out.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    return out
+
+
+def rule_sweep(spec_path: str | Path) -> tuple[Sweep, Sweep]:
+    """The timing handler's sweep within the spec (periods over the whole speed range
+    and up to the Hall counter's full range, bus min/middle/max, current 0/nominal/max,
+    duty 0/half/full), and the same periods with the current ADC at full scale."""
+    spec = load_spec(spec_path)
+    sc = scaling(spec, derive())
+    base = sweep(spec, sc, RULE_PERIOD_POINTS)
+    within = replace(base, periods=(*base.periods, sc.period_cap_ticks))
+    return within, replace(within, currents=(sc.adc_full_scale - 1,))
+
+
+def undefined_symbols(obj: Path) -> frozenset[str]:
+    """Symbols an object file uses but does not define (calls to library helpers)."""
+    with obj.open("rb") as stream:
+        elf = ELFFile(stream)
+        return frozenset(
+            entry.name
+            for table in elf.iter_sections()
+            if isinstance(table, SymbolTableSection)
+            for entry in table.iter_symbols()
+            if entry.name and entry["st_shndx"] == "SHN_UNDEF"
+        )
+
+
+def helper_names(names: Iterable[str]) -> frozenset[str]:
+    """The names that are compiler run-time helpers (libgcc / AEABI: division, 64-bit
+    shifts and multiplies, soft float): every such name starts with two underscores."""
+    return frozenset(n for n in names if n.startswith("__"))
+
+
+def largest_table(sizes: Sizes) -> tuple[str, int]:
+    """The core's largest read-only data section, name and bytes."""
+    tables = [(k, v) for k, v in sizes.sections.items() if k.startswith(".rodata")]
+    return max(tables, key=lambda t: t[1], default=("none", 0))
+
+
+def point_breakdown(spec_path: str | Path, elf: Path, point: TimingPoint) -> dict[str, Sample]:
+    """The timing handler at one sweep point again, its cost split by the function each
+    step ran in (the timing is a pure function of the port's inputs, so the run repeats
+    the sweep's)."""
+    rig = PortRig(load_spec(spec_path), elf)
+    rig.set_inputs(point.bus, point.current, point.duty)
+    rig.hall_edge(rig.spec.hall.sequence[0], point.period)
+    result = rig.timing()
+    if result.instructions != point.cost.instructions:
+        raise AssertionError("the timing handler did not repeat its sweep run")
+    functions = sorted((rig.image.symbol(name) for name in point.entries), key=lambda s: -s.size)
+    return {s.name: rig.part(result, s) for s in functions}
+
+
+@dataclass(frozen=True)
+class RuleBench:
+    spec: Path  # the improved_r spec measured
+    generated: Path
+    build_dir: Path
+    sizes: dict[str, Sizes]
+    handlers: Stats  # `bench` on the image
+    within: TimingSweep  # inputs within the spec
+    saturated: TimingSweep  # current ADC at full scale
+    breakdown: dict[str, Sample]  # the worst point of `within`, by function
+    reached: frozenset[str]  # from the timing handler, static call graph
+    indirect: bool
+    core_undefined: frozenset[str]
+    sector_cycles: int
+
+    def lines(self) -> list[str]:
+        name = load_spec(self.spec).name
+        core, port = self.sizes["core"], self.sizes["port"]
+        code, ram = core.flash + port.flash, core.ram + port.ram
+        table, table_bytes = largest_table(core)
+        meets = code <= FLASH_TARGET_BYTES and ram <= RAM_TARGET_BYTES
+        lines = [
+            f"{METHOD} variant {name} ({self.spec}, generated into {self.generated}):",
+            f"{METHOD} core + port flash {code} B (core {core.flash}, port {port.flash}), RAM"
+            f" {ram} B -> {'meets' if meets else 'MISSES'} the 2 KiB / 64 B target; the"
+            f" largest table {table} {table_bytes} B = {100.0 * table_bytes / code:.1f} %"
+            f" of it (without it {code - table_bytes} B); whole image"
+            f" {self.sizes['firmware.elf'].flash} B flash, {self.sizes['firmware.elf'].ram} B RAM",
+        ]
+        handler_lines = report(self.handlers, self.sector_cycles)
+        hall = self.handlers[0]
+        handler_lines[0] += f" -> {'meets' if meets_hall_targets(hall) else 'MISSES'}"
+        lines += [f"{METHOD} {line}" for line in handler_lines]
+        lines += self._sweep_lines(self.within, "rule sweep")
+        worst = self.within.worst
+        parts = ", ".join(
+            f"{fn} {worst.entries[fn]}x {s.instructions} instructions {s.cycles_worst} cycles"
+            + (
+                f" ({s.cycles_worst / worst.entries[fn]:.0f} per call)"
+                if worst.entries[fn] > 1
+                else ""
+            )
+            for fn, s in self.breakdown.items()
+            if fn != TIMING_HANDLER
+        )
+        lines.append(f"{METHOD}   worst call by function (no entry/exit): {parts}")
+        lines += self._sweep_lines(
+            self.saturated, "current ADC at full scale, beyond the spec's max"
+        )
+        helpers = helper_names(self.reached) | helper_names(self.core_undefined)
+        lines.append(
+            f"{METHOD} helpers reachable from {TIMING_HANDLER}:"
+            f" {', '.join(sorted(helpers)) or 'none'} (static call graph:"
+            f" {', '.join(sorted(self.reached))}"
+            f"{'; INDIRECT branches' if self.indirect else '; no indirect branch'});"
+            f" the core object references"
+            f" {', '.join(sorted(self.core_undefined)) or 'no external symbol'}"
+        )
+        return lines
+
+    def _sweep_lines(self, result: TimingSweep, title: str) -> list[str]:
+        stats = result.stats
+        worst = result.worst
+        calls = {
+            fn: sorted({p.entries[fn] for p in result.points}) for fn in sorted(result.functions())
+        }
+        entered = ", ".join(
+            f"{fn} {c[0]}" if len(c) == 1 else f"{fn} {c[0]}..{c[-1]}"
+            for fn, c in calls.items()
+            if fn != TIMING_HANDLER
+        )
+        applied = [p.applied for p in result.points if p.applied is not None]
+        ticks = sorted({a[0] for a in applied})
+        return [
+            f"{METHOD} {TIMING_HANDLER}, {title} ({result.inputs.describe()}):"
+            f" {stats.calls} calls; instructions worst {stats.instructions_worst} mean"
+            f" {stats.instructions_mean:.1f}; cycles worst {stats.cycles_worst} mean"
+            f" {stats.cycles_mean:.1f}{sector_share(stats.cycles_worst, self.sector_cycles)};"
+            f" worst at T = {worst.period} ticks, bus code {worst.bus}, current code"
+            f" {worst.current}",
+            f"{METHOD}   per call: {entered} (entries); {len(set(applied))} distinct applied"
+            f" (t_com, duties) in {len(applied)} applied edges, t_com {ticks[0]}..{ticks[-1]}"
+            f" ticks"
+            if ticks
+            else f"{METHOD}   per call: {entered} (entries); no edge applied a timing",
+        ]
+
+
+def run(spec_path: str | Path, work: Path) -> RuleBench:
+    """Generate, build and measure the improved_r variant of `spec_path` under `work`."""
+    variant = improved_r_spec(spec_path, work)
+    spec = load_spec(variant)
+    generated = work / spec.name
+    build_dir = work / f"{spec.name}.build"
+    generate(variant, generated, PROJECT_ROOT)
+    sizes = build(generated, build_dir)
+    handlers = bench(variant, generated, build_dir)
+    elf = build_dir / "firmware.elf"
+    within_inputs, saturated_inputs = rule_sweep(variant)
+    within = timing_sweep(spec, elf, within_inputs)
+    saturated = timing_sweep(spec, elf, saturated_inputs)
+    rig = PortRig(spec, elf)
+    reached, indirect = reached_functions(rig.image, TIMING_HANDLER)
+    return RuleBench(
+        spec=variant,
+        generated=generated,
+        build_dir=build_dir,
+        sizes=sizes,
+        handlers=handlers,
+        within=within,
+        saturated=saturated,
+        breakdown=point_breakdown(variant, elf, within.worst),
+        reached=reached,
+        indirect=indirect,
+        core_undefined=undefined_symbols(build_dir / "core.o"),
+        sector_cycles=shortest_sector_cycles(variant),
+    )
