@@ -104,6 +104,18 @@ def cmd_generate(args: argparse.Namespace) -> int:
         f"generate: {len(result.files)} files -> {project_relative(out)}"
         f" [{time.perf_counter() - started:.2f} s]"
     )
+    if result.spec.controller.method == "improved_r":
+        from codegen.improved_r_rule.context import rule_design
+
+        rule = rule_design(result.spec, fx.scaling)
+        print(
+            f"generate: improved_r, counts in Q{rule.rule.counts_frac_bits},"
+            f" {rule.rule.steps}-step bisection, psi table {rule.rule.table.entries} rows"
+            f" ({rule.rule.table.flash_bytes} B); error bounds over the design grid: duties"
+            f" {rule.duty_bound:.3f} counts, t_com {rule.ticks_bound:.2f} ticks"
+            f" ({rule.time_ratio:.2f} of max(target, t_half))"
+        )
+        return 0
     print(
         f"generate: X in Q{fx.x_frac_bits}; error bounds: duties"
         f" {float(fx.duty_error_bound_counts):.3f} counts, t_com"

@@ -11,7 +11,7 @@ import sympy as sp
 from codegen.derivation.paper import Derivation
 from codegen.fixedpoint.design import FixedPointDesign
 from codegen.improved_r_rule.context import rule_context
-from codegen.spec_model import Spec
+from codegen.spec_model import Spec, uses_main_duty
 
 NO_SWITCH = 0xFF
 INVALID_SECTOR = 0xFF
@@ -37,11 +37,6 @@ def edge_of_hall_pair(sequence: tuple[int, ...]) -> list[int]:
             elif before == (after + 1) % 6:
                 table[(previous << 3) | code] = edge_index("reverse", after)
     return table
-
-
-def uses_main_duty(method: str) -> bool:
-    """Whether the method's commutation duties depend on the current controller's duty."""
-    return method in ("none", "conventional")
 
 
 def core_context(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> dict[str, object]:

@@ -16,10 +16,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from codegen.core_context import edge_index, edge_of_hall_pair, uses_main_duty
+from codegen.core_context import edge_index, edge_of_hall_pair
 from codegen.derivation import derive
 from codegen.render import provenance, render
-from codegen.spec_model import Spec
+from codegen.spec_model import Spec, uses_main_duty
 from codegen.svd import REGS_HEADER, render_regs_header
 
 PORT_HEADER_TEMPLATE = "c/stm32f103_port.h.j2"

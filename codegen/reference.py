@@ -17,7 +17,7 @@ arithmetic.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from fractions import Fraction
 
 import numpy as np
@@ -28,7 +28,11 @@ from codegen.derivation import symbols as s
 from codegen.derivation.paper import Derivation
 from codegen.fixedpoint.design import FixedPointDesign
 from codegen.fixedpoint.scaling import Scaling
-from codegen.spec_model import Spec
+from codegen.improved_r_rule.constants import RuleConstants, rule_constants
+from codegen.improved_r_rule.reference import FLAG_ABOVE_BUS as RULE_ABOVE_BUS
+from codegen.improved_r_rule.reference import FLAG_CANNOT_HOLD as RULE_CANNOT_HOLD
+from codegen.improved_r_rule.reference import ReferenceBatch, reference_batch
+from codegen.spec_model import Spec, uses_main_duty
 
 FLAG_HIGH_SPEED = 0x01
 FLAG_FAIL_AREA_CLAMPED = 0x02
@@ -77,6 +81,8 @@ class ExactModel:
     off_low: object
     off_conventional: object  # (E, U_d, D_on)
     time_denominator: object  # W in volts: Eq. 20 = 3 I L / W, (E, U_d, D_on, D_off)
+    #: improved_r: the resistance-aware rule's exact constants (None for the paper's methods)
+    rule: RuleConstants | None = None
 
     # ------------------------------------------------------------------ decisions
 
@@ -114,11 +120,24 @@ class ExactModel:
         emf = float(self.k_e * self.speed_per_tick) / period.astype(np.float64)
         return emf, float(self.volts_per_code) * bus.astype(np.float64)
 
+    def rule_batch(self, period: Ints, bus: Ints, current: Ints) -> ReferenceBatch:
+        """The resistance-aware rule in real arithmetic at every point (evaluated once per
+        distinct (T, B, C): the verifier's sets repeat them across the 12 edges)."""
+        if self.rule is None:
+            raise ValueError(f"method {self.method!r} has no resistance-aware rule")
+        mask = 0xFFFF  # the core's inputs are 16-bit: one int64 key per point
+        keys = (period.ravel() & mask) << 32 | (bus.ravel() & mask) << 16 | (current.ravel() & mask)
+        unique, inverse = np.unique(keys, return_inverse=True)
+        batch = reference_batch(self.rule, unique >> 32, (unique >> 16) & mask, unique & mask)
+        return ReferenceBatch(
+            *(getattr(batch, f.name)[inverse.ravel()] for f in fields(ReferenceBatch))
+        )
+
     def duties(
         self, period: Ints, bus: Ints, main: Ints
     ) -> tuple[Floats, Floats, npt.NDArray[np.bool_]]:
-        """Exact (D_on, D_off) in counts, clamped to [0, P] as a duty must be, and the
-        high-speed segment. `bus` is the saturated bus code."""
+        """Exact (D_on, D_off) in counts of the paper's methods, clamped to [0, P] as a
+        duty must be, and the high-speed segment. `bus` is the saturated bus code."""
         emf, u_d = self.emf_and_bus(period, bus)
         high = self.high_speed(period, bus).astype(bool)
         p = float(self.period_counts)
@@ -184,6 +203,7 @@ class Expected:
     flags: Ints  # every flag but FLAG_TIME_CLAMPED, which depends on t_com
     active: npt.NDArray[np.bool_]  # a commutation is applied (not the safe state)
     bus: Ints  # the saturated bus code the duties and t_com were evaluated at
+    rule: ReferenceBatch | None  # improved_r: the rule at every point (x_c, S, flags)
 
 
 def expected(
@@ -211,7 +231,12 @@ def expected(
     saturated_bus = np.clip(bus, model.bus_min, model.bus_max)
     unsafe = (period < model.period_min) | (bus > model.bus_max)
     active = valid & ~unsafe
-    on, off, high = model.duties(np.maximum(period, 1), saturated_bus, main)
+    batch = None
+    if model.rule is not None:
+        batch = model.rule_batch(np.maximum(period, 1), saturated_bus, current)
+        on, off, high = batch.on_exact, batch.off_exact, batch.total < model.period_counts
+    else:
+        on, off, high = model.duties(np.maximum(period, 1), saturated_bus, main)
     i_code = current - model.current_offset
     out_of_range = (
         (bus < model.bus_min)
@@ -219,7 +244,7 @@ def expected(
         | (i_code < 0)
         | (i_code > model.current_code_max)
     )
-    if model.method != "improved":
+    if uses_main_duty(model.method):
         out_of_range |= main > model.period_counts
     flags = np.where(out_of_range, FLAG_INPUT_SATURATED, 0) | np.where(high, FLAG_HIGH_SPEED, 0)
     if model.method == "conventional":
@@ -229,6 +254,10 @@ def expected(
             ),
             FLAG_FAIL_AREA_CLAMPED,
             0,
+        )
+    if batch is not None:
+        flags |= np.where(
+            (batch.flags & (RULE_CANNOT_HOLD | RULE_ABOVE_BUS)) != 0, FLAG_FAIL_AREA_CLAMPED, 0
         )
     flags = np.where(active, flags, np.where(valid, FLAG_INPUT_SATURATED, FLAG_INVALID_HALL))
     zero = np.zeros(n)
@@ -241,6 +270,7 @@ def expected(
         flags=flags.astype(np.int64),
         active=active,
         bus=saturated_bus,
+        rule=batch,
     )
 
 
@@ -310,8 +340,10 @@ def build_model(spec: Spec, derivation: Derivation, sc: Scaling) -> ExactModel:
                 int(e.modulated_on[1:]) - 1,
                 int(e.modulated_off[1:]) - 1,
             )
+    method = spec.controller.method
     return ExactModel(
-        method=spec.controller.method,
+        rule=rule_constants(spec, sc) if method == "improved_r" else None,
+        method=method,
         period_counts=sc.period_counts,
         hall_sequence=tuple(spec.hall.sequence),
         edge_switches=switches,

@@ -17,6 +17,12 @@ EmfConvention = Literal["phase", "line_to_line"]
 COMMUTATION_METHODS: tuple[str, ...] = ("improved", "conventional", "none", "improved_r")
 
 
+def uses_main_duty(method: str) -> bool:
+    """Whether the method's commutation duties follow the current controller's main duty
+    (the improved rules hold the current by themselves)."""
+    return method in ("none", "conventional")
+
+
 @dataclass(frozen=True)
 class Motor:
     rated_voltage_v: Fraction

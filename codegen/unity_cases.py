@@ -16,6 +16,11 @@ import numpy as np
 from codegen.derivation.paper import Derivation
 from codegen.fixedpoint.design import FixedPointDesign
 from codegen.fixedpoint.scaling import Scaling
+from codegen.improved_r_rule.accuracy import point_bound
+from codegen.improved_r_rule.context import rule_design
+from codegen.improved_r_rule.design import RuleDesign
+from codegen.improved_r_rule.reference import FLAG_NOT_FINISHED as RULE_NOT_FINISHED
+from codegen.improved_r_rule.reference import RuleInputs
 from codegen.reference import (
     FLAG_TIME_CLAMPED,
     ExactModel,
@@ -133,6 +138,63 @@ def _case(
     )
 
 
+def _rule_case(
+    model: ExactModel,
+    design: RuleDesign,
+    name: str,
+    group: str,
+    comment: str,
+    inputs: tuple[int, int, int, int, int, int],
+) -> UnityCase:
+    """Expected outputs of one input vector from the resistance-aware rule (improved_r).
+
+    Duties: the exact C(x_c) rounded, tolerance 1 (the design's bound is below 1). The
+    time: min(x_c T, T) rounded, tolerance the point's own proven bound. The threshold
+    flags must be decided at the vector: the reference farther from each threshold
+    than the error bound."""
+    hall, previous, period, bus, current, duty = inputs
+    col = [np.array([v], dtype=np.int64) for v in inputs]
+    exp = expected(model, col[0], col[1], col[2], col[3], col[4], col[5])
+    flags = int(exp.flags[0])
+    ticks, tolerance = 0, 0
+    if bool(exp.active[0]) and exp.rule is not None:
+        ref = exp.rule.result(0, period)
+        bound = point_bound(design.rule, RuleInputs(period, bus, current), ref)
+        total = float(exp.rule.total[0])
+        p = model.period_counts
+        margin = bound.duty_counts
+        undecided = [abs(total - edge) <= margin for edge in (0.0, float(p), 2.0 * p)]
+        finished = not ref.outputs.flags & RULE_NOT_FINISHED
+        if any(undecided) or (finished and ref.fraction + bound.fraction_error >= 1.0):
+            raise ValueError(f"unity case {name}: a flag is not decided at {inputs}")
+        if not finished:
+            flags |= FLAG_TIME_CLAMPED
+        exact = min(ref.ticks_exact, period)
+        ticks = math.floor(exact + 0.5)
+        tolerance = math.ceil(abs(exact - ticks) + bound.ticks)
+    return UnityCase(
+        name=name,
+        group=group,
+        comment=comment,
+        hall_code=hall,
+        previous_hall_code=previous,
+        hall_period_ticks=period,
+        bus_voltage_adc=bus,
+        phase_current_adc=current,
+        main_duty_counts=duty,
+        turn_on_compare=math.floor(float(exp.turn_on[0]) + 0.5),
+        turn_off_compare=math.floor(float(exp.turn_off[0]) + 0.5),
+        commutation_ticks=ticks,
+        turn_on_tolerance=1 if exp.active[0] else 0,
+        turn_off_tolerance=1 if exp.active[0] else 0,
+        commutation_tolerance=tolerance,
+        turn_on_switch=int(exp.turn_on_switch[0]),
+        turn_off_switch=int(exp.turn_off_switch[0]),
+        sector=int(exp.sector[0]),
+        flags=flags,
+    )
+
+
 def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tuple[UnityCase, ...]:
     """Sector transitions at both test speeds, the segment boundary, saturation and
     invalid codes, with expectations from codegen.reference."""
@@ -140,6 +202,23 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
     model = build_model(spec, derivation, sc)
     bus, current, duty = operating_codes(spec, sc)
     cases: list[UnityCase] = []
+    if spec.controller.method == "improved_r":
+        design = rule_design(spec, sc)
+
+        def case(
+            name: str, group: str, comment: str, inputs: tuple[int, int, int, int, int, int]
+        ) -> UnityCase:
+            return _rule_case(model, design, name, group, comment, inputs)
+
+        rule = "resistance-aware pair and t_com (improved_r)"
+    else:
+
+        def case(
+            name: str, group: str, comment: str, inputs: tuple[int, int, int, int, int, int]
+        ) -> UnityCase:
+            return _case(model, fx, name, group, comment, inputs)
+
+        rule = "Eq. 18 duties, Eq. 20 time"
     sequence = spec.hall.sequence
     for point in spec.operating_points:
         period = _ticks_at(sc, point.speed_rpm)
@@ -149,17 +228,17 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
                 previous = sequence[(sector - step) % 6]
                 edge = derivation.switching.edge_into(sector, direction)
                 cases.append(
-                    _case(
-                        model,
-                        fx,
+                    case(
                         f"commutate_{direction}_into_sector_{sector}_at_{int(point.speed_rpm)}_rpm",
                         "sector",
-                        f"{edge.describe()} at {rpm}: Eq. 18 duties, Eq. 20 time",
+                        f"{edge.describe()} at {rpm}: {rule}",
                         (sequence[sector], previous, period, bus, current, duty),
                     )
                 )
     cut = -(-model.boundary_lhs // (model.boundary_rhs * bus))
-    for period, what in ((cut - 1, "last_high_speed"), (cut, "first_low_speed")):
+    # The rule's segment follows S(x_c) = P, not Eq. 18's cut: no exact boundary case.
+    eq18_cuts = () if spec.controller.method == "improved_r" else (cut - 1, cut)
+    for period, what in zip(eq18_cuts, ("last_high_speed", "first_low_speed"), strict=False):
         cases.append(
             _case(
                 model,
@@ -190,7 +269,12 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
         ),
         (
             "flag_a_speed_below_the_minimum",
-            "period above the slowest speed's: exact, flagged",
+            "period above the slowest speed's: flagged"
+            + (
+                ", the rule uses the slowest"
+                if spec.controller.method == "improved_r"
+                else ", exact"
+            ),
             (*forward, sc.period_max_ticks + 1000, bus, current, duty),
         ),
         (
@@ -209,7 +293,7 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
             (*forward, mid, bus, sc.current_offset_code + sc.current_code_max + 10, duty),
         ),
     ):
-        cases.append(_case(model, fx, name, "saturation", comment, inputs))
+        cases.append(case(name, "saturation", comment, inputs))
     for name, comment, inputs in (
         ("switch_off_on_hall_000", "Hall code 000", (0, sequence[0], mid, bus, current, duty)),
         ("switch_off_on_hall_111", "Hall code 111", (7, sequence[0], mid, bus, current, duty)),
@@ -234,5 +318,5 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
             (9, sequence[0], mid, bus, current, duty),
         ),
     ):
-        cases.append(_case(model, fx, name, "invalid", comment, inputs))
+        cases.append(case(name, "invalid", comment, inputs))
     return tuple(cases)

@@ -220,3 +220,34 @@ def test_unity_dir_should_select_real_unity_or_fail_clearly(tmp_path: Path) -> N
     assert unity_framework({}).strict  # the stand-in, built with -Werror
     with pytest.raises(RuntimeError, match=r"unity\.c"):
         unity_framework({"UNITY_DIR": str(tmp_path)})
+
+
+IMPROVED_R = ROOT / "generated" / "paper_motor_improved_r"
+
+
+@pytest.mark.parametrize("target", ["host", "qemu"])
+def test_improved_r_unity_tests_should_pass_on_the_checked_in_core(
+    target: str, tmp_path: Path
+) -> None:
+    """The resistance-aware core's vectors (expectations from the rule's real-arithmetic
+    reference, tolerances from each vector's proven bound) pass on host and target."""
+    if target == "qemu" and not qemu_available():
+        pytest.skip("qemu-system-arm or arm-none-eabi-gcc not installed (make sysdeps)")
+    run = (run_host if target == "host" else run_qemu)(IMPROVED_R, tmp_path / "build")
+    assert run.passed, run.stdout + run.stderr
+    assert run.summary is not None and run.summary.tests == len(run.results) >= 30
+
+
+def test_improved_r_unity_tests_should_fail_without_resistance_in_the_decay(
+    tmp_path: Path,
+) -> None:
+    """The same vectors reject a core whose current decay leaves R out."""
+    generated = tmp_path / "paper_motor_improved_r"
+    shutil.copytree(IMPROVED_R, generated)
+    source = generated / "c" / "bldc_commutation.c"
+    text = source.read_text(encoding="utf-8")
+    assert text.count("#define K_RHO_Q 50332u") == 1
+    source.write_text(text.replace("#define K_RHO_Q 50332u", "#define K_RHO_Q 0u"), "utf-8")
+    run = run_host(generated, tmp_path / "build")
+    failed = {r.name for r in run.results if r.status == "FAIL"}
+    assert not run.passed and any("sector" in name for name in failed), failed

@@ -18,6 +18,7 @@ from verify.run import VerifyResult, verify
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = {
     "paper_motor": ROOT / "spec" / "paper_motor.yaml",
+    "paper_motor_improved_r": ROOT / "spec" / "paper_motor_improved_r.yaml",
     "maxon_ec45_flat_48v": ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
 }
 
@@ -43,7 +44,8 @@ def test_verify_should_pass_on_the_checked_in_core(name: str, tmp_path: Path) ->
     assert result.checks["turn_on"].max_error <= result.checks["turn_on"].bound  # type: ignore[operator]
 
 
-#: (mutant, file, original text, replacement, the symbolic check that must fail)
+#: (mutant, file, original text, replacement, the symbolic check that must fail), on
+#: the paper motor's core
 MUTANTS = [
     (
         "flipped_sign_of_2E",
@@ -90,21 +92,61 @@ MUTANTS = [
 ]
 
 
+#: The same for the resistance-aware core (method improved_r), against the rule's
+#: real-arithmetic reference and each point's own error bound.
+RULE_MUTANTS = [
+    (
+        "flipped_sign_of_the_resistive_drop",
+        "bldc_commutation.c",
+        "st.s0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x;",
+        "st.s0 = 2 * PERIOD_Q - (int32_t)y - (int32_t)x;",
+        "turn_off",
+    ),
+    (
+        "resistance_left_out_of_the_decay",
+        "bldc_commutation.c",
+        "#define K_RHO_Q 50332u",
+        "#define K_RHO_Q 0u",
+        "commutation_time",
+    ),
+    (
+        "inductive_current_ten_percent_low",
+        "bldc_commutation.c",
+        "#define KAPPA_Q 615816u",
+        "#define KAPPA_Q 554234u",
+        "commutation_time",
+    ),
+    (
+        "ramp_weight_doubled",
+        "bldc_commutation.c",
+        "#define THETA_HALF_Q 217167u",
+        "#define THETA_HALF_Q 434334u",
+        "turn_off",
+    ),
+]
+
+
 @pytest.mark.parametrize(
-    ("mutant", "file", "original", "replacement", "caught_by"),
-    MUTANTS,
-    ids=[m[0] for m in MUTANTS],
+    ("spec", "mutant", "file", "original", "replacement", "caught_by"),
+    [("paper_motor", *m) for m in MUTANTS] + [("paper_motor_improved_r", *m) for m in RULE_MUTANTS],
+    ids=[m[0] for m in MUTANTS] + [f"improved_r_{m[0]}" for m in RULE_MUTANTS],
 )
 def test_verify_should_catch_every_mutant(
-    tmp_path: Path, mutant: str, file: str, original: str, replacement: str, caught_by: str
+    tmp_path: Path,
+    spec: str,
+    mutant: str,
+    file: str,
+    original: str,
+    replacement: str,
+    caught_by: str,
 ) -> None:
     generated = tmp_path / "generated"
-    shutil.copytree(ROOT / "generated" / "paper_motor", generated)
+    shutil.copytree(ROOT / "generated" / spec, generated)
     source = generated / "c" / file
     text = source.read_text(encoding="utf-8")
     assert text.count(original) == 1, f"{mutant}: the pattern no longer matches the template"
     source.write_text(text.replace(original, replacement), encoding="utf-8")
-    result = _verify("paper_motor", generated, tmp_path)
+    result = _verify(spec, generated, tmp_path)
     assert not result.passed
     assert result.checks[caught_by].verdict == "FAIL", {
         k: c.failures for k, c in result.checks.items()

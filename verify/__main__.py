@@ -34,7 +34,7 @@ def main(argv: list[str] | None = None) -> int:
         )
         return 2
     with tempfile.TemporaryDirectory() as build:
-        result, evaluated, fx, sc = verify(
+        result, evaluated, bounds, sc = verify(
             args.spec,
             generated,
             Path(build),
@@ -44,8 +44,8 @@ def main(argv: list[str] | None = None) -> int:
         )
     print(table(result))
     out = generated / "verify"
-    write_json(result, fx, out / "report.json")
-    plot(evaluated, fx, sc, out / "error_vs_speed.png")
+    write_json(result, bounds, out / "report.json")
+    plot(evaluated, bounds, sc, out / "error_vs_speed.png")
     print(f"verify: wrote {out / 'report.json'} and {out / 'error_vs_speed.png'}")
     return 0 if result.passed else 1
 

@@ -25,6 +25,7 @@ from codegen.reference import (
     FLAG_TIME_CLAMPED,
     SLACK,
     ExactModel,
+    Expected,
     expected,
     time_interval,
 )
@@ -68,8 +69,29 @@ class Evaluated:
     time_error: npt.NDArray[np.float64]
 
 
-def _column(array: np.ndarray, name: str) -> npt.NDArray[np.int64]:
+def column(array: np.ndarray, name: str) -> npt.NDArray[np.int64]:
     return np.asarray(array[name], dtype=np.int64)
+
+
+def compare_twin_and_pattern(
+    inputs: np.ndarray,
+    c_out: np.ndarray,
+    twin_out: np.ndarray,
+    exp: Expected,
+    checks: dict[str, OutputCheck],
+) -> None:
+    """C against its bit-exact twin (every field, every point), and the switch pattern
+    and sector against the model (exact)."""
+    differs = np.zeros(inputs.size, dtype=bool)
+    for name in c_out.dtype.names or ():
+        differs |= column(c_out, name) != column(twin_out, name)
+    checks["twin"].add(differs.astype(np.float64), differs, inputs)
+    pattern = (
+        (column(c_out, "turn_on_switch") != exp.turn_on_switch)
+        | (column(c_out, "turn_off_switch") != exp.turn_off_switch)
+        | (column(c_out, "sector") != exp.sector)
+    )
+    checks["pattern"].add(pattern.astype(np.float64), pattern, inputs)
 
 
 def check_set(
@@ -80,31 +102,19 @@ def check_set(
     twin_out: np.ndarray,
     checks: dict[str, OutputCheck],
 ) -> Evaluated:
-    hall, previous = _column(inputs, "hall_code"), _column(inputs, "previous_hall_code")
-    period, bus_code = _column(inputs, "hall_period_ticks"), _column(inputs, "bus_voltage_adc")
-    current, main = _column(inputs, "phase_current_adc"), _column(inputs, "main_duty_counts")
+    hall, previous = column(inputs, "hall_code"), column(inputs, "previous_hall_code")
+    period, bus_code = column(inputs, "hall_period_ticks"), column(inputs, "bus_voltage_adc")
+    current, main = column(inputs, "phase_current_adc"), column(inputs, "main_duty_counts")
     exp = expected(model, hall, previous, period, bus_code, current, main)
-    on_c, off_c = _column(c_out, "turn_on_compare"), _column(c_out, "turn_off_compare")
-    ticks_c, flags_c = _column(c_out, "commutation_ticks"), _column(c_out, "flags")
-
-    # C against its bit-exact twin: every field, every point.
-    differs = np.zeros(inputs.size, dtype=bool)
-    for name in c_out.dtype.names or ():
-        differs |= _column(c_out, name) != _column(twin_out, name)
-    checks["twin"].add(differs.astype(np.float64), differs, inputs)
+    compare_twin_and_pattern(inputs, c_out, twin_out, exp, checks)
+    on_c, off_c = column(c_out, "turn_on_compare"), column(c_out, "turn_off_compare")
+    ticks_c, flags_c = column(c_out, "commutation_ticks"), column(c_out, "flags")
 
     on_err = np.abs(on_c - exp.turn_on)
     off_err = np.abs(off_c - exp.turn_off)
     duty_bound = float(fx.duty_error_bound_counts)
     checks["turn_on"].add(on_err, on_err > duty_bound + SLACK, inputs)
     checks["turn_off"].add(off_err, off_err > duty_bound + SLACK, inputs)
-
-    pattern = (
-        (_column(c_out, "turn_on_switch") != exp.turn_on_switch)
-        | (_column(c_out, "turn_off_switch") != exp.turn_off_switch)
-        | (_column(c_out, "sector") != exp.sector)
-    )
-    checks["pattern"].add(pattern.astype(np.float64), pattern, inputs)
 
     # Commutation time at the emitted duties.
     active = exp.active

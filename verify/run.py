@@ -9,6 +9,7 @@ generated code.
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import json
 import sys
@@ -24,11 +25,14 @@ from codegen.derivation import derive
 from codegen.fixedpoint.design import FixedPointDesign
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.generate import fixed_point_design
+from codegen.improved_r_rule.context import rule_design
 from codegen.reference import build_model
 from codegen.render import project_relative
 from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
 from verify import points
 from verify.check import Evaluated, OutputCheck, check_set, new_checks
+from verify.check_rule import check_rule_set, new_rule_checks
 from verify.host_core import OUTPUT_DTYPE, build_host_core
 
 DEFAULT_RANDOM_POINTS = 20_000
@@ -40,6 +44,45 @@ SHORT = {
     "phase_current_adc": "I",
     "main_duty_counts": "M",
 }
+
+
+@dataclass(frozen=True)
+class DesignBounds:
+    """The generator's headline bounds, for the report and its plot."""
+
+    duty_counts: float
+    time_ticks: float
+    summary: dict[str, float | int | str]
+
+
+def design_bounds(spec: Spec, sc: Scaling, fx: FixedPointDesign) -> DesignBounds:
+    if spec.controller.method == "improved_r":
+        rule = rule_design(spec, sc)
+        target = float(spec.accuracy.commutation_time_ticks)
+        return DesignBounds(
+            rule.duty_bound,
+            target,
+            {
+                "method": "improved_r",
+                "counts_frac_bits": rule.rule.counts_frac_bits,
+                "bisection_steps": rule.rule.steps,
+                "table_rows": rule.rule.table.entries,
+                "duty_error_bound_counts": rule.duty_bound,
+                "time_target_ticks": target,
+                "time_bound_over_allowance": rule.time_ratio,
+            },
+        )
+    return DesignBounds(
+        float(fx.duty_error_bound_counts),
+        float(fx.time_error_bound_ticks),
+        {
+            "method": spec.controller.method,
+            "x_frac_bits": fx.x_frac_bits,
+            "duty_error_bound_counts": float(fx.duty_error_bound_counts),
+            "time_error_bound_ticks": float(fx.time_error_bound_ticks),
+            "time_bound_min_w_counts": float(fx.time_bound_min_w_counts),
+        },
+    )
 
 
 @dataclass(frozen=True)
@@ -67,8 +110,11 @@ def load_twin(generated: Path) -> ModuleType:
 
 
 def run_twin(twin: ModuleType, inputs: np.ndarray, progress: tqdm | None) -> np.ndarray:
-    """The twin on every point; bus states cached (the twin's commutate() is
-    bus_condition() then commutate_edge(), as in C)."""
+    """The twin on every point; bus states and timings cached (the twin's commutate()
+    is bus_condition() then commutate_edge(), as in C, and its timing is a pure
+    function that the 12 edges of a point share)."""
+    if not hasattr(twin.commutation_timing, "cache_info"):
+        twin.commutation_timing = functools.lru_cache(maxsize=None)(twin.commutation_timing)
     buses: dict[int, object] = {}
     columns = [inputs[n].tolist() for n in inputs.dtype.names or ()]
     rows = []
@@ -100,7 +146,7 @@ def verify(
     random_count: int = DEFAULT_RANDOM_POINTS,
     exhaustive_stride: int = 1,
     show_progress: bool = True,
-) -> tuple[VerifyResult, dict[str, Evaluated], FixedPointDesign, Scaling]:
+) -> tuple[VerifyResult, dict[str, Evaluated], DesignBounds, Scaling]:
     started = time.perf_counter()
     spec = load_spec(spec_path)
     derivation = derive()
@@ -119,7 +165,19 @@ def verify(
         "random": points.random_points(sc, model, seed, random_count),
         "boundary": points.boundaries(spec, sc, model),
     }
-    checks = new_checks(fx)
+    bounds = design_bounds(spec, sc, fx)
+    if spec.controller.method == "improved_r":
+        rule = rule_design(spec, sc)
+        checks = new_rule_checks(rule, bounds.time_ticks)
+
+        def check(inputs: np.ndarray, c_out: np.ndarray, twin_out: np.ndarray) -> Evaluated:
+            return check_rule_set(model, rule, bounds.time_ticks, inputs, c_out, twin_out, checks)
+    else:
+        checks = new_checks(fx)
+
+        def check(inputs: np.ndarray, c_out: np.ndarray, twin_out: np.ndarray) -> Evaluated:
+            return check_set(model, fx, inputs, c_out, twin_out, checks)
+
     evaluated: dict[str, Evaluated] = {}
     total = sum(s.size for s in sets.values())
     with tqdm(
@@ -129,7 +187,7 @@ def verify(
             bar.set_description(name)
             c_out = core.run(inputs)
             twin_out = run_twin(twin, inputs, bar)
-            evaluated[name] = check_set(model, fx, inputs, c_out, twin_out, checks)
+            evaluated[name] = check(inputs, c_out, twin_out)
     result = VerifyResult(
         spec=project_relative(spec_path),
         generated=project_relative(generated),
@@ -138,7 +196,7 @@ def verify(
         checks=checks,
         seconds=time.perf_counter() - started,
     )
-    return result, evaluated, fx, sc
+    return result, evaluated, bounds, sc
 
 
 def table(result: VerifyResult) -> str:
@@ -162,19 +220,14 @@ def table(result: VerifyResult) -> str:
     return "\n".join(lines)
 
 
-def write_json(result: VerifyResult, fx: FixedPointDesign, path: Path) -> None:
+def write_json(result: VerifyResult, bounds: DesignBounds, path: Path) -> None:
     data = {
         "spec": result.spec,
         "generated": result.generated,
         "seed": result.seed,
         "points": result.sets,
         "passed": result.passed,
-        "design": {
-            "x_frac_bits": fx.x_frac_bits,
-            "duty_error_bound_counts": float(fx.duty_error_bound_counts),
-            "time_error_bound_ticks": float(fx.time_error_bound_ticks),
-            "time_bound_min_w_counts": float(fx.time_bound_min_w_counts),
-        },
+        "design": bounds.summary,
         "outputs": {
             key: {
                 **asdict(c),
@@ -188,7 +241,7 @@ def write_json(result: VerifyResult, fx: FixedPointDesign, path: Path) -> None:
     path.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
 
 
-def plot(evaluated: dict[str, Evaluated], fx: FixedPointDesign, sc: Scaling, path: Path) -> None:
+def plot(evaluated: dict[str, Evaluated], bounds: DesignBounds, sc: Scaling, path: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -201,9 +254,9 @@ def plot(evaluated: dict[str, Evaluated], fx: FixedPointDesign, sc: Scaling, pat
     step = max(1, ex.period.size // 20000)
     fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
     for ax, values, bound, label in (
-        (axes[0], ex.on_error, fx.duty_error_bound_counts, "|D_on error| (counts)"),
-        (axes[1], ex.off_error, fx.duty_error_bound_counts, "|D_off error| (counts)"),
-        (axes[2], ex.time_error, fx.time_error_bound_ticks, "|t_com error| (ticks)"),
+        (axes[0], ex.on_error, bounds.duty_counts, "|D_on error| (counts)"),
+        (axes[1], ex.off_error, bounds.duty_counts, "|D_off error| (counts)"),
+        (axes[2], ex.time_error, bounds.time_ticks, "|t_com error| (ticks)"),
     ):
         ax.plot(speed, values[::step], ".", markersize=1)
         ax.axhline(float(bound), color="red", linewidth=0.8, label="design bound")

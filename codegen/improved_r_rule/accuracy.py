@@ -30,12 +30,18 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+import numpy.typing as npt
+
 from codegen.improved_r_rule.fixed import THETA_FRAC_BITS, FixedRule
 from codegen.improved_r_rule.reference import (
     FLAG_NOT_FINISHED,
+    FloatArray,
+    ReferenceBatch,
     ReferenceResult,
     RuleInputs,
     clamp_inputs,
+    psi_arrays,
     psi_values,
     reference,
 )
@@ -157,14 +163,49 @@ def point_bound(
     )
 
 
+def half_count_ticks_array(
+    period_counts: int,
+    on: FloatArray,
+    off: FloatArray,
+    x: FloatArray,
+    fraction: FloatArray,
+    rho: FloatArray,
+    period: npt.ArrayLike,
+    flags: npt.ArrayLike,
+) -> FloatArray:
+    """t_half (see the module docstring) elementwise; 0 where the commutation does not
+    finish or the duty pair is clamped (no count of duty moves it there)."""
+    p = period_counts
+    total = on + off
+    gain = np.where(total > p, 2.0, 1.0)
+    slope = np.abs(2 * off - on - p + x / 2 - x * fraction)
+    psi1, _ = psi_arrays(rho * fraction)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        value = np.where(
+            slope > 0, np.asarray(period) * fraction * psi1 * gain / (2 * slope), np.inf
+        )
+    decided = ((np.asarray(flags) & FLAG_NOT_FINISHED) == 0) & (total > 0) & (total < 2 * p)
+    return np.where(decided, value, 0.0)
+
+
+def half_count_ticks_batch(period_counts: int, batch: ReferenceBatch) -> FloatArray:
+    return half_count_ticks_array(
+        period_counts,
+        batch.on_exact,
+        batch.off_exact,
+        batch.x,
+        batch.fraction,
+        batch.rho,
+        batch.period,
+        batch.flags,
+    )
+
+
 def half_count_ticks(rule: FixedRule, ref: ReferenceResult, period: int) -> float:
-    p = rule.constants.period_counts
-    total = ref.on_exact + ref.off_exact
-    if ref.outputs.flags & FLAG_NOT_FINISHED or not 0.0 < total < 2 * p:
-        return 0.0
-    gain = 2.0 if total > p else 1.0
-    x_c = ref.fraction
-    forcing = 2 * ref.off_exact - ref.on_exact - p + ref.x / 2
-    slope = abs(forcing - ref.x * x_c)
-    psi1, _ = psi_values(ref.rho * x_c)
-    return period * x_c * psi1 * gain / (2 * slope) if slope > 0 else math.inf
+    values = half_count_ticks_array(
+        rule.constants.period_counts,
+        *(np.array([v]) for v in (ref.on_exact, ref.off_exact, ref.x, ref.fraction, ref.rho)),
+        np.array([period]),
+        np.array([ref.outputs.flags]),
+    )
+    return float(values[0])

@@ -945,7 +945,7 @@ void test_bldc_commutate_should_switch_off_over_speed(void)
     TEST_ASSERT_EQUAL_HEX8(BLDC_FLAG_INPUT_SATURATED, out.flags);
 }
 
-/* period above the slowest speed's: exact, flagged */
+/* period above the slowest speed's: flagged, exact */
 void test_bldc_commutate_should_flag_a_speed_below_the_minimum(void)
 {
     const bldc_inputs_t in = {

@@ -1,0 +1,1159 @@
+/* Generated from template c/stm32f103_regs.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`. */
+#ifndef STM32F103_REGS_H
+#define STM32F103_REGS_H
+
+/*
+ * Minimal CMSIS-compatible register header for the STM32F103 BLDC port: only the
+ * peripherals, registers and fields the port uses, with the names of STM32Cube's
+ * stm32f103xb.h.
+ *
+ * Every address, offset, bit position and IRQ number below is read from the vendor
+ * SVD STM32F103xx v1.3
+ *   pyocd pyocd/debug/svd/svd_data.zip:STM32F103xx.svd
+ *   sha256 1d92b65aaf397a18a599fb6a840812015ad379cdcc0cc3687f673f63e7445367
+ * by codegen/svd.py; none is typed by hand.
+ *
+ * In an STM32Cube project define USE_CMSIS_DEVICE_HEADER (and STM32F103xB or the
+ * matching device macro): this file then includes Cube's own "stm32f1xx.h" instead,
+ * and the port compiles unchanged against it.
+ */
+
+#if defined(USE_CMSIS_DEVICE_HEADER)
+
+#include "stm32f1xx.h"
+
+#else /* !USE_CMSIS_DEVICE_HEADER */
+
+#include <stdint.h>
+
+/* CMSIS access qualifiers (core_cm3.h) */
+#ifndef __I
+#define __I volatile const /* read-only register */
+#endif
+#ifndef __O
+#define __O volatile /* write-only register */
+#endif
+#ifndef __IO
+#define __IO volatile /* read-write register */
+#endif
+
+/* Interrupt numbers (position in the vector table after the 16 core exceptions) */
+typedef enum {
+    TIM1_UP_IRQn = 25, /* TIM1 Update interrupt and TIM10 global interrupt (SVD TIM1_UP_TIM10) */
+    TIM1_TRG_COM_IRQn = 26, /* TIM1 Trigger and Commutation interrupts and TIM11 global interrupt (SVD TIM1_TRG_COM_TIM11) */
+    TIM1_CC_IRQn = 27, /* TIM1 Capture Compare interrupt (SVD TIM1_CC) */
+    TIM3_IRQn = 29 /* TIM3 global interrupt (SVD TIM3) */
+} IRQn_Type;
+
+/* Peripheral register maps; RESERVEDn fill the gaps between SVD address offsets */
+typedef struct {
+    __IO uint32_t CR1; /* control register 1, offset 0x00 */
+    __IO uint32_t CR2; /* control register 2, offset 0x04 */
+    __IO uint32_t SMCR; /* slave mode control register, offset 0x08 */
+    __IO uint32_t DIER; /* DMA/Interrupt enable register, offset 0x0c */
+    __IO uint32_t SR; /* status register, offset 0x10 */
+    __O uint32_t EGR; /* event generation register, offset 0x14 */
+    __IO uint32_t CCMR1; /* capture/compare mode register (output mode), offset 0x18 */
+    __IO uint32_t CCMR2; /* capture/compare mode register (output mode), offset 0x1c */
+    __IO uint32_t CCER; /* capture/compare enable register, offset 0x20 */
+    __IO uint32_t CNT; /* counter, offset 0x24 */
+    __IO uint32_t PSC; /* prescaler, offset 0x28 */
+    __IO uint32_t ARR; /* auto-reload register, offset 0x2c */
+    __IO uint32_t RCR; /* repetition counter register, offset 0x30 */
+    __IO uint32_t CCR1; /* capture/compare register 1, offset 0x34 */
+    __IO uint32_t CCR2; /* capture/compare register 2, offset 0x38 */
+    __IO uint32_t CCR3; /* capture/compare register 3, offset 0x3c */
+    __IO uint32_t CCR4; /* capture/compare register 4, offset 0x40 */
+    __IO uint32_t BDTR; /* break and dead-time register, offset 0x44 */
+    __IO uint32_t DCR; /* DMA control register, offset 0x48 */
+    __IO uint32_t DMAR; /* DMA address for full transfer, offset 0x4c */
+} TIM_TypeDef;
+
+typedef struct {
+    __IO uint32_t CR; /* Clock control register, offset 0x00 */
+    __IO uint32_t CFGR; /* Clock configuration register (RCC_CFGR), offset 0x04 */
+    __IO uint32_t CIR; /* Clock interrupt register (RCC_CIR), offset 0x08 */
+    __IO uint32_t APB2RSTR; /* APB2 peripheral reset register (RCC_APB2RSTR), offset 0x0c */
+    __IO uint32_t APB1RSTR; /* APB1 peripheral reset register (RCC_APB1RSTR), offset 0x10 */
+    __IO uint32_t AHBENR; /* AHB Peripheral Clock enable register (RCC_AHBENR), offset 0x14 */
+    __IO uint32_t APB2ENR; /* APB2 peripheral clock enable register (RCC_APB2ENR), offset 0x18 */
+    __IO uint32_t APB1ENR; /* APB1 peripheral clock enable register (RCC_APB1ENR), offset 0x1c */
+    __IO uint32_t BDCR; /* Backup domain control register (RCC_BDCR), offset 0x20 */
+    __IO uint32_t CSR; /* Control/status register (RCC_CSR), offset 0x24 */
+} RCC_TypeDef;
+
+typedef struct {
+    __IO uint32_t CRL; /* Port configuration register low (GPIOn_CRL), offset 0x00 */
+    __IO uint32_t CRH; /* Port configuration register high (GPIOn_CRL), offset 0x04 */
+    __I uint32_t IDR; /* Port input data register (GPIOn_IDR), offset 0x08 */
+    __IO uint32_t ODR; /* Port output data register (GPIOn_ODR), offset 0x0c */
+    __O uint32_t BSRR; /* Port bit set/reset register (GPIOn_BSRR), offset 0x10 */
+    __O uint32_t BRR; /* Port bit reset register (GPIOn_BRR), offset 0x14 */
+    __IO uint32_t LCKR; /* Port configuration lock register, offset 0x18 */
+} GPIO_TypeDef;
+
+typedef struct {
+    __IO uint32_t EVCR; /* Event Control Register (AFIO_EVCR), offset 0x00 */
+    __IO uint32_t MAPR; /* AF remap and debug I/O configuration register (AFIO_MAPR), offset 0x04 */
+    __IO uint32_t EXTICR[4]; /* EXTICR1..EXTICR4, offset 0x08 */
+    uint32_t RESERVED0; /* Reserved, 0x18-0x1b */
+    __IO uint32_t MAPR2; /* AF remap and debug I/O configuration register, offset 0x1c */
+} AFIO_TypeDef;
+
+/* Peripheral instances */
+#define TIM1_BASE 0x40012C00UL /* SVD TIM1 */
+#define TIM3_BASE 0x40000400UL /* SVD TIM3, registers of TIM2 */
+#define RCC_BASE 0x40021000UL /* SVD RCC */
+#define GPIOA_BASE 0x40010800UL /* SVD GPIOA */
+#define GPIOB_BASE 0x40010C00UL /* SVD GPIOB, registers of GPIOA */
+#define AFIO_BASE 0x40010000UL /* SVD AFIO */
+
+#define TIM1 ((TIM_TypeDef *)TIM1_BASE)
+#define TIM3 ((TIM_TypeDef *)TIM3_BASE)
+#define RCC ((RCC_TypeDef *)RCC_BASE)
+#define GPIOA ((GPIO_TypeDef *)GPIOA_BASE)
+#define GPIOB ((GPIO_TypeDef *)GPIOB_BASE)
+#define AFIO ((AFIO_TypeDef *)AFIO_BASE)
+
+/* Bit fields of the registers the port uses: <GROUP>_<REGISTER>_<FIELD>_Pos / _Msk */
+
+/* TIM_CR1 */
+#define TIM_CR1_CEN_Pos (0U)
+#define TIM_CR1_CEN_Msk (0x1U << TIM_CR1_CEN_Pos) /* 0x00000001 */
+#define TIM_CR1_CEN TIM_CR1_CEN_Msk /* Counter enable */
+#define TIM_CR1_UDIS_Pos (1U)
+#define TIM_CR1_UDIS_Msk (0x1U << TIM_CR1_UDIS_Pos) /* 0x00000002 */
+#define TIM_CR1_UDIS TIM_CR1_UDIS_Msk /* Update disable */
+#define TIM_CR1_URS_Pos (2U)
+#define TIM_CR1_URS_Msk (0x1U << TIM_CR1_URS_Pos) /* 0x00000004 */
+#define TIM_CR1_URS TIM_CR1_URS_Msk /* Update request source */
+#define TIM_CR1_OPM_Pos (3U)
+#define TIM_CR1_OPM_Msk (0x1U << TIM_CR1_OPM_Pos) /* 0x00000008 */
+#define TIM_CR1_OPM TIM_CR1_OPM_Msk /* One-pulse mode */
+#define TIM_CR1_DIR_Pos (4U)
+#define TIM_CR1_DIR_Msk (0x1U << TIM_CR1_DIR_Pos) /* 0x00000010 */
+#define TIM_CR1_DIR TIM_CR1_DIR_Msk /* Direction */
+#define TIM_CR1_CMS_Pos (5U)
+#define TIM_CR1_CMS_Msk (0x3U << TIM_CR1_CMS_Pos) /* 0x00000060 */
+#define TIM_CR1_CMS TIM_CR1_CMS_Msk /* Center-aligned mode selection */
+#define TIM_CR1_CMS_0 (0x1U << TIM_CR1_CMS_Pos) /* 0x00000020 */
+#define TIM_CR1_CMS_1 (0x2U << TIM_CR1_CMS_Pos) /* 0x00000040 */
+#define TIM_CR1_ARPE_Pos (7U)
+#define TIM_CR1_ARPE_Msk (0x1U << TIM_CR1_ARPE_Pos) /* 0x00000080 */
+#define TIM_CR1_ARPE TIM_CR1_ARPE_Msk /* Auto-reload preload enable */
+#define TIM_CR1_CKD_Pos (8U)
+#define TIM_CR1_CKD_Msk (0x3U << TIM_CR1_CKD_Pos) /* 0x00000300 */
+#define TIM_CR1_CKD TIM_CR1_CKD_Msk /* Clock division */
+#define TIM_CR1_CKD_0 (0x1U << TIM_CR1_CKD_Pos) /* 0x00000100 */
+#define TIM_CR1_CKD_1 (0x2U << TIM_CR1_CKD_Pos) /* 0x00000200 */
+
+/* TIM_CR2 */
+#define TIM_CR2_CCPC_Pos (0U)
+#define TIM_CR2_CCPC_Msk (0x1U << TIM_CR2_CCPC_Pos) /* 0x00000001 */
+#define TIM_CR2_CCPC TIM_CR2_CCPC_Msk /* Capture/compare preloaded control */
+#define TIM_CR2_CCUS_Pos (2U)
+#define TIM_CR2_CCUS_Msk (0x1U << TIM_CR2_CCUS_Pos) /* 0x00000004 */
+#define TIM_CR2_CCUS TIM_CR2_CCUS_Msk /* Capture/compare control update selection */
+#define TIM_CR2_CCDS_Pos (3U)
+#define TIM_CR2_CCDS_Msk (0x1U << TIM_CR2_CCDS_Pos) /* 0x00000008 */
+#define TIM_CR2_CCDS TIM_CR2_CCDS_Msk /* Capture/compare DMA selection */
+#define TIM_CR2_MMS_Pos (4U)
+#define TIM_CR2_MMS_Msk (0x7U << TIM_CR2_MMS_Pos) /* 0x00000070 */
+#define TIM_CR2_MMS TIM_CR2_MMS_Msk /* Master mode selection */
+#define TIM_CR2_MMS_0 (0x1U << TIM_CR2_MMS_Pos) /* 0x00000010 */
+#define TIM_CR2_MMS_1 (0x2U << TIM_CR2_MMS_Pos) /* 0x00000020 */
+#define TIM_CR2_MMS_2 (0x4U << TIM_CR2_MMS_Pos) /* 0x00000040 */
+#define TIM_CR2_TI1S_Pos (7U)
+#define TIM_CR2_TI1S_Msk (0x1U << TIM_CR2_TI1S_Pos) /* 0x00000080 */
+#define TIM_CR2_TI1S TIM_CR2_TI1S_Msk /* TI1 selection */
+#define TIM_CR2_OIS1_Pos (8U)
+#define TIM_CR2_OIS1_Msk (0x1U << TIM_CR2_OIS1_Pos) /* 0x00000100 */
+#define TIM_CR2_OIS1 TIM_CR2_OIS1_Msk /* Output Idle state 1 */
+#define TIM_CR2_OIS1N_Pos (9U)
+#define TIM_CR2_OIS1N_Msk (0x1U << TIM_CR2_OIS1N_Pos) /* 0x00000200 */
+#define TIM_CR2_OIS1N TIM_CR2_OIS1N_Msk /* Output Idle state 1 */
+#define TIM_CR2_OIS2_Pos (10U)
+#define TIM_CR2_OIS2_Msk (0x1U << TIM_CR2_OIS2_Pos) /* 0x00000400 */
+#define TIM_CR2_OIS2 TIM_CR2_OIS2_Msk /* Output Idle state 2 */
+#define TIM_CR2_OIS2N_Pos (11U)
+#define TIM_CR2_OIS2N_Msk (0x1U << TIM_CR2_OIS2N_Pos) /* 0x00000800 */
+#define TIM_CR2_OIS2N TIM_CR2_OIS2N_Msk /* Output Idle state 2 */
+#define TIM_CR2_OIS3_Pos (12U)
+#define TIM_CR2_OIS3_Msk (0x1U << TIM_CR2_OIS3_Pos) /* 0x00001000 */
+#define TIM_CR2_OIS3 TIM_CR2_OIS3_Msk /* Output Idle state 3 */
+#define TIM_CR2_OIS3N_Pos (13U)
+#define TIM_CR2_OIS3N_Msk (0x1U << TIM_CR2_OIS3N_Pos) /* 0x00002000 */
+#define TIM_CR2_OIS3N TIM_CR2_OIS3N_Msk /* Output Idle state 3 */
+#define TIM_CR2_OIS4_Pos (14U)
+#define TIM_CR2_OIS4_Msk (0x1U << TIM_CR2_OIS4_Pos) /* 0x00004000 */
+#define TIM_CR2_OIS4 TIM_CR2_OIS4_Msk /* Output Idle state 4 */
+
+/* TIM_SMCR */
+#define TIM_SMCR_SMS_Pos (0U)
+#define TIM_SMCR_SMS_Msk (0x7U << TIM_SMCR_SMS_Pos) /* 0x00000007 */
+#define TIM_SMCR_SMS TIM_SMCR_SMS_Msk /* Slave mode selection */
+#define TIM_SMCR_SMS_0 (0x1U << TIM_SMCR_SMS_Pos) /* 0x00000001 */
+#define TIM_SMCR_SMS_1 (0x2U << TIM_SMCR_SMS_Pos) /* 0x00000002 */
+#define TIM_SMCR_SMS_2 (0x4U << TIM_SMCR_SMS_Pos) /* 0x00000004 */
+#define TIM_SMCR_TS_Pos (4U)
+#define TIM_SMCR_TS_Msk (0x7U << TIM_SMCR_TS_Pos) /* 0x00000070 */
+#define TIM_SMCR_TS TIM_SMCR_TS_Msk /* Trigger selection */
+#define TIM_SMCR_TS_0 (0x1U << TIM_SMCR_TS_Pos) /* 0x00000010 */
+#define TIM_SMCR_TS_1 (0x2U << TIM_SMCR_TS_Pos) /* 0x00000020 */
+#define TIM_SMCR_TS_2 (0x4U << TIM_SMCR_TS_Pos) /* 0x00000040 */
+#define TIM_SMCR_MSM_Pos (7U)
+#define TIM_SMCR_MSM_Msk (0x1U << TIM_SMCR_MSM_Pos) /* 0x00000080 */
+#define TIM_SMCR_MSM TIM_SMCR_MSM_Msk /* Master/Slave mode */
+#define TIM_SMCR_ETF_Pos (8U)
+#define TIM_SMCR_ETF_Msk (0xfU << TIM_SMCR_ETF_Pos) /* 0x00000F00 */
+#define TIM_SMCR_ETF TIM_SMCR_ETF_Msk /* External trigger filter */
+#define TIM_SMCR_ETF_0 (0x1U << TIM_SMCR_ETF_Pos) /* 0x00000100 */
+#define TIM_SMCR_ETF_1 (0x2U << TIM_SMCR_ETF_Pos) /* 0x00000200 */
+#define TIM_SMCR_ETF_2 (0x4U << TIM_SMCR_ETF_Pos) /* 0x00000400 */
+#define TIM_SMCR_ETF_3 (0x8U << TIM_SMCR_ETF_Pos) /* 0x00000800 */
+#define TIM_SMCR_ETPS_Pos (12U)
+#define TIM_SMCR_ETPS_Msk (0x3U << TIM_SMCR_ETPS_Pos) /* 0x00003000 */
+#define TIM_SMCR_ETPS TIM_SMCR_ETPS_Msk /* External trigger prescaler */
+#define TIM_SMCR_ETPS_0 (0x1U << TIM_SMCR_ETPS_Pos) /* 0x00001000 */
+#define TIM_SMCR_ETPS_1 (0x2U << TIM_SMCR_ETPS_Pos) /* 0x00002000 */
+#define TIM_SMCR_ECE_Pos (14U)
+#define TIM_SMCR_ECE_Msk (0x1U << TIM_SMCR_ECE_Pos) /* 0x00004000 */
+#define TIM_SMCR_ECE TIM_SMCR_ECE_Msk /* External clock enable */
+#define TIM_SMCR_ETP_Pos (15U)
+#define TIM_SMCR_ETP_Msk (0x1U << TIM_SMCR_ETP_Pos) /* 0x00008000 */
+#define TIM_SMCR_ETP TIM_SMCR_ETP_Msk /* External trigger polarity */
+
+/* TIM_DIER */
+#define TIM_DIER_UIE_Pos (0U)
+#define TIM_DIER_UIE_Msk (0x1U << TIM_DIER_UIE_Pos) /* 0x00000001 */
+#define TIM_DIER_UIE TIM_DIER_UIE_Msk /* Update interrupt enable */
+#define TIM_DIER_CC1IE_Pos (1U)
+#define TIM_DIER_CC1IE_Msk (0x1U << TIM_DIER_CC1IE_Pos) /* 0x00000002 */
+#define TIM_DIER_CC1IE TIM_DIER_CC1IE_Msk /* Capture/Compare 1 interrupt enable */
+#define TIM_DIER_CC2IE_Pos (2U)
+#define TIM_DIER_CC2IE_Msk (0x1U << TIM_DIER_CC2IE_Pos) /* 0x00000004 */
+#define TIM_DIER_CC2IE TIM_DIER_CC2IE_Msk /* Capture/Compare 2 interrupt enable */
+#define TIM_DIER_CC3IE_Pos (3U)
+#define TIM_DIER_CC3IE_Msk (0x1U << TIM_DIER_CC3IE_Pos) /* 0x00000008 */
+#define TIM_DIER_CC3IE TIM_DIER_CC3IE_Msk /* Capture/Compare 3 interrupt enable */
+#define TIM_DIER_CC4IE_Pos (4U)
+#define TIM_DIER_CC4IE_Msk (0x1U << TIM_DIER_CC4IE_Pos) /* 0x00000010 */
+#define TIM_DIER_CC4IE TIM_DIER_CC4IE_Msk /* Capture/Compare 4 interrupt enable */
+#define TIM_DIER_COMIE_Pos (5U)
+#define TIM_DIER_COMIE_Msk (0x1U << TIM_DIER_COMIE_Pos) /* 0x00000020 */
+#define TIM_DIER_COMIE TIM_DIER_COMIE_Msk /* COM interrupt enable */
+#define TIM_DIER_TIE_Pos (6U)
+#define TIM_DIER_TIE_Msk (0x1U << TIM_DIER_TIE_Pos) /* 0x00000040 */
+#define TIM_DIER_TIE TIM_DIER_TIE_Msk /* Trigger interrupt enable */
+#define TIM_DIER_BIE_Pos (7U)
+#define TIM_DIER_BIE_Msk (0x1U << TIM_DIER_BIE_Pos) /* 0x00000080 */
+#define TIM_DIER_BIE TIM_DIER_BIE_Msk /* Break interrupt enable */
+#define TIM_DIER_UDE_Pos (8U)
+#define TIM_DIER_UDE_Msk (0x1U << TIM_DIER_UDE_Pos) /* 0x00000100 */
+#define TIM_DIER_UDE TIM_DIER_UDE_Msk /* Update DMA request enable */
+#define TIM_DIER_CC1DE_Pos (9U)
+#define TIM_DIER_CC1DE_Msk (0x1U << TIM_DIER_CC1DE_Pos) /* 0x00000200 */
+#define TIM_DIER_CC1DE TIM_DIER_CC1DE_Msk /* Capture/Compare 1 DMA request enable */
+#define TIM_DIER_CC2DE_Pos (10U)
+#define TIM_DIER_CC2DE_Msk (0x1U << TIM_DIER_CC2DE_Pos) /* 0x00000400 */
+#define TIM_DIER_CC2DE TIM_DIER_CC2DE_Msk /* Capture/Compare 2 DMA request enable */
+#define TIM_DIER_CC3DE_Pos (11U)
+#define TIM_DIER_CC3DE_Msk (0x1U << TIM_DIER_CC3DE_Pos) /* 0x00000800 */
+#define TIM_DIER_CC3DE TIM_DIER_CC3DE_Msk /* Capture/Compare 3 DMA request enable */
+#define TIM_DIER_CC4DE_Pos (12U)
+#define TIM_DIER_CC4DE_Msk (0x1U << TIM_DIER_CC4DE_Pos) /* 0x00001000 */
+#define TIM_DIER_CC4DE TIM_DIER_CC4DE_Msk /* Capture/Compare 4 DMA request enable */
+#define TIM_DIER_COMDE_Pos (13U)
+#define TIM_DIER_COMDE_Msk (0x1U << TIM_DIER_COMDE_Pos) /* 0x00002000 */
+#define TIM_DIER_COMDE TIM_DIER_COMDE_Msk /* COM DMA request enable */
+#define TIM_DIER_TDE_Pos (14U)
+#define TIM_DIER_TDE_Msk (0x1U << TIM_DIER_TDE_Pos) /* 0x00004000 */
+#define TIM_DIER_TDE TIM_DIER_TDE_Msk /* Trigger DMA request enable */
+
+/* TIM_SR */
+#define TIM_SR_UIF_Pos (0U)
+#define TIM_SR_UIF_Msk (0x1U << TIM_SR_UIF_Pos) /* 0x00000001 */
+#define TIM_SR_UIF TIM_SR_UIF_Msk /* Update interrupt flag */
+#define TIM_SR_CC1IF_Pos (1U)
+#define TIM_SR_CC1IF_Msk (0x1U << TIM_SR_CC1IF_Pos) /* 0x00000002 */
+#define TIM_SR_CC1IF TIM_SR_CC1IF_Msk /* Capture/compare 1 interrupt flag */
+#define TIM_SR_CC2IF_Pos (2U)
+#define TIM_SR_CC2IF_Msk (0x1U << TIM_SR_CC2IF_Pos) /* 0x00000004 */
+#define TIM_SR_CC2IF TIM_SR_CC2IF_Msk /* Capture/Compare 2 interrupt flag */
+#define TIM_SR_CC3IF_Pos (3U)
+#define TIM_SR_CC3IF_Msk (0x1U << TIM_SR_CC3IF_Pos) /* 0x00000008 */
+#define TIM_SR_CC3IF TIM_SR_CC3IF_Msk /* Capture/Compare 3 interrupt flag */
+#define TIM_SR_CC4IF_Pos (4U)
+#define TIM_SR_CC4IF_Msk (0x1U << TIM_SR_CC4IF_Pos) /* 0x00000010 */
+#define TIM_SR_CC4IF TIM_SR_CC4IF_Msk /* Capture/Compare 4 interrupt flag */
+#define TIM_SR_COMIF_Pos (5U)
+#define TIM_SR_COMIF_Msk (0x1U << TIM_SR_COMIF_Pos) /* 0x00000020 */
+#define TIM_SR_COMIF TIM_SR_COMIF_Msk /* COM interrupt flag */
+#define TIM_SR_TIF_Pos (6U)
+#define TIM_SR_TIF_Msk (0x1U << TIM_SR_TIF_Pos) /* 0x00000040 */
+#define TIM_SR_TIF TIM_SR_TIF_Msk /* Trigger interrupt flag */
+#define TIM_SR_BIF_Pos (7U)
+#define TIM_SR_BIF_Msk (0x1U << TIM_SR_BIF_Pos) /* 0x00000080 */
+#define TIM_SR_BIF TIM_SR_BIF_Msk /* Break interrupt flag */
+#define TIM_SR_CC1OF_Pos (9U)
+#define TIM_SR_CC1OF_Msk (0x1U << TIM_SR_CC1OF_Pos) /* 0x00000200 */
+#define TIM_SR_CC1OF TIM_SR_CC1OF_Msk /* Capture/Compare 1 overcapture flag */
+#define TIM_SR_CC2OF_Pos (10U)
+#define TIM_SR_CC2OF_Msk (0x1U << TIM_SR_CC2OF_Pos) /* 0x00000400 */
+#define TIM_SR_CC2OF TIM_SR_CC2OF_Msk /* Capture/compare 2 overcapture flag */
+#define TIM_SR_CC3OF_Pos (11U)
+#define TIM_SR_CC3OF_Msk (0x1U << TIM_SR_CC3OF_Pos) /* 0x00000800 */
+#define TIM_SR_CC3OF TIM_SR_CC3OF_Msk /* Capture/Compare 3 overcapture flag */
+#define TIM_SR_CC4OF_Pos (12U)
+#define TIM_SR_CC4OF_Msk (0x1U << TIM_SR_CC4OF_Pos) /* 0x00001000 */
+#define TIM_SR_CC4OF TIM_SR_CC4OF_Msk /* Capture/Compare 4 overcapture flag */
+
+/* TIM_EGR */
+#define TIM_EGR_UG_Pos (0U)
+#define TIM_EGR_UG_Msk (0x1U << TIM_EGR_UG_Pos) /* 0x00000001 */
+#define TIM_EGR_UG TIM_EGR_UG_Msk /* Update generation */
+#define TIM_EGR_CC1G_Pos (1U)
+#define TIM_EGR_CC1G_Msk (0x1U << TIM_EGR_CC1G_Pos) /* 0x00000002 */
+#define TIM_EGR_CC1G TIM_EGR_CC1G_Msk /* Capture/compare 1 generation */
+#define TIM_EGR_CC2G_Pos (2U)
+#define TIM_EGR_CC2G_Msk (0x1U << TIM_EGR_CC2G_Pos) /* 0x00000004 */
+#define TIM_EGR_CC2G TIM_EGR_CC2G_Msk /* Capture/compare 2 generation */
+#define TIM_EGR_CC3G_Pos (3U)
+#define TIM_EGR_CC3G_Msk (0x1U << TIM_EGR_CC3G_Pos) /* 0x00000008 */
+#define TIM_EGR_CC3G TIM_EGR_CC3G_Msk /* Capture/compare 3 generation */
+#define TIM_EGR_CC4G_Pos (4U)
+#define TIM_EGR_CC4G_Msk (0x1U << TIM_EGR_CC4G_Pos) /* 0x00000010 */
+#define TIM_EGR_CC4G TIM_EGR_CC4G_Msk /* Capture/compare 4 generation */
+#define TIM_EGR_COMG_Pos (5U)
+#define TIM_EGR_COMG_Msk (0x1U << TIM_EGR_COMG_Pos) /* 0x00000020 */
+#define TIM_EGR_COMG TIM_EGR_COMG_Msk /* Capture/Compare control update generation */
+#define TIM_EGR_TG_Pos (6U)
+#define TIM_EGR_TG_Msk (0x1U << TIM_EGR_TG_Pos) /* 0x00000040 */
+#define TIM_EGR_TG TIM_EGR_TG_Msk /* Trigger generation */
+#define TIM_EGR_BG_Pos (7U)
+#define TIM_EGR_BG_Msk (0x1U << TIM_EGR_BG_Pos) /* 0x00000080 */
+#define TIM_EGR_BG TIM_EGR_BG_Msk /* Break generation */
+
+/* TIM_CCMR1 */
+#define TIM_CCMR1_CC1S_Pos (0U)
+#define TIM_CCMR1_CC1S_Msk (0x3U << TIM_CCMR1_CC1S_Pos) /* 0x00000003 */
+#define TIM_CCMR1_CC1S TIM_CCMR1_CC1S_Msk /* Capture/Compare 1 selection */
+#define TIM_CCMR1_CC1S_0 (0x1U << TIM_CCMR1_CC1S_Pos) /* 0x00000001 */
+#define TIM_CCMR1_CC1S_1 (0x2U << TIM_CCMR1_CC1S_Pos) /* 0x00000002 */
+#define TIM_CCMR1_IC1PSC_Pos (2U)
+#define TIM_CCMR1_IC1PSC_Msk (0x3U << TIM_CCMR1_IC1PSC_Pos) /* 0x0000000C */
+#define TIM_CCMR1_IC1PSC TIM_CCMR1_IC1PSC_Msk /* Input capture 1 prescaler */
+#define TIM_CCMR1_IC1PSC_0 (0x1U << TIM_CCMR1_IC1PSC_Pos) /* 0x00000004 */
+#define TIM_CCMR1_IC1PSC_1 (0x2U << TIM_CCMR1_IC1PSC_Pos) /* 0x00000008 */
+#define TIM_CCMR1_OC1FE_Pos (2U)
+#define TIM_CCMR1_OC1FE_Msk (0x1U << TIM_CCMR1_OC1FE_Pos) /* 0x00000004 */
+#define TIM_CCMR1_OC1FE TIM_CCMR1_OC1FE_Msk /* Output Compare 1 fast enable */
+#define TIM_CCMR1_OC1PE_Pos (3U)
+#define TIM_CCMR1_OC1PE_Msk (0x1U << TIM_CCMR1_OC1PE_Pos) /* 0x00000008 */
+#define TIM_CCMR1_OC1PE TIM_CCMR1_OC1PE_Msk /* Output Compare 1 preload enable */
+#define TIM_CCMR1_IC1F_Pos (4U)
+#define TIM_CCMR1_IC1F_Msk (0xfU << TIM_CCMR1_IC1F_Pos) /* 0x000000F0 */
+#define TIM_CCMR1_IC1F TIM_CCMR1_IC1F_Msk /* Input capture 1 filter */
+#define TIM_CCMR1_IC1F_0 (0x1U << TIM_CCMR1_IC1F_Pos) /* 0x00000010 */
+#define TIM_CCMR1_IC1F_1 (0x2U << TIM_CCMR1_IC1F_Pos) /* 0x00000020 */
+#define TIM_CCMR1_IC1F_2 (0x4U << TIM_CCMR1_IC1F_Pos) /* 0x00000040 */
+#define TIM_CCMR1_IC1F_3 (0x8U << TIM_CCMR1_IC1F_Pos) /* 0x00000080 */
+#define TIM_CCMR1_OC1M_Pos (4U)
+#define TIM_CCMR1_OC1M_Msk (0x7U << TIM_CCMR1_OC1M_Pos) /* 0x00000070 */
+#define TIM_CCMR1_OC1M TIM_CCMR1_OC1M_Msk /* Output Compare 1 mode */
+#define TIM_CCMR1_OC1M_0 (0x1U << TIM_CCMR1_OC1M_Pos) /* 0x00000010 */
+#define TIM_CCMR1_OC1M_1 (0x2U << TIM_CCMR1_OC1M_Pos) /* 0x00000020 */
+#define TIM_CCMR1_OC1M_2 (0x4U << TIM_CCMR1_OC1M_Pos) /* 0x00000040 */
+#define TIM_CCMR1_OC1CE_Pos (7U)
+#define TIM_CCMR1_OC1CE_Msk (0x1U << TIM_CCMR1_OC1CE_Pos) /* 0x00000080 */
+#define TIM_CCMR1_OC1CE TIM_CCMR1_OC1CE_Msk /* Output Compare 1 clear enable */
+#define TIM_CCMR1_CC2S_Pos (8U)
+#define TIM_CCMR1_CC2S_Msk (0x3U << TIM_CCMR1_CC2S_Pos) /* 0x00000300 */
+#define TIM_CCMR1_CC2S TIM_CCMR1_CC2S_Msk /* Capture/Compare 2 selection */
+#define TIM_CCMR1_CC2S_0 (0x1U << TIM_CCMR1_CC2S_Pos) /* 0x00000100 */
+#define TIM_CCMR1_CC2S_1 (0x2U << TIM_CCMR1_CC2S_Pos) /* 0x00000200 */
+#define TIM_CCMR1_IC2PCS_Pos (10U)
+#define TIM_CCMR1_IC2PCS_Msk (0x3U << TIM_CCMR1_IC2PCS_Pos) /* 0x00000C00 */
+#define TIM_CCMR1_IC2PCS TIM_CCMR1_IC2PCS_Msk /* Input capture 2 prescaler */
+#define TIM_CCMR1_IC2PCS_0 (0x1U << TIM_CCMR1_IC2PCS_Pos) /* 0x00000400 */
+#define TIM_CCMR1_IC2PCS_1 (0x2U << TIM_CCMR1_IC2PCS_Pos) /* 0x00000800 */
+#define TIM_CCMR1_IC2PSC_Pos (10U)
+#define TIM_CCMR1_IC2PSC_Msk (0x3U << TIM_CCMR1_IC2PSC_Pos) /* 0x00000C00 */
+#define TIM_CCMR1_IC2PSC TIM_CCMR1_IC2PSC_Msk /* Input capture 2 prescaler */
+#define TIM_CCMR1_IC2PSC_0 (0x1U << TIM_CCMR1_IC2PSC_Pos) /* 0x00000400 */
+#define TIM_CCMR1_IC2PSC_1 (0x2U << TIM_CCMR1_IC2PSC_Pos) /* 0x00000800 */
+#define TIM_CCMR1_OC2FE_Pos (10U)
+#define TIM_CCMR1_OC2FE_Msk (0x1U << TIM_CCMR1_OC2FE_Pos) /* 0x00000400 */
+#define TIM_CCMR1_OC2FE TIM_CCMR1_OC2FE_Msk /* Output Compare 2 fast enable */
+#define TIM_CCMR1_OC2PE_Pos (11U)
+#define TIM_CCMR1_OC2PE_Msk (0x1U << TIM_CCMR1_OC2PE_Pos) /* 0x00000800 */
+#define TIM_CCMR1_OC2PE TIM_CCMR1_OC2PE_Msk /* Output Compare 2 preload enable */
+#define TIM_CCMR1_IC2F_Pos (12U)
+#define TIM_CCMR1_IC2F_Msk (0xfU << TIM_CCMR1_IC2F_Pos) /* 0x0000F000 */
+#define TIM_CCMR1_IC2F TIM_CCMR1_IC2F_Msk /* Input capture 2 filter */
+#define TIM_CCMR1_IC2F_0 (0x1U << TIM_CCMR1_IC2F_Pos) /* 0x00001000 */
+#define TIM_CCMR1_IC2F_1 (0x2U << TIM_CCMR1_IC2F_Pos) /* 0x00002000 */
+#define TIM_CCMR1_IC2F_2 (0x4U << TIM_CCMR1_IC2F_Pos) /* 0x00004000 */
+#define TIM_CCMR1_IC2F_3 (0x8U << TIM_CCMR1_IC2F_Pos) /* 0x00008000 */
+#define TIM_CCMR1_OC2M_Pos (12U)
+#define TIM_CCMR1_OC2M_Msk (0x7U << TIM_CCMR1_OC2M_Pos) /* 0x00007000 */
+#define TIM_CCMR1_OC2M TIM_CCMR1_OC2M_Msk /* Output Compare 2 mode */
+#define TIM_CCMR1_OC2M_0 (0x1U << TIM_CCMR1_OC2M_Pos) /* 0x00001000 */
+#define TIM_CCMR1_OC2M_1 (0x2U << TIM_CCMR1_OC2M_Pos) /* 0x00002000 */
+#define TIM_CCMR1_OC2M_2 (0x4U << TIM_CCMR1_OC2M_Pos) /* 0x00004000 */
+#define TIM_CCMR1_OC2CE_Pos (15U)
+#define TIM_CCMR1_OC2CE_Msk (0x1U << TIM_CCMR1_OC2CE_Pos) /* 0x00008000 */
+#define TIM_CCMR1_OC2CE TIM_CCMR1_OC2CE_Msk /* Output Compare 2 clear enable */
+
+/* TIM_CCMR2 */
+#define TIM_CCMR2_CC3S_Pos (0U)
+#define TIM_CCMR2_CC3S_Msk (0x3U << TIM_CCMR2_CC3S_Pos) /* 0x00000003 */
+#define TIM_CCMR2_CC3S TIM_CCMR2_CC3S_Msk /* Capture/Compare 3 selection */
+#define TIM_CCMR2_CC3S_0 (0x1U << TIM_CCMR2_CC3S_Pos) /* 0x00000001 */
+#define TIM_CCMR2_CC3S_1 (0x2U << TIM_CCMR2_CC3S_Pos) /* 0x00000002 */
+#define TIM_CCMR2_IC3PSC_Pos (2U)
+#define TIM_CCMR2_IC3PSC_Msk (0x3U << TIM_CCMR2_IC3PSC_Pos) /* 0x0000000C */
+#define TIM_CCMR2_IC3PSC TIM_CCMR2_IC3PSC_Msk /* Input capture 3 prescaler */
+#define TIM_CCMR2_IC3PSC_0 (0x1U << TIM_CCMR2_IC3PSC_Pos) /* 0x00000004 */
+#define TIM_CCMR2_IC3PSC_1 (0x2U << TIM_CCMR2_IC3PSC_Pos) /* 0x00000008 */
+#define TIM_CCMR2_OC3FE_Pos (2U)
+#define TIM_CCMR2_OC3FE_Msk (0x1U << TIM_CCMR2_OC3FE_Pos) /* 0x00000004 */
+#define TIM_CCMR2_OC3FE TIM_CCMR2_OC3FE_Msk /* Output compare 3 fast enable */
+#define TIM_CCMR2_OC3PE_Pos (3U)
+#define TIM_CCMR2_OC3PE_Msk (0x1U << TIM_CCMR2_OC3PE_Pos) /* 0x00000008 */
+#define TIM_CCMR2_OC3PE TIM_CCMR2_OC3PE_Msk /* Output compare 3 preload enable */
+#define TIM_CCMR2_IC3F_Pos (4U)
+#define TIM_CCMR2_IC3F_Msk (0xfU << TIM_CCMR2_IC3F_Pos) /* 0x000000F0 */
+#define TIM_CCMR2_IC3F TIM_CCMR2_IC3F_Msk /* Input capture 3 filter */
+#define TIM_CCMR2_IC3F_0 (0x1U << TIM_CCMR2_IC3F_Pos) /* 0x00000010 */
+#define TIM_CCMR2_IC3F_1 (0x2U << TIM_CCMR2_IC3F_Pos) /* 0x00000020 */
+#define TIM_CCMR2_IC3F_2 (0x4U << TIM_CCMR2_IC3F_Pos) /* 0x00000040 */
+#define TIM_CCMR2_IC3F_3 (0x8U << TIM_CCMR2_IC3F_Pos) /* 0x00000080 */
+#define TIM_CCMR2_OC3M_Pos (4U)
+#define TIM_CCMR2_OC3M_Msk (0x7U << TIM_CCMR2_OC3M_Pos) /* 0x00000070 */
+#define TIM_CCMR2_OC3M TIM_CCMR2_OC3M_Msk /* Output compare 3 mode */
+#define TIM_CCMR2_OC3M_0 (0x1U << TIM_CCMR2_OC3M_Pos) /* 0x00000010 */
+#define TIM_CCMR2_OC3M_1 (0x2U << TIM_CCMR2_OC3M_Pos) /* 0x00000020 */
+#define TIM_CCMR2_OC3M_2 (0x4U << TIM_CCMR2_OC3M_Pos) /* 0x00000040 */
+#define TIM_CCMR2_OC3CE_Pos (7U)
+#define TIM_CCMR2_OC3CE_Msk (0x1U << TIM_CCMR2_OC3CE_Pos) /* 0x00000080 */
+#define TIM_CCMR2_OC3CE TIM_CCMR2_OC3CE_Msk /* Output compare 3 clear enable */
+#define TIM_CCMR2_CC4S_Pos (8U)
+#define TIM_CCMR2_CC4S_Msk (0x3U << TIM_CCMR2_CC4S_Pos) /* 0x00000300 */
+#define TIM_CCMR2_CC4S TIM_CCMR2_CC4S_Msk /* Capture/Compare 4 selection */
+#define TIM_CCMR2_CC4S_0 (0x1U << TIM_CCMR2_CC4S_Pos) /* 0x00000100 */
+#define TIM_CCMR2_CC4S_1 (0x2U << TIM_CCMR2_CC4S_Pos) /* 0x00000200 */
+#define TIM_CCMR2_IC4PSC_Pos (10U)
+#define TIM_CCMR2_IC4PSC_Msk (0x3U << TIM_CCMR2_IC4PSC_Pos) /* 0x00000C00 */
+#define TIM_CCMR2_IC4PSC TIM_CCMR2_IC4PSC_Msk /* Input capture 4 prescaler */
+#define TIM_CCMR2_IC4PSC_0 (0x1U << TIM_CCMR2_IC4PSC_Pos) /* 0x00000400 */
+#define TIM_CCMR2_IC4PSC_1 (0x2U << TIM_CCMR2_IC4PSC_Pos) /* 0x00000800 */
+#define TIM_CCMR2_OC4FE_Pos (10U)
+#define TIM_CCMR2_OC4FE_Msk (0x1U << TIM_CCMR2_OC4FE_Pos) /* 0x00000400 */
+#define TIM_CCMR2_OC4FE TIM_CCMR2_OC4FE_Msk /* Output compare 4 fast enable */
+#define TIM_CCMR2_OC4PE_Pos (11U)
+#define TIM_CCMR2_OC4PE_Msk (0x1U << TIM_CCMR2_OC4PE_Pos) /* 0x00000800 */
+#define TIM_CCMR2_OC4PE TIM_CCMR2_OC4PE_Msk /* Output compare 4 preload enable */
+#define TIM_CCMR2_IC4F_Pos (12U)
+#define TIM_CCMR2_IC4F_Msk (0xfU << TIM_CCMR2_IC4F_Pos) /* 0x0000F000 */
+#define TIM_CCMR2_IC4F TIM_CCMR2_IC4F_Msk /* Input capture 4 filter */
+#define TIM_CCMR2_IC4F_0 (0x1U << TIM_CCMR2_IC4F_Pos) /* 0x00001000 */
+#define TIM_CCMR2_IC4F_1 (0x2U << TIM_CCMR2_IC4F_Pos) /* 0x00002000 */
+#define TIM_CCMR2_IC4F_2 (0x4U << TIM_CCMR2_IC4F_Pos) /* 0x00004000 */
+#define TIM_CCMR2_IC4F_3 (0x8U << TIM_CCMR2_IC4F_Pos) /* 0x00008000 */
+#define TIM_CCMR2_OC4M_Pos (12U)
+#define TIM_CCMR2_OC4M_Msk (0x7U << TIM_CCMR2_OC4M_Pos) /* 0x00007000 */
+#define TIM_CCMR2_OC4M TIM_CCMR2_OC4M_Msk /* Output compare 4 mode */
+#define TIM_CCMR2_OC4M_0 (0x1U << TIM_CCMR2_OC4M_Pos) /* 0x00001000 */
+#define TIM_CCMR2_OC4M_1 (0x2U << TIM_CCMR2_OC4M_Pos) /* 0x00002000 */
+#define TIM_CCMR2_OC4M_2 (0x4U << TIM_CCMR2_OC4M_Pos) /* 0x00004000 */
+#define TIM_CCMR2_OC4CE_Pos (15U)
+#define TIM_CCMR2_OC4CE_Msk (0x1U << TIM_CCMR2_OC4CE_Pos) /* 0x00008000 */
+#define TIM_CCMR2_OC4CE TIM_CCMR2_OC4CE_Msk /* Output compare 4 clear enable */
+
+/* TIM_CCER */
+#define TIM_CCER_CC1E_Pos (0U)
+#define TIM_CCER_CC1E_Msk (0x1U << TIM_CCER_CC1E_Pos) /* 0x00000001 */
+#define TIM_CCER_CC1E TIM_CCER_CC1E_Msk /* Capture/Compare 1 output enable */
+#define TIM_CCER_CC1P_Pos (1U)
+#define TIM_CCER_CC1P_Msk (0x1U << TIM_CCER_CC1P_Pos) /* 0x00000002 */
+#define TIM_CCER_CC1P TIM_CCER_CC1P_Msk /* Capture/Compare 1 output Polarity */
+#define TIM_CCER_CC1NE_Pos (2U)
+#define TIM_CCER_CC1NE_Msk (0x1U << TIM_CCER_CC1NE_Pos) /* 0x00000004 */
+#define TIM_CCER_CC1NE TIM_CCER_CC1NE_Msk /* Capture/Compare 1 complementary output enable */
+#define TIM_CCER_CC1NP_Pos (3U)
+#define TIM_CCER_CC1NP_Msk (0x1U << TIM_CCER_CC1NP_Pos) /* 0x00000008 */
+#define TIM_CCER_CC1NP TIM_CCER_CC1NP_Msk /* Capture/Compare 1 output Polarity */
+#define TIM_CCER_CC2E_Pos (4U)
+#define TIM_CCER_CC2E_Msk (0x1U << TIM_CCER_CC2E_Pos) /* 0x00000010 */
+#define TIM_CCER_CC2E TIM_CCER_CC2E_Msk /* Capture/Compare 2 output enable */
+#define TIM_CCER_CC2P_Pos (5U)
+#define TIM_CCER_CC2P_Msk (0x1U << TIM_CCER_CC2P_Pos) /* 0x00000020 */
+#define TIM_CCER_CC2P TIM_CCER_CC2P_Msk /* Capture/Compare 2 output Polarity */
+#define TIM_CCER_CC2NE_Pos (6U)
+#define TIM_CCER_CC2NE_Msk (0x1U << TIM_CCER_CC2NE_Pos) /* 0x00000040 */
+#define TIM_CCER_CC2NE TIM_CCER_CC2NE_Msk /* Capture/Compare 2 complementary output enable */
+#define TIM_CCER_CC2NP_Pos (7U)
+#define TIM_CCER_CC2NP_Msk (0x1U << TIM_CCER_CC2NP_Pos) /* 0x00000080 */
+#define TIM_CCER_CC2NP TIM_CCER_CC2NP_Msk /* Capture/Compare 2 output Polarity */
+#define TIM_CCER_CC3E_Pos (8U)
+#define TIM_CCER_CC3E_Msk (0x1U << TIM_CCER_CC3E_Pos) /* 0x00000100 */
+#define TIM_CCER_CC3E TIM_CCER_CC3E_Msk /* Capture/Compare 3 output enable */
+#define TIM_CCER_CC3P_Pos (9U)
+#define TIM_CCER_CC3P_Msk (0x1U << TIM_CCER_CC3P_Pos) /* 0x00000200 */
+#define TIM_CCER_CC3P TIM_CCER_CC3P_Msk /* Capture/Compare 3 output Polarity */
+#define TIM_CCER_CC3NE_Pos (10U)
+#define TIM_CCER_CC3NE_Msk (0x1U << TIM_CCER_CC3NE_Pos) /* 0x00000400 */
+#define TIM_CCER_CC3NE TIM_CCER_CC3NE_Msk /* Capture/Compare 3 complementary output enable */
+#define TIM_CCER_CC3NP_Pos (11U)
+#define TIM_CCER_CC3NP_Msk (0x1U << TIM_CCER_CC3NP_Pos) /* 0x00000800 */
+#define TIM_CCER_CC3NP TIM_CCER_CC3NP_Msk /* Capture/Compare 3 output Polarity */
+#define TIM_CCER_CC4E_Pos (12U)
+#define TIM_CCER_CC4E_Msk (0x1U << TIM_CCER_CC4E_Pos) /* 0x00001000 */
+#define TIM_CCER_CC4E TIM_CCER_CC4E_Msk /* Capture/Compare 4 output enable */
+#define TIM_CCER_CC4P_Pos (13U)
+#define TIM_CCER_CC4P_Msk (0x1U << TIM_CCER_CC4P_Pos) /* 0x00002000 */
+#define TIM_CCER_CC4P TIM_CCER_CC4P_Msk /* Capture/Compare 3 output Polarity */
+
+/* TIM_CNT */
+#define TIM_CNT_CNT_Pos (0U)
+#define TIM_CNT_CNT_Msk (0xffffU << TIM_CNT_CNT_Pos) /* 0x0000FFFF */
+#define TIM_CNT_CNT TIM_CNT_CNT_Msk /* counter value */
+
+/* TIM_PSC */
+#define TIM_PSC_PSC_Pos (0U)
+#define TIM_PSC_PSC_Msk (0xffffU << TIM_PSC_PSC_Pos) /* 0x0000FFFF */
+#define TIM_PSC_PSC TIM_PSC_PSC_Msk /* Prescaler value */
+
+/* TIM_ARR */
+#define TIM_ARR_ARR_Pos (0U)
+#define TIM_ARR_ARR_Msk (0xffffU << TIM_ARR_ARR_Pos) /* 0x0000FFFF */
+#define TIM_ARR_ARR TIM_ARR_ARR_Msk /* Auto-reload value */
+
+/* TIM_CCR1 */
+#define TIM_CCR1_CCR1_Pos (0U)
+#define TIM_CCR1_CCR1_Msk (0xffffU << TIM_CCR1_CCR1_Pos) /* 0x0000FFFF */
+#define TIM_CCR1_CCR1 TIM_CCR1_CCR1_Msk /* Capture/Compare 1 value */
+
+/* TIM_CCR2 */
+#define TIM_CCR2_CCR2_Pos (0U)
+#define TIM_CCR2_CCR2_Msk (0xffffU << TIM_CCR2_CCR2_Pos) /* 0x0000FFFF */
+#define TIM_CCR2_CCR2 TIM_CCR2_CCR2_Msk /* Capture/Compare 2 value */
+
+/* TIM_CCR3 */
+#define TIM_CCR3_CCR3_Pos (0U)
+#define TIM_CCR3_CCR3_Msk (0xffffU << TIM_CCR3_CCR3_Pos) /* 0x0000FFFF */
+#define TIM_CCR3_CCR3 TIM_CCR3_CCR3_Msk /* Capture/Compare value */
+
+/* TIM_BDTR */
+#define TIM_BDTR_DTG_Pos (0U)
+#define TIM_BDTR_DTG_Msk (0xffU << TIM_BDTR_DTG_Pos) /* 0x000000FF */
+#define TIM_BDTR_DTG TIM_BDTR_DTG_Msk /* Dead-time generator setup */
+#define TIM_BDTR_DTG_0 (0x1U << TIM_BDTR_DTG_Pos) /* 0x00000001 */
+#define TIM_BDTR_DTG_1 (0x2U << TIM_BDTR_DTG_Pos) /* 0x00000002 */
+#define TIM_BDTR_DTG_2 (0x4U << TIM_BDTR_DTG_Pos) /* 0x00000004 */
+#define TIM_BDTR_DTG_3 (0x8U << TIM_BDTR_DTG_Pos) /* 0x00000008 */
+#define TIM_BDTR_DTG_4 (0x10U << TIM_BDTR_DTG_Pos) /* 0x00000010 */
+#define TIM_BDTR_DTG_5 (0x20U << TIM_BDTR_DTG_Pos) /* 0x00000020 */
+#define TIM_BDTR_DTG_6 (0x40U << TIM_BDTR_DTG_Pos) /* 0x00000040 */
+#define TIM_BDTR_DTG_7 (0x80U << TIM_BDTR_DTG_Pos) /* 0x00000080 */
+#define TIM_BDTR_LOCK_Pos (8U)
+#define TIM_BDTR_LOCK_Msk (0x3U << TIM_BDTR_LOCK_Pos) /* 0x00000300 */
+#define TIM_BDTR_LOCK TIM_BDTR_LOCK_Msk /* Lock configuration */
+#define TIM_BDTR_LOCK_0 (0x1U << TIM_BDTR_LOCK_Pos) /* 0x00000100 */
+#define TIM_BDTR_LOCK_1 (0x2U << TIM_BDTR_LOCK_Pos) /* 0x00000200 */
+#define TIM_BDTR_OSSI_Pos (10U)
+#define TIM_BDTR_OSSI_Msk (0x1U << TIM_BDTR_OSSI_Pos) /* 0x00000400 */
+#define TIM_BDTR_OSSI TIM_BDTR_OSSI_Msk /* Off-state selection for Idle mode */
+#define TIM_BDTR_OSSR_Pos (11U)
+#define TIM_BDTR_OSSR_Msk (0x1U << TIM_BDTR_OSSR_Pos) /* 0x00000800 */
+#define TIM_BDTR_OSSR TIM_BDTR_OSSR_Msk /* Off-state selection for Run mode */
+#define TIM_BDTR_BKE_Pos (12U)
+#define TIM_BDTR_BKE_Msk (0x1U << TIM_BDTR_BKE_Pos) /* 0x00001000 */
+#define TIM_BDTR_BKE TIM_BDTR_BKE_Msk /* Break enable */
+#define TIM_BDTR_BKP_Pos (13U)
+#define TIM_BDTR_BKP_Msk (0x1U << TIM_BDTR_BKP_Pos) /* 0x00002000 */
+#define TIM_BDTR_BKP TIM_BDTR_BKP_Msk /* Break polarity */
+#define TIM_BDTR_AOE_Pos (14U)
+#define TIM_BDTR_AOE_Msk (0x1U << TIM_BDTR_AOE_Pos) /* 0x00004000 */
+#define TIM_BDTR_AOE TIM_BDTR_AOE_Msk /* Automatic output enable */
+#define TIM_BDTR_MOE_Pos (15U)
+#define TIM_BDTR_MOE_Msk (0x1U << TIM_BDTR_MOE_Pos) /* 0x00008000 */
+#define TIM_BDTR_MOE TIM_BDTR_MOE_Msk /* Main output enable */
+
+/* RCC_APB2ENR */
+#define RCC_APB2ENR_AFIOEN_Pos (0U)
+#define RCC_APB2ENR_AFIOEN_Msk (0x1U << RCC_APB2ENR_AFIOEN_Pos) /* 0x00000001 */
+#define RCC_APB2ENR_AFIOEN RCC_APB2ENR_AFIOEN_Msk /* Alternate function I/O clock enable */
+#define RCC_APB2ENR_IOPAEN_Pos (2U)
+#define RCC_APB2ENR_IOPAEN_Msk (0x1U << RCC_APB2ENR_IOPAEN_Pos) /* 0x00000004 */
+#define RCC_APB2ENR_IOPAEN RCC_APB2ENR_IOPAEN_Msk /* I/O port A clock enable */
+#define RCC_APB2ENR_IOPBEN_Pos (3U)
+#define RCC_APB2ENR_IOPBEN_Msk (0x1U << RCC_APB2ENR_IOPBEN_Pos) /* 0x00000008 */
+#define RCC_APB2ENR_IOPBEN RCC_APB2ENR_IOPBEN_Msk /* I/O port B clock enable */
+#define RCC_APB2ENR_IOPCEN_Pos (4U)
+#define RCC_APB2ENR_IOPCEN_Msk (0x1U << RCC_APB2ENR_IOPCEN_Pos) /* 0x00000010 */
+#define RCC_APB2ENR_IOPCEN RCC_APB2ENR_IOPCEN_Msk /* I/O port C clock enable */
+#define RCC_APB2ENR_IOPDEN_Pos (5U)
+#define RCC_APB2ENR_IOPDEN_Msk (0x1U << RCC_APB2ENR_IOPDEN_Pos) /* 0x00000020 */
+#define RCC_APB2ENR_IOPDEN RCC_APB2ENR_IOPDEN_Msk /* I/O port D clock enable */
+#define RCC_APB2ENR_IOPEEN_Pos (6U)
+#define RCC_APB2ENR_IOPEEN_Msk (0x1U << RCC_APB2ENR_IOPEEN_Pos) /* 0x00000040 */
+#define RCC_APB2ENR_IOPEEN RCC_APB2ENR_IOPEEN_Msk /* I/O port E clock enable */
+#define RCC_APB2ENR_IOPFEN_Pos (7U)
+#define RCC_APB2ENR_IOPFEN_Msk (0x1U << RCC_APB2ENR_IOPFEN_Pos) /* 0x00000080 */
+#define RCC_APB2ENR_IOPFEN RCC_APB2ENR_IOPFEN_Msk /* I/O port F clock enable */
+#define RCC_APB2ENR_IOPGEN_Pos (8U)
+#define RCC_APB2ENR_IOPGEN_Msk (0x1U << RCC_APB2ENR_IOPGEN_Pos) /* 0x00000100 */
+#define RCC_APB2ENR_IOPGEN RCC_APB2ENR_IOPGEN_Msk /* I/O port G clock enable */
+#define RCC_APB2ENR_ADC1EN_Pos (9U)
+#define RCC_APB2ENR_ADC1EN_Msk (0x1U << RCC_APB2ENR_ADC1EN_Pos) /* 0x00000200 */
+#define RCC_APB2ENR_ADC1EN RCC_APB2ENR_ADC1EN_Msk /* ADC 1 interface clock enable */
+#define RCC_APB2ENR_ADC2EN_Pos (10U)
+#define RCC_APB2ENR_ADC2EN_Msk (0x1U << RCC_APB2ENR_ADC2EN_Pos) /* 0x00000400 */
+#define RCC_APB2ENR_ADC2EN RCC_APB2ENR_ADC2EN_Msk /* ADC 2 interface clock enable */
+#define RCC_APB2ENR_TIM1EN_Pos (11U)
+#define RCC_APB2ENR_TIM1EN_Msk (0x1U << RCC_APB2ENR_TIM1EN_Pos) /* 0x00000800 */
+#define RCC_APB2ENR_TIM1EN RCC_APB2ENR_TIM1EN_Msk /* TIM1 Timer clock enable */
+#define RCC_APB2ENR_SPI1EN_Pos (12U)
+#define RCC_APB2ENR_SPI1EN_Msk (0x1U << RCC_APB2ENR_SPI1EN_Pos) /* 0x00001000 */
+#define RCC_APB2ENR_SPI1EN RCC_APB2ENR_SPI1EN_Msk /* SPI 1 clock enable */
+#define RCC_APB2ENR_TIM8EN_Pos (13U)
+#define RCC_APB2ENR_TIM8EN_Msk (0x1U << RCC_APB2ENR_TIM8EN_Pos) /* 0x00002000 */
+#define RCC_APB2ENR_TIM8EN RCC_APB2ENR_TIM8EN_Msk /* TIM8 Timer clock enable */
+#define RCC_APB2ENR_USART1EN_Pos (14U)
+#define RCC_APB2ENR_USART1EN_Msk (0x1U << RCC_APB2ENR_USART1EN_Pos) /* 0x00004000 */
+#define RCC_APB2ENR_USART1EN RCC_APB2ENR_USART1EN_Msk /* USART1 clock enable */
+#define RCC_APB2ENR_ADC3EN_Pos (15U)
+#define RCC_APB2ENR_ADC3EN_Msk (0x1U << RCC_APB2ENR_ADC3EN_Pos) /* 0x00008000 */
+#define RCC_APB2ENR_ADC3EN RCC_APB2ENR_ADC3EN_Msk /* ADC3 interface clock enable */
+#define RCC_APB2ENR_TIM9EN_Pos (19U)
+#define RCC_APB2ENR_TIM9EN_Msk (0x1U << RCC_APB2ENR_TIM9EN_Pos) /* 0x00080000 */
+#define RCC_APB2ENR_TIM9EN RCC_APB2ENR_TIM9EN_Msk /* TIM9 Timer clock enable */
+#define RCC_APB2ENR_TIM10EN_Pos (20U)
+#define RCC_APB2ENR_TIM10EN_Msk (0x1U << RCC_APB2ENR_TIM10EN_Pos) /* 0x00100000 */
+#define RCC_APB2ENR_TIM10EN RCC_APB2ENR_TIM10EN_Msk /* TIM10 Timer clock enable */
+#define RCC_APB2ENR_TIM11EN_Pos (21U)
+#define RCC_APB2ENR_TIM11EN_Msk (0x1U << RCC_APB2ENR_TIM11EN_Pos) /* 0x00200000 */
+#define RCC_APB2ENR_TIM11EN RCC_APB2ENR_TIM11EN_Msk /* TIM11 Timer clock enable */
+
+/* RCC_APB1ENR */
+#define RCC_APB1ENR_TIM2EN_Pos (0U)
+#define RCC_APB1ENR_TIM2EN_Msk (0x1U << RCC_APB1ENR_TIM2EN_Pos) /* 0x00000001 */
+#define RCC_APB1ENR_TIM2EN RCC_APB1ENR_TIM2EN_Msk /* Timer 2 clock enable */
+#define RCC_APB1ENR_TIM3EN_Pos (1U)
+#define RCC_APB1ENR_TIM3EN_Msk (0x1U << RCC_APB1ENR_TIM3EN_Pos) /* 0x00000002 */
+#define RCC_APB1ENR_TIM3EN RCC_APB1ENR_TIM3EN_Msk /* Timer 3 clock enable */
+#define RCC_APB1ENR_TIM4EN_Pos (2U)
+#define RCC_APB1ENR_TIM4EN_Msk (0x1U << RCC_APB1ENR_TIM4EN_Pos) /* 0x00000004 */
+#define RCC_APB1ENR_TIM4EN RCC_APB1ENR_TIM4EN_Msk /* Timer 4 clock enable */
+#define RCC_APB1ENR_TIM5EN_Pos (3U)
+#define RCC_APB1ENR_TIM5EN_Msk (0x1U << RCC_APB1ENR_TIM5EN_Pos) /* 0x00000008 */
+#define RCC_APB1ENR_TIM5EN RCC_APB1ENR_TIM5EN_Msk /* Timer 5 clock enable */
+#define RCC_APB1ENR_TIM6EN_Pos (4U)
+#define RCC_APB1ENR_TIM6EN_Msk (0x1U << RCC_APB1ENR_TIM6EN_Pos) /* 0x00000010 */
+#define RCC_APB1ENR_TIM6EN RCC_APB1ENR_TIM6EN_Msk /* Timer 6 clock enable */
+#define RCC_APB1ENR_TIM7EN_Pos (5U)
+#define RCC_APB1ENR_TIM7EN_Msk (0x1U << RCC_APB1ENR_TIM7EN_Pos) /* 0x00000020 */
+#define RCC_APB1ENR_TIM7EN RCC_APB1ENR_TIM7EN_Msk /* Timer 7 clock enable */
+#define RCC_APB1ENR_TIM12EN_Pos (6U)
+#define RCC_APB1ENR_TIM12EN_Msk (0x1U << RCC_APB1ENR_TIM12EN_Pos) /* 0x00000040 */
+#define RCC_APB1ENR_TIM12EN RCC_APB1ENR_TIM12EN_Msk /* Timer 12 clock enable */
+#define RCC_APB1ENR_TIM13EN_Pos (7U)
+#define RCC_APB1ENR_TIM13EN_Msk (0x1U << RCC_APB1ENR_TIM13EN_Pos) /* 0x00000080 */
+#define RCC_APB1ENR_TIM13EN RCC_APB1ENR_TIM13EN_Msk /* Timer 13 clock enable */
+#define RCC_APB1ENR_TIM14EN_Pos (8U)
+#define RCC_APB1ENR_TIM14EN_Msk (0x1U << RCC_APB1ENR_TIM14EN_Pos) /* 0x00000100 */
+#define RCC_APB1ENR_TIM14EN RCC_APB1ENR_TIM14EN_Msk /* Timer 14 clock enable */
+#define RCC_APB1ENR_WWDGEN_Pos (11U)
+#define RCC_APB1ENR_WWDGEN_Msk (0x1U << RCC_APB1ENR_WWDGEN_Pos) /* 0x00000800 */
+#define RCC_APB1ENR_WWDGEN RCC_APB1ENR_WWDGEN_Msk /* Window watchdog clock enable */
+#define RCC_APB1ENR_SPI2EN_Pos (14U)
+#define RCC_APB1ENR_SPI2EN_Msk (0x1U << RCC_APB1ENR_SPI2EN_Pos) /* 0x00004000 */
+#define RCC_APB1ENR_SPI2EN RCC_APB1ENR_SPI2EN_Msk /* SPI 2 clock enable */
+#define RCC_APB1ENR_SPI3EN_Pos (15U)
+#define RCC_APB1ENR_SPI3EN_Msk (0x1U << RCC_APB1ENR_SPI3EN_Pos) /* 0x00008000 */
+#define RCC_APB1ENR_SPI3EN RCC_APB1ENR_SPI3EN_Msk /* SPI 3 clock enable */
+#define RCC_APB1ENR_USART2EN_Pos (17U)
+#define RCC_APB1ENR_USART2EN_Msk (0x1U << RCC_APB1ENR_USART2EN_Pos) /* 0x00020000 */
+#define RCC_APB1ENR_USART2EN RCC_APB1ENR_USART2EN_Msk /* USART 2 clock enable */
+#define RCC_APB1ENR_USART3EN_Pos (18U)
+#define RCC_APB1ENR_USART3EN_Msk (0x1U << RCC_APB1ENR_USART3EN_Pos) /* 0x00040000 */
+#define RCC_APB1ENR_USART3EN RCC_APB1ENR_USART3EN_Msk /* USART 3 clock enable */
+#define RCC_APB1ENR_UART4EN_Pos (19U)
+#define RCC_APB1ENR_UART4EN_Msk (0x1U << RCC_APB1ENR_UART4EN_Pos) /* 0x00080000 */
+#define RCC_APB1ENR_UART4EN RCC_APB1ENR_UART4EN_Msk /* UART 4 clock enable */
+#define RCC_APB1ENR_UART5EN_Pos (20U)
+#define RCC_APB1ENR_UART5EN_Msk (0x1U << RCC_APB1ENR_UART5EN_Pos) /* 0x00100000 */
+#define RCC_APB1ENR_UART5EN RCC_APB1ENR_UART5EN_Msk /* UART 5 clock enable */
+#define RCC_APB1ENR_I2C1EN_Pos (21U)
+#define RCC_APB1ENR_I2C1EN_Msk (0x1U << RCC_APB1ENR_I2C1EN_Pos) /* 0x00200000 */
+#define RCC_APB1ENR_I2C1EN RCC_APB1ENR_I2C1EN_Msk /* I2C 1 clock enable */
+#define RCC_APB1ENR_I2C2EN_Pos (22U)
+#define RCC_APB1ENR_I2C2EN_Msk (0x1U << RCC_APB1ENR_I2C2EN_Pos) /* 0x00400000 */
+#define RCC_APB1ENR_I2C2EN RCC_APB1ENR_I2C2EN_Msk /* I2C 2 clock enable */
+#define RCC_APB1ENR_USBEN_Pos (23U)
+#define RCC_APB1ENR_USBEN_Msk (0x1U << RCC_APB1ENR_USBEN_Pos) /* 0x00800000 */
+#define RCC_APB1ENR_USBEN RCC_APB1ENR_USBEN_Msk /* USB clock enable */
+#define RCC_APB1ENR_CANEN_Pos (25U)
+#define RCC_APB1ENR_CANEN_Msk (0x1U << RCC_APB1ENR_CANEN_Pos) /* 0x02000000 */
+#define RCC_APB1ENR_CANEN RCC_APB1ENR_CANEN_Msk /* CAN clock enable */
+#define RCC_APB1ENR_BKPEN_Pos (27U)
+#define RCC_APB1ENR_BKPEN_Msk (0x1U << RCC_APB1ENR_BKPEN_Pos) /* 0x08000000 */
+#define RCC_APB1ENR_BKPEN RCC_APB1ENR_BKPEN_Msk /* Backup interface clock enable */
+#define RCC_APB1ENR_PWREN_Pos (28U)
+#define RCC_APB1ENR_PWREN_Msk (0x1U << RCC_APB1ENR_PWREN_Pos) /* 0x10000000 */
+#define RCC_APB1ENR_PWREN RCC_APB1ENR_PWREN_Msk /* Power interface clock enable */
+#define RCC_APB1ENR_DACEN_Pos (29U)
+#define RCC_APB1ENR_DACEN_Msk (0x1U << RCC_APB1ENR_DACEN_Pos) /* 0x20000000 */
+#define RCC_APB1ENR_DACEN RCC_APB1ENR_DACEN_Msk /* DAC interface clock enable */
+
+/* GPIO_CRL */
+#define GPIO_CRL_MODE0_Pos (0U)
+#define GPIO_CRL_MODE0_Msk (0x3U << GPIO_CRL_MODE0_Pos) /* 0x00000003 */
+#define GPIO_CRL_MODE0 GPIO_CRL_MODE0_Msk /* Port n.0 mode bits */
+#define GPIO_CRL_MODE0_0 (0x1U << GPIO_CRL_MODE0_Pos) /* 0x00000001 */
+#define GPIO_CRL_MODE0_1 (0x2U << GPIO_CRL_MODE0_Pos) /* 0x00000002 */
+#define GPIO_CRL_CNF0_Pos (2U)
+#define GPIO_CRL_CNF0_Msk (0x3U << GPIO_CRL_CNF0_Pos) /* 0x0000000C */
+#define GPIO_CRL_CNF0 GPIO_CRL_CNF0_Msk /* Port n.0 configuration bits */
+#define GPIO_CRL_CNF0_0 (0x1U << GPIO_CRL_CNF0_Pos) /* 0x00000004 */
+#define GPIO_CRL_CNF0_1 (0x2U << GPIO_CRL_CNF0_Pos) /* 0x00000008 */
+#define GPIO_CRL_MODE1_Pos (4U)
+#define GPIO_CRL_MODE1_Msk (0x3U << GPIO_CRL_MODE1_Pos) /* 0x00000030 */
+#define GPIO_CRL_MODE1 GPIO_CRL_MODE1_Msk /* Port n.1 mode bits */
+#define GPIO_CRL_MODE1_0 (0x1U << GPIO_CRL_MODE1_Pos) /* 0x00000010 */
+#define GPIO_CRL_MODE1_1 (0x2U << GPIO_CRL_MODE1_Pos) /* 0x00000020 */
+#define GPIO_CRL_CNF1_Pos (6U)
+#define GPIO_CRL_CNF1_Msk (0x3U << GPIO_CRL_CNF1_Pos) /* 0x000000C0 */
+#define GPIO_CRL_CNF1 GPIO_CRL_CNF1_Msk /* Port n.1 configuration bits */
+#define GPIO_CRL_CNF1_0 (0x1U << GPIO_CRL_CNF1_Pos) /* 0x00000040 */
+#define GPIO_CRL_CNF1_1 (0x2U << GPIO_CRL_CNF1_Pos) /* 0x00000080 */
+#define GPIO_CRL_MODE2_Pos (8U)
+#define GPIO_CRL_MODE2_Msk (0x3U << GPIO_CRL_MODE2_Pos) /* 0x00000300 */
+#define GPIO_CRL_MODE2 GPIO_CRL_MODE2_Msk /* Port n.2 mode bits */
+#define GPIO_CRL_MODE2_0 (0x1U << GPIO_CRL_MODE2_Pos) /* 0x00000100 */
+#define GPIO_CRL_MODE2_1 (0x2U << GPIO_CRL_MODE2_Pos) /* 0x00000200 */
+#define GPIO_CRL_CNF2_Pos (10U)
+#define GPIO_CRL_CNF2_Msk (0x3U << GPIO_CRL_CNF2_Pos) /* 0x00000C00 */
+#define GPIO_CRL_CNF2 GPIO_CRL_CNF2_Msk /* Port n.2 configuration bits */
+#define GPIO_CRL_CNF2_0 (0x1U << GPIO_CRL_CNF2_Pos) /* 0x00000400 */
+#define GPIO_CRL_CNF2_1 (0x2U << GPIO_CRL_CNF2_Pos) /* 0x00000800 */
+#define GPIO_CRL_MODE3_Pos (12U)
+#define GPIO_CRL_MODE3_Msk (0x3U << GPIO_CRL_MODE3_Pos) /* 0x00003000 */
+#define GPIO_CRL_MODE3 GPIO_CRL_MODE3_Msk /* Port n.3 mode bits */
+#define GPIO_CRL_MODE3_0 (0x1U << GPIO_CRL_MODE3_Pos) /* 0x00001000 */
+#define GPIO_CRL_MODE3_1 (0x2U << GPIO_CRL_MODE3_Pos) /* 0x00002000 */
+#define GPIO_CRL_CNF3_Pos (14U)
+#define GPIO_CRL_CNF3_Msk (0x3U << GPIO_CRL_CNF3_Pos) /* 0x0000C000 */
+#define GPIO_CRL_CNF3 GPIO_CRL_CNF3_Msk /* Port n.3 configuration bits */
+#define GPIO_CRL_CNF3_0 (0x1U << GPIO_CRL_CNF3_Pos) /* 0x00004000 */
+#define GPIO_CRL_CNF3_1 (0x2U << GPIO_CRL_CNF3_Pos) /* 0x00008000 */
+#define GPIO_CRL_MODE4_Pos (16U)
+#define GPIO_CRL_MODE4_Msk (0x3U << GPIO_CRL_MODE4_Pos) /* 0x00030000 */
+#define GPIO_CRL_MODE4 GPIO_CRL_MODE4_Msk /* Port n.4 mode bits */
+#define GPIO_CRL_MODE4_0 (0x1U << GPIO_CRL_MODE4_Pos) /* 0x00010000 */
+#define GPIO_CRL_MODE4_1 (0x2U << GPIO_CRL_MODE4_Pos) /* 0x00020000 */
+#define GPIO_CRL_CNF4_Pos (18U)
+#define GPIO_CRL_CNF4_Msk (0x3U << GPIO_CRL_CNF4_Pos) /* 0x000C0000 */
+#define GPIO_CRL_CNF4 GPIO_CRL_CNF4_Msk /* Port n.4 configuration bits */
+#define GPIO_CRL_CNF4_0 (0x1U << GPIO_CRL_CNF4_Pos) /* 0x00040000 */
+#define GPIO_CRL_CNF4_1 (0x2U << GPIO_CRL_CNF4_Pos) /* 0x00080000 */
+#define GPIO_CRL_MODE5_Pos (20U)
+#define GPIO_CRL_MODE5_Msk (0x3U << GPIO_CRL_MODE5_Pos) /* 0x00300000 */
+#define GPIO_CRL_MODE5 GPIO_CRL_MODE5_Msk /* Port n.5 mode bits */
+#define GPIO_CRL_MODE5_0 (0x1U << GPIO_CRL_MODE5_Pos) /* 0x00100000 */
+#define GPIO_CRL_MODE5_1 (0x2U << GPIO_CRL_MODE5_Pos) /* 0x00200000 */
+#define GPIO_CRL_CNF5_Pos (22U)
+#define GPIO_CRL_CNF5_Msk (0x3U << GPIO_CRL_CNF5_Pos) /* 0x00C00000 */
+#define GPIO_CRL_CNF5 GPIO_CRL_CNF5_Msk /* Port n.5 configuration bits */
+#define GPIO_CRL_CNF5_0 (0x1U << GPIO_CRL_CNF5_Pos) /* 0x00400000 */
+#define GPIO_CRL_CNF5_1 (0x2U << GPIO_CRL_CNF5_Pos) /* 0x00800000 */
+#define GPIO_CRL_MODE6_Pos (24U)
+#define GPIO_CRL_MODE6_Msk (0x3U << GPIO_CRL_MODE6_Pos) /* 0x03000000 */
+#define GPIO_CRL_MODE6 GPIO_CRL_MODE6_Msk /* Port n.6 mode bits */
+#define GPIO_CRL_MODE6_0 (0x1U << GPIO_CRL_MODE6_Pos) /* 0x01000000 */
+#define GPIO_CRL_MODE6_1 (0x2U << GPIO_CRL_MODE6_Pos) /* 0x02000000 */
+#define GPIO_CRL_CNF6_Pos (26U)
+#define GPIO_CRL_CNF6_Msk (0x3U << GPIO_CRL_CNF6_Pos) /* 0x0C000000 */
+#define GPIO_CRL_CNF6 GPIO_CRL_CNF6_Msk /* Port n.6 configuration bits */
+#define GPIO_CRL_CNF6_0 (0x1U << GPIO_CRL_CNF6_Pos) /* 0x04000000 */
+#define GPIO_CRL_CNF6_1 (0x2U << GPIO_CRL_CNF6_Pos) /* 0x08000000 */
+#define GPIO_CRL_MODE7_Pos (28U)
+#define GPIO_CRL_MODE7_Msk (0x3U << GPIO_CRL_MODE7_Pos) /* 0x30000000 */
+#define GPIO_CRL_MODE7 GPIO_CRL_MODE7_Msk /* Port n.7 mode bits */
+#define GPIO_CRL_MODE7_0 (0x1U << GPIO_CRL_MODE7_Pos) /* 0x10000000 */
+#define GPIO_CRL_MODE7_1 (0x2U << GPIO_CRL_MODE7_Pos) /* 0x20000000 */
+#define GPIO_CRL_CNF7_Pos (30U)
+#define GPIO_CRL_CNF7_Msk (0x3U << GPIO_CRL_CNF7_Pos) /* 0xC0000000 */
+#define GPIO_CRL_CNF7 GPIO_CRL_CNF7_Msk /* Port n.7 configuration bits */
+#define GPIO_CRL_CNF7_0 (0x1U << GPIO_CRL_CNF7_Pos) /* 0x40000000 */
+#define GPIO_CRL_CNF7_1 (0x2U << GPIO_CRL_CNF7_Pos) /* 0x80000000 */
+
+/* GPIO_CRH */
+#define GPIO_CRH_MODE8_Pos (0U)
+#define GPIO_CRH_MODE8_Msk (0x3U << GPIO_CRH_MODE8_Pos) /* 0x00000003 */
+#define GPIO_CRH_MODE8 GPIO_CRH_MODE8_Msk /* Port n.8 mode bits */
+#define GPIO_CRH_MODE8_0 (0x1U << GPIO_CRH_MODE8_Pos) /* 0x00000001 */
+#define GPIO_CRH_MODE8_1 (0x2U << GPIO_CRH_MODE8_Pos) /* 0x00000002 */
+#define GPIO_CRH_CNF8_Pos (2U)
+#define GPIO_CRH_CNF8_Msk (0x3U << GPIO_CRH_CNF8_Pos) /* 0x0000000C */
+#define GPIO_CRH_CNF8 GPIO_CRH_CNF8_Msk /* Port n.8 configuration bits */
+#define GPIO_CRH_CNF8_0 (0x1U << GPIO_CRH_CNF8_Pos) /* 0x00000004 */
+#define GPIO_CRH_CNF8_1 (0x2U << GPIO_CRH_CNF8_Pos) /* 0x00000008 */
+#define GPIO_CRH_MODE9_Pos (4U)
+#define GPIO_CRH_MODE9_Msk (0x3U << GPIO_CRH_MODE9_Pos) /* 0x00000030 */
+#define GPIO_CRH_MODE9 GPIO_CRH_MODE9_Msk /* Port n.9 mode bits */
+#define GPIO_CRH_MODE9_0 (0x1U << GPIO_CRH_MODE9_Pos) /* 0x00000010 */
+#define GPIO_CRH_MODE9_1 (0x2U << GPIO_CRH_MODE9_Pos) /* 0x00000020 */
+#define GPIO_CRH_CNF9_Pos (6U)
+#define GPIO_CRH_CNF9_Msk (0x3U << GPIO_CRH_CNF9_Pos) /* 0x000000C0 */
+#define GPIO_CRH_CNF9 GPIO_CRH_CNF9_Msk /* Port n.9 configuration bits */
+#define GPIO_CRH_CNF9_0 (0x1U << GPIO_CRH_CNF9_Pos) /* 0x00000040 */
+#define GPIO_CRH_CNF9_1 (0x2U << GPIO_CRH_CNF9_Pos) /* 0x00000080 */
+#define GPIO_CRH_MODE10_Pos (8U)
+#define GPIO_CRH_MODE10_Msk (0x3U << GPIO_CRH_MODE10_Pos) /* 0x00000300 */
+#define GPIO_CRH_MODE10 GPIO_CRH_MODE10_Msk /* Port n.10 mode bits */
+#define GPIO_CRH_MODE10_0 (0x1U << GPIO_CRH_MODE10_Pos) /* 0x00000100 */
+#define GPIO_CRH_MODE10_1 (0x2U << GPIO_CRH_MODE10_Pos) /* 0x00000200 */
+#define GPIO_CRH_CNF10_Pos (10U)
+#define GPIO_CRH_CNF10_Msk (0x3U << GPIO_CRH_CNF10_Pos) /* 0x00000C00 */
+#define GPIO_CRH_CNF10 GPIO_CRH_CNF10_Msk /* Port n.10 configuration bits */
+#define GPIO_CRH_CNF10_0 (0x1U << GPIO_CRH_CNF10_Pos) /* 0x00000400 */
+#define GPIO_CRH_CNF10_1 (0x2U << GPIO_CRH_CNF10_Pos) /* 0x00000800 */
+#define GPIO_CRH_MODE11_Pos (12U)
+#define GPIO_CRH_MODE11_Msk (0x3U << GPIO_CRH_MODE11_Pos) /* 0x00003000 */
+#define GPIO_CRH_MODE11 GPIO_CRH_MODE11_Msk /* Port n.11 mode bits */
+#define GPIO_CRH_MODE11_0 (0x1U << GPIO_CRH_MODE11_Pos) /* 0x00001000 */
+#define GPIO_CRH_MODE11_1 (0x2U << GPIO_CRH_MODE11_Pos) /* 0x00002000 */
+#define GPIO_CRH_CNF11_Pos (14U)
+#define GPIO_CRH_CNF11_Msk (0x3U << GPIO_CRH_CNF11_Pos) /* 0x0000C000 */
+#define GPIO_CRH_CNF11 GPIO_CRH_CNF11_Msk /* Port n.11 configuration bits */
+#define GPIO_CRH_CNF11_0 (0x1U << GPIO_CRH_CNF11_Pos) /* 0x00004000 */
+#define GPIO_CRH_CNF11_1 (0x2U << GPIO_CRH_CNF11_Pos) /* 0x00008000 */
+#define GPIO_CRH_MODE12_Pos (16U)
+#define GPIO_CRH_MODE12_Msk (0x3U << GPIO_CRH_MODE12_Pos) /* 0x00030000 */
+#define GPIO_CRH_MODE12 GPIO_CRH_MODE12_Msk /* Port n.12 mode bits */
+#define GPIO_CRH_MODE12_0 (0x1U << GPIO_CRH_MODE12_Pos) /* 0x00010000 */
+#define GPIO_CRH_MODE12_1 (0x2U << GPIO_CRH_MODE12_Pos) /* 0x00020000 */
+#define GPIO_CRH_CNF12_Pos (18U)
+#define GPIO_CRH_CNF12_Msk (0x3U << GPIO_CRH_CNF12_Pos) /* 0x000C0000 */
+#define GPIO_CRH_CNF12 GPIO_CRH_CNF12_Msk /* Port n.12 configuration bits */
+#define GPIO_CRH_CNF12_0 (0x1U << GPIO_CRH_CNF12_Pos) /* 0x00040000 */
+#define GPIO_CRH_CNF12_1 (0x2U << GPIO_CRH_CNF12_Pos) /* 0x00080000 */
+#define GPIO_CRH_MODE13_Pos (20U)
+#define GPIO_CRH_MODE13_Msk (0x3U << GPIO_CRH_MODE13_Pos) /* 0x00300000 */
+#define GPIO_CRH_MODE13 GPIO_CRH_MODE13_Msk /* Port n.13 mode bits */
+#define GPIO_CRH_MODE13_0 (0x1U << GPIO_CRH_MODE13_Pos) /* 0x00100000 */
+#define GPIO_CRH_MODE13_1 (0x2U << GPIO_CRH_MODE13_Pos) /* 0x00200000 */
+#define GPIO_CRH_CNF13_Pos (22U)
+#define GPIO_CRH_CNF13_Msk (0x3U << GPIO_CRH_CNF13_Pos) /* 0x00C00000 */
+#define GPIO_CRH_CNF13 GPIO_CRH_CNF13_Msk /* Port n.13 configuration bits */
+#define GPIO_CRH_CNF13_0 (0x1U << GPIO_CRH_CNF13_Pos) /* 0x00400000 */
+#define GPIO_CRH_CNF13_1 (0x2U << GPIO_CRH_CNF13_Pos) /* 0x00800000 */
+#define GPIO_CRH_MODE14_Pos (24U)
+#define GPIO_CRH_MODE14_Msk (0x3U << GPIO_CRH_MODE14_Pos) /* 0x03000000 */
+#define GPIO_CRH_MODE14 GPIO_CRH_MODE14_Msk /* Port n.14 mode bits */
+#define GPIO_CRH_MODE14_0 (0x1U << GPIO_CRH_MODE14_Pos) /* 0x01000000 */
+#define GPIO_CRH_MODE14_1 (0x2U << GPIO_CRH_MODE14_Pos) /* 0x02000000 */
+#define GPIO_CRH_CNF14_Pos (26U)
+#define GPIO_CRH_CNF14_Msk (0x3U << GPIO_CRH_CNF14_Pos) /* 0x0C000000 */
+#define GPIO_CRH_CNF14 GPIO_CRH_CNF14_Msk /* Port n.14 configuration bits */
+#define GPIO_CRH_CNF14_0 (0x1U << GPIO_CRH_CNF14_Pos) /* 0x04000000 */
+#define GPIO_CRH_CNF14_1 (0x2U << GPIO_CRH_CNF14_Pos) /* 0x08000000 */
+#define GPIO_CRH_MODE15_Pos (28U)
+#define GPIO_CRH_MODE15_Msk (0x3U << GPIO_CRH_MODE15_Pos) /* 0x30000000 */
+#define GPIO_CRH_MODE15 GPIO_CRH_MODE15_Msk /* Port n.15 mode bits */
+#define GPIO_CRH_MODE15_0 (0x1U << GPIO_CRH_MODE15_Pos) /* 0x10000000 */
+#define GPIO_CRH_MODE15_1 (0x2U << GPIO_CRH_MODE15_Pos) /* 0x20000000 */
+#define GPIO_CRH_CNF15_Pos (30U)
+#define GPIO_CRH_CNF15_Msk (0x3U << GPIO_CRH_CNF15_Pos) /* 0xC0000000 */
+#define GPIO_CRH_CNF15 GPIO_CRH_CNF15_Msk /* Port n.15 configuration bits */
+#define GPIO_CRH_CNF15_0 (0x1U << GPIO_CRH_CNF15_Pos) /* 0x40000000 */
+#define GPIO_CRH_CNF15_1 (0x2U << GPIO_CRH_CNF15_Pos) /* 0x80000000 */
+
+/* GPIO_IDR */
+#define GPIO_IDR_IDR0_Pos (0U)
+#define GPIO_IDR_IDR0_Msk (0x1U << GPIO_IDR_IDR0_Pos) /* 0x00000001 */
+#define GPIO_IDR_IDR0 GPIO_IDR_IDR0_Msk /* Port input data */
+#define GPIO_IDR_IDR1_Pos (1U)
+#define GPIO_IDR_IDR1_Msk (0x1U << GPIO_IDR_IDR1_Pos) /* 0x00000002 */
+#define GPIO_IDR_IDR1 GPIO_IDR_IDR1_Msk /* Port input data */
+#define GPIO_IDR_IDR2_Pos (2U)
+#define GPIO_IDR_IDR2_Msk (0x1U << GPIO_IDR_IDR2_Pos) /* 0x00000004 */
+#define GPIO_IDR_IDR2 GPIO_IDR_IDR2_Msk /* Port input data */
+#define GPIO_IDR_IDR3_Pos (3U)
+#define GPIO_IDR_IDR3_Msk (0x1U << GPIO_IDR_IDR3_Pos) /* 0x00000008 */
+#define GPIO_IDR_IDR3 GPIO_IDR_IDR3_Msk /* Port input data */
+#define GPIO_IDR_IDR4_Pos (4U)
+#define GPIO_IDR_IDR4_Msk (0x1U << GPIO_IDR_IDR4_Pos) /* 0x00000010 */
+#define GPIO_IDR_IDR4 GPIO_IDR_IDR4_Msk /* Port input data */
+#define GPIO_IDR_IDR5_Pos (5U)
+#define GPIO_IDR_IDR5_Msk (0x1U << GPIO_IDR_IDR5_Pos) /* 0x00000020 */
+#define GPIO_IDR_IDR5 GPIO_IDR_IDR5_Msk /* Port input data */
+#define GPIO_IDR_IDR6_Pos (6U)
+#define GPIO_IDR_IDR6_Msk (0x1U << GPIO_IDR_IDR6_Pos) /* 0x00000040 */
+#define GPIO_IDR_IDR6 GPIO_IDR_IDR6_Msk /* Port input data */
+#define GPIO_IDR_IDR7_Pos (7U)
+#define GPIO_IDR_IDR7_Msk (0x1U << GPIO_IDR_IDR7_Pos) /* 0x00000080 */
+#define GPIO_IDR_IDR7 GPIO_IDR_IDR7_Msk /* Port input data */
+#define GPIO_IDR_IDR8_Pos (8U)
+#define GPIO_IDR_IDR8_Msk (0x1U << GPIO_IDR_IDR8_Pos) /* 0x00000100 */
+#define GPIO_IDR_IDR8 GPIO_IDR_IDR8_Msk /* Port input data */
+#define GPIO_IDR_IDR9_Pos (9U)
+#define GPIO_IDR_IDR9_Msk (0x1U << GPIO_IDR_IDR9_Pos) /* 0x00000200 */
+#define GPIO_IDR_IDR9 GPIO_IDR_IDR9_Msk /* Port input data */
+#define GPIO_IDR_IDR10_Pos (10U)
+#define GPIO_IDR_IDR10_Msk (0x1U << GPIO_IDR_IDR10_Pos) /* 0x00000400 */
+#define GPIO_IDR_IDR10 GPIO_IDR_IDR10_Msk /* Port input data */
+#define GPIO_IDR_IDR11_Pos (11U)
+#define GPIO_IDR_IDR11_Msk (0x1U << GPIO_IDR_IDR11_Pos) /* 0x00000800 */
+#define GPIO_IDR_IDR11 GPIO_IDR_IDR11_Msk /* Port input data */
+#define GPIO_IDR_IDR12_Pos (12U)
+#define GPIO_IDR_IDR12_Msk (0x1U << GPIO_IDR_IDR12_Pos) /* 0x00001000 */
+#define GPIO_IDR_IDR12 GPIO_IDR_IDR12_Msk /* Port input data */
+#define GPIO_IDR_IDR13_Pos (13U)
+#define GPIO_IDR_IDR13_Msk (0x1U << GPIO_IDR_IDR13_Pos) /* 0x00002000 */
+#define GPIO_IDR_IDR13 GPIO_IDR_IDR13_Msk /* Port input data */
+#define GPIO_IDR_IDR14_Pos (14U)
+#define GPIO_IDR_IDR14_Msk (0x1U << GPIO_IDR_IDR14_Pos) /* 0x00004000 */
+#define GPIO_IDR_IDR14 GPIO_IDR_IDR14_Msk /* Port input data */
+#define GPIO_IDR_IDR15_Pos (15U)
+#define GPIO_IDR_IDR15_Msk (0x1U << GPIO_IDR_IDR15_Pos) /* 0x00008000 */
+#define GPIO_IDR_IDR15 GPIO_IDR_IDR15_Msk /* Port input data */
+
+/* GPIO_BSRR */
+#define GPIO_BSRR_BS0_Pos (0U)
+#define GPIO_BSRR_BS0_Msk (0x1U << GPIO_BSRR_BS0_Pos) /* 0x00000001 */
+#define GPIO_BSRR_BS0 GPIO_BSRR_BS0_Msk /* Set bit 0 */
+#define GPIO_BSRR_BS1_Pos (1U)
+#define GPIO_BSRR_BS1_Msk (0x1U << GPIO_BSRR_BS1_Pos) /* 0x00000002 */
+#define GPIO_BSRR_BS1 GPIO_BSRR_BS1_Msk /* Set bit 1 */
+#define GPIO_BSRR_BS2_Pos (2U)
+#define GPIO_BSRR_BS2_Msk (0x1U << GPIO_BSRR_BS2_Pos) /* 0x00000004 */
+#define GPIO_BSRR_BS2 GPIO_BSRR_BS2_Msk /* Set bit 1 */
+#define GPIO_BSRR_BS3_Pos (3U)
+#define GPIO_BSRR_BS3_Msk (0x1U << GPIO_BSRR_BS3_Pos) /* 0x00000008 */
+#define GPIO_BSRR_BS3 GPIO_BSRR_BS3_Msk /* Set bit 3 */
+#define GPIO_BSRR_BS4_Pos (4U)
+#define GPIO_BSRR_BS4_Msk (0x1U << GPIO_BSRR_BS4_Pos) /* 0x00000010 */
+#define GPIO_BSRR_BS4 GPIO_BSRR_BS4_Msk /* Set bit 4 */
+#define GPIO_BSRR_BS5_Pos (5U)
+#define GPIO_BSRR_BS5_Msk (0x1U << GPIO_BSRR_BS5_Pos) /* 0x00000020 */
+#define GPIO_BSRR_BS5 GPIO_BSRR_BS5_Msk /* Set bit 5 */
+#define GPIO_BSRR_BS6_Pos (6U)
+#define GPIO_BSRR_BS6_Msk (0x1U << GPIO_BSRR_BS6_Pos) /* 0x00000040 */
+#define GPIO_BSRR_BS6 GPIO_BSRR_BS6_Msk /* Set bit 6 */
+#define GPIO_BSRR_BS7_Pos (7U)
+#define GPIO_BSRR_BS7_Msk (0x1U << GPIO_BSRR_BS7_Pos) /* 0x00000080 */
+#define GPIO_BSRR_BS7 GPIO_BSRR_BS7_Msk /* Set bit 7 */
+#define GPIO_BSRR_BS8_Pos (8U)
+#define GPIO_BSRR_BS8_Msk (0x1U << GPIO_BSRR_BS8_Pos) /* 0x00000100 */
+#define GPIO_BSRR_BS8 GPIO_BSRR_BS8_Msk /* Set bit 8 */
+#define GPIO_BSRR_BS9_Pos (9U)
+#define GPIO_BSRR_BS9_Msk (0x1U << GPIO_BSRR_BS9_Pos) /* 0x00000200 */
+#define GPIO_BSRR_BS9 GPIO_BSRR_BS9_Msk /* Set bit 9 */
+#define GPIO_BSRR_BS10_Pos (10U)
+#define GPIO_BSRR_BS10_Msk (0x1U << GPIO_BSRR_BS10_Pos) /* 0x00000400 */
+#define GPIO_BSRR_BS10 GPIO_BSRR_BS10_Msk /* Set bit 10 */
+#define GPIO_BSRR_BS11_Pos (11U)
+#define GPIO_BSRR_BS11_Msk (0x1U << GPIO_BSRR_BS11_Pos) /* 0x00000800 */
+#define GPIO_BSRR_BS11 GPIO_BSRR_BS11_Msk /* Set bit 11 */
+#define GPIO_BSRR_BS12_Pos (12U)
+#define GPIO_BSRR_BS12_Msk (0x1U << GPIO_BSRR_BS12_Pos) /* 0x00001000 */
+#define GPIO_BSRR_BS12 GPIO_BSRR_BS12_Msk /* Set bit 12 */
+#define GPIO_BSRR_BS13_Pos (13U)
+#define GPIO_BSRR_BS13_Msk (0x1U << GPIO_BSRR_BS13_Pos) /* 0x00002000 */
+#define GPIO_BSRR_BS13 GPIO_BSRR_BS13_Msk /* Set bit 13 */
+#define GPIO_BSRR_BS14_Pos (14U)
+#define GPIO_BSRR_BS14_Msk (0x1U << GPIO_BSRR_BS14_Pos) /* 0x00004000 */
+#define GPIO_BSRR_BS14 GPIO_BSRR_BS14_Msk /* Set bit 14 */
+#define GPIO_BSRR_BS15_Pos (15U)
+#define GPIO_BSRR_BS15_Msk (0x1U << GPIO_BSRR_BS15_Pos) /* 0x00008000 */
+#define GPIO_BSRR_BS15 GPIO_BSRR_BS15_Msk /* Set bit 15 */
+#define GPIO_BSRR_BR0_Pos (16U)
+#define GPIO_BSRR_BR0_Msk (0x1U << GPIO_BSRR_BR0_Pos) /* 0x00010000 */
+#define GPIO_BSRR_BR0 GPIO_BSRR_BR0_Msk /* Reset bit 0 */
+#define GPIO_BSRR_BR1_Pos (17U)
+#define GPIO_BSRR_BR1_Msk (0x1U << GPIO_BSRR_BR1_Pos) /* 0x00020000 */
+#define GPIO_BSRR_BR1 GPIO_BSRR_BR1_Msk /* Reset bit 1 */
+#define GPIO_BSRR_BR2_Pos (18U)
+#define GPIO_BSRR_BR2_Msk (0x1U << GPIO_BSRR_BR2_Pos) /* 0x00040000 */
+#define GPIO_BSRR_BR2 GPIO_BSRR_BR2_Msk /* Reset bit 2 */
+#define GPIO_BSRR_BR3_Pos (19U)
+#define GPIO_BSRR_BR3_Msk (0x1U << GPIO_BSRR_BR3_Pos) /* 0x00080000 */
+#define GPIO_BSRR_BR3 GPIO_BSRR_BR3_Msk /* Reset bit 3 */
+#define GPIO_BSRR_BR4_Pos (20U)
+#define GPIO_BSRR_BR4_Msk (0x1U << GPIO_BSRR_BR4_Pos) /* 0x00100000 */
+#define GPIO_BSRR_BR4 GPIO_BSRR_BR4_Msk /* Reset bit 4 */
+#define GPIO_BSRR_BR5_Pos (21U)
+#define GPIO_BSRR_BR5_Msk (0x1U << GPIO_BSRR_BR5_Pos) /* 0x00200000 */
+#define GPIO_BSRR_BR5 GPIO_BSRR_BR5_Msk /* Reset bit 5 */
+#define GPIO_BSRR_BR6_Pos (22U)
+#define GPIO_BSRR_BR6_Msk (0x1U << GPIO_BSRR_BR6_Pos) /* 0x00400000 */
+#define GPIO_BSRR_BR6 GPIO_BSRR_BR6_Msk /* Reset bit 6 */
+#define GPIO_BSRR_BR7_Pos (23U)
+#define GPIO_BSRR_BR7_Msk (0x1U << GPIO_BSRR_BR7_Pos) /* 0x00800000 */
+#define GPIO_BSRR_BR7 GPIO_BSRR_BR7_Msk /* Reset bit 7 */
+#define GPIO_BSRR_BR8_Pos (24U)
+#define GPIO_BSRR_BR8_Msk (0x1U << GPIO_BSRR_BR8_Pos) /* 0x01000000 */
+#define GPIO_BSRR_BR8 GPIO_BSRR_BR8_Msk /* Reset bit 8 */
+#define GPIO_BSRR_BR9_Pos (25U)
+#define GPIO_BSRR_BR9_Msk (0x1U << GPIO_BSRR_BR9_Pos) /* 0x02000000 */
+#define GPIO_BSRR_BR9 GPIO_BSRR_BR9_Msk /* Reset bit 9 */
+#define GPIO_BSRR_BR10_Pos (26U)
+#define GPIO_BSRR_BR10_Msk (0x1U << GPIO_BSRR_BR10_Pos) /* 0x04000000 */
+#define GPIO_BSRR_BR10 GPIO_BSRR_BR10_Msk /* Reset bit 10 */
+#define GPIO_BSRR_BR11_Pos (27U)
+#define GPIO_BSRR_BR11_Msk (0x1U << GPIO_BSRR_BR11_Pos) /* 0x08000000 */
+#define GPIO_BSRR_BR11 GPIO_BSRR_BR11_Msk /* Reset bit 11 */
+#define GPIO_BSRR_BR12_Pos (28U)
+#define GPIO_BSRR_BR12_Msk (0x1U << GPIO_BSRR_BR12_Pos) /* 0x10000000 */
+#define GPIO_BSRR_BR12 GPIO_BSRR_BR12_Msk /* Reset bit 12 */
+#define GPIO_BSRR_BR13_Pos (29U)
+#define GPIO_BSRR_BR13_Msk (0x1U << GPIO_BSRR_BR13_Pos) /* 0x20000000 */
+#define GPIO_BSRR_BR13 GPIO_BSRR_BR13_Msk /* Reset bit 13 */
+#define GPIO_BSRR_BR14_Pos (30U)
+#define GPIO_BSRR_BR14_Msk (0x1U << GPIO_BSRR_BR14_Pos) /* 0x40000000 */
+#define GPIO_BSRR_BR14 GPIO_BSRR_BR14_Msk /* Reset bit 14 */
+#define GPIO_BSRR_BR15_Pos (31U)
+#define GPIO_BSRR_BR15_Msk (0x1U << GPIO_BSRR_BR15_Pos) /* 0x80000000 */
+#define GPIO_BSRR_BR15 GPIO_BSRR_BR15_Msk /* Reset bit 15 */
+
+/* AFIO_MAPR */
+#define AFIO_MAPR_SPI1_REMAP_Pos (0U)
+#define AFIO_MAPR_SPI1_REMAP_Msk (0x1U << AFIO_MAPR_SPI1_REMAP_Pos) /* 0x00000001 */
+#define AFIO_MAPR_SPI1_REMAP AFIO_MAPR_SPI1_REMAP_Msk /* SPI1 remapping */
+#define AFIO_MAPR_I2C1_REMAP_Pos (1U)
+#define AFIO_MAPR_I2C1_REMAP_Msk (0x1U << AFIO_MAPR_I2C1_REMAP_Pos) /* 0x00000002 */
+#define AFIO_MAPR_I2C1_REMAP AFIO_MAPR_I2C1_REMAP_Msk /* I2C1 remapping */
+#define AFIO_MAPR_USART1_REMAP_Pos (2U)
+#define AFIO_MAPR_USART1_REMAP_Msk (0x1U << AFIO_MAPR_USART1_REMAP_Pos) /* 0x00000004 */
+#define AFIO_MAPR_USART1_REMAP AFIO_MAPR_USART1_REMAP_Msk /* USART1 remapping */
+#define AFIO_MAPR_USART2_REMAP_Pos (3U)
+#define AFIO_MAPR_USART2_REMAP_Msk (0x1U << AFIO_MAPR_USART2_REMAP_Pos) /* 0x00000008 */
+#define AFIO_MAPR_USART2_REMAP AFIO_MAPR_USART2_REMAP_Msk /* USART2 remapping */
+#define AFIO_MAPR_USART3_REMAP_Pos (4U)
+#define AFIO_MAPR_USART3_REMAP_Msk (0x3U << AFIO_MAPR_USART3_REMAP_Pos) /* 0x00000030 */
+#define AFIO_MAPR_USART3_REMAP AFIO_MAPR_USART3_REMAP_Msk /* USART3 remapping */
+#define AFIO_MAPR_USART3_REMAP_0 (0x1U << AFIO_MAPR_USART3_REMAP_Pos) /* 0x00000010 */
+#define AFIO_MAPR_USART3_REMAP_1 (0x2U << AFIO_MAPR_USART3_REMAP_Pos) /* 0x00000020 */
+#define AFIO_MAPR_TIM1_REMAP_Pos (6U)
+#define AFIO_MAPR_TIM1_REMAP_Msk (0x3U << AFIO_MAPR_TIM1_REMAP_Pos) /* 0x000000C0 */
+#define AFIO_MAPR_TIM1_REMAP AFIO_MAPR_TIM1_REMAP_Msk /* TIM1 remapping */
+#define AFIO_MAPR_TIM1_REMAP_0 (0x1U << AFIO_MAPR_TIM1_REMAP_Pos) /* 0x00000040 */
+#define AFIO_MAPR_TIM1_REMAP_1 (0x2U << AFIO_MAPR_TIM1_REMAP_Pos) /* 0x00000080 */
+#define AFIO_MAPR_TIM2_REMAP_Pos (8U)
+#define AFIO_MAPR_TIM2_REMAP_Msk (0x3U << AFIO_MAPR_TIM2_REMAP_Pos) /* 0x00000300 */
+#define AFIO_MAPR_TIM2_REMAP AFIO_MAPR_TIM2_REMAP_Msk /* TIM2 remapping */
+#define AFIO_MAPR_TIM2_REMAP_0 (0x1U << AFIO_MAPR_TIM2_REMAP_Pos) /* 0x00000100 */
+#define AFIO_MAPR_TIM2_REMAP_1 (0x2U << AFIO_MAPR_TIM2_REMAP_Pos) /* 0x00000200 */
+#define AFIO_MAPR_TIM3_REMAP_Pos (10U)
+#define AFIO_MAPR_TIM3_REMAP_Msk (0x3U << AFIO_MAPR_TIM3_REMAP_Pos) /* 0x00000C00 */
+#define AFIO_MAPR_TIM3_REMAP AFIO_MAPR_TIM3_REMAP_Msk /* TIM3 remapping */
+#define AFIO_MAPR_TIM3_REMAP_0 (0x1U << AFIO_MAPR_TIM3_REMAP_Pos) /* 0x00000400 */
+#define AFIO_MAPR_TIM3_REMAP_1 (0x2U << AFIO_MAPR_TIM3_REMAP_Pos) /* 0x00000800 */
+#define AFIO_MAPR_TIM4_REMAP_Pos (12U)
+#define AFIO_MAPR_TIM4_REMAP_Msk (0x1U << AFIO_MAPR_TIM4_REMAP_Pos) /* 0x00001000 */
+#define AFIO_MAPR_TIM4_REMAP AFIO_MAPR_TIM4_REMAP_Msk /* TIM4 remapping */
+#define AFIO_MAPR_CAN_REMAP_Pos (13U)
+#define AFIO_MAPR_CAN_REMAP_Msk (0x3U << AFIO_MAPR_CAN_REMAP_Pos) /* 0x00006000 */
+#define AFIO_MAPR_CAN_REMAP AFIO_MAPR_CAN_REMAP_Msk /* CAN1 remapping */
+#define AFIO_MAPR_CAN_REMAP_0 (0x1U << AFIO_MAPR_CAN_REMAP_Pos) /* 0x00002000 */
+#define AFIO_MAPR_CAN_REMAP_1 (0x2U << AFIO_MAPR_CAN_REMAP_Pos) /* 0x00004000 */
+#define AFIO_MAPR_PD01_REMAP_Pos (15U)
+#define AFIO_MAPR_PD01_REMAP_Msk (0x1U << AFIO_MAPR_PD01_REMAP_Pos) /* 0x00008000 */
+#define AFIO_MAPR_PD01_REMAP AFIO_MAPR_PD01_REMAP_Msk /* Port D0/Port D1 mapping on OSCIN/OSCOUT */
+#define AFIO_MAPR_TIM5CH4_IREMAP_Pos (16U)
+#define AFIO_MAPR_TIM5CH4_IREMAP_Msk (0x1U << AFIO_MAPR_TIM5CH4_IREMAP_Pos) /* 0x00010000 */
+#define AFIO_MAPR_TIM5CH4_IREMAP AFIO_MAPR_TIM5CH4_IREMAP_Msk /* Set and cleared by software */
+#define AFIO_MAPR_ADC1_ETRGINJ_REMAP_Pos (17U)
+#define AFIO_MAPR_ADC1_ETRGINJ_REMAP_Msk (0x1U << AFIO_MAPR_ADC1_ETRGINJ_REMAP_Pos) /* 0x00020000 */
+#define AFIO_MAPR_ADC1_ETRGINJ_REMAP AFIO_MAPR_ADC1_ETRGINJ_REMAP_Msk /* ADC 1 External trigger injected conversion remapping */
+#define AFIO_MAPR_ADC1_ETRGREG_REMAP_Pos (18U)
+#define AFIO_MAPR_ADC1_ETRGREG_REMAP_Msk (0x1U << AFIO_MAPR_ADC1_ETRGREG_REMAP_Pos) /* 0x00040000 */
+#define AFIO_MAPR_ADC1_ETRGREG_REMAP AFIO_MAPR_ADC1_ETRGREG_REMAP_Msk /* ADC 1 external trigger regular conversion remapping */
+#define AFIO_MAPR_ADC2_ETRGINJ_REMAP_Pos (19U)
+#define AFIO_MAPR_ADC2_ETRGINJ_REMAP_Msk (0x1U << AFIO_MAPR_ADC2_ETRGINJ_REMAP_Pos) /* 0x00080000 */
+#define AFIO_MAPR_ADC2_ETRGINJ_REMAP AFIO_MAPR_ADC2_ETRGINJ_REMAP_Msk /* ADC 2 external trigger injected conversion remapping */
+#define AFIO_MAPR_ADC2_ETRGREG_REMAP_Pos (20U)
+#define AFIO_MAPR_ADC2_ETRGREG_REMAP_Msk (0x1U << AFIO_MAPR_ADC2_ETRGREG_REMAP_Pos) /* 0x00100000 */
+#define AFIO_MAPR_ADC2_ETRGREG_REMAP AFIO_MAPR_ADC2_ETRGREG_REMAP_Msk /* ADC 2 external trigger regular conversion remapping */
+#define AFIO_MAPR_SWJ_CFG_Pos (24U)
+#define AFIO_MAPR_SWJ_CFG_Msk (0x7U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x07000000 */
+#define AFIO_MAPR_SWJ_CFG AFIO_MAPR_SWJ_CFG_Msk /* Serial wire JTAG configuration */
+#define AFIO_MAPR_SWJ_CFG_0 (0x1U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x01000000 */
+#define AFIO_MAPR_SWJ_CFG_1 (0x2U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x02000000 */
+#define AFIO_MAPR_SWJ_CFG_2 (0x4U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x04000000 */
+
+/* NVIC interrupt set-enable registers (ARMv7-M ARM B3.4.4: NVIC_ISER0..n, one bit per
+ * interrupt, 32 interrupts per register; writing 0 bits has no effect). */
+#define NVIC_ISER_BASE 0xE000E100UL /* SVD NVIC.ISER0: Interrupt Set-Enable Register */
+
+/* NVIC interrupt set-pending registers (B3.4.6: NVIC_ISPR0..n, same layout) and
+ * priority registers (B3.4.9: NVIC_IPR0..n, one byte per interrupt, byte-accessible). */
+#define NVIC_ISPR_BASE 0xE000E200UL /* SVD NVIC.ISPR0: Interrupt Set-Pending Register */
+#define NVIC_IPR_BASE 0xE000E400UL /* SVD NVIC.IPR0: Interrupt Priority Register */
+
+/* Implemented priority bits: the STM32F10x has 16 levels in the upper nibble of each
+ * priority byte (PM0056 4.3.7; Cube's stm32f103xb.h: __NVIC_PRIO_BITS 4). */
+#define __NVIC_PRIO_BITS 4U
+
+/* CMSIS core_cm3.h's NVIC_EnableIRQ, NVIC_SetPendingIRQ and NVIC_SetPriority for
+ * device interrupts (IRQn >= 0). */
+static inline void NVIC_EnableIRQ(IRQn_Type IRQn)
+{
+    volatile uint32_t *const iser = (volatile uint32_t *)NVIC_ISER_BASE;
+    iser[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
+}
+
+static inline void NVIC_SetPendingIRQ(IRQn_Type IRQn)
+{
+    volatile uint32_t *const ispr = (volatile uint32_t *)NVIC_ISPR_BASE;
+    ispr[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
+}
+
+static inline void NVIC_SetPriority(IRQn_Type IRQn, uint32_t priority)
+{
+    volatile uint8_t *const ipr = (volatile uint8_t *)NVIC_IPR_BASE;
+    ipr[(uint32_t)IRQn] = (uint8_t)((priority << (8U - __NVIC_PRIO_BITS)) & 0xFFU);
+}
+
+/* CMSIS cmsis_gcc.h's PRIMASK intrinsics. A host build (the project's tests) has no
+ * interrupts to mask, so there they do nothing. */
+#if defined(__arm__)
+static inline uint32_t __get_PRIMASK(void)
+{
+    uint32_t primask;
+    __asm__ volatile("mrs %0, primask" : "=r"(primask));
+    return primask;
+}
+
+static inline void __set_PRIMASK(uint32_t primask)
+{
+    __asm__ volatile("msr primask, %0" : : "r"(primask) : "memory");
+}
+
+static inline void __disable_irq(void)
+{
+    __asm__ volatile("cpsid i" : : : "memory");
+}
+#else
+static inline uint32_t __get_PRIMASK(void)
+{
+    return 0U;
+}
+
+static inline void __set_PRIMASK(uint32_t primask)
+{
+    (void)primask;
+}
+
+static inline void __disable_irq(void)
+{
+}
+#endif
+
+#endif /* USE_CMSIS_DEVICE_HEADER */
+
+#endif /* STM32F103_REGS_H */
