@@ -1,6 +1,8 @@
-"""The integer prototype: exactly the operations the C will do, in Python integers.
+"""The integer rule in Python integers: the operations the generated improved_r core does.
 
-Formats (Qf: value = integer / 2^f; all shifts of non-negative values unless noted):
+The design and its proofs run on it; tests check that the generated C (and its twin)
+agree with it bit for bit. Formats (Qf: value = integer / 2^f; all shifts of
+non-negative values unless noted):
 
   bus rate, B clamped to [B_lo, B_hi]:
     xn = round(N_X / B)            uint32  N_X = round(K_X 2^fc), long division

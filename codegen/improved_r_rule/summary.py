@@ -77,7 +77,7 @@ def summary_lines(spec_path: str) -> list[str]:
     t = r.table
     stats = error_stats(design, sc.current_code_max)
     lines = [
-        f"# improved_r_fw design: {spec.name}",
+        f"# improved_r design: {spec.name}",
         "",
         "## Constants",
         "",
