@@ -28,6 +28,7 @@ from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.render import PROJECT_ROOT
 from codegen.spec_model import Spec
+from codegen.spec_variant import spec_with_method
 from sim.command import Command
 from sim.scenario import Case
 from sim.schedule import switch_index
@@ -146,14 +147,6 @@ def _toolchain_digest() -> str:
                 digest.update(path.relative_to(PROJECT_ROOT).as_posix().encode())
                 digest.update(path.read_bytes())
     return digest.hexdigest()
-
-
-def spec_with_method(spec_text: str, method: str) -> str:
-    """The spec YAML with controller.method replaced (comments and layout kept)."""
-    new, count = re.subn(r"(?m)^(\s+method:\s*)[A-Za-z_]+", rf"\g<1>{method}", spec_text, count=1)
-    if count != 1:
-        raise SilError("the spec has no controller.method line to replace")
-    return new
 
 
 @dataclass(frozen=True)

@@ -10,14 +10,12 @@ and applies exactly what the generated Python twin computes.
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import shutil
 import subprocess
 from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
-from types import ModuleType
 
 import pytest
 
@@ -36,6 +34,7 @@ from verify.rule_bench import (
     rule_sweep,
     undefined_symbols,
 )
+from verify.run import load_twin
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
@@ -58,16 +57,6 @@ def variant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Path, Pa
     generate(spec, generated, PROJECT_ROOT)
     build(generated, build_dir)
     yield spec, generated, build_dir
-
-
-def _twin(generated: Path) -> ModuleType:
-    loader = importlib.util.spec_from_file_location(
-        "bldc_fixed_rule_bench", generated / "python" / "bldc_fixed.py"
-    )
-    assert loader is not None and loader.loader is not None
-    module = importlib.util.module_from_spec(loader)
-    loader.loader.exec_module(module)
-    return module
 
 
 def test_variant_should_be_the_paper_motor_with_the_improved_r_method(tmp_path: Path) -> None:
@@ -148,7 +137,7 @@ def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
     steps = int(
         re.search(r"#define STEPS (\d+)u", (generated / "c" / "bldc_commutation.c").read_text())[1]
     )
-    twin = _twin(generated)
+    twin = load_twin(generated)
     octaves: set[int] = set()
     psi = twin.psi
 

@@ -10,6 +10,7 @@ import pytest
 
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
+from codegen.spec_variant import spec_with_method
 from sim.drive import Drive
 from sim.runs import Controller, simulate
 from sim.scenario import Case, paper_edge, schedule_for
@@ -23,7 +24,6 @@ from sim.sil import (
     expected_switches,
     load_core,
     prepare_cores,
-    spec_with_method,
 )
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -24,7 +24,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import yaml
 from elftools.elf.elffile import ELFFile
 from elftools.elf.sections import SymbolTableSection
 
@@ -34,6 +33,7 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
+from codegen.spec_variant import spec_with_method
 from verify.isr_bench import (
     TIMING_HANDLER,
     PortRig,
@@ -66,15 +66,11 @@ def improved_r_spec(spec_path: str | Path, folder: Path) -> Path:
     spec = load_spec(spec_path)
     if spec.controller.method == METHOD:
         return Path(spec_path)
-    data = yaml.safe_load(Path(spec_path).read_text(encoding="utf-8"))
-    data["name"] = f"{spec.name}_{METHOD}"[:64]
-    data["controller"]["method"] = METHOD
-    data["sources"]["controller.method"] = (
-        f"bench: {spec.source_path} with the method replaced by {METHOD}"
-    )
+    name = f"{spec.name}_{METHOD}"[:64]
+    text = spec_with_method(Path(spec_path).read_text(encoding="utf-8"), METHOD, name)
     folder.mkdir(parents=True, exist_ok=True)
-    out = folder / f"{data['name']}.yaml"
-    out.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    out = folder / f"{name}.yaml"
+    out.write_text(text, encoding="utf-8")
     return out
 
 
