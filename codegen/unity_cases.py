@@ -24,6 +24,7 @@ from codegen.improved_r_rule.reference import RuleInputs
 from codegen.reference import (
     FLAG_TIME_CLAMPED,
     ExactModel,
+    Expected,
     build_model,
     expected,
     operating_codes,
@@ -60,6 +61,42 @@ def _ticks_at(sc: Scaling, speed_rpm: Fraction) -> int:
     return math.floor(ticks + Fraction(1, 2))
 
 
+def _unity_case(
+    name: str,
+    group: str,
+    comment: str,
+    inputs: tuple[int, int, int, int, int, int],
+    exp: Expected,
+    ticks: int,
+    tolerance: int,
+    flags: int,
+) -> UnityCase:
+    """A case from the model's expectation at one input vector: duties rounded to the
+    nearest count, tolerance 1 (every design's duty bound is below 1)."""
+    hall, previous, period, bus, current, duty = inputs
+    return UnityCase(
+        name=name,
+        group=group,
+        comment=comment,
+        hall_code=hall,
+        previous_hall_code=previous,
+        hall_period_ticks=period,
+        bus_voltage_adc=bus,
+        phase_current_adc=current,
+        main_duty_counts=duty,
+        turn_on_compare=math.floor(float(exp.turn_on[0]) + 0.5),
+        turn_off_compare=math.floor(float(exp.turn_off[0]) + 0.5),
+        commutation_ticks=ticks,
+        turn_on_tolerance=1 if exp.active[0] else 0,
+        turn_off_tolerance=1 if exp.active[0] else 0,
+        commutation_tolerance=tolerance,
+        turn_on_switch=int(exp.turn_on_switch[0]),
+        turn_off_switch=int(exp.turn_off_switch[0]),
+        sector=int(exp.sector[0]),
+        flags=flags,
+    )
+
+
 def _case(
     model: ExactModel,
     fx: FixedPointDesign,
@@ -75,7 +112,7 @@ def _case(
     commutation time is Eq. 20 at the emitted duties, so its tolerance covers every
     duty pair the core may emit and, for each, the interval the design allows.
     """
-    hall, previous, period, bus, current, duty = inputs
+    period, current = inputs[2], inputs[4]
     col = [np.array([v], dtype=np.int64) for v in inputs]
     exp = expected(model, col[0], col[1], col[2], col[3], col[4], col[5])
     on_exact, off_exact = float(exp.turn_on[0]), float(exp.turn_off[0])
@@ -115,27 +152,7 @@ def _case(
         tolerance = max(ticks - low, high - ticks)
         if clamped.pop():
             flags |= FLAG_TIME_CLAMPED
-    return UnityCase(
-        name=name,
-        group=group,
-        comment=comment,
-        hall_code=hall,
-        previous_hall_code=previous,
-        hall_period_ticks=period,
-        bus_voltage_adc=bus,
-        phase_current_adc=current,
-        main_duty_counts=duty,
-        turn_on_compare=math.floor(on_exact + 0.5),
-        turn_off_compare=math.floor(off_exact + 0.5),
-        commutation_ticks=ticks,
-        turn_on_tolerance=1 if exp.active[0] else 0,
-        turn_off_tolerance=1 if exp.active[0] else 0,
-        commutation_tolerance=tolerance,
-        turn_on_switch=int(exp.turn_on_switch[0]),
-        turn_off_switch=int(exp.turn_off_switch[0]),
-        sector=int(exp.sector[0]),
-        flags=flags,
-    )
+    return _unity_case(name, group, comment, inputs, exp, ticks, tolerance, flags)
 
 
 def _rule_case(
@@ -152,7 +169,7 @@ def _rule_case(
     time: min(x_c T, T) rounded, tolerance the point's own proven bound. The threshold
     flags must be decided at the vector: the reference farther from each threshold
     than the error bound."""
-    hall, previous, period, bus, current, duty = inputs
+    period, bus, current = inputs[2], inputs[3], inputs[4]
     col = [np.array([v], dtype=np.int64) for v in inputs]
     exp = expected(model, col[0], col[1], col[2], col[3], col[4], col[5])
     flags = int(exp.flags[0])
@@ -172,27 +189,7 @@ def _rule_case(
         exact = min(ref.ticks_exact, period)
         ticks = math.floor(exact + 0.5)
         tolerance = math.ceil(abs(exact - ticks) + bound.ticks)
-    return UnityCase(
-        name=name,
-        group=group,
-        comment=comment,
-        hall_code=hall,
-        previous_hall_code=previous,
-        hall_period_ticks=period,
-        bus_voltage_adc=bus,
-        phase_current_adc=current,
-        main_duty_counts=duty,
-        turn_on_compare=math.floor(float(exp.turn_on[0]) + 0.5),
-        turn_off_compare=math.floor(float(exp.turn_off[0]) + 0.5),
-        commutation_ticks=ticks,
-        turn_on_tolerance=1 if exp.active[0] else 0,
-        turn_off_tolerance=1 if exp.active[0] else 0,
-        commutation_tolerance=tolerance,
-        turn_on_switch=int(exp.turn_on_switch[0]),
-        turn_off_switch=int(exp.turn_off_switch[0]),
-        sector=int(exp.sector[0]),
-        flags=flags,
-    )
+    return _unity_case(name, group, comment, inputs, exp, ticks, tolerance, flags)
 
 
 def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tuple[UnityCase, ...]:

@@ -29,6 +29,7 @@ from codegen.reference import (
     expected,
     time_interval,
 )
+from verify.host_core import INPUT_DTYPE
 
 
 @dataclass
@@ -73,15 +74,19 @@ def column(array: np.ndarray, name: str) -> npt.NDArray[np.int64]:
     return np.asarray(array[name], dtype=np.int64)
 
 
-def compare_twin_and_pattern(
+def expected_and_exact_checks(
+    model: ExactModel,
     inputs: np.ndarray,
     c_out: np.ndarray,
     twin_out: np.ndarray,
-    exp: Expected,
     checks: dict[str, OutputCheck],
-) -> None:
-    """C against its bit-exact twin (every field, every point), and the switch pattern
-    and sector against the model (exact)."""
+) -> Expected:
+    """The model's expectation at every input; checks the C against its bit-exact twin
+    (every field, every point) and the switch pattern and sector against the model."""
+    exp = expected(
+        model,
+        *(column(inputs, name) for name in INPUT_DTYPE.names or ()),
+    )
     differs = np.zeros(inputs.size, dtype=bool)
     for name in c_out.dtype.names or ():
         differs |= column(c_out, name) != column(twin_out, name)
@@ -92,6 +97,7 @@ def compare_twin_and_pattern(
         | (column(c_out, "sector") != exp.sector)
     )
     checks["pattern"].add(pattern.astype(np.float64), pattern, inputs)
+    return exp
 
 
 def check_set(
@@ -102,11 +108,8 @@ def check_set(
     twin_out: np.ndarray,
     checks: dict[str, OutputCheck],
 ) -> Evaluated:
-    hall, previous = column(inputs, "hall_code"), column(inputs, "previous_hall_code")
-    period, bus_code = column(inputs, "hall_period_ticks"), column(inputs, "bus_voltage_adc")
-    current, main = column(inputs, "phase_current_adc"), column(inputs, "main_duty_counts")
-    exp = expected(model, hall, previous, period, bus_code, current, main)
-    compare_twin_and_pattern(inputs, c_out, twin_out, exp, checks)
+    exp = expected_and_exact_checks(model, inputs, c_out, twin_out, checks)
+    period, current = column(inputs, "hall_period_ticks"), column(inputs, "phase_current_adc")
     on_c, off_c = column(c_out, "turn_on_compare"), column(c_out, "turn_off_compare")
     ticks_c, flags_c = column(c_out, "commutation_ticks"), column(c_out, "flags")
 

@@ -39,9 +39,8 @@ from codegen.reference import (
     FLAG_TIME_CLAMPED,
     SLACK,
     ExactModel,
-    expected,
 )
-from verify.check import Evaluated, OutputCheck, column, compare_twin_and_pattern
+from verify.check import Evaluated, OutputCheck, column, expected_and_exact_checks
 
 #: A broken core puts most points beyond their bounds: stop evaluating them after this
 #: many. The verdict is FAIL then; the remaining points above the headline are judged
@@ -119,11 +118,8 @@ def check_rule_set(
     twin_out: np.ndarray,
     checks: dict[str, OutputCheck],
 ) -> Evaluated:
-    hall, previous = column(inputs, "hall_code"), column(inputs, "previous_hall_code")
-    period, bus_code = column(inputs, "hall_period_ticks"), column(inputs, "bus_voltage_adc")
-    current, main = column(inputs, "phase_current_adc"), column(inputs, "main_duty_counts")
-    exp = expected(model, hall, previous, period, bus_code, current, main)
-    compare_twin_and_pattern(inputs, c_out, twin_out, exp, checks)
+    exp = expected_and_exact_checks(model, inputs, c_out, twin_out, checks)
+    period = column(inputs, "hall_period_ticks")
     active = exp.active
     batch = exp.rule
     if batch is None:
