@@ -5,6 +5,7 @@ from __future__ import annotations
 import random
 from pathlib import Path
 
+import numpy as np
 import pytest
 import sympy as sp
 
@@ -21,6 +22,7 @@ from codegen.improved_r_rule.reference import (
     FLAG_NOT_FINISHED,
     FLAG_SPEED_CLAMPED,
     RuleInputs,
+    psi_arrays,
     psi_values,
     reference_points,
 )
@@ -200,3 +202,12 @@ def test_generated_twin_should_be_the_integer_rule_bit_for_bit() -> None:
             current,
         )
         assert bool(timing.flags & twin.FLAG_TIME_CLAMPED) == bool(want.flags & FLAG_NOT_FINISHED)
+
+
+def test_scalar_psi_should_agree_with_the_array_form() -> None:
+    """The error bounds use the scalar psi, the reference the array form: one function."""
+    values = np.concatenate([np.linspace(0.0, 0.05, 501), np.geomspace(0.02, 40.0, 500)])
+    q1, q2 = psi_arrays(values)
+    for k, value in enumerate(values):
+        s1, s2 = psi_values(float(value))
+        assert abs(s1 - q1[k]) <= 1e-12 and abs(s2 - q2[k]) <= 1e-12, value
