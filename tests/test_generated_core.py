@@ -23,33 +23,11 @@ from codegen.fixedpoint.design import FixedPointError, design
 from codegen.fixedpoint.scaling import scaling
 from codegen.generate import render_all, write_tree
 from codegen.spec_loader import load_spec
+from sim.sil import CoreInputs, CoreOutputs
 
 ROOT = Path(__file__).resolve().parents[1]
 SPEC = ROOT / "spec" / "paper_motor.yaml"
 WARNINGS = ["-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wpedantic", "-Werror"]
-
-
-class Inputs(ctypes.Structure):
-    _fields_ = [
-        ("hall_code", ctypes.c_uint8),
-        ("previous_hall_code", ctypes.c_uint8),
-        ("hall_period_ticks", ctypes.c_uint16),
-        ("bus_voltage_adc", ctypes.c_uint16),
-        ("phase_current_adc", ctypes.c_uint16),
-        ("main_duty_counts", ctypes.c_uint16),
-    ]
-
-
-class Outputs(ctypes.Structure):
-    _fields_ = [
-        ("turn_on_compare", ctypes.c_uint16),
-        ("turn_off_compare", ctypes.c_uint16),
-        ("commutation_ticks", ctypes.c_uint16),
-        ("turn_on_switch", ctypes.c_uint8),
-        ("turn_off_switch", ctypes.c_uint8),
-        ("sector", ctypes.c_uint8),
-        ("flags", ctypes.c_uint8),
-    ]
 
 
 @pytest.fixture(scope="module")
@@ -76,7 +54,7 @@ def core(generated: Path) -> ctypes.CDLL:
         check=True,
     )
     dll = ctypes.CDLL(str(lib))
-    dll.bldc_commutate.argtypes = [ctypes.POINTER(Inputs), ctypes.POINTER(Outputs)]
+    dll.bldc_commutate.argtypes = [ctypes.POINTER(CoreInputs), ctypes.POINTER(CoreOutputs)]
     dll.bldc_commutate.restype = None
     return dll
 
@@ -93,9 +71,9 @@ def twin(generated: Path) -> ModuleType:
 
 
 def run_c(core: ctypes.CDLL, *args: int) -> tuple[int, ...]:
-    out = Outputs()
-    core.bldc_commutate(ctypes.byref(Inputs(*args)), ctypes.byref(out))
-    return tuple(getattr(out, name) for name, _ in Outputs._fields_)
+    out = CoreOutputs()
+    core.bldc_commutate(ctypes.byref(CoreInputs(*args)), ctypes.byref(out))
+    return tuple(getattr(out, name) for name, _ in CoreOutputs._fields_)
 
 
 def ticks(speed_rpm: float) -> int:

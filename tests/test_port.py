@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from codegen import port
+from codegen.build_firmware import CFLAGS
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 
@@ -27,17 +28,6 @@ SPEC = ROOT / "spec" / "paper_motor.yaml"
 ARM_GCC = shutil.which("arm-none-eabi-gcc")
 ARM_OBJDUMP = shutil.which("arm-none-eabi-objdump")
 HOST_CC = shutil.which("cc") or shutil.which("gcc")
-ARM_FLAGS = [
-    "-std=c99",
-    "-mcpu=cortex-m3",
-    "-mthumb",
-    "-O2",
-    "-Wall",
-    "-Wextra",
-    "-Wconversion",
-    "-Wpedantic",
-    "-Werror",
-]
 
 STUB_CORE_HEADER = """\
 /* Stub of the generated core's header: the contract only. bldc_commutation_timing()
@@ -181,7 +171,7 @@ def test_every_port_file_should_start_with_its_provenance(spec: Spec) -> None:
 def _compile_arm(directory: Path, *extra: str) -> subprocess.CompletedProcess[str]:
     assert ARM_GCC is not None
     return subprocess.run(
-        [ARM_GCC, *ARM_FLAGS, *extra, "-c", "stm32f103_port.c", "-o", "stm32f103_port.o"],
+        [ARM_GCC, *CFLAGS, *extra, "-c", "stm32f103_port.c", "-o", "stm32f103_port.o"],
         cwd=directory,
         capture_output=True,
         text=True,

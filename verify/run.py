@@ -26,6 +26,7 @@ from codegen.fixedpoint.design import FixedPointDesign
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.generate import fixed_point_design
 from codegen.improved_r_rule.context import rule_design
+from codegen.improved_r_rule.design import RuleDesign
 from codegen.reference import build_model
 from codegen.render import project_relative
 from codegen.spec_loader import load_spec
@@ -55,9 +56,8 @@ class DesignBounds:
     summary: dict[str, float | int | str]
 
 
-def design_bounds(spec: Spec, sc: Scaling, fx: FixedPointDesign) -> DesignBounds:
-    if spec.controller.method == "improved_r":
-        rule = rule_design(spec, sc)
+def design_bounds(spec: Spec, fx: FixedPointDesign, rule: RuleDesign | None) -> DesignBounds:
+    if rule is not None:
         target = float(spec.accuracy.commutation_time_ticks)
         return DesignBounds(
             rule.duty_bound,
@@ -165,13 +165,16 @@ def verify(
         "random": points.random_points(sc, model, seed, random_count),
         "boundary": points.boundaries(spec, sc, model),
     }
-    bounds = design_bounds(spec, sc, fx)
-    if spec.controller.method == "improved_r":
-        rule = rule_design(spec, sc)
-        checks = new_rule_checks(rule, bounds.time_ticks)
+    rule = rule_design(spec, sc) if spec.controller.method == "improved_r" else None
+    bounds = design_bounds(spec, fx, rule)
+    if rule is not None:
+        designed: RuleDesign = rule  # narrowed for the closure
+        checks = new_rule_checks(designed, bounds.time_ticks)
 
         def check(inputs: np.ndarray, c_out: np.ndarray, twin_out: np.ndarray) -> Evaluated:
-            return check_rule_set(model, rule, bounds.time_ticks, inputs, c_out, twin_out, checks)
+            return check_rule_set(
+                model, designed, bounds.time_ticks, inputs, c_out, twin_out, checks
+            )
     else:
         checks = new_checks(fx)
 
