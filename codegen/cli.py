@@ -91,12 +91,20 @@ def cmd_audit(args: argparse.Namespace) -> int:
 def cmd_generate(args: argparse.Namespace) -> int:
     from codegen.fixedpoint.design import FixedPointError
     from codegen.generate import generate
+    from codegen.improved_r_rule.proof import RuleFormatError
 
     started = time.perf_counter()
     try:
         result = generate(args.spec, args.output, PROJECT_ROOT)
     except FixedPointError as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return EXIT_SPEC
+    except RuleFormatError as exc:
+        print(
+            f"error: {args.spec}: controller.method = 'improved_r': {exc} (allowed: a spec"
+            " whose accuracy targets and ranges the rule's integer formats can meet)",
+            file=sys.stderr,
+        )
         return EXIT_SPEC
     fx = result.design
     out = Path(args.output) if args.output else PROJECT_ROOT / "generated" / result.spec.name

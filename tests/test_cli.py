@@ -82,3 +82,20 @@ def test_module_and_console_entry_points_should_run() -> None:
         [sys.executable, "-m", "codegen", "--help"], capture_output=True, text=True, check=False
     )
     assert result.returncode == 0 and "audit" in result.stdout
+
+
+def test_an_improved_r_spec_the_formats_cannot_meet_should_exit_2_writing_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from codegen.improved_r_rule.proof import RuleFormatError
+
+    def unmeetable(*_: object) -> None:
+        raise RuleFormatError("no table size meets the accuracy targets")
+
+    monkeypatch.setattr("codegen.improved_r_rule.context.design_rule", unmeetable)
+    spec = ROOT / "spec" / "paper_motor_improved_r.yaml"
+    out = tmp_path / "out"
+    assert cli.main(["generate", str(spec), "-o", str(out)]) == cli.EXIT_SPEC
+    err = capsys.readouterr().err
+    assert "controller.method = 'improved_r'" in err and "accuracy targets" in err
+    assert not out.exists() and list(tmp_path.iterdir()) == []
