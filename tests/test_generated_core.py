@@ -215,12 +215,16 @@ def test_core_should_build_for_cortex_m3_without_helpers(generated: Path, tmp_pa
     assert "udiv" in listing  # the hardware divide, not a library call
 
 
+@pytest.mark.parametrize("method", ["improved", "improved_r"])
 @pytest.mark.parametrize("compiler", ["gcc", "arm-none-eabi-gcc"])
 def test_generated_c_should_compile_warning_free(
-    generated: Path, tmp_path: Path, compiler: str
+    generated: Path, tmp_path: Path, compiler: str, method: str
 ) -> None:
+    """The fresh render of the default spec, and the checked-in resistance-aware core."""
     if shutil.which(compiler) is None:
         pytest.skip(f"{compiler} missing")
+    if method == "improved_r":
+        generated = ROOT / "generated" / "paper_motor_improved_r"
     target = ["-mcpu=cortex-m3", "-mthumb"] if compiler.startswith("arm") else []
     for source in ("bldc_commutation.c", "stm32f103_port.c"):
         subprocess.run(
