@@ -73,12 +73,13 @@ unity: setup
 	done
 
 lint: setup
-	$(PY) -m ruff check codegen verify sim tests
-	$(PY) -m ruff format --check codegen verify sim tests
+	$(PY) -m ruff check codegen oracle verify sim tests
+	$(PY) -m ruff format --check codegen oracle verify sim tests
+	$(VENV)/bin/lint-imports
 
 format: setup
-	$(PY) -m ruff format codegen verify sim tests
-	$(PY) -m ruff check --fix codegen verify sim tests
+	$(PY) -m ruff format codegen oracle verify sim tests
+	$(PY) -m ruff check --fix codegen oracle verify sim tests
 
 # Regenerate into a temporary folder and fail with a diff if generated/ is stale.
 check-generated: setup

@@ -78,7 +78,7 @@ def _verdict(ok: bool) -> str:
 
 def main(argv: list[str]) -> int:
     from codegen.build_firmware import build
-    from codegen.generate import fixed_point_design
+    from codegen.core.module import build_core
     from codegen.spec_loader import load_spec
     from verify.isr_bench import bench, report, shortest_sector_cycles
     from verify.reciprocal_bench import ReciprocalChoice, table_option
@@ -109,7 +109,7 @@ def main(argv: list[str]) -> int:
     for line in report(stats, shortest_sector_cycles(spec)):
         print(f"bench: {line}")
     reciprocal = ReciprocalChoice(
-        table=table_option(load_spec(spec), fixed_point_design(load_spec(spec))),
+        table=table_option(load_spec(spec), build_core(load_spec(spec))),
         divide_instructions=stats[3].instructions_worst,
         divide_cycles=stats[3].cycles_worst,
         flash_in_use=code,

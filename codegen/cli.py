@@ -89,47 +89,21 @@ def cmd_audit(args: argparse.Namespace) -> int:
 
 
 def cmd_generate(args: argparse.Namespace) -> int:
-    from codegen.fixedpoint.design import FixedPointError
     from codegen.generate import generate
-    from codegen.improved_r_rule.proof import RuleFormatError
+    from codegen.methods.base import FixedPointError
 
     started = time.perf_counter()
     try:
         result = generate(args.spec, args.output, PROJECT_ROOT)
     except FixedPointError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {args.spec}: {exc.key}: {exc}", file=sys.stderr)
         return EXIT_SPEC
-    except RuleFormatError as exc:
-        print(
-            f"error: {args.spec}: controller.method = 'improved_r': {exc} (allowed: a spec"
-            " whose accuracy targets and ranges the rule's integer formats can meet)",
-            file=sys.stderr,
-        )
-        return EXIT_SPEC
-    fx = result.design
     out = Path(args.output) if args.output else PROJECT_ROOT / "generated" / result.spec.name
     print(
         f"generate: {len(result.files)} files -> {project_relative(out)}"
         f" [{time.perf_counter() - started:.2f} s]"
     )
-    if result.spec.controller.method == "improved_r":
-        from codegen.improved_r_rule.context import rule_design
-
-        rule = rule_design(result.spec, fx.scaling)
-        print(
-            f"generate: improved_r, counts in Q{rule.rule.counts_frac_bits},"
-            f" {rule.rule.steps}-step bisection, psi table {rule.rule.table.entries} rows"
-            f" ({rule.rule.table.flash_bytes} B); error bounds over the design grid: duties"
-            f" {rule.duty_bound:.3f} counts, t_com {rule.ticks_bound:.2f} ticks"
-            f" ({rule.time_ratio:.2f} of max(target, t_half))"
-        )
-        return 0
-    print(
-        f"generate: X in Q{fx.x_frac_bits}; error bounds: duties"
-        f" {float(fx.duty_error_bound_counts):.3f} counts, t_com"
-        f" {float(fx.time_error_bound_ticks):.2f} ticks where W >="
-        f" {float(fx.time_bound_min_w_counts):g} counts"
-    )
+    print(f"generate: {result.core.design.summary}")
     return 0
 
 

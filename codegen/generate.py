@@ -18,11 +18,10 @@ from codegen.audit.latex_cache import shared_cache
 from codegen.audit.report import render_report
 from codegen.audit.run import AuditResult, run_audit
 from codegen.audit.transcription import load_transcription
-from codegen.core_context import core_context, float_model_context
+from codegen.core.float_model import float_model_context
+from codegen.core.module import Core, build_core, core_context, manifest_entry
 from codegen.derivation import derive
 from codegen.firmware import render_firmware_files
-from codegen.fixedpoint.design import FixedPointDesign, design
-from codegen.fixedpoint.scaling import scaling
 from codegen.port import render_port_files
 from codegen.render import project_relative, provenance, render
 from codegen.spec_loader import load_spec
@@ -41,28 +40,19 @@ CORE_FILES = {
 @dataclass(frozen=True)
 class Generated:
     spec: Spec
-    design: FixedPointDesign
+    core: Core
     audit: AuditResult
     files: dict[str, str]
-
-
-def fixed_point_design(spec: Spec) -> FixedPointDesign:
-    return design(
-        scaling(spec, derive()),
-        spec.accuracy.duty_counts,
-        spec.accuracy.commutation_time_ticks,
-        spec.controller.method,
-    )
 
 
 def render_all(spec_path: str | Path) -> Generated:
     spec = load_spec(spec_path)
     derivation = derive()
-    fx = fixed_point_design(spec)
     transcription = load_transcription()
     audit = run_audit(transcription, derivation)
     files: dict[str, str] = {"AUDIT.md": render_report(audit, derivation, transcription, spec)}
-    context = core_context(spec, derivation, fx)
+    core = build_core(spec)
+    context = core_context(core)
     for out, template in CORE_FILES.items():
         files[out] = render(
             template, provenance=provenance(f"templates/{template}", spec), **context
@@ -77,20 +67,21 @@ def render_all(spec_path: str | Path) -> Generated:
     )
     files.update(
         render_unity_tests(
-            unity_cases(spec, derivation, fx),
+            unity_cases(spec),
             lambda template: provenance(template, spec),
         )
     )
     manifest = {
         "spec": project_relative(spec.source_path),
         "spec_sha256": spec.sha256,
+        "core": manifest_entry(core),
         "files": {
             name: hashlib.sha256(text.encode()).hexdigest() for name, text in sorted(files.items())
         },
     }
     files["manifest.json"] = json.dumps(manifest, indent=2) + "\n"
     shared_cache().save()
-    return Generated(spec, fx, audit, files)
+    return Generated(spec, core, audit, files)
 
 
 def write_tree(files: dict[str, str], target: Path) -> None:

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from codegen.core_context import edge_index, edge_of_hall_pair
+from codegen.core.hall import edge_index, edge_of_hall_pair
 from codegen.derivation import derive
 from codegen.render import provenance, render
 from codegen.spec_model import Spec, uses_main_duty

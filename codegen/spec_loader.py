@@ -457,14 +457,36 @@ def _controller(r: _Reader, data: Mapping[str, Any]) -> Controller:
     )
 
 
+_RELAXATION = ("ill_conditioned_above", "ill_conditioned_counts")
+
+
 def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy:
     sec = r.section(data, "accuracy")
-    r.only_keys(sec, ("duty_counts", "commutation_time_ticks"), "accuracy")
+    present = tuple(k for k in _RELAXATION if k in sec)
+    r.only_keys(sec, ("duty_counts", "commutation_time_ticks", *present), "accuracy")
+    if len(present) == 1:
+        missing = next(k for k in _RELAXATION if k not in present)
+        raise r.error(
+            f"accuracy.{missing}",
+            None,
+            f"missing: accuracy.{present[0]} declares a relaxation, which needs both keys",
+            "both ill_conditioned_above (ticks per count) and ill_conditioned_counts (counts), or neither",
+        )
+    above = counts = None
+    if present:
+        above = r.number(
+            sec, "ill_conditioned_above", "accuracy", _Range(1, 1e6, "Hall ticks per TIM1 count")
+        )
+        counts = r.number(
+            sec, "ill_conditioned_counts", "accuracy", _Range(0.001, 4, "TIM1 counts")
+        )
     return Accuracy(
         duty_counts=r.number(sec, "duty_counts", "accuracy", _Range(0.5, 64, "TIM1 counts")),
         commutation_time_ticks=r.number(
             sec, "commutation_time_ticks", "accuracy", _Range(0.5, 1024, "Hall timer ticks")
         ),
+        ill_conditioned_above=above,
+        ill_conditioned_counts=counts,
     )
 
 

@@ -80,8 +80,17 @@ class Controller:
 
 @dataclass(frozen=True)
 class Accuracy:
+    """The user's error budget; the verifier's tolerances come from here alone."""
+
     duty_counts: Fraction
     commutation_time_ticks: Fraction
+    #: Declared relaxation where the commutation time is ill-conditioned: where one TIM1
+    #: count of duty moves t_com by more than `ill_conditioned_above` ticks, t_com need
+    #: only be within the time target of the exact value for a duty error of up to
+    #: `ill_conditioned_counts` counts (Eq. 20's denominator, or the rule's held duty
+    #: sum). None: no relaxation, the time target holds everywhere.
+    ill_conditioned_above: Fraction | None = None
+    ill_conditioned_counts: Fraction | None = None
 
 
 @dataclass(frozen=True)

@@ -1,8 +1,12 @@
 """Test vectors for the generated Unity tests, one per behaviour.
 
-A case is a set of core inputs and the outputs the exact symbolic model expects, with
-the tolerance the fixed-point design promises for each numeric output. Switch patterns,
-the sector and the flags have no tolerance: they must match exactly.
+A case is a set of core inputs and what the independent oracle (`oracle/`) expects of
+them, with tolerances from the spec's `accuracy:` section alone (never the design's own
+bounds): a duty within accuracy.duty_counts of the exact one, the commutation time within
+the time target of the exact value at any duty pair the core may emit (or, where the
+spec declares the time ill-conditioned, of its window). Switches and sector must match
+exactly, and so must every flag the oracle decides; a flag that depends on a value
+within its tolerance of a threshold is masked out of the comparison.
 """
 
 from __future__ import annotations
@@ -13,24 +17,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from codegen.derivation.paper import Derivation
-from codegen.fixedpoint.design import FixedPointDesign
-from codegen.fixedpoint.scaling import Scaling
-from codegen.improved_r_rule.accuracy import point_bound
-from codegen.improved_r_rule.context import rule_design
-from codegen.improved_r_rule.design import RuleDesign
-from codegen.improved_r_rule.reference import FLAG_NOT_FINISHED as RULE_NOT_FINISHED
-from codegen.improved_r_rule.reference import RuleInputs
-from codegen.reference import (
-    FLAG_TIME_CLAMPED,
-    ExactModel,
-    Expected,
-    build_model,
-    expected,
-    operating_codes,
-    time_interval,
-)
+from codegen.abi import FLAG
 from codegen.spec_model import Spec
+from oracle.model import Oracle, oracle
 
 
 @dataclass(frozen=True)
@@ -44,250 +33,260 @@ class UnityCase:
     bus_voltage_adc: int
     phase_current_adc: int
     main_duty_counts: int
-    turn_on_compare: int  # exact model, rounded to the nearest count
+    turn_on_compare: int
     turn_off_compare: int
     commutation_ticks: int
-    turn_on_tolerance: int  # counts / ticks the design promises (ceil of its bound)
+    turn_on_tolerance: int
     turn_off_tolerance: int
     commutation_tolerance: int
     turn_on_switch: int
     turn_off_switch: int
     sector: int
     flags: int
+    flags_mask: int  # the decided flag bits (0xFF: every bit)
 
 
-def _ticks_at(sc: Scaling, speed_rpm: Fraction) -> int:
-    ticks = Fraction(10) * Fraction(str(sc.hall_clock_hz)) / (sc.pole_pairs * speed_rpm)
-    return math.floor(ticks + Fraction(1, 2))
+Inputs = tuple[int, int, int, int, int, int]
 
 
-def _unity_case(
-    name: str,
-    group: str,
-    comment: str,
-    inputs: tuple[int, int, int, int, int, int],
-    exp: Expected,
-    ticks: int,
-    tolerance: int,
-    flags: int,
-) -> UnityCase:
-    """A case from the model's expectation at one input vector: duties rounded to the
-    nearest count, tolerance 1 (every design's duty bound is below 1)."""
-    hall, previous, period, bus, current, duty = inputs
-    return UnityCase(
-        name=name,
-        group=group,
-        comment=comment,
-        hall_code=hall,
-        previous_hall_code=previous,
-        hall_period_ticks=period,
-        bus_voltage_adc=bus,
-        phase_current_adc=current,
-        main_duty_counts=duty,
-        turn_on_compare=math.floor(float(exp.turn_on[0]) + 0.5),
-        turn_off_compare=math.floor(float(exp.turn_off[0]) + 0.5),
-        commutation_ticks=ticks,
-        turn_on_tolerance=1 if exp.active[0] else 0,
-        turn_off_tolerance=1 if exp.active[0] else 0,
-        commutation_tolerance=tolerance,
-        turn_on_switch=int(exp.turn_on_switch[0]),
-        turn_off_switch=int(exp.turn_off_switch[0]),
-        sector=int(exp.sector[0]),
-        flags=flags,
+def _mid_range(low: float, high: float) -> tuple[int, int]:
+    """(expected, tolerance) of an integer that must lie in [low, high]."""
+    lo, hi = math.ceil(low - 1e-9), math.floor(high + 1e-9)
+    if hi < lo:
+        lo = hi = round((low + high) / 2)
+    expected = (lo + hi) // 2
+    return expected, max(expected - lo, hi - expected)
+
+
+class _CaseMaker:
+    def __init__(self, o: Oracle) -> None:
+        self.o = o
+        a = o.spec.accuracy
+        self.duty = float(a.duty_counts)
+        self.time = float(a.commutation_time_ticks)
+        self.above = None if a.ill_conditioned_above is None else float(a.ill_conditioned_above)
+        self.counts = None if a.ill_conditioned_counts is None else float(a.ill_conditioned_counts)
+
+    def case(self, name: str, group: str, comment: str, inputs: Inputs) -> UnityCase:
+        o = self.o
+        hall, previous, period, bus, current, main = (np.array([v], dtype=np.int64) for v in inputs)
+        dec = o.decide(hall, previous, period, bus, current, main)
+        base = {
+            "name": name,
+            "group": group,
+            "comment": comment,
+            "hall_code": inputs[0],
+            "previous_hall_code": inputs[1],
+            "hall_period_ticks": inputs[2],
+            "bus_voltage_adc": inputs[3],
+            "phase_current_adc": inputs[4],
+            "main_duty_counts": inputs[5],
+            "turn_on_switch": int(dec.on_switch[0]),
+            "turn_off_switch": int(dec.off_switch[0]),
+            "sector": int(dec.sector[0]),
+        }
+        if not dec.active[0]:
+            flags = FLAG["INPUT_SATURATED"] if dec.valid[0] else FLAG["INVALID_HALL"]
+            return UnityCase(
+                **base,
+                turn_on_compare=0,
+                turn_off_compare=0,
+                commutation_ticks=0,
+                turn_on_tolerance=0,
+                turn_off_tolerance=0,
+                commutation_tolerance=0,
+                flags=flags,
+                flags_mask=0xFF,
+            )
+        saturated = FLAG["INPUT_SATURATED"] if dec.saturated[0] else 0
+        measured = min(inputs[2], o.u.hall_counter_max)
+        if o.method == "improved_r":
+            values = self._rule(dec.period, dec.bus, current, measured)
+        else:
+            values = self._paper(dec.period, dec.bus, current, main, measured)
+        (on, on_tol), (off, off_tol), (ticks, t_tol), flags, mask = values
+        return UnityCase(
+            **base,
+            turn_on_compare=on,
+            turn_off_compare=off,
+            commutation_ticks=ticks,
+            turn_on_tolerance=on_tol,
+            turn_off_tolerance=off_tol,
+            commutation_tolerance=t_tol,
+            flags=flags | saturated,
+            flags_mask=mask,
+        )
+
+    def _time_window(
+        self, t: float, sensitivity: float, edges: tuple[float, float]
+    ) -> tuple[float, float]:
+        if self.above is not None and sensitivity > self.above:
+            return min(edges[0], t) - self.time, max(edges[1], t) + self.time
+        return t - self.time, t + self.time
+
+    def _paper(self, period, bus, current, main, measured):  # type: ignore[no-untyped-def]
+        o = self.o
+        on, off, high, fail = o.duties(period, bus, main)
+        p = o.u.pwm_counts
+        ons = range(max(math.ceil(on[0] - self.duty), 0), min(math.floor(on[0] + self.duty), p) + 1)
+        offs = range(
+            max(math.ceil(off[0] - self.duty), 0), min(math.floor(off[0] + self.duty), p) + 1
+        )
+        limit = float(period[0])
+        lows, highs = [], []
+        for a in ons:
+            for b in offs:
+                on_c, off_c = np.array([float(a)]), np.array([float(b)])
+                t, w = o.eq20(period, bus, current, on_c, off_c)
+                sens = float(t[0] / w[0]) if w[0] > 0 else math.inf
+                edges = (0.0, 0.0)
+                if self.counts is not None:
+                    fast, _ = o.eq20(period, bus, current, on_c, off_c, w_shift=self.counts)
+                    slow, _ = o.eq20(period, bus, current, on_c, off_c, w_shift=-self.counts)
+                    edges = (float(fast[0]), float(slow[0]))
+                lo, hi = self._time_window(float(t[0]), sens, edges)
+                lows.append(lo)
+                highs.append(hi)
+        amps = float(o.amps(current)[0])
+        flags = (FLAG["HIGH_SPEED"] if high[0] else 0) | (
+            FLAG["FAIL_AREA_CLAMPED"] if fail[0] else 0
+        )
+        mask = 0xFF
+        if amps <= 0:
+            ticks = (0, 0)
+        else:
+            low, high_t = min(lows), max(highs)
+            if low > limit:
+                flags |= FLAG["TIME_CLAMPED"]
+            elif high_t >= limit:
+                mask &= ~FLAG["TIME_CLAMPED"]
+            ticks = _mid_range(max(min(low, limit), 0.0), min(high_t, limit))
+        duty_tol = math.floor(self.duty + 0.5)
+        return (round(on[0]), duty_tol), (round(off[0]), duty_tol), ticks, flags, mask
+
+    def _rule(self, period, bus, current, measured):  # type: ignore[no-untyped-def]
+        o = self.o
+        com = o.rule(period, bus, current)
+        x0, unf0 = com.zero()
+        probe = max(self.counts or 0.0, 0.01)
+        xm, unfm = com.zero(-probe)
+        xp, unfp = com.zero(+probe)
+        t_used = float(period[0])
+        sens = t_used * abs(float(xp[0] - xm[0])) / (2 * probe)
+        t0 = float(x0[0]) * t_used
+        edges = (min(float(xm[0]), float(xp[0])) * t_used, max(float(xm[0]), float(xp[0])) * t_used)
+        lo, hi = self._time_window(t0, sens, edges)
+        limit = float(measured)
+        low, high = max(min(lo, limit), 0.0), min(hi, limit)
+        ticks = _mid_range(low, high)
+        # duties at any time the core may give: S(x) over that window
+        x_lo, x_hi = max(low / t_used, 0.0), min(high / t_used, 1.0)
+        totals = [float(com.duty_sum(np.array([x]))[0]) for x in (x_lo, x_hi)]
+        p = o.u.pwm_counts
+        on_range = [min(max(s, 0.0), p) for s in totals]
+        off_range = [min(max(s - p, 0.0), p) for s in totals]
+        on = _mid_range(min(on_range) - self.duty, max(on_range) + self.duty)
+        off = _mid_range(min(off_range) - self.duty, max(off_range) + self.duty)
+        s_min, s_max = min(totals) - self.duty, max(totals) + self.duty
+        flags, mask = 0, 0xFF
+        for bit, must, must_not in (
+            (FLAG["HIGH_SPEED"], s_max < p, s_min > p),
+            (FLAG["FAIL_AREA_CLAMPED"], s_min > 2 * p or s_max < 0, s_max < 2 * p and s_min > 0),
+            (
+                FLAG["TIME_CLAMPED"],
+                bool(unf0[0] and unfm[0] and unfp[0]),
+                not (unf0[0] or unfm[0] or unfp[0]),
+            ),
+        ):
+            if must:
+                flags |= bit
+            elif not must_not:
+                mask &= ~bit
+        return on, off, ticks, flags, mask
+
+
+def unity_cases(spec: Spec) -> tuple[UnityCase, ...]:
+    """Sector transitions at both test speeds, Eq. 18's cut-off, saturation and invalid
+    codes, with expectations from the oracle."""
+    o = oracle(spec)
+    maker = _CaseMaker(o)
+    case = maker.case
+    bus = o.u.bus_code(spec.inverter.bus_voltage_nominal_v)
+    current = o.u.current_code(spec.controller.braking_current_nominal_a)
+    duty = math.floor(spec.operating_points[0].main_duty * o.u.pwm_counts + Fraction(1, 2))
+    method = spec.controller.method
+    rule = (
+        "resistance-aware pair and t_com (improved_r)"
+        if method == "improved_r"
+        else "Eqs. 16/18 duties, Eq. 20 time"
     )
-
-
-def _case(
-    model: ExactModel,
-    fx: FixedPointDesign,
-    name: str,
-    group: str,
-    comment: str,
-    inputs: tuple[int, int, int, int, int, int],
-) -> UnityCase:
-    """Expected outputs of one input vector from the exact model.
-
-    Duties: the exact value rounded, tolerance 1 (the design's bound is below 1/2 plus
-    the quantisation, so the emitted count is the rounded value or its neighbour). The
-    commutation time is Eq. 20 at the emitted duties, so its tolerance covers every
-    duty pair the core may emit and, for each, the interval the design allows.
-    """
-    period, current = inputs[2], inputs[4]
-    col = [np.array([v], dtype=np.int64) for v in inputs]
-    exp = expected(model, col[0], col[1], col[2], col[3], col[4], col[5])
-    on_exact, off_exact = float(exp.turn_on[0]), float(exp.turn_off[0])
-    flags = int(exp.flags[0])
-    ticks, tolerance = 0, 0
-    if bool(exp.active[0]):
-        bound = float(fx.duty_error_bound_counts)
-        candidates = [
-            (on, off)
-            for on in range(math.floor(on_exact - bound), math.ceil(on_exact + bound) + 1)
-            for off in range(math.floor(off_exact - bound), math.ceil(off_exact + bound) + 1)
-            if abs(on - on_exact) <= bound and abs(off - off_exact) <= bound
-        ]
-        lows, highs, clamped = [], [], set()
-        for on, off in candidates:
-            a = np.array([on], dtype=np.int64)
-            b = np.array([off], dtype=np.int64)
-            _, w = model.commutation_time(col[2], exp.bus, col[4], a, b)
-            lo, hi = time_interval(model, fx, col[2], exp.bus, col[4], w)
-            if current <= model.current_offset:
-                lows.append(0.0)
-                highs.append(0.0)
-                clamped.add(False)
-                continue
-            lows.append(min(max(float(lo[0]), 0.0), period))
-            highs.append(min(float(hi[0]), period))
-            if float(lo[0]) > period:
-                clamped.add(True)
-            elif float(hi[0]) <= period:
-                clamped.add(False)
-            else:
-                clamped.update((True, False))
-        if len(clamped) != 1:
-            raise ValueError(f"unity case {name}: TIME_CLAMPED is not decided at {inputs}")
-        low, high = math.ceil(min(lows) - 1e-6), math.floor(max(highs) + 1e-6)
-        ticks = (low + high) // 2
-        tolerance = max(ticks - low, high - ticks)
-        if clamped.pop():
-            flags |= FLAG_TIME_CLAMPED
-    return _unity_case(name, group, comment, inputs, exp, ticks, tolerance, flags)
-
-
-def _rule_case(
-    model: ExactModel,
-    design: RuleDesign,
-    name: str,
-    group: str,
-    comment: str,
-    inputs: tuple[int, int, int, int, int, int],
-) -> UnityCase:
-    """Expected outputs of one input vector from the resistance-aware rule (improved_r).
-
-    Duties: the exact C(x_c) rounded, tolerance 1 (the design's bound is below 1). The
-    time: min(x_c T, T) rounded, tolerance the point's own proven bound. The threshold
-    flags must be decided at the vector: the reference farther from each threshold
-    than the error bound."""
-    period, bus, current = inputs[2], inputs[3], inputs[4]
-    col = [np.array([v], dtype=np.int64) for v in inputs]
-    exp = expected(model, col[0], col[1], col[2], col[3], col[4], col[5])
-    flags = int(exp.flags[0])
-    ticks, tolerance = 0, 0
-    if bool(exp.active[0]) and exp.rule is not None:
-        ref = exp.rule.result(0, period)
-        bound = point_bound(design.rule, RuleInputs(period, bus, current), ref)
-        total = float(exp.rule.total[0])
-        p = model.period_counts
-        margin = bound.duty_counts
-        undecided = [abs(total - edge) <= margin for edge in (0.0, float(p), 2.0 * p)]
-        finished = not ref.outputs.flags & RULE_NOT_FINISHED
-        if any(undecided) or (finished and ref.fraction + bound.fraction_error >= 1.0):
-            raise ValueError(f"unity case {name}: a flag is not decided at {inputs}")
-        if not finished:
-            flags |= FLAG_TIME_CLAMPED
-        exact = min(ref.ticks_exact, period)
-        ticks = math.floor(exact + 0.5)
-        tolerance = math.ceil(abs(exact - ticks) + bound.ticks)
-    return _unity_case(name, group, comment, inputs, exp, ticks, tolerance, flags)
-
-
-def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tuple[UnityCase, ...]:
-    """Sector transitions at both test speeds, the segment boundary, saturation and
-    invalid codes, with expectations from codegen.reference."""
-    sc = fx.scaling
-    model = build_model(spec, derivation, sc)
-    bus, current, duty = operating_codes(spec, sc)
-    cases: list[UnityCase] = []
-    if spec.controller.method == "improved_r":
-        design = rule_design(spec, sc)
-
-        def case(
-            name: str, group: str, comment: str, inputs: tuple[int, int, int, int, int, int]
-        ) -> UnityCase:
-            return _rule_case(model, design, name, group, comment, inputs)
-
-        rule = "resistance-aware pair and t_com (improved_r)"
-    else:
-
-        def case(
-            name: str, group: str, comment: str, inputs: tuple[int, int, int, int, int, int]
-        ) -> UnityCase:
-            return _case(model, fx, name, group, comment, inputs)
-
-        rule = "Eq. 18 duties, Eq. 20 time"
     sequence = spec.hall.sequence
+    cases: list[UnityCase] = []
     for point in spec.operating_points:
-        period = _ticks_at(sc, point.speed_rpm)
+        period = math.floor(o.u.ticks_at(point.speed_rpm) + Fraction(1, 2))
         rpm = f"{float(point.speed_rpm):g} rpm"
         for direction, step in (("forward", 1), ("reverse", -1)):
             for sector in range(6):
                 previous = sequence[(sector - step) % 6]
-                edge = derivation.switching.edge_into(sector, direction)
                 cases.append(
                     case(
                         f"commutate_{direction}_into_sector_{sector}_at_{int(point.speed_rpm)}_rpm",
                         "sector",
-                        f"{edge.describe()} at {rpm}: {rule}",
+                        f"{direction} edge into sector {sector} at {rpm}: {rule}",
                         (sequence[sector], previous, period, bus, current, duty),
                     )
                 )
-    cut = -(-model.boundary_lhs // (model.boundary_rhs * bus))
-    # The rule's segment follows S(x_c) = P, not Eq. 18's cut: no exact boundary case.
-    eq18_cuts = () if spec.controller.method == "improved_r" else (cut - 1, cut)
-    for period, what in zip(eq18_cuts, ("last_high_speed", "first_low_speed"), strict=False):
-        cases.append(
-            _case(
-                model,
-                fx,
-                f"take_the_{what}_segment_at_period_{period}",
-                "boundary",
-                f"Eq. 18 cut-off 4E = U_d falls between periods {cut - 1} and {cut}",
-                (sequence[1], sequence[0], period, bus, current, duty),
-            )
-        )
     forward = (sequence[1], sequence[0])
-    mid = (sc.period_min_ticks + sc.period_max_ticks) // 2
+    if method != "improved_r":
+        limit = 4 * o.motor.k_e * 60 * o.u.hall_hz / (6 * o.u.pole_pairs * o.u.volts(bus))
+        cut = -((-limit.numerator) // limit.denominator)
+        for period, what in ((cut - 1, "last_high_speed"), (cut, "first_low_speed")):
+            cases.append(
+                case(
+                    f"take_the_{what}_segment_at_period_{period}",
+                    "boundary",
+                    f"Eq. 18 cut-off 4E = U_d falls between periods {cut - 1} and {cut}",
+                    (*forward, period, bus, current, duty),
+                )
+            )
+    lim = o.lim
+    mid = (lim.period_min + lim.period_max) // 2
+    zero = o.u.current_code(Fraction(0))
     for name, comment, inputs in (
         (
             "saturate_a_low_bus",
             "bus below its minimum: saturated and flagged",
-            (*forward, mid, sc.bus_code_min - 100, current, duty),
+            (*forward, mid, max(lim.bus_min - 100, 0), current, duty),
         ),
         (
             "switch_off_over_voltage",
             "bus above its maximum: every switch off",
-            (*forward, mid, sc.bus_code_max + 1, current, duty),
+            (*forward, mid, lim.bus_max + 1, current, duty),
         ),
         (
             "switch_off_over_speed",
             "period below the top speed's: every switch off",
-            (*forward, sc.period_min_ticks - 1, bus, current, duty),
+            (*forward, lim.period_min - 1, bus, current, duty),
         ),
         (
             "flag_a_speed_below_the_minimum",
-            "period above the slowest speed's: flagged"
-            + (
-                ", the rule uses the slowest"
-                if spec.controller.method == "improved_r"
-                else ", exact"
-            ),
-            (*forward, sc.period_max_ticks + 1000, bus, current, duty),
+            "period above the slowest speed's: flagged",
+            (*forward, min(lim.period_max + 1000, o.u.hall_counter_max), bus, current, duty),
         ),
         (
             "give_no_commutation_time_without_current",
             "zero current: t_com = 0",
-            (*forward, mid, bus, sc.current_offset_code, duty),
-        ),
-        (
-            "give_no_commutation_time_for_a_negative_current",
-            "current below the offset",
-            (*forward, mid, bus, sc.current_offset_code - 50, duty),
+            (*forward, mid, bus, zero - 1, duty),
         ),
         (
             "flag_a_current_above_the_range",
-            "current above the braking range: exact, flagged",
-            (*forward, mid, bus, sc.current_offset_code + sc.current_code_max + 10, duty),
+            "current above the braking range: flagged",
+            (*forward, mid, bus, min(lim.current_high + 1, o.u.adc_max), duty),
+        ),
+        (
+            "saturate_a_current_above_the_adc",
+            "current code above the ADC's full scale: saturated, flagged",
+            (*forward, mid, bus, 0xFFFF, duty),
         ),
     ):
         cases.append(case(name, "saturation", comment, inputs))
@@ -313,6 +312,11 @@ def unity_cases(spec: Spec, derivation: Derivation, fx: FixedPointDesign) -> tup
             "switch_off_on_a_code_above_7",
             "not a 3-bit code",
             (9, sequence[0], mid, bus, current, duty),
+        ),
+        (
+            "switch_off_on_codes_above_7_that_alias_a_valid_pair",
+            "8 + a valid code, both fields",
+            (sequence[1] + 8, sequence[0] + 8, mid, bus, current, duty),
         ),
     ):
         cases.append(case(name, "invalid", comment, inputs))

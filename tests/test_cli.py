@@ -87,12 +87,14 @@ def test_module_and_console_entry_points_should_run() -> None:
 def test_an_improved_r_spec_the_formats_cannot_meet_should_exit_2_writing_nothing(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from codegen.improved_r_rule.proof import RuleFormatError
+    from codegen.core.module import build_core
+    from codegen.methods.improved_r.design import RuleFormatError
 
     def unmeetable(*_: object) -> None:
         raise RuleFormatError("no table size meets the accuracy targets")
 
-    monkeypatch.setattr("codegen.improved_r_rule.context.design_rule", unmeetable)
+    monkeypatch.setattr("codegen.methods.improved_r.design_rule", unmeetable)
+    build_core.cache_clear()
     spec = ROOT / "spec" / "paper_motor_improved_r.yaml"
     out = tmp_path / "out"
     assert cli.main(["generate", str(spec), "-o", str(out)]) == cli.EXIT_SPEC

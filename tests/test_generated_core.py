@@ -7,7 +7,6 @@ numbers and the safe-state and saturation paths are asserted.
 from __future__ import annotations
 
 import ctypes
-import dataclasses
 import importlib.util
 import random
 import shutil
@@ -16,12 +15,10 @@ from pathlib import Path
 from types import ModuleType
 
 import pytest
-import sympy as sp
 
-from codegen.derivation import derive
-from codegen.fixedpoint.design import FixedPointError, design
-from codegen.fixedpoint.scaling import scaling
+from codegen.core.module import build_core
 from codegen.generate import render_all, write_tree
+from codegen.methods.base import FixedPointError
 from codegen.spec_loader import load_spec
 from sim.sil import CoreInputs, CoreOutputs
 
@@ -95,12 +92,14 @@ def test_c_and_bit_exact_twin_should_agree(core: ctypes.CDLL, twin: ModuleType) 
             rng.randrange(4096),
             rng.randrange(4000),
         )
-        assert run_c(core, *args) == tuple(twin.commutate(*args)), args
+        assert run_c(core, *args) == tuple(twin.commutate(twin.Inputs(*args))), args
 
 
 def test_low_speed_should_hold_the_on_phase_and_modulate_the_off_phase(twin: ModuleType) -> None:
-    out = twin.commutate(4, 5, ticks(1500), BUS_24V, CURRENT_5A, 1512)  # forward 60 deg edge
-    period = twin.PERIOD_COUNTS
+    out = twin.commutate(
+        twin.Inputs(4, 5, ticks(1500), BUS_24V, CURRENT_5A, 1512)
+    )  # forward 60 deg edge
+    period = twin.BLDC_PWM_PERIOD_COUNTS
     assert out.turn_on_compare == period  # D_on = 1
     assert abs(out.turn_off_compare / period - 0.41) < 0.001  # D_off = 1 - 4E/U_d
     assert out.turn_on_switch == 4 and out.turn_off_switch == 2  # T5 on, T3 off (paper)
@@ -108,8 +107,8 @@ def test_low_speed_should_hold_the_on_phase_and_modulate_the_off_phase(twin: Mod
 
 
 def test_high_speed_should_hold_the_off_phase_off(twin: ModuleType) -> None:
-    out = twin.commutate(4, 5, ticks(4600), BUS_24V, CURRENT_5A, 1512)
-    assert abs(out.turn_on_compare / twin.PERIOD_COUNTS - 0.1907) < 0.001
+    out = twin.commutate(twin.Inputs(4, 5, ticks(4600), BUS_24V, CURRENT_5A, 1512))
+    assert abs(out.turn_on_compare / twin.BLDC_PWM_PERIOD_COUNTS - 0.1907) < 0.001
     assert out.turn_off_compare == 0
     assert out.flags & twin.FLAG_HIGH_SPEED
 
@@ -129,7 +128,7 @@ def test_over_speed_and_over_voltage_should_switch_everything_off(core: ctypes.C
 
 def test_under_range_inputs_should_saturate_and_flag(core: ctypes.CDLL, twin: ModuleType) -> None:
     low_bus = run_c(core, 4, 5, ticks(1500), 1000, CURRENT_5A, 1000)
-    floor_bus = run_c(core, 4, 5, ticks(1500), twin.BUS_CODE_MIN, CURRENT_5A, 1000)
+    floor_bus = run_c(core, 4, 5, ticks(1500), twin.BLDC_BUS_CODE_MIN, CURRENT_5A, 1000)
     assert low_bus[:6] == floor_bus[:6] and low_bus[6] & 0x04 and not floor_bus[6] & 0x04
     negative = run_c(core, 4, 5, ticks(1500), BUS_24V, 1000, 1000)
     assert negative[2] == 0 and negative[6] & 0x04  # nothing to commutate
@@ -141,9 +140,9 @@ def test_inputs_beyond_the_spec_but_within_their_type_should_stay_exact_and_flag
     # Below the minimum speed Eq. 18 still holds: D_off = 1 - 4E/U_d keeps rising
     # towards 1 instead of freezing at the minimum speed's value.
     slow = run_c(core, 4, 5, 65535, BUS_24V, CURRENT_5A, 1000)
-    floor = run_c(core, 4, 5, twin.PERIOD_MAX_TICKS, BUS_24V, CURRENT_5A, 1000)
+    floor = run_c(core, 4, 5, twin.BLDC_PERIOD_MAX_TICKS, BUS_24V, CURRENT_5A, 1000)
     assert slow[6] & 0x04 and not floor[6] & 0x04
-    assert floor[1] < slow[1] < twin.PERIOD_COUNTS
+    assert floor[1] < slow[1] < twin.BLDC_PWM_PERIOD_COUNTS
     # A current above the braking range lengthens t_com (Eq. 20 is linear in I).
     big = run_c(core, 4, 5, ticks(1500), BUS_24V, 4095, 1000)
     nominal = run_c(core, 4, 5, ticks(1500), BUS_24V, CURRENT_5A, 1000)
@@ -151,44 +150,50 @@ def test_inputs_beyond_the_spec_but_within_their_type_should_stay_exact_and_flag
 
 
 def test_commutation_time_should_clamp_to_the_sector_near_top_speed(twin: ModuleType) -> None:
-    out = twin.commutate(4, 5, ticks(5000), 2700, 2048 + 620, 0)
+    out = twin.commutate(twin.Inputs(4, 5, ticks(5000), 2700, 2048 + 620, 0))
     assert out.commutation_ticks == ticks(5000) and out.flags & twin.FLAG_TIME_CLAMPED
 
 
-def _design_of(tmp_path: Path, text: str) -> None:
+def _core_of(tmp_path: Path, text: str) -> object:
     bad = tmp_path / "bad.yaml"
     bad.write_text(text)
-    spec = load_spec(bad)
-    design(scaling(spec, derive()), spec.accuracy.duty_counts, spec.accuracy.commutation_time_ticks)
+    return build_core(load_spec(bad))
 
 
-def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow() -> None:
-    # A K_X a thousand times the paper motor's (say a far faster Hall clock) makes
-    # round(K_X / B) overflow 32 bits in every format, even Q0.
-    spec = load_spec(SPEC)
-    sc = scaling(spec, derive())
-    with pytest.raises(FixedPointError, match=r"N_X / B = .* does not fit uint32_t"):
-        design(dataclasses.replace(sc, k_x=sc.k_x * 1000), sp.Integer(1), sp.Integer(8))
+def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow(tmp_path: Path) -> None:
+    # A 2 kHz PWM (36000 counts) makes Eq. 20's product time_numerator i, which is
+    # t W 2^f, overflow 32 bits in every format, even Q0: no design is safe.
+    text = SPEC.read_text().replace("pwm_frequency: 20 kHz", "pwm_frequency: 2 kHz")
+    with pytest.raises(FixedPointError, match=r"no format .* safe"):
+        _core_of(tmp_path, text)
 
 
 def test_design_should_reject_an_unreachable_accuracy_target(tmp_path: Path) -> None:
-    text = SPEC.read_text().replace("duty_counts: 1.0", "duty_counts: 0.5")
-    with pytest.raises(FixedPointError, match="accurate enough"):
-        _design_of(tmp_path, text)
+    text = SPEC.read_text().replace("duty_counts: 0.75", "duty_counts: 0.5")
+    with pytest.raises(FixedPointError, match=r"accuracy\.duty_counts"):
+        _core_of(tmp_path, text)
 
 
 def test_design_should_prove_every_intermediate_of_the_default_spec() -> None:
-    spec = load_spec(SPEC)
-    fx = design(
-        scaling(spec, derive()), spec.accuracy.duty_counts, spec.accuracy.commutation_time_ticks
-    )
-    limits = {"uint32_t": 2**32 - 1, "int32_t": 2**31 - 1, "uint64_t": 2**64 - 1}
-    assert len(fx.ranges) == 13
-    for proven in fx.ranges:
-        assert proven.high <= limits[proven.c_type], proven
-    assert fx.duty_error_bound_counts < spec.accuracy.duty_counts
-    assert fx.time_error_bound_ticks <= spec.accuracy.commutation_time_ticks
-    assert fx.duty_error_bound_counts < sp.Rational(51, 100)  # 1/2 plus the quantisation
+    core = build_core(load_spec(SPEC))
+    claims = core.design.claims
+    for proven in core.ranges:
+        low, high = {
+            "uint8_t": (0, 255),
+            "uint16_t": (0, 65535),
+            "uint32_t": (0, 2**32 - 1),
+            "int32_t": (-(2**31), 2**31 - 1),
+            "uint64_t": (0, 2**64 - 1),
+            "int64_t": (-(2**63), 2**63 - 1),
+        }[proven.c_type]
+        assert low <= proven.low and proven.high <= high, proven
+    names = {(r.function, r.name) for r in core.ranges}
+    assert ("bldc_commutation_timing", "w_q") in names and (
+        "bldc_divide_long",
+        "remainder",
+    ) in names
+    assert claims.duty_counts < 0.51  # 1/2 plus the quantisation of X in Q6
+    assert claims.time_ticks <= 8
 
 
 @pytest.mark.skipif(shutil.which("arm-none-eabi-gcc") is None, reason="arm-none-eabi-gcc missing")

@@ -9,24 +9,23 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from codegen.core.module import build_core, twin_module
 from codegen.derivation import derive
 from codegen.derivation import symbols as s
 from codegen.derivation.constant_pair import derive_firmware_rule
 from codegen.fixedpoint.scaling import scaling
-from codegen.improved_r_rule.accuracy import point_bound
-from codegen.improved_r_rule.constants import RuleConstants, rule_constants
-from codegen.improved_r_rule.design import RuleDesign, design_grid, design_rule
-from codegen.improved_r_rule.fixed import edge_state, loop_terms, run_fixed
-from codegen.improved_r_rule.reference import (
+from codegen.methods.improved_r.accuracy import point_bound
+from codegen.methods.improved_r.constants import RuleConstants, rule_constants
+from codegen.methods.improved_r.design import RuleDesign, design_grid, design_rule
+from codegen.methods.improved_r.reference import (
     FLAG_CANNOT_HOLD,
-    FLAG_NOT_FINISHED,
     FLAG_SPEED_CLAMPED,
     RuleInputs,
     psi_arrays,
     psi_values,
     reference_points,
 )
-from codegen.improved_r_rule.table import error_at, lookup
+from codegen.methods.improved_r.table import error_at, lookup
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from sim.drive import Drive
@@ -43,10 +42,31 @@ def spec(request: pytest.FixtureRequest) -> Spec:
     return load_spec(ROOT / "spec" / request.param)
 
 
+def _improved_r(spec: Spec) -> Spec:
+    from dataclasses import replace
+
+    return replace(spec, controller=replace(spec.controller, method="improved_r"))
+
+
 @pytest.fixture(scope="module")
 def design(spec: Spec) -> RuleDesign:
-    sc = scaling(spec, derive())
-    return design_rule(rule_constants(spec, sc), sc.current_code_max)
+    core = build_core(_improved_r(spec))
+    sc = core.scaling
+    return design_rule(rule_constants(spec, sc), sc.current_code_max, core.limits)
+
+
+@pytest.fixture(scope="module")
+def twin(spec: Spec) -> object:
+    """The printed integer rule (the same IR as the C)."""
+    return twin_module(build_core(_improved_r(spec)))
+
+
+def run_twin(twin: object, inputs: RuleInputs) -> tuple[int, int, int, int]:
+    """(on, off, ticks, flags) of the printed rule at one input."""
+    t = twin.commutation_timing(
+        twin.bus_condition(inputs.bus_code), inputs.period_ticks, inputs.current_code, 0
+    )  # type: ignore[attr-defined]
+    return t.turn_on_compare, t.turn_off_compare, t.commutation_ticks, t.flags
 
 
 def test_ramp_weight_should_be_the_minimax_of_a_linear_ramp() -> None:
@@ -83,20 +103,20 @@ def _grid(c: RuleConstants, braking_codes: int) -> list[RuleInputs]:
     return design_grid(c, braking_codes)[::5] + extra
 
 
-def test_integer_prototype_should_match_the_reference_within_its_bounds(
-    spec: Spec, design: RuleDesign
+def test_printed_rule_should_match_the_reference_within_its_bounds(
+    spec: Spec, design: RuleDesign, twin: object
 ) -> None:
     rule = design.rule
     c = rule.constants
     sc = scaling(spec, derive())
     grid = _grid(c, sc.current_code_max)
     for inputs, ref in zip(grid, reference_points(c, grid), strict=True):
-        got = run_fixed(rule, inputs).outputs
+        on, off, ticks, _ = run_twin(twin, inputs)
         bound = point_bound(rule, inputs, ref)
         exact_ticks = min(ref.ticks_exact, inputs.period_ticks)
-        assert abs(got.commutation_ticks - exact_ticks) <= bound.ticks, inputs
-        assert abs(got.on_counts - ref.on_exact) <= bound.duty_counts, inputs
-        assert abs(got.off_counts - ref.off_exact) <= bound.duty_counts, inputs
+        assert abs(ticks - exact_ticks) <= bound.ticks, inputs
+        assert abs(on - ref.on_exact) <= bound.duty_counts, inputs
+        assert abs(off - ref.off_exact) <= bound.duty_counts, inputs
         if not ref.outputs.flags:
             assert bound.ticks <= bound.time_allowance(float(c.time_target_ticks)), inputs
             assert bound.duty_counts <= c.duty_target_counts, inputs
@@ -107,24 +127,31 @@ def test_design_should_prove_every_intermediate(design: RuleDesign) -> None:
     assert all(r.headroom_bits >= 0 for r in design.ranges)
     assert design.time_ratio <= 1.0 and design.duty_bound <= 1.0
     assert design.rule.table.flash_bytes <= 2048
+    assert set(design.widths) == {"x_kappa_i", "x_theta", "rho_x", "y_psi1", "x_x_psi2", "s1_x"}
 
 
-def test_rule_should_flag_what_it_cannot_do(design: RuleDesign) -> None:
+def test_rule_should_flag_what_it_cannot_do(design: RuleDesign, twin: object) -> None:
     c = design.rule.constants
     nominal_bus = (c.bus_low + c.bus_high) // 2
-    slow = run_fixed(design.rule, RuleInputs(c.period_high, nominal_bus, c.current_offset + 300))
-    assert slow.outputs.flags & FLAG_CANNOT_HOLD
-    assert slow.outputs.on_counts == slow.outputs.off_counts == c.period_counts
-    fast = run_fixed(design.rule, RuleInputs(c.period_low - 1, nominal_bus, c.current_offset))
-    assert fast.outputs.flags & FLAG_SPEED_CLAMPED
+    ref = reference_points(c, [RuleInputs(c.period_high, nominal_bus, c.current_offset + 300)])[0]
+    assert ref.outputs.flags & FLAG_CANNOT_HOLD
+    on, off, _, flags = run_twin(
+        twin, RuleInputs(c.period_high, nominal_bus, c.current_offset + 300)
+    )
+    assert flags & twin.FLAG_FAIL_AREA_CLAMPED  # type: ignore[attr-defined]
+    assert on == off == c.period_counts
+    ref = reference_points(c, [RuleInputs(c.period_low - 1, nominal_bus, c.current_offset)])[0]
+    assert ref.outputs.flags & FLAG_SPEED_CLAMPED
+    *_, flags = run_twin(twin, RuleInputs(c.period_low - 1, nominal_bus, c.current_offset))
+    assert flags == twin.FLAG_INPUT_SATURATED  # type: ignore[attr-defined]  # the safe state
 
 
 @pytest.mark.parametrize("speed", [500.0, 3000.0, 4600.0])
 def test_firmware_rule_should_hold_the_current_within_3_percent(
-    spec: Spec, design: RuleDesign, speed: float
+    spec: Spec, twin: object, speed: float
 ) -> None:
     """The generated C core (`improved_r`, through sim's software in the loop) at the
-    simulated edge: bit for bit the integer prototype, and on the paper's motor within
+    simulated edge: bit for bit the printed rule, and on the paper's motor within
     3 % in the switched plant."""
     controller = Controller(spec, prepare_cores(spec, ("improved_r",)))
     drive = Drive.from_spec(spec)
@@ -134,74 +161,18 @@ def test_firmware_rule_should_hold_the_current_within_3_percent(
     inputs = RuleInputs(
         raw["in.hall_period_ticks"], raw["in.bus_voltage_adc"], raw["in.phase_current_adc"]
     )
-    prototype = run_fixed(design.rule, inputs).outputs
+    on, off, ticks, flags = run_twin(twin, inputs)
     assert (raw["turn_on_compare"], raw["turn_off_compare"], raw["commutation_ticks"]) == (
-        prototype.on_counts,
-        prototype.off_counts,
-        prototype.commutation_ticks,
+        on,
+        off,
+        ticks,
     )
-    assert command.constant_duties and not prototype.flags
+    assert command.constant_duties and not flags & ~twin.FLAG_HIGH_SPEED  # type: ignore[attr-defined]
     assert controller.flag_names(command) in ((), ("HIGH_SPEED",))
     if spec.name == "paper_motor":
         run = simulate(case, command, "switched")
         assert run.metrics.finished
         assert abs(run.metrics.deviation_worst_pct) <= 3.0
-
-
-def test_loop_intermediates_should_stay_inside_their_proven_ranges(design: RuleDesign) -> None:
-    rule = design.rule
-    c = rule.constants
-    proven = {r.name: r for r in design.ranges}
-
-    def inside(value: int, *names: str) -> bool:
-        low = min(proven[n].low for n in names)
-        high = max(proven[n].high for n in names)
-        return low <= value <= high
-
-    rng = random.Random(11)
-    for _ in range(400):
-        st = edge_state(
-            rule,
-            rng.randint(c.period_low, c.period_high),
-            rng.randint(c.bus_low, c.bus_high),
-            rng.randint(0, c.current_high),
-        )
-        assert inside(st.x, "X") and inside(2 * st.a, "2 A") and inside(st.s1, "S1")
-        assert inside(st.s0, "S0 low", "S0 high")
-        for x_q in (0, 1, rng.randint(0, 1 << rule.steps), 1 << rule.steps):
-            t = loop_terms(rule, st, x_q)
-            assert inside(t.y, "y (inside the table)")
-            assert 0 <= t.e <= 1 << rule.unit_frac_bits
-            assert inside(t.u1, "x psi")
-            assert inside(t.total, "S low", "S high")
-            assert inside(t.f2, "F2 low", "F2 high")
-            assert inside(t.twice_g, "2g low", "2g high")
-
-
-def test_generated_twin_should_be_the_integer_rule_bit_for_bit() -> None:
-    """The checked-in improved_r twin (which the verifier holds equal to the C) computes
-    what the proven integer rule computes, inside and outside the input box."""
-    from verify.run import load_twin
-
-    spec = load_spec(ROOT / "spec" / "paper_motor_improved_r.yaml")
-    sc = scaling(spec, derive())
-    rule = design_rule(rule_constants(spec, sc), sc.current_code_max).rule
-    c = rule.constants
-    twin = load_twin(ROOT / "generated" / spec.name)
-    rng = random.Random(11)
-    for n in range(2000):
-        period = rng.randint(c.period_low, 65535 if n % 4 == 0 else c.period_high)
-        bus = rng.randint(c.bus_low - 50, c.bus_high)
-        current = rng.randint(0, 4095)
-        timing = twin.commutation_timing(twin.bus_condition(bus), period, current, 0)
-        want = run_fixed(rule, RuleInputs(period, bus, current)).outputs
-        got = (timing.on, timing.off, timing.ticks)
-        assert got == (want.on_counts, want.off_counts, want.commutation_ticks), (
-            period,
-            bus,
-            current,
-        )
-        assert bool(timing.flags & twin.FLAG_TIME_CLAMPED) == bool(want.flags & FLAG_NOT_FINISHED)
 
 
 def test_scalar_psi_should_agree_with_the_array_form() -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from codegen.generate import fixed_point_design
+from codegen.core.module import build_core
 from codegen.spec_loader import load_spec
 from verify.reciprocal_bench import FLASH_BUDGET_BYTES, _step, table_option
 
@@ -34,7 +34,7 @@ def test_interpolation_step_should_keep_the_error_within_its_budget() -> None:
 
 def test_default_spec_table_should_not_fit_the_flash_budget() -> None:
     spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
-    option = table_option(spec, fixed_point_design(spec))
+    option = table_option(spec, build_core(spec))
     assert option.step_g == 1  # t_com's bound already sits at its target: exact entries
     assert option.step_x > 1  # the duties leave room for interpolation
     assert option.flash_bytes > FLASH_BUDGET_BYTES

@@ -10,7 +10,7 @@ and applies exactly what the generated Python twin computes.
 
 from __future__ import annotations
 
-import re
+import json
 import shutil
 import subprocess
 from collections.abc import Iterator
@@ -134,18 +134,18 @@ def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
     assert within.currents == (offset, offset + 310, offset + sc.current_code_max)  # 0, 5, 10 A
     assert saturated.currents == (sc.adc_full_scale - 1,)
 
-    steps = int(
-        re.search(r"#define STEPS (\d+)u", (generated / "c" / "bldc_commutation.c").read_text())[1]
-    )
+    formats = json.loads((generated / "manifest.json").read_text())["core"]["formats"]
+    steps = int(formats["bisection_steps"])
     twin = load_twin(generated)
     octaves: set[int] = set()
-    psi = twin.psi
+    remains = twin.current_remains
 
-    def watched_psi(y: int) -> tuple[int, int]:
-        octaves.add((y >> twin.Y_FRAC_BITS).bit_length())
-        return psi(y)
+    def watched_remains(st: object, x: int) -> int:
+        y = (st.rho * x) >> int(formats["y_shift"])  # type: ignore[attr-defined]
+        octaves.add((y >> int(formats["y_frac_bits"])).bit_length())
+        return int(remains(st, x))
 
-    twin.psi = watched_psi
+    twin.current_remains = watched_remains
     # the rule does not read the main duty: one of the sweep's duties keeps the test short
     for inputs in (replace(within, duties=within.duties[1:2]), saturated):
         result = timing_sweep(spec, build_dir / "firmware.elf", inputs)
@@ -158,8 +158,8 @@ def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
                 twin.bus_condition(point.bus), point.period, point.current, point.duty
             )
             assert point.applied == (
-                expected.ticks,
-                tuple(sorted((expected.on, expected.off))),
+                expected.commutation_ticks,
+                tuple(sorted((expected.turn_on_compare, expected.turn_off_compare))),
             ), point
         ticks = {p.applied[0] for p in result.points if p.applied is not None}
         # t_com varies over the sweep; within the spec with bus and current too

@@ -126,7 +126,11 @@ def test_default_spec_loads_in_exact_si() -> None:
     assert controller.braking_current_max_a == 10
     assert (controller.speed_min_rpm, controller.speed_max_rpm) == (200, 5000)
 
-    assert spec.accuracy.duty_counts == 1
+    assert spec.accuracy.duty_counts == Fraction(3, 4)
+    assert (spec.accuracy.ill_conditioned_above, spec.accuracy.ill_conditioned_counts) == (
+        80,
+        Fraction(1, 10),
+    )
     assert spec.accuracy.commutation_time_ticks == 8
 
     assert [(p.speed_rpm, p.main_duty) for p in spec.operating_points] == [
@@ -313,13 +317,13 @@ BAD_SPECS = [
         id="hall-counter-not-16-bit",
     ),
     pytest.param(
-        _replace("duty_counts: 1.0", "duty_counts: .nan"),
+        _replace("duty_counts: 0.75", "duty_counts: .nan"),
         "accuracy.duty_counts",
         ("must be a plain number", "[0.5, 64] TIM1 counts"),
         id="duty-accuracy-nan",
     ),
     pytest.param(
-        _replace("duty_counts: 1.0", f"duty_counts: {'9' * 400}"),
+        _replace("duty_counts: 0.75", f"duty_counts: {'9' * 400}"),
         "accuracy.duty_counts",
         ("out of range", "[0.5, 64] TIM1 counts"),
         id="duty-accuracy-huge-integer",

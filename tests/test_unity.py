@@ -11,8 +11,6 @@ from pathlib import Path
 
 import pytest
 
-from codegen.derivation import derive
-from codegen.generate import fixed_point_design
 from codegen.render import provenance
 from codegen.spec_loader import load_spec
 from codegen.unity_cases import UnityCase, unity_cases
@@ -49,7 +47,7 @@ SELFTEST_EXPECTED = {
 def cases() -> list[UnityCase]:
     """The generator's vectors: expectations from the exact symbolic model."""
     spec = load_spec(SPEC)
-    return list(unity_cases(spec, derive(), fixed_point_design(spec)))
+    return list(unity_cases(spec))
 
 
 # --- end of the temporary producer -------------------------------------------------------

@@ -10,44 +10,56 @@ from pathlib import Path
 from codegen.errors import SpecError
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
-from verify.run import DEFAULT_RANDOM_POINTS, plot, table, verify, write_json
+from verify.run import DEFAULT_RANDOM_POINTS, StaleOutputError, plot, table, verify, write_json
+
+EXIT_FAILED = 1
+EXIT_SPEC = 2
+EXIT_STALE = 4
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="verify", description=__doc__)
-    parser.add_argument("spec")
-    parser.add_argument("--generated", type=Path, help="default: generated/<spec name>")
+    parser = argparse.ArgumentParser(
+        prog="verify", description="The generated C core against the independent oracle."
+    )
+    parser.add_argument("spec", help="motor spec YAML")
+    parser.add_argument(
+        "--generated", type=Path, help="generated folder (default: generated/<spec name>)"
+    )
     parser.add_argument("--seed", type=int, help="replay a random set")
-    parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS)
-    parser.add_argument("--no-progress", action="store_true")
+    parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS, help="random points")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = parser.parse_args(argv)
     try:
         spec = load_spec(args.spec)
     except SpecError as exc:
         print(f"verify: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_SPEC
     generated = args.generated or PROJECT_ROOT / "generated" / spec.name
     if not (generated / "c" / "bldc_commutation.c").is_file():
         print(
             f"verify: no generated core in {generated}: run `make generate SPEC={args.spec}`",
             file=sys.stderr,
         )
-        return 2
-    with tempfile.TemporaryDirectory() as build:
-        result, evaluated, bounds, sc = verify(
-            args.spec,
-            generated,
-            Path(build),
-            seed=args.seed,
-            random_count=args.random,
-            show_progress=not args.no_progress,
-        )
-    print(table(result))
+        return EXIT_SPEC
+    try:
+        with tempfile.TemporaryDirectory() as build:
+            result, evaluated, tol, o = verify(
+                args.spec,
+                generated,
+                Path(build),
+                seed=args.seed,
+                random_count=args.random,
+                show_progress=not args.no_progress,
+            )
+    except (StaleOutputError, FileNotFoundError) as exc:
+        print(f"verify: {exc}", file=sys.stderr)
+        return EXIT_STALE
+    print(table(result, o))
     out = generated / "verify"
-    write_json(result, bounds, out / "report.json")
-    plot(evaluated, bounds, sc, out / "error_vs_speed.png")
+    write_json(result, tol, o, out / "report.json")
+    plot(evaluated, tol, result.motor, out / "error_vs_speed.png")
     print(f"verify: wrote {out / 'report.json'} and {out / 'error_vs_speed.png'}")
-    return 0 if result.passed else 1
+    return 0 if result.passed else EXIT_FAILED
 
 
 if __name__ == "__main__":

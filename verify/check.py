@@ -1,35 +1,65 @@
-"""Compare the generated core's outputs with the exact symbolic model.
+"""Compare the generated core's outputs with the oracle, within the spec's tolerances.
 
-Per output the verifier keeps the points checked, the largest error in LSB and where it
-happened, the bound the generator promised, and a verdict:
+Every tolerance comes from the spec's `accuracy:` section (`Tolerances`), never from the
+generator. Per output the verifier keeps the points checked, the largest error and
+where it happened, the bound, and a verdict; a point outside its bound is a failure.
 
-* duties: |C - exact| <= the design's duty bound, at every point;
-* commutation time: Eq. 20 evaluated exactly at the duties the core emitted, saturated
-  to [0, T] as the firmware must. Every point must lie in the interval that the design's
-  stated error components (the quantisation of X_q and of the bus reciprocal) allow
-  there, and where W >= the design's W_ok the error must be within its headline bound;
-* switch pattern (both switches and the sector) and flags: exact. BLDC_FLAG_TIME_CLAMPED
-  may differ only where the allowed interval of the unsaturated time straddles T.
+* switch pattern, sector, the safe state's zero outputs, and every flag that is decided
+  exactly (invalid Hall, input saturation, Eq. 18's segment, the fail area of Eq. 16):
+  exact;
+* duties: |C - exact| <= accuracy.duty_counts;
+* commutation time, against the exact value at the duties the core emitted (Eq. 20 for
+  the paper's methods, the rule's zero for improved_r), saturated to the sector as the
+  contract says: within accuracy.commutation_time_ticks; where the spec declares a
+  relaxation and the time is ill-conditioned there (one count of duty moves it by more
+  than `ill_conditioned_above` ticks), within the target of the exact value for some
+  duty error up to `ill_conditioned_counts` counts (its window), reported as the share
+  of that window used;
+* TIME_CLAMPED (and, for improved_r, HIGH_SPEED and FAIL_AREA_CLAMPED, which depend on
+  the computed time): wherever the window decides them.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import numpy as np
 import numpy.typing as npt
 
-from codegen.fixedpoint.design import FixedPointDesign
-from codegen.reference import (
-    FLAG_TIME_CLAMPED,
-    SLACK,
-    ExactModel,
-    Expected,
-    expected,
-    time_interval,
-)
-from verify.host_core import INPUT_DTYPE
+from codegen.spec_model import Spec
+from oracle.model import Oracle
+from oracle.rule import THETA, Commutation
+from verify.points import FIELDS
+
+Floats = npt.NDArray[np.float64]
+Ints = npt.NDArray[np.int64]
+Bools = npt.NDArray[np.bool_]
+SLACK = 1e-6  # float64 evaluation of the oracle, far below one LSB
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """The spec's error budget (accuracy:)."""
+
+    duty_counts: float
+    time_ticks: float
+    ill_conditioned_above: float | None
+    ill_conditioned_counts: float | None
+
+    @property
+    def relaxed(self) -> bool:
+        return self.ill_conditioned_above is not None
+
+
+def tolerances(spec: Spec) -> Tolerances:
+    a = spec.accuracy
+    return Tolerances(
+        float(a.duty_counts),
+        float(a.commutation_time_ticks),
+        None if a.ill_conditioned_above is None else float(a.ill_conditioned_above),
+        None if a.ill_conditioned_counts is None else float(a.ill_conditioned_counts),
+    )
 
 
 @dataclass
@@ -47,128 +77,327 @@ class OutputCheck:
     def verdict(self) -> str:
         return "PASS" if self.failures == 0 else "FAIL"
 
-    def add(
-        self, errors: npt.NDArray[np.float64], failed: npt.NDArray[np.bool_], inputs: np.ndarray
-    ) -> None:
+    def add(self, errors: Floats, failed: Bools, inputs: np.ndarray) -> None:
+        """Count the points; keep the largest error, and where it is: the worst failing
+        point once any point has failed, else the worst point."""
         self.points += int(errors.size)
-        self.failures += int(np.count_nonzero(failed))
+        new_failures = int(np.count_nonzero(failed))
         if errors.size == 0:
             return
-        k = int(np.argmax(errors))
-        if errors[k] > self.max_error or not self.worst_inputs:
-            self.max_error = float(errors[k])
-            self.worst_inputs = {n: int(inputs[n][k]) for n in inputs.dtype.names or ()}
+        candidates = np.where(failed, errors, -np.inf) if new_failures else errors
+        k = int(np.argmax(candidates))
+        first_failure = new_failures > 0 and self.failures == 0
+        keeps_a_failure = self.failures > 0 and new_failures == 0
+        self.failures += new_failures
+        larger = float(errors[k]) >= self.max_error and not keeps_a_failure
+        if first_failure or larger or not self.worst_inputs:
+            self.worst_inputs = {n: int(inputs[n][k]) for n in FIELDS}
+        self.max_error = max(self.max_error, float(errors.max()))
 
 
 @dataclass(frozen=True)
 class Evaluated:
     """Per-point results of one input set, for the report's plot."""
 
-    period: npt.NDArray[np.int64]
-    on_error: npt.NDArray[np.float64]
-    off_error: npt.NDArray[np.float64]
-    time_error: npt.NDArray[np.float64]
+    speed_rpm: Floats
+    on_error: Floats
+    off_error: Floats
+    time_error: Floats
+    relaxed: Bools
 
 
-def column(array: np.ndarray, name: str) -> npt.NDArray[np.int64]:
+def new_checks(tol: Tolerances) -> dict[str, OutputCheck]:
+    checks = {
+        "turn_on": OutputCheck("D_on (turn_on_compare)", "counts", tol.duty_counts),
+        "turn_off": OutputCheck("D_off (turn_off_compare)", "counts", tol.duty_counts),
+        "commutation_time": OutputCheck(
+            "t_com" + (", well-conditioned" if tol.relaxed else ""), "ticks", tol.time_ticks
+        ),
+    }
+    if tol.relaxed:
+        checks["commutation_time_relaxed"] = OutputCheck(
+            f"t_com, ill-conditioned (> {tol.ill_conditioned_above:g} ticks/count)",
+            "of window",
+            1.0,
+            note=f"declared relaxation: exact for a duty error up to {tol.ill_conditioned_counts:g} counts, "
+            f"then within {tol.time_ticks:g} ticks",
+        )
+    checks.update(
+        {
+            "pattern": OutputCheck("switch pattern and sector", "mismatches", None),
+            "safe_state": OutputCheck("safe state: zero duties and time", "mismatches", None),
+            "flags": OutputCheck("flags", "mismatches", None),
+        }
+    )
+    return checks
+
+
+def column(array: np.ndarray, name: str) -> Ints:
     return np.asarray(array[name], dtype=np.int64)
 
 
-def expected_and_exact_checks(
-    model: ExactModel,
-    inputs: np.ndarray,
-    c_out: np.ndarray,
-    twin_out: np.ndarray,
-    checks: dict[str, OutputCheck],
-) -> Expected:
-    """The model's expectation at every input; checks the C against its bit-exact twin
-    (every field, every point) and the switch pattern and sector against the model."""
-    exp = expected(
-        model,
-        *(column(inputs, name) for name in INPUT_DTYPE.names or ()),
-    )
-    differs = np.zeros(inputs.size, dtype=bool)
-    for name in c_out.dtype.names or ():
-        differs |= column(c_out, name) != column(twin_out, name)
-    checks["twin"].add(differs.astype(np.float64), differs, inputs)
-    pattern = (
-        (column(c_out, "turn_on_switch") != exp.turn_on_switch)
-        | (column(c_out, "turn_off_switch") != exp.turn_off_switch)
-        | (column(c_out, "sector") != exp.sector)
-    )
-    checks["pattern"].add(pattern.astype(np.float64), pattern, inputs)
-    return exp
+def _mismatch(checks: dict[str, OutputCheck], key: str, bad: Bools, inputs: np.ndarray) -> None:
+    checks[key].add(bad.astype(np.float64), bad, inputs)
 
 
 def check_set(
-    model: ExactModel,
-    fx: FixedPointDesign,
+    o: Oracle,
+    tol: Tolerances,
+    flag_bits: dict[str, int],
     inputs: np.ndarray,
     c_out: np.ndarray,
-    twin_out: np.ndarray,
     checks: dict[str, OutputCheck],
 ) -> Evaluated:
-    exp = expected_and_exact_checks(model, inputs, c_out, twin_out, checks)
-    period, current = column(inputs, "hall_period_ticks"), column(inputs, "phase_current_adc")
+    cols = {n: column(inputs, n) for n in FIELDS}
+    hall, previous = cols["hall_code"], cols["previous_hall_code"]
+    period, bus, current, main = (
+        cols["hall_period_ticks"],
+        cols["bus_voltage_adc"],
+        cols["phase_current_adc"],
+        cols["main_duty_counts"],
+    )
+    dec = o.decide(hall, previous, period, bus, current, main)
     on_c, off_c = column(c_out, "turn_on_compare"), column(c_out, "turn_off_compare")
     ticks_c, flags_c = column(c_out, "commutation_ticks"), column(c_out, "flags")
+    f = flag_bits
 
-    on_err = np.abs(on_c - exp.turn_on)
-    off_err = np.abs(off_c - exp.turn_off)
-    duty_bound = float(fx.duty_error_bound_counts)
-    checks["turn_on"].add(on_err, on_err > duty_bound + SLACK, inputs)
-    checks["turn_off"].add(off_err, off_err > duty_bound + SLACK, inputs)
-
-    # Commutation time at the emitted duties.
-    active = exp.active
-    t_exact, w = model.commutation_time(np.maximum(period, 1), exp.bus, current, on_c, off_c)
-    i_code = current - model.current_offset
-    positive = i_code > 0
-    t_sat = np.where(positive, np.minimum(t_exact, period), 0.0)
-    time_err = np.where(active, np.abs(ticks_c - t_sat), 0.0)
-    lo, hi = time_interval(model, fx, np.maximum(period, 1), exp.bus, current, w)
-    lo_sat = np.where(positive, np.minimum(np.maximum(lo, 0), period), 0)
-    hi_sat = np.where(positive, np.minimum(hi, period), 0)
-    outside = active & ((ticks_c < lo_sat - SLACK) | (ticks_c > hi_sat + SLACK))
-    well_conditioned = w >= float(fx.time_bound_min_w_counts)
-    over_bound = active & well_conditioned & (time_err > float(fx.time_error_bound_ticks) + SLACK)
-    good = active & well_conditioned
-    checks["commutation_time"].add(time_err[good], (outside | over_bound)[good], inputs[good])
-    ill = active & ~well_conditioned
-    checks["commutation_time_ill"].add(time_err[ill], outside[ill], inputs[ill])
-
-    # Flags: exact, but TIME_CLAMPED only where the allowed interval decides it.
-    must_clamp = active & positive & (lo > period)
-    must_not = active & (~positive | (hi <= period))
-    clamped_c = (flags_c & FLAG_TIME_CLAMPED) != 0
-    time_flag_wrong = (must_clamp & ~clamped_c) | (must_not & clamped_c) | (~active & clamped_c)
-    other_wrong = (flags_c & ~FLAG_TIME_CLAMPED) != exp.flags
-    flags_wrong = time_flag_wrong | other_wrong
-    checks["flags"].add(flags_wrong.astype(np.float64), flags_wrong, inputs)
-    return Evaluated(
-        period, np.where(active, on_err, 0.0), np.where(active, off_err, 0.0), time_err
+    pattern = (
+        (column(c_out, "turn_on_switch") != dec.on_switch)
+        | (column(c_out, "turn_off_switch") != dec.off_switch)
+        | (column(c_out, "sector") != dec.sector)
     )
+    _mismatch(checks, "pattern", pattern, inputs)
+    inactive = ~dec.active
+    nonzero = inactive & ((on_c != 0) | (off_c != 0) | (ticks_c != 0))
+    _mismatch(checks, "safe_state", nonzero[inactive], inputs[inactive])
+
+    expected_inactive = np.where(dec.valid, f["INPUT_SATURATED"], f["INVALID_HALL"])
+    flags_wrong = inactive & (flags_c != expected_inactive)
+
+    act = np.flatnonzero(dec.active)
+    n = act.size
+    on_err = np.zeros(inputs.size)
+    off_err = np.zeros(inputs.size)
+    t_err = np.zeros(inputs.size)
+    relaxed_mask = np.zeros(inputs.size, dtype=bool)
+    if n:
+        sub = _ActiveSet(o, tol, f, dec, act, cols, on_c, off_c, ticks_c, flags_c)
+        result = sub.evaluate()
+        on_err[act], off_err[act], t_err[act] = result.on_err, result.off_err, result.t_forward
+        relaxed_mask[act] = result.relaxed
+        pts = inputs[act]
+        checks["turn_on"].add(result.on_err, result.on_err > tol.duty_counts + SLACK, pts)
+        checks["turn_off"].add(result.off_err, result.off_err > tol.duty_counts + SLACK, pts)
+        well = ~result.relaxed
+        checks["commutation_time"].add(
+            result.t_forward[well], result.t_forward[well] > tol.time_ticks + SLACK, pts[well]
+        )
+        if tol.relaxed:
+            r = result.relaxed
+            checks["commutation_time_relaxed"].add(
+                result.window_use[r], result.window_use[r] > 1 + SLACK, pts[r]
+            )
+        flags_wrong[act] |= result.flags_wrong
+    _mismatch(checks, "flags", flags_wrong, inputs)
+    speed = (
+        np.array([float(o.u.rpm(max(int(t), 1))) for t in period])
+        if period.size < 50_000
+        else (float(60 * o.u.hall_hz / (6 * o.u.pole_pairs)) / np.maximum(period, 1))
+    )
+    return Evaluated(speed, on_err, off_err, t_err, relaxed_mask)
 
 
-def new_checks(fx: FixedPointDesign) -> dict[str, OutputCheck]:
-    duty = float(fx.duty_error_bound_counts)
-    w_ok = float(fx.time_bound_min_w_counts)
-    return {
-        "turn_on": OutputCheck("D_on (turn_on_compare)", "counts", duty),
-        "turn_off": OutputCheck("D_off (turn_off_compare)", "counts", duty),
-        "commutation_time": OutputCheck(
-            f"t_com, W >= {w_ok:g} counts",
-            "ticks",
-            float(fx.time_error_bound_ticks),
-            note="and every point inside its allowed interval",
-        ),
-        "commutation_time_ill": OutputCheck(
-            f"t_com, W < {w_ok:g} counts (near the top-speed limit)",
-            "ticks",
-            math.inf,
-            note="pointwise interval from the design's error components",
-        ),
-        "pattern": OutputCheck("switch pattern and sector", "mismatches", None),
-        "flags": OutputCheck("flags", "mismatches", None),
-        "twin": OutputCheck("C == bit-exact Python twin", "mismatches", None),
-    }
+@dataclass(frozen=True)
+class _Result:
+    on_err: Floats
+    off_err: Floats
+    t_forward: Floats  # |t_C - t*| (exact time saturated to the sector)
+    window_use: Floats  # relaxed points: share of the window used (<= 1 passes)
+    relaxed: Bools
+    flags_wrong: Bools
+
+
+class _ActiveSet:
+    """The active points of a set, evaluated once per distinct (T, B, C, M)."""
+
+    def __init__(
+        self,
+        o: Oracle,
+        tol: Tolerances,
+        flag_bits: dict[str, int],
+        dec: object,
+        act: Ints,
+        cols: dict[str, Ints],
+        on_c: Ints,
+        off_c: Ints,
+        ticks_c: Ints,
+        flags_c: Ints,
+    ) -> None:
+        self.o, self.tol, self.f = o, tol, flag_bits
+        self.period = dec.period[act]  # type: ignore[attr-defined]
+        self.measured = np.minimum(cols["hall_period_ticks"][act], o.u.hall_counter_max)
+        self.bus = dec.bus[act]  # type: ignore[attr-defined]
+        self.current = cols["phase_current_adc"][act]
+        self.main = cols["main_duty_counts"][act]
+        self.saturated = dec.saturated[act]  # type: ignore[attr-defined]
+        self.on_c, self.off_c = on_c[act].astype(np.float64), off_c[act].astype(np.float64)
+        self.ticks_c = ticks_c[act].astype(np.float64)
+        self.flags_c = flags_c[act]
+
+    def evaluate(self) -> _Result:
+        if self.o.method == "improved_r":
+            return self._rule()
+        return self._paper()
+
+    # ------------------------------------------------------------ paper methods
+
+    def _paper(self) -> _Result:
+        o, tol, f = self.o, self.tol, self.f
+        on, off, high, fail = o.duties(self.period, self.bus, self.main)
+        on_err, off_err = np.abs(self.on_c - on), np.abs(self.off_c - off)
+        t, w = o.eq20(self.period, self.bus, self.current, self.on_c, self.off_c)
+        limit = self.period.astype(np.float64)
+        t_sat = np.minimum(t, limit)
+        forward = np.abs(self.ticks_c - t_sat)
+        lo, hi = t - tol.time_ticks, t + tol.time_ticks
+        relaxed = np.zeros(t.size, dtype=bool)
+        use = np.zeros(t.size)
+        if tol.relaxed:
+            assert tol.ill_conditioned_above is not None and tol.ill_conditioned_counts is not None
+            with np.errstate(divide="ignore", invalid="ignore"):
+                sensitivity = np.where(w > 0, t / w, np.inf)
+            relaxed = (sensitivity > tol.ill_conditioned_above) & (t > 0)
+            d = tol.ill_conditioned_counts
+            t_fast, _ = o.eq20(
+                self.period, self.bus, self.current, self.on_c, self.off_c, w_shift=+d
+            )
+            t_slow, _ = o.eq20(
+                self.period, self.bus, self.current, self.on_c, self.off_c, w_shift=-d
+            )
+            lo = np.where(relaxed, t_fast - tol.time_ticks, lo)
+            hi = np.where(relaxed, t_slow + tol.time_ticks, hi)
+            use = _window_use(self.ticks_c, t_sat, np.minimum(lo, limit), np.minimum(hi, limit))
+        amps_positive = t > 0
+        must_clamp = amps_positive & (lo > limit)
+        must_not = ~amps_positive | (hi < limit)
+        clamped = (self.flags_c & f["TIME_CLAMPED"]) != 0
+        expected = (
+            np.where(self.saturated, f["INPUT_SATURATED"], 0)
+            | np.where(high, f["HIGH_SPEED"], 0)
+            | np.where(fail, f["FAIL_AREA_CLAMPED"], 0)
+        )
+        wrong = (
+            ((self.flags_c & ~f["TIME_CLAMPED"]) != expected)
+            | (must_clamp & ~clamped)
+            | (must_not & clamped)
+        )
+        forward = np.where(relaxed, 0.0, forward)
+        return _Result(on_err, off_err, forward, use, relaxed, wrong)
+
+    # ------------------------------------------------------------ improved_r
+
+    def _rule(self) -> _Result:
+        o, tol, f = self.o, self.tol, self.f
+        key = np.stack([self.period, self.bus, np.minimum(self.current, o.u.adc_max)], axis=1)
+        uniq, inverse = np.unique(key, axis=0, return_inverse=True)
+        inverse = inverse.ravel()
+        com = o.rule(uniq[:, 0], uniq[:, 1], uniq[:, 2])
+        d = tol.ill_conditioned_counts if tol.relaxed else 0.0
+        probe = max(d or 0.0, 0.01)
+        x0, unf0 = com.zero()
+        x_minus, unf_minus = com.zero(-probe)
+        x_plus, unf_plus = com.zero(+probe)
+        t_used = uniq[:, 0].astype(np.float64)
+        sensitivity = t_used * np.abs(x_plus - x_minus) / (2 * probe)
+        t0 = (x0 * t_used)[inverse]
+        limit = self.measured.astype(np.float64)
+        forward = np.abs(self.ticks_c - np.minimum(t0, limit))
+        relaxed = np.zeros(t0.size, dtype=bool)
+        lo, hi = t0 - tol.time_ticks, t0 + tol.time_ticks
+        use = np.zeros(t0.size)
+        if tol.relaxed:
+            assert tol.ill_conditioned_above is not None
+            relaxed = sensitivity[inverse] > tol.ill_conditioned_above
+            edge_lo = (np.minimum(x_minus, x_plus) * t_used)[inverse]
+            edge_hi = (np.maximum(x_minus, x_plus) * t_used)[inverse]
+            lo = np.where(relaxed, np.minimum(edge_lo, t0) - tol.time_ticks, lo)
+            hi = np.where(relaxed, np.maximum(edge_hi, t0) + tol.time_ticks, hi)
+            use = _window_use(
+                self.ticks_c, np.minimum(t0, limit), np.minimum(lo, limit), np.minimum(hi, limit)
+            )
+        # duties at the core's own time: S(x_C) with x_C = ticks / T (+-1/2 tick)
+        t_rows = t_used[inverse]
+        x_c = self.ticks_c / t_rows
+        half = 0.5 / t_rows
+        s_lo = _duty_sum(com, inverse, np.clip(x_c - half, 0, 1))
+        s_hi = _duty_sum(com, inverse, np.clip(x_c + half, 0, 1))
+        on_lo, off_lo = com.split(s_lo)
+        on_hi, off_hi = com.split(s_hi)
+        on_err = _distance(self.on_c, np.minimum(on_lo, on_hi), np.maximum(on_lo, on_hi))
+        off_err = _distance(self.off_c, np.minimum(off_lo, off_hi), np.maximum(off_lo, off_hi))
+        margin = tol.duty_counts
+        p = o.u.pwm_counts
+        s_min, s_max = np.minimum(s_lo, s_hi), np.maximum(s_lo, s_hi)
+        flag = self.flags_c
+        high_set = (flag & f["HIGH_SPEED"]) != 0
+        fail_set = (flag & f["FAIL_AREA_CLAMPED"]) != 0
+        clamped = (flag & f["TIME_CLAMPED"]) != 0
+        all_unfinished = (unf0 & unf_minus & unf_plus)[inverse]
+        all_finished = (~unf0 & ~unf_minus & ~unf_plus)[inverse]
+        wrong = ((flag & f["INPUT_SATURATED"]) != 0) != self.saturated
+        wrong |= (s_max < p - margin) & ~high_set
+        wrong |= (s_min > p + margin) & high_set
+        outside = (s_min > 2 * p + margin) | (s_max < -margin)
+        inside = (s_max < 2 * p - margin) & (s_min > margin)
+        wrong |= (outside & ~fail_set) | (inside & fail_set)
+        wrong |= (all_unfinished & ~clamped) | (all_finished & clamped & (hi < limit))
+        forward = np.where(relaxed, 0.0, forward)
+        return _Result(on_err, off_err, forward, use, relaxed, wrong)
+
+
+def _duty_sum(com: Commutation, inverse: Ints, fraction: Floats) -> Floats:
+    """S(x) of the rule at each point (quantities of the unique points, spread)."""
+    return com.base[inverse] + THETA * com.x[inverse] * fraction / 2
+
+
+def _distance(value: Floats, lo: Floats, hi: Floats) -> Floats:
+    return np.where(value < lo, lo - value, np.where(value > hi, value - hi, 0.0))
+
+
+def _window_use(value: Floats, center: Floats, lo: Floats, hi: Floats) -> Floats:
+    """How much of the window [lo, hi] around center the value uses (<= 1 inside)."""
+    above = value >= center
+    span = np.where(above, hi - center, center - lo)
+    gap = np.abs(value - center)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(gap == 0, 0.0, np.where(span > 0, gap / span, np.inf))
+
+
+def claims_check(claims: dict[str, object], tol: Tolerances, measured_duty: float) -> OutputCheck:
+    """The design's claimed bounds may not exceed the spec's targets, and the measured
+    duty error may not exceed the claim."""
+    check = OutputCheck("design claims within the spec", "violations", None)
+    duty = float(claims.get("duty_counts", 0.0))  # type: ignore[arg-type]
+    time = float(claims.get("commutation_time_ticks", 0.0))  # type: ignore[arg-type]
+    problems = []
+    if duty > tol.duty_counts + SLACK:
+        problems.append(f"duty bound {duty:g} > accuracy.duty_counts {tol.duty_counts:g}")
+    if time > tol.time_ticks + SLACK:
+        problems.append(f"time bound {time:g} > accuracy.commutation_time_ticks {tol.time_ticks:g}")
+    if measured_duty > duty + SLACK:
+        problems.append(f"measured duty error {measured_duty:.3f} > claimed {duty:g}")
+    check.points = 3
+    check.failures = len(problems)
+    check.max_error = float(len(problems))
+    check.note = (
+        "; ".join(problems)
+        if problems
+        else (
+            f"claims duty {duty:g} counts, t_com {time:g} ticks ({claims.get('commutation_time_region', '')})"
+        )
+    )
+    return check
+
+
+def as_fraction(value: float) -> Fraction:
+    return Fraction(value).limit_denominator(10**9)

@@ -58,14 +58,25 @@ void verify_batch(const bldc_inputs_t *in, bldc_outputs_t *out, size_t n)
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wconversion", "-Werror", "-fPIC", "-shared"]
 
 
+def dtype_of(layout: list[dict[str, object]]) -> np.dtype:
+    """A C struct as a numpy structured dtype (C layout), from the manifest's ABI."""
+    fields = []
+    for f in layout:
+        kind = "i" if f["signed"] else "u"
+        fields.append((str(f["name"]), np.dtype(f"{kind}{int(f['bits']) // 8}")))  # type: ignore[call-overload]
+    return np.dtype(fields, align=True)
+
+
 @dataclass(frozen=True)
 class HostCore:
     library: ctypes.CDLL
     path: Path
+    input_dtype: np.dtype = INPUT_DTYPE
+    output_dtype: np.dtype = OUTPUT_DTYPE
 
     def run(self, inputs: npt.NDArray[np.void]) -> npt.NDArray[np.void]:
-        inputs = np.ascontiguousarray(inputs, dtype=INPUT_DTYPE)
-        outputs = np.zeros(inputs.shape, dtype=OUTPUT_DTYPE)
+        inputs = np.ascontiguousarray(inputs, dtype=self.input_dtype)
+        outputs = np.zeros(inputs.shape, dtype=self.output_dtype)
         self.library.verify_batch(
             inputs.ctypes.data_as(ctypes.c_void_p),
             outputs.ctypes.data_as(ctypes.c_void_p),
@@ -74,7 +85,12 @@ class HostCore:
         return outputs
 
 
-def build_host_core(c_dir: Path, build_dir: Path) -> HostCore:
+def build_host_core(
+    c_dir: Path,
+    build_dir: Path,
+    input_dtype: np.dtype = INPUT_DTYPE,
+    output_dtype: np.dtype = OUTPUT_DTYPE,
+) -> HostCore:
     """Compile c_dir/bldc_commutation.c with the batch shim; fail on any warning."""
     build_dir.mkdir(parents=True, exist_ok=True)
     shim = build_dir / "verify_batch.c"
@@ -97,9 +113,9 @@ def build_host_core(c_dir: Path, build_dir: Path) -> HostCore:
     dll = ctypes.CDLL(str(library))
     dll.verify_batch.restype = None
     dll.verify_batch.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t]
-    for name, dtype in (("inputs", INPUT_DTYPE), ("outputs", OUTPUT_DTYPE)):
+    for name, dtype in (("inputs", input_dtype), ("outputs", output_dtype)):
         size = getattr(dll, f"verify_sizeof_{name}")
         size.restype = ctypes.c_size_t
         if size() != dtype.itemsize:
             raise RuntimeError(f"bldc_{name}_t is {size()} bytes in C, {dtype.itemsize} here")
-    return HostCore(dll, library)
+    return HostCore(dll, library, input_dtype, output_dtype)

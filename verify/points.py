@@ -1,125 +1,172 @@
-"""Input sets of the verifier: exhaustive, random (seeded) and boundary.
+"""Input sets of the verifier: exhaustive, random (seeded) and thresholds.
 
-Each set is a structured array of the core's inputs (verify.host_core.INPUT_DTYPE).
+Every limit comes from the oracle (`oracle.units.limits`), never from the generator.
+The threshold set puts points on both sides of every decision the core makes, at
+every bus code: Eq. 18's cut-off, the over-speed period, the over-voltage and
+under-voltage codes, every current code of the 16-bit field, the conventional
+method's fail area (D_off = 0 and D_off = 1), the time clamp (t_com = T), and every
+pair of 8-bit Hall codes.
 """
 
 from __future__ import annotations
 
+import math
+from fractions import Fraction
+
 import numpy as np
 import numpy.typing as npt
 
-from codegen.fixedpoint.scaling import Scaling
-from codegen.reference import ExactModel, operating_codes
-from codegen.spec_model import Spec
-from verify.host_core import INPUT_DTYPE
+from oracle.model import Oracle
 
 Inputs = npt.NDArray[np.void]
+FIELDS = (
+    "hall_code",
+    "previous_hall_code",
+    "hall_period_ticks",
+    "bus_voltage_adc",
+    "phase_current_adc",
+    "main_duty_counts",
+)
 
 
-def _inputs(*columns: npt.ArrayLike) -> Inputs:
+def make(dtype: np.dtype, *columns: npt.ArrayLike) -> Inputs:
     arrays = np.broadcast_arrays(*(np.asarray(c, dtype=np.int64) for c in columns))
-    out = np.zeros(arrays[0].size, dtype=INPUT_DTYPE)
-    for name, values in zip(INPUT_DTYPE.names or (), arrays, strict=True):
+    out = np.zeros(arrays[0].size, dtype=dtype)
+    for name, values in zip(FIELDS, arrays, strict=True):
         out[name] = values.ravel()
     return out
 
 
-def valid_edges(model: ExactModel) -> list[tuple[int, int]]:
+def valid_edges(o: Oracle) -> list[tuple[int, int]]:
     """(previous code, code) of the 12 commutations: 6 forward, 6 reverse."""
-    return [(a, b) for a in model.hall_sequence for b in model.hall_sequence if model.edge(a, b)]
+    return sorted(o.edges)
 
 
-def exhaustive(spec: Spec, sc: Scaling, model: ExactModel) -> Inputs:
-    """Every period code of the spec's speed range, at the bus minimum, nominal and
-    maximum, for every valid Hall transition (both directions)."""
-    bus_nominal, current, duty = operating_codes(spec, sc)
-    periods = np.arange(sc.period_min_ticks, sc.period_max_ticks + 1)
-    buses = np.array([sc.bus_code_min, bus_nominal, sc.bus_code_max])
-    edges = np.array(valid_edges(model))
+def operating_codes(o: Oracle) -> tuple[int, int, int]:
+    """Bus code at the nominal voltage, current code at the nominal braking current and
+    the first operating point's main duty in counts."""
+    spec = o.spec
+    bus = o.u.bus_code(spec.inverter.bus_voltage_nominal_v)
+    current = o.u.current_code(spec.controller.braking_current_nominal_a)
+    duty = math.floor(spec.operating_points[0].main_duty * o.u.pwm_counts + Fraction(1, 2))
+    return bus, current, duty
+
+
+def exhaustive(o: Oracle, dtype: np.dtype) -> Inputs:
+    """Every period code of the speed range, at the bus minimum, nominal and maximum,
+    for every valid Hall transition (both directions)."""
+    bus_nominal, current, duty = operating_codes(o)
+    periods = np.arange(o.lim.period_min, o.lim.period_max + 1)
+    buses = np.array([o.lim.bus_min, bus_nominal, o.lim.bus_max])
+    edges = np.array(valid_edges(o))
     e, b, t = np.meshgrid(np.arange(len(edges)), buses, periods, indexing="ij")
-    return _inputs(edges[e, 1], edges[e, 0], t, b, current, duty)
+    return make(dtype, edges[e, 1], edges[e, 0], t, b, current, duty)
 
 
-def random_points(sc: Scaling, model: ExactModel, seed: int, count: int) -> Inputs:
-    """Across the whole input space: mostly valid transitions, some invalid codes;
-    periods log-uniform from half the minimum to the counter's top; every ADC code."""
+def random_points(o: Oracle, dtype: np.dtype, seed: int, count: int) -> Inputs:
+    """The whole input space: mostly valid transitions, some invalid codes; periods
+    log-uniform from half the minimum to the counter's top; braking and any currents."""
     rng = np.random.default_rng(seed)
-    edges = np.array(valid_edges(model))
+    edges = np.array(valid_edges(o))
     pick = edges[rng.integers(0, len(edges), count)]
     wild = rng.random(count) < 0.1
     hall = np.where(wild, rng.integers(0, 8, count), pick[:, 1])
     previous = np.where(wild, rng.integers(0, 8, count), pick[:, 0])
-    low, high = np.log(sc.period_min_ticks / 2), np.log(sc.period_cap_ticks)
+    low, high = np.log(max(o.lim.period_min / 2, 1)), np.log(o.u.hall_counter_max)
     period = np.exp(rng.uniform(low, high, count)).astype(np.int64)
-    top = sc.adc_full_scale
+    top = o.u.adc_max + 1
     bus = np.where(
         rng.random(count) < 0.8,
-        rng.integers(sc.bus_code_min, sc.bus_code_max + 1, count),
+        rng.integers(o.lim.bus_min, o.lim.bus_max + 1, count),
         rng.integers(0, top, count),
     )
     current = np.where(
         rng.random(count) < 0.8,
-        rng.integers(
-            sc.current_offset_code, sc.current_offset_code + sc.current_code_max + 1, count
-        ),
+        rng.integers(o.lim.current_low, o.lim.current_high + 1, count),
         rng.integers(0, top, count),
     )
-    duty = rng.integers(0, 2 * sc.period_counts, count)
-    return _inputs(hall, previous, period, bus, current, duty)
+    duty = rng.integers(0, 2 * o.u.pwm_counts, count)
+    return make(dtype, hall, previous, period, bus, current, duty)
 
 
-def boundaries(spec: Spec, sc: Scaling, model: ExactModel) -> Inputs:
-    """The segment cut-off and one code either side, the speed limits, zero current,
-    out-of-range inputs and invalid Hall codes."""
-    bus_nominal, current, duty = operating_codes(spec, sc)
-    forward = valid_edges(model)[0]
+def _first_low_speed_period(o: Oracle, bus: int) -> int:
+    """Smallest T with 4E <= U_d at this bus code (Eq. 18's cut-off), exactly."""
+    # 4 k_e n(T) <= U_d  <=>  T >= 4 k_e 60 f / (6 p U_d)
+    u_d = o.u.volts(bus)
+    limit = 4 * o.motor.k_e * 60 * o.u.hall_hz / (6 * o.u.pole_pairs * u_d)
+    return -((-limit.numerator) // limit.denominator)
+
+
+def _fail_area_periods(o: Oracle, bus: int, duty: int) -> list[int]:
+    """Periods where Eq. 16's D_off crosses 0 and 1 at this bus code and main duty."""
+    p = o.u.pwm_counts
+    d_on = Fraction(min(duty, p), p)
+    u_d = o.u.volts(bus)
+    out = []
+    for d_off in (Fraction(0), Fraction(1)):
+        ratio = 2 - d_on - d_off  # 4E/U_d at the crossing
+        if ratio > 0:
+            t = 4 * o.motor.k_e * 60 * o.u.hall_hz / (6 * o.u.pole_pairs * u_d * ratio)
+            out.append(t.numerator // t.denominator)
+    return out
+
+
+def thresholds(o: Oracle, dtype: np.dtype) -> Inputs:
+    bus_nominal, current, duty = operating_codes(o)
+    forward = valid_edges(o)[0]
+    reverse = valid_edges(o)[-1]
+    mid = (o.lim.period_min + o.lim.period_max) // 2
     rows: list[tuple[int, int, int, int, int, int]] = []
-    buses = (sc.bus_code_min, bus_nominal, sc.bus_code_max)
-    for bus in buses:
-        # 4E > U_d <=> lhs > rhs T B: the first low-speed period is ceil(lhs / (rhs B)).
-        cut = -(-model.boundary_lhs // (model.boundary_rhs * bus))
-        for period in range(cut - 2, cut + 3):
-            for previous, code in valid_edges(model):
-                rows.append((code, previous, period, bus, current, duty))
-    speeds = (
-        sc.period_min_ticks - 1,
-        sc.period_min_ticks,
-        sc.period_min_ticks + 1,
-        sc.period_max_ticks - 1,
-        sc.period_max_ticks,
-        sc.period_max_ticks + 1,
-        sc.period_cap_ticks,
-        0,
-        1,
-    )
-    currents = (
-        sc.current_offset_code - 1,
-        sc.current_offset_code,
-        sc.current_offset_code + 1,
-        sc.current_offset_code + sc.current_code_max,
-        sc.current_offset_code + sc.current_code_max + 1,
-        0,
-        sc.adc_full_scale - 1,
-    )
-    bus_edges = (0, sc.bus_code_min - 1, *buses, sc.bus_code_max + 1, sc.adc_full_scale - 1)
-    duties = (0, sc.period_counts, sc.period_counts + 1, 0xFFFF)
-    for period in speeds:
-        for bus in bus_edges:
-            for i in currents:
-                for d in duties:
-                    rows.append((forward[1], forward[0], period, bus, i, d))
-    for code in range(10):
-        for previous in (*range(10), 0xFF):
-            rows.append(
-                (
-                    code,
-                    previous,
-                    (sc.period_min_ticks + sc.period_max_ticks) // 2,
-                    bus_nominal,
-                    current,
-                    duty,
-                )
-            )
-    for code in (0xFF, 0x80):
-        rows.append((code, forward[0], sc.period_max_ticks, bus_nominal, current, duty))
-    return _inputs(*np.array(rows).T)
+    cap = o.u.hall_counter_max
+    for bus in range(0, o.u.adc_max + 1):
+        b = min(max(bus, o.lim.bus_min), o.lim.bus_max)
+        cut = _first_low_speed_period(o, b)
+        periods = {cut - 2, cut - 1, cut, cut + 1, o.lim.period_min - 1, o.lim.period_min, mid}
+        for period in periods:
+            if 0 < period <= cap:
+                for previous, code in (forward, reverse):
+                    rows.append((code, previous, period, bus, current, duty))
+        if o.method == "conventional" and o.lim.bus_min <= bus <= o.lim.bus_max and bus % 3 == 0:
+            p = o.u.pwm_counts
+            for m in (0, p // 4, p // 2, 3 * p // 4, p - 1):
+                for t in _fail_area_periods(o, bus, m):
+                    for period in (t - 1, t, t + 1, t + 2):
+                        if o.lim.period_min <= period <= cap:
+                            rows.append((forward[1], forward[0], period, bus, current, m))
+    for code in range(0, 65536):
+        rows.append((forward[1], forward[0], mid, bus_nominal, code, duty))
+    for period in range(0, 65536, 7):
+        rows.append((forward[1], forward[0], period, bus_nominal, current, duty))
+    for m in (0, o.u.pwm_counts - 1, o.u.pwm_counts, o.u.pwm_counts + 1, 0xFFFF):
+        rows.append((forward[1], forward[0], mid, bus_nominal, current, m))
+    for code in range(256):
+        for previous in range(256):
+            rows.append((code, previous, mid, bus_nominal, current, duty))
+    return make(dtype, *np.array(rows).T)
+
+
+def time_clamp_points(o: Oracle, dtype: np.dtype, duties: object) -> Inputs:
+    """Periods on both sides of t_com = T at every bus code of the range and three
+    braking currents (found by bisection on the oracle's own Eq. 20 or rule)."""
+    _, current, duty = operating_codes(o)
+    forward = valid_edges(o)[0]
+    buses = np.arange(o.lim.bus_min, o.lim.bus_max + 1)
+    rows = []
+    for amps_code in (current, (current + o.lim.current_high) // 2, o.lim.current_high):
+        lo = np.full(buses.size, o.lim.period_min, dtype=np.int64)
+        hi = np.full(buses.size, o.lim.period_max, dtype=np.int64)
+        f = duties  # callable (period, bus, current) -> (t_ticks) from the verifier's model
+        clamped_lo = f(lo, buses, np.full(buses.size, amps_code)) > lo  # type: ignore[operator]
+        for _ in range(20):
+            midp = (lo + hi) // 2
+            over = f(midp, buses, np.full(buses.size, amps_code)) > midp  # type: ignore[operator]
+            same = over == clamped_lo
+            lo = np.where(same, midp, lo)
+            hi = np.where(same, hi, midp)
+        for b, t in zip(buses, hi, strict=True):
+            for period in (t - 2, t - 1, t, t + 1):
+                if o.lim.period_min <= period <= o.lim.period_max:
+                    rows.append((forward[1], forward[0], int(period), int(b), amps_code, duty))
+    if not rows:
+        return make(dtype, *np.zeros((6, 0), dtype=np.int64))
+    return make(dtype, *np.array(rows).T)

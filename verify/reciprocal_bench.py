@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from codegen.fixedpoint.design import FixedPointDesign
+from codegen.core.module import Core
 from codegen.spec_model import Spec
 
 FLASH_BUDGET_BYTES = 2048
@@ -55,17 +55,22 @@ def _step(numerator: int, b_min: int, budget: sp.Rational) -> int:
     return max(step, 1)
 
 
-def table_option(spec: Spec, fx: FixedPointDesign) -> TableOption:
-    sc = fx.scaling
+def table_option(spec: Spec, core: Core) -> TableOption:
+    """For a paper-method core: its bus reciprocals as interpolated tables instead."""
+    sc = core.scaling
+    formats, claims = core.design.formats, core.design.claims
     b_min, b_max = sc.bus_code_min, sc.bus_code_max
     codes = b_max - b_min + 1
-    duty_slack = sp.Rational(str(spec.accuracy.duty_counts)) - fx.duty_error_bound_counts
-    time_slack = sp.Rational(str(spec.accuracy.commutation_time_ticks)) - fx.time_error_bound_ticks
-    step_x = _step(fx.k_x.numerator, b_min, duty_slack * sc.period_min_ticks * 2**fx.x_frac_bits)
+    f = int(formats["x_frac_bits"])
+    duty_slack = sp.Rational(str(spec.accuracy.duty_counts)) - sp.Rational(str(claims.duty_counts))
+    time_slack = sp.Rational(str(spec.accuracy.commutation_time_ticks)) - sp.Rational(
+        str(claims.time_ticks)
+    )
+    step_x = _step(int(formats["n_x"]), b_min, duty_slack * sc.period_min_ticks * 2**f)
     # A time error budget in ticks maps to the numerator through t = n i / W at the
     # largest current and the smallest W where the bound holds.
-    w_ok = fx.time_bound_min_w_counts * 2**fx.x_frac_bits
-    step_g = _step(fx.k_g.numerator, b_min, time_slack * w_ok / max(sc.current_code_max, 1))
+    w_ok = sp.Rational(str(formats["time_bound_min_w_counts"])) * 2**f
+    step_g = _step(int(formats["n_g"]), b_min, time_slack * w_ok / max(sc.current_code_max, 1))
     entries = math.ceil(codes / step_x) + 1 + math.ceil(codes / step_g) + 1
     boundary = codes * 2  # ceil(C / B) as uint16 per code
     return TableOption(codes, step_x, step_g, entries * ENTRY_BYTES + boundary)

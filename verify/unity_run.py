@@ -395,19 +395,40 @@ def report(run: UnityRun) -> str:
     return "\n".join(lines)
 
 
+USAGE = """usage: python -m verify.unity_run GENERATED_DIR [BUILD_DIR]
+
+Builds and runs generated/<spec>/tests on the host (ASan/UBSan) and on a Cortex-M3
+(qemu mps2-an385), with real Unity when UNITY_DIR points to a checkout, else the
+stand-in runner. Exit 0 when both pass with identical per-test results; 1 when a test
+fails or they differ; 2 for a usage error; 3 when qemu-system-arm or arm-none-eabi-gcc
+is missing (the target run cannot be skipped)."""
+EXIT_MISSING_TOOL = 3
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
+    if args and args[0] in ("-h", "--help"):
+        print(USAGE)
+        return 0
     if not 1 <= len(args) <= 2:
-        print("usage: python -m verify.unity_run GENERATED_DIR [BUILD_DIR]", file=sys.stderr)
+        print(USAGE, file=sys.stderr)
         return 2
     generated = Path(args[0])
+    if not (generated / "tests").is_dir():
+        print(
+            f"unity_run: no generated tests in {generated}: run `make generate SPEC=...`",
+            file=sys.stderr,
+        )
+        return 2
+    if not qemu_available():
+        print(
+            f"unity_run: {QEMU} or {TARGET_CC} not found: install them (make sysdeps)",
+            file=sys.stderr,
+        )
+        return EXIT_MISSING_TOOL
     with tempfile.TemporaryDirectory() as scratch:
         build_dir = Path(args[1]) if len(args) == 2 else Path(scratch)
-        runs = [run_host(generated, build_dir)]
-        if qemu_available():
-            runs.append(run_qemu(generated, build_dir))
-        else:
-            print(f"{QEMU} or {TARGET_CC} not found: target run skipped")
+        runs = [run_host(generated, build_dir), run_qemu(generated, build_dir)]
     for run in runs:
         print(report(run))
     identical = all(run.results == runs[0].results for run in runs)

@@ -44,6 +44,9 @@ class Scaling:
     pole_pairs: int
     volts_per_bus_code: sp.Rational  # U_d = B * this
     amps_per_current_code: sp.Rational  # I = (C - offset) * this
+    #: the code of zero current, exactly (V_offset / V_ref 2^bits: often not whole)
+    current_offset_exact: sp.Rational
+    #: the nearest whole code, for consumers that need one code per current (sim, bench)
     current_offset_code: int
     adc_full_scale: int
     k_x: sp.Rational  # X = k_x / (T B)
@@ -53,8 +56,28 @@ class Scaling:
     period_cap_ticks: int  # largest period the Hall counter can report (its full range)
     bus_code_min: int
     bus_code_max: int
-    current_code_min: int  # offset-removed current code range
-    current_code_max: int
+    #: raw ADC codes of the braking-current range, decided exactly:
+    #: I_min <= (C - offset) a <= I_max  <=>  low <= C <= high
+    current_code_low: int
+    current_code_high: int
+
+    @property
+    def current_code_min(self) -> int:
+        """The range's low end relative to the whole offset code."""
+        return self.current_code_low - self.current_offset_code
+
+    @property
+    def current_code_max(self) -> int:
+        """The range's top relative to the whole offset code."""
+        return self.current_code_high - self.current_offset_code
+
+    def current_code(self, amps: sp.Rational) -> int:
+        """The ADC code nearest to a current."""
+        return int(
+            sp.floor(
+                self.current_offset_exact + amps / self.amps_per_current_code + sp.Rational(1, 2)
+            )
+        )
 
     def speed_rpm(self, period_ticks: sp.Expr) -> sp.Expr:
         """n = 60 f_hall / (6 p T): one Hall interval is 60 electrical degrees."""
@@ -109,14 +132,15 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
     ticks_per_rpm = 10 * f_hall / pp
     bus_min = _q(spec.inverter.bus_voltage_min_v) / volts_per_code
     bus_max = _q(spec.inverter.bus_voltage_max_v) / volts_per_code
-    i_min = _q(spec.controller.braking_current_min_a) / amps_per_code
-    i_max = _q(spec.controller.braking_current_max_a) / amps_per_code
+    i_min = offset + _q(spec.controller.braking_current_min_a) / amps_per_code
+    i_max = offset + _q(spec.controller.braking_current_max_a) / amps_per_code
     return Scaling(
         period_counts=p,
         hall_clock_hz=f_hall,
         pole_pairs=pp,
         volts_per_bus_code=volts_per_code,
         amps_per_current_code=amps_per_code,
+        current_offset_exact=sp.Rational(offset),
         current_offset_code=int(sp.floor(offset + sp.Rational(1, 2))),
         adc_full_scale=adc_full_scale,
         k_x=sp.Rational(k_x),
@@ -126,6 +150,6 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
         period_cap_ticks=2**spec.hall.counter_bits - 1,
         bus_code_min=int(sp.ceiling(bus_min)),
         bus_code_max=int(sp.floor(bus_max)),
-        current_code_min=int(sp.ceiling(i_min)),
-        current_code_max=int(sp.floor(i_max)),
+        current_code_low=int(sp.ceiling(i_min)),
+        current_code_high=min(int(sp.floor(i_max)), adc_full_scale - 1),
     )

@@ -1,17 +1,16 @@
-/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 fa86d047b8821a27a142b934712f08b0facfe4e0855f125d7ad8b440b5e88db1). Do not edit: regenerate with `make`. */
 #include "bldc_commutation.h"
 
-#define BUS_CODE_MIN 2306u /* 39 V */
-#define BUS_CODE_MAX 3546u /* 60 V */
-#define INVALID_SECTOR 0xFFu
-#define K_X_HIGH 2196945454u /* N_X >> 11, N_X = round(K_X 2^10) = 4499344290909 (Eqs. 3, 9) */
-#define K_X_LOW 1117u  /* N_X mod 2^11 */
-#define K_X_SHIFT 11u
-#define K_G_HIGH 2277668571u /* N_G >> 0, N_G = round(K_G 2^10) = 2277668571 (Eq. 20) */
-#define K_G_LOW 0u  /* N_G mod 2^0 */
-#define K_G_SHIFT 0u
-#define HIGH_SPEED_TB 1220526u /* C = ceil(K_X / P): 4E > U_d <=> T B < C (Eq. 18) */
+#define N_X_HIGH 2196945454u /* N_X >> 11, round(K_X 2^10), K_X = 4.393891e+09 (Eqs. 3, 9) */
+#define N_X_LOW 1117u /* N_X mod 2^11 */
+#define N_X_SHIFT 11u
+#define HIGH_SPEED_TB 1220526u /* ceil(K_X / P): 4E > U_d <=> T B < it (Eq. 18) */
+#define N_G_HIGH 2277668571u /* N_G >> 0, round(K_G 2^10 / 1), K_G = 2.224286e+06 (Eq. 20) */
+#define N_G_LOW 0u /* N_G mod 2^0 */
+#define N_G_SHIFT 0u
+#define CURRENT_OFFSET_Q 2048 /* zero current: 2048 codes x 1 */
 
+/* Hall code -> sector (Table 1 order), 0xFF for 000 and 111 */
 const uint8_t bldc_sector_of_hall[8] = {
     255u, /* 000: invalid */
     5u, /* 001: sector 5 */
@@ -23,6 +22,7 @@ const uint8_t bldc_sector_of_hall[8] = {
     255u, /* 111: invalid */
 };
 
+/* (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid */
 const uint8_t bldc_edge_of_hall_pair[64] = {
     255u, /* 000 -> 000: invalid: every switch off */
     255u, /* 000 -> 001: invalid: every switch off */
@@ -90,7 +90,8 @@ const uint8_t bldc_edge_of_hall_pair[64] = {
     255u, /* 111 -> 111: invalid: every switch off */
 };
 
-const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2] = {
+/* edge -> {switch at D_on, switch at D_off} (codegen/derivation/switching.py) */
+const uint8_t bldc_edge_switch[12][2] = {
     {1u, 5u}, /* edge 0: into sector 0 (0-60 deg), forward 0 deg: non-commutating B via D4, off C (T6), on A (T2) */
     {4u, 2u}, /* edge 1: into sector 1 (60-120 deg), forward 60 deg: non-commutating A via D1, off B (T3), on C (T5) */
     {3u, 1u}, /* edge 2: into sector 2 (120-180 deg), forward 120 deg: non-commutating C via D6, off A (T2), on B (T4) */
@@ -105,145 +106,132 @@ const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2] = {
     {4u, 0u}, /* edge 11: into sector 5 (300-360 deg), reverse 0 deg: non-commutating B via D3, off A (T1), on C (T5) */
 };
 
-/* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper.
- * N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
+/* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
 static uint32_t bldc_divide_long(uint32_t high, uint32_t low, uint32_t shift, uint32_t divisor)
 {
     const uint32_t q_high = high / divisor;
-    const uint32_t remainder = ((high - q_high * divisor) << shift) | low;
-    return (q_high << shift) + (remainder + (divisor >> 1u)) / divisor;
+    const uint32_t remainder = ((high % divisor) << shift) + low;
+    return (q_high << shift) + (remainder + (divisor >> 1)) / divisor;
 }
 
+/* Saturate a bus code and precompute its reciprocals (pure, reentrant) */
 bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
-    bldc_bus_t bus;
     uint32_t code = bus_code;
-
-    bus.flags = 0u;
-    bus.period_min = BLDC_PERIOD_MIN_TICKS;
-    if (code > BUS_CODE_MAX) {
-        code = BUS_CODE_MAX;
-        bus.period_min = BLDC_PERIOD_NEVER; /* over-voltage: every edge goes to the safe state */
-        bus.flags = BLDC_FLAG_INPUT_SATURATED;
-    } else if (code < BUS_CODE_MIN) {
-        code = BUS_CODE_MIN;
-        bus.flags = BLDC_FLAG_INPUT_SATURATED;
+    uint32_t period_min = BLDC_PERIOD_MIN_TICKS;
+    uint32_t flags = 0u;
+    if (code > BLDC_BUS_CODE_MAX) {
+        code = BLDC_BUS_CODE_MAX;
+        period_min = BLDC_PERIOD_NEVER; /* over-voltage: every edge goes to the safe state */
+        flags = BLDC_FLAG_INPUT_SATURATED;
+    } else if (code < BLDC_BUS_CODE_MIN) {
+        code = BLDC_BUS_CODE_MIN;
+        flags = BLDC_FLAG_INPUT_SATURATED;
     }
-    bus.bus_code = code;
-    bus.x_numerator = bldc_divide_long(K_X_HIGH, K_X_LOW, K_X_SHIFT, code);
-    bus.high_speed_period = (HIGH_SPEED_TB + code - 1u) / code;
-    bus.time_numerator = (int32_t)bldc_divide_long(K_G_HIGH, K_G_LOW, K_G_SHIFT, code);
+    const bldc_bus_t bus = {
+        .x_numerator = bldc_divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code),
+        .high_speed_period = (HIGH_SPEED_TB + code - 1u) / code,
+        .time_numerator = (int32_t)bldc_divide_long(N_G_HIGH, N_G_LOW, N_G_SHIFT, code),
+        .period_min = period_min,
+        .bus_code = code,
+        .flags = flags,
+    };
     return bus;
 }
 
-bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
-                                      uint32_t current_adc, uint32_t main_duty_counts)
+/* Duties and commutation time (pure, reentrant): period in Hall ticks, current as its ADC code, main duty in TIM1 counts; any uint32_t value of each is allowed */
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts)
 {
-    bldc_timing_t timing = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
-    const int32_t period_counts = (int32_t)BLDC_PWM_PERIOD_COUNTS;
+    (void)main_duty_counts; /* not used by this method */
     uint32_t flags = bus->flags;
-    int32_t on;
-    int32_t off;
-
-    (void)main_duty_counts; /* the improved rule does not use the main duty (Eq. 18) */
-    if (period_ticks > BLDC_PERIOD_CAP_TICKS) {
-        period_ticks = BLDC_PERIOD_CAP_TICKS; /* the proven range: the full Hall counter */
+    const uint32_t period = (period_ticks > BLDC_PERIOD_CAP_TICKS) ? BLDC_PERIOD_CAP_TICKS : period_ticks; /* the proven range: the full Hall counter */
+    if (period < bus->period_min) { /* above the top speed or over-voltage: braking is no longer controlled */
+        const bldc_timing_t safe = {
+            .period_min = BLDC_PERIOD_NEVER,
+            .turn_on_compare = 0u,
+            .turn_off_compare = 0u,
+            .commutation_ticks = 0u,
+            .flags = (uint16_t)(flags | BLDC_FLAG_INPUT_SATURATED),
+        };
+        return safe;
     }
-    if (period_ticks < bus->period_min) {
-        /* Above the top speed or over-voltage: braking is no longer controlled. */
-        timing.flags = (uint16_t)(flags | BLDC_FLAG_INPUT_SATURATED);
-        return timing;
-    }
-    if (period_ticks > BLDC_PERIOD_MAX_TICKS) {
-        flags |= BLDC_FLAG_INPUT_SATURATED; /* below the minimum speed: still exact */
-    }
-    const int32_t current = (int32_t)current_adc - BLDC_CURRENT_OFFSET_CODE;
-    if (current < 0 || current > BLDC_CURRENT_CODE_MAX) {
+    if (period > BLDC_PERIOD_MAX_TICKS) { /* below the minimum speed: still exact */
         flags |= BLDC_FLAG_INPUT_SATURATED;
     }
-
-    /* X = P 4E/U_d (Eqs. 3, 9) in Q10 counts, then in counts. */
-    const uint32_t x_q = (bus->x_numerator + (period_ticks >> 1)) / period_ticks;
-    const int32_t x_c = (int32_t)((x_q + 512u) >> BLDC_X_FRAC_BITS);
-    const uint32_t high_speed = (period_ticks < bus->high_speed_period) ? 1u : 0u;
+    const uint32_t current_code = (current_adc > BLDC_ADC_CODE_MAX) ? BLDC_ADC_CODE_MAX : current_adc; /* above the ADC's range: full scale */
+    if (current_adc < BLDC_CURRENT_CODE_LOW || current_adc > BLDC_CURRENT_CODE_HIGH) { /* outside the braking-current range */
+        flags |= BLDC_FLAG_INPUT_SATURATED;
+    }
+    const int32_t current = (int32_t)current_code - CURRENT_OFFSET_Q; /* I in codes, offset removed */
+    const uint32_t x_q = (bus->x_numerator + (period >> 1)) / period; /* X = P 4E/U_d in Q10 counts (Eqs. 3, 9) */
+    const int32_t x_c = (int32_t)((x_q + 512u) >> 10u); /* X in counts */
+    const uint32_t high_speed = (period < bus->high_speed_period) ? 1u : 0u; /* Eq. 18: 4E > U_d, exactly */
     if (high_speed != 0u) {
         flags |= BLDC_FLAG_HIGH_SPEED;
     }
-    /* Eq. 18: low speed, turn-on phase fully on and turn-off phase modulated; high
-     * speed, turn-off phase off and turn-on phase modulated. */
-    if (high_speed != 0u) {
-        on = 2 * period_counts - x_c; /* D_on = 2 - 4E/U_d */
-        if (on < 0) {
-            on = 0; /* above the upper speed limit 4E > 2 U_d */
-        }
-        off = 0;
+    int32_t on = 0;
+    int32_t off = 0;
+    if (high_speed != 0u) { /* Eq. 18 */
+        on = (2 * (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c < 0) ? 0 : 2 * (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c; /* D_on = 2 - 4E/U_d; 0 above the upper speed limit 4E > 2 U_d */
+        off = 0; /* the turn-off phase off */
     } else {
-        on = period_counts;
-        off = period_counts - x_c; /* D_off = 1 - 4E/U_d */
-        if (off < 0) {
-            off = 0;
-        }
+        on = (int32_t)BLDC_PWM_PERIOD_COUNTS; /* the turn-on phase fully on */
+        off = ((int32_t)BLDC_PWM_PERIOD_COUNTS - x_c < 0) ? 0 : (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c; /* D_off = 1 - 4E/U_d */
     }
-
-    /* Eq. 20 at the emitted duties: t = time_numerator i / W_q. */
-    const int32_t w_q = (2 * period_counts + 2 * on - 4 * off) * BLDC_X_SCALE - (int32_t)x_q;
-    uint32_t ticks;
-    if (w_q <= 0) {
-        /* The turn-off current never reaches zero: the whole sector, unless there is
-         * no current to commutate. */
-        ticks = 0u;
-        if (current > 0) {
-            ticks = period_ticks;
+    const int32_t w_q = (2 * (int32_t)BLDC_PWM_PERIOD_COUNTS + 2 * on - 4 * off) * 1024 - (int32_t)x_q; /* Eq. 20's denominator at the emitted duties, Q10 */
+    uint32_t ticks = 0u;
+    if (w_q <= 0) { /* the turn-off current never reaches zero: the whole sector */
+        if (current > 0) { /* unless there is no current to commutate */
+            ticks = period;
             flags |= BLDC_FLAG_TIME_CLAMPED;
         }
     } else {
-        int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q;
-        if (t < 0) {
-            t = 0; /* negative braking current: nothing to commutate */
-        }
-        ticks = (uint32_t)t;
-        if (ticks > period_ticks) {
-            ticks = period_ticks;
+        const int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q; /* Eq. 20 */
+        ticks = (uint32_t)((t < 0) ? 0 : t); /* a negative current: nothing to commutate */
+        if (ticks > period) {
+            ticks = period;
             flags |= BLDC_FLAG_TIME_CLAMPED;
         }
     }
-
-    timing.turn_on_compare = (uint16_t)on;
-    timing.turn_off_compare = (uint16_t)off;
-    timing.commutation_ticks = (uint16_t)ticks;
-    timing.flags = (uint16_t)flags;
-    timing.period_min = bus->period_min;
+    const bldc_timing_t timing = {
+        .period_min = bus->period_min,
+        .turn_on_compare = (uint16_t)on,
+        .turn_off_compare = (uint16_t)off,
+        .commutation_ticks = (uint16_t)ticks,
+        .flags = (uint16_t)flags,
+    };
     return timing;
 }
 
-void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out)
+/* Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and bldc_commutation_timing() for the same inputs (pure, reentrant) */
+void bldc_commutate(const bldc_inputs_t *inputs, bldc_outputs_t *out)
 {
-    bldc_timing_t timing = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, BLDC_FLAG_INVALID_HALL};
+    const uint32_t hall_code = (uint32_t)inputs->hall_code;
+    const uint32_t previous_hall_code = (uint32_t)inputs->previous_hall_code;
+    const uint32_t period = (uint32_t)inputs->hall_period_ticks;
     uint32_t edge = BLDC_EDGE_NONE;
-    uint8_t sector = INVALID_SECTOR;
-
-    if (in->hall_code <= 7u && in->previous_hall_code <= 7u) {
-        sector = bldc_sector_of_hall[in->hall_code];
-        edge = bldc_edge_of(in->previous_hall_code, in->hall_code);
+    uint32_t sector = BLDC_INVALID_SECTOR;
+    if (hall_code <= 7u) {
+        sector = (uint32_t)bldc_sector_of_hall[hall_code]; /* the sector of the new code */
+        edge = bldc_edge_of(previous_hall_code, hall_code);
     }
+    out->turn_on_compare = 0u;
+    out->turn_off_compare = 0u;
+    out->commutation_ticks = 0u;
+    out->turn_on_switch = (uint8_t)BLDC_NO_SWITCH;
+    out->turn_off_switch = (uint8_t)BLDC_NO_SWITCH;
+    out->sector = (uint8_t)sector;
+    out->flags = (uint8_t)BLDC_FLAG_INVALID_HALL;
     if (edge < BLDC_EDGE_COUNT) {
-        const bldc_bus_t bus = bldc_bus_condition(in->bus_voltage_adc);
-        timing = bldc_commutation_timing(&bus, in->hall_period_ticks, in->phase_current_adc,
-                                         in->main_duty_counts);
-        if (in->hall_period_ticks < timing.period_min) {
-            edge = BLDC_EDGE_NONE; /* the safe state */
+        const bldc_bus_t bus = bldc_bus_condition((uint32_t)inputs->bus_voltage_adc); /* bldc_bus_condition() */
+        const bldc_timing_t timing = bldc_commutation_timing(&bus, period, (uint32_t)inputs->phase_current_adc, (uint32_t)inputs->main_duty_counts);
+        out->turn_on_compare = timing.turn_on_compare;
+        out->turn_off_compare = timing.turn_off_compare;
+        out->commutation_ticks = timing.commutation_ticks;
+        out->flags = (uint8_t)timing.flags;
+        if (period >= timing.period_min) { /* a shorter interval (over-speed) or over-voltage: the safe state */
+            out->turn_on_switch = bldc_edge_switch[edge][0];
+            out->turn_off_switch = bldc_edge_switch[edge][1];
         }
     }
-    out->turn_on_compare = timing.turn_on_compare;
-    out->turn_off_compare = timing.turn_off_compare;
-    out->commutation_ticks = timing.commutation_ticks;
-    if (edge < BLDC_EDGE_COUNT) {
-        out->turn_on_switch = bldc_edge_switch[edge][0];
-        out->turn_off_switch = bldc_edge_switch[edge][1];
-    } else {
-        out->turn_on_switch = BLDC_NO_SWITCH;
-        out->turn_off_switch = BLDC_NO_SWITCH;
-    }
-    out->sector = sector;
-    out->flags = (uint8_t)timing.flags;
 }

@@ -1,192 +1,294 @@
-# Generated from template templates/python/bldc_fixed.py.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`.
+# Generated from template templates/python/bldc_fixed.py.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 fa86d047b8821a27a142b934712f08b0facfe4e0855f125d7ad8b440b5e88db1). Do not edit: regenerate with `make`.
 """Bit-exact integer model of bldc_commutation.c (method "improved").
 
-Same formats, rounding and saturation as the C: a drop-in reference for test benches.
-Standalone: the standard library only.
+Printed from the same IR as the C (codegen/ir/py_printer.py): the same operations,
+rounding and saturation, on Python integers (the IR proof rules out every overflow, so
+they give the C's results). Standalone: the standard library only.
 """
 
 from __future__ import annotations
 
 from typing import NamedTuple
 
-PERIOD_COUNTS = 3600
-NO_SWITCH = 0xFF
-EDGE_NONE = 0xFF
-INVALID_SECTOR = 0xFF
-FLAG_HIGH_SPEED = 0x01
-FLAG_FAIL_AREA_CLAMPED = 0x02
-FLAG_INPUT_SATURATED = 0x04
-FLAG_INVALID_HALL = 0x08
-FLAG_TIME_CLAMPED = 0x10
-
-X_FRAC_BITS = 10
-X_SCALE = 1024
-X_ROUND = 512
-K_X_HIGH, K_X_LOW, K_X_SHIFT = 2196945454, 1117, 11
-K_G_HIGH, K_G_LOW, K_G_SHIFT = 2277668571, 0, 0
-HIGH_SPEED_TB = 1220526
-K_X_NUM = 48332800000
-K_X_DEN = 11
-PERIOD_MIN_TICKS = 228
-PERIOD_MAX_TICKS = 8333
-PERIOD_CAP_TICKS = 65535
-PERIOD_NEVER = 0x10000
-BUS_CODE_MIN = 2306
-BUS_CODE_MAX = 3546
-CURRENT_OFFSET_CODE = 2048
-CURRENT_CODE_MAX = 1191
 METHOD = "improved"
+BLDC_PERIOD_MIN_TICKS = 228  # 5500 rpm: a shorter period is over-speed
+BLDC_BUS_CODE_MAX = 3546  # 60 V (59.99 V): above it over-voltage
+BLDC_PERIOD_NEVER = 65536  # above every 16-bit period: the safe state
+BLDC_FLAG_INPUT_SATURATED = 4  # an input was outside the spec's range
+BLDC_BUS_CODE_MIN = 2306  # 39 V (39.02 V)
+N_X_HIGH = 2196945454  # N_X >> 11, round(K_X 2^10), K_X = 4.393891e+09 (Eqs. 3, 9)
+N_X_LOW = 1117  # N_X mod 2^11
+N_X_SHIFT = 11
+HIGH_SPEED_TB = 1220526  # ceil(K_X / P): 4E > U_d <=> T B < it (Eq. 18)
+N_G_HIGH = 2277668571  # N_G >> 0, round(K_G 2^10 / 1), K_G = 2.224286e+06 (Eq. 20)
+N_G_LOW = 0  # N_G mod 2^0
+N_G_SHIFT = 0
+BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
+BLDC_PERIOD_MAX_TICKS = 8333  # 150 rpm: a longer period is flagged
+BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
+BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
+BLDC_CURRENT_CODE_HIGH = 3239  # last code at or below 2.4 A (2.399 A)
+CURRENT_OFFSET_Q = 2048  # zero current: 2048 codes x 1
+BLDC_FLAG_HIGH_SPEED = 1  # Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off)
+BLDC_PWM_PERIOD_COUNTS = 3600  # TIM1 counts per PWM period: duty 1
+BLDC_FLAG_TIME_CLAMPED = 16  # the commutation does not finish within the sector: clamped to it
+BLDC_EDGE_NONE = 255  # no valid commutation: every switch off
+BLDC_INVALID_SECTOR = 255  # the sector of Hall code 000 or 111
+BLDC_NO_SWITCH = 255  # no switch: every transistor of that role off
+BLDC_FLAG_INVALID_HALL = 8  # Hall code 000/111 or an impossible jump: every switch off
+BLDC_EDGE_COUNT = 12  # edge = 6 x direction + sector entered (0 forward, 1 reverse)
+BLDC_X_FRAC_BITS = 10  # fraction bits of X_q
+FLAG_HIGH_SPEED = 1  # Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off)
+FLAG_FAIL_AREA_CLAMPED = 2  # no duty pair in [0, 1] holds the current: clamped
+FLAG_INPUT_SATURATED = 4  # an input was outside the spec's range
+FLAG_INVALID_HALL = 8  # Hall code 000/111 or an impossible jump: every switch off
+FLAG_TIME_CLAMPED = 16  # the commutation does not finish within the sector: clamped to it
 
-SECTOR_OF_HALL = (255, 5, 3, 4, 1, 0, 2, 255, )
-EDGE_OF_HALL_PAIR = (255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 10, 255, 0, 255, 255, 255, 255, 255, 4, 255, 255, 8, 255, 255, 5, 9, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 6, 2, 255, 255, 11, 255, 255, 1, 255, 255, 255, 255, 255, 3, 255, 7, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, )
-EDGE_SWITCH = ((1, 5), (4, 2), (3, 1), (0, 4), (5, 3), (2, 0), (3, 5), (0, 2), (5, 1), (2, 4), (1, 3), (4, 0), )
+
+# Hall code -> sector (Table 1 order), 0xFF for 000 and 111
+BLDC_SECTOR_OF_HALL = (
+    255,
+    5,
+    3,
+    4,
+    1,
+    0,
+    2,
+    255,
+)
+
+
+# (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid
+BLDC_EDGE_OF_HALL_PAIR = (
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    10,
+    255,
+    0,
+    255,
+    255,
+    255,
+    255,
+    255,
+    4,
+    255,
+    255,
+    8,
+    255,
+    255,
+    5,
+    9,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    6,
+    2,
+    255,
+    255,
+    11,
+    255,
+    255,
+    1,
+    255,
+    255,
+    255,
+    255,
+    255,
+    3,
+    255,
+    7,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+)
+
+
+# edge -> {switch at D_on, switch at D_off} (codegen/derivation/switching.py)
+BLDC_EDGE_SWITCH = (
+    (1, 5),
+    (4, 2),
+    (3, 1),
+    (0, 4),
+    (5, 3),
+    (2, 0),
+    (3, 5),
+    (0, 2),
+    (5, 1),
+    (2, 4),
+    (1, 3),
+    (4, 0),
+)
+
+
+class Inputs(NamedTuple):
+    """bldc_inputs_t: Inputs of one commutation decision (bldc_commutate)"""
+
+    hall_code: int  # A B C as bits 2 1 0
+    previous_hall_code: int  # code of the sector being left: gives the direction
+    hall_period_ticks: int  # last 60 degree interval, Hall ticks
+    bus_voltage_adc: int  # bus code
+    phase_current_adc: int  # current code of the commutated current I
+    main_duty_counts: int  # current controller output, TIM1 counts
 
 
 class Outputs(NamedTuple):
-    turn_on_compare: int
-    turn_off_compare: int
-    commutation_ticks: int
-    turn_on_switch: int
-    turn_off_switch: int
-    sector: int
-    flags: int
+    """bldc_outputs_t: Result of one commutation decision"""
+
+    turn_on_compare: int  # D_on: ON time of turn_on_switch in TIM1 counts
+    turn_off_compare: int  # D_off: ON time of turn_off_switch in TIM1 counts
+    commutation_ticks: int  # Eq. 20 in Hall ticks, at most the Hall period
+    turn_on_switch: int  # 0..5 (T1..T6) or BLDC_NO_SWITCH
+    turn_off_switch: int  # 0..5 (T1..T6) or BLDC_NO_SWITCH
+    sector: int  # sector entered, 0..5 in Table 1 order; 0xFF if invalid
+    flags: int  # BLDC_FLAG_*
 
 
 class Timing(NamedTuple):
-    """bldc_timing_t."""
+    """bldc_timing_t: Duties and commutation time for one speed, current and main duty: what the next Hall edge applies"""
 
-    period_min: int
-    on: int
-    off: int
-    ticks: int
-    flags: int
+    period_min: int  # an edge with a shorter interval goes to the safe state: BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when these values must not be applied
+    turn_on_compare: int  # D_on in TIM1 counts, 0..P
+    turn_off_compare: int  # D_off in TIM1 counts, 0..P
+    commutation_ticks: int  # Eq. 20 in Hall ticks, 0..T
+    flags: int  # BLDC_FLAG_*
 
 
 class Bus(NamedTuple):
-    x_numerator: int
-    high_speed_period: int
-    time_numerator: int
-    period_min: int
-    bus_code: int
-    flags: int
+    """bldc_bus_t: What the Hall-edge step needs of the bus voltage (see the formats above)"""
+
+    x_numerator: int  # round(N_X / B): X = x_numerator / T in Q(f) counts
+    high_speed_period: int  # ceil(C / B): Eq. 18's high-speed segment below it
+    time_numerator: int  # round(N_G / B): Eq. 20's numerator per unit current
+    period_min: int  # BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage
+    bus_code: int  # the saturated bus code B
+    flags: int  # BLDC_FLAG_INPUT_SATURATED when the code was saturated
 
 
-def _divide_long(high: int, low: int, shift: int, divisor: int) -> int:
-    q_high = high // divisor
-    remainder = ((high - q_high * divisor) << shift) | low
-    return (q_high << shift) + (remainder + (divisor >> 1)) // divisor
-
-
-def bus_condition(bus_code: int) -> Bus:
-    """bldc_bus_condition()."""
-    code, period_min, flags = bus_code, PERIOD_MIN_TICKS, 0
-    if code > BUS_CODE_MAX:
-        code, period_min, flags = BUS_CODE_MAX, PERIOD_NEVER, FLAG_INPUT_SATURATED
-    elif code < BUS_CODE_MIN:
-        code, flags = BUS_CODE_MIN, FLAG_INPUT_SATURATED
-    return Bus(
-        _divide_long(K_X_HIGH, K_X_LOW, K_X_SHIFT, code),
-        (HIGH_SPEED_TB + code - 1) // code,
-        _divide_long(K_G_HIGH, K_G_LOW, K_G_SHIFT, code),
-        period_min,
-        code,
-        flags,
-    )
-
-
-def _c_divide(numerator: int, denominator: int) -> int:
-    """C's signed division: truncates toward zero."""
+def _c_div(numerator: int, denominator: int) -> int:
+    """C's integer division: truncates toward zero."""
     quotient = abs(numerator) // abs(denominator)
     return quotient if (numerator >= 0) == (denominator > 0) else -quotient
 
 
-def edge_of(previous_hall_code: int, hall_code: int) -> int:
-    """bldc_edge_of(): 0..11, or EDGE_NONE."""
-    return EDGE_OF_HALL_PAIR[(previous_hall_code << 3) | hall_code]
+def divide_long(high: int, low: int, shift: int, divisor: int) -> int:
+    """round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. (bldc_divide_long)."""
+    q_high = high // divisor
+    remainder = (high % divisor << shift) + low
+    return (q_high << shift) + (remainder + (divisor >> 1)) // divisor
 
 
-def commutation_timing(bus: Bus, period: int, current_adc: int, main_duty: int) -> Timing:
-    """bldc_commutation_timing()."""
+def bus_condition(bus_code: int) -> Bus:
+    """Saturate a bus code and precompute its reciprocals (pure, reentrant) (bldc_bus_condition)."""
+    code = bus_code
+    period_min = BLDC_PERIOD_MIN_TICKS
+    flags = 0
+    if code > BLDC_BUS_CODE_MAX:
+        code = BLDC_BUS_CODE_MAX
+        period_min = BLDC_PERIOD_NEVER  # over-voltage: every edge goes to the safe state
+        flags = BLDC_FLAG_INPUT_SATURATED
+    elif code < BLDC_BUS_CODE_MIN:
+        code = BLDC_BUS_CODE_MIN
+        flags = BLDC_FLAG_INPUT_SATURATED
+    bus = Bus(divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code), (HIGH_SPEED_TB + code - 1) // code, divide_long(N_G_HIGH, N_G_LOW, N_G_SHIFT, code), period_min, code, flags)
+    return bus
+
+
+def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_counts: int) -> Timing:
+    """Duties and commutation time (pure, reentrant): period in Hall ticks, current as its ADC code, main duty in TIM1 counts; any uint32_t value of each is allowed (bldc_commutation_timing)."""
     flags = bus.flags
-    period = min(period, PERIOD_CAP_TICKS)
-    if period < bus.period_min:
-        return Timing(PERIOD_NEVER, 0, 0, 0, flags | FLAG_INPUT_SATURATED)
-    if period > PERIOD_MAX_TICKS:
-        flags |= FLAG_INPUT_SATURATED
-    current = current_adc - CURRENT_OFFSET_CODE
-    if current < 0 or current > CURRENT_CODE_MAX:
-        flags |= FLAG_INPUT_SATURATED
-    x_q = (bus.x_numerator + (period >> 1)) // period
-    x_c = (x_q + X_ROUND) >> X_FRAC_BITS
-    high_speed = period < bus.high_speed_period
-    if high_speed:
-        flags |= FLAG_HIGH_SPEED
-    if METHOD == "improved":
-        if high_speed:
-            on, off = max(2 * PERIOD_COUNTS - x_c, 0), 0
-        else:
-            on, off = PERIOD_COUNTS, max(PERIOD_COUNTS - x_c, 0)
+    period = BLDC_PERIOD_CAP_TICKS if period_ticks > BLDC_PERIOD_CAP_TICKS else period_ticks  # the proven range: the full Hall counter
+    if period < bus.period_min:  # above the top speed or over-voltage: braking is no longer controlled
+        safe = Timing(BLDC_PERIOD_NEVER, 0, 0, 0, flags | BLDC_FLAG_INPUT_SATURATED)
+        return safe
+    if period > BLDC_PERIOD_MAX_TICKS:  # below the minimum speed: still exact
+        flags |= BLDC_FLAG_INPUT_SATURATED
+    current_code = BLDC_ADC_CODE_MAX if current_adc > BLDC_ADC_CODE_MAX else current_adc  # above the ADC's range: full scale
+    if current_adc < BLDC_CURRENT_CODE_LOW or current_adc > BLDC_CURRENT_CODE_HIGH:  # outside the braking-current range
+        flags |= BLDC_FLAG_INPUT_SATURATED
+    current = current_code - CURRENT_OFFSET_Q  # I in codes, offset removed
+    x_q = (bus.x_numerator + (period >> 1)) // period  # X = P 4E/U_d in Q10 counts (Eqs. 3, 9)
+    x_c = (x_q + 512) >> 10  # X in counts
+    high_speed = 1 if period < bus.high_speed_period else 0  # Eq. 18: 4E > U_d, exactly
+    if high_speed != 0:
+        flags |= BLDC_FLAG_HIGH_SPEED
+    on = 0
+    off = 0
+    if high_speed != 0:  # Eq. 18
+        on = 0 if 2 * BLDC_PWM_PERIOD_COUNTS - x_c < 0 else 2 * BLDC_PWM_PERIOD_COUNTS - x_c  # D_on = 2 - 4E/U_d; 0 above the upper speed limit 4E > 2 U_d
+        off = 0  # the turn-off phase off
     else:
-        if main_duty > PERIOD_COUNTS:
-            main_duty = PERIOD_COUNTS
-            flags |= FLAG_INPUT_SATURATED
-        on = main_duty
-        if METHOD == "conventional":
-            ptb = period * bus.bus_code * K_X_DEN
-            if K_X_NUM > ptb * (2 * PERIOD_COUNTS - main_duty) or K_X_NUM < ptb * (
-                PERIOD_COUNTS - main_duty
-            ):
-                flags |= FLAG_FAIL_AREA_CLAMPED
-            off = min(max(2 * PERIOD_COUNTS - x_c - on, 0), PERIOD_COUNTS)
-        else:
-            off = 0
-    w_q = (2 * PERIOD_COUNTS + 2 * on - 4 * off) * X_SCALE - x_q
-    if w_q <= 0:
-        ticks = 0
-        if current > 0:
+        on = BLDC_PWM_PERIOD_COUNTS  # the turn-on phase fully on
+        off = 0 if BLDC_PWM_PERIOD_COUNTS - x_c < 0 else BLDC_PWM_PERIOD_COUNTS - x_c  # D_off = 1 - 4E/U_d
+    w_q = (2 * BLDC_PWM_PERIOD_COUNTS + 2 * on - 4 * off) * 1024 - x_q  # Eq. 20's denominator at the emitted duties, Q10
+    ticks = 0
+    if w_q <= 0:  # the turn-off current never reaches zero: the whole sector
+        if current > 0:  # unless there is no current to commutate
             ticks = period
-            flags |= FLAG_TIME_CLAMPED
+            flags |= BLDC_FLAG_TIME_CLAMPED
     else:
-        ticks = max(_c_divide(bus.time_numerator * current + (w_q >> 1), w_q), 0)
+        t = _c_div(bus.time_numerator * current + (w_q >> 1), w_q)  # Eq. 20
+        ticks = 0 if t < 0 else t  # a negative current: nothing to commutate
         if ticks > period:
             ticks = period
-            flags |= FLAG_TIME_CLAMPED
-    return Timing(bus.period_min, on, off, ticks, flags)
+            flags |= BLDC_FLAG_TIME_CLAMPED
+    timing = Timing(bus.period_min, on, off, ticks, flags)
+    return timing
 
 
+def edge_of(previous_hall_code: int, hall_code: int) -> int:
+    """The commutation of a Hall edge (pure): 0..11 (see bldc_edge_switch), or BLDC_EDGE_NONE for 000, 111, a code above 7 or a jump that is not one sector (bldc_edge_of)."""
+    return BLDC_EDGE_NONE if previous_hall_code > 7 or hall_code > 7 else BLDC_EDGE_OF_HALL_PAIR[(previous_hall_code << 3 | hall_code)]
 
 
-def commutate_edge(
-    bus: Bus, previous_hall_code: int, hall_code: int, period: int, current_adc: int, main_duty: int
-) -> tuple[int, int, int, int, int]:
-    """bldc_commutate() after the Hall codes' range check: (on, off, ticks, edge, flags)."""
-    edge = edge_of(previous_hall_code, hall_code)
-    if edge == EDGE_NONE:
-        return 0, 0, 0, EDGE_NONE, FLAG_INVALID_HALL
-    timing = commutation_timing(bus, period, current_adc, main_duty)
-    if period < timing.period_min:
-        edge = EDGE_NONE
-    return timing.on, timing.off, timing.ticks, edge, timing.flags
-
-
-def commutate(
-    hall_code: int,
-    previous_hall_code: int,
-    hall_period_ticks: int,
-    bus_voltage_adc: int,
-    phase_current_adc: int,
-    main_duty_counts: int,
-) -> Outputs:
-    """bldc_commutate() for uint8/uint16 inputs."""
-    if hall_code > 7 or previous_hall_code > 7:
-        return Outputs(0, 0, 0, NO_SWITCH, NO_SWITCH, INVALID_SECTOR, FLAG_INVALID_HALL)
-    on, off, ticks, edge, flags = commutate_edge(
-        bus_condition(bus_voltage_adc),
-        previous_hall_code,
-        hall_code,
-        hall_period_ticks,
-        phase_current_adc,
-        main_duty_counts,
-    )
-    on_switch, off_switch = EDGE_SWITCH[edge] if edge != EDGE_NONE else (NO_SWITCH, NO_SWITCH)
-    return Outputs(on, off, ticks, on_switch, off_switch, SECTOR_OF_HALL[hall_code], flags)
+def commutate(inputs: Inputs) -> Outputs:
+    """Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and bldc_commutation_timing() for the same inputs (pure, reentrant) (bldc_commutate)."""
+    hall_code = inputs.hall_code
+    previous_hall_code = inputs.previous_hall_code
+    period = inputs.hall_period_ticks
+    edge = BLDC_EDGE_NONE
+    sector = BLDC_INVALID_SECTOR
+    if hall_code <= 7:
+        sector = BLDC_SECTOR_OF_HALL[hall_code]  # the sector of the new code
+        edge = edge_of(previous_hall_code, hall_code)
+    out_turn_on_compare = 0
+    out_turn_off_compare = 0
+    out_commutation_ticks = 0
+    out_turn_on_switch = BLDC_NO_SWITCH
+    out_turn_off_switch = BLDC_NO_SWITCH
+    out_sector = sector
+    out_flags = BLDC_FLAG_INVALID_HALL
+    if edge < BLDC_EDGE_COUNT:
+        bus = bus_condition(inputs.bus_voltage_adc)  # bldc_bus_condition()
+        timing = commutation_timing(bus, period, inputs.phase_current_adc, inputs.main_duty_counts)
+        out_turn_on_compare = timing.turn_on_compare
+        out_turn_off_compare = timing.turn_off_compare
+        out_commutation_ticks = timing.commutation_ticks
+        out_flags = timing.flags
+        if period >= timing.period_min:  # a shorter interval (over-speed) or over-voltage: the safe state
+            out_turn_on_switch = BLDC_EDGE_SWITCH[edge][0]
+            out_turn_off_switch = BLDC_EDGE_SWITCH[edge][1]
+    return Outputs(out_turn_on_compare, out_turn_off_compare, out_commutation_ticks, out_turn_on_switch, out_turn_off_switch, out_sector, out_flags)

@@ -1,4 +1,4 @@
-/* Generated from template templates/unity/test_runner.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`. */
+/* Generated from template templates/unity/test_runner.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 fa86d047b8821a27a142b934712f08b0facfe4e0855f125d7ad8b440b5e88db1). Do not edit: regenerate with `make`. */
 /* Generated Unity runner: calls every test of test_bldc_commutation.c in order; the
  * exit status is the number of failed tests. */
 #include "unity.h"
@@ -36,14 +36,15 @@ void test_bldc_commutate_should_switch_off_over_voltage(void);
 void test_bldc_commutate_should_switch_off_over_speed(void);
 void test_bldc_commutate_should_flag_a_speed_below_the_minimum(void);
 void test_bldc_commutate_should_give_no_commutation_time_without_current(void);
-void test_bldc_commutate_should_give_no_commutation_time_for_a_negative_current(void);
 void test_bldc_commutate_should_flag_a_current_above_the_range(void);
+void test_bldc_commutate_should_saturate_a_current_above_the_adc(void);
 void test_bldc_commutate_should_switch_off_on_hall_000(void);
 void test_bldc_commutate_should_switch_off_on_hall_111(void);
 void test_bldc_commutate_should_switch_off_after_hall_000(void);
 void test_bldc_commutate_should_switch_off_on_a_skipped_sector(void);
 void test_bldc_commutate_should_switch_off_on_a_repeated_code(void);
 void test_bldc_commutate_should_switch_off_on_a_code_above_7(void);
+void test_bldc_commutate_should_switch_off_on_codes_above_7_that_alias_a_valid_pair(void);
 
 int main(void)
 {
@@ -79,13 +80,14 @@ int main(void)
     RUN_TEST(test_bldc_commutate_should_switch_off_over_speed);
     RUN_TEST(test_bldc_commutate_should_flag_a_speed_below_the_minimum);
     RUN_TEST(test_bldc_commutate_should_give_no_commutation_time_without_current);
-    RUN_TEST(test_bldc_commutate_should_give_no_commutation_time_for_a_negative_current);
     RUN_TEST(test_bldc_commutate_should_flag_a_current_above_the_range);
+    RUN_TEST(test_bldc_commutate_should_saturate_a_current_above_the_adc);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_hall_000);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_hall_111);
     RUN_TEST(test_bldc_commutate_should_switch_off_after_hall_000);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_a_skipped_sector);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_a_repeated_code);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_a_code_above_7);
+    RUN_TEST(test_bldc_commutate_should_switch_off_on_codes_above_7_that_alias_a_valid_pair);
     return UNITY_END();
 }

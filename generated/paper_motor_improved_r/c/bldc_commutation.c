@@ -1,27 +1,29 @@
-/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`. */
 #include "bldc_commutation.h"
 
-#define BUS_CODE_MIN 2257u /* 20 V */
-#define BUS_CODE_MAX 3385u /* 30 V */
-#define INVALID_SECTOR 0xFFu
-/* Resistance-aware rule (codegen/improved_r_rule, see the header for the formats). */
-#define N_X_HIGH 2396667768u /* N_X >> 11, N_X = round(K_X 2^fc) = 4908375590083 */
-#define N_X_LOW 1219u
+#define N_X_HIGH 2396667768u /* N_X >> 11, round(K_X 2^7), K_X = 3.834668e+10 */
+#define N_X_LOW 1219u /* N_X mod 2^11 */
 #define N_X_SHIFT 11u
-#define N_Y_HIGH 1080986531u /* N_Y >> 0, N_Y = round(K_Y 2^(fc+gy)) = 1080986531 */
-#define N_Y_LOW 0u
+#define N_Y_HIGH 1080986531u /* N_Y >> 0, round(K_Y 2^18 / 1), K_Y = 4.123636e+03 */
+#define N_Y_LOW 0u /* N_Y mod 2^0 */
 #define N_Y_SHIFT 0u
-#define KAPPA_Q 615816u /* kappa = 2.867618e-04 in Q31: A = kappa i X */
-#define K_RHO_Q 50332u /* K_rho = R/(L f_hall) = 3.750000e-04 in Q27: rho = K_rho T */
-#define THETA_HALF_Q 217167u /* theta/2 in Q20, theta = sqrt(2) - 1 = 0.414213562 */
-#define PERIOD_Q 460800 /* P in Q7 counts */
 #define UNIT_Q 1073741824u /* 1 in Q30 (e, u1, v2) */
-#define STEPS 14u /* bisection steps: x in Q14, 1 = one sector */
-#define CURRENT_HIGH 2047 /* largest offset-removed current code (ADC full scale) */
-#define Y_FRAC_BITS 24u /* y = rho x in Q24 */
-#define SEGMENT_BITS 6u /* 2^6 table rows per octave of y */
-#define ONE_Q16 65536u
+#define PERIOD_Q 460800 /* P in Q7 counts */
+#define CURRENT_OFFSET_Q 2048 /* zero current: 2048 codes x 1 */
+#define KAPPA_Q 615816u /* kappa = 2.867618e-04 in Q31 / 1: A = kappa i X */
+#define THETA_HALF_Q 217167u /* theta/2 in Q20, theta = sqrt(2) - 1 = 0.414213562 */
+#define K_RHO_Q 50332u /* K_rho = R/(L f_hall) = 3.750000e-04 in Q27: rho = K_rho T */
 
+/* Per-edge quantities of the rule (Q(fc) duty counts unless noted) */
+typedef struct {
+    int32_t x;    /* X = 4 P E / U_d, Q(fc) counts */
+    int32_t a2;   /* 2 A, A = 3 P L I / (U_d T_s): the turn-off current at the edge */
+    uint32_t rho; /* rho = R T_s / L, Q(frho) */
+    int32_t s0;   /* 2P + Y - X: the held duty sum at the edge's EMFs */
+    int32_t s1;   /* theta X / 2: its growth per sector of commutation */
+} bldc_rule_edge_t;
+
+/* Hall code -> sector (Table 1 order), 0xFF for 000 and 111 */
 const uint8_t bldc_sector_of_hall[8] = {
     255u, /* 000: invalid */
     5u, /* 001: sector 5 */
@@ -33,6 +35,7 @@ const uint8_t bldc_sector_of_hall[8] = {
     255u, /* 111: invalid */
 };
 
+/* (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid */
 const uint8_t bldc_edge_of_hall_pair[64] = {
     255u, /* 000 -> 000: invalid: every switch off */
     255u, /* 000 -> 001: invalid: every switch off */
@@ -100,7 +103,8 @@ const uint8_t bldc_edge_of_hall_pair[64] = {
     255u, /* 111 -> 111: invalid: every switch off */
 };
 
-const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2] = {
+/* edge -> {switch at D_on, switch at D_off} (codegen/derivation/switching.py) */
+const uint8_t bldc_edge_switch[12][2] = {
     {1u, 5u}, /* edge 0: into sector 0 (0-60 deg), forward 0 deg: non-commutating B via D4, off C (T6), on A (T2) */
     {4u, 2u}, /* edge 1: into sector 1 (60-120 deg), forward 60 deg: non-commutating A via D1, off B (T3), on C (T5) */
     {3u, 1u}, /* edge 2: into sector 2 (120-180 deg), forward 120 deg: non-commutating C via D6, off A (T2), on B (T4) */
@@ -115,10 +119,7 @@ const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2] = {
     {4u, 0u}, /* edge 11: into sector 5 (300-360 deg), reverse 0 deg: non-commutating B via D3, off A (T1), on C (T5) */
 };
 
-/* Complements round((1 - psi) 2^16) of psi1(y) = (1 - e^-y)/y and psi2(y) = 2(y - 1 +
- * e^-y)/y^2 on octave segments: rows 0..63 cover [0, 1) in steps of
- * 2^-6, octave j >= 1 covers [2^(j-1), 2^j) in steps of 2^(j-1-6); one closing row.
- * Linear interpolation error <= 2.69e-05 (psi1), 2.55e-05 (psi2). 1540 bytes. */
+/* Complements round((1 - psi) 2^16) of psi1(y) = (1 - e^-y)/y and psi2(y) = 2(y - 1 + e^-y)/y^2 on octave segments: rows 0..63 cover [0, 1) in steps of 2^-6, octave j >= 1 covers [2^(j-1), 2^j) in steps of 2^(j-1-6); one closing row. Linear interpolation error <= 2.69e-05 (psi1), 2.55e-05 (psi2). 1540 bytes. */
 static const uint16_t bldc_psi_complement[385][2] = {
     {0u, 0u}, /* y = 0, octave 0 */
     {509u, 340u}, /* y = 0.015625 */
@@ -507,146 +508,107 @@ static const uint16_t bldc_psi_complement[385][2] = {
     {63488u, 61568u}, /* y = 32, octave 6 */
 };
 
-/* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper.
- * N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
+/* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
 static uint32_t bldc_divide_long(uint32_t high, uint32_t low, uint32_t shift, uint32_t divisor)
 {
     const uint32_t q_high = high / divisor;
-    const uint32_t remainder = ((high - q_high * divisor) << shift) | low;
-    return (q_high << shift) + (remainder + (divisor >> 1u)) / divisor;
+    const uint32_t remainder = ((high % divisor) << shift) + low;
+    return (q_high << shift) + (remainder + (divisor >> 1)) / divisor;
 }
 
+/* Saturate a bus code and precompute its reciprocals (pure, reentrant) */
 bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
-    bldc_bus_t bus;
     uint32_t code = bus_code;
-
-    bus.flags = 0u;
-    bus.period_min = BLDC_PERIOD_MIN_TICKS;
-    if (code > BUS_CODE_MAX) {
-        code = BUS_CODE_MAX;
-        bus.period_min = BLDC_PERIOD_NEVER; /* over-voltage: every edge goes to the safe state */
-        bus.flags = BLDC_FLAG_INPUT_SATURATED;
-    } else if (code < BUS_CODE_MIN) {
-        code = BUS_CODE_MIN;
-        bus.flags = BLDC_FLAG_INPUT_SATURATED;
+    uint32_t period_min = BLDC_PERIOD_MIN_TICKS;
+    uint32_t flags = 0u;
+    if (code > BLDC_BUS_CODE_MAX) {
+        code = BLDC_BUS_CODE_MAX;
+        period_min = BLDC_PERIOD_NEVER; /* over-voltage: every edge goes to the safe state */
+        flags = BLDC_FLAG_INPUT_SATURATED;
+    } else if (code < BLDC_BUS_CODE_MIN) {
+        code = BLDC_BUS_CODE_MIN;
+        flags = BLDC_FLAG_INPUT_SATURATED;
     }
-    bus.bus_code = code;
-    bus.x_numerator = bldc_divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code);
-    bus.y_numerator = bldc_divide_long(N_Y_HIGH, N_Y_LOW, N_Y_SHIFT, code);
+    const bldc_bus_t bus = {
+        .x_numerator = bldc_divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code),
+        .y_numerator = bldc_divide_long(N_Y_HIGH, N_Y_LOW, N_Y_SHIFT, code),
+        .period_min = period_min,
+        .bus_code = code,
+        .flags = flags,
+    };
     return bus;
 }
 
-/* Per-edge quantities of the rule, Q7 duty counts unless noted. */
-typedef struct {
-    int32_t x;    /* X = 4 P E / U_d */
-    int32_t a2;   /* 2 A, A = 3 P L I / (U_d T_s): the turn-off current at the edge */
-    uint32_t rho; /* rho = R T_s / L in Q27 */
-    int32_t s0;   /* 2P + Y - X: the held duty sum at the edge's EMFs */
-    int32_t s1;   /* theta X / 2: its growth per sector of commutation */
-} bldc_rule_edge_t;
-
-/* psi1 and psi2 at y (Q24), Q16, by linear interpolation in the octave table. */
-static void bldc_psi(uint32_t y, uint32_t *psi1, uint32_t *psi2)
-{
-    const uint32_t whole = y >> Y_FRAC_BITS;
-    uint32_t shift = Y_FRAC_BITS - SEGMENT_BITS;
-    uint32_t row;
-    if (whole == 0u) {
-        row = y >> shift;
-    } else {
-        const uint32_t octave = 32u - (uint32_t)__builtin_clz(whole); /* CLZ */
-        shift += octave - 1u;
-        row = ((octave - 1u) << SEGMENT_BITS) + (y >> shift);
-    }
-    const uint32_t r = y & ((1u << shift) - 1u);
-    const uint32_t half = 1u << (shift - 1u);
-    const uint16_t *low = bldc_psi_complement[row];
-    const uint16_t *high = bldc_psi_complement[row + 1u];
-    *psi1 = ONE_Q16 - (low[0] + ((((uint32_t)high[0] - low[0]) * r + half) >> shift));
-    *psi2 = ONE_Q16 - (low[1] + ((((uint32_t)high[1] - low[1]) * r + half) >> shift));
-}
-
-/* The held duty sum for a commutation of x sectors (Q14): S0 + S1 x, Q7. */
-static int32_t bldc_rule_sum(const bldc_rule_edge_t *st, uint32_t x, uint32_t frac_bits)
-{
-    const uint64_t product = (uint64_t)(uint32_t)st->s1 * x + ((uint64_t)1u << (frac_bits - 1u));
-    return st->s0 + (int32_t)(product >> frac_bits);
-}
-
-/* Sign of 2 g(x): the turn-off current after x sectors under the pair held at S(x),
- * g = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2.
- * Nonzero when the current has not yet reached zero. */
+/* Sign of 2 g(x): the turn-off current after x sectors (Q K) under the pair held at S(x), g = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2. 1 while the current has not yet reached zero */
 static uint32_t bldc_current_remains(const bldc_rule_edge_t *st, uint32_t x)
 {
-    const uint32_t y = (uint32_t)((uint64_t)st->rho * x >> 17u);
-    uint32_t psi1;
-    uint32_t psi2;
-    bldc_psi(y, &psi1, &psi2);
-    /* e^-y = 1 - y psi1(y), kept >= 0 against the table's error */
-    uint32_t y_psi1 = (uint32_t)(((uint64_t)y * psi1 + 512u) >> 10u);
-    if (y_psi1 > UNIT_Q) {
-        y_psi1 = UNIT_Q;
-    }
-    const int32_t e = (int32_t)(UNIT_Q - y_psi1);
-    const int32_t u1 = (int32_t)(x * psi1); /* x psi1, exact */
-    const int32_t v2 = (int32_t)(((uint64_t)x * (x * psi2) + 8192u) >> 14u); /* x^2 psi2 */
-    const int32_t total = bldc_rule_sum(st, x, STEPS);
-    const int32_t on = (total < 0) ? 0 : ((total > PERIOD_Q) ? PERIOD_Q : total);
-    const int32_t excess = total - PERIOD_Q;
-    const int32_t off = (excess < 0) ? 0 : ((excess > PERIOD_Q) ? PERIOD_Q : excess);
+    const uint64_t rho_x = (uint64_t)st->rho * (uint64_t)x;
+    const uint32_t y = (uint32_t)(rho_x >> 17u); /* y = rho x in Q24 */
+    const uint32_t whole = y >> 24u;
+    const uint32_t octave = (whole == 0u) ? 0u : (32u - (uint32_t)__builtin_clz(whole)); /* table segment: 0 for y < 1, else 32 - CLZ(integer part) */
+    const uint32_t shift = (octave == 0u) ? 18u : 17u + octave; /* fraction bits of y within its row */
+    const uint32_t row = (octave << 6u) + ((y >> shift) & 63u);
+    const uint32_t r = y & ((1u << shift) - 1u);
+    const uint32_t half = 1u << (shift - 1u);
+    const uint32_t psi1 = 65536u - ((uint32_t)bldc_psi_complement[row][0] + ((((uint32_t)bldc_psi_complement[row + 1u][0] - bldc_psi_complement[row][0]) * r + half) >> shift)); /* psi1(y) in Q16, linear interpolation */
+    const uint32_t psi2 = 65536u - ((uint32_t)bldc_psi_complement[row][1] + ((((uint32_t)bldc_psi_complement[row + 1u][1] - bldc_psi_complement[row][1]) * r + half) >> shift)); /* psi2(y) in Q16, linear interpolation */
+    const uint64_t y_psi1 = (uint64_t)y * (uint64_t)psi1;
+    const int32_t e = (int32_t)((uint64_t)UNIT_Q - (((y_psi1 + 512ull) >> 10u > (uint64_t)UNIT_Q) ? (uint64_t)UNIT_Q : (y_psi1 + 512ull) >> 10u)); /* e^-y = 1 - y psi1 in Q30, kept >= 0 against the table's error */
+    const int32_t u1 = (int32_t)(x * psi1); /* x psi1 */
+    const uint64_t x_x_psi2 = (uint64_t)x * (uint64_t)(x * psi2);
+    const int32_t v2 = (int32_t)((x_x_psi2 + 8192ull) >> 14u); /* x^2 psi2 */
+    const uint64_t s1_x = (uint64_t)(uint32_t)st->s1 * (uint64_t)x;
+    const int32_t total = st->s0 + (int32_t)((s1_x + 8192ull) >> 14u); /* S(x) */
+    const int32_t on = (total < 0) ? 0 : (total > PERIOD_Q) ? PERIOD_Q : total;
+    const int32_t off = (total - PERIOD_Q < 0) ? 0 : (total - PERIOD_Q > PERIOD_Q) ? PERIOD_Q : total - PERIOD_Q;
     const int32_t f2 = 4 * off - 2 * on - 2 * PERIOD_Q + st->x; /* 2F */
-    const int64_t twice_g = (int64_t)st->a2 * e + (int64_t)f2 * u1 - (int64_t)st->x * v2;
-    return (twice_g > 0) ? 1u : 0u;
+    const int64_t twice_g = (int64_t)st->a2 * (int64_t)e + (int64_t)f2 * (int64_t)u1 - (int64_t)st->x * (int64_t)v2; /* 2 g(x) */
+    return (twice_g > 0ll) ? 1u : 0u;
 }
 
-bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
-                                      uint32_t current_adc, uint32_t main_duty_counts)
+/* Duties and commutation time of the resistance-aware rule (pure, reentrant); any uint32_t value of each parameter is allowed. The rule holds the current by itself: the main duty is not used */
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts)
 {
-    bldc_timing_t timing = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
+    (void)main_duty_counts; /* not used by this method */
     uint32_t flags = bus->flags;
-
-    (void)main_duty_counts; /* the rule holds the current by itself: no main duty */
-    if (period_ticks > BLDC_PERIOD_CAP_TICKS) {
-        period_ticks = BLDC_PERIOD_CAP_TICKS;
+    const uint32_t measured = (period_ticks > BLDC_PERIOD_CAP_TICKS) ? BLDC_PERIOD_CAP_TICKS : period_ticks; /* the Hall counter's range */
+    if (measured < bus->period_min) { /* above the top speed or over-voltage: braking is no longer controlled */
+        const bldc_timing_t safe = {
+            .period_min = BLDC_PERIOD_NEVER,
+            .turn_on_compare = 0u,
+            .turn_off_compare = 0u,
+            .commutation_ticks = 0u,
+            .flags = (uint16_t)(flags | BLDC_FLAG_INPUT_SATURATED),
+        };
+        return safe;
     }
-    if (period_ticks < bus->period_min) {
-        /* Above the top speed or over-voltage: braking is no longer controlled. */
-        timing.flags = (uint16_t)(flags | BLDC_FLAG_INPUT_SATURATED);
-        return timing;
-    }
-    const uint32_t measured = period_ticks;
-    if (period_ticks > BLDC_PERIOD_MAX_TICKS) {
-        period_ticks = BLDC_PERIOD_MAX_TICKS; /* the table covers rho up to the slowest speed */
+    if (measured > BLDC_PERIOD_MAX_TICKS) { /* below the minimum speed */
         flags |= BLDC_FLAG_INPUT_SATURATED;
     }
-    int32_t current = (int32_t)current_adc - BLDC_CURRENT_OFFSET_CODE;
-    if (current < 0 || current > BLDC_CURRENT_CODE_MAX) {
+    const uint32_t period = (measured > BLDC_PERIOD_MAX_TICKS) ? BLDC_PERIOD_MAX_TICKS : measured; /* the table covers rho up to the slowest speed */
+    const uint32_t current_code = (current_adc > BLDC_ADC_CODE_MAX) ? BLDC_ADC_CODE_MAX : current_adc; /* above the ADC's range: full scale */
+    if (current_adc < BLDC_CURRENT_CODE_LOW || current_adc > BLDC_CURRENT_CODE_HIGH) { /* outside the braking-current range */
         flags |= BLDC_FLAG_INPUT_SATURATED;
     }
-    if (current < 0) {
-        current = 0;
-    } else if (current > CURRENT_HIGH) {
-        current = CURRENT_HIGH;
-    }
-    const uint32_t i = (uint32_t)current;
-
-    bldc_rule_edge_t st;
-    const uint32_t x = (bus->x_numerator + (period_ticks >> 1)) / period_ticks;
-    const uint32_t y = (bus->y_numerator * i + 1024u) >> 11u;
-    const uint32_t a = (uint32_t)(((uint64_t)x * (KAPPA_Q * i) + 1073741824u) >> 31u);
-    st.x = (int32_t)x;
-    st.a2 = 2 * (int32_t)a;
-    st.rho = K_RHO_Q * period_ticks;
-    st.s0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x;
-    st.s1 = (int32_t)(((uint64_t)x * THETA_HALF_Q + 524288u) >> 20u);
-
-    /* t_com: the zero of the turn-off current, by bisection over x in (0, 1] sectors.
-     * g(0) = A >= 0 and g changes sign once, so the bracket [lo, hi] keeps it. */
+    const int32_t current = (int32_t)current_code - CURRENT_OFFSET_Q; /* I in codes, offset removed */
+    const uint32_t i = (uint32_t)((current < 0) ? 0 : current); /* negative currents count as 0 */
+    const uint32_t x = (bus->x_numerator + (period >> 1)) / period; /* X in Q7 counts */
+    const uint32_t y = (bus->y_numerator * i + 1024u) >> 11u; /* Y = 3 P R I / U_d, Q7 */
+    const uint64_t x_kappa_i = (uint64_t)x * (uint64_t)(KAPPA_Q * i);
+    const uint32_t a = (uint32_t)((x_kappa_i + 1073741824ull) >> 31u); /* A = kappa i X */
+    const uint64_t x_theta = (uint64_t)x * (uint64_t)THETA_HALF_Q;
+    const bldc_rule_edge_t st = {
+        .x = (int32_t)x,
+        .a2 = 2 * (int32_t)a,
+        .rho = K_RHO_Q * period,
+        .s0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x,
+        .s1 = (int32_t)((x_theta + 524288ull) >> 20u),
+    };
     uint32_t lo = 0u;
-    uint32_t hi = 1u << STEPS;
-    for (uint32_t step = 0u; step < STEPS; ++step) {
-        const uint32_t mid = (lo + hi) >> 1;
+    uint32_t hi = 16384u;
+    for (uint32_t step = 0u; step < 14u; ++step) { /* t_com: bisection over x in (0, 1] sectors; g(0) = A >= 0 changes sign once */
+        const uint32_t mid = (lo + hi) >> 1u;
         if (bldc_current_remains(&st, mid) != 0u) {
             lo = mid;
         } else {
@@ -654,61 +616,60 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
         }
     }
     uint32_t fraction = lo + hi; /* Q15: the middle of the last bracket */
-    if (hi == (1u << STEPS) && bldc_current_remains(&st, hi) != 0u) {
-        fraction = 2u << STEPS; /* does not finish within the sector: the whole sector */
+    if (hi == 16384u && bldc_current_remains(&st, hi) != 0u) {
+        fraction = 2u << 14u; /* does not finish within the sector: the whole sector */
         flags |= BLDC_FLAG_TIME_CLAMPED;
     }
-    const int32_t total = bldc_rule_sum(&st, fraction, STEPS + 1u);
-    if (total > 2 * PERIOD_Q || total < 0) {
-        flags |= BLDC_FLAG_FAIL_AREA_CLAMPED; /* no duty pair in [0, 1] holds the current */
+    const uint64_t s1_x = (uint64_t)(uint32_t)st.s1 * (uint64_t)fraction;
+    const int32_t total = st.s0 + (int32_t)((s1_x + 16384ull) >> 15u); /* S(x_c) */
+    if (total > 2 * PERIOD_Q || total < 0) { /* no duty pair in [0, 1] holds the current */
+        flags |= BLDC_FLAG_FAIL_AREA_CLAMPED;
     }
-    if (total < PERIOD_Q) {
-        flags |= BLDC_FLAG_HIGH_SPEED; /* the turn-off phase off, the turn-on one modulated */
+    if (total < PERIOD_Q) { /* the turn-off phase off, the turn-on one modulated */
+        flags |= BLDC_FLAG_HIGH_SPEED;
     }
-    const int32_t on = (total < 0) ? 0 : ((total > PERIOD_Q) ? PERIOD_Q : total);
-    const int32_t excess = total - PERIOD_Q;
-    const int32_t off = (excess < 0) ? 0 : ((excess > PERIOD_Q) ? PERIOD_Q : excess);
-    uint32_t ticks = (fraction * period_ticks + 16384u) >> 15u;
-    if (ticks > measured) {
-        ticks = measured;
-    }
-
-    timing.turn_on_compare = (uint16_t)(((uint32_t)on + 64u) >> 7u);
-    timing.turn_off_compare = (uint16_t)(((uint32_t)off + 64u) >> 7u);
-    timing.commutation_ticks = (uint16_t)ticks;
-    timing.flags = (uint16_t)flags;
-    timing.period_min = bus->period_min;
+    const uint32_t on = (uint32_t)((total < 0) ? 0 : (total > PERIOD_Q) ? PERIOD_Q : total);
+    const uint32_t off = (uint32_t)((total - PERIOD_Q < 0) ? 0 : (total - PERIOD_Q > PERIOD_Q) ? PERIOD_Q : total - PERIOD_Q);
+    const uint32_t ticks = ((fraction * period + 16384u) >> 15u > measured) ? measured : (fraction * period + 16384u) >> 15u; /* x_c T, at most the measured period */
+    const bldc_timing_t timing = {
+        .period_min = bus->period_min,
+        .turn_on_compare = (uint16_t)((on + 64u) >> 7u),
+        .turn_off_compare = (uint16_t)((off + 64u) >> 7u),
+        .commutation_ticks = (uint16_t)ticks,
+        .flags = (uint16_t)flags,
+    };
     return timing;
 }
 
-void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out)
+/* Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and bldc_commutation_timing() for the same inputs (pure, reentrant) */
+void bldc_commutate(const bldc_inputs_t *inputs, bldc_outputs_t *out)
 {
-    bldc_timing_t timing = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, BLDC_FLAG_INVALID_HALL};
+    const uint32_t hall_code = (uint32_t)inputs->hall_code;
+    const uint32_t previous_hall_code = (uint32_t)inputs->previous_hall_code;
+    const uint32_t period = (uint32_t)inputs->hall_period_ticks;
     uint32_t edge = BLDC_EDGE_NONE;
-    uint8_t sector = INVALID_SECTOR;
-
-    if (in->hall_code <= 7u && in->previous_hall_code <= 7u) {
-        sector = bldc_sector_of_hall[in->hall_code];
-        edge = bldc_edge_of(in->previous_hall_code, in->hall_code);
+    uint32_t sector = BLDC_INVALID_SECTOR;
+    if (hall_code <= 7u) {
+        sector = (uint32_t)bldc_sector_of_hall[hall_code]; /* the sector of the new code */
+        edge = bldc_edge_of(previous_hall_code, hall_code);
     }
+    out->turn_on_compare = 0u;
+    out->turn_off_compare = 0u;
+    out->commutation_ticks = 0u;
+    out->turn_on_switch = (uint8_t)BLDC_NO_SWITCH;
+    out->turn_off_switch = (uint8_t)BLDC_NO_SWITCH;
+    out->sector = (uint8_t)sector;
+    out->flags = (uint8_t)BLDC_FLAG_INVALID_HALL;
     if (edge < BLDC_EDGE_COUNT) {
-        const bldc_bus_t bus = bldc_bus_condition(in->bus_voltage_adc);
-        timing = bldc_commutation_timing(&bus, in->hall_period_ticks, in->phase_current_adc,
-                                         in->main_duty_counts);
-        if (in->hall_period_ticks < timing.period_min) {
-            edge = BLDC_EDGE_NONE; /* the safe state */
+        const bldc_bus_t bus = bldc_bus_condition((uint32_t)inputs->bus_voltage_adc); /* bldc_bus_condition() */
+        const bldc_timing_t timing = bldc_commutation_timing(&bus, period, (uint32_t)inputs->phase_current_adc, (uint32_t)inputs->main_duty_counts);
+        out->turn_on_compare = timing.turn_on_compare;
+        out->turn_off_compare = timing.turn_off_compare;
+        out->commutation_ticks = timing.commutation_ticks;
+        out->flags = (uint8_t)timing.flags;
+        if (period >= timing.period_min) { /* a shorter interval (over-speed) or over-voltage: the safe state */
+            out->turn_on_switch = bldc_edge_switch[edge][0];
+            out->turn_off_switch = bldc_edge_switch[edge][1];
         }
     }
-    out->turn_on_compare = timing.turn_on_compare;
-    out->turn_off_compare = timing.turn_off_compare;
-    out->commutation_ticks = timing.commutation_ticks;
-    if (edge < BLDC_EDGE_COUNT) {
-        out->turn_on_switch = bldc_edge_switch[edge][0];
-        out->turn_off_switch = bldc_edge_switch[edge][1];
-    } else {
-        out->turn_on_switch = BLDC_NO_SWITCH;
-        out->turn_off_switch = BLDC_NO_SWITCH;
-    }
-    out->sector = sector;
-    out->flags = (uint8_t)timing.flags;
 }

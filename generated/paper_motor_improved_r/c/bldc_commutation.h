@@ -1,208 +1,222 @@
-/* Generated from template templates/c/bldc_commutation.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`. */
 #ifndef BLDC_COMMUTATION_H
 #define BLDC_COMMUTATION_H
 
 /*
- * Portable commutation core: PWM-OFF-PWM braking, method "improved_r".
+ * Portable commutation core: PWM-OFF-PWM braking. Printed from the integer IR
+ * (codegen/ir) of codegen/methods/improved_r; every function is proven free of
+ * overflow and undefined behaviour for every value of its parameters' types.
  * Pure functions of their inputs: no register access, no floating point, no library
  * division helpers (32-bit hardware UDIV/SDIV only), no dynamic memory.
  *
- * Three steps, split by how fast their inputs change and by how little time the Hall
- * edge has:
  *   bldc_bus_condition()       saturates the bus code and computes everything that
- *                              depends on it alone (five 32-bit divides).
- *   bldc_commutation_timing()  everything that depends on speed, current and main duty:
- *                              duties (Eq. 16/18) and commutation time (Eq. 20), one
- *                              divide for the speed and one for Eq. 20. The port runs it
- *                              at low priority right after each Hall edge, with the
- *                              interval just measured, for the next edge.
+ *                              depends on it alone (at the bus-voltage rate).
+ *   bldc_commutation_timing()  duties and commutation time for a speed, current and
+ *                              main duty: what the next Hall edge applies. Its bus
+ *                              argument must come from bldc_bus_condition().
  *   bldc_edge_of()             at the Hall edge (inline): which of the 12 commutations
- *                              the Hall code pair is, or none. One table lookup.
- *   bldc_commutate()           all three in one call, on plain inputs: the reference API
- *                              that tests and the verifier call.
+ *                              a Hall code pair is, or none. One table lookup.
+ *   bldc_commutate()           all three on plain inputs: the reference API of the
+ *                              tests and the verifier.
  *
- * Units
- *   TIM1 counts      BLDC_PWM_PERIOD_COUNTS = duty 1 (20000 Hz PWM)
- *   Hall ticks       1e+06 Hz Hall timer; one Hall interval is 60 electrical degrees
- *   bus code         U_d = code * 0.0088623 V
- *   current code     I = (code - 2048) * 0.0161133 A
- *
- * Resistance-aware rule (codegen/improved_r_rule; beyond the paper, which sets R = 0 in
- * Eqs. 14-20). One constant duty pair per commutation, held at the EMFs of time
- * theta t_com (theta = sqrt(2) - 1, the minimax weight of the ramping EMF), and t_com
- * the zero of the turn-off current with R and the trapezoidal EMF's ramp:
+ * Method "improved_r": the resistance-aware rule (codegen/methods/improved_r).
+ * One constant duty pair per commutation, held at the EMFs of time theta t_com
+ * (theta = sqrt(2) - 1), and t_com the zero of the turn-off current with R and the
+ * trapezoidal EMF's ramp:
  *   S(x) = 2P + Y - X + theta X x / 2, C_on = clamp(S, 0, P), C_off = clamp(S - P, 0, P)
  *   g(x) = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2
  *   x_c: g(x_c) = 0 in (0, 1] sectors; t_com = x_c T
  * with, in duty counts, X = 4 P E / U_d = K_X / (T B), K_X = 3.834668e+10;
- * Y = 3 P R I / U_d = K_Y i / B, K_Y = 4.123636e+03; A = 3 P L I / (U_d T_s) = kappa i X,
- * kappa = 2.867618e-04; rho = R T_s / L = K_rho T, K_rho = 3.750000e-04.
+ * Y = 3 P R I / U_d = K_Y i / B, K_Y = 4.123636e+03; A = kappa i X, kappa = 2.867618e-04;
+ * rho = R T_s / L = K_rho T, K_rho = 3.750000e-04; i in 1/1 codes.
  *
- * Fixed-point formats and rounding (chosen and proven by codegen/improved_r_rule/design.py)
- *   per bus code B: x_numerator = round(N_X / B), y_numerator = round(N_Y / B) (two-step
- *     32-bit long divisions), N_X = 4908375590083, N_Y = 1080986531
- *   per speed: T clamped to [2000, 50000], i = current code - offset clamped to
- *     [0, 2047]; X = round(x_numerator / T) in Q7 counts (one divide),
- *     Y = round(y_numerator i / 2^11), 2A = 2 round(X KAPPA i / 2^31), RHO = K_RHO T (Q27),
- *     S0 = 2P + Y - X, S1 = round(X theta/2)
- *   bisection: 14 steps over x in Q14 on the sign of 2g (int64), e^-y, x psi1 and
- *     x^2 psi2 in Q30, y = rho x in Q24, psi from a 385-row octave table
- *     (1540 bytes, linear interpolation, one CLZ per lookup); x_c = the middle of
- *     the last bracket, or 1 (flagged) when the current does not reach zero in the sector
- *   outputs: round(C_on(x_c)), round(C_off(x_c)) counts, round(x_c T) ticks <= T
- *   rounding is half up everywhere; no floating point, no library division helpers.
- *   Error bounds against the real-arithmetic rule over the design grid (835 points):
- *   duties <= 0.640 counts; t_com <= 62.68 ticks, at most 0.645 of the
- *   allowance max(target, t_half) (t_half: the shift of the true zero that half a count
- *   of duty causes, where the commutation time is ill-conditioned in the physics too).
- *   The verifier checks every point against its own pointwise bound.
- *
- * Intermediate ranges proven over the whole input box (codegen/improved_r_rule/proof.py)
- *   N_X high part: uint32_t in [2396667768, 2396667768] (0.8 bits spare)
- *   N_X remainder 2^shift + low + B/2: uint32_t in [4624593, 6935865] (9.3 bits spare)
- *   N_X / B: uint32_t in [1450037102, 2174734423] (1.0 bits spare)
- *   N_Y high part: uint32_t in [1080986531, 1080986531] (2.0 bits spare)
- *   N_Y remainder 2^shift + low + B/2: uint32_t in [4514, 6770] (19.3 bits spare)
- *   N_Y / B: uint32_t in [319347, 478950] (13.1 bits spare)
- *   xn + T/2: uint32_t in [1450038102, 2174759423] (1.0 bits spare)
- *   X: int32_t in [29001, 1087369] (10.9 bits spare)
- *   yn i + 2^(gy-1): uint32_t in [1024, 980410439] (2.1 bits spare)
- *   KAPPA i: uint32_t in [0, 1260575352] (1.8 bits spare)
- *   X KAPPA i + half: uint64_t in [2147483648, 1370711713345266] (13.7 bits spare)
- *   2 A: int32_t in [2, 1276575] (10.7 bits spare)
- *   RHO = KRHO T: uint32_t in [100664000, 2516600000] (0.8 bits spare)
- *   X THETA + half: uint64_t in [6299269893, 236141540945] (26.2 bits spare)
- *   S1: int32_t in [6007, 225203] (13.2 bits spare)
- *   S0 low: int32_t in [-165769, 892599] (11.2 bits spare)
- *   S0 high: int32_t in [921601, 1400317] (10.6 bits spare)
- *   RHO x: uint64_t in [0, 41231974400000] (18.8 bits spare)
- *   y (inside the table): uint32_t in [0, 314575000] (3.8 bits spare)
- *   interpolation product: uint32_t in [463470482, 463470482] (3.2 bits spare)
- *   y psi1 + half: uint64_t in [16777216, 20616003977216] (19.8 bits spare)
- *   round(y psi1) in Q fu (e = max(2^fu - it, 0)): uint32_t in [1090519041, 1090519041] (2.0 bits spare)
- *   x psi: uint32_t in [0, 1073741824] (2.0 bits spare)
- *   x (x psi2) + half: uint64_t in [16384, 17592186060800] (20.0 bits spare)
- *   S1 x + half: uint64_t in [16384, 7379439539] (31.2 bits spare)
- *   S low: int32_t in [-165769, 892599] (11.2 bits spare)
- *   S high: int32_t in [927608, 1625519] (10.4 bits spare)
- *   S - P 2^fc: int32_t in [-626569, 431799] (11.7 bits spare)
- *   F2 low: int32_t in [-1843200, -1843200] (10.2 bits spare)
- *   F2 high: int32_t in [1872201, 2930569] (9.5 bits spare)
- *   2 A e: int64_t in [2147483648, 1370711713345266] (12.7 bits spare)
- *   F2 u1 low: int64_t in [-1979120929996800, -1979120929996800] (12.2 bits spare)
- *   F2 u1 high: int64_t in [2010261313414295, 3146673656684179] (11.5 bits spare)
- *   X v2: int64_t in [31140383417495, 1167552726687379] (12.9 bits spare)
- *   2g high: int64_t in [2010263460897943, 4517385370029445] (11.0 bits spare)
- *   2g low: int64_t in [-3146673656684179, -2010261313414295] (11.5 bits spare)
- *   x_c T + half: uint32_t in [65552384, 1638416384] (1.4 bits spare)
- *   S(x_c) rounding: int32_t in [460928, 460928] (12.2 bits spare)
- *
- * Flags: BLDC_FLAG_HIGH_SPEED when C_off = 0 (S < P); BLDC_FLAG_FAIL_AREA_CLAMPED when no
- * pair in [0, 1] holds the current (S > 2P or S < 0); BLDC_FLAG_TIME_CLAMPED when the
- * turn-off current does not reach zero within the sector.
+ * Formats (codegen/methods/improved_r/design.py chose them; the IR proof checked them):
+ *   counts in Q7; 14-step bisection, x in Q14; e^-y, x psi1, x^2 psi2 in Q30;
+ *   y = rho x in Q24; psi from a 385-row octave table (1540 bytes, linear
+ *   interpolation, one CLZ per lookup); x_c = the middle of the last bracket, or 1
+ *   (flagged) when the current does not reach zero in the sector.
+ *   Period clamped to [BLDC_PERIOD_MIN_TICKS, BLDC_PERIOD_MAX_TICKS] (the table covers rho up
+ *   to the slowest speed; t_com stays within the measured period); current clamped at 0.
+ * Claimed bounds over the design grid (1170 points): duties <= 0.658
+ *   counts; t_com <= 4.622 ticks where t_half <= the target, and everywhere
+ *   at most 0.645 of max(target, t_half) (t_half: the shift of the true zero
+ *   that half a count of duty causes, where t_com is ill-conditioned in the physics too).
+ * Flags: HIGH_SPEED when C_off = 0 (S < P); FAIL_AREA_CLAMPED when no pair in [0, 1]
+ * holds the current (S > 2P or S < 0); TIME_CLAMPED when the turn-off current does not
+ * reach zero within the sector. The main duty is not used.
  *
  * Safety
- *   Hall code 000 or 111, or a jump that is not one sector forward or back: every
- *   switch off (edge BLDC_EDGE_NONE, BLDC_NO_SWITCH), BLDC_FLAG_INVALID_HALL.
- *   Hall period below 2000 ticks (speed above 5000 rpm) or bus
- *   code above 3385 (30 V): every switch off, BLDC_FLAG_INPUT_SATURATED.
- *   Bus code below 2257 (20 V): saturated, flagged.
- *   Period above 50000 ticks (below 200 rpm): the rule uses 50000 (its table
- *   covers rho up to there), flagged; the commutation time stays within the measured
- *   period. Current outside [0, 10] A: flagged; negative currents count as 0 and
- *   codes above the ADC range as its full scale.
+ *   Hall code 000 or 111, a code above 7, or a jump that is not one sector forward or
+ *   back: every switch off (BLDC_NO_SWITCH), BLDC_FLAG_INVALID_HALL.
+ *   Hall period below BLDC_PERIOD_MIN_TICKS (over-speed) or bus code above
+ *   BLDC_BUS_CODE_MAX (over-voltage): every switch off, BLDC_FLAG_INPUT_SATURATED.
+ *   Bus code below BLDC_BUS_CODE_MIN: saturated, flagged. Hall period above
+ *   BLDC_PERIOD_CAP_TICKS: saturated. Current code above BLDC_ADC_CODE_MAX: saturated;
+ *   outside [BLDC_CURRENT_CODE_LOW, BLDC_CURRENT_CODE_HIGH]: flagged.
+ *
+ * Intermediate ranges, proven by interval analysis of the printed IR over every input
+ * (bits of headroom left in each type):
+ *   bldc_bus_condition: code: uint32_t in [0, 4294967295] (-0.0 bits spare)
+ *   bldc_bus_condition: period_min: uint32_t in [2000, 65536] (16.0 bits spare)
+ *   bldc_bus_condition: flags: uint32_t in [0, 4] (30.0 bits spare)
+ *   bldc_divide_long: q_high: uint32_t in [319346, 1061882] (12.0 bits spare)
+ *   bldc_divide_long: remainder: uint32_t in [0, 6931651] (9.3 bits spare)
+ *   bldc_bus_condition: bus.x_numerator: uint32_t in [1450037102, 2174734422] (1.0 bits spare)
+ *   bldc_bus_condition: bus.y_numerator: uint32_t in [319346, 478948] (13.1 bits spare)
+ *   bldc_bus_condition: bus.period_min: uint32_t in [2000, 65536] (16.0 bits spare)
+ *   bldc_bus_condition: bus.bus_code: uint32_t in [2257, 3385] (20.3 bits spare)
+ *   bldc_bus_condition: bus.flags: uint32_t in [0, 4] (30.0 bits spare)
+ *   bldc_commutation_timing: flags: uint32_t in [0, 31] (27.0 bits spare)
+ *   bldc_commutation_timing: measured: uint32_t in [0, 65535] (16.0 bits spare)
+ *   bldc_commutation_timing: safe.period_min: uint32_t in [65536, 65536] (16.0 bits spare)
+ *   bldc_commutation_timing: safe.turn_on_compare: uint16_t in [0, 0] (inf bits spare)
+ *   bldc_commutation_timing: safe.turn_off_compare: uint16_t in [0, 0] (inf bits spare)
+ *   bldc_commutation_timing: safe.commutation_ticks: uint16_t in [0, 0] (inf bits spare)
+ *   bldc_commutation_timing: safe.flags: uint16_t in [4, 7] (13.2 bits spare)
+ *   bldc_commutation_timing: period: uint32_t in [2000, 50000] (16.4 bits spare)
+ *   bldc_commutation_timing: current_code: uint32_t in [0, 4095] (20.0 bits spare)
+ *   bldc_commutation_timing: current: int32_t in [-2048, 2047] (20.0 bits spare)
+ *   bldc_commutation_timing: i: uint32_t in [0, 2047] (21.0 bits spare)
+ *   bldc_commutation_timing: x: uint32_t in [29000, 1087379] (11.9 bits spare)
+ *   bldc_commutation_timing: y: uint32_t in [0, 478714] (13.1 bits spare)
+ *   bldc_commutation_timing: x_kappa_i: uint64_t in [0, 1370723165682408] (13.7 bits spare)
+ *   bldc_commutation_timing: a: uint32_t in [0, 638293] (12.7 bits spare)
+ *   bldc_commutation_timing: x_theta: uint64_t in [6297843000, 236142835293] (26.2 bits spare)
+ *   bldc_commutation_timing: st.x: int32_t in [29000, 1087379] (10.9 bits spare)
+ *   bldc_commutation_timing: st.a2: int32_t in [0, 1276586] (10.7 bits spare)
+ *   bldc_commutation_timing: st.rho: uint32_t in [100664000, 2516600000] (0.8 bits spare)
+ *   bldc_commutation_timing: st.s0: int32_t in [-165779, 1371314] (10.6 bits spare)
+ *   bldc_commutation_timing: st.s1: int32_t in [6006, 225203] (13.2 bits spare)
+ *   bldc_commutation_timing: lo: uint32_t in [0, 16384] (18.0 bits spare)
+ *   bldc_commutation_timing: hi: uint32_t in [0, 16384] (18.0 bits spare)
+ *   bldc_commutation_timing: mid: uint32_t in [0, 16384] (18.0 bits spare)
+ *   bldc_current_remains: rho_x: uint64_t in [0, 41231974400000] (18.8 bits spare)
+ *   bldc_current_remains: y: uint32_t in [0, 314575000] (3.8 bits spare)
+ *   bldc_current_remains: whole: uint32_t in [0, 18] (27.8 bits spare)
+ *   bldc_current_remains: octave: uint32_t in [0, 5] (29.7 bits spare)
+ *   bldc_current_remains: shift: uint32_t in [18, 22] (27.5 bits spare)
+ *   bldc_current_remains: row: uint32_t in [0, 383] (23.4 bits spare)
+ *   bldc_current_remains: r: uint32_t in [0, 4194303] (10.0 bits spare)
+ *   bldc_current_remains: half: uint32_t in [131072, 2097152] (11.0 bits spare)
+ *   bldc_current_remains: psi1: uint32_t in [2001, 65536] (16.0 bits spare)
+ *   bldc_current_remains: psi2: uint32_t in [3888, 65536] (16.0 bits spare)
+ *   bldc_current_remains: y_psi1: uint64_t in [0, 20615987200000] (19.8 bits spare)
+ *   bldc_current_remains: e: int32_t in [0, 1073741824] (1.0 bits spare)
+ *   bldc_current_remains: u1: int32_t in [0, 1073741824] (1.0 bits spare)
+ *   bldc_current_remains: x_x_psi2: uint64_t in [0, 17592186044416] (20.0 bits spare)
+ *   bldc_current_remains: v2: int32_t in [0, 1073741824] (1.0 bits spare)
+ *   bldc_current_remains: s1_x: uint64_t in [0, 3689725952] (32.2 bits spare)
+ *   bldc_current_remains: total: int32_t in [-165779, 1596517] (10.4 bits spare)
+ *   bldc_current_remains: on: int32_t in [0, 460800] (12.2 bits spare)
+ *   bldc_current_remains: off: int32_t in [0, 460800] (12.2 bits spare)
+ *   bldc_current_remains: f2: int32_t in [-1814200, 2008979] (10.1 bits spare)
+ *   bldc_current_remains: twice_g: int64_t in [-3115546727940096, 3527848555970560] (11.4 bits spare)
+ *   bldc_commutation_timing: fraction: uint32_t in [0, 32768] (17.0 bits spare)
+ *   bldc_commutation_timing: s1_x: uint64_t in [0, 7379451904] (31.2 bits spare)
+ *   bldc_commutation_timing: total: int32_t in [-165779, 1596517] (10.4 bits spare)
+ *   bldc_commutation_timing: on: uint32_t in [0, 460800] (13.2 bits spare)
+ *   bldc_commutation_timing: off: uint32_t in [0, 460800] (13.2 bits spare)
+ *   bldc_commutation_timing: ticks: uint32_t in [0, 50000] (16.4 bits spare)
+ *   bldc_commutation_timing: timing.period_min: uint32_t in [2000, 65535] (16.0 bits spare)
+ *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 3600] (4.2 bits spare)
+ *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3600] (4.2 bits spare)
+ *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 50000] (0.4 bits spare)
+ *   bldc_commutation_timing: timing.flags: uint16_t in [0, 31] (11.0 bits spare)
+ *   bldc_commutate: hall_code: uint32_t in [0, 255] (24.0 bits spare)
+ *   bldc_commutate: previous_hall_code: uint32_t in [0, 255] (24.0 bits spare)
+ *   bldc_commutate: period: uint32_t in [0, 65535] (16.0 bits spare)
+ *   bldc_commutate: edge: uint32_t in [0, 255] (24.0 bits spare)
+ *   bldc_commutate: sector: uint32_t in [0, 255] (24.0 bits spare)
+ *   bldc_commutate: out.turn_on_compare: uint16_t in [0, 3600] (4.2 bits spare)
+ *   bldc_commutate: out.turn_off_compare: uint16_t in [0, 3600] (4.2 bits spare)
+ *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 50000] (0.4 bits spare)
+ *   bldc_commutate: out.turn_on_switch: uint8_t in [0, 255] (-0.0 bits spare)
+ *   bldc_commutate: out.turn_off_switch: uint8_t in [0, 255] (-0.0 bits spare)
+ *   bldc_commutate: out.sector: uint8_t in [0, 255] (-0.0 bits spare)
+ *   bldc_commutate: out.flags: uint8_t in [0, 31] (3.0 bits spare)
  */
 
 #include <stdint.h>
 
-#define BLDC_PWM_PERIOD_COUNTS 3600u /* TIM1 counts per PWM period */
-#define BLDC_NO_SWITCH 0xFFu
-#define BLDC_EDGE_NONE 0xFFu   /* no valid commutation: every switch off */
-#define BLDC_EDGE_COUNT 12u    /* edge = 6 direction + sector entered (0 forward, 1 reverse) */
+#define BLDC_NO_SWITCH 255u /* no switch: every transistor of that role off */
+#define BLDC_EDGE_NONE 255u /* no valid commutation: every switch off */
+#define BLDC_EDGE_COUNT 12u /* edge = 6 x direction + sector entered (0 forward, 1 reverse) */
+#define BLDC_INVALID_SECTOR 255u /* the sector of Hall code 000 or 111 */
+#define BLDC_PERIOD_NEVER 65536u /* above every 16-bit period: the safe state */
+#define BLDC_FLAG_HIGH_SPEED 0x01u /* Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off) */
+#define BLDC_FLAG_FAIL_AREA_CLAMPED 0x02u /* no duty pair in [0, 1] holds the current: clamped */
+#define BLDC_FLAG_INPUT_SATURATED 0x04u /* an input was outside the spec's range */
+#define BLDC_FLAG_INVALID_HALL 0x08u /* Hall code 000/111 or an impossible jump: every switch off */
+#define BLDC_FLAG_TIME_CLAMPED 0x10u /* the commutation does not finish within the sector: clamped to it */
+#define BLDC_PWM_PERIOD_COUNTS 3600u /* TIM1 counts per PWM period: duty 1 */
+#define BLDC_PERIOD_MIN_TICKS 2000u /* 5000 rpm: a shorter period is over-speed */
+#define BLDC_PERIOD_MAX_TICKS 50000u /* 200 rpm: a longer period is flagged */
+#define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
+#define BLDC_BUS_CODE_MIN 2257u /* 20 V (20 V) */
+#define BLDC_BUS_CODE_MAX 3385u /* 30 V (30 V): above it over-voltage */
+#define BLDC_ADC_CODE_MAX 4095u /* 12-bit ADC full scale */
+#define BLDC_CURRENT_CODE_LOW 2048u /* first code at or above 0 A (0 A) */
+#define BLDC_CURRENT_CODE_HIGH 2668u /* last code at or below 10 A (9.99 A) */
 
 /* Switch index 0..5 = T1..T6: T1/T2, T3/T4, T5/T6 are the upper/lower transistors of
  * phases A, B, C (TIM1 CH1/CH1N, CH2/CH2N, CH3/CH3N). */
-#define BLDC_FLAG_HIGH_SPEED 0x01u        /* Eq. 18 high-speed segment: 4E > U_d */
-#define BLDC_FLAG_FAIL_AREA_CLAMPED 0x02u /* conventional: Eq. 16 D_off outside [0, 1] */
-#define BLDC_FLAG_INPUT_SATURATED 0x04u   /* an input was outside the spec's range */
-#define BLDC_FLAG_INVALID_HALL 0x08u      /* all switches off */
-#define BLDC_FLAG_TIME_CLAMPED 0x10u      /* Eq. 20 exceeds the sector: clamped to it */
 
-#define BLDC_X_FRAC_BITS 6u
-#define BLDC_X_SCALE 64 /* 2^BLDC_X_FRAC_BITS */
-#define BLDC_PERIOD_MIN_TICKS 2000u  /* 5000 rpm */
-#define BLDC_PERIOD_MAX_TICKS 50000u /* 200 rpm */
-#define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
-#define BLDC_PERIOD_NEVER 0x10000u   /* above every 16-bit period: the safe state */
-#define BLDC_CURRENT_OFFSET_CODE 2048 /* 0 A */
-#define BLDC_CURRENT_CODE_MAX 620     /* 10 A above the offset */
-
+/* Inputs of one commutation decision (bldc_commutate) */
 typedef struct {
     uint8_t hall_code;          /* A B C as bits 2 1 0 */
     uint8_t previous_hall_code; /* code of the sector being left: gives the direction */
     uint16_t hall_period_ticks; /* last 60 degree interval, Hall ticks */
     uint16_t bus_voltage_adc;   /* bus code */
     uint16_t phase_current_adc; /* current code of the commutated current I */
-    uint16_t main_duty_counts;  /* current controller output, 0..BLDC_PWM_PERIOD_COUNTS */
+    uint16_t main_duty_counts;  /* current controller output, TIM1 counts */
 } bldc_inputs_t;
 
+/* Result of one commutation decision */
 typedef struct {
     uint16_t turn_on_compare;   /* D_on: ON time of turn_on_switch in TIM1 counts */
     uint16_t turn_off_compare;  /* D_off: ON time of turn_off_switch in TIM1 counts */
-    uint16_t commutation_ticks; /* Eq. 20 in Hall ticks, clamped to the Hall period */
-    uint8_t turn_on_switch;     /* 0..5 or BLDC_NO_SWITCH */
-    uint8_t turn_off_switch;    /* 0..5 or BLDC_NO_SWITCH */
+    uint16_t commutation_ticks; /* Eq. 20 in Hall ticks, at most the Hall period */
+    uint8_t turn_on_switch;     /* 0..5 (T1..T6) or BLDC_NO_SWITCH */
+    uint8_t turn_off_switch;    /* 0..5 (T1..T6) or BLDC_NO_SWITCH */
     uint8_t sector;             /* sector entered, 0..5 in Table 1 order; 0xFF if invalid */
     uint8_t flags;              /* BLDC_FLAG_* */
 } bldc_outputs_t;
 
-/* What the Hall-edge step needs of the bus voltage (see the formats above). */
+/* Duties and commutation time for one speed, current and main duty: what the next Hall edge applies */
 typedef struct {
-    uint32_t x_numerator;       /* round(N_X / B): X = K_X / (T B) in Q7 after / T */
-    uint32_t y_numerator;       /* round(N_Y / B): Y = K_Y i / B */
-    uint32_t period_min;        /* BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage */
-    uint32_t bus_code;          /* the saturated bus code B */
-    uint32_t flags;             /* BLDC_FLAG_INPUT_SATURATED when the code was saturated */
-} bldc_bus_t;
-
-/* Duties and commutation time for one speed, current and main duty: what the next
- * Hall edge applies. */
-typedef struct {
-    uint32_t period_min;        /* an edge with a shorter interval goes to the safe state:
-                                   BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when these
-                                   values are not valid (over-speed, over-voltage) */
+    uint32_t period_min;        /* an edge with a shorter interval goes to the safe state: BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when these values must not be applied */
     uint16_t turn_on_compare;   /* D_on in TIM1 counts, 0..P */
     uint16_t turn_off_compare;  /* D_off in TIM1 counts, 0..P */
     uint16_t commutation_ticks; /* Eq. 20 in Hall ticks, 0..T */
     uint16_t flags;             /* BLDC_FLAG_* */
 } bldc_timing_t;
 
-/* (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid. */
-extern const uint8_t bldc_edge_of_hall_pair[64];
-/* edge -> {switch at D_on, switch at D_off} (codegen/derivation/switching.py). */
-extern const uint8_t bldc_edge_switch[BLDC_EDGE_COUNT][2];
-/* Hall code -> sector (Table 1 order), 0xFF for 000 and 111. */
-extern const uint8_t bldc_sector_of_hall[8];
+/* What the timing step needs of the bus voltage (see the formats above) */
+typedef struct {
+    uint32_t x_numerator; /* round(N_X / B): X = x_numerator / T in Q(fc) counts */
+    uint32_t y_numerator; /* round(N_Y / B): Y = y_numerator i / 2^gy */
+    uint32_t period_min;  /* BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage */
+    uint32_t bus_code;    /* the saturated bus code B */
+    uint32_t flags;       /* BLDC_FLAG_INPUT_SATURATED when the code was saturated */
+} bldc_bus_t;
 
-/* Saturate a bus code and precompute its reciprocals (pure, reentrant). */
+extern const uint8_t bldc_sector_of_hall[8];
+extern const uint8_t bldc_edge_of_hall_pair[64];
+extern const uint8_t bldc_edge_switch[12][2];
+
+/* Saturate a bus code and precompute its reciprocals (pure, reentrant) */
 bldc_bus_t bldc_bus_condition(uint32_t bus_code);
 
-/* Duties and commutation time (pure, reentrant): period in Hall ticks (16-bit counter,
- * longer periods saturate), current as its ADC code, main duty in TIM1 counts. Below the
- * bus state's minimum period (above the top speed, or over-voltage) the result is the
- * safe state: period_min = BLDC_PERIOD_NEVER, every value 0. */
-bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
-                                      uint32_t current_adc, uint32_t main_duty_counts);
+/* Duties and commutation time of the resistance-aware rule (pure, reentrant); any uint32_t value of each parameter is allowed. The rule holds the current by itself: the main duty is not used */
+bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts);
 
-/* The commutation of a Hall edge (pure): 0..11 (see bldc_edge_switch), or
- * BLDC_EDGE_NONE for 000, 111 or a jump that is not one sector. Codes must be 0..7. */
+/* Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and bldc_commutation_timing() for the same inputs (pure, reentrant) */
+void bldc_commutate(const bldc_inputs_t *inputs, bldc_outputs_t *out);
+
+/* The commutation of a Hall edge (pure): 0..11 (see bldc_edge_switch), or BLDC_EDGE_NONE for 000, 111, a code above 7 or a jump that is not one sector */
 static inline uint32_t bldc_edge_of(uint32_t previous_hall_code, uint32_t hall_code)
 {
-    return bldc_edge_of_hall_pair[(previous_hall_code << 3) | hall_code];
+    return (previous_hall_code > 7u || hall_code > 7u) ? BLDC_EDGE_NONE : (uint32_t)bldc_edge_of_hall_pair[((previous_hall_code << 3u) | hall_code)];
 }
-
-/* Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and
- * bldc_commutation_timing() for the same inputs (pure, reentrant). */
-void bldc_commutate(const bldc_inputs_t *in, bldc_outputs_t *out);
 
 #endif /* BLDC_COMMUTATION_H */

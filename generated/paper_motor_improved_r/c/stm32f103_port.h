@@ -1,4 +1,4 @@
-/* Generated from template c/stm32f103_port.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`. */
+/* Generated from template c/stm32f103_port.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`. */
 #ifndef STM32F103_PORT_H
 #define STM32F103_PORT_H
 

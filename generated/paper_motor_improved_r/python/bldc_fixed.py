@@ -1,38 +1,155 @@
-# Generated from template templates/python/bldc_fixed.py.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`.
+# Generated from template templates/python/bldc_fixed.py.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`.
 """Bit-exact integer model of bldc_commutation.c (method "improved_r").
 
-Same formats, rounding and saturation as the C: a drop-in reference for test benches.
-Standalone: the standard library only.
+Printed from the same IR as the C (codegen/ir/py_printer.py): the same operations,
+rounding and saturation, on Python integers (the IR proof rules out every overflow, so
+they give the C's results). Standalone: the standard library only.
 """
 
 from __future__ import annotations
 
 from typing import NamedTuple
 
-PERIOD_COUNTS = 3600
-NO_SWITCH = 0xFF
-EDGE_NONE = 0xFF
-INVALID_SECTOR = 0xFF
-FLAG_HIGH_SPEED = 0x01
-FLAG_FAIL_AREA_CLAMPED = 0x02
-FLAG_INPUT_SATURATED = 0x04
-FLAG_INVALID_HALL = 0x08
-FLAG_TIME_CLAMPED = 0x10
+METHOD = "improved_r"
+BLDC_PERIOD_MIN_TICKS = 2000  # 5000 rpm: a shorter period is over-speed
+BLDC_BUS_CODE_MAX = 3385  # 30 V (30 V): above it over-voltage
+BLDC_PERIOD_NEVER = 65536  # above every 16-bit period: the safe state
+BLDC_FLAG_INPUT_SATURATED = 4  # an input was outside the spec's range
+BLDC_BUS_CODE_MIN = 2257  # 20 V (20 V)
+N_X_HIGH = 2396667768  # N_X >> 11, round(K_X 2^7), K_X = 3.834668e+10
+N_X_LOW = 1219  # N_X mod 2^11
+N_X_SHIFT = 11
+N_Y_HIGH = 1080986531  # N_Y >> 0, round(K_Y 2^18 / 1), K_Y = 4.123636e+03
+N_Y_LOW = 0  # N_Y mod 2^0
+N_Y_SHIFT = 0
+UNIT_Q = 1073741824  # 1 in Q30 (e, u1, v2)
+PERIOD_Q = 460800  # P in Q7 counts
+BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
+BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm: a longer period is flagged
+BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
+BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
+BLDC_CURRENT_CODE_HIGH = 2668  # last code at or below 10 A (9.99 A)
+CURRENT_OFFSET_Q = 2048  # zero current: 2048 codes x 1
+KAPPA_Q = 615816  # kappa = 2.867618e-04 in Q31 / 1: A = kappa i X
+THETA_HALF_Q = 217167  # theta/2 in Q20, theta = sqrt(2) - 1 = 0.414213562
+K_RHO_Q = 50332  # K_rho = R/(L f_hall) = 3.750000e-04 in Q27: rho = K_rho T
+BLDC_FLAG_TIME_CLAMPED = 16  # the commutation does not finish within the sector: clamped to it
+BLDC_FLAG_FAIL_AREA_CLAMPED = 2  # no duty pair in [0, 1] holds the current: clamped
+BLDC_FLAG_HIGH_SPEED = 1  # Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off)
+BLDC_EDGE_NONE = 255  # no valid commutation: every switch off
+BLDC_INVALID_SECTOR = 255  # the sector of Hall code 000 or 111
+BLDC_NO_SWITCH = 255  # no switch: every transistor of that role off
+BLDC_FLAG_INVALID_HALL = 8  # Hall code 000/111 or an impossible jump: every switch off
+BLDC_EDGE_COUNT = 12  # edge = 6 x direction + sector entered (0 forward, 1 reverse)
+BLDC_PWM_PERIOD_COUNTS = 3600  # TIM1 counts per PWM period: duty 1
+FLAG_HIGH_SPEED = 1  # Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off)
+FLAG_FAIL_AREA_CLAMPED = 2  # no duty pair in [0, 1] holds the current: clamped
+FLAG_INPUT_SATURATED = 4  # an input was outside the spec's range
+FLAG_INVALID_HALL = 8  # Hall code 000/111 or an impossible jump: every switch off
+FLAG_TIME_CLAMPED = 16  # the commutation does not finish within the sector: clamped to it
 
-# Resistance-aware rule (codegen/improved_r_rule): see bldc_commutation.h.
-N_X_HIGH, N_X_LOW, N_X_SHIFT = 2396667768, 1219, 11
-N_Y_HIGH, N_Y_LOW, N_Y_SHIFT = 1080986531, 0, 0
-KAPPA_Q = 615816
-K_RHO_Q = 50332
-THETA_HALF_Q = 217167
-PERIOD_Q = 460800
-UNIT_Q = 1073741824
-STEPS = 14
-CURRENT_HIGH = 2047
-Y_FRAC_BITS = 24
-SEGMENT_BITS = 6
-ONE_Q16 = 65536
-PSI_COMPLEMENT = (
+
+# Hall code -> sector (Table 1 order), 0xFF for 000 and 111
+BLDC_SECTOR_OF_HALL = (
+    255,
+    5,
+    3,
+    4,
+    1,
+    0,
+    2,
+    255,
+)
+
+
+# (previous Hall code << 3 | Hall code) -> edge, BLDC_EDGE_NONE when invalid
+BLDC_EDGE_OF_HALL_PAIR = (
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    10,
+    255,
+    0,
+    255,
+    255,
+    255,
+    255,
+    255,
+    4,
+    255,
+    255,
+    8,
+    255,
+    255,
+    5,
+    9,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    6,
+    2,
+    255,
+    255,
+    11,
+    255,
+    255,
+    1,
+    255,
+    255,
+    255,
+    255,
+    255,
+    3,
+    255,
+    7,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+    255,
+)
+
+
+# edge -> {switch at D_on, switch at D_off} (codegen/derivation/switching.py)
+BLDC_EDGE_SWITCH = (
+    (1, 5),
+    (4, 2),
+    (3, 1),
+    (0, 4),
+    (5, 3),
+    (2, 0),
+    (3, 5),
+    (0, 2),
+    (5, 1),
+    (2, 4),
+    (1, 3),
+    (4, 0),
+)
+
+
+# Complements round((1 - psi) 2^16) of psi1(y) = (1 - e^-y)/y and psi2(y) = 2(y - 1 + e^-y)/y^2 on octave segments: rows 0..63 cover [0, 1) in steps of 2^-6, octave j >= 1 covers [2^(j-1), 2^j) in steps of 2^(j-1-6); one closing row. Linear interpolation error <= 2.69e-05 (psi1), 2.55e-05 (psi2). 1540 bytes.
+BLDC_PSI_COMPLEMENT = (
     (0, 0),
     (509, 340),
     (1013, 677),
@@ -419,217 +536,192 @@ PSI_COMPLEMENT = (
     (63472, 61538),
     (63488, 61568),
 )
-PERIOD_MIN_TICKS = 2000
-PERIOD_MAX_TICKS = 50000
-PERIOD_CAP_TICKS = 65535
-PERIOD_NEVER = 0x10000
-BUS_CODE_MIN = 2257
-BUS_CODE_MAX = 3385
-CURRENT_OFFSET_CODE = 2048
-CURRENT_CODE_MAX = 620
-METHOD = "improved_r"
 
-SECTOR_OF_HALL = (255, 5, 3, 4, 1, 0, 2, 255, )
-EDGE_OF_HALL_PAIR = (255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 10, 255, 0, 255, 255, 255, 255, 255, 4, 255, 255, 8, 255, 255, 5, 9, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 6, 2, 255, 255, 11, 255, 255, 1, 255, 255, 255, 255, 255, 3, 255, 7, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, )
-EDGE_SWITCH = ((1, 5), (4, 2), (3, 1), (0, 4), (5, 3), (2, 0), (3, 5), (0, 2), (5, 1), (2, 4), (1, 3), (4, 0), )
+
+class Inputs(NamedTuple):
+    """bldc_inputs_t: Inputs of one commutation decision (bldc_commutate)"""
+
+    hall_code: int  # A B C as bits 2 1 0
+    previous_hall_code: int  # code of the sector being left: gives the direction
+    hall_period_ticks: int  # last 60 degree interval, Hall ticks
+    bus_voltage_adc: int  # bus code
+    phase_current_adc: int  # current code of the commutated current I
+    main_duty_counts: int  # current controller output, TIM1 counts
 
 
 class Outputs(NamedTuple):
-    turn_on_compare: int
-    turn_off_compare: int
-    commutation_ticks: int
-    turn_on_switch: int
-    turn_off_switch: int
-    sector: int
-    flags: int
+    """bldc_outputs_t: Result of one commutation decision"""
+
+    turn_on_compare: int  # D_on: ON time of turn_on_switch in TIM1 counts
+    turn_off_compare: int  # D_off: ON time of turn_off_switch in TIM1 counts
+    commutation_ticks: int  # Eq. 20 in Hall ticks, at most the Hall period
+    turn_on_switch: int  # 0..5 (T1..T6) or BLDC_NO_SWITCH
+    turn_off_switch: int  # 0..5 (T1..T6) or BLDC_NO_SWITCH
+    sector: int  # sector entered, 0..5 in Table 1 order; 0xFF if invalid
+    flags: int  # BLDC_FLAG_*
 
 
 class Timing(NamedTuple):
-    """bldc_timing_t."""
+    """bldc_timing_t: Duties and commutation time for one speed, current and main duty: what the next Hall edge applies"""
 
-    period_min: int
-    on: int
-    off: int
-    ticks: int
-    flags: int
+    period_min: int  # an edge with a shorter interval goes to the safe state: BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when these values must not be applied
+    turn_on_compare: int  # D_on in TIM1 counts, 0..P
+    turn_off_compare: int  # D_off in TIM1 counts, 0..P
+    commutation_ticks: int  # Eq. 20 in Hall ticks, 0..T
+    flags: int  # BLDC_FLAG_*
 
 
 class Bus(NamedTuple):
-    x_numerator: int
-    y_numerator: int
-    period_min: int
-    bus_code: int
-    flags: int
+    """bldc_bus_t: What the timing step needs of the bus voltage (see the formats above)"""
+
+    x_numerator: int  # round(N_X / B): X = x_numerator / T in Q(fc) counts
+    y_numerator: int  # round(N_Y / B): Y = y_numerator i / 2^gy
+    period_min: int  # BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage
+    bus_code: int  # the saturated bus code B
+    flags: int  # BLDC_FLAG_INPUT_SATURATED when the code was saturated
 
 
-def _divide_long(high: int, low: int, shift: int, divisor: int) -> int:
-    q_high = high // divisor
-    remainder = ((high - q_high * divisor) << shift) | low
-    return (q_high << shift) + (remainder + (divisor >> 1)) // divisor
+class RuleEdge(NamedTuple):
+    """bldc_rule_edge_t: Per-edge quantities of the rule (Q(fc) duty counts unless noted)"""
+
+    x: int  # X = 4 P E / U_d, Q(fc) counts
+    a2: int  # 2 A, A = 3 P L I / (U_d T_s): the turn-off current at the edge
+    rho: int  # rho = R T_s / L, Q(frho)
+    s0: int  # 2P + Y - X: the held duty sum at the edge's EMFs
+    s1: int  # theta X / 2: its growth per sector of commutation
 
 
-def bus_condition(bus_code: int) -> Bus:
-    """bldc_bus_condition()."""
-    code, period_min, flags = bus_code, PERIOD_MIN_TICKS, 0
-    if code > BUS_CODE_MAX:
-        code, period_min, flags = BUS_CODE_MAX, PERIOD_NEVER, FLAG_INPUT_SATURATED
-    elif code < BUS_CODE_MIN:
-        code, flags = BUS_CODE_MIN, FLAG_INPUT_SATURATED
-    return Bus(
-        _divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code),
-        _divide_long(N_Y_HIGH, N_Y_LOW, N_Y_SHIFT, code),
-        period_min,
-        code,
-        flags,
-    )
-
-
-def _c_divide(numerator: int, denominator: int) -> int:
-    """C's signed division: truncates toward zero."""
+def _c_div(numerator: int, denominator: int) -> int:
+    """C's integer division: truncates toward zero."""
     quotient = abs(numerator) // abs(denominator)
     return quotient if (numerator >= 0) == (denominator > 0) else -quotient
 
 
-def edge_of(previous_hall_code: int, hall_code: int) -> int:
-    """bldc_edge_of(): 0..11, or EDGE_NONE."""
-    return EDGE_OF_HALL_PAIR[(previous_hall_code << 3) | hall_code]
+def divide_long(high: int, low: int, shift: int, divisor: int) -> int:
+    """round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. (bldc_divide_long)."""
+    q_high = high // divisor
+    remainder = (high % divisor << shift) + low
+    return (q_high << shift) + (remainder + (divisor >> 1)) // divisor
 
 
-class RuleEdge(NamedTuple):
-    """bldc_rule_edge_t (Q7 counts; rho Q27)."""
-
-    x: int
-    a2: int
-    rho: int
-    s0: int
-    s1: int
-
-
-def psi(y: int) -> tuple[int, int]:
-    """bldc_psi(): psi1 and psi2 in Q16 at y in Q24."""
-    whole = y >> Y_FRAC_BITS
-    shift = Y_FRAC_BITS - SEGMENT_BITS
-    if whole == 0:
-        row = y >> shift
-    else:
-        octave = whole.bit_length()
-        shift += octave - 1
-        row = ((octave - 1) << SEGMENT_BITS) + (y >> shift)
-    r = y & ((1 << shift) - 1)
-    half = 1 << (shift - 1)
-    low, high = PSI_COMPLEMENT[row], PSI_COMPLEMENT[row + 1]
-    return (
-        ONE_Q16 - (low[0] + (((high[0] - low[0]) * r + half) >> shift)),
-        ONE_Q16 - (low[1] + (((high[1] - low[1]) * r + half) >> shift)),
-    )
+def bus_condition(bus_code: int) -> Bus:
+    """Saturate a bus code and precompute its reciprocals (pure, reentrant) (bldc_bus_condition)."""
+    code = bus_code
+    period_min = BLDC_PERIOD_MIN_TICKS
+    flags = 0
+    if code > BLDC_BUS_CODE_MAX:
+        code = BLDC_BUS_CODE_MAX
+        period_min = BLDC_PERIOD_NEVER  # over-voltage: every edge goes to the safe state
+        flags = BLDC_FLAG_INPUT_SATURATED
+    elif code < BLDC_BUS_CODE_MIN:
+        code = BLDC_BUS_CODE_MIN
+        flags = BLDC_FLAG_INPUT_SATURATED
+    bus = Bus(divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code), divide_long(N_Y_HIGH, N_Y_LOW, N_Y_SHIFT, code), period_min, code, flags)
+    return bus
 
 
-def rule_sum(st: RuleEdge, x: int, frac_bits: int) -> int:
-    """bldc_rule_sum(): S0 + S1 x, x in Q(frac_bits)."""
-    return st.s0 + ((st.s1 * x + (1 << (frac_bits - 1))) >> frac_bits)
+def current_remains(st: RuleEdge, x: int) -> int:
+    """Sign of 2 g(x): the turn-off current after x sectors (Q K) under the pair held at S(x), g = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2. 1 while the current has not yet reached zero (bldc_current_remains)."""
+    rho_x = st.rho * x
+    y = rho_x >> 17  # y = rho x in Q24
+    whole = y >> 24
+    octave = 0 if whole == 0 else whole.bit_length()  # table segment: 0 for y < 1, else 32 - CLZ(integer part)
+    shift = 18 if octave == 0 else 17 + octave  # fraction bits of y within its row
+    row = (octave << 6) + (y >> shift & 63)
+    r = y & (1 << shift) - 1
+    half = 1 << shift - 1
+    psi1 = 65536 - (BLDC_PSI_COMPLEMENT[row][0] + ((BLDC_PSI_COMPLEMENT[row + 1][0] - BLDC_PSI_COMPLEMENT[row][0]) * r + half >> shift))  # psi1(y) in Q16, linear interpolation
+    psi2 = 65536 - (BLDC_PSI_COMPLEMENT[row][1] + ((BLDC_PSI_COMPLEMENT[row + 1][1] - BLDC_PSI_COMPLEMENT[row][1]) * r + half >> shift))  # psi2(y) in Q16, linear interpolation
+    y_psi1 = y * psi1
+    e = UNIT_Q - (UNIT_Q if (y_psi1 + 512) >> 10 > UNIT_Q else (y_psi1 + 512) >> 10)  # e^-y = 1 - y psi1 in Q30, kept >= 0 against the table's error
+    u1 = x * psi1  # x psi1
+    x_x_psi2 = x * (x * psi2)
+    v2 = (x_x_psi2 + 8192) >> 14  # x^2 psi2
+    s1_x = st.s1 * x
+    total = st.s0 + ((s1_x + 8192) >> 14)  # S(x)
+    on = 0 if total < 0 else PERIOD_Q if total > PERIOD_Q else total
+    off = 0 if total - PERIOD_Q < 0 else PERIOD_Q if total - PERIOD_Q > PERIOD_Q else total - PERIOD_Q
+    f2 = 4 * off - 2 * on - 2 * PERIOD_Q + st.x  # 2F
+    twice_g = st.a2 * e + f2 * u1 - st.x * v2  # 2 g(x)
+    return 1 if twice_g > 0 else 0
 
 
-def _split(total: int) -> tuple[int, int]:
-    return min(max(total, 0), PERIOD_Q), min(max(total - PERIOD_Q, 0), PERIOD_Q)
-
-
-def current_remains(st: RuleEdge, x: int) -> bool:
-    """bldc_current_remains(): 2 g(x) > 0."""
-    y = (st.rho * x) >> 17
-    psi1, psi2 = psi(y)
-    e = UNIT_Q - min((y * psi1 + 512) >> 10, UNIT_Q)
-    u1 = (x * psi1 + 0) >> 0
-    v2 = (x * (x * psi2) + 8192) >> 14
-    on, off = _split(rule_sum(st, x, STEPS))
-    f2 = 4 * off - 2 * on - 2 * PERIOD_Q + st.x
-    return st.a2 * e + f2 * u1 - st.x * v2 > 0
-
-
-def commutation_timing(bus: Bus, period: int, current_adc: int, main_duty: int) -> Timing:
-    """bldc_commutation_timing()."""
-    del main_duty  # the rule does not use it
+def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_counts: int) -> Timing:
+    """Duties and commutation time of the resistance-aware rule (pure, reentrant); any uint32_t value of each parameter is allowed. The rule holds the current by itself: the main duty is not used (bldc_commutation_timing)."""
     flags = bus.flags
-    period = min(period, PERIOD_CAP_TICKS)
-    if period < bus.period_min:
-        return Timing(PERIOD_NEVER, 0, 0, 0, flags | FLAG_INPUT_SATURATED)
-    measured = period
-    if period > PERIOD_MAX_TICKS:
-        period = PERIOD_MAX_TICKS
-        flags |= FLAG_INPUT_SATURATED
-    current = current_adc - CURRENT_OFFSET_CODE
-    if current < 0 or current > CURRENT_CODE_MAX:
-        flags |= FLAG_INPUT_SATURATED
-    i = min(max(current, 0), CURRENT_HIGH)
-    x = (bus.x_numerator + (period >> 1)) // period
-    y = (bus.y_numerator * i + 1024) >> 11
-    a = (x * (KAPPA_Q * i) + 1073741824) >> 31
-    st = RuleEdge(
-        x=x,
-        a2=2 * a,
-        rho=K_RHO_Q * period,
-        s0=2 * PERIOD_Q + y - x,
-        s1=(x * THETA_HALF_Q + 524288) >> 20,
-    )
-    lo, hi = 0, 1 << STEPS
-    for _ in range(STEPS):
-        mid = (lo + hi) >> 1
-        if current_remains(st, mid):
+    measured = BLDC_PERIOD_CAP_TICKS if period_ticks > BLDC_PERIOD_CAP_TICKS else period_ticks  # the Hall counter's range
+    if measured < bus.period_min:  # above the top speed or over-voltage: braking is no longer controlled
+        safe = Timing(BLDC_PERIOD_NEVER, 0, 0, 0, flags | BLDC_FLAG_INPUT_SATURATED)
+        return safe
+    if measured > BLDC_PERIOD_MAX_TICKS:  # below the minimum speed
+        flags |= BLDC_FLAG_INPUT_SATURATED
+    period = BLDC_PERIOD_MAX_TICKS if measured > BLDC_PERIOD_MAX_TICKS else measured  # the table covers rho up to the slowest speed
+    current_code = BLDC_ADC_CODE_MAX if current_adc > BLDC_ADC_CODE_MAX else current_adc  # above the ADC's range: full scale
+    if current_adc < BLDC_CURRENT_CODE_LOW or current_adc > BLDC_CURRENT_CODE_HIGH:  # outside the braking-current range
+        flags |= BLDC_FLAG_INPUT_SATURATED
+    current = current_code - CURRENT_OFFSET_Q  # I in codes, offset removed
+    i = 0 if current < 0 else current  # negative currents count as 0
+    x = (bus.x_numerator + (period >> 1)) // period  # X in Q7 counts
+    y = (bus.y_numerator * i + 1024) >> 11  # Y = 3 P R I / U_d, Q7
+    x_kappa_i = x * (KAPPA_Q * i)
+    a = (x_kappa_i + 1073741824) >> 31  # A = kappa i X
+    x_theta = x * THETA_HALF_Q
+    st = RuleEdge(x, 2 * a, K_RHO_Q * period, 2 * PERIOD_Q + y - x, (x_theta + 524288) >> 20)
+    lo = 0
+    hi = 16384
+    for step in range(14):  # t_com: bisection over x in (0, 1] sectors; g(0) = A >= 0 changes sign once
+        mid = lo + hi >> 1
+        if current_remains(st, mid) != 0:
             lo = mid
         else:
             hi = mid
-    fraction = lo + hi
-    if hi == 1 << STEPS and current_remains(st, hi):
-        fraction = 2 << STEPS
-        flags |= FLAG_TIME_CLAMPED
-    total = rule_sum(st, fraction, STEPS + 1)
-    if total > 2 * PERIOD_Q or total < 0:
-        flags |= FLAG_FAIL_AREA_CLAMPED
-    if total < PERIOD_Q:
-        flags |= FLAG_HIGH_SPEED
-    on, off = _split(total)
-    ticks = min((fraction * period + 16384) >> 15, measured)
-    return Timing(
-        bus.period_min,
-        (on + 64) >> 7,
-        (off + 64) >> 7,
-        ticks,
-        flags,
-    )
+    fraction = lo + hi  # Q15: the middle of the last bracket
+    if hi == 16384 and current_remains(st, hi) != 0:
+        fraction = 2 << 14  # does not finish within the sector: the whole sector
+        flags |= BLDC_FLAG_TIME_CLAMPED
+    s1_x = st.s1 * fraction
+    total = st.s0 + ((s1_x + 16384) >> 15)  # S(x_c)
+    if total > 2 * PERIOD_Q or total < 0:  # no duty pair in [0, 1] holds the current
+        flags |= BLDC_FLAG_FAIL_AREA_CLAMPED
+    if total < PERIOD_Q:  # the turn-off phase off, the turn-on one modulated
+        flags |= BLDC_FLAG_HIGH_SPEED
+    on = 0 if total < 0 else PERIOD_Q if total > PERIOD_Q else total
+    off = 0 if total - PERIOD_Q < 0 else PERIOD_Q if total - PERIOD_Q > PERIOD_Q else total - PERIOD_Q
+    ticks = measured if (fraction * period + 16384) >> 15 > measured else (fraction * period + 16384) >> 15  # x_c T, at most the measured period
+    timing = Timing(bus.period_min, (on + 64) >> 7, (off + 64) >> 7, ticks, flags)
+    return timing
 
 
+def edge_of(previous_hall_code: int, hall_code: int) -> int:
+    """The commutation of a Hall edge (pure): 0..11 (see bldc_edge_switch), or BLDC_EDGE_NONE for 000, 111, a code above 7 or a jump that is not one sector (bldc_edge_of)."""
+    return BLDC_EDGE_NONE if previous_hall_code > 7 or hall_code > 7 else BLDC_EDGE_OF_HALL_PAIR[(previous_hall_code << 3 | hall_code)]
 
 
-def commutate_edge(
-    bus: Bus, previous_hall_code: int, hall_code: int, period: int, current_adc: int, main_duty: int
-) -> tuple[int, int, int, int, int]:
-    """bldc_commutate() after the Hall codes' range check: (on, off, ticks, edge, flags)."""
-    edge = edge_of(previous_hall_code, hall_code)
-    if edge == EDGE_NONE:
-        return 0, 0, 0, EDGE_NONE, FLAG_INVALID_HALL
-    timing = commutation_timing(bus, period, current_adc, main_duty)
-    if period < timing.period_min:
-        edge = EDGE_NONE
-    return timing.on, timing.off, timing.ticks, edge, timing.flags
-
-
-def commutate(
-    hall_code: int,
-    previous_hall_code: int,
-    hall_period_ticks: int,
-    bus_voltage_adc: int,
-    phase_current_adc: int,
-    main_duty_counts: int,
-) -> Outputs:
-    """bldc_commutate() for uint8/uint16 inputs."""
-    if hall_code > 7 or previous_hall_code > 7:
-        return Outputs(0, 0, 0, NO_SWITCH, NO_SWITCH, INVALID_SECTOR, FLAG_INVALID_HALL)
-    on, off, ticks, edge, flags = commutate_edge(
-        bus_condition(bus_voltage_adc),
-        previous_hall_code,
-        hall_code,
-        hall_period_ticks,
-        phase_current_adc,
-        main_duty_counts,
-    )
-    on_switch, off_switch = EDGE_SWITCH[edge] if edge != EDGE_NONE else (NO_SWITCH, NO_SWITCH)
-    return Outputs(on, off, ticks, on_switch, off_switch, SECTOR_OF_HALL[hall_code], flags)
+def commutate(inputs: Inputs) -> Outputs:
+    """Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and bldc_commutation_timing() for the same inputs (pure, reentrant) (bldc_commutate)."""
+    hall_code = inputs.hall_code
+    previous_hall_code = inputs.previous_hall_code
+    period = inputs.hall_period_ticks
+    edge = BLDC_EDGE_NONE
+    sector = BLDC_INVALID_SECTOR
+    if hall_code <= 7:
+        sector = BLDC_SECTOR_OF_HALL[hall_code]  # the sector of the new code
+        edge = edge_of(previous_hall_code, hall_code)
+    out_turn_on_compare = 0
+    out_turn_off_compare = 0
+    out_commutation_ticks = 0
+    out_turn_on_switch = BLDC_NO_SWITCH
+    out_turn_off_switch = BLDC_NO_SWITCH
+    out_sector = sector
+    out_flags = BLDC_FLAG_INVALID_HALL
+    if edge < BLDC_EDGE_COUNT:
+        bus = bus_condition(inputs.bus_voltage_adc)  # bldc_bus_condition()
+        timing = commutation_timing(bus, period, inputs.phase_current_adc, inputs.main_duty_counts)
+        out_turn_on_compare = timing.turn_on_compare
+        out_turn_off_compare = timing.turn_off_compare
+        out_commutation_ticks = timing.commutation_ticks
+        out_flags = timing.flags
+        if period >= timing.period_min:  # a shorter interval (over-speed) or over-voltage: the safe state
+            out_turn_on_switch = BLDC_EDGE_SWITCH[edge][0]
+            out_turn_off_switch = BLDC_EDGE_SWITCH[edge][1]
+    return Outputs(out_turn_on_compare, out_turn_off_compare, out_commutation_ticks, out_turn_on_switch, out_turn_off_switch, out_sector, out_flags)

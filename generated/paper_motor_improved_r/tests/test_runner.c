@@ -1,4 +1,4 @@
-/* Generated from template templates/unity/test_runner.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`. */
+/* Generated from template templates/unity/test_runner.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`. */
 /* Generated Unity runner: calls every test of test_bldc_commutation.c in order; the
  * exit status is the number of failed tests. */
 #include "unity.h"
@@ -34,14 +34,15 @@ void test_bldc_commutate_should_switch_off_over_voltage(void);
 void test_bldc_commutate_should_switch_off_over_speed(void);
 void test_bldc_commutate_should_flag_a_speed_below_the_minimum(void);
 void test_bldc_commutate_should_give_no_commutation_time_without_current(void);
-void test_bldc_commutate_should_give_no_commutation_time_for_a_negative_current(void);
 void test_bldc_commutate_should_flag_a_current_above_the_range(void);
+void test_bldc_commutate_should_saturate_a_current_above_the_adc(void);
 void test_bldc_commutate_should_switch_off_on_hall_000(void);
 void test_bldc_commutate_should_switch_off_on_hall_111(void);
 void test_bldc_commutate_should_switch_off_after_hall_000(void);
 void test_bldc_commutate_should_switch_off_on_a_skipped_sector(void);
 void test_bldc_commutate_should_switch_off_on_a_repeated_code(void);
 void test_bldc_commutate_should_switch_off_on_a_code_above_7(void);
+void test_bldc_commutate_should_switch_off_on_codes_above_7_that_alias_a_valid_pair(void);
 
 int main(void)
 {
@@ -75,13 +76,14 @@ int main(void)
     RUN_TEST(test_bldc_commutate_should_switch_off_over_speed);
     RUN_TEST(test_bldc_commutate_should_flag_a_speed_below_the_minimum);
     RUN_TEST(test_bldc_commutate_should_give_no_commutation_time_without_current);
-    RUN_TEST(test_bldc_commutate_should_give_no_commutation_time_for_a_negative_current);
     RUN_TEST(test_bldc_commutate_should_flag_a_current_above_the_range);
+    RUN_TEST(test_bldc_commutate_should_saturate_a_current_above_the_adc);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_hall_000);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_hall_111);
     RUN_TEST(test_bldc_commutate_should_switch_off_after_hall_000);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_a_skipped_sector);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_a_repeated_code);
     RUN_TEST(test_bldc_commutate_should_switch_off_on_a_code_above_7);
+    RUN_TEST(test_bldc_commutate_should_switch_off_on_codes_above_7_that_alias_a_valid_pair);
     return UNITY_END();
 }

@@ -1,7 +1,7 @@
 """The rule's spec constants, exact, and the input box the firmware is proven over.
 
 The firmware sees the Hall period T (ticks), the bus code B and the offset-removed
-current code i. The rule's quantities in duty counts (`derive_firmware_rule().counts`)
+current i (in 1/m codes, `codegen.core.conditioning.CurrentFormat`). The rule's quantities in duty counts (`derive_firmware_rule().counts`)
 are, with E = k_e n, n = 10 f_hall/(p T) (Eq. 3) and U_d = B v, I = i a:
 
     X   = 4 P E / U_d             = K_X / (T B)
@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from codegen.core.conditioning import CurrentFormat, current_formats
 from codegen.derivation import symbols as s
 from codegen.derivation.constant_pair import A_c, P, T_s, X_c, Y_c, derive_firmware_rule
 from codegen.errors import DerivationError
@@ -36,22 +37,33 @@ class RuleConstants:
     period_counts: int  # P
     hall_clock_hz: sp.Rational
     k_x: sp.Rational  # X = k_x / (T B), duty counts
-    k_y: sp.Rational  # Y = k_y i / B
-    kappa: sp.Rational  # A = kappa i X
+    k_y: sp.Rational  # Y = k_y i / B, i in 1/m codes
+    kappa: sp.Rational  # A = kappa i X, i in 1/m codes
     k_rho: sp.Rational  # rho = k_rho T
     ramp_weight: sp.Expr  # theta (irrational: sqrt(2) - 1)
     period_low: int  # the core's shortest period (speed_max): shorter ones are the safe state
     period_high: int  # the core's longest period (speed_min): the rule clamps T to it
     bus_low: int
     bus_high: int
+    #: the code of zero current (whole: the nearest code, for grids of inputs), and the
+    #: current format i = m C - OFFSET_M in 1/m codes (see codegen.core.conditioning)
     current_offset: int
-    current_high: int  # largest offset-removed current code (ADC full scale)
+    current: CurrentFormat
+    current_high: int  # largest i (ADC full scale), 1/m codes
+    adc_max: int  # the ADC's full-scale code
     time_target_ticks: sp.Rational
     duty_target_counts: sp.Rational
 
     @property
     def rho_max(self) -> sp.Rational:
         return self.k_rho * self.period_high
+
+
+def rule_current_format(sc: Scaling) -> CurrentFormat:
+    """The offset exactly when its denominator is small, else to 1/32 code."""
+    candidates = current_formats(sc)
+    exact = [c for c in candidates if c.is_exact]
+    return exact[0] if exact else next(c for c in candidates if c.scale == 32)
 
 
 def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
@@ -77,12 +89,14 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
             raise DerivationError(f"{name} is not a positive constant: {value}")
     if k_x != sc.k_x:
         raise DerivationError(f"K_X {k_x} differs from the core's {sc.k_x} (Eq. 9)")
+    current = rule_current_format(sc)
+    m = current.scale
     return RuleConstants(
         period_counts=sc.period_counts,
         hall_clock_hz=sc.hall_clock_hz,
         k_x=sp.Rational(k_x),
-        k_y=sp.Rational(k_y),
-        kappa=sp.Rational(kappa),
+        k_y=sp.Rational(k_y) / m,
+        kappa=sp.Rational(kappa) / m,
         k_rho=sp.Rational(k_rho),
         ramp_weight=rule.ramp_weight_minimax,
         period_low=sc.period_min_ticks,
@@ -90,7 +104,9 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
         bus_low=sc.bus_code_min,
         bus_high=sc.bus_code_max,
         current_offset=sc.current_offset_code,
-        current_high=sc.adc_full_scale - 1 - sc.current_offset_code,
+        current=current,
+        current_high=current.scale * (sc.adc_full_scale - 1) - current.offset_q.value,
+        adc_max=sc.adc_full_scale - 1,
         time_target_ticks=_q(spec.accuracy.commutation_time_ticks),
         duty_target_counts=_q(spec.accuracy.duty_counts),
     )

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from codegen.improved_r_rule.fixed import THETA_FRAC_BITS, FixedRule
-from codegen.improved_r_rule.reference import (
+from codegen.methods.improved_r.fixed import THETA_FRAC_BITS, FixedRule
+from codegen.methods.improved_r.reference import (
     FLAG_NOT_FINISHED,
     FloatArray,
     ReferenceBatch,
@@ -45,7 +45,7 @@ from codegen.improved_r_rule.reference import (
     psi_values,
     reference,
 )
-from codegen.improved_r_rule.table import error_at
+from codegen.methods.improved_r.table import error_at
 
 #: The sign scan of g -/+ eps: g is unimodal in x (rises, then falls through its one
 #: zero), so a coarse scan finds the crossing and bisection refines it.

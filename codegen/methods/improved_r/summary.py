@@ -1,4 +1,4 @@
-"""`python -m codegen.improved_r_rule SPEC`: the firmware rule's design as Markdown.
+"""`python -m codegen.methods.improved_r SPEC`: the firmware rule's design as Markdown.
 
 Constants with their equations, formats, the table, every proven range, and the integer
 prototype's measured error against the real-arithmetic reference over a grid (the
@@ -11,13 +11,12 @@ import random
 import sys
 from dataclasses import dataclass
 
-from codegen.derivation import derive
-from codegen.fixedpoint.scaling import scaling
-from codegen.improved_r_rule.accuracy import point_bound
-from codegen.improved_r_rule.constants import rule_constants
-from codegen.improved_r_rule.design import RuleDesign, design_grid, design_rule
-from codegen.improved_r_rule.fixed import THETA_FRAC_BITS, run_fixed
-from codegen.improved_r_rule.reference import RuleInputs, reference_points
+from codegen.core.module import build_core, twin_module
+from codegen.methods.improved_r.accuracy import point_bound
+from codegen.methods.improved_r.constants import rule_constants
+from codegen.methods.improved_r.design import RuleDesign, design_grid, design_rule
+from codegen.methods.improved_r.fixed import THETA_FRAC_BITS
+from codegen.methods.improved_r.reference import RuleInputs, reference_points
 from codegen.spec_loader import load_spec
 
 RANDOM_POINTS = 400
@@ -35,7 +34,8 @@ class ErrorStats:
     bound_ratio_max: float  # time bound / max(target, t_half), unflagged
 
 
-def error_stats(design: RuleDesign, braking_codes: int, seed: int = 1) -> ErrorStats:
+def error_stats(design: RuleDesign, braking_codes: int, twin: object, seed: int = 1) -> ErrorStats:
+    """The printed rule (the twin of the C) against the reference over the grid."""
     rule = design.rule
     c = rule.constants
     rng = random.Random(seed)
@@ -51,9 +51,11 @@ def error_stats(design: RuleDesign, braking_codes: int, seed: int = 1) -> ErrorS
     ticks = conditioned = counts = ticks_all = counts_all = ratio = 0.0
     unflagged = 0
     for inputs, ref in zip(grid, reference_points(c, grid), strict=True):
-        out = run_fixed(rule, inputs).outputs
+        out = twin.commutation_timing(
+            twin.bus_condition(inputs.bus_code), inputs.period_ticks, inputs.current_code, 0
+        )  # type: ignore[attr-defined]
         dt = abs(out.commutation_ticks - min(ref.ticks_exact, inputs.period_ticks))
-        dc = max(abs(out.on_counts - ref.on_exact), abs(out.off_counts - ref.off_exact))
+        dc = max(abs(out.turn_on_compare - ref.on_exact), abs(out.turn_off_compare - ref.off_exact))
         ticks_all, counts_all = max(ticks_all, dt), max(counts_all, dc)
         if ref.outputs.flags:
             continue
@@ -70,12 +72,13 @@ def error_stats(design: RuleDesign, braking_codes: int, seed: int = 1) -> ErrorS
 
 def summary_lines(spec_path: str) -> list[str]:
     spec = load_spec(spec_path)
-    sc = scaling(spec, derive())
+    core = build_core(spec)
+    sc = core.scaling
     c = rule_constants(spec, sc)
-    design = design_rule(c, sc.current_code_max)
+    design = design_rule(c, sc.current_code_max, core.limits)
     r = design.rule
     t = r.table
-    stats = error_stats(design, sc.current_code_max)
+    stats = error_stats(design, sc.current_code_max, twin_module(core))
     lines = [
         f"# improved_r design: {spec.name}",
         "",
@@ -133,7 +136,7 @@ def summary_lines(spec_path: str) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else argv
     if len(args) != 1:
-        print("usage: python -m codegen.improved_r_rule SPEC.yaml", file=sys.stderr)
+        print("usage: python -m codegen.methods.improved_r SPEC.yaml", file=sys.stderr)
         return 2
     print("\n".join(summary_lines(args[0])))
     return 0

@@ -1,7 +1,6 @@
-"""The integer rule in Python integers: the operations the generated improved_r core does.
+"""The integer rule's formats and constants (the arithmetic itself is the IR, `ir.py`).
 
-The design and its proofs run on it; tests check that the generated C (and its twin)
-agree with it bit for bit. Formats (Qf: value = integer / 2^f; all shifts of
+Formats (Qf: value = integer / 2^f; all shifts of
 non-negative values unless noted):
 
   bus rate, B clamped to [B_lo, B_hi]:
@@ -39,16 +38,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from codegen.improved_r_rule.constants import RuleConstants
-from codegen.improved_r_rule.reference import (
-    FLAG_ABOVE_BUS,
-    FLAG_CANNOT_HOLD,
-    FLAG_NOT_FINISHED,
-    RuleInputs,
-    RuleOutputs,
-    clamp_inputs,
-)
-from codegen.improved_r_rule.table import PsiTable, lookup
+from codegen.methods.improved_r.constants import RuleConstants
+from codegen.methods.improved_r.table import PsiTable
 
 UNIT_FRAC_BITS_MAX = 30
 #: The ramp weight's fraction bits (theta/2 < 1/2): its rounding moves S1 by X 2^-ft.
@@ -68,13 +59,6 @@ class LongDivision:
 def long_division(numerator: int) -> LongDivision:
     shift = max(0, numerator.bit_length() - 32)
     return LongDivision(numerator, shift, numerator >> shift, numerator & ((1 << shift) - 1))
-
-
-def divide_long(ld: LongDivision, divisor: int) -> int:
-    """round(N / divisor) as the C does it: q_hi = high / B, then (r_hi 2^shift + low)/B."""
-    q_high, r_high = divmod(ld.high, divisor)
-    remainder = (r_high << ld.shift) | ld.low
-    return (q_high << ld.shift) + (remainder + (divisor >> 1)) // divisor
 
 
 @dataclass(frozen=True)
@@ -106,115 +90,6 @@ class FixedRule:
     def unit_frac_bits(self) -> int:
         """fu: e^{-y}, x psi1 and x^2 psi2 in Q fu."""
         return min(self.steps + 16, UNIT_FRAC_BITS_MAX)
-
-
-@dataclass(frozen=True)
-class EdgeState:
-    """Per-edge quantities (all Q fc except rho)."""
-
-    x: int
-    y: int
-    a: int
-    rho: int
-    s0: int
-    s1: int
-
-
-@dataclass(frozen=True)
-class FixedResult:
-    outputs: RuleOutputs
-    state: EdgeState
-    fraction_q: int  # x_c in Q(K + 1)
-    total_q: int  # S(x_c) in Q fc
-
-
-def _round_shift(value: int, shift: int) -> int:
-    """round(value / 2^shift), halves up (add half, arithmetic shift); shift <= 0: exact."""
-    return (value + (1 << (shift - 1))) >> shift if shift > 0 else value << -shift
-
-
-def edge_state(rule: FixedRule, period: int, bus: int, current: int) -> EdgeState:
-    fc = rule.counts_frac_bits
-    xn = divide_long(rule.n_x, bus)
-    yn = divide_long(rule.n_y, bus)
-    x = (xn + (period >> 1)) // period
-    y = _round_shift(yn * current, rule.y_guard_bits)
-    a = _round_shift(x * (rule.kappa_q * current), rule.kappa_frac_bits)
-    rho = rule.k_rho_q * period
-    s0 = (2 * rule.constants.period_counts << fc) + y - x
-    s1 = _round_shift(x * rule.theta_half_q, THETA_FRAC_BITS)
-    return EdgeState(x, y, a, rho, s0, s1)
-
-
-def duty_sum(rule: FixedRule, st: EdgeState, x_q: int, frac_bits: int) -> int:
-    return st.s0 + _round_shift(st.s1 * x_q, frac_bits)
-
-
-@dataclass(frozen=True)
-class LoopTerms:
-    """One evaluation of the bisection's test, every intermediate (for the range tests)."""
-
-    y: int
-    psi1: int
-    psi2: int
-    e: int
-    u1: int
-    v2: int
-    total: int
-    f2: int
-    twice_g: int
-
-
-def loop_terms(rule: FixedRule, st: EdgeState, x_q: int) -> LoopTerms:
-    """2 g(x) in Q(fc + fu), the sign the bisection tests, and what it is made of."""
-    k, fu = rule.steps, rule.unit_frac_bits
-    y_q = (st.rho * x_q) >> rule.y_shift
-    psi1, psi2 = lookup(rule.table, y_q)
-    e = max((1 << fu) - _round_shift(y_q * psi1, rule.table.y_frac_bits + 16 - fu), 0)
-    u1 = _round_shift(x_q * psi1, k + 16 - fu)
-    v2 = _round_shift(x_q * (x_q * psi2), 2 * k + 16 - fu)
-    total = duty_sum(rule, st, x_q, k)
-    pq = rule.period_q
-    on = min(max(total, 0), pq)
-    off = min(max(total - pq, 0), pq)
-    f2 = 4 * off - 2 * on - 2 * pq + st.x
-    g2 = 2 * st.a * e + f2 * u1 - st.x * v2
-    return LoopTerms(y_q, psi1, psi2, e, u1, v2, total, f2, g2)
-
-
-def twice_g(rule: FixedRule, st: EdgeState, x_q: int) -> int:
-    return loop_terms(rule, st, x_q).twice_g
-
-
-def run_fixed(rule: FixedRule, inputs: RuleInputs) -> FixedResult:
-    c = rule.constants
-    clamped = clamp_inputs(c, inputs)
-    st = edge_state(rule, clamped.period, clamped.bus, clamped.current)
-    k = rule.steps
-    lo, hi = 0, 1 << k
-    for _ in range(k):
-        mid = (lo + hi) >> 1
-        if twice_g(rule, st, mid) > 0:
-            lo = mid
-        else:
-            hi = mid
-    flags = clamped.flags
-    fraction = lo + hi  # Q(K + 1): the middle of the last bracket
-    if hi == 1 << k and twice_g(rule, st, hi) > 0:
-        fraction = 1 << (k + 1)
-        flags |= FLAG_NOT_FINISHED
-    total = duty_sum(rule, st, fraction, k + 1)
-    pq = rule.period_q
-    if total > 2 * pq:
-        flags |= FLAG_CANNOT_HOLD
-    if total < 0:
-        flags |= FLAG_ABOVE_BUS
-    fc = rule.counts_frac_bits
-    on = _round_shift(min(max(total, 0), pq), fc)
-    off = _round_shift(min(max(total - pq, 0), pq), fc)
-    ticks = _round_shift(fraction * clamped.period, k + 1)
-    outputs = RuleOutputs(on, off, min(ticks, inputs.period_ticks), flags)
-    return FixedResult(outputs, st, fraction, total)
 
 
 def _round(value: sp.Expr) -> int:

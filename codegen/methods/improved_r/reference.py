@@ -29,7 +29,7 @@ import numpy.typing as npt
 import sympy as sp
 
 from codegen.derivation.constant_pair import psi1, psi2, y
-from codegen.improved_r_rule.constants import RuleConstants
+from codegen.methods.improved_r.constants import RuleConstants
 
 FLAG_SPEED_CLAMPED = 0x01  # T outside the spec's speed range: the rule used the nearest end
 FLAG_BUS_CLAMPED = 0x02  # B outside the spec's bus range
@@ -67,7 +67,7 @@ class RuleOutputs:
 class Clamped:
     period: int
     bus: int
-    current: int  # offset removed, >= 0
+    current: float  # offset removed, >= 0, in 1/m codes
     flags: int
 
 
@@ -94,7 +94,7 @@ class ReferenceBatch:
 
     period: IntArray  # T after clamping
     bus: IntArray
-    current: IntArray  # offset removed, clamped
+    current: FloatArray  # offset removed, clamped, 1/m codes
     fraction: FloatArray
     total: FloatArray  # Sigma(x_c), counts
     on_exact: FloatArray
@@ -134,7 +134,8 @@ def clamp_inputs(c: RuleConstants, inputs: RuleInputs) -> Clamped:
     bus = min(max(inputs.bus_code, c.bus_low), c.bus_high)
     if bus != inputs.bus_code:
         flags |= FLAG_BUS_CLAMPED
-    current = min(max(inputs.current_code - c.current_offset, 0), c.current_high)
+    exact = c.current.scale * (min(inputs.current_code, c.adc_max) - c.current.offset_exact)
+    current = min(max(float(exact), 0.0), float(c.current_high))
     return Clamped(period, bus, current, flags)
 
 
@@ -187,7 +188,8 @@ def reference_batch(
     )
     t = np.clip(t_in, c.period_low, c.period_high)
     b = np.clip(b_in, c.bus_low, c.bus_high)
-    i = np.clip(c_in - c.current_offset, 0, c.current_high)
+    m, offset = c.current.scale, float(c.current.offset_exact)
+    i = np.clip(m * (np.minimum(c_in, c.adc_max) - offset), 0.0, float(c.current_high))
     flags = np.where(t != t_in, FLAG_SPEED_CLAMPED, 0) | np.where(b != b_in, FLAG_BUS_CLAMPED, 0)
     p = c.period_counts
     x_counts = float(c.k_x) / (t.astype(np.float64) * b)

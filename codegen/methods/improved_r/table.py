@@ -144,3 +144,21 @@ def error_at(table: PsiTable, y_value: float) -> tuple[float, float]:
     rounding = 1.0 / ONE_Q16
     m1, m2 = bounds[segment]
     return h * h / 8 * m1 + rounding, h * h / 8 * m2 + rounding
+
+
+def interpolation_product_max(table: PsiTable) -> int:
+    """Largest (c[k+1] - c[k]) r + 2^(sh-1) of any y the table covers (exact).
+
+    Entry k lies in segment j = k // 2^n, whose fraction has sh = fy - n + max(j-1, 0)
+    bits (see `locate`). The design keeps it in uint32 when it picks fy; the IR proof
+    checks the printed arithmetic itself."""
+    worst = 0
+    per = 1 << table.segment_bits
+    for k in range(table.entries - 1):
+        shift = table.y_frac_bits - table.segment_bits + max(k // per - 1, 0)
+        diff = max(
+            table.complement1[k + 1] - table.complement1[k],
+            table.complement2[k + 1] - table.complement2[k],
+        )
+        worst = max(worst, diff * ((1 << shift) - 1) + (1 << (shift - 1)))
+    return worst

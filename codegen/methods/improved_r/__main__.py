@@ -1,0 +1,5 @@
+import sys
+
+from codegen.methods.improved_r.summary import main
+
+sys.exit(main())

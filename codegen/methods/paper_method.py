@@ -1,0 +1,252 @@
+"""Formats, proof and claimed bounds of the paper's methods (none, conventional, improved).
+
+The search: the most fraction bits f of X (precision costs nothing at run time, a
+shift count) for which the interval proof of the printed IR succeeds; at that f, the
+current scale m (`core.conditioning.current_formats`) with the widest region where the
+commutation time meets the spec's target. The bounds come from the IR's error analysis
+(`codegen.ir.errors`) of the very functions that are printed:
+
+* duties: the error of C_on and C_off against Eq. 16/18 at the exact X;
+* commutation time, against Eq. 20 at the emitted duties: with the relative errors of
+  the time numerator (eps_g) and of W_q (eps_w = e(X_q) / (W 2^f)) and the offset's
+  residue e_off (codes x m),
+
+      |t - t*| <= 1/2 + T_cap (eps_g + eps_w) / (1 - eps_w)
+                 + tn_max (1 + eps_g) e_off / (W 2^f (1 - eps_w)),
+
+  for t* <= T_cap (beyond, both saturate at the sector). It falls as W grows; the design
+  states W_ok, the smallest W (counts) where it meets the spec's target. Below W_ok
+  Eq. 20 is ill-conditioned (the top-speed limit, where W -> 0) and the spec's declared
+  relaxation applies (checked by the verifier, not claimed here).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+from codegen.core.conditioning import CoreLimits, CurrentFormat, current_formats
+from codegen.fixedpoint.scaling import Scaling
+from codegen.ir.errors import ErrorAnalysisError, walk_errors
+from codegen.ir.intervals import Interval, ProofError, Prover, new_prover, prove_function
+from codegen.ir.nodes import Function, IConst
+from codegen.ir.types import U32
+from codegen.methods.base import Claims, CoreDesign, FixedPointError
+from codegen.methods.paper_core import (
+    BUS,
+    DutyRule,
+    PaperConstants,
+    PaperFormats,
+    bus_condition_function,
+    paper_numerators,
+    timing_function,
+)
+from codegen.spec_model import Spec
+
+MAX_FRACTION_BITS = 12
+
+
+def _fraction(value: object) -> Fraction:
+    import sympy as sp
+
+    r = sp.Rational(value)
+    return Fraction(int(r.p), int(r.q))
+
+
+def round_up(value: Fraction, places: int = 3) -> float:
+    """A bound printed for people: rounded up, never down."""
+    scale = 10**places
+    return float(-(-value * scale // 1) / scale)
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    formats: PaperFormats
+    prover: Prover
+    bus_fields: dict[str, Interval]
+    duty_error: Fraction
+    x_q_error: Fraction
+    time_numerator_error: Fraction
+
+
+class PaperMethod:
+    def __init__(self, rule: DutyRule) -> None:
+        self.rule = rule
+        self.name = rule.method
+        self.uses_main_duty = rule.uses_main_duty
+
+    def _prove(self, limits: CoreLimits, c: PaperConstants, fmt: PaperFormats) -> _Candidate:
+        bus_fn = bus_condition_function(limits, c, fmt)
+        timing = timing_function(limits, c, fmt, self.rule)
+        prover = new_prover((bus_fn, timing))
+        bus = prove_function(prover, bus_fn)
+        fields = {f"bus.{k}": v for k, v in bus.struct_returns.items()}
+        prove_function(prover, timing, fields)
+        return self._errors(prover, timing, limits, c, fmt, fields)
+
+    def _errors(
+        self,
+        prover: Prover,
+        timing: Function,
+        limits: CoreLimits,
+        c: PaperConstants,
+        fmt: PaperFormats,
+        fields: dict[str, Interval],
+    ) -> _Candidate:
+        """Errors of X_q, the duties and the time numerator from the printed IR."""
+        n_x, n_g, _ = paper_numerators(c, fmt)
+        bus_range = Interval(limits.bus_min.value, limits.bus_max.value)
+        from codegen.ir.errors import error
+        from codegen.ir.nodes import ILongDiv, var
+
+        code = var("code", U32)
+        env = {"code": bus_range}
+        e_xn = error(prover, ILongDiv(U32, n_x, code), env, {})
+        e_tn = error(prover, ILongDiv(U32, n_g, code), env, {})
+        inputs = {
+            "period_ticks": Interval(limits.period_min.value, limits.period_cap.value),
+            "current_adc": Interval(0, limits.adc_max.value),
+            "main_duty_counts": Interval(0, limits.period_counts.value),
+            **fields,
+            "bus.period_min": Interval(limits.period_min.value, limits.period_min.value),
+        }
+        errs = {"bus.x_numerator": e_xn, "bus.time_numerator": e_tn}
+        body = tuple(s for s in timing.body)
+        try:
+            out = walk_errors(prover, body, dict(inputs), errs)
+        except ErrorAnalysisError as exc:
+            raise FixedPointError(f"error analysis of {timing.c_name}: {exc}") from None
+        duty = max(out.get("on", Fraction(10**9)), out.get("off", Fraction(10**9)))
+        return _Candidate(fmt, prover, fields, duty, out["x_q"], e_tn)
+
+    def _time_bound(self, sc: Scaling, cand: _Candidate, w_counts: Fraction) -> Fraction:
+        scale = 1 << cand.formats.x_frac_bits
+        tn = cand.bus_fields["bus.time_numerator"]
+        eps_g = cand.time_numerator_error / max(tn.lo, 1)
+        eps_w = cand.x_q_error / (w_counts * scale)
+        if eps_w >= 1:
+            return Fraction(10**9)
+        e_off = cand.formats.current.offset_q.error
+        cap = sc.period_cap_ticks
+        return (
+            Fraction(1, 2)
+            + cap * (eps_g + eps_w) / (1 - eps_w)
+            + tn.hi * (1 + eps_g) * e_off / (w_counts * scale * (1 - eps_w))
+        )
+
+    def _w_ok(self, sc: Scaling, cand: _Candidate, target: Fraction) -> Fraction | None:
+        hi = Fraction(4 * sc.period_counts)
+        if self._time_bound(sc, cand, hi) > target:
+            return None
+        lo = Fraction(1, 2**20)
+        for _ in range(40):
+            mid = (lo + hi) / 2
+            lo, hi = (mid, hi) if self._time_bound(sc, cand, mid) > target else (lo, mid)
+        return Fraction(-(-hi * 1000 // 1), 1000)
+
+    def design(self, spec: Spec, sc: Scaling, limits: CoreLimits) -> CoreDesign:
+        c = PaperConstants(_fraction(sc.k_x), _fraction(sc.k_g), sc.period_counts)
+        duty_target = _fraction(spec.accuracy.duty_counts)
+        time_target = _fraction(spec.accuracy.commutation_time_ticks)
+        reasons: list[str] = []
+        for f in range(MAX_FRACTION_BITS, -1, -1):
+            best: tuple[Fraction, _Candidate] | None = None
+            for current in current_formats(sc):
+                fmt = PaperFormats(f, current)
+                try:
+                    cand = self._prove(limits, c, fmt)
+                except ProofError as exc:
+                    reasons.append(f"Q{f}, current x{current.scale}: {exc}")
+                    continue
+                w_ok = self._w_ok(sc, cand, time_target)
+                if w_ok is None:
+                    continue
+                key = w_ok
+                if best is None or key < best[0]:
+                    best = (key, cand)
+            if best is None:
+                continue
+            w_ok, cand = best
+            if cand.duty_error > duty_target:
+                raise FixedPointError(
+                    f"the best format, Q{f}, gives a duty error of {float(cand.duty_error):.3f} counts, "
+                    f"above accuracy.duty_counts = {float(duty_target)}",
+                    "accuracy.duty_counts",
+                )
+            return self._finish(spec, sc, limits, c, cand, w_ok)
+        detail = "; ".join(reversed(reasons[-3:])) if reasons else "the time target is out of reach"
+        raise FixedPointError(
+            f"no format from Q0 to Q{MAX_FRACTION_BITS} is both safe and accurate enough for "
+            f"accuracy.commutation_time_ticks = {float(time_target)}: {detail}",
+            "accuracy.commutation_time_ticks",
+        )
+
+    def _finish(
+        self,
+        spec: Spec,
+        sc: Scaling,
+        limits: CoreLimits,
+        c: PaperConstants,
+        cand: _Candidate,
+        w_ok: Fraction,
+    ) -> CoreDesign:
+        fmt = cand.formats
+        f = fmt.x_frac_bits
+        time_bound = self._time_bound(sc, cand, w_ok)
+        n_x, n_g, tb = paper_numerators(c, fmt)
+        current: CurrentFormat = fmt.current
+        offset_note = (
+            "exact"
+            if current.is_exact
+            else f"within {float(current.offset_q.error / current.scale):.2g} code"
+        )
+        doc = (
+            f'Method "{self.name}".',
+            *self.rule.doc,
+            "",
+            "Formats (codegen/methods/paper_method.py chose them; the IR proof checked them):",
+            f"  X = P 4E/U_d = K_X / (T B), K_X = {float(c.k_x):.6e} counts ticks codes (Eqs. 3, 9)",
+            f"  per bus code B: x_numerator = round(N_X / B), N_X = {n_x.value};",
+            f"    time_numerator = round(N_G / B), N_G = {n_g.value}, K_G = {float(c.k_g):.6e}",
+            "    (Eq. 20: t_com f_hall = K_G I_code / (B W));",
+            f"    high_speed_period = ceil(C / B), C = {tb.value}: T < it <=> 4E > U_d (exact)",
+            f"  per speed: X_q = round(x_numerator / T) in Q{f}, X_c = round(X_q / 2^{f});",
+            f"    current i_m = {current.scale} C - {current.offset_q.value} (offset {float(current.offset_exact):.6g} codes, {offset_note});",
+            f"    W_q = (2P + 2 C_on - 4 C_off) 2^{f} - X_q; t_com = round(time_numerator i_m / W_q),",
+            "    saturated to [0, T] (W_q <= 0: the current never reaches zero, t_com = T)",
+            "  rounding is half up everywhere.",
+            f"Claimed bounds (IR error analysis): duties <= {round_up(cand.duty_error)} counts;",
+            f"  t_com <= {round_up(time_bound)} ticks wherever W >= {float(w_ok):g} counts.",
+        )
+        formats: dict[str, int | float | str] = {
+            "x_frac_bits": f,
+            "time_bound_min_w_counts": float(w_ok),
+            "current_scale": current.scale,
+            "current_offset_q": current.offset_q.value,
+            "n_x": n_x.value,
+            "n_g": n_g.value,
+            "high_speed_tb": tb.value,
+        }
+        bus_fn = bus_condition_function(limits, c, fmt)
+        timing = timing_function(limits, c, fmt, self.rule)
+        return CoreDesign(
+            method=self.name,
+            uses_main_duty=self.uses_main_duty,
+            bus_struct=BUS,
+            bus_condition=bus_fn,
+            commutation_timing=timing,
+            tables=(),
+            doc=doc,
+            extra_constants=(IConst(U32, f, "BLDC_X_FRAC_BITS", doc="fraction bits of X_q"),),
+            ranges=cand.prover.ranges,
+            claims=Claims(
+                duty_counts=round_up(cand.duty_error),
+                time_ticks=round_up(time_bound),
+                time_region=f"W >= {float(w_ok):g} counts",
+            ),
+            formats=formats,
+            summary=(
+                f"X in Q{f}, current x{current.scale} ({offset_note}); bounds: duties "
+                f"{round_up(cand.duty_error)} counts, t_com {round_up(time_bound)} ticks where W >= {float(w_ok):g} counts"
+            ),
+        )

@@ -1,0 +1,114 @@
+"""Spec quantities <-> the integers the firmware sees, written independently of codegen.
+
+Every conversion is one line of physics, in exact rationals:
+
+  Hall ticks -> speed   one Hall interval is 60 electrical degrees, so one electrical
+                        turn is 6 T ticks and n = 60 f_hall / (6 p T) rpm (p pole pairs)
+  bus code -> volts     U_d = B V_ref k_div / 2^bits
+  current code -> amps  I = (C - C0) V_ref / (G 2^bits), C0 = V_off / V_ref 2^bits
+                        (the code of zero current; often not a whole code)
+  TIM1 counts -> duty   D = counts / P, P = f_timer / f_pwm (halved when centre-aligned:
+                        the counter runs up and down)
+
+and every limit is the exact set of codes whose physical value lies in the spec's range.
+Nothing here is imported from the generator: tests compare these with values worked
+out by hand for each example spec.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+from codegen.spec_model import Spec
+
+
+def _ceil(x: Fraction) -> int:
+    return -((-x.numerator) // x.denominator)
+
+
+def _floor(x: Fraction) -> int:
+    return x.numerator // x.denominator
+
+
+@dataclass(frozen=True)
+class Units:
+    pwm_counts: int  # P: TIM1 counts of one PWM period (duty 1)
+    hall_hz: Fraction
+    pole_pairs: int
+    volts_per_code: Fraction
+    amps_per_code: Fraction
+    zero_current_code: Fraction  # C0
+    adc_max: int  # the ADC's full-scale code
+    hall_counter_max: int  # the Hall timer's largest count
+
+    # ------------------------------------------------------------ conversions
+
+    def rpm(self, ticks: int | Fraction) -> Fraction:
+        return 60 * self.hall_hz / (6 * self.pole_pairs * Fraction(ticks))
+
+    def ticks_at(self, rpm: Fraction) -> Fraction:
+        """The exact (fractional) Hall interval at a speed."""
+        return 60 * self.hall_hz / (6 * self.pole_pairs * rpm)
+
+    def volts(self, code: int) -> Fraction:
+        return code * self.volts_per_code
+
+    def amps(self, code: int | Fraction) -> Fraction:
+        return (code - self.zero_current_code) * self.amps_per_code
+
+    def duty(self, counts: int | Fraction) -> Fraction:
+        return Fraction(counts) / self.pwm_counts
+
+    def bus_code(self, volts: Fraction) -> int:
+        """The nearest bus code to a voltage."""
+        return _floor(volts / self.volts_per_code + Fraction(1, 2))
+
+    def current_code(self, amps: Fraction) -> int:
+        """The nearest current code to a current."""
+        return _floor(self.zero_current_code + amps / self.amps_per_code + Fraction(1, 2))
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The codes of the spec's ranges, decided exactly."""
+
+    period_min: int  # shortest Hall interval not above speed_max
+    period_max: int  # longest Hall interval not below speed_min
+    bus_min: int
+    bus_max: int
+    current_low: int  # raw ADC codes of [I_min, I_max]
+    current_high: int
+
+
+def units(spec: Spec) -> Units:
+    alignment = 2 if spec.inverter.pwm_alignment == "center" else 1
+    p = spec.inverter.timer_clock_hz / (spec.inverter.pwm_frequency_hz * alignment)
+    if p.denominator != 1:
+        raise ValueError(f"the PWM period is not a whole number of timer counts: {p}")
+    full = 2**spec.adc.bits
+    return Units(
+        pwm_counts=int(p),
+        hall_hz=Fraction(spec.hall.timer_clock_hz),
+        pole_pairs=spec.motor.poles // 2,
+        volts_per_code=spec.adc.reference_v * spec.adc.bus_voltage_divider / full,
+        amps_per_code=spec.adc.reference_v / (spec.adc.current_gain_v_per_a * full),
+        zero_current_code=spec.adc.current_offset_v / spec.adc.reference_v * full,
+        adc_max=full - 1,
+        hall_counter_max=2**spec.hall.counter_bits - 1,
+    )
+
+
+def limits(spec: Spec, u: Units) -> Limits:
+    c = spec.controller
+    inv = spec.inverter
+    return Limits(
+        period_min=_ceil(u.ticks_at(c.speed_max_rpm)),
+        period_max=_floor(u.ticks_at(c.speed_min_rpm)),
+        bus_min=_ceil(inv.bus_voltage_min_v / u.volts_per_code),
+        bus_max=_floor(inv.bus_voltage_max_v / u.volts_per_code),
+        current_low=max(_ceil(u.zero_current_code + c.braking_current_min_a / u.amps_per_code), 0),
+        current_high=min(
+            _floor(u.zero_current_code + c.braking_current_max_a / u.amps_per_code), u.adc_max
+        ),
+    )
