@@ -14,10 +14,7 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen.audit.latex_cache import shared_cache
-from codegen.audit.report import render_report
-from codegen.audit.run import AuditResult, run_audit
-from codegen.audit.transcription import load_transcription
+from codegen.audit.motor_report import render_derivation
 from codegen.core_context import core_context, float_model_context
 from codegen.derivation import derive
 from codegen.firmware import render_firmware_files
@@ -42,7 +39,6 @@ CORE_FILES = {
 class Generated:
     spec: Spec
     design: FixedPointDesign
-    audit: AuditResult
     files: dict[str, str]
 
 
@@ -59,9 +55,8 @@ def render_all(spec_path: str | Path) -> Generated:
     spec = load_spec(spec_path)
     derivation = derive()
     fx = fixed_point_design(spec)
-    transcription = load_transcription()
-    audit = run_audit(transcription, derivation)
-    files: dict[str, str] = {"AUDIT.md": render_report(audit, derivation, transcription, spec)}
+    # The paper's audit is one report for every motor (`audit`, generated/paper/).
+    files: dict[str, str] = {"DERIVATION.md": render_derivation(derivation, spec)}
     context = core_context(spec, derivation, fx)
     for out, template in CORE_FILES.items():
         files[out] = render(
@@ -89,8 +84,7 @@ def render_all(spec_path: str | Path) -> Generated:
         },
     }
     files["manifest.json"] = json.dumps(manifest, indent=2) + "\n"
-    shared_cache().save()
-    return Generated(spec, fx, audit, files)
+    return Generated(spec, fx, files)
 
 
 def write_tree(files: dict[str, str], target: Path) -> None:
