@@ -271,3 +271,18 @@ def test_html_should_be_self_contained(rendered: dict[str, str]) -> None:
 def test_markdown_should_have_no_giant_cells(rendered: dict[str, str]) -> None:
     findings = rendered["AUDIT.md"].split("## Findings")[1].split("## Equations")[0]
     assert max(len(line) for line in findings.splitlines()) < 700
+
+
+def test_dimensions_should_name_the_terms_that_do_not_fit() -> None:
+    from codegen.audit.dimensions import check_dimensions, dimension_of
+    from codegen.derivation import symbols as s
+
+    assert dimension_of(s.E / s.L) == "A/s"
+    assert dimension_of(s.k_e * s.n) == "V"
+    assert dimension_of(s.I * s.L / s.E) == "s"
+    assert dimension_of(s.E * s.I / s.omega_m) == "N m"
+    assert check_dimensions((s.U_d - 4 * s.E) / (3 * s.L) - s.R * s.i_a / s.L) is None
+    clash = check_dimensions((s.U_d - 4 * s.E) / (3 * s.L) - s.R * s.i_a)
+    assert clash is not None
+    assert ("- R i_{a}", "V") in clash.terms
+    assert {dim for _, dim in clash.terms} == {"V", "A/s"}
