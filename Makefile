@@ -49,9 +49,10 @@ derive: setup
 audit: setup
 	$(PY) -m codegen audit
 
-# The README's picture of the HTML audit, taken in headless Chromium.
+# The README's pictures of the HTML audit, taken in headless Chromium.
 audit-screenshot: setup
 	$(PY) -m codegen.audit.browser generated/paper/AUDIT.html docs/audit.png
+	$(PY) -m codegen.audit.browser generated/paper/AUDIT.html docs/audit_equation.png eq-4
 
 generate: setup
 	$(PY) -m codegen generate $(SPEC)

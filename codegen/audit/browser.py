@@ -6,7 +6,7 @@ bytes on file descriptors 3 and 4), so it needs no driver, no websocket library 
 network. The flags keep Chromium from reaching out on a closed network, where it would
 otherwise stall, and a fresh profile directory keeps runs independent.
 
-    python -m codegen.audit.browser generated/paper/AUDIT.html docs/audit.png
+    python -m codegen.audit.browser generated/paper/AUDIT.html docs/audit.png [eq-4]
 """
 
 from __future__ import annotations
@@ -230,21 +230,22 @@ class Chromium:
         self.close()
 
 
-def readme_screenshot(page: Path, out: Path) -> Path:
-    """The README's picture: the top of the audit, findings first, the first finding's
-    evidence open."""
+def readme_screenshot(page: Path, out: Path, fragment: str = "") -> Path:
+    """A picture for the README: the top of the audit (findings first, the first
+    finding's evidence open), or the page scrolled to `fragment`."""
     with Chromium(width=1180, height=1000) as browser:
-        browser.open(page)
-        browser.evaluate("document.querySelector('li.finding details').open = true")
+        browser.open(page, fragment)
+        if not fragment:
+            browser.evaluate("document.querySelector('li.finding details').open = true")
         return browser.screenshot(out)
 
 
 def main(argv: list[str]) -> int:
-    if len(argv) != 2:
-        print("usage: python -m codegen.audit.browser PAGE.html OUT.png", file=sys.stderr)
+    if len(argv) not in (2, 3):
+        print("usage: python -m codegen.audit.browser PAGE.html OUT.png [ANCHOR]", file=sys.stderr)
         return 2
     try:
-        out = readme_screenshot(Path(argv[0]), Path(argv[1]))
+        out = readme_screenshot(Path(argv[0]), Path(argv[1]), *argv[2:])
     except BrowserError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1
