@@ -1,5 +1,5 @@
 # Two entry points for a fresh machine (see README):
-#   make        main job on the default spec: set up, derive, generate (C, Python, audit)
+#   make        main job: set up, derive, audit the paper, generate the default spec
 #   make test   every test (sets itself up the same way)
 SHELL := /bin/bash
 .DEFAULT_GOAL := all
@@ -11,16 +11,17 @@ SPEC   ?= spec/paper_motor.yaml
 SPEC_NAME = $(shell sed -n 's/^name: *//p' $(SPEC) | head -n 1)
 
 # Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
-APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm
+# chromium renders the HTML audit in its browser test; fonts-lmodern gives it a math font.
+APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm chromium fonts-lmodern
 # Specs whose output is checked in under generated/: the paper's motor, the same motor
 # with the resistance-aware rule (method improved_r), and a second motor.
 SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_maxon_ec45_flat_48v.yaml
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit generate firmware verify unity simulate test lint format check-generated bench clean
+.PHONY: all setup sysdeps derive audit audit-screenshot generate firmware verify unity simulate test lint format check-generated bench clean
 
-all: setup derive generate
+all: setup derive audit generate
 
 sysdeps:
 	@missing=""; for p in $(APT_PACKAGES); do \
@@ -44,8 +45,14 @@ setup: sysdeps $(VENV)/.installed
 derive: setup
 	$(PY) -m codegen derive $(SPEC)
 
+# The paper's audit, the same for every motor: generated/paper/AUDIT.md and AUDIT.html.
 audit: setup
-	$(PY) -m codegen audit $(SPEC)
+	$(PY) -m codegen audit
+
+# The README's pictures of the HTML audit, taken in headless Chromium.
+audit-screenshot: setup
+	$(PY) -m codegen.audit.browser generated/paper/AUDIT.html docs/audit.png
+	$(PY) -m codegen.audit.browser generated/paper/AUDIT.html docs/audit_equation.png eq-4
 
 generate: setup
 	$(PY) -m codegen generate $(SPEC)
@@ -81,10 +88,15 @@ format: setup
 	$(PY) -m ruff format codegen oracle verify sim tests
 	$(PY) -m ruff check --fix codegen oracle verify sim tests
 
-# Regenerate into a temporary folder and fail with a diff if generated/ is stale.
+# Regenerate into a temporary folder and fail with a diff if generated/ is stale: the
+# paper audit (generated/paper/) and every checked-in spec.
 check-generated: setup
 	@tmp=$$(mktemp -d); trap 'rm -rf "$$tmp"' EXIT; \
 	cp spec/paper_printed.parsed.json "$$tmp/parsed.json"; \
+	$(PY) -m codegen audit -o "$$tmp/paper" >/dev/null || exit 1; \
+	if ! diff -ru generated/paper "$$tmp/paper"; then \
+	  echo "generated/paper is stale: run 'make audit' and commit it"; exit 1; \
+	fi; \
 	for spec in $(SPECS); do \
 	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
 	  $(PY) -m codegen generate $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \

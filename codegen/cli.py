@@ -2,8 +2,11 @@
 
 Commands:
   derive SPEC             print the derived equations and the spec's key numbers
-  audit SPEC [-o DIR]     write the derivation audit, DIR/AUDIT.md (default generated/<name>/)
-  generate SPEC [-o DIR]  write everything: audit, fixed-point C, Python models (atomically)
+  audit [SPEC] [-o DIR]   write the paper audit, AUDIT.md and AUDIT.html (default
+                          generated/paper/); it is the same for every motor. With SPEC,
+                          also that motor's DERIVATION.md (default generated/<name>/)
+  generate SPEC [-o DIR]  write everything for a motor: DERIVATION.md, fixed-point C,
+                          Python models, firmware, tests (atomically)
 
 One process derives once (codegen.derivation.derive is cached) and every command reuses
 that result. Exit status: 0 on success (also when the paper has errors: finding them
@@ -22,7 +25,7 @@ import sympy as sp
 
 from codegen.errors import DerivationError, SpecError
 from codegen.render import PROJECT_ROOT, project_relative, write_atomically
-from codegen.spec_loader import load_spec
+from codegen.spec_loader import PAPER_AUDIT_NAME, load_spec
 
 EXIT_SPEC = 2
 EXIT_DERIVATION = 3
@@ -61,30 +64,41 @@ def cmd_derive(args: argparse.Namespace) -> int:
 
 def cmd_audit(args: argparse.Namespace) -> int:
     from codegen.audit.latex_cache import shared_cache
-    from codegen.audit.report import counts, render_report
+    from codegen.audit.motor_report import render_derivation
+    from codegen.audit.report import counts, render_reports
     from codegen.audit.run import run_audit
     from codegen.audit.transcription import load_transcription
     from codegen.derivation import derive
 
     started = time.perf_counter()
-    spec = load_spec(args.spec)
+    spec = load_spec(args.spec) if args.spec else None  # a bad spec writes nothing
     derivation = derive()
     transcription = load_transcription()
     result = run_audit(transcription, derivation)
-    text = render_report(result, derivation, transcription, spec)
+    files = render_reports(result, transcription)
+    motor = render_derivation(derivation, spec) if spec else ""
     shared_cache().save()
-    out = _output_dir(spec.name, args.output) / "AUDIT.md"
-    write_atomically(out, text)
+    paper_dir = _output_dir(PAPER_AUDIT_NAME, args.output)
+    for name, text in files.items():
+        write_atomically(paper_dir / name, text)
+    if spec:
+        write_atomically(_output_dir(spec.name, args.output) / "DERIVATION.md", motor)
     c = counts(result)
     elapsed = time.perf_counter() - started
+    out = paper_dir / "AUDIT.md"
     print(
         f"audit: {c.rows} equation rows: {c.match} match, {c.notation} match (notation),"
         f" {c.endpoint} end point, {c.mismatch} mismatch"
     )
     print(
         f"audit: {c.findings} findings ({c.errors} errors, {c.inconsistencies} inconsistencies,"
-        f" {c.minor} minor) -> {project_relative(out)} [{elapsed:.2f} s]"
+        f" {c.minor} minor) -> {project_relative(out)}, AUDIT.html [{elapsed:.2f} s]"
     )
+    if spec:
+        print(
+            f"audit: the derivation at {spec.name} ->"
+            f" {project_relative(_output_dir(spec.name, args.output) / 'DERIVATION.md')}"
+        )
     return 0
 
 
@@ -113,11 +127,19 @@ def build_parser() -> argparse.ArgumentParser:
     derive_p = sub.add_parser("derive", help="print the derived equations and key numbers")
     derive_p.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
     derive_p.set_defaults(func=cmd_derive)
-    audit_p = sub.add_parser("audit", help="audit the paper's printed equations")
-    audit_p.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
-    audit_p.add_argument("-o", "--output", help="output folder (default generated/<spec name>)")
+    audit_p = sub.add_parser(
+        "audit", help="audit the paper (the same for every motor); with SPEC, its DERIVATION.md"
+    )
+    audit_p.add_argument(
+        "spec",
+        nargs="?",
+        help="optional motor spec YAML: also write its DERIVATION.md (generated/<spec name>/)",
+    )
+    audit_p.add_argument(
+        "-o", "--output", help="one output folder for everything (default generated/paper/)"
+    )
     audit_p.set_defaults(func=cmd_audit)
-    gen_p = sub.add_parser("generate", help="generate C, Python models and the audit")
+    gen_p = sub.add_parser("generate", help="generate C, Python models and DERIVATION.md")
     gen_p.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
     gen_p.add_argument("-o", "--output", help="output folder (default generated/<spec name>)")
     gen_p.set_defaults(func=cmd_generate)

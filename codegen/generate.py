@@ -14,10 +14,7 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen.audit.latex_cache import shared_cache
-from codegen.audit.report import render_report
-from codegen.audit.run import AuditResult, run_audit
-from codegen.audit.transcription import load_transcription
+from codegen.audit.motor_report import render_derivation
 from codegen.core.float_model import float_model_context
 from codegen.core.module import Core, build_core, core_context, manifest_entry
 from codegen.derivation import derive
@@ -41,16 +38,14 @@ CORE_FILES = {
 class Generated:
     spec: Spec
     core: Core
-    audit: AuditResult
     files: dict[str, str]
 
 
 def render_all(spec_path: str | Path) -> Generated:
     spec = load_spec(spec_path)
     derivation = derive()
-    transcription = load_transcription()
-    audit = run_audit(transcription, derivation)
-    files: dict[str, str] = {"AUDIT.md": render_report(audit, derivation, transcription, spec)}
+    # The paper's audit is one report for every motor (`audit`, generated/paper/).
+    files: dict[str, str] = {"DERIVATION.md": render_derivation(derivation, spec)}
     core = build_core(spec)
     context = core_context(core)
     for out, template in CORE_FILES.items():
@@ -80,8 +75,7 @@ def render_all(spec_path: str | Path) -> Generated:
         },
     }
     files["manifest.json"] = json.dumps(manifest, indent=2) + "\n"
-    shared_cache().save()
-    return Generated(spec, core, audit, files)
+    return Generated(spec, core, files)
 
 
 def write_tree(files: dict[str, str], target: Path) -> None:

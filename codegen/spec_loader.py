@@ -36,6 +36,8 @@ from codegen.spec_model import (
 )
 
 _NAME = re.compile(r"^[a-z][a-z0-9_]{0,63}$")
+#: generated/<this>/ is the paper audit's folder (codegen.audit), never a motor's.
+PAPER_AUDIT_NAME = "paper"
 
 
 class _StrictLoader(yaml.SafeLoader):
@@ -619,6 +621,13 @@ def load_spec(path: str | Path) -> Spec:
     name = data["name"]
     if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise r.error("name", name, "must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}")
+    if name == PAPER_AUDIT_NAME:
+        raise r.error(
+            "name",
+            name,
+            "is reserved: generated/paper/ holds the paper's audit",
+            "any other lower-case identifier",
+        )
     description = data["description"]
     if not isinstance(description, str):
         raise r.error("description", description, "must be a string")

@@ -9,8 +9,9 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from codegen.audit.compare import Verdict
+from codegen.audit.compare import HIGHLIGHT, Verdict
 from codegen.audit.latex_cache import LatexCache, parse_latex_uncached
+from codegen.audit.report import AuditReport, build_report, render_reports
 from codegen.audit.run import AuditResult, run_audit
 from codegen.audit.transcription import Transcription, load_transcription, symbol_mapper
 from codegen.derivation import derive
@@ -199,3 +200,106 @@ def test_transcription_should_be_verbatim(transcription: Transcription) -> None:
             assert _normalise(part.replace("\\\\", "\\")) in paper, claim.quote
     for fig in transcription.figures:
         assert _normalise(fig.caption_text) in paper
+
+
+# --- the report: one data model, two renderings ----------------------------------------
+
+
+@pytest.fixture(scope="module")
+def report(audit: AuditResult, transcription: Transcription) -> AuditReport:
+    return build_report(audit, transcription)
+
+
+@pytest.fixture(scope="module")
+def rendered(audit: AuditResult, transcription: Transcription) -> dict[str, str]:
+    return render_reports(audit, transcription)
+
+
+def test_each_finding_should_be_one_short_line(report: AuditReport) -> None:
+    assert len(report.findings) == 15
+    for finding in report.findings:
+        assert "\n" not in finding.summary
+        assert len(finding.summary) < 260, finding.summary
+
+
+def test_long_findings_should_list_their_evidence_item_by_item(report: AuditReport) -> None:
+    by_where = {f.where: f for f in report.findings}
+    citations = by_where["equation citations"]
+    assert len(citations.evidence) == 20
+    assert {e.anchor for e in citations.evidence} == {
+        f"cite-{n}" for n in range(1, 22) if n != 6
+    }  # the 6th cites (3), Eq. (3)'s own label
+    captions = by_where["figure captions"]
+    assert [e.anchor for e in captions.evidence] == [f"fig-{n}" for n in range(10, 16)]
+    assert all(len(e.text) < 400 for f in report.findings for e in f.evidence)
+
+
+def test_each_finding_should_link_to_what_it_concerns(report: AuditReport) -> None:
+    targets = {f.where: f.target.anchor for f in report.findings}
+    assert targets["Eq. (4)"] == "eq-4"
+    assert targets["Table 4"] == "table4-2500"
+    assert targets["Table 2, D_off, low-speed row"] == "table2-D_off-low"
+    assert targets["figure captions"] == "figures"
+    eq4 = next(f for f in report.findings if f.where == "Eq. (4)")
+    assert [e.anchor for e in eq4.evidence] == ["eq-4-a", "eq-4-b", "eq-4-c"]
+    table4 = next(f for f in report.findings if f.where == "Table 4")
+    assert [c.anchor for c in table4.concerns] == ["eq-18"]
+
+
+def test_printed_and_derived_should_mark_the_terms_that_differ(report: AuditReport) -> None:
+    eq4 = next(eq for eq in report.equations if eq.key == "4")
+    row_c = next(r for r in eq4.rows if r.name == "c")
+    assert f"{{{HIGHLIGHT} - \\frac{{2 E}}{{3 L}}}}" in row_c.printed
+    assert f"{{{HIGHLIGHT} + \\frac{{2 E}}{{3 L}}}}" in row_c.derived
+    assert f"{{{HIGHLIGHT} - R i_{{c}}}}" in row_c.printed
+    assert f"{{{HIGHLIGHT} - \\frac{{R i_{{c}}}}{{L}}}}" in row_c.derived
+    assert row_c.difference  # derived - printed, shown beside them
+    eq18 = next(eq for eq in report.equations if eq.key == "18")
+    low = next(r for r in eq18.rows if r.name == "low_region")
+    assert low.printed.startswith(f"{{{HIGHLIGHT} [}}0")  # the closed end at n = 0
+    assert low.derived.startswith(f"{{{HIGHLIGHT} (}}0")
+    matched = next(eq for eq in report.equations if eq.key == "20")
+    assert all(HIGHLIGHT not in r.printed + r.derived and not r.difference for r in matched.rows)
+
+
+def test_markdown_and_html_should_carry_the_same_findings_and_anchors(
+    report: AuditReport, rendered: dict[str, str]
+) -> None:
+    markdown, page = rendered["AUDIT.md"], rendered["AUDIT.html"]
+    anchors = [f.anchor for f in report.findings] + [eq.anchor for eq in report.equations]
+    anchors += [c.anchor for c in report.citations + report.table4 + report.claims]
+    for anchor in anchors:
+        assert f'<a id="{anchor}"></a>' in markdown, anchor
+        assert f'id="{anchor}"' in page, anchor
+    for finding in report.findings:
+        assert f"({finding.severity}): {finding.summary}." in markdown
+    # The HTML prints the math as MathML, never as TeX.
+    assert "\\frac" not in page and "$" not in page.split("<body>")[1]
+    assert page.count("<math ") > 300
+
+
+def test_html_should_be_self_contained(rendered: dict[str, str]) -> None:
+    page = rendered["AUDIT.html"]
+    assert "<script" not in page and "<link" not in page and "src=" not in page
+    urls = set(re.findall(r"https?://[^\s\"'<>]+", page))
+    assert urls == {"http://www.w3.org/1998/Math/MathML"}  # a namespace, never fetched
+
+
+def test_markdown_should_have_no_giant_cells(rendered: dict[str, str]) -> None:
+    findings = rendered["AUDIT.md"].split("## Findings")[1].split("## Equations")[0]
+    assert max(len(line) for line in findings.splitlines()) < 700
+
+
+def test_dimensions_should_name_the_terms_that_do_not_fit() -> None:
+    from codegen.audit.dimensions import check_dimensions, dimension_of
+    from codegen.derivation import symbols as s
+
+    assert dimension_of(s.E / s.L) == "A/s"
+    assert dimension_of(s.k_e * s.n) == "V"
+    assert dimension_of(s.I * s.L / s.E) == "s"
+    assert dimension_of(s.E * s.I / s.omega_m) == "N m"
+    assert check_dimensions((s.U_d - 4 * s.E) / (3 * s.L) - s.R * s.i_a / s.L) is None
+    clash = check_dimensions((s.U_d - 4 * s.E) / (3 * s.L) - s.R * s.i_a)
+    assert clash is not None
+    assert ("- R i_{a}", "V") in clash.terms
+    assert {dim for _, dim in clash.terms} == {"V", "A/s"}

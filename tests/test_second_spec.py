@@ -95,6 +95,6 @@ def test_every_value_should_cite_the_datasheet_or_an_assumption() -> None:
 
 def test_audit_should_accept_the_second_spec(tmp_path: Path) -> None:
     assert cli.main(["audit", str(SECOND_SPEC), "-o", str(tmp_path)]) == 0
-    report = (tmp_path / "AUDIT.md").read_text(encoding="utf-8")
+    report = (tmp_path / "DERIVATION.md").read_text(encoding="utf-8")
     assert "spec/example_maxon_ec45_flat_48v.yaml" in report.splitlines()[0]
     assert "2905.6 rpm" in report

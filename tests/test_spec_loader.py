@@ -503,6 +503,12 @@ BAD_SPECS = [
         ("must be a lower-case identifier",),
         id="name-with-trailing-newline",
     ),
+    pytest.param(
+        _replace("name: paper_motor", "name: paper"),
+        "name",
+        ("reserved", "generated/paper/ holds the paper's audit", "any other"),
+        id="name-of-the-paper-audit-folder",
+    ),
 ]
 
 

@@ -1,8 +1,10 @@
 """Checks of the paper's tables, numbering and statements against the derivation.
 
 Each check returns `Check` records: what was checked, the paper's words, a verdict
-("consistent", "contradiction" or "minor") and the reason. Numbers use Table 3
-(U_d = 24 V, k_e = 2.36 V/krpm) as the paper does.
+("consistent", "contradiction" or "minor"), the reason, a one-line summary and the
+equations it concerns. Numbers use the paper's own Table 3 motor (U_d = 24 V,
+k_e = 2.36 V/krpm, from the transcription), never a user's spec: the audit is of the
+paper, the same for every motor.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import sympy as sp
 
 from codegen.audit.transcription import Range, Transcription, parse_printed
 from codegen.derivation import symbols as s
+from codegen.derivation.intervals import solve_inequality
 from codegen.derivation.paper import Derivation
 
 CONSISTENT = "consistent"
@@ -29,6 +32,10 @@ class Check:
     quote: str
     verdict: str
     detail: str
+    #: One line for the findings list (math between $...$).
+    summary: str
+    #: Keys of the printed equations the check concerns ("18", "1b").
+    refs: tuple[str, ...]
 
 
 def _table3(tr: Transcription) -> dict[sp.Symbol, sp.Expr]:
@@ -66,9 +73,13 @@ def equation_labels(tr: Transcription) -> list[Check]:
                     f"({label})",
                     CONTRADICTION,
                     f"label ({label}) is printed {count} times: {where}",
+                    f"label ({label}) is printed {count} times",
+                    tuple(eq.key for eq in tr.equations if eq.label == label),
                 )
             )
-    for previous, current in pairwise(labels):
+    ordered = sorted(tr.equations, key=lambda e: e.sequence)
+    for before, after in pairwise(ordered):
+        previous, current = before.label, after.label
         if current < previous:
             out.append(
                 Check(
@@ -77,6 +88,8 @@ def equation_labels(tr: Transcription) -> list[Check]:
                     f"({current})",
                     CONTRADICTION,
                     f"label ({current}) follows ({previous}): out of order",
+                    f"label ({current}) follows ({previous})",
+                    (before.key, after.key),
                 )
             )
     shifted = [eq for eq in tr.equations if eq.sequence - eq.label == 2]
@@ -91,6 +104,8 @@ def equation_labels(tr: Transcription) -> list[Check]:
                 f"from display equation {first} on, every printed label is its position"
                 f" minus 2 ({len(shifted)} equations): the paper has 22 display equations"
                 " but labels them (1)-(20)",
+                f"from display equation {first} on, each label is its position minus 2",
+                (),
             )
         )
     return out
@@ -105,6 +120,7 @@ def citations(tr: Transcription) -> list[Check]:
                 CONSISTENT,
                 f"cites ({cite.cited}), the printed label of Eq. {eq.label}",
             )
+            summary = f"({cite.cited}) is Eq. ({eq.label}), as printed"
         else:
             by_sequence = " = its position in the paper" if cite.cited == eq.sequence else ""
             verdict = CONTRADICTION
@@ -112,8 +128,17 @@ def citations(tr: Transcription) -> list[Check]:
                 f"cites ({cite.cited}) for the equation printed as ({eq.label}), "
                 f"display equation {eq.sequence}{by_sequence}: {eq.title}"
             )
+            summary = f"cites ({cite.cited}) for Eq. ({eq.label}), display equation {eq.sequence}"
         out.append(
-            Check(f"cite-{index + 1}", f"section {cite.section}", cite.quote, verdict, detail)
+            Check(
+                f"cite-{index + 1}",
+                f"section {cite.section}",
+                cite.quote,
+                verdict,
+                detail,
+                summary,
+                (eq.key,),
+            )
         )
     return out
 
@@ -133,12 +158,17 @@ def table2(tr: Transcription, d: Derivation) -> list[Check]:
             speed.right_open,
         )
         problems = []
+        shorts = []
         if not _same_interval(speed, derived_speed[row.region]):
+            shorts.append("speed range differs from Eq. 18")
             problems.append(
                 f"speed range ${sp.latex(speed)}$ differs from Eq. 18's "
                 f"${sp.latex(derived_speed[row.region])}$"
             )
         if not _same_interval(emf, emf_from_speed):
+            shorts.append(
+                f"back-EMF range ${sp.latex(emf)}$ is not the row's speed range times $k_e$"
+            )
             problems.append(
                 f"back-EMF range ${sp.latex(emf)}$ contradicts the row's own speed range"
                 f" (E = k_e n gives ${sp.latex(emf_from_speed)}$)"
@@ -146,6 +176,7 @@ def table2(tr: Transcription, d: Derivation) -> list[Check]:
         duty = parse_printed(row.duty, tr).expr
         derived_duty = rule.row(f"{'on' if row.quantity == 'D_on' else 'off'}_{row.region}")
         if sp.simplify(duty - derived_duty) != 0:
+            shorts.append("duty differs from Eq. 18")
             problems.append(
                 f"duty ${sp.latex(duty)}$ differs from Eq. 18's ${sp.latex(derived_duty)}$"
             )
@@ -158,6 +189,8 @@ def table2(tr: Transcription, d: Derivation) -> list[Check]:
                     quote,
                     CONTRADICTION,
                     "; ".join(problems),
+                    "; ".join(shorts),
+                    ("18",),
                 )
             )
         else:
@@ -168,6 +201,8 @@ def table2(tr: Transcription, d: Derivation) -> list[Check]:
                     quote,
                     CONSISTENT,
                     "speed range, EMF range and duty agree with Eq. 18",
+                    "agrees with Eq. 18",
+                    ("18",),
                 )
             )
     return out
@@ -194,7 +229,17 @@ def table4(tr: Transcription, d: Derivation) -> list[Check]:
             f"{float(boundary):.1f} rpm with Table 3): expected {expected}"
         )
         if ok and both_modulated:
-            out.append(Check(f"table4-{row.speed_rpm}", "Table 4", quote, CONSISTENT, detail))
+            out.append(
+                Check(
+                    f"table4-{row.speed_rpm}",
+                    "Table 4",
+                    quote,
+                    CONSISTENT,
+                    detail,
+                    f"{row.speed_rpm} rpm: the {region}-speed pattern, as Eq. 18 gives",
+                    ("18",),
+                )
+            )
         else:
             observed = (
                 "turn-on phase modulated and turn-off phase switched once"
@@ -208,6 +253,10 @@ def table4(tr: Transcription, d: Derivation) -> list[Check]:
                     quote,
                     CONTRADICTION,
                     f"{detail}; the table shows {observed}, the other segment's pattern",
+                    f"the {row.speed_rpm} rpm row shows the other segment's pattern, though"
+                    f" {row.speed_rpm} rpm is {'below' if region == 'low' else 'above'} the"
+                    f" {float(boundary):.1f} rpm cut-off",
+                    ("18",),
                 )
             )
     return out
@@ -224,6 +273,8 @@ def figures(tr: Transcription) -> list[Check]:
                     fig.caption_text,
                     CONSISTENT,
                     f"text and caption both number it {fig.text}",
+                    f"Fig. {fig.text} is captioned Fig. {fig.caption}",
+                    (),
                 )
             )
         else:
@@ -235,6 +286,8 @@ def figures(tr: Transcription) -> list[Check]:
                     CONTRADICTION,
                     f"the text calls it Fig. {fig.text}; its caption is numbered {fig.caption},"
                     " a number already used by an earlier figure",
+                    f"Fig. {fig.text} is captioned Fig. {fig.caption}",
+                    (),
                 )
             )
     return out
@@ -257,7 +310,7 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
     out = []
     for claim in tr.claims:
         where = f"section {claim.section}"
-        verdict, detail = CONSISTENT, ""
+        verdict, detail, summary, refs = CONSISTENT, "", "", ("18",)
         if claim.kind == "phase_role":
             actual = roles[phase_index[claim.get("phase")]]
             claimed = claim.get("role")
@@ -267,16 +320,25 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f" paper's 60 deg edge (BA to CA) phase {claim.get('phase').upper()} is the"
                 f" {actual.replace('_', '-')} phase"
             )
+            summary = (
+                f"calls $i_{claim.get('phase')}$ the {claimed.replace('_', '-')} phase current;"
+                f" phase {claim.get('phase').upper()} is the {actual.replace('_', '-')} phase"
+            )
+            refs = ("3b",)
         elif claim.kind == "switch_pattern":
             got = (example.modulated_on, example.modulated_off, example.freewheel_diode)
             want = (claim.get("modulated_on"), claim.get("modulated_off"), claim.get("freewheel"))
             verdict = CONSISTENT if got == want else CONTRADICTION
             detail = f"switching table: {example.describe()}"
+            summary = f"{want[0]} modulated, {want[1]} off, return through {want[2]}: " + (
+                "as the derived switching table" if got == want else "not the switching table"
+            )
+            refs = ("3b",)
         elif claim.kind == "faster_phase":
             slopes = d["17"]
             margin = -slopes.row("b") - slopes.row("c")  # |off slope| - |on slope|
             cond = margin > 0 if claim.get("faster") == "turn_off" else margin < 0
-            holds = sp.solve_univariate_inequality(cond, s.E, relational=False)
+            holds = solve_inequality(cond, s.E)
             holds_n = sp.Interval(
                 sp.simplify(holds.start / s.k_e),
                 sp.simplify(holds.end / s.k_e),
@@ -301,6 +363,11 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f"Eq. 17: the {claim.get('faster').replace('_', '-')} phase is faster for n in"
                 f" ${sp.latex(holds_n.intersect(sp.Interval.open(0, sp.oo)))}$"
             )
+            summary = (
+                f"the {claim.get('faster').replace('_', '-')} phase is faster on"
+                f" ${sp.latex(region)}$: {'as' if inside else 'not what'} Eq. (17) gives"
+            )
+            refs = ("17",)
         elif claim.kind == "fail_area":
             condition = parse_printed(
                 claim.get("condition").split(">")[0].split("<")[0].strip(), tr
@@ -316,12 +383,16 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f"{'negative' if below else 'above 1'} exactly when "
                 f"${sp.latex(condition)} {'>' if below else '<'} {2 if below else 1}$"
             )
+            summary = (
+                f"$D_{{off}} {'< 0' if below else '> 1'}$ exactly when"
+                f" ${sp.latex(condition)} {'>' if below else '<'} {2 if below else 1}$"
+                + ("" if ok else ": not what Eq. (16) gives")
+            )
+            refs = ("16",)
         elif claim.kind == "equivalent_conditions":
             first = claim.get("first")
             lhs, rhs = (parse_printed(x.strip(), tr).expr for x in first.split("<"))
-            set_first = sp.solve_univariate_inequality(
-                (lhs < rhs).subs(s.E, s.k_e * s.n), s.n, relational=False
-            )
+            set_first = solve_inequality((lhs < rhs).subs(s.E, s.k_e * s.n), s.n)
             second = claim.get("second")
             bound = parse_printed(second.split("\\leq")[-1].strip(), tr).expr
             set_second = sp.Interval(0, bound)
@@ -335,12 +406,20 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f"${first}$ means $n < {sp.latex(set_first.end)}$ (open), but 'namely' "
                 f"${second}$ includes $n = {sp.latex(bound)}$, where 2E = U_d and braking is lost"
             )
+            summary = (
+                f"'namely ${second}$' includes $n = {sp.latex(bound)}$, where $2E = U_d$"
+                if verdict == MINOR
+                else f"${first}$ is ${second}$"
+            )
         elif claim.kind == "number":
             value = d["18"].row(claim.get("expression")).subs(values)
             verdict = (
                 CONSISTENT if round(float(value)) == int(claim.get("value")) else CONTRADICTION
             )
             detail = f"Eq. 18 with Table 3: U_d/(4 k_e) = {float(value):.2f} rpm"
+            summary = (
+                f"{claim.get('value')} rpm: Eq. (18) with Table 3 gives {float(value):.2f} rpm"
+            )
         elif claim.kind == "region_overlap":
             rule = d["18"]
             at = {**values, s.E: values[s.U_d] / 4}
@@ -351,6 +430,9 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 "both segments claim the cut-off speed, which is harmless: Eq. 18 is continuous"
                 " there (both give D_on = 1, D_off = 0)"
             )
+            summary = (
+                "both segments claim the cut-off speed: harmless, Eq. (18) is continuous there"
+            )
         elif claim.kind == "speed_condition":
             region = _region_at(d, tr, claim.get("speed"))
             four_e = float(4 * values[s.k_e] * claim.get("speed"))
@@ -359,6 +441,7 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f"4 k_e n = {four_e:.2f} V against U_d = {float(values[s.U_d]):g} V: "
                 f"{region}-speed segment"
             )
+            summary = f"{claim.get('speed')} rpm is in the {region}-speed segment"
         elif claim.kind == "conventional_fails":
             n = sp.nsimplify(claim.get("speed"))
             duty = sp.nsimplify(str(claim.get("main_duty")))
@@ -370,6 +453,11 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f"{'outside' if fails else 'inside'} [0, 1] (control fail area), so the"
                 " residual ripple of Fig. 13 is what the equations predict"
             )
+            summary = (
+                f"$D_{{off}} = {float(d_off):.3f}$ at {n} rpm with $D_{{on}} = {float(duty):g}$:"
+                f" {'in' if fails else 'outside'} the control fail area"
+            )
+            refs = ("16",)
         elif claim.kind == "pattern_speed":
             region = _region_at(d, tr, claim.get("speed"))
             verdict = CONSISTENT if region == claim.get("pattern") else CONTRADICTION
@@ -378,14 +466,20 @@ def claims(tr: Transcription, d: Derivation) -> list[Check]:
                 f"{claim.get('pattern')}-speed branch; {claim.get('speed')} rpm is in the "
                 f"{region}-speed segment"
             )
+            summary = (
+                f"says {claim.get('speed')} rpm ({region}-speed segment) for the"
+                f" {claim.get('pattern')}-speed pattern"
+                if verdict == CONTRADICTION
+                else f"{claim.get('speed')} rpm: the {region}-speed pattern, as Eq. (18) gives"
+            )
         else:
             raise ValueError(f"unknown claim kind {claim.kind!r}")
-        out.append(Check(claim.id, where, claim.quote, verdict, detail))
+        out.append(Check(claim.id, where, claim.quote, verdict, detail, summary, refs))
     return out
 
 
 def defects(tr: Transcription) -> list[Check]:
     return [
-        Check(f"defect-{i + 1}", f"section {x.section}", x.quote, CONTRADICTION, x.what)
+        Check(f"defect-{i + 1}", f"section {x.section}", x.quote, CONTRADICTION, x.what, x.what, ())
         for i, x in enumerate(tr.defects)
     ]

@@ -1,34 +1,60 @@
-"""Turn an AuditResult into the Markdown report (templates/AUDIT.md.j2).
+"""The paper audit as a document: one data model, two renderings.
 
-Everything the template needs is printed here into strings; the template only lays
-it out. Math is LaTeX between $...$ / $$...$$, which code hosts render.
+`build_report` turns an `AuditResult` into plain data (strings and numbers, math as
+LaTeX between $...$ or as display LaTeX), and the two templates lay the same data out:
+`audit/AUDIT.md.j2` for code hosts, which render the LaTeX themselves, and
+`audit/AUDIT.html.j2`, a self-contained page whose math is MathML printed here, so it
+renders in a browser with no network and no script.
+
+The printed equations are shown as the paper prints them: their verbatim LaTeX
+(`spec/paper_printed.yaml`), which SymPy cannot parse as a whole (\\begin{cases},
+labels), is converted by latex2mathml; so is the LaTeX SymPy prints for the derived
+side, so both sides go through one converter.
+
+The paper audit depends on no motor: where the paper's statements need numbers it uses
+the paper's own Table 3 motor, transcribed with the equations.
 """
 
 from __future__ import annotations
 
+import hashlib
+import html
+import re
 from dataclasses import dataclass
 
-import sympy as sp
+import jinja2
+from latex2mathml.converter import convert as latex_to_mathml
+from markupsafe import Markup
 
-from codegen.audit.compare import RowResult, Verdict
-from codegen.audit.run import AuditResult, EquationAudit
-from codegen.audit.transcription import Transcription
-from codegen.derivation.figures import SpecFigures, spec_figures
-from codegen.derivation.paper import Derivation
-from codegen.derivation.switching import PHASE_NAMES
-from codegen.render import provenance, render
-from codegen.spec_model import Spec
+from codegen.audit import checks
+from codegen.audit.compare import HIGHLIGHT, RowResult, Verdict
+from codegen.audit.run import AuditResult, EquationAudit, Finding, row_anchor
+from codegen.audit.transcription import DEFAULT_TRANSCRIPTION, Transcription
+from codegen.render import environment, project_relative
 
-TEMPLATE = "AUDIT.md.j2"
+MARKDOWN_TEMPLATE = "audit/AUDIT.md.j2"
+HTML_TEMPLATE = "audit/AUDIT.html.j2"
 
-ICONS = {
-    Verdict.MATCH: "✅ match",
-    Verdict.NOTATION: "✅ match (notation)",
-    Verdict.ENDPOINT: "⚠️ end point differs",
-    Verdict.MISMATCH: "❌ mismatch",
-    Verdict.MODEL: "📘 model",
+VERDICT_TEXT = {
+    Verdict.MATCH: "match",
+    Verdict.NOTATION: "match (notation)",
+    Verdict.ENDPOINT: "end point differs",
+    Verdict.MISMATCH: "mismatch",
+    Verdict.MODEL: "model",
 }
-CHECK_ICONS = {"consistent": "✅", "contradiction": "❌", "minor": "⚠️"}
+VERDICT_ICON = {
+    Verdict.MATCH: "✅",
+    Verdict.NOTATION: "✅",
+    Verdict.ENDPOINT: "⚠️",
+    Verdict.MISMATCH: "❌",
+    Verdict.MODEL: "📘",
+}
+CHECK_ICON = {checks.CONSISTENT: "✅", checks.CONTRADICTION: "❌", checks.MINOR: "⚠️"}
+CHECK_CLASS = {
+    checks.CONSISTENT: "match",
+    checks.CONTRADICTION: "mismatch",
+    checks.MINOR: "endpoint",
+}
 
 
 @dataclass(frozen=True)
@@ -44,138 +70,103 @@ class Counts:
     minor: int
 
 
-def _row_display(row: RowResult, value: sp.Basic, var: str) -> str:
-    """One aligned line of the derived block: `lhs &= rhs`."""
-    if isinstance(value, sp.Equality):
-        return f"{sp.latex(value.lhs)} &= {sp.latex(value.rhs)}"
-    if isinstance(value, sp.Set):
-        return f"{var} &\\in {sp.latex(value)}"
-    if row.lhs == "0":
-        return f"{sp.latex(value)} &= 0"
-    return f"{row.lhs} &= {sp.latex(value)}"
+@dataclass(frozen=True)
+class Link:
+    anchor: str
+    label: str
 
 
-def _derived_block(eq: EquationAudit, derivation: Derivation, tr: Transcription) -> str:
-    if eq.verdict == Verdict.MODEL:
-        return ""
-    result = derivation[eq.key]
-    printed = tr.equation(eq.key)
-    lines = []
-    for row, printed_row in zip(eq.rows, printed.rows, strict=True):
-        var = printed_row.var or "x"
-        lines.append(_row_display(row, result.row(row.name), var))
-    return " \\\\ ".join(lines)
+@dataclass(frozen=True)
+class EvidenceView:
+    label: str
+    text: str
+    anchor: str
 
 
-def _equation_context(
-    eq: EquationAudit, derivation: Derivation, tr: Transcription
-) -> dict[str, object]:
-    return {
-        "label": eq.label,
-        "key": eq.key,
-        "title": eq.title,
-        "section": eq.section,
-        "sequence": eq.sequence,
-        "printed": eq.printed,
-        "derived": _derived_block(eq, derivation, tr),
-        "verdict": ICONS[eq.verdict],
-        "method": eq.derivation_method,
-        "reliance": eq.reliance,
-        "rows": [
-            {
-                "name": row.name or "-",
-                "verdict": ICONS[row.verdict],
-                "method": row.method,
-                "findings": list(row.findings),
-                "notes": list(row.notes),
-            }
-            for row in eq.rows
-        ],
-    }
+@dataclass(frozen=True)
+class FindingView:
+    number: int
+    anchor: str
+    where: str
+    severity: str
+    summary: str
+    evidence: tuple[EvidenceView, ...]
+    relied_on: str
+    #: The equation, table or sentence the finding is about (its heading links here).
+    target: Link
+    #: Further equations it concerns.
+    concerns: tuple[Link, ...]
 
 
-def _fmt(value: sp.Expr, digits: int = 4) -> str:
-    return f"{float(value):.{digits}g}"
+@dataclass(frozen=True)
+class RowView:
+    anchor: str
+    name: str
+    #: What the row states, as LaTeX ("\\frac{di_a}{dt}", "n \\in").
+    quantity: str
+    printed: str
+    derived: str
+    #: derived minus printed, LaTeX; empty when they agree.
+    difference: str
+    verdict: str
+    icon: str
+    css: str
+    method: str
+    findings: tuple[str, ...]
+    notes: tuple[str, ...]
 
 
-def _figures_context(figs: SpecFigures, spec: Spec) -> list[dict[str, str]]:
-    rows = [
-        {
-            "quantity": "segment cut-off $U_d/(4k_e)$",
-            "value": f"{_fmt(figs.boundary_speed_rpm, 5)} rpm",
-            "source": "Eq. 18",
-        },
-        {
-            "quantity": "upper limit $U_d/(2k_e)$",
-            "value": f"{_fmt(figs.upper_speed_rpm, 5)} rpm",
-            "source": "Eqs. 11, 18",
-        },
-    ]
-    for p in figs.points:
-        n = f"{int(p.speed_rpm)} rpm"
-        rows += [
-            {"quantity": f"segment at {n}", "value": p.region, "source": "Eq. 18"},
-            {
-                "quantity": f"improved $D_{{on}}$ at {n}",
-                "value": _fmt(p.improved_on),
-                "source": "Eq. 18",
-            },
-            {
-                "quantity": f"improved $D_{{off}}$ at {n}",
-                "value": _fmt(p.improved_off),
-                "source": "Eq. 18",
-            },
-            {
-                "quantity": f"improved $t_{{com}}$ at {n}, I = {float(spec.controller.braking_current_nominal_a):g} A",
-                "value": f"{float(p.improved_t_com_s) * 1e6:.0f} us of a {float(p.sector_time_s) * 1e6:.0f} us sector",
-                "source": "Eq. 20",
-            },
-            {
-                "quantity": f"conventional $D_{{off}}$ at {n}, $D_{{on}}$ = {float(p.main_duty):g}",
-                "value": _fmt(p.conventional_off)
-                + (" (control fail area)" if p.conventional_fails else ""),
-                "source": "Eq. 16",
-            },
-        ]
-    return rows
+@dataclass(frozen=True)
+class EquationView:
+    anchor: str
+    key: str
+    label: int
+    title: str
+    section: str
+    sequence: int
+    #: The display equation as printed, verbatim LaTeX.
+    printed: str
+    verdict: str
+    icon: str
+    css: str
+    is_model: bool
+    method: str
+    rows: tuple[RowView, ...]
+    reliance: str
+    findings: tuple[Link, ...]
 
 
-def _switching_context(derivation: Derivation, spec: Spec) -> list[dict[str, str]]:
-    table = derivation.switching
-    rows = []
-    for direction in ("forward", "reverse"):
-        sectors = table.sectors(direction)
-        for k in range(6):
-            edge = table.edge_into(k, direction)
-            rows.append(
-                {
-                    "direction": direction,
-                    "hall": f"{spec.hall.sequence[k]} ({spec.hall.sequence[k]:03b})",
-                    "sector": f"{60 * k}-{60 * (k + 1)}",
-                    "pair": sectors[k].pair_name(),
-                    "edge": f"{edge.angle_deg % 360}",
-                    "non_commutating": f"{PHASE_NAMES[edge.non_commutating]} via {edge.freewheel_diode}",
-                    "turn_off": f"{PHASE_NAMES[edge.turn_off]}: {edge.modulated_off} at $D_{{off}}$",
-                    "turn_on": f"{PHASE_NAMES[edge.turn_on]}: {edge.modulated_on} at $D_{{on}}$",
-                    "kind": edge.kind,
-                    "after": f"{edge.modulated_on} at main duty",
-                }
-            )
-    return rows
+@dataclass(frozen=True)
+class CheckView:
+    anchor: str
+    where: str
+    quote: str
+    verdict: str
+    icon: str
+    css: str
+    summary: str
+    detail: str
+    concerns: tuple[Link, ...]
+    findings: tuple[Link, ...]
 
 
-def _checks(group: tuple) -> list[dict[str, str]]:
-    return [
-        {
-            "id": c.id,
-            "where": c.where,
-            "quote": c.quote,
-            "icon": CHECK_ICONS[c.verdict],
-            "verdict": c.verdict,
-            "detail": c.detail,
-        }
-        for c in group
-    ]
+@dataclass(frozen=True)
+class AuditReport:
+    provenance_md: str
+    provenance_html: str
+    paper: str
+    transcription: str
+    table3: str
+    counts: Counts
+    findings: tuple[FindingView, ...]
+    equations: tuple[EquationView, ...]
+    labels: tuple[CheckView, ...]
+    citations: tuple[CheckView, ...]
+    table2: tuple[CheckView, ...]
+    table4: tuple[CheckView, ...]
+    claims: tuple[CheckView, ...]
+    figures: tuple[CheckView, ...]
+    defects: tuple[CheckView, ...]
 
 
 def counts(result: AuditResult) -> Counts:
@@ -193,34 +184,223 @@ def counts(result: AuditResult) -> Counts:
     )
 
 
-def render_report(
-    result: AuditResult, derivation: Derivation, tr: Transcription, spec: Spec
-) -> str:
-    figs = spec_figures(derivation, spec)
-    return render(
-        TEMPLATE,
-        provenance=provenance(f"templates/{TEMPLATE}", spec),
-        paper=tr.paper,
-        spec_name=spec.name,
-        counts=counts(result),
-        findings=[
-            {
-                "n": i + 1,
-                "where": f.where,
-                "severity": f.severity,
-                "what": f.what,
-                "relied_on": f.relied_on,
-            }
-            for i, f in enumerate(result.findings)
-        ],
-        equations=[_equation_context(eq, derivation, tr) for eq in result.equations],
-        labels=_checks(result.labels),
-        citations=_checks(result.citations),
-        table2=_checks(result.table2),
-        table4=_checks(result.table4),
-        claims=_checks(result.claims),
-        figures=_checks(result.figures),
-        defects=_checks(result.defects),
-        spec_figures=_figures_context(figs, spec),
-        switching=_switching_context(derivation, spec),
+def _equation_links(result: AuditResult) -> dict[str, Link]:
+    return {f"eq-{eq.key}": Link(f"eq-{eq.key}", f"Eq. ({eq.label})") for eq in result.equations}
+
+
+def _finding_links(findings: tuple[Finding, ...]) -> dict[str, tuple[Link, ...]]:
+    """Report anchor -> the findings that concern it (back links)."""
+    out: dict[str, list[Link]] = {}
+    for number, finding in enumerate(findings, start=1):
+        link = Link(f"finding-{number}", f"finding {number}")
+        for anchor in (*finding.anchors, *(e.anchor for e in finding.evidence)):
+            if link not in out.setdefault(anchor, []):
+                out[anchor].append(link)
+    return {anchor: tuple(links) for anchor, links in out.items()}
+
+
+def _finding_view(
+    number: int, finding: Finding, eq_links: dict[str, Link], check_where: dict[str, str]
+) -> FindingView:
+    main, *others = finding.anchors
+    label = eq_links[main].label if main in eq_links else check_where.get(main, finding.where)
+    return FindingView(
+        number=number,
+        anchor=f"finding-{number}",
+        where=finding.where,
+        severity=finding.severity,
+        summary=finding.summary,
+        evidence=tuple(
+            EvidenceView(e.label or check_where.get(e.anchor, e.anchor), e.text, e.anchor)
+            for e in finding.evidence
+        ),
+        relied_on=finding.relied_on,
+        target=Link(main, label),
+        concerns=tuple(eq_links[a] for a in others if a in eq_links),
     )
+
+
+def _quantity(row_lhs: str, var: str) -> str:
+    if row_lhs:
+        return row_lhs
+    return f"{var} \\in" if var else ""
+
+
+def _row_view(eq: EquationAudit, row: RowResult, var: str) -> RowView:
+    return RowView(
+        anchor=row_anchor(eq.key, row.name),
+        name=row.name or "-",
+        quantity=_quantity(row.lhs, var),
+        printed=row.printed_display,
+        derived=row.derived_display,
+        difference=row.difference_display,
+        verdict=VERDICT_TEXT[row.verdict],
+        icon=VERDICT_ICON[row.verdict],
+        css=row.verdict.name.lower(),
+        method=row.method,
+        findings=row.findings,
+        notes=row.notes,
+    )
+
+
+def _equation_view(
+    eq: EquationAudit, tr: Transcription, back: dict[str, tuple[Link, ...]]
+) -> EquationView:
+    printed = tr.equation(eq.key)
+    variables = {r.name: r.var for r in printed.rows}
+    return EquationView(
+        anchor=f"eq-{eq.key}",
+        key=eq.key,
+        label=eq.label,
+        title=eq.title,
+        section=eq.section,
+        sequence=eq.sequence,
+        printed=eq.printed,
+        verdict=VERDICT_TEXT[eq.verdict],
+        icon=VERDICT_ICON[eq.verdict],
+        css=eq.verdict.name.lower(),
+        is_model=eq.verdict == Verdict.MODEL,
+        method=eq.derivation_method,
+        rows=tuple(_row_view(eq, row, variables.get(row.name, "")) for row in eq.rows),
+        reliance=eq.reliance,
+        findings=back.get(f"eq-{eq.key}", ()),
+    )
+
+
+def _check_views(
+    group: tuple[checks.Check, ...],
+    eq_links: dict[str, Link],
+    back: dict[str, tuple[Link, ...]],
+) -> tuple[CheckView, ...]:
+    return tuple(
+        CheckView(
+            anchor=c.id,
+            where=c.where,
+            quote=c.quote,
+            verdict=c.verdict,
+            icon=CHECK_ICON[c.verdict],
+            css=CHECK_CLASS[c.verdict],
+            summary=c.summary,
+            detail=c.detail,
+            concerns=tuple(eq_links[f"eq-{key}"] for key in c.refs),
+            findings=back.get(c.id, ()),
+        )
+        for c in group
+    )
+
+
+def _provenance(template: str) -> str:
+    digest = hashlib.sha256(DEFAULT_TRANSCRIPTION.read_bytes()).hexdigest()
+    return (
+        f"Generated from template templates/{template} with"
+        f" {project_relative(DEFAULT_TRANSCRIPTION)} (sha256 {digest}). Do not edit:"
+        " regenerate with `make`."
+    )
+
+
+def build_report(result: AuditResult, tr: Transcription) -> AuditReport:
+    eq_links = _equation_links(result)
+    back = _finding_links(result.findings)
+    all_checks = (
+        result.labels
+        + result.citations
+        + result.table2
+        + result.table4
+        + result.claims
+        + result.figures
+        + result.defects
+    )
+    check_where = {c.id: c.where for c in all_checks} | {
+        "citations": "equation citations",
+        "statements": "statements in the text",
+        "figures": "figure captions",
+    }
+    return AuditReport(
+        provenance_md=_provenance(MARKDOWN_TEMPLATE),
+        provenance_html=_provenance(HTML_TEMPLATE),
+        paper=tr.paper,
+        transcription=project_relative(DEFAULT_TRANSCRIPTION),
+        table3=(
+            f"$U_d$ = {float(tr.table3_voltage):g} V, $k_e$ ="
+            f" {float(tr.table3_ke_per_krpm):g} V/krpm"
+        ),
+        counts=counts(result),
+        findings=tuple(
+            _finding_view(n, f, eq_links, check_where)
+            for n, f in enumerate(result.findings, start=1)
+        ),
+        equations=tuple(_equation_view(eq, tr, back) for eq in result.equations),
+        labels=_check_views(result.labels, eq_links, back),
+        citations=_check_views(result.citations, eq_links, back),
+        table2=_check_views(result.table2, eq_links, back),
+        table4=_check_views(result.table4, eq_links, back),
+        claims=_check_views(result.claims, eq_links, back),
+        figures=_check_views(result.figures, eq_links, back),
+        defects=_check_views(result.defects, eq_links, back),
+    )
+
+
+# --- HTML: text with $...$ math -> escaped HTML with MathML ---------------------------
+
+_INLINE_MATH = re.compile(r"\$([^$]+)\$")
+#: A one-letter symbol with a subscript written as plain text in the paper's words or
+#: ours ("D_{on}", "i_b", "k_e", "D_off"): shown as math rather than as raw TeX.
+_BARE_SUBSCRIPT = re.compile(r"(?<![\w\\/.])([A-Za-z])_(\{[A-Za-z0-9]+\}|[A-Za-z0-9]+)(?!\w)")
+
+
+def _mathml(latex: str, display: bool) -> str:
+    # \color{red} marks a difference (compare.HIGHLIGHT); the page styles it by class.
+    out = latex_to_mathml(latex, display="block" if display else "inline")
+    return out.replace('<mstyle mathcolor="red">', '<mstyle class="diff" mathcolor="red">')
+
+
+def _text_to_html(text: str) -> str:
+    parts = []
+    for index, piece in enumerate(_INLINE_MATH.split(text)):
+        if index % 2:
+            parts.append(_mathml(piece, display=False))
+            continue
+        last = 0
+        for match in _BARE_SUBSCRIPT.finditer(piece):
+            parts.append(html.escape(piece[last : match.start()], quote=False))
+            subscript = match.group(2).strip("{}")
+            parts.append(_mathml(f"{match.group(1)}_{{{subscript}}}", display=False))
+            last = match.end()
+        parts.append(html.escape(piece[last:], quote=False))
+    return "".join(parts)
+
+
+def text_filter(text: object) -> Markup:
+    """Prose with inline $...$ math, as HTML with MathML."""
+    return Markup(_text_to_html(str(text)))
+
+
+def math_filter(latex: object) -> Markup:
+    """LaTeX (no $ delimiters) as inline MathML; empty stays empty."""
+    return Markup(_mathml(str(latex), display=False)) if str(latex) else Markup("")
+
+
+def display_filter(latex: object) -> Markup:
+    """LaTeX as block MathML (a display equation)."""
+    return Markup(_mathml(str(latex), display=True))
+
+
+def _html_environment() -> jinja2.Environment:
+    env = environment()
+    env.autoescape = True
+    env.filters.update(text=text_filter, math=math_filter, display=display_filter)
+    return env
+
+
+def render_markdown(report: AuditReport) -> str:
+    return environment().get_template(MARKDOWN_TEMPLATE).render(report=report, highlight=HIGHLIGHT)
+
+
+def render_html(report: AuditReport) -> str:
+    return _html_environment().get_template(HTML_TEMPLATE).render(report=report)
+
+
+def render_reports(result: AuditResult, tr: Transcription) -> dict[str, str]:
+    """File name -> text of the paper audit: AUDIT.md and AUDIT.html."""
+    report = build_report(result, tr)
+    return {"AUDIT.md": render_markdown(report), "AUDIT.html": render_html(report)}

@@ -30,11 +30,64 @@ class EquationAudit:
 
 
 @dataclass(frozen=True)
+class Evidence:
+    """One item of a finding's evidence: where (a label linked to the report anchor)
+    and what."""
+
+    label: str
+    text: str
+    anchor: str
+
+
+@dataclass(frozen=True)
 class Finding:
     where: str
     severity: str  # "error", "inconsistency", "minor"
-    what: str
+    #: One line: what is wrong, without the evidence (math between $...$).
+    summary: str
+    evidence: tuple[Evidence, ...]
     relied_on: str
+    #: Report anchors of the equations, table rows and sentences it concerns; the first
+    #: is where the finding's heading links.
+    anchors: tuple[str, ...]
+
+    @property
+    def what(self) -> str:
+        """The whole finding as one text: summary and every item of evidence."""
+        items = (f"{e.label}: {e.text}." if e.label else f"{e.text}." for e in self.evidence)
+        return " ".join([f"{self.summary}.", *items])
+
+
+def equation_anchor(key: str) -> str:
+    return f"eq-{key}"
+
+
+def row_anchor(key: str, row: str) -> str:
+    return f"eq-{key}-{row or 'row'}"
+
+
+def _rows_phrase(rows: list[str]) -> str:
+    named = [r for r in rows if r]
+    if not named:
+        return ""
+    return ("row " if len(named) == 1 else "rows ") + ", ".join(named) + ": "
+
+
+def _equation_summary(bad: list[RowResult]) -> str:
+    """Rows with the same fault share one phrase: 'rows a, b, c: dimensionally
+    inconsistent, resistance term lacks the factor 1/L; row c: wrong sign on ...'."""
+    rows_of: dict[str, list[str]] = {}
+    for row in bad:
+        for difference in row.differences:
+            if difference.short:
+                rows_of.setdefault(difference.short, []).append(row.name)
+    groups: list[tuple[tuple[str, ...], list[str]]] = []
+    for short, rows in rows_of.items():
+        if groups and groups[-1][0] == tuple(rows):
+            groups[-1][1].append(short)
+        else:
+            groups.append((tuple(rows), [short]))
+    return "; ".join(_rows_phrase(list(rows)) + ", ".join(shorts) for rows, shorts in groups)
 
 
 @dataclass(frozen=True)
@@ -126,25 +179,47 @@ def _equation_findings(equations: tuple[EquationAudit, ...]) -> list[Finding]:
         if not bad:
             continue
         severity = "error" if any(r.verdict == Verdict.MISMATCH for r in bad) else "minor"
-        what = " ".join(
-            (f"Row {row.name}: " if row.name else "") + "; ".join(row.findings) + "." for row in bad
+        evidence = tuple(
+            Evidence(
+                f"Eq. ({eq.label})" + (f" row {row.name}" if row.name else ""),
+                "; ".join(row.findings),
+                row_anchor(eq.key, row.name),
+            )
+            for row in bad
         )
-        out.append(Finding(f"Eq. ({eq.label})", severity, what, eq.reliance))
+        out.append(
+            Finding(
+                f"Eq. ({eq.label})",
+                severity,
+                _equation_summary(bad),
+                evidence,
+                eq.reliance,
+                (equation_anchor(eq.key),),
+            )
+        )
     return out
 
 
-def _grouped(where: str, group: tuple[checks.Check, ...], summary: str) -> list[Finding]:
-    """Many checks with one cause (e.g. every citation off by two) as one finding."""
+def _refs(check: checks.Check) -> tuple[str, ...]:
+    return tuple(equation_anchor(key) for key in check.refs)
+
+
+def _grouped(
+    where: str, anchor: str, group: tuple[checks.Check, ...], summary: str
+) -> list[Finding]:
+    """Many checks with one cause (e.g. every citation off by two) as one finding whose
+    evidence lists each of them."""
     failed = [c for c in group if c.verdict != checks.CONSISTENT]
     if not failed:
         return []
-    listed = "; ".join(f"{c.where}: {c.detail}" for c in failed)
     return [
         Finding(
             where,
             "inconsistency",
-            f"{summary.format(n=len(failed), total=len(group))} {listed}",
+            summary.format(n=len(failed), total=len(group)),
+            tuple(Evidence(c.where, f"“{c.quote}”: {c.detail}", c.id) for c in failed),
             "",
+            (anchor,),
         )
     ]
 
@@ -155,7 +230,16 @@ def _check_findings(group: tuple[checks.Check, ...]) -> list[Finding]:
         if check.verdict == checks.CONSISTENT:
             continue
         severity = "minor" if check.verdict == checks.MINOR else "inconsistency"
-        out.append(Finding(check.where, severity, f"“{check.quote}”: {check.detail}", ""))
+        out.append(
+            Finding(
+                check.where,
+                severity,
+                check.summary,
+                (Evidence("", f"“{check.quote}”: {check.detail}", check.id),),
+                "",
+                (check.id, *_refs(check)),
+            )
+        )
     return out
 
 
@@ -175,26 +259,28 @@ def run_audit(tr: Transcription, d: Derivation) -> AuditResult:
         + _check_findings(labels)
         + _grouped(
             "equation citations",
+            "citations",
             citations,
-            "{n} of {total} citations in the text do not match the printed label; each cites the"
-            " equation's position in the paper instead, which is the numbering the text uses"
-            " throughout.",
+            "{n} of {total} citations in the text cite the equation's position in the paper,"
+            " not its printed label",
         )
         + _check_findings(table2)
         + _check_findings(table4)
         + _grouped(
             "section 3.1",
+            "statements",
             role_claims,
-            "Cases (1)-(3) swap the turn-on and turn-off labels of i_b and i_c ({n} places), while"
-            " section 3.2 and the cases' own descriptions (i_b falls to zero) use B = turn-off,"
-            " C = turn-on.",
+            "cases (1)-(3) swap the turn-on and turn-off labels of $i_b$ and $i_c$ ({n} places);"
+            " section 3.2 and the cases' own descriptions ($i_b$ falls to zero) use B = turn-off,"
+            " C = turn-on",
         )
         + _check_findings(other_claims)
         + _grouped(
             "figure captions",
+            "figures",
             figures,
             "{n} of {total} figure captions restart the numbering: Figs. 10-15 are captioned"
-            " Fig. 4-9, numbers already used by Figs. 4-9.",
+            " Fig. 4-9, numbers already used by Figs. 4-9",
         )
         + _check_findings(defects)
     )

@@ -1,0 +1,115 @@
+"""Each motor's DERIVATION.md: its own numbers, checked against closed forms typed here
+from the paper (not read from the derivation), and nothing of the paper audit."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from codegen.audit.motor_report import DUTY_GRID, render_derivation
+from codegen.derivation import derive
+from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
+
+ROOT = Path(__file__).resolve().parents[1]
+SPECS = [
+    ROOT / "spec" / "paper_motor.yaml",
+    ROOT / "spec" / "paper_motor_improved_r.yaml",
+    ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
+    *sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml")),
+]
+
+
+def _rpm(value: Fraction) -> str:
+    return f"{float(value):.1f} rpm"
+
+
+def _duty(value: Fraction) -> str:
+    return f"{float(value):.4g}"
+
+
+@pytest.fixture(scope="module", params=SPECS, ids=[p.stem for p in SPECS])
+def motor(request: pytest.FixtureRequest) -> tuple[Spec, str]:
+    spec = load_spec(request.param)
+    return spec, render_derivation(derive(), spec)
+
+
+def test_limits_should_be_the_cut_off_and_upper_limit_at_each_bus_voltage(
+    motor: tuple[Spec, str],
+) -> None:
+    spec, text = motor
+    k_e = spec.motor.back_emf_constant_v_per_rpm
+    inverter = spec.inverter
+    for volts in (
+        inverter.bus_voltage_min_v,
+        inverter.bus_voltage_nominal_v,
+        inverter.bus_voltage_max_v,
+    ):
+        row = f"V | {_rpm(volts / (4 * k_e))} | {_rpm(volts / (2 * k_e))} |"
+        assert row in text, row
+
+
+def test_operating_points_should_carry_the_duties_and_commutation_time(
+    motor: tuple[Spec, str],
+) -> None:
+    spec, text = motor
+    bus = spec.inverter.bus_voltage_nominal_v
+    k_e = spec.motor.back_emf_constant_v_per_rpm
+    current = spec.controller.braking_current_nominal_a
+    inductance = spec.motor.phase_inductance_h
+    for point in spec.operating_points:
+        emf = k_e * point.speed_rpm
+        if point.speed_rpm <= bus / (4 * k_e):  # Eq. 18, low-speed segment
+            segment, on, off = "low", Fraction(1), 1 - 4 * emf / bus
+            t_com = current * inductance / (2 * emf)  # Eq. 20 with those duties
+        else:
+            segment, on, off = "high", 2 - 4 * emf / bus, Fraction(0)
+            t_com = current * inductance / (bus - 2 * emf)
+        conventional = 2 - 4 * emf / bus - point.main_duty  # Eq. 16
+        sector = Fraction(60) / (6 * point.speed_rpm * spec.motor.pole_pairs)
+        row = (
+            f"| {segment} | {_duty(on)} | {_duty(off)} | {float(t_com) * 1e6:.1f} us |"
+            f" {float(sector) * 1e6:.1f} us | {_duty(point.main_duty)} |"
+            f" {_duty(conventional)} | {'no' if 0 <= conventional <= 1 else 'yes'} |"
+        )
+        assert row in text, row
+
+
+def test_fail_area_should_bound_the_conventional_duty(motor: tuple[Spec, str]) -> None:
+    spec, text = motor
+    bus = spec.inverter.bus_voltage_nominal_v
+    k_e = spec.motor.back_emf_constant_v_per_rpm
+    controller = spec.controller
+    for duty in sorted(set(DUTY_GRID) | {p.main_duty for p in spec.operating_points}):
+        # D_off = 2 - 4 k_e n / U_d - D leaves [0, 1] outside these speeds.
+        slow, fast = (1 - duty) * bus / (4 * k_e), (2 - duty) * bus / (4 * k_e)
+        fails = []
+        if slow > controller.speed_min_rpm:
+            fails.append(f"below {_rpm(slow)} ($D_{{off}} > 1$)")
+        if fast < controller.speed_max_rpm:
+            fails.append(f"above {_rpm(fast)} ($D_{{off}} < 0$)")
+        row = (
+            f"| {_duty(duty)} | {_rpm(max(slow, Fraction(0)))} to {_rpm(fast)} |"
+            f" {', '.join(fails) or 'nowhere in the speed range'} |"
+        )
+        assert row in text, row
+
+
+def test_switching_table_should_use_the_spec_hall_codes(motor: tuple[Spec, str]) -> None:
+    spec, text = motor
+    rows = [line for line in text.splitlines() if line.startswith(("| forward", "| reverse"))]
+    assert len(rows) == 12
+    for k, code in enumerate(spec.hall.sequence):
+        assert f"| forward | {code} ({code:03b}) | {60 * k}-{60 * (k + 1)} |" in text
+
+
+def test_derivation_should_not_repeat_the_paper_audit(motor: tuple[Spec, str]) -> None:
+    spec, text = motor
+    assert len(text) < 8000
+    for paper_only in ("Table 2", "Table 4", "citation", "caption", "mismatch", "Finding"):
+        assert paper_only not in text
+    assert "(../paper/AUDIT.md)" in text
+    first = text.splitlines()[0]
+    assert "templates/audit/DERIVATION.md.j2" in first and spec.sha256 in first
