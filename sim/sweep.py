@@ -30,7 +30,7 @@ from sim.runs import IDEAL_METHODS, METHODS, Controller, Run, simulate
 from sim.scenario import Case, PlantModel, paper_edge
 from sim.sil import prepare_cores
 
-DEFAULT_SHAPE: EmfShape = "trapezoidal"
+DEFAULT_SHAPE: EmfShape = "spec"
 SWEEP_LOW_RPM = 500.0
 SWEEP_HIGH_RPM = 5000.0
 SWEEP_STEP_RPM = 250.0

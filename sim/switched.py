@@ -40,7 +40,7 @@ def simulate_switched(
     end: float,
     initial_currents: np.ndarray,
 ) -> Trace:
-    builder = TraceBuilder("switched", schedule.period, schedule.origin)
+    builder = TraceBuilder("switched", schedule)
     currents = np.array(initial_currents, dtype=float)
     builder.point(start, currents)
     times = sorted(

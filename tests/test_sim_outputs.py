@@ -71,7 +71,7 @@ def test_report_should_present_improved_r_as_the_c_core(
         method="improved_r",
         speed_rpm=4600.0,
         model="switched",
-        emf_shape="trapezoidal",
+        emf_shape="spec",
         duty_policy=STEADY,
     )[0]
     raw = row.core_outputs

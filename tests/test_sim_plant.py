@@ -87,7 +87,7 @@ def test_floating_phase_should_start_conducting_only_past_a_rail() -> None:
 
 
 def test_turn_off_current_should_stay_blocked_after_reaching_zero(drive: Drive) -> None:
-    case = Case(drive, paper_edge(), 1500.0, 5.0, "trapezoidal")
+    case = Case(drive, paper_edge(), 1500.0, 5.0, "spec")
     trace = run_case(case, _improved_command(case, 2e-4), "switched", 2e-3)
     zero = trace.first_zero(case.edge.turn_off, after=0.0)
     assert zero is not None and 2e-4 < zero < 5e-4
@@ -110,7 +110,7 @@ def test_averaged_plant_should_hold_the_current_under_the_exact_rule(drive: Driv
 def _switched_error(drive: Drive, frequency: float) -> float:
     """Largest current difference switched vs averaged at 41 common instants."""
     faster = drive.with_pwm_frequency(frequency)
-    case = Case(faster, paper_edge(), 1500.0, 5.0, "trapezoidal")
+    case = Case(faster, paper_edge(), 1500.0, 5.0, "spec")
     command = _improved_command(case, 4e-4)
     end = 1e-3
     switched = run_case(case, command, "switched", end)
