@@ -22,7 +22,8 @@ or at the start of the next).
 * Commutation time: when the turn-off current reaches zero, as a fraction of the
   60 deg interval; None when it does not within the interval.
 * Gate transitions (both edges) and pulses (turn-ons) of the turn-on and turn-off
-  transistors while the commutation command is active (switched plant only).
+  transistors while the commutation command is active, and pulses while the
+  turn-off current still flows (switched plant only).
 """
 
 from __future__ import annotations
@@ -54,6 +55,10 @@ class CommutationMetrics:
     off_transitions: int | None
     on_pulses: int | None
     off_pulses: int | None
+    #: Pulses (turn-ons) of the turn-on / turn-off transistor while the turn-off
+    #: current flows (the physical commutation; what a scope shows). Switched only.
+    on_pulses_flowing: int | None
+    off_pulses_flowing: int | None
     #: Carrier periods in the window (those overlapping the commutation, plus one).
     periods: int
     #: End of the commutation the window is built on, s from the edge.
@@ -141,9 +146,10 @@ def measure(case: Case, command: Command, trace: Trace) -> CommutationMetrics:
         with_reference[before[-1]] = True
     torque = trace.period_power[with_reference] / omega
     ripple = float((torque.max() - torque.min()) / abs(torque.mean()) * 100)
-    counts: list[int | None] = [None, None, None, None]
+    counts: list[int | None] = [None] * 6
     if trace.model == "switched" and command.turn_on_switch is not None:
         active = (0.0, command.commutation_time_s)
+        flowing = (0.0, min(zero if zero is not None else end, command.commutation_time_s))
         on, off = command.turn_on_switch, command.turn_off_switch
         assert off is not None
         counts = [
@@ -151,6 +157,8 @@ def measure(case: Case, command: Command, trace: Trace) -> CommutationMetrics:
             trace.transitions_of(off, *active),
             trace.turn_ons_of(on, *active),
             trace.turn_ons_of(off, *active),
+            trace.turn_ons_of(on, *flowing),
+            trace.turn_ons_of(off, *flowing),
         ]
     sector = case.sector_time_s
     last = (trace.times >= -period - _SLACK) & (trace.times <= 0.0)
@@ -167,6 +175,8 @@ def measure(case: Case, command: Command, trace: Trace) -> CommutationMetrics:
         off_transitions=counts[1],
         on_pulses=counts[2],
         off_pulses=counts[3],
+        on_pulses_flowing=counts[4],
+        off_pulses_flowing=counts[5],
         periods=int(window.sum()),
         commutation_end_s=end,
         period_deviations_pct=tuple(float(v) for v in deviation),

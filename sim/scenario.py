@@ -27,7 +27,9 @@ from sim.emf import BackEmf, EmfShape, Waveform
 from sim.schedule import OFF, Schedule, Segment, switch_index
 from sim.trace import Trace
 
-PlantModel = Literal["switched", "averaged"]
+#: "averaged" is solved exactly (`simulate_averaged_exact`); "averaged_cvodes" is the
+#: same model integrated by casadi CVODES (`sim.averaged`), the cross-check.
+PlantModel = Literal["switched", "averaged", "averaged_cvodes"]
 #: Carrier periods simulated before the edge (the last one gives the measured current).
 PRE_EDGE_PERIODS = 2
 
@@ -166,6 +168,10 @@ def plant(model: PlantModel) -> Plant:
         from sim.switched import simulate_switched
 
         return simulate_switched
+    if model == "averaged":
+        from sim.switched import simulate_averaged_exact
+
+        return simulate_averaged_exact
     from sim.averaged import simulate_averaged
 
     return simulate_averaged
@@ -179,7 +185,7 @@ def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
     start value is solved for: the period average is affine in it (linear circuit).
     """
     magnitude = case.current_a
-    if model == "averaged":
+    if model != "switched":
         return case.edge_currents(magnitude)
     run = plant(model)
     schedule = schedule_for(case, None, 0.0)
