@@ -436,7 +436,8 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
     """The resistance-aware method (C core) against its target, speed by speed, next to
     the paper's rule and the per-period ideal."""
     speeds = sorted({r.speed_rpm for r in results.sweep})
-    in_target = [s for s in speeds if TARGET_LOW_RPM <= s <= TARGET_HIGH_RPM]
+    # A spec whose range misses the target range is measured over its own range.
+    in_target = [s for s in speeds if TARGET_LOW_RPM <= s <= TARGET_HIGH_RPM] or speeds
     rows = []
     for speed in speeds:
         rule = lookup.row(IMPROVED_R, speed)

@@ -1,4 +1,4 @@
-/* Generated from template templates/c/bldc_commutation.h.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.h.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 dece2274d408914f53e74b84728750ad8d9e2a754cdc79404df2f8daae1a20d5). Do not edit: regenerate with `make`. */
 #ifndef BLDC_COMMUTATION_H
 #define BLDC_COMMUTATION_H
 

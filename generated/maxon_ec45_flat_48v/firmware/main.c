@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 88a70eb72b9494810aaa1248e2beb874e1bc6578ac98fdca4370be1ee72c27cc). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 dece2274d408914f53e74b84728750ad8d9e2a754cdc79404df2f8daae1a20d5). Do not edit: regenerate with `make`. */
 /* Firmware entry for the project's own build: bring up the port, then sleep. The
  * Hall-edge and commutation-end work happens in TIM3_IRQHandler, the next edge's timing
  * in TIM1_TRG_COM_IRQHandler; thread mode hands the latest bus-voltage sample and main

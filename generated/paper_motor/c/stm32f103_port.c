@@ -1,4 +1,4 @@
-/* Generated from template c/stm32f103_port.c.j2 with spec spec/paper_motor.yaml (sha256 07b8685d3a2684e5f837564446d9717554545097976668f5f4050212bf8dcce5). Do not edit: regenerate with `make`. */
+/* Generated from template c/stm32f103_port.c.j2 with spec spec/paper_motor.yaml (sha256 088d04b5d93e1db022c5058e8b28c79f09dd6712853062822d3652a8919f775d). Do not edit: regenerate with `make`. */
 /*
  * STM32F103 port of the braking commutation core (see stm32f103_port.h).
  *

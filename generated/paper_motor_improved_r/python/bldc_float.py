@@ -1,4 +1,4 @@
-# Generated from template templates/python/bldc_float.py.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`.
+# Generated from template templates/python/bldc_float.py.j2 with spec spec/paper_motor_improved_r.yaml (sha256 313dd61f95b5018d390bb349cd716e3ca5c6158c512536194e3b94687b277ff1). Do not edit: regenerate with `make`.
 """Floating-point physics of the commutation rule (method "improved_r").
 
 Each function is printed by SymPy from the derivation (codegen/derivation), so this is

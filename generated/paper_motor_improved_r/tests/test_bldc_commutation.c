@@ -1,4 +1,4 @@
-/* Generated from template templates/unity/test_bldc_commutation.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 3b23ae0f2eedc21684cba649763d40310a1c4fce57800b7f87ceb860d6732845). Do not edit: regenerate with `make`. */
+/* Generated from template templates/unity/test_bldc_commutation.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 313dd61f95b5018d390bb349cd716e3ca5c6158c512536194e3b94687b277ff1). Do not edit: regenerate with `make`. */
 /*
  * Unity tests of bldc_commutate(), one per vector of the exact symbolic model
  * (codegen/unity_cases.py). The compare values and the commutation time may differ from
