@@ -122,13 +122,11 @@ class Results:
 
 
 def nice_step(span: float, points: int) -> float:
-    """A 1-2-2.5-5 x 10^k step that divides `span` into about `points` intervals."""
+    """The 1-2-2.5-5 x 10^k step nearest (in ratio) to dividing `span` into `points`."""
     raw = span / max(points, 1)
     decade = 10.0 ** np.floor(np.log10(raw))
-    for factor in (1.0, 2.0, 2.5, 5.0, 10.0):
-        if factor * decade >= raw * 0.999:
-            return float(factor * decade)
-    return float(10.0 * decade)
+    candidates = [f * decade for f in (1.0, 2.0, 2.5, 5.0, 10.0)]
+    return float(min(candidates, key=lambda step: abs(np.log(step / raw))))
 
 
 def sweep_speeds(drive: Drive, extra: Iterable[float]) -> tuple[float, ...]:
