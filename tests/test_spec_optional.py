@@ -33,14 +33,27 @@ def _with_shape(tmp_path: Path, shape: str) -> Path:
     return path
 
 
+def _without_tolerances() -> str:
+    """The default spec with its `tolerances` section (and its source) taken out."""
+    start = TEXT.index("\ntolerances:\n")
+    end = TEXT.index("\n\n", start + 1)
+    text = TEXT[:start] + TEXT[end:]
+    return "".join(line for line in text.splitlines(keepends=True) if "  tolerances:" not in line)
+
+
 def _with_tolerances(tmp_path: Path, section: str) -> Path:
     path = tmp_path / "tolerances.yaml"
-    path.write_text(TEXT.replace("\noperating_points:", f"\n{section}\noperating_points:"))
+    text = _without_tolerances()
+    path.write_text(text.replace("\noperating_points:", f"\n{section}\noperating_points:"))
     return path
 
 
-def test_absent_keys_should_give_the_papers_trapezoid_and_no_tolerances() -> None:
+def test_absent_keys_should_give_the_papers_trapezoid_and_no_tolerances(tmp_path: Path) -> None:
+    path = tmp_path / "plain.yaml"
+    path.write_text(_without_tolerances())
+    assert load_spec(path).tolerances is None
     spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+    assert spec.tolerances is not None
     assert spec.motor.back_emf_shape == BackEmfShape()
     assert spec.motor.back_emf_shape.flat_top_deg == 120
     assert Drive.from_spec(spec).emf_points == ((0, 0), (30, 1), (150, 1), (180, 0))
