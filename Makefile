@@ -19,7 +19,7 @@ SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_max
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit audit-screenshot generate firmware verify unity simulate test lint format check-generated bench clean
+.PHONY: all setup sysdeps derive audit audit-screenshot generate firmware verify unity simulate robustness test lint format check-generated bench clean
 
 all: setup derive audit generate
 
@@ -66,10 +66,16 @@ firmware: setup
 verify: setup
 	@for spec in $(SPECS); do $(PY) -m verify $$spec || exit 1; done
 
-# Commutation simulation (casadi plants, the generated core in the loop): figures and
-# SIMULATION.md into generated/<spec>/simulation/, for every checked-in spec.
+# Commutation simulation (the generated core in the loop): figures and SIMULATION.md
+# into generated/<spec>/simulation/, for every checked-in spec, or SPEC=... only.
+SIM_RUN_SPECS = $(if $(filter command line environment,$(origin SPEC)),$(SPEC),$(SIM_SPECS))
 simulate: setup
-	@for spec in $(SIM_SPECS); do $(PY) -m sim $$spec || exit 1; done
+	@for spec in $(SIM_RUN_SPECS); do $(PY) -m sim $$spec || exit 1; done
+
+# Robustness campaign (Dask LocalCluster; the core against sampled tolerances):
+# ROBUSTNESS.md into generated/<spec>/robustness/, same spec choice as simulate.
+robustness: setup
+	@for spec in $(SIM_RUN_SPECS); do $(PY) -m sim.robustness $$spec || exit 1; done
 
 # The generated Unity tests: host (ASan/UBSan) and Cortex-M3 under qemu mps2-an385.
 # Real Unity when UNITY_DIR points to a checkout, else the stand-in runner.
@@ -100,7 +106,7 @@ check-generated: setup
 	for spec in $(SPECS); do \
 	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
 	  $(PY) -m codegen generate $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
-	  if ! diff -ru -x verify -x simulation generated/$$name "$$tmp/$$name"; then \
+	  if ! diff -ru -x verify -x simulation -x robustness generated/$$name "$$tmp/$$name"; then \
 	    echo "generated/$$name is stale: run 'make generate SPEC=$$spec' and commit it"; exit 1; \
 	  fi; \
 	done; \

@@ -21,12 +21,13 @@ from typing import Any
 
 import yaml
 
-from codegen import units
+from codegen import spec_optional, units
 from codegen.errors import SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
     Accuracy,
     Adc,
+    BackEmfShape,
     Controller,
     HallSensor,
     Inverter,
@@ -251,7 +252,7 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor:
         "back_emf_convention",
         "rotor_inertia",
     )
-    r.only_keys(sec, keys, "motor")
+    r.only_keys({k: v for k, v in sec.items() if k != spec_optional.EMF_SHAPE_KEY}, keys, "motor")
     poles = r.integer(sec, "poles", "motor", _Range(2, 128, "poles"))
     if poles % 2:
         raise r.error(
@@ -278,6 +279,9 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor:
         rotor_inertia_kg_m2=r.quantity(
             sec, "rotor_inertia", "motor", units.INERTIA, _positive(100, "kg*m^2")
         ),
+        back_emf_shape=spec_optional.back_emf_shape(r, sec[spec_optional.EMF_SHAPE_KEY])
+        if spec_optional.EMF_SHAPE_KEY in sec
+        else BackEmfShape(),
     )
 
 
@@ -617,7 +621,7 @@ def load_spec(path: str | Path) -> Spec:
     data = _parse_yaml(text, source)
     lines = _yaml_lines(text)
     r = _Reader(source, lines)
-    r.only_keys(data, _TOP_KEYS, "")
+    r.only_keys({k: v for k, v in data.items() if k != spec_optional.TOLERANCES_KEY}, _TOP_KEYS, "")
     name = data["name"]
     if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise r.error("name", name, "must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}")
@@ -640,6 +644,11 @@ def load_spec(path: str | Path) -> Spec:
     points = _operating_points(r, data)
     sources = _sources(r, data, lines)
     _check_physics(r, data, motor, inverter, hall, adc, controller, points)
+    tolerances = (
+        spec_optional.tolerances(r, data[spec_optional.TOLERANCES_KEY], inverter)
+        if spec_optional.TOLERANCES_KEY in data
+        else None
+    )
     return Spec(
         name=name,
         description=description,
@@ -653,4 +662,5 @@ def load_spec(path: str | Path) -> Spec:
         accuracy=accuracy,
         operating_points=points,
         sources=sources,
+        tolerances=tolerances,
     )

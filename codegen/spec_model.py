@@ -23,6 +23,55 @@ def uses_main_duty(method: str) -> bool:
     return method in ("none", "conventional")
 
 
+#: The paper's ideal trapezoid: flat tops of 120 electrical degrees (Fig. 2).
+TRAPEZOID_120: tuple[tuple[Fraction, Fraction], ...] = (
+    (Fraction(0), Fraction(0)),
+    (Fraction(30), Fraction(1)),
+    (Fraction(150), Fraction(1)),
+    (Fraction(180), Fraction(0)),
+)
+
+
+@dataclass(frozen=True)
+class BackEmfShape:
+    """One phase's back-EMF over a half period, per unit of E = k_e n.
+
+    Points (electrical degrees from the phase's rising zero crossing, e / E), linear
+    in between, from 0 deg to 180 deg with e = 0 at both ends; the other half period
+    is the negative (e(theta + 180) = -e(theta)). The Hall edge at which a phase
+    starts its rise lies 30 deg before that zero crossing (Hall sensors placed for
+    120 deg conduction). `flat_top_deg` is the width it was given as, or None for a
+    measured table.
+    """
+
+    points: tuple[tuple[Fraction, Fraction], ...] = TRAPEZOID_120
+    flat_top_deg: Fraction | None = Fraction(120)
+
+    @staticmethod
+    def trapezoid(flat_top_deg: Fraction) -> BackEmfShape:
+        rise = (180 - flat_top_deg) / 2
+        points = ((Fraction(0), Fraction(0)), (rise, Fraction(1)))
+        points += ((180 - rise, Fraction(1)), (Fraction(180), Fraction(0)))
+        return BackEmfShape(points, flat_top_deg)
+
+    def describe(self) -> str:
+        if self.flat_top_deg is not None:
+            return f"trapezoid, {float(self.flat_top_deg):g} deg flat top"
+        return f"measured table, {len(self.points)} points"
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Relative deviation of the real drive from the spec's nominal values, as
+    (low, high) fractions (-0.1 = 10 % below nominal): what a robustness campaign
+    samples. The firmware keeps the nominal values; the plant gets the sampled ones."""
+
+    phase_resistance: tuple[Fraction, Fraction]
+    phase_inductance: tuple[Fraction, Fraction]
+    back_emf_constant: tuple[Fraction, Fraction]
+    bus_voltage: tuple[Fraction, Fraction]
+
+
 @dataclass(frozen=True)
 class Motor:
     rated_voltage_v: Fraction
@@ -34,6 +83,8 @@ class Motor:
     back_emf_constant_v_per_rpm: Fraction
     back_emf_convention: EmfConvention
     rotor_inertia_kg_m2: Fraction
+    #: Optional `motor.back_emf_shape`; default the paper's 120 deg trapezoid.
+    back_emf_shape: BackEmfShape = BackEmfShape()
 
     @property
     def pole_pairs(self) -> int:
@@ -115,6 +166,8 @@ class Spec:
     operating_points: tuple[OperatingPoint, ...]
     #: Key path -> where the value comes from ("paper Table 3", "assumption: ...").
     sources: tuple[tuple[str, str], ...]
+    #: Optional `tolerances` section (robustness campaign); None when absent.
+    tolerances: Tolerances | None = None
 
     @property
     def assumptions(self) -> tuple[tuple[str, str], ...]:

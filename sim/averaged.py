@@ -81,7 +81,7 @@ def simulate_averaged(
     end: float,
     initial_currents: np.ndarray,
 ) -> Trace:
-    builder = TraceBuilder("averaged", schedule.period, schedule.origin)
+    builder = TraceBuilder("averaged", schedule)
     currents = np.array(initial_currents, dtype=float)
     builder.point(start, currents)
     times = sorted(

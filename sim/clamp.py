@@ -51,7 +51,7 @@ def scan(
     core = controller.cores.cores[method]
     hall = float(scale.hall_clock_hz)
     at_bus = replace(drive, bus_voltage_v=bus_v)
-    case = Case(at_bus, paper_edge(), drive.speed_max_rpm, current_a, "trapezoidal")
+    case = Case(at_bus, paper_edge(), drive.speed_max_rpm, current_a, "spec")
     inputs = core_inputs(spec, scale, case, controller.measured_current(case), 0.0)
     shortest = inputs["hall_period_ticks"]
     longest = min(round(drive.sector_time_s(drive.speed_min_rpm) * hall), 2**16 - 1)

@@ -48,8 +48,9 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
         cells = []
         for (method, model, policy), metrics in sorted(point.metrics.items()):
             if model == "switched":
-                duty = "steady" if policy == "steady" else f"{point.main_duty:g}"
-                cells.append(f"{method} ({duty}) {metrics.deviation_worst_pct:+.1f} %")
+                run = point.runs[(method, model, policy)]
+                label = f"D {run.command.main_duty:.3f}, {run.case.current_a:.1f} A"
+                cells.append(f"{method} ({label}) {metrics.deviation_worst_pct:+.1f} %")
         print(f"sim: {point.speed_rpm:g} rpm: " + ", ".join(cells))
     return 0
 

@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass, replace
 
 from codegen.spec_model import PwmAlignment, Spec
+from sim.emf import TRAPEZOID_120
 
 
 @dataclass(frozen=True)
@@ -26,6 +27,10 @@ class Drive:
     braking_current_a: float
     speed_min_rpm: float
     speed_max_rpm: float
+    #: The phase EMF's half period, (deg from the rising zero crossing, e/E) points.
+    emf_points: tuple[tuple[float, float], ...] = TRAPEZOID_120
+    #: How the spec gave it ("trapezoid, 120 deg flat top" or "measured table, ...").
+    emf_description: str = "trapezoid, 120 deg flat top"
 
     @staticmethod
     def from_spec(spec: Spec) -> Drive:
@@ -41,10 +46,20 @@ class Drive:
             braking_current_a=float(spec.controller.braking_current_nominal_a),
             speed_min_rpm=float(spec.controller.speed_min_rpm),
             speed_max_rpm=float(spec.controller.speed_max_rpm),
+            emf_points=tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points),
+            emf_description=spec.motor.back_emf_shape.describe(),
         )
 
     def with_pwm_frequency(self, frequency_hz: float) -> Drive:
         return replace(self, pwm_frequency_hz=frequency_hz)
+
+    def with_flat_top(self, width_deg: float) -> Drive:
+        """The same drive with a trapezoidal EMF of another flat-top width."""
+        rise = (180.0 - width_deg) / 2.0
+        points = ((0.0, 0.0), (rise, 1.0), (180.0 - rise, 1.0), (180.0, 0.0))
+        return replace(
+            self, emf_points=points, emf_description=f"trapezoid, {width_deg:g} deg flat top"
+        )
 
     @property
     def pwm_period_s(self) -> float:

@@ -2,17 +2,20 @@
 
 Time t = 0 is the Hall edge being simulated. Two shapes:
 
-* trapezoidal: each phase has 120 deg flat tops at +-E joined by 60 deg linear
-  transitions. Which phase is flat or ramping in which sector comes from the derived
-  switching table (`Sector.emf_signs`: 0 marks the ramping phase), so the shape and
-  the Hall code agree by construction. The outgoing phase starts its ramp exactly at
-  the edge, which the paper's analysis ignores.
+* spec: the motor's own waveform, `motor.back_emf_shape` of the spec (default the
+  paper's ideal trapezoid with 120 deg flat tops and linear 60 deg transitions): a
+  piecewise-linear half period per unit of E from the phase's rising zero crossing,
+  negated for the other half. Each phase's zero crossing is placed 30 deg after the
+  Hall edge at which that phase starts to ramp (the ramping phase of a sector is the
+  one whose `Sector.emf_signs` entry is 0 in the derived switching table), so the
+  shape and the Hall code agree by construction. For the 120 deg trapezoid the
+  outgoing phase starts its ramp exactly at the edge, which the paper's analysis
+  ignores; a wider flat top starts it later and steeper, a narrower one earlier.
 * flat: the paper's idealisation (section 3.2, "e_a = E, e_b = -E, e_c = -E"): the
   EMFs are frozen at their values at the edge for the whole simulated window.
 
-Both are affine in time between corners, which is what lets the switched plant
-integrate exactly. Corners of the trapezoid fall on Hall edges (multiples of the
-sector time from t = 0).
+Both are affine in time between corners (the times at which a phase passes a point
+of the table), which is what lets the switched plant integrate exactly.
 """
 
 from __future__ import annotations
@@ -25,21 +28,65 @@ import numpy as np
 
 from codegen.derivation.switching import Edge, Sector
 
-EmfShape = Literal["trapezoidal", "flat"]
-EMF_SHAPES: tuple[EmfShape, ...] = ("trapezoidal", "flat")
+EmfShape = Literal["spec", "flat"]
+EMF_SHAPES: tuple[EmfShape, ...] = ("spec", "flat")
+#: The paper's ideal trapezoid as (angle deg, e/E) points of a half period.
+TRAPEZOID_120: tuple[tuple[float, float], ...] = (
+    (0.0, 0.0),
+    (30.0, 1.0),
+    (150.0, 1.0),
+    (180.0, 0.0),
+)
+
+
+def rising_zero_deg(sectors: tuple[Sector, ...], phase: int) -> float:
+    """Electrical angle of `phase`'s rising zero crossing (forward rotation): the middle
+    of the sector in which it ramps from -E to +E."""
+    for k in range(6):
+        if (
+            sectors[k].emf_signs[phase] == 0
+            and sectors[(k - 1) % 6].emf_signs[phase] < 0
+            and sectors[(k + 1) % 6].emf_signs[phase] > 0
+        ):
+            return 60.0 * k + 30.0
+    raise ValueError(f"phase {phase} has no rising ramp in the switching table")
+
+
+@dataclass(frozen=True)
+class Waveform:
+    """A half period of one phase's EMF per unit E, (angle deg, value) from 0 to 180."""
+
+    points: tuple[tuple[float, float], ...] = TRAPEZOID_120
+
+    def __call__(self, angle_deg: float) -> float:
+        """Value at `angle_deg` from the rising zero crossing, any angle."""
+        angle = angle_deg % 360.0
+        sign = 1.0
+        if angle >= 180.0:
+            angle -= 180.0
+            sign = -1.0
+        angles = [a for a, _ in self.points]
+        values = [v for _, v in self.points]
+        return sign * float(np.interp(angle, angles, values))
+
+    def corner_angles(self) -> tuple[float, ...]:
+        """Angles in [0, 360) where the slope changes."""
+        full = [(a, v) for a, v in self.points] + [(a + 180.0, -v) for a, v in self.points[1:]]
+        out = set()
+        for k, (angle, _) in enumerate(full):
+            before = full[k - 1] if k > 0 else (full[-2][0] - 360.0, full[-2][1])
+            after = full[k + 1] if k + 1 < len(full) else (full[1][0] + 360.0, full[1][1])
+            left = (full[k][1] - before[1]) / (angle - before[0])
+            right = (after[1] - full[k][1]) / (after[0] - angle)
+            if abs(left - right) > 1e-12:
+                out.add(angle % 360.0)
+        return tuple(sorted(out))
 
 
 def trapezoid(sectors: tuple[Sector, ...], phase: int, angle_deg: float) -> float:
-    """Forward-rotation EMF of `phase` per unit E at electrical angle `angle_deg`."""
-    position = (angle_deg % 360.0) / 60.0
-    k = math.floor(position) % 6
-    sign = sectors[k].emf_signs[phase]
-    if sign != 0:
-        return float(sign)
-    before = sectors[(k - 1) % 6].emf_signs[phase]
-    after = sectors[(k + 1) % 6].emf_signs[phase]
-    fraction = position - math.floor(position)
-    return before + (after - before) * fraction
+    """Forward-rotation EMF of `phase` per unit E at electrical angle `angle_deg` for
+    the paper's 120 deg trapezoid."""
+    return Waveform()(angle_deg - rising_zero_deg(sectors, phase))
 
 
 @dataclass(frozen=True)
@@ -50,36 +97,53 @@ class BackEmf:
     #: Flat-top value E = k_e n in volts.
     amplitude_v: float
     sector_time_s: float
+    waveform: Waveform = Waveform()
+
+    @property
+    def _direction(self) -> float:
+        return 1.0 if self.edge.direction == "forward" else -1.0
+
+    def _angle(self, t: float) -> float:
+        return self.edge.angle_deg + self._direction * 60.0 * t / self.sector_time_s
 
     def values(self, t: float) -> np.ndarray:
         if self.shape == "flat":
             return self.amplitude_v * np.asarray(self.edge.emf_signs, dtype=float)
         # Forward: the angle grows through the edge; reverse: it falls and the EMF of
         # every phase is negated (paper 2.2).
-        direction = 1.0 if self.edge.direction == "forward" else -1.0
-        angle = self.edge.angle_deg + direction * 60.0 * t / self.sector_time_s
+        angle = self._angle(t)
         return (
-            direction
+            self._direction
             * self.amplitude_v
-            * np.array([trapezoid(self.sectors, phase, angle) for phase in range(3)])
+            * np.array([self.waveform(angle - rising_zero_deg(self.sectors, p)) for p in range(3)])
         )
 
     def affine(self, t0: float, t1: float) -> tuple[np.ndarray, np.ndarray]:
         """(e0, e1) with e(t) = e0 + e1 t on [t0, t1], which must not contain a corner."""
         if self.shape == "flat" or t1 <= t0:
             return self.values(t0), np.zeros(3)
-        start, end = self.values(t0), self.values(t1)
-        slope = (end - start) / (t1 - t0)
-        return start - slope * t0, slope
+        # Sample inside the piece: exact for an affine piece, and at a corner on its
+        # boundary it takes the piece's own side.
+        a, b = t0 + 0.25 * (t1 - t0), t0 + 0.75 * (t1 - t0)
+        start, end = self.values(a), self.values(b)
+        slope = (end - start) / (b - a)
+        return start - slope * a, slope
 
     def corners(self, t0: float, t1: float) -> list[float]:
-        """Times in (t0, t1) where the EMF slope changes."""
+        """Times in (t0, t1) where the EMF slope of some phase changes."""
         if self.shape == "flat":
             return []
-        first = math.floor(t0 / self.sector_time_s) + 1
-        out = []
-        k = first
-        while k * self.sector_time_s < t1:
-            out.append(k * self.sector_time_s)
-            k += 1
-        return out
+        rate = self._direction * 60.0 / self.sector_time_s  # deg per second
+        out: set[float] = set()
+        for phase in range(3):
+            zero = rising_zero_deg(self.sectors, phase)
+            for corner in self.waveform.corner_angles():
+                # angle(t) - zero = corner + 360 k
+                base = zero + corner - self.edge.angle_deg
+                lo = (min(t0 * rate, t1 * rate) - base) / 360.0
+                hi = (max(t0 * rate, t1 * rate) - base) / 360.0
+                for k in range(math.floor(lo), math.ceil(hi) + 1):
+                    t = (base + 360.0 * k) / rate
+                    if t0 < t < t1:
+                        out.add(round(t, 15))
+        return sorted(out)

@@ -17,7 +17,8 @@ import numpy as np
 
 from sim.runs import IDEAL_METHODS, IMPROVED_R, METHODS
 from sim.scenario import Case
-from sim.sweep import DEFAULT_SHAPE, POINT_POLICIES, STEADY, OperatingPoint, Results
+from sim.studies import RULES
+from sim.sweep import DEFAULT_SHAPE, STEADY, OperatingPoint, Results, figure_keys
 
 DPI = 110
 METHOD_COLOURS = {
@@ -71,10 +72,18 @@ def currents_figure(point: OperatingPoint, method: str, policy: str, out: Path) 
     ax.text(t_com, ax.get_ylim()[1] * 0.95, " commanded end", fontsize=7, va="top")
     ax.axhline(-case.current_a, color="0.6", lw=0.5)
     ax.axhline(case.current_a, color="0.6", lw=0.5)
-    metrics = point.metrics[(method, "switched", policy)]
+    metrics = switched.metrics
+    window = (
+        switched.trace.period_starts >= -1e-12
+    )  # the measured window: from the edge over metrics.periods periods
+    starts = switched.trace.period_starts[window][: metrics.periods]
+    ends = switched.trace.period_ends[window][: metrics.periods]
+    if starts.size:
+        ax.axvspan(starts[0] * 1e3, ends[-1] * 1e3, color="0.85", alpha=0.5, lw=0)
     ax.set_title(
-        f"{method} at {point.speed_rpm:g} rpm, main duty {switched.command.main_duty:.3f}: "
-        f"worst period {metrics.deviation_worst_pct:+.1f} %",
+        f"{case.drive.name}: {method} at {point.speed_rpm:g} rpm, main duty"
+        f" {switched.command.main_duty:.3f}, I = {case.current_a:.1f} A: worst period"
+        f" {metrics.deviation_worst_pct:+.1f} %",
         fontsize=9,
     )
     ax.set_xlabel("time from the Hall edge (ms)")
@@ -84,7 +93,7 @@ def currents_figure(point: OperatingPoint, method: str, policy: str, out: Path) 
     )
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    suffix = "" if policy == STEADY else "_spec_duty"
+    suffix = "" if policy == STEADY else "_spec_duty_held_current"
     name = f"currents_{point.speed_rpm:g}rpm_{method}{suffix}.png"
     _save(fig, out / name)
     return name
@@ -144,9 +153,15 @@ def deviation_figure(results: Results, boundary_r_rpm: float, out: Path) -> str:
     for policy in sorted({r.duty_policy for r in results.sweep} - {STEADY}):
         speeds, worst = _series(results, "conventional", "deviation_worst_pct", duty_policy=policy)
         rows = results.rows(method="conventional", duty_policy=policy)
+        if not rows:
+            continue
         fail = np.array(["FAIL_AREA_CLAMPED" in r.flags for r in rows])
         top.plot(
-            speeds, worst, color="tab:brown", lw=1.0, label=f"conventional, main duty {policy}"
+            speeds,
+            worst,
+            color="tab:brown",
+            lw=1.0,
+            label=f"conventional, main duty {policy} (at the current it holds)",
         )
         top.plot(
             speeds[fail], worst[fail], "x", color="tab:brown", label="control fail area (core flag)"
@@ -154,7 +169,7 @@ def deviation_figure(results: Results, boundary_r_rpm: float, out: Path) -> str:
     top.axhspan(-3, 3, color="tab:green", alpha=0.12)
     top.set_ylabel("worst per-period deviation of |i_nc| (% of I)")
     top.set_title(
-        "solid: trapezoidal EMF, dotted: flat EMF (paper's idealisation); switched plant",
+        f"{results.spec.name}: solid the spec's EMF, dotted the paper's flat EMF; switched plant",
         fontsize=9,
     )
     top.legend(fontsize=7, ncol=2)
@@ -194,7 +209,7 @@ def target_figure(
     zoom.set_ylabel("zoom to +-2x the tolerance (%)")
     zoom.set_xlabel("speed (rpm); grey: the target's speed range; x: core flag TIME_CLAMPED")
     top.set_title(
-        f"switched plant, trapezoidal EMF, I = {results.drive.braking_current_a:g} A, "
+        f"{results.spec.name}: switched plant, the spec's EMF, I = {results.drive.braking_current_a:g} A, "
         f"{results.drive.pwm_frequency_hz / 1e3:g} kHz; green band: +-{tolerance_pct:g} %",
         fontsize=9,
     )
@@ -226,7 +241,7 @@ def commutation_time_figure(results: Results, out: Path) -> str:
     ax.set_xlabel("speed (rpm)")
     ax.set_ylabel("fraction of the 60 deg interval")
     ax.set_title(
-        "commutation time: solid measured in the plant, dotted commanded by the controller",
+        f"{results.spec.name}: commutation time, solid measured in the plant, dotted commanded",
         fontsize=9,
     )
     ax.legend(fontsize=7)
@@ -255,8 +270,8 @@ def switching_figure(results: Results, out: Path) -> str:
             )
             for s in speeds
         ]
-        sim_on = [r[0].metrics.on_pulses if r else np.nan for r in sim_rows]
-        sim_off = [r[0].metrics.off_pulses if r else np.nan for r in sim_rows]
+        sim_on = [r[0].metrics.on_pulses_flowing if r else np.nan for r in sim_rows]
+        sim_off = [r[0].metrics.off_pulses_flowing if r else np.nan for r in sim_rows]
         ax.bar(
             x - 1.5 * width, paper_on, width, color="tab:blue", alpha=0.5, label="paper, on phase"
         )
@@ -266,7 +281,7 @@ def switching_figure(results: Results, out: Path) -> str:
         )
         ax.bar(x + 1.5 * width, sim_off, width, color="tab:red", label="simulated pulses, off")
         ax.set_xticks(x, [f"{s:g}" for s in speeds])
-        ax.set_title(method, fontsize=9)
+        ax.set_title(f"{results.spec.name}: {method}", fontsize=9)
         ax.set_xlabel("speed (rpm)")
         ax.grid(alpha=0.3, axis="y")
     axes[0].set_ylabel("switchings in one commutation")
@@ -309,6 +324,7 @@ def optimum_figure(results: Results, out: Path) -> str:
             label=f"{method} D_off",
         )
     top.set_ylabel("duty")
+    top.set_title(f"{results.spec.name}: Ipopt's best constant pair against the rules", fontsize=9)
     top.legend(fontsize=7, ncol=2)
     top.grid(alpha=0.3)
     for key in ("optimum", *METHODS, *IDEAL_METHODS):
@@ -326,6 +342,36 @@ def optimum_figure(results: Results, out: Path) -> str:
     return name
 
 
+def shapes_figure(results: Results, out: Path) -> str:
+    """The rules on each EMF shape: worst per-period deviation against speed."""
+    rows = results.studies.shapes
+    shapes = list(dict.fromkeys(r.shape for r in rows))
+    fig, axes = plt.subplots(1, len(RULES), figsize=(10.0, 3.8), sharey=True)
+    for ax, rule in zip(np.atleast_1d(axes), RULES, strict=True):
+        for k, shape in enumerate(shapes):
+            mine = [r for r in rows if r.rule == rule and r.shape == shape]
+            colour = f"C{k}"
+            ax.plot(
+                [r.speed_rpm for r in mine],
+                [r.averaged_pct for r in mine],
+                "-o",
+                ms=3,
+                color=colour,
+                label=shape,
+            )
+            ax.plot([r.speed_rpm for r in mine], [r.switched_pct for r in mine], ":", color=colour)
+        ax.axhspan(-3, 3, color="tab:green", alpha=0.12)
+        ax.set_title(f"{results.spec.name}: {rule}", fontsize=8)
+        ax.set_xlabel("speed (rpm)")
+        ax.grid(alpha=0.3)
+    np.atleast_1d(axes)[0].set_ylabel("worst period deviation (%)\nsolid averaged, dotted switched")
+    np.atleast_1d(axes)[0].legend(fontsize=6)
+    fig.tight_layout()
+    name = "emf_shapes.png"
+    _save(fig, out / name)
+    return name
+
+
 def all_figures(
     results: Results,
     boundary_r_rpm: float,
@@ -339,13 +385,13 @@ def all_figures(
     out.mkdir(parents=True, exist_ok=True)
     names: dict[str, str] = {}
     for point in results.operating:
-        for policy, methods in POINT_POLICIES.items():
-            for method in methods:
-                key = f"currents:{point.speed_rpm:g}:{method}:{policy}"
-                names[key] = currents_figure(point, method, policy, out)
+        for method, policy in figure_keys(point):
+            key = f"currents:{point.speed_rpm:g}:{method}:{policy}"
+            names[key] = currents_figure(point, method, policy, out)
     names["deviation"] = deviation_figure(results, boundary_r_rpm, out)
     names["target"] = target_figure(results, *target, out)
     names["commutation_time"] = commutation_time_figure(results, out)
     names["switching"] = switching_figure(results, out)
     names["optimum"] = optimum_figure(results, out)
+    names["shapes"] = shapes_figure(results, out)
     return names

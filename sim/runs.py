@@ -89,7 +89,9 @@ def simulate(case: Case, command: Command, model: PlantModel, end: float | None 
     else:
         guess = min(sector, command.commutation_time_s + TAIL_PERIODS * period)
         trace = run_case(case, command, model, guess)
-        _, zero = commutation_end(case, command, trace)
-        if zero is None and guess < sector:
-            trace = run_case(case, command, model, sector)
+        end_s, zero = commutation_end(case, command, trace)
+        # The window ends at most two carrier periods after the commutation.
+        needed = sector if zero is None else min(sector, end_s + 2.0 * period)
+        if needed > guess:
+            trace = run_case(case, command, model, needed)
     return Run(command.method, model, case, command, trace, measure(case, command, trace))

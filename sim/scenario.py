@@ -11,6 +11,7 @@ off in between, which is what keeps the inactive phase free of current.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -22,11 +23,13 @@ from codegen.derivation import derive
 from codegen.derivation.switching import Edge, SwitchingTable
 from sim.command import Command
 from sim.drive import Drive
-from sim.emf import BackEmf, EmfShape
+from sim.emf import BackEmf, EmfShape, Waveform
 from sim.schedule import OFF, Schedule, Segment, switch_index
 from sim.trace import Trace
 
-PlantModel = Literal["switched", "averaged"]
+#: "averaged" is solved exactly (`simulate_averaged_exact`); "averaged_cvodes" is the
+#: same model integrated by casadi CVODES (`sim.averaged`), the cross-check.
+PlantModel = Literal["switched", "averaged", "averaged_cvodes"]
 #: Carrier periods simulated before the edge (the last one gives the measured current).
 PRE_EDGE_PERIODS = 2
 
@@ -53,6 +56,14 @@ class Case:
     speed_rpm: float
     current_a: float
     emf_shape: EmfShape
+    #: Fraction of a carrier period that had run when the Hall edge came: the port's
+    #: update event at the edge restarts the carrier there (0: the edge falls on a
+    #: carrier boundary and the restart changes nothing).
+    carrier_phase: float = 0.0
+    #: The port ends the commutation with COM + update (EGR.COMG | EGR.UG): the
+    #: carrier restarts at the commutation end. False: COM only, so the new enables
+    #: apply at once and the turn-on compare value at the next carrier boundary.
+    end_restarts_carrier: bool = True
 
     @property
     def sector_time_s(self) -> float:
@@ -68,6 +79,7 @@ class Case:
             switching_table().sectors("forward"),
             self.drive.emf_v(self.speed_rpm),
             self.sector_time_s,
+            Waveform(self.drive.emf_points),
         )
 
     @property
@@ -76,7 +88,7 @@ class Case:
 
     @property
     def start_time(self) -> float:
-        return -PRE_EDGE_PERIODS * self.drive.pwm_period_s
+        return -(PRE_EDGE_PERIODS + self.carrier_phase) * self.drive.pwm_period_s
 
     def roles(self) -> tuple[int, int, int]:
         return self.edge.non_commutating, self.edge.turn_off, self.edge.turn_on
@@ -95,9 +107,16 @@ def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
     period = case.drive.pwm_period_s
     pre_switch = switch_index(case.edge.modulated_off)
     segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
+    restarts = [0.0]
+    if case.carrier_phase > 0.0:
+        restarts.insert(0, -case.carrier_phase * period)
     if command is not None and end > 0.0:
         segments.extend(_after_edge(case, command, period, end))
-    return Schedule(tuple(segments), period, case.drive.pwm_alignment)
+        # The port's commutation end is a COM event with an update: the carrier restarts.
+        t_com = command.commutation_time_s
+        if case.end_restarts_carrier and command.turn_on_switch is not None and 0.0 < t_com < end:
+            restarts.append(t_com)
+    return Schedule(tuple(segments), period, case.drive.pwm_alignment, tuple(restarts))
 
 
 def _after_edge(case: Case, command: Command, period: float, end: float) -> list[Segment]:
@@ -117,9 +136,17 @@ def _after_edge(case: Case, command: Command, period: float, end: float) -> list
             duties = _only({on: command.on_duty(k), off: command.off_duty(k)})
             out.append(Segment(k * period, min((k + 1) * period, t_com), duties))
             k += 1
-    middle = max(0.5 * case.sector_time_s, t_com)
-    if t_com < min(middle, end):
-        out.append(Segment(t_com, min(middle, end), _only({on: command.main_duty})))
+    main_from = t_com
+    if not case.end_restarts_carrier and t_com > 0.0:
+        # Preloaded CCRx: the turn-on transistor keeps its commutation compare value
+        # until the next update; the turn-off transistor's enable drops at once.
+        main_from = min(math.ceil(t_com / period - 1e-9) * period, end)
+        if main_from > t_com:
+            last = math.ceil(t_com / period - 1e-9) - 1
+            out.append(Segment(t_com, main_from, _only({on: command.on_duty(last)})))
+    middle = max(0.5 * case.sector_time_s, main_from)
+    if main_from < min(middle, end):
+        out.append(Segment(main_from, min(middle, end), _only({on: command.main_duty})))
     if middle < end:
         takeover = switch_index(next_edge(case.edge).modulated_off)
         out.append(Segment(middle, end, _only({takeover: command.main_duty})))
@@ -141,6 +168,10 @@ def plant(model: PlantModel) -> Plant:
         from sim.switched import simulate_switched
 
         return simulate_switched
+    if model == "averaged":
+        from sim.switched import simulate_averaged_exact
+
+        return simulate_averaged_exact
     from sim.averaged import simulate_averaged
 
     return simulate_averaged
@@ -154,7 +185,7 @@ def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
     start value is solved for: the period average is affine in it (linear circuit).
     """
     magnitude = case.current_a
-    if model == "averaged":
+    if model != "switched":
         return case.edge_currents(magnitude)
     run = plant(model)
     schedule = schedule_for(case, None, 0.0)

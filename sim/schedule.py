@@ -2,10 +2,15 @@
 
 Both plants read the same schedule: the averaged plant uses the duties, the switched
 plant expands them into gate edges on the PWM carrier. A compare value change takes
-effect immediately (the commutation time is not aligned to the carrier).
+effect immediately.
 
-Carrier: period T starting at t = origin + k T. Edge-aligned, a duty d switches on at
-the period start for d T; centre-aligned, the on-time is centred in the period.
+Carrier: period T. The STM32 port raises TIM1's update event (EGR.UG) together with
+every COM event, at the Hall edge and again at the end of the commutation, so the
+counter restarts there: the carrier runs from each restart r_j in periods
+[r_j + k T, r_j + (k + 1) T), and the period that a later restart cuts short ends at
+that restart (`restarts`, the first is the Hall edge at t = 0; before it the carrier
+is aligned to it). Edge-aligned, a duty d switches on at the period start for d T;
+centre-aligned, the on-time is centred in the (nominal) period.
 """
 
 from __future__ import annotations
@@ -18,6 +23,8 @@ from codegen.spec_model import PwmAlignment
 
 SWITCHES = 6
 OFF: tuple[float, ...] = (0.0,) * SWITCHES
+#: Relative slack on carrier-period arithmetic (times are sums of floats).
+_EPS = 1e-9
 
 
 def switch_name(index: int) -> str:
@@ -41,7 +48,8 @@ class Schedule:
     segments: tuple[Segment, ...]
     period: float
     alignment: PwmAlignment
-    origin: float = 0.0
+    #: Carrier restarts (update events), ascending; the first is the carrier's origin.
+    restarts: tuple[float, ...] = (0.0,)
 
     @property
     def start(self) -> float:
@@ -51,16 +59,44 @@ class Schedule:
     def end(self) -> float:
         return self.segments[-1].end
 
+    @property
+    def origin(self) -> float:
+        return self.restarts[0]
+
     def duties_at(self, t: float) -> tuple[float, ...]:
         starts = [s.start for s in self.segments]
         index = max(bisect.bisect_right(starts, t) - 1, 0)
         return self.segments[index].duties
 
+    def _bases(self) -> list[int]:
+        """Index of the first carrier period after each restart."""
+        bases = [0]
+        for lo, hi in zip(self.restarts, self.restarts[1:], strict=False):
+            bases.append(bases[-1] + max(math.ceil((hi - lo) / self.period - _EPS), 0))
+        return bases
+
     def period_index(self, t: float) -> int:
-        return math.floor((t - self.origin) / self.period + 1e-12)
+        """Global index of the carrier period that contains t (0: first after the edge)."""
+        j = bisect.bisect_right(self.restarts, t + _EPS * self.period) - 1
+        if j < 0:
+            return math.floor((t - self.origin) / self.period + _EPS)
+        return self._bases()[j] + math.floor((t - self.restarts[j]) / self.period + _EPS)
+
+    def period_bounds(self, index: int) -> tuple[float, float]:
+        """(start, end) of carrier period `index`; the end is cut by a later restart."""
+        if index < 0:
+            start = self.origin + index * self.period
+            return start, start + self.period
+        bases = self._bases()
+        j = bisect.bisect_right(bases, index) - 1
+        start = self.restarts[j] + (index - bases[j]) * self.period
+        end = start + self.period
+        if j + 1 < len(self.restarts):
+            end = min(end, self.restarts[j + 1])
+        return start, end
 
     def period_start(self, index: int) -> float:
-        return self.origin + index * self.period
+        return self.period_bounds(index)[0]
 
     def _on_window(self, duty: float, index: int) -> tuple[float, float]:
         start = self.period_start(index)
@@ -101,9 +137,10 @@ class Schedule:
                 if hi <= lo:
                     continue
                 for k in range(self.period_index(lo), self.period_index(hi) + 1):
+                    period_end = self.period_bounds(k)[1]
                     for duty in set(segment.duties):
                         if 0.0 < duty < 1.0:
                             for t in self._on_window(duty, k):
-                                if lo < t < hi:
+                                if lo < t < hi and t < period_end:
                                     times.add(t)
         return sorted(times)

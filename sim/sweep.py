@@ -2,11 +2,14 @@
 Table 4's switching counts, the Ipopt optimum at sampled speeds, and where the cores
 clamp the commutation time.
 
-Main duty: in the sweep the main duty is the one that holds the braking current
-between commutations (`Drive.steady_duty`, what a settled current loop outputs). The
-spec's operating points carry their own main duty (the paper's "approximately 42 %"
-at 4600 rpm), which the operating-point figures use, and the conventional method is
-also swept at each such fixed duty to show where its control fail area lies.
+Operating points are run as the paper ran them: a current controller holds the
+braking current and the main duty is what it settles at (`sim.current_loop`, a PI at
+the PWM rate whose integer output the C core is handed). Below the speed where R I
+reaches E the loop saturates at D = 1 and the drive holds only E / R: those points run
+at that current and are marked. The spec's operating points also quote a main duty
+(the paper's "approximately 42 %" at 4600 rpm): it is run at the current that duty
+actually holds (`held_current`), never as a duty step at the edge, and skipped where
+that duty cannot brake at all (it would hold a negative current).
 """
 
 from __future__ import annotations
@@ -22,20 +25,27 @@ from codegen.audit.transcription import Table4Row, load_transcription
 from codegen.spec_model import Spec
 from sim.clamp import ClampScan, clamp_scans
 from sim.command import Command
+from sim.current_loop import Settled, held_current, settle
 from sim.drive import Drive
-from sim.emf import EmfShape
+from sim.emf import TRAPEZOID_120, EmfShape
 from sim.metrics import CommutationMetrics
 from sim.optimise import Optimum, optimise
+from sim.regions import Regions, regions
 from sim.runs import IDEAL_METHODS, METHODS, Controller, Run, simulate
 from sim.scenario import Case, PlantModel, paper_edge
 from sim.sil import prepare_cores
+from sim.studies import Studies, shape_study, short_study, study_speeds
+from sim.table4 import Table4Study, table4_study
 
-DEFAULT_SHAPE: EmfShape = "trapezoidal"
-SWEEP_LOW_RPM = 500.0
-SWEEP_HIGH_RPM = 5000.0
-SWEEP_STEP_RPM = 250.0
-OPTIMUM_SPEEDS_RPM = (500.0, 1000.0, 1500.0, 2000.0, 2500.0, 3000.0, 3500.0, 4000.0, 4600.0, 5000.0)
+DEFAULT_SHAPE: EmfShape = "spec"
+#: About this many sweep points over the spec's speed range (plus the operating points).
+SWEEP_POINTS = 19
+#: Optimum rows: this many speeds spread over the sweep.
+OPTIMUM_POINTS = 10
 STEADY = "steady"
+#: The resistance-aware rule's target range on the paper's motor (rpm); the EMF-shape
+#: study runs over it (clipped to the spec's range).
+TARGET_RANGE_RPM = (500.0, 4600.0)
 
 
 @dataclass(frozen=True)
@@ -44,8 +54,12 @@ class SweepRow:
     method: str
     model: PlantModel
     emf_shape: EmfShape
-    duty_policy: str  # "steady" or the fixed main duty, e.g. "0.42"
+    duty_policy: str  # "steady" (the current loop's settled duty) or a main duty, "0.42"
     main_duty: float
+    #: The braking current before the edge: the one the main duty holds.
+    current_a: float
+    #: R I >= E: the loop saturated at D = 1 below the spec's braking current.
+    current_limited: bool
     on_duty: float  # first carrier period of the commutation
     off_duty: float
     commanded_time_s: float
@@ -55,25 +69,30 @@ class SweepRow:
     core_outputs: dict[str, int] = field(default_factory=dict)
 
 
-#: Operating-point runs: at the steady-state main duty every method; at the spec's
-#: main duty the methods whose commutation duties depend on it.
-POINT_POLICIES: dict[str, tuple[str, ...]] = {
-    STEADY: METHODS,
-    "point": ("none", "conventional"),
-}
+#: The point policy: the spec's quoted main duty at the current it holds.
+POINT = "point"
+POLICIES: tuple[str, ...] = (STEADY, POINT)
 
 
 @dataclass(frozen=True)
 class OperatingPoint:
     speed_rpm: float
-    #: The spec's main duty at this point ("point" policy).
+    #: The spec's main duty at this point and the current it holds (A; <= 0: it cannot
+    #: brake at this speed, and the "point" runs are absent).
     main_duty: float
+    point_current_a: float
+    #: The current loop at the spec's braking current ("steady" policy).
+    settled: Settled
     #: (method, model, policy) -> run over the figure window.
     runs: dict[tuple[str, str, str], Run]
     #: (method, model, policy) -> metrics over the commutation.
     metrics: dict[tuple[str, str, str], CommutationMetrics]
     #: (method, policy) -> the controller's flags.
     flags: dict[tuple[str, str], tuple[str, ...]]
+
+    @property
+    def point_brakes(self) -> bool:
+        return self.point_current_a > 0.0
 
 
 @dataclass(frozen=True)
@@ -93,18 +112,39 @@ class Results:
     optima: tuple[OptimumRow, ...]
     table4: tuple[Table4Row, ...]
     clamps: tuple[ClampScan, ...]
+    table4_study: Table4Study
+    regions: Regions
+    studies: Studies
     seconds: dict[str, float] = field(default_factory=dict)
 
     def rows(self, **match: object) -> list[SweepRow]:
         return [r for r in self.sweep if all(getattr(r, k) == v for k, v in match.items())]
 
 
+def nice_step(span: float, points: int) -> float:
+    """The 1-2-2.5-5 x 10^k step nearest (in ratio) to dividing `span` into `points`."""
+    raw = span / max(points, 1)
+    decade = 10.0 ** np.floor(np.log10(raw))
+    candidates = [f * decade for f in (1.0, 2.0, 2.5, 5.0, 10.0)]
+    return float(min(candidates, key=lambda step: abs(np.log(step / raw))))
+
+
 def sweep_speeds(drive: Drive, extra: Iterable[float]) -> tuple[float, ...]:
-    low = max(SWEEP_LOW_RPM, drive.speed_min_rpm)
-    high = min(max(SWEEP_HIGH_RPM, low), drive.speed_max_rpm)
-    grid = set(np.arange(low, high + 1e-9, SWEEP_STEP_RPM).round(6).tolist())
-    grid |= {s for s in extra if low <= s <= high}
+    """The spec's whole speed range: its ends, the multiples of a round step between
+    them, and the `extra` speeds (operating points) inside it."""
+    low, high = drive.speed_min_rpm, drive.speed_max_rpm
+    step = nice_step(high - low, SWEEP_POINTS - 1)
+    first = np.ceil(low / step) * step
+    grid = {round(low, 6), round(high, 6)}
+    grid |= {round(float(v), 6) for v in np.arange(first, high - 1e-9, step) if v > low + 1e-9}
+    grid |= {round(float(s), 6) for s in extra if low <= s <= high}
     return tuple(sorted(grid))
+
+
+def optimum_speeds(speeds: tuple[float, ...]) -> tuple[float, ...]:
+    """About OPTIMUM_POINTS speeds of the sweep, spread evenly, both ends included."""
+    picks = np.linspace(0, len(speeds) - 1, min(OPTIMUM_POINTS, len(speeds)))
+    return tuple(sorted({speeds[int(np.rint(k))] for k in picks}))
 
 
 @dataclass(frozen=True)
@@ -114,24 +154,61 @@ class _Job:
     model: PlantModel
     emf_shape: EmfShape
     duty_policy: str
+    main_duty: float
+    current_a: float
+    limited: bool
 
 
-def _jobs(speeds: tuple[float, ...], fixed_duties: tuple[float, ...]) -> list[_Job]:
+def _point_duties(spec: Spec) -> tuple[float, ...]:
+    return tuple(sorted({float(p.main_duty) for p in spec.operating_points}))
+
+
+def _jobs(
+    drive: Drive, speeds: tuple[float, ...], duties: tuple[float, ...], counts: int, top_a: float
+) -> list[_Job]:
     jobs: list[_Job] = []
     for speed in speeds:
+        loop = settle(drive, speed, drive.braking_current_a, counts)
         for method in (*METHODS, *IDEAL_METHODS):
-            jobs.append(_Job(speed, method, "switched", DEFAULT_SHAPE, STEADY))
-            jobs.append(_Job(speed, method, "averaged", DEFAULT_SHAPE, STEADY))
-            jobs.append(_Job(speed, method, "switched", "flat", STEADY))
-        for duty in fixed_duties:
-            jobs.append(_Job(speed, "conventional", "switched", DEFAULT_SHAPE, f"{duty:g}"))
+            for model, shape in (("switched", DEFAULT_SHAPE), ("averaged", DEFAULT_SHAPE)):
+                jobs.append(
+                    _Job(
+                        speed, method, model, shape, STEADY, loop.duty, loop.current_a, loop.limited
+                    )
+                )
+            jobs.append(
+                _Job(
+                    speed,
+                    method,
+                    "switched",
+                    "flat",
+                    STEADY,
+                    loop.duty,
+                    loop.current_a,
+                    loop.limited,
+                )
+            )
+        for duty in duties:
+            current = held_current(drive, speed, duty)
+            if 0.0 < current <= top_a:
+                jobs.append(
+                    _Job(
+                        speed,
+                        "conventional",
+                        "switched",
+                        DEFAULT_SHAPE,
+                        f"{duty:g}",
+                        duty,
+                        current,
+                        False,
+                    )
+                )
     return jobs
 
 
 def _row(controller: Controller, drive: Drive, job: _Job) -> SweepRow:
-    case = Case(drive, paper_edge(), job.speed_rpm, drive.braking_current_a, job.emf_shape)
-    main = case.pre_edge_duty if job.duty_policy == STEADY else float(job.duty_policy)
-    command = controller.command(job.method, case, main)
+    case = Case(drive, paper_edge(), job.speed_rpm, job.current_a, job.emf_shape)
+    command = controller.command(job.method, case, job.main_duty)
     run = simulate(case, command, job.model)
     return SweepRow(
         speed_rpm=job.speed_rpm,
@@ -140,6 +217,8 @@ def _row(controller: Controller, drive: Drive, job: _Job) -> SweepRow:
         emf_shape=job.emf_shape,
         duty_policy=job.duty_policy,
         main_duty=command.main_duty,
+        current_a=job.current_a,
+        current_limited=job.limited,
         on_duty=command.on_duty(0),
         off_duty=command.off_duty(0),
         commanded_time_s=command.commutation_time_s,
@@ -147,6 +226,18 @@ def _row(controller: Controller, drive: Drive, job: _Job) -> SweepRow:
         metrics=run.metrics,
         core_outputs=command.core_outputs,
     )
+
+
+#: Methods with a phase-current figure at the spec's main duty (Fig. 13 is conventional).
+POINT_FIGURE_METHODS = ("none", "conventional")
+
+
+def figure_keys(point: OperatingPoint) -> list[tuple[str, str]]:
+    """(method, policy) pairs with a phase-current figure at this operating point."""
+    keys = [(method, STEADY) for method in METHODS]
+    if point.point_brakes:
+        keys += [(method, POINT) for method in POINT_FIGURE_METHODS]
+    return keys
 
 
 def figure_end(case: Case, run: Run) -> float:
@@ -159,13 +250,18 @@ def figure_end(case: Case, run: Run) -> float:
 def operating_point(
     controller: Controller, drive: Drive, speed: float, duty: float
 ) -> OperatingPoint:
+    """Every method at the settled duty, and at the spec's duty with the current it holds."""
     runs: dict[tuple[str, str, str], Run] = {}
     metrics: dict[tuple[str, str, str], CommutationMetrics] = {}
     flags: dict[tuple[str, str], tuple[str, ...]] = {}
-    case = Case(drive, paper_edge(), speed, drive.braking_current_a, DEFAULT_SHAPE)
-    for policy, methods in POINT_POLICIES.items():
-        main = case.pre_edge_duty if policy == STEADY else duty
-        for method in methods:
+    loop = settle(drive, speed, drive.braking_current_a, controller.period_counts)
+    point_current = held_current(drive, speed, duty)
+    settings = [(STEADY, loop.duty, loop.current_a)]
+    if point_current > 0.0:
+        settings.append((POINT, duty, point_current))
+    for policy, main, current in settings:
+        case = Case(drive, paper_edge(), speed, current, DEFAULT_SHAPE)
+        for method in METHODS:
             command = controller.command(method, case, main)
             flags[(method, policy)] = controller.flag_names(command)
             for model in ("switched", "averaged"):
@@ -174,12 +270,14 @@ def operating_point(
                 runs[(method, model, policy)] = simulate(
                     case, command, model, figure_end(case, measured)
                 )
-    return OperatingPoint(speed, duty, runs, metrics, flags)
+    return OperatingPoint(speed, duty, point_current, loop, runs, metrics, flags)
 
 
-def _optimum_row(controller: Controller, drive: Drive, speed: float, shape: EmfShape) -> OptimumRow:
-    case = Case(drive, paper_edge(), speed, drive.braking_current_a, shape)
-    improved = controller.command("improved", case, case.pre_edge_duty)
+def _optimum_row(
+    controller: Controller, drive: Drive, speed: float, shape: EmfShape, loop: Settled
+) -> OptimumRow:
+    case = Case(drive, paper_edge(), speed, loop.current_a, shape)
+    improved = controller.command("improved", case, loop.duty)
     optimum = optimise(case, improved.on_duty(0), improved.off_duty(0), improved.commutation_time_s)
     worst: dict[str, float] = {}
     hall = float(controller.cores.scaling.hall_clock_hz)
@@ -194,9 +292,16 @@ def _optimum_row(controller: Controller, drive: Drive, speed: float, shape: EmfS
     )
     worst["optimum"] = simulate(case, best, "averaged").metrics.deviation_worst_pct
     for method in (*METHODS, *IDEAL_METHODS):
-        command = controller.command(method, case, case.pre_edge_duty)
+        command = controller.command(method, case, loop.duty)
         worst[method] = simulate(case, command, "averaged").metrics.deviation_worst_pct
     return OptimumRow(optimum, shape, worst)
+
+
+def optimum_shapes(drive: Drive) -> tuple[EmfShape, ...]:
+    """The optimiser integrates one affine EMF over the sector: the spec's shape only
+    when it is the 120 deg trapezoid (one ramp from the edge), and always the flat one."""
+    trapezoid = drive.emf_points == TRAPEZOID_120
+    return (DEFAULT_SHAPE, "flat") if trapezoid else ("flat",)
 
 
 def run_all(spec: Spec, progress: bool = True) -> Results:
@@ -209,14 +314,13 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     seconds["cores"] = time.perf_counter() - clock
 
     operating_speeds = [float(p.speed_rpm) for p in spec.operating_points]
-    fixed_duties = tuple(sorted({float(p.main_duty) for p in spec.operating_points}))
     speeds = sweep_speeds(drive, operating_speeds)
-    jobs = _jobs(speeds, fixed_duties)
+    top_a = float(cores.scaling.amps_per_current_code) * (
+        2**spec.adc.bits - 1 - cores.scaling.current_offset_code
+    )
+    jobs = _jobs(drive, speeds, _point_duties(spec), controller.period_counts, top_a)
     optimum_jobs = [
-        (speed, shape)
-        for shape in (DEFAULT_SHAPE, "flat")
-        for speed in OPTIMUM_SPEEDS_RPM
-        if speeds[0] <= speed <= speeds[-1]
+        (speed, shape) for shape in optimum_shapes(drive) for speed in optimum_speeds(speeds)
     ]
     total = len(jobs) + len(spec.operating_points) + len(optimum_jobs)
     bar = tqdm(total=total, desc=f"sim {spec.name}", unit="run", disable=not progress)
@@ -246,7 +350,8 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     def do_optima() -> list[OptimumRow]:
         rows = []
         for speed, shape in optimum_jobs:
-            rows.append(_optimum_row(controller, drive, speed, shape))
+            loop = settle(drive, speed, drive.braking_current_a, controller.period_counts)
+            rows.append(_optimum_row(controller, drive, speed, shape, loop))
             bar.update()
         return rows
 
@@ -254,6 +359,13 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     operating = timed("operating points", do_operating)
     optima = timed("optimiser", do_optima)
     clamps = timed("clamp scan", lambda: clamp_scans(controller, drive, spec))
+    table4 = load_transcription().table4
+    counts = timed("table 4", lambda: table4_study(controller, drive, table4))
+    found = regions(drive)
+    target_low, target_high = TARGET_RANGE_RPM
+    shape_speeds = study_speeds(drive, target_low, target_high)
+    shapes = timed("EMF shapes", lambda: shape_study(controller, drive, shape_speeds))
+    short = timed("short commutations", lambda: short_study(controller, drive, found))
     bar.close()
     seconds["total"] = time.perf_counter() - clock
     return Results(
@@ -262,7 +374,10 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
         sweep=tuple(sweep),  # type: ignore[arg-type]
         operating=tuple(operating),  # type: ignore[arg-type]
         optima=tuple(optima),  # type: ignore[arg-type]
-        table4=load_transcription().table4,
+        table4=table4,
         clamps=clamps,  # type: ignore[arg-type]
+        table4_study=counts,  # type: ignore[arg-type]
+        regions=found,
+        studies=Studies(shapes, shape_speeds, short),  # type: ignore[arg-type]
         seconds=seconds,
     )

@@ -40,18 +40,47 @@ def simulate_switched(
     end: float,
     initial_currents: np.ndarray,
 ) -> Trace:
-    builder = TraceBuilder("switched", schedule.period, schedule.origin)
+    return _simulate(drive, emf, schedule, start, end, initial_currents, averaged=False)
+
+
+def simulate_averaged_exact(
+    drive: Drive,
+    emf: BackEmf,
+    schedule: Schedule,
+    start: float,
+    end: float,
+    initial_currents: np.ndarray,
+) -> Trace:
+    """The averaged plant (each leg at its PWM-period average D U_d, the paper's model)
+    solved by the same exact pieces: between breakpoints the averaged voltages are
+    constant too, so the closed form applies unchanged. `sim.averaged` integrates the
+    same model with CVODES; the tests hold the two together."""
+    return _simulate(drive, emf, schedule, start, end, initial_currents, averaged=True)
+
+
+def _simulate(
+    drive: Drive,
+    emf: BackEmf,
+    schedule: Schedule,
+    start: float,
+    end: float,
+    initial_currents: np.ndarray,
+    averaged: bool,
+) -> Trace:
+    builder = TraceBuilder("averaged" if averaged else "switched", schedule)
     currents = np.array(initial_currents, dtype=float)
     builder.point(start, currents)
     times = sorted(
-        set(schedule.breakpoints(start, end, gate_edges=True)) | set(emf.corners(start, end))
+        set(schedule.breakpoints(start, end, gate_edges=not averaged))
+        | set(emf.corners(start, end))
     )
     previous_gates: tuple[float, ...] | None = None
     for lo, hi in pairwise(times):
         if hi - lo <= 1e-15:
             continue
-        gates = schedule.gates_at(0.5 * (lo + hi))
-        if previous_gates is not None:
+        middle = 0.5 * (lo + hi)
+        gates = schedule.duties_at(middle) if averaged else schedule.gates_at(middle)
+        if previous_gates is not None and not averaged:
             for switch, (was, now) in enumerate(zip(previous_gates, gates, strict=True)):
                 if was != now:
                     builder.transitions.append(Transition(lo, switch, now > 0.5))

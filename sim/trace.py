@@ -2,7 +2,8 @@
 
 Per-period averages are what the paper's comparisons are about (the non-commutating
 current "remains constant" up to the PWM ripple), so both plants integrate the
-currents and the electrical power sum e_x i_x exactly over each carrier period.
+currents and the electrical power sum e_x i_x exactly over each carrier period (a
+period that a carrier restart cuts short is averaged over its own length).
 """
 
 from __future__ import annotations
@@ -10,6 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from sim.schedule import Schedule
 
 
 @dataclass(frozen=True)
@@ -31,8 +34,9 @@ class Trace:
     model: str  # "switched" or "averaged"
     times: np.ndarray  # (N,)
     currents: np.ndarray  # (N, 3)
-    #: Carrier periods fully inside the run: start time, mean currents, mean power.
+    #: Carrier periods fully inside the run: start and end time, mean currents, power.
     period_starts: np.ndarray  # (K,)
+    period_ends: np.ndarray  # (K,)
     period_currents: np.ndarray  # (K, 3)
     period_power: np.ndarray  # (K,) mean of sum e_x i_x, W
     events: tuple[Event, ...]
@@ -61,8 +65,7 @@ class TraceBuilder:
     """Accumulates a run; `finish` freezes it."""
 
     model: str
-    period: float
-    origin: float
+    schedule: Schedule
     times: list[float] = field(default_factory=list)
     currents: list[np.ndarray] = field(default_factory=list)
     events: list[Event] = field(default_factory=list)
@@ -86,15 +89,22 @@ class TraceBuilder:
         self._covered[period] += duration
 
     def finish(self) -> Trace:
-        full = sorted(k for k, d in self._covered.items() if d >= self.period * (1.0 - 1e-9))
-        starts = np.array([self.origin + k * self.period for k in full])
-        mean_i = np.array([self._charge[k] / self.period for k in full]).reshape(-1, 3)
-        power = np.array([self._energy[k] / self.period for k in full])
+        bounds = {k: self.schedule.period_bounds(k) for k in self._covered}
+        length = {k: hi - lo for k, (lo, hi) in bounds.items()}
+        slack = 1e-9 * self.schedule.period
+        full = sorted(
+            k for k, d in self._covered.items() if length[k] > 0 and d >= length[k] - slack
+        )
+        starts = np.array([bounds[k][0] for k in full])
+        ends = np.array([bounds[k][1] for k in full])
+        mean_i = np.array([self._charge[k] / length[k] for k in full]).reshape(-1, 3)
+        power = np.array([self._energy[k] / length[k] for k in full])
         return Trace(
             model=self.model,
             times=np.array(self.times),
             currents=np.array(self.currents).reshape(-1, 3),
             period_starts=starts,
+            period_ends=ends,
             period_currents=mean_i,
             period_power=power,
             events=tuple(self.events),

@@ -155,7 +155,7 @@ def test_firmware_rule_should_hold_the_current_within_3_percent(
     3 % in the switched plant."""
     controller = Controller(spec, prepare_cores(spec, ("improved_r",)))
     drive = Drive.from_spec(spec)
-    case = Case(drive, paper_edge(), speed, drive.braking_current_a, "trapezoidal")
+    case = Case(drive, paper_edge(), speed, drive.braking_current_a, "spec")
     command = controller.command("improved_r", case, case.pre_edge_duty)
     raw = command.core_outputs
     inputs = RuleInputs(

@@ -87,6 +87,7 @@ def test_every_value_should_cite_the_datasheet_or_an_assumption() -> None:
         for section in ("motor", "inverter", "hall", "adc", "controller", "accuracy")
         for key in raw[section]
     } | {"operating_points"}
+    keys |= {"tolerances"} & set(raw)  # the optional robustness ranges
     assert set(sources) == keys
     for key, text in sources.items():
         assert text.startswith((DATASHEET, "assumption")), key

@@ -42,7 +42,7 @@ def cores(spec: Spec) -> CoreSet:
 
 def _case(spec: Spec, speed: float) -> Case:
     drive = Drive.from_spec(spec)
-    return Case(drive, paper_edge(), speed, drive.braking_current_a, "trapezoidal")
+    return Case(drive, paper_edge(), speed, drive.braking_current_a, "spec")
 
 
 def _header_fields(header: str, type_name: str) -> list[str]:
@@ -146,7 +146,7 @@ def test_all_twelve_edges_should_brake_alike_through_the_c_core(spec: Spec, core
     controller = Controller(spec, cores)
     worst = {}
     for edge in switching_table().edges:
-        case = Case(drive, edge, 1500.0, drive.braking_current_a, "trapezoidal")
+        case = Case(drive, edge, 1500.0, drive.braking_current_a, "spec")
         command = controller.command("improved", case, case.pre_edge_duty)
         worst[(edge.direction, edge.sector_to)] = simulate(
             case, command, "switched"

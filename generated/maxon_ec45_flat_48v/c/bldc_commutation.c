@@ -1,4 +1,4 @@
-/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 fa86d047b8821a27a142b934712f08b0facfe4e0855f125d7ad8b440b5e88db1). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 8b5f5d50b8448d3cbaa1fb633cc60b872c18290557700779debfaeb46d86d548). Do not edit: regenerate with `make`. */
 #include "bldc_commutation.h"
 
 #define N_X_HIGH 2196945454u /* N_X >> 11, round(K_X 2^10), K_X = 4.393891e+09 (Eqs. 3, 9) */

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 fa86d047b8821a27a142b934712f08b0facfe4e0855f125d7ad8b440b5e88db1). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 8b5f5d50b8448d3cbaa1fb633cc60b872c18290557700779debfaeb46d86d548). Do not edit: regenerate with `make`. */
 /* Firmware entry for the project's own build: bring up the port, then sleep. The
  * Hall-edge and commutation-end work happens in TIM3_IRQHandler, the next edge's timing
  * in TIM1_TRG_COM_IRQHandler; thread mode hands the latest bus-voltage sample and main

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 fa86d047b8821a27a142b934712f08b0facfe4e0855f125d7ad8b440b5e88db1). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 8b5f5d50b8448d3cbaa1fb633cc60b872c18290557700779debfaeb46d86d548). Do not edit: regenerate with `make`. */
 /* Minimal start-up for the project's own firmware build: vector table with the
  * CMSIS handler names, .data copy, .bss clear, then main(). A Cube project uses its
  * own start-up file instead; the port's handlers drop into it by name. */

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor.yaml (sha256 2a7bf98413ee5161d467c52900f29e4e60c438f2cd95823a507a4b180dd6f5aa). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor.yaml (sha256 353cb73b28c0b827ba0524490cb9ff1397c10b6f2cbe203a67af9ae2661c890c). Do not edit: regenerate with `make`. */
 /* Firmware entry for the project's own build: bring up the port, then sleep. The
  * Hall-edge and commutation-end work happens in TIM3_IRQHandler, the next edge's timing
  * in TIM1_TRG_COM_IRQHandler; thread mode hands the latest bus-voltage sample and main

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 2a7bf98413ee5161d467c52900f29e4e60c438f2cd95823a507a4b180dd6f5aa). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 353cb73b28c0b827ba0524490cb9ff1397c10b6f2cbe203a67af9ae2661c890c). Do not edit: regenerate with `make`. */
 /* Minimal start-up for the project's own firmware build: vector table with the
  * CMSIS handler names, .data copy, .bss clear, then main(). A Cube project uses its
  * own start-up file instead; the port's handlers drop into it by name. */

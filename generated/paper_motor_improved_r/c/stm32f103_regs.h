@@ -1,4 +1,4 @@
-/* Generated from template c/stm32f103_regs.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`. */
+/* Generated from template c/stm32f103_regs.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 63a0dc42fff05d0f6f8cb3075865de9694b3e07c2854b399c9fb056dc0d7bc10). Do not edit: regenerate with `make`. */
 #ifndef STM32F103_REGS_H
 #define STM32F103_REGS_H
 

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 a34cff992e82e80cf991eeb769d71772d051386ecf2ee524d2b003a47def792e). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 63a0dc42fff05d0f6f8cb3075865de9694b3e07c2854b399c9fb056dc0d7bc10). Do not edit: regenerate with `make`. */
 /* Firmware entry for the project's own build: bring up the port, then sleep. The
  * Hall-edge and commutation-end work happens in TIM3_IRQHandler, the next edge's timing
  * in TIM1_TRG_COM_IRQHandler; thread mode hands the latest bus-voltage sample and main

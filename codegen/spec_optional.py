@@ -1,0 +1,128 @@
+"""The spec's two optional entries, parsed and checked (called by `spec_loader`).
+
+* `motor.back_emf_shape`: the phase back-EMF waveform. Either a flat-top width,
+  `"<w> deg"` in electrical degrees with 0 < w < 180 (120 deg is the paper's ideal
+  trapezoid, the default), or a measured table: a list of `[angle_deg, e_per_unit]`
+  pairs over the half period from the phase's rising zero crossing, angles rising
+  from 0 to 180, e = 0 at both ends, e in units of E = k_e n (the spec's constant is
+  the flat-top value, so a measured table's flat part sits at 1).
+* `tolerances`: how far the real drive may sit from the nominal values, each a pair
+  `[low %, high %]` of plain numbers (for example `phase_resistance: [-10, 40]` for
+  a winding that is up to 40 % hotter), for `phase_resistance`, `phase_inductance`,
+  `back_emf_constant` and `bus_voltage`. The bus pair must keep the bus inside
+  [inverter.bus_voltage_min, inverter.bus_voltage_max].
+
+Every error names the key path, the value, the unit and the allowed range.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from fractions import Fraction
+from typing import Any, Protocol
+
+from codegen.errors import SpecError
+from codegen.spec_model import BackEmfShape, Inverter, Tolerances
+
+EMF_SHAPE_KEY = "back_emf_shape"
+TOLERANCES_KEY = "tolerances"
+TOLERANCE_KEYS = ("phase_resistance", "phase_inductance", "back_emf_constant", "bus_voltage")
+_WIDTH = re.compile(r"^\s*(?P<number>[-+]?(?:\d+\.?\d*|\.\d+))\s*(?:deg|°)\s*$")
+_WIDTH_ALLOWED = "'<w> deg' with 0 < w < 180 electrical degrees, or a table of [angle_deg, e/E]"
+_TABLE_ALLOWED = "[[0, 0], ..., [180, 0]]: angles rising from 0 to 180 deg, |e/E| <= 2"
+_PERCENT_LOW, _PERCENT_HIGH = -90.0, 400.0
+
+
+class _Errors(Protocol):
+    def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError: ...
+
+
+def _plain(value: object) -> bool:
+    return (
+        not isinstance(value, bool)
+        and isinstance(value, (int, float))
+        and (not isinstance(value, float) or math.isfinite(value))
+    )
+
+
+def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
+    """`motor.back_emf_shape` (raw YAML value) -> the checked waveform."""
+    path = f"motor.{EMF_SHAPE_KEY}"
+    if isinstance(raw, str):
+        match = _WIDTH.match(raw)
+        if match is None:
+            raise r.error(path, raw, "not a flat-top width in electrical degrees", _WIDTH_ALLOWED)
+        width = Fraction(match.group("number"))
+        if not 0 < width < 180:
+            raise r.error(path, raw, "flat-top width out of range", "0 < w < 180 deg")
+        return BackEmfShape.trapezoid(width)
+    if not isinstance(raw, list):
+        raise r.error(path, raw, "must be a flat-top width or a table", _WIDTH_ALLOWED)
+    points: list[tuple[Fraction, Fraction]] = []
+    for index, item in enumerate(raw):
+        where = f"{path}[{index}]"
+        if not (isinstance(item, list) and len(item) == 2 and all(_plain(v) for v in item)):
+            raise r.error(where, item, "must be a pair [angle_deg, e/E] of numbers", _TABLE_ALLOWED)
+        angle, value = Fraction(str(item[0])), Fraction(str(item[1]))
+        if not 0 <= angle <= 180:
+            raise r.error(where, item, "angle outside the half period", "0 <= angle <= 180 deg")
+        if abs(value) > 2:
+            raise r.error(where, item, "e/E beyond twice the flat-top value", "-2 <= e/E <= 2")
+        if points and angle <= points[-1][0]:
+            raise r.error(
+                where,
+                item,
+                f"angle not above the previous {float(points[-1][0]):g} deg",
+                _TABLE_ALLOWED,
+            )
+        points.append((angle, value))
+    if len(points) < 3 or points[0][0] != 0 or points[-1][0] != 180:
+        raise r.error(path, raw, "the table must run from 0 deg to 180 deg", _TABLE_ALLOWED)
+    if points[0][1] != 0 or points[-1][1] != 0:
+        raise r.error(
+            path, raw, "e/E must be 0 at 0 deg and 180 deg (the zero crossings)", _TABLE_ALLOWED
+        )
+    if max(value for _, value in points) <= 0:
+        raise r.error(
+            path, raw, "a rising zero crossing needs a positive half period", _TABLE_ALLOWED
+        )
+    return BackEmfShape(tuple(points), None)
+
+
+def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances:
+    """`tolerances` (raw YAML value) -> relative (low, high) per parameter."""
+    allowed = f"[low %, high %] with {_PERCENT_LOW:g} < low <= high <= {_PERCENT_HIGH:g}"
+    if not isinstance(raw, Mapping):
+        raise r.error(TOLERANCES_KEY, raw, "must map parameters to [low %, high %]", allowed)
+    for key in raw:
+        if key not in TOLERANCE_KEYS:
+            raise r.error(
+                f"{TOLERANCES_KEY}.{key}", raw[key], "unknown key", ", ".join(TOLERANCE_KEYS)
+            )
+    pairs: dict[str, tuple[Fraction, Fraction]] = {}
+    for key in TOLERANCE_KEYS:
+        path = f"{TOLERANCES_KEY}.{key}"
+        if key not in raw:
+            raise r.error(path, None, "missing required key", allowed)
+        item: Any = raw[key]
+        if not (isinstance(item, list) and len(item) == 2 and all(_plain(v) for v in item)):
+            raise r.error(path, item, "must be a pair [low %, high %] of numbers", allowed)
+        low, high = float(item[0]), float(item[1])
+        if not _PERCENT_LOW < low <= high <= _PERCENT_HIGH:
+            raise r.error(path, item, "percent range empty, inverted or out of range", allowed)
+        pairs[key] = (Fraction(str(item[0])) / 100, Fraction(str(item[1])) / 100)
+    nominal = inverter.bus_voltage_nominal_v
+    low_v, high_v = (nominal * (1 + p) for p in pairs["bus_voltage"])
+    if low_v < inverter.bus_voltage_min_v or high_v > inverter.bus_voltage_max_v:
+        lowest = float((inverter.bus_voltage_min_v / nominal - 1) * 100)
+        highest = float((inverter.bus_voltage_max_v / nominal - 1) * 100)
+        raise r.error(
+            f"{TOLERANCES_KEY}.bus_voltage",
+            raw["bus_voltage"],
+            f"puts the bus at {float(low_v):g}-{float(high_v):g} V, outside the inverter's"
+            f" {float(inverter.bus_voltage_min_v):g}-{float(inverter.bus_voltage_max_v):g} V",
+            f"[{lowest:.4g}, {highest:.4g}] %",
+        )
+    return Tolerances(**pairs)

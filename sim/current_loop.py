@@ -1,0 +1,88 @@
+"""The braking current controller, as the paper ran its operating points.
+
+Between commutations two phases conduct in series behind the modulated transistor
+(PWM-OFF-PWM): 2 L di/dt = 2E - (1 - D) U_d - 2 R i on the PWM average, where i is the
+braking current and D the main duty. The paper's main controller holds the braking
+current; the main duty is whatever it settles at. This module is that controller: a
+discrete PI at the PWM rate on the period-mean current (what an ADC sample centred
+in the PWM period returns), its output rounded to TIM1 counts and saturated to
+[0, 1] with anti-windup, acting on the exact discretisation of the averaged circuit.
+
+Its fixed point is the exact steady duty (1 - D) U_d = 2E - 2 R I (`Drive.steady_duty`)
+up to one count, which the tests check; the duty the simulation hands the C core is
+the PI's settled integer output. Where even D = 1 cannot hold I (R I >= E, the
+winding's own resistance limits a short-circuit brake to E / R), the PI saturates at
+D = 1 and the current it settles at is E / R: `Settled.limited` says so.
+
+`held_current` answers the converse question: which braking current does a given
+main duty hold (the paper quotes a main duty, not a current, for Fig. 13).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from sim.drive import Drive
+
+#: Crossover of the current loop as a fraction of the PWM frequency.
+CROSSOVER_FRACTION = 1.0 / 20.0
+#: Periods the loop runs from rest; settled when the duty stays within one count.
+MAX_PERIODS = 4000
+
+
+@dataclass(frozen=True)
+class Settled:
+    duty: float  # the PI's output, rounded to counts
+    counts: int
+    current_a: float  # the period-mean current it settles at
+    limited: bool  # D = 1 and the current below the request: R I >= E
+    periods: int  # PWM periods until the duty stayed within one count for 50 periods
+
+
+def held_current(drive: Drive, speed_rpm: float, duty: float) -> float:
+    """Braking current a main duty holds at this speed (period mean, steady state)."""
+    emf = drive.emf_v(speed_rpm)
+    return (2.0 * emf - (1.0 - duty) * drive.bus_voltage_v) / (2.0 * drive.resistance_ohm)
+
+
+def settle(drive: Drive, speed_rpm: float, current_a: float, period_counts: int) -> Settled:
+    """Run the PI from D = 0 and i = 0 until the duty settles; return where it settled."""
+    period = drive.pwm_period_s
+    bus = drive.bus_voltage_v
+    decay = drive.resistance_ohm / drive.inductance_h
+    factor = math.exp(-decay * period)
+    emf = drive.emf_v(speed_rpm)
+    # Plant per period on the mean: i+ = f i + (1 - f) (2E - (1 - D) U) / (2 R).
+    crossover = 2.0 * math.pi * CROSSOVER_FRACTION * drive.pwm_frequency_hz
+    gain = 2.0 * drive.inductance_h * crossover / bus  # duty per ampere
+    integral_gain = gain * decay * period  # zero on the winding's pole
+    current, integral, counts = 0.0, 0.0, 0
+    stable, last = 0, -10
+    periods = 0
+    while periods < MAX_PERIODS:
+        periods += 1
+        error = current_a - current
+        # Braking: more duty, more current (a longer short through the bridge).
+        unclamped = integral + integral_gain * error + gain * error
+        duty = min(max(unclamped, 0.0), 1.0)
+        if duty == unclamped:
+            integral += integral_gain * error  # anti-windup: integrate only unsaturated
+        counts = round(duty * period_counts)
+        applied = counts / period_counts
+        target = (2.0 * emf - (1.0 - applied) * bus) / (2.0 * drive.resistance_ohm)
+        current = factor * current + (1.0 - factor) * target
+        settled_error = abs(error) < 0.005 * current_a or counts in (0, period_counts)
+        stable = stable + 1 if abs(counts - last) <= 1 and settled_error else 0
+        last = counts
+        if stable >= 50:
+            break
+    applied = counts / period_counts
+    held = held_current(drive, speed_rpm, applied)
+    return Settled(
+        duty=applied,
+        counts=counts,
+        current_a=held,
+        limited=counts == period_counts and held < current_a,
+        periods=periods,
+    )

@@ -1,0 +1,64 @@
+"""The robustness campaign: Latin-hypercube sampling of the spec's tolerances, the C
+cores on Dask (a LocalCluster, or a scheduler's address), a byte-stable report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from dask.distributed import LocalCluster
+
+from codegen.spec_loader import load_spec
+from sim.drive import Drive
+from sim.robustness import build_campaign, latin_hypercube, main, perturbed
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+TINY = ["--samples", "4", "--speeds", "2", "--methods", "none,improved_r", "--no-progress"]
+
+
+def test_latin_hypercube_should_put_one_point_in_every_stratum() -> None:
+    points = latin_hypercube(50, 4, seed=3)
+    assert points.shape == (50, 4)
+    for axis in range(4):
+        assert sorted(np.floor(points[:, axis] * 50).astype(int)) == list(range(50))
+    assert np.array_equal(points, latin_hypercube(50, 4, seed=3))
+
+
+def test_campaign_should_sample_the_specs_declared_tolerances() -> None:
+    spec = load_spec(SPEC)
+    campaign = build_campaign(spec, 200, 3, ("improved_r",), "averaged", seed=1)
+    assert campaign.declared
+    resistance = campaign.samples[:, campaign.parameters.index("phase_resistance")]
+    assert resistance.min() >= -0.10 and resistance.max() <= 0.40
+    assert resistance.max() > 0.35  # the hot end is reached
+    drive, phase = perturbed(Drive.from_spec(spec), campaign.parameters, campaign.samples[0])
+    assert drive.resistance_ohm == pytest.approx(0.21 * (1 + resistance[0]))
+    assert phase == 0.0  # the carrier phase is sampled for the switched plant only
+    switched = build_campaign(spec, 20, 3, ("improved_r",), "switched", seed=1)
+    assert switched.parameters[-1] == "carrier_phase"
+
+
+def test_robustness_should_run_on_a_local_cluster_and_on_a_given_scheduler(
+    tmp_path: Path,
+) -> None:
+    assert main([str(SPEC), *TINY, "--workers", "1", "-o", str(tmp_path / "local")]) == 0
+    text = (tmp_path / "local" / "ROBUSTNESS.md").read_text()
+    assert "| improved_r | " in text and "ρ R" in text
+    assert (tmp_path / "local" / "robustness.png").exists()
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        address = cluster.scheduler_address
+        assert main([str(SPEC), *TINY, "--scheduler", address, "-o", str(tmp_path / "remote")]) == 0
+    # Same seed, same samples: the same report wherever it ran.
+    assert (tmp_path / "remote" / "ROBUSTNESS.md").read_bytes() == text.encode()
+
+
+def test_robustness_should_refuse_bad_arguments_with_one_line(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main([str(SPEC), "--methods", "improved,bogus"]) == 2
+    assert "--methods" in capsys.readouterr().err
+    assert main([str(SPEC), "--samples", "1"]) == 2

@@ -1,0 +1,169 @@
+"""The studies beyond the sweep: the current loop, Table 4's conditions, the EMF-shape
+prototype, the short-commutation schedule and the failure regions."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from codegen.audit.transcription import load_transcription
+from codegen.spec_loader import load_spec
+from sim.current_loop import held_current, settle
+from sim.drive import Drive
+from sim.regions import regions
+from sim.runs import Controller, simulate
+from sim.scenario import Case, paper_edge
+from sim.shape_rule import (
+    aligned_command,
+    minimax_sum,
+    shape_rule_command,
+    trapezoid_hold_point,
+)
+from sim.short_schedule import short_schedule
+from sim.sil import prepare_cores
+from sim.sweep import sweep_speeds
+from sim.table4 import table4_study
+
+ROOT = Path(__file__).resolve().parents[1]
+SPECS = (
+    "spec/paper_motor.yaml",
+    "spec/example_maxon_ec45_flat_48v.yaml",
+    "tests/fixtures/specs/hub_motor_46p.yaml",
+    "tests/fixtures/specs/fast_14p_12v.yaml",
+    "tests/fixtures/specs/offset_conventional.yaml",
+)
+
+
+@pytest.fixture(scope="module")
+def paper() -> tuple[Drive, Controller]:
+    spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+    methods = ("none", "conventional", "improved", "improved_r")
+    return Drive.from_spec(spec), Controller(spec, prepare_cores(spec, methods))
+
+
+@pytest.mark.parametrize("path", SPECS)
+def test_current_loop_should_settle_at_the_steady_duty_or_saturate(path: str) -> None:
+    drive = Drive.from_spec(load_spec(ROOT / path))
+    counts = round(72e6 / drive.pwm_frequency_hz / (2 if drive.pwm_alignment == "center" else 1))
+    limit = drive.resistance_ohm * drive.braking_current_a / drive.emf_v_per_rpm
+    for speed in np.linspace(drive.speed_min_rpm, drive.speed_max_rpm * 0.98, 5):
+        loop = settle(drive, float(speed), drive.braking_current_a, counts)
+        if speed < limit:
+            # R I >= E: D = 1 holds only E / R.
+            assert loop.limited and loop.counts == counts
+            assert loop.current_a == pytest.approx(drive.emf_v(speed) / drive.resistance_ohm)
+        else:
+            exact = drive.steady_duty(float(speed), drive.braking_current_a) * counts
+            assert abs(loop.counts - exact) <= 1.0, (speed, loop, exact)
+            assert not loop.limited
+        assert held_current(drive, float(speed), loop.duty) == pytest.approx(loop.current_a)
+
+
+@pytest.mark.parametrize("path", SPECS)
+def test_sweep_should_span_the_specs_own_speed_range(path: str) -> None:
+    drive = Drive.from_spec(load_spec(ROOT / path))
+    speeds = sweep_speeds(drive, ())
+    assert speeds[0] == drive.speed_min_rpm and speeds[-1] == drive.speed_max_rpm
+    assert 10 <= len(speeds) <= 30
+
+
+def test_table4_should_be_reproduced_at_3_amperes_and_20_khz(
+    paper: tuple[Drive, Controller],
+) -> None:
+    drive, controller = paper
+    study = table4_study(controller, drive, load_transcription().table4)
+    assert study.reproducing_a == (3.0,)
+    counts = {c.speed_rpm: (c.on_pulses, c.off_pulses) for c in study.improved[3.0]}
+    assert counts[1000.0] == (1, 7) and counts[1500.0] == (1, 5) and counts[2000.0] == (1, 4)
+    # The count scales with I: twice the current, about twice the pulses.
+    assert study.improved[6.0][0].off_pulses in (13, 14, 15)
+    # A settled loop gives the conventional method L/(2R) at every speed.
+    for count in study.spec_conventional:  # Hall ticks of 1 us
+        assert count.commanded_us == pytest.approx(0.56e-3 / (2 * 0.21) * 1e6, abs=1.5)
+
+
+def test_shape_rule_should_be_the_c_core_on_the_trapezoid_and_hold_the_flat_emf(
+    paper: tuple[Drive, Controller],
+) -> None:
+    drive, controller = paper
+    hall = float(controller.cores.scaling.hall_clock_hz)
+    counts = controller.period_counts
+    for speed in (1000.0, 3000.0, 4600.0):
+        loop = settle(drive, speed, drive.braking_current_a, counts)
+        case = Case(drive, paper_edge(), speed, loop.current_a, "spec")
+        measured = controller.measured_current(case)
+        core = controller.command("improved_r", case, loop.duty)
+        mine = shape_rule_command(case, measured, loop.duty, counts, hall)
+        assert abs(mine.on_duty(0) - core.on_duty(0)) * counts <= 1.0
+        assert abs(mine.off_duty(0) - core.off_duty(0)) * counts <= 1.0
+        assert mine.commutation_time_s == pytest.approx(core.commutation_time_s, rel=0.01)
+        flat = Case(drive, paper_edge(), speed, loop.current_a, "flat")
+        core_flat = controller.command("improved_r", flat, loop.duty)
+        shaped = shape_rule_command(flat, measured, loop.duty, counts, hall)
+        assert abs(simulate(flat, shaped, "averaged").metrics.deviation_worst_pct) < 0.5
+        if speed == 4600.0:  # the core's ramp assumption swells the current on flat EMF
+            assert simulate(flat, core_flat, "averaged").metrics.deviation_worst_pct > 5.0
+
+
+def test_trapezoid_hold_point_should_be_the_numeric_minimax(
+    paper: tuple[Drive, Controller],
+) -> None:
+    """The closed form for a flat top >= 120 deg against the numeric minimax constant."""
+    drive, _ = paper
+    wide = drive.with_flat_top(150.0)
+    case = Case(wide, paper_edge(), 2000.0, 5.0, "spec")
+    sector = case.sector_time_s
+    e, bus = wide.emf_v(2000.0), wide.bus_voltage_v
+    flat_sum = minimax_sum(case, 5.0, 0.2 * sector)  # before the ramp: S(0)
+    for x_c in (0.5, 0.7):
+        held = minimax_sum(case, 5.0, x_c * sector) - flat_sum
+        slope = (2 * e / bus) / 0.5  # S ramps by 2E/U_d over the 0.5-sector ramp
+        assert held == pytest.approx(slope * trapezoid_hold_point(150.0, x_c), rel=0.02)
+    assert trapezoid_hold_point(120.0, 1.0) == pytest.approx(np.sqrt(2) - 1)
+
+
+def test_aligned_rule_should_end_on_a_carrier_boundary(paper: tuple[Drive, Controller]) -> None:
+    drive, controller = paper
+    hall = float(controller.cores.scaling.hall_clock_hz)
+    loop = settle(drive, 3500.0, drive.braking_current_a, controller.period_counts)
+    case = Case(drive, paper_edge(), 3500.0, loop.current_a, "spec")
+    measured = controller.measured_current(case)
+    core = controller.command("improved_r", case, loop.duty)
+    aligned = aligned_command(case, measured, loop.duty, controller.period_counts, hall)
+    periods = aligned.commutation_time_s / drive.pwm_period_s
+    assert periods == pytest.approx(round(periods), abs=1e-9)
+    core_dev = simulate(case, core, "switched").metrics.deviation_worst_pct
+    aligned_dev = simulate(case, aligned, "switched").metrics.deviation_worst_pct
+    assert abs(core_dev) > 3.0 > abs(aligned_dev)
+
+
+def test_short_schedule_should_hold_the_period_means_of_a_two_period_commutation() -> None:
+    spec = load_spec(ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml")
+    drive = Drive.from_spec(spec)
+    controller = Controller(spec, prepare_cores(spec, ("improved_r",)))
+    hall = float(controller.cores.scaling.hall_clock_hz)
+    loop = settle(drive, 3500.0, drive.braking_current_a, controller.period_counts)
+    case = Case(drive, paper_edge(), 3500.0, loop.current_a, "spec")
+    core = controller.command("improved_r", case, loop.duty)
+    assert core.commutation_time_s < drive.pwm_period_s  # under one period
+    start = shape_rule_command(
+        case, controller.measured_current(case), loop.duty, controller.period_counts, hall
+    )
+    schedule = short_schedule(case, start, controller.period_counts, hall)
+    metrics = simulate(case, schedule.command, "switched").metrics
+    assert abs(metrics.deviation_worst_pct) < 1.0
+    assert abs(simulate(case, core, "switched").metrics.deviation_worst_pct) > 5.0
+    assert len(schedule.command.on_duties) == 2
+
+
+def test_regions_should_follow_from_the_physics() -> None:
+    paper = Drive.from_spec(load_spec(ROOT / "spec" / "paper_motor.yaml"))
+    found = regions(paper)
+    assert found.current_limited_below_rpm == pytest.approx(0.21 * 5 / 2.36e-3)
+    assert found.under_three_periods == ()
+    maxon = regions(Drive.from_spec(load_spec(ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml")))
+    assert maxon.under_one_period and maxon.fewest_periods < 1.0
+    low, high = maxon.under_three_periods[0]
+    assert low < 2500.0 and high > 4250.0

@@ -1,0 +1,149 @@
+"""The spec's optional entries: `motor.back_emf_shape` (the plant's EMF waveform) and
+`tolerances` (the robustness campaign's ranges). Absent, a spec loads as before."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from codegen.errors import SpecError
+from codegen.spec_loader import load_spec
+from codegen.spec_model import BackEmfShape
+from sim.drive import Drive
+from sim.scenario import Case, paper_edge
+
+ROOT = Path(__file__).resolve().parents[1]
+TEXT = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+CONVENTION = "  back_emf_convention: phase\n"
+TOLERANCES = """tolerances:
+  phase_resistance: [-10, 40]
+  phase_inductance: [-15, 15]
+  back_emf_constant: [-10, 10]
+  bus_voltage: [-16, 25]
+"""
+
+
+def _with_shape(tmp_path: Path, shape: str) -> Path:
+    assert TEXT.count(CONVENTION) == 1
+    path = tmp_path / "shape.yaml"
+    path.write_text(TEXT.replace(CONVENTION, CONVENTION + f"  back_emf_shape: {shape}\n"))
+    return path
+
+
+def _without_tolerances() -> str:
+    """The default spec with its `tolerances` section (and its source) taken out."""
+    start = TEXT.index("\ntolerances:\n")
+    end = TEXT.index("\n\n", start + 1)
+    text = TEXT[:start] + TEXT[end:]
+    return "".join(line for line in text.splitlines(keepends=True) if "  tolerances:" not in line)
+
+
+def _with_tolerances(tmp_path: Path, section: str) -> Path:
+    path = tmp_path / "tolerances.yaml"
+    text = _without_tolerances()
+    path.write_text(text.replace("\noperating_points:", f"\n{section}\noperating_points:"))
+    return path
+
+
+def test_absent_keys_should_give_the_papers_trapezoid_and_no_tolerances(tmp_path: Path) -> None:
+    path = tmp_path / "plain.yaml"
+    path.write_text(_without_tolerances())
+    assert load_spec(path).tolerances is None
+    spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+    assert spec.tolerances is not None
+    assert spec.motor.back_emf_shape == BackEmfShape()
+    assert spec.motor.back_emf_shape.flat_top_deg == 120
+    assert Drive.from_spec(spec).emf_points == ((0, 0), (30, 1), (150, 1), (180, 0))
+
+
+def test_flat_top_width_should_shape_the_plants_emf(tmp_path: Path) -> None:
+    spec = load_spec(_with_shape(tmp_path, "150 deg"))
+    assert spec.motor.back_emf_shape.points[1] == (Fraction(15), Fraction(1))
+    drive = Drive.from_spec(spec)
+    case = Case(drive, paper_edge(), 1000.0, 5.0, "spec")
+    off = case.edge.turn_off
+    e = drive.emf_v(1000.0)
+    sector = case.sector_time_s
+    # 150 deg: the outgoing phase stays at -E for 15 deg (a quarter sector) after the
+    # edge, then ramps to +E over 30 deg (half a sector), twice as steep as 120 deg.
+    assert case.emf.values(0.2 * sector)[off] == pytest.approx(-e)
+    assert case.emf.values(0.5 * sector)[off] == pytest.approx(0.0, abs=1e-12)
+    assert case.emf.values(0.75 * sector)[off] == pytest.approx(e)
+    assert case.emf.corners(0.0, sector) == pytest.approx([0.25 * sector, 0.75 * sector])
+
+
+def test_measured_table_should_be_interpolated(tmp_path: Path) -> None:
+    table = "[[0, 0], [60, 0.9], [90, 1.05], [120, 0.9], [180, 0]]"
+    spec = load_spec(_with_shape(tmp_path, table))
+    assert spec.motor.back_emf_shape.flat_top_deg is None
+    drive = Drive.from_spec(spec)
+    case = Case(drive, paper_edge(), 1000.0, 5.0, "spec")
+    nc = case.edge.non_commutating
+    # The non-commutating phase sits mid flat top at the edge's sector middle (90 deg).
+    values = [case.emf.values(t)[nc] for t in np.linspace(0, case.sector_time_s, 7)]
+    assert max(values) == pytest.approx(1.05 * drive.emf_v(1000.0))
+
+
+@pytest.mark.parametrize(
+    ("shape", "fragments"),
+    [
+        ("180 deg", ("motor.back_emf_shape", "0 < w < 180 deg")),
+        ("120", ("motor.back_emf_shape", "'<w> deg'")),
+        ("[[0, 0], [90, 1], [170, 0]]", ("motor.back_emf_shape", "from 0 deg to 180 deg")),
+        ("[[0, 0], [90, 1], [80, 1], [180, 0]]", ("motor.back_emf_shape[2]", "not above")),
+        ("[[0, 0.1], [90, 1], [180, 0]]", ("motor.back_emf_shape", "0 at 0 deg and 180 deg")),
+        ("[[0, 0], [90, 3], [180, 0]]", ("motor.back_emf_shape[1]", "-2 <= e/E <= 2")),
+    ],
+)
+def test_bad_emf_shape_should_name_the_key_and_the_allowed_range(
+    tmp_path: Path, shape: str, fragments: tuple[str, ...]
+) -> None:
+    with pytest.raises(SpecError) as error:
+        load_spec(_with_shape(tmp_path, shape))
+    message = str(error.value)
+    assert all(f in message for f in fragments), message
+    assert "shape.yaml:" in message  # the YAML line
+
+
+def test_tolerances_should_load_as_fractions(tmp_path: Path) -> None:
+    spec = load_spec(_with_tolerances(tmp_path, TOLERANCES))
+    assert spec.tolerances is not None
+    assert spec.tolerances.phase_resistance == (Fraction(-1, 10), Fraction(2, 5))
+    assert spec.tolerances.bus_voltage == (Fraction(-4, 25), Fraction(1, 4))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "fragments"),
+    [
+        (
+            "bus_voltage: [-16, 25]",
+            "bus_voltage: [-20, 25]",
+            ("tolerances.bus_voltage", "19.2", "[-16.67, 25] %"),
+        ),
+        (
+            "phase_inductance: [-15, 15]",
+            "phase_inductance: [15, -15]",
+            ("tolerances.phase_inductance", "inverted"),
+        ),
+        (
+            "back_emf_constant: [-10, 10]",
+            "back_emf_constant: 10",
+            ("tolerances.back_emf_constant", "pair"),
+        ),
+        (
+            "back_emf_constant: [-10, 10]",
+            "back_emf_constan: [-10, 10]",
+            ("tolerances.back_emf_constan", "unknown key"),
+        ),
+    ],
+)
+def test_bad_tolerances_should_name_the_key_and_the_allowed_range(
+    tmp_path: Path, old: str, new: str, fragments: tuple[str, ...]
+) -> None:
+    with pytest.raises(SpecError) as error:
+        load_spec(_with_tolerances(tmp_path, TOLERANCES.replace(old, new)))
+    message = str(error.value)
+    assert all(f in message for f in fragments), message
