@@ -298,9 +298,12 @@ class _ActiveSet:
 
     def _rule(self) -> _Result:
         o, tol, f = self.o, self.tol, self.f
-        key = np.stack([self.period, self.bus, np.minimum(self.current, o.u.adc_max)], axis=1)
-        uniq, inverse = np.unique(key, axis=0, return_inverse=True)
+        # one evaluation per distinct (T, B, C): the 12 edges of a point share it
+        current = np.minimum(self.current, o.u.adc_max)
+        key = (self.period << 32) | (self.bus << 16) | current  # each field < 2^16
+        uniq_key, inverse = np.unique(key, return_inverse=True)
         inverse = inverse.ravel()
+        uniq = np.stack([uniq_key >> 32, (uniq_key >> 16) & 0xFFFF, uniq_key & 0xFFFF], axis=1)
         com = o.rule(uniq[:, 0], uniq[:, 1], uniq[:, 2])
         d = tol.ill_conditioned_counts if tol.relaxed else 0.0
         probe = max(d or 0.0, 0.01)

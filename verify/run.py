@@ -36,7 +36,7 @@ from verify.check import (
 from verify.host_core import build_host_core, dtype_of
 
 DEFAULT_RANDOM_POINTS = 20_000
-TWIN_SAMPLE = 12_000  # points per set run through the Python twin (it is printed from the same IR)
+TWIN_SAMPLE = 8_000  # points per set run through the Python twin (it is printed from the same IR)
 SHORT = {
     "hall_code": "hall",
     "previous_hall_code": "prev",
