@@ -6,26 +6,40 @@ Commands:
   generate SPEC [-o DIR]  write everything: audit, fixed-point C, Python models (atomically)
 
 One process derives once (codegen.derivation.derive is cached) and every command reuses
-that result. Exit status: 0 on success (also when the paper has errors: finding them
-is the audit's job), 2 for a bad spec, 3 if the derivation itself fails.
+that result. Exit status (codegen.errors.ExitCode): 0 on success (also when the paper
+has errors: finding them is the audit's job), 1 a check failed, 2 usage error, 3 bad
+spec, 4 stale output, 5 environment (output folder, external tool), 70 internal error.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
 
-import sympy as sp
-
-from codegen.errors import DerivationError, SpecError
+from codegen.errors import DerivationError, ExitCode, SpecError, internal_error_line
+from codegen.publish import PublishError, check_target
 from codegen.render import PROJECT_ROOT, project_relative, write_atomically
-from codegen.spec_loader import load_spec
+from codegen.spec_loader import load_spec as _load_spec
+from codegen.spec_model import Spec
 
-EXIT_SPEC = 2
-EXIT_DERIVATION = 3
+EXIT_SPEC = int(ExitCode.SPEC)
+EXIT_DERIVATION = int(ExitCode.INTERNAL)
+
+
+def load_spec(path: str) -> Spec:
+    """The spec, with its plausibility warnings printed on stderr, one line each."""
+    spec = _load_spec(path)
+    for warning in spec.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    return spec
+
+
+def _one_line(text: object) -> str:
+    return " ".join(str(text).split())
 
 
 def _output_dir(spec_name: str, override: str | None) -> Path:
@@ -33,6 +47,8 @@ def _output_dir(spec_name: str, override: str | None) -> Path:
 
 
 def cmd_derive(args: argparse.Namespace) -> int:
+    import sympy as sp
+
     from codegen.derivation import derive
     from codegen.derivation.figures import spec_figures
 
@@ -89,20 +105,23 @@ def cmd_audit(args: argparse.Namespace) -> int:
 
 
 def cmd_generate(args: argparse.Namespace) -> int:
+    started = time.perf_counter()
+    spec = load_spec(args.spec)  # errors and warnings before the heavy imports
+    check_target(_output_dir(spec.name, args.output))
+
     from codegen.fixedpoint.design import FixedPointError
     from codegen.generate import generate
     from codegen.improved_r_rule.proof import RuleFormatError
 
-    started = time.perf_counter()
     try:
         result = generate(args.spec, args.output, PROJECT_ROOT)
     except FixedPointError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {args.spec}: fixed-point design: {_one_line(exc)}", file=sys.stderr)
         return EXIT_SPEC
     except RuleFormatError as exc:
         print(
-            f"error: {args.spec}: controller.method = 'improved_r': {exc} (allowed: a spec"
-            " whose accuracy targets and ranges the rule's integer formats can meet)",
+            f"error: {args.spec}: controller.method = 'improved_r': {_one_line(exc)} (allowed:"
+            " a spec whose accuracy targets and ranges the rule's integer formats can meet)",
             file=sys.stderr,
         )
         return EXIT_SPEC
@@ -135,6 +154,11 @@ def cmd_generate(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="codegen", description=__doc__.split("\n")[0])
+    parser.add_argument(
+        "--traceback",
+        action="store_true",
+        help="on an internal error, print the full Python traceback",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     derive_p = sub.add_parser("derive", help="print the derived equations and key numbers")
     derive_p.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
@@ -155,8 +179,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args))
     except SpecError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        for line in str(exc).splitlines():
+            print(f"error: {line}", file=sys.stderr)
         return EXIT_SPEC
+    except PublishError as exc:
+        print(f"error: output: {_one_line(exc)}", file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)
     except DerivationError as exc:
-        print(f"derivation failed: {exc}", file=sys.stderr)
+        print(f"derivation failed (a bug in bldc-codegen): {_one_line(exc)}", file=sys.stderr)
         return EXIT_DERIVATION
+    except OSError as exc:
+        name = f" {exc.filename}" if exc.filename else ""
+        print(f"error: cannot write{name}: {exc.strerror or exc}", file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:
+        if args.traceback or os.environ.get("BLDC_CODEGEN_TRACEBACK"):
+            raise
+        print(internal_error_line(exc, PROJECT_ROOT), file=sys.stderr)
+        return int(ExitCode.INTERNAL)

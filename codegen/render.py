@@ -7,6 +7,7 @@ in templates"); a missing variable is an error, never an empty string.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import jinja2
@@ -45,10 +46,28 @@ def project_relative(path: str | Path) -> str:
         return resolved.name
 
 
+#: Characters a path may show in a generated comment. None of them can end a C or linker
+#: comment (`*/`), a Python comment (a newline) or a Markdown/HTML comment (`-->`), start
+#: a trigraph (`??`), continue a line (`\\`) or reach a terminal as a control code.
+_SAFE_PATH = re.compile(r"[A-Za-z0-9 _.,+=@%/-]{1,200}\Z", re.ASCII)
+
+
+def spec_label(spec: Spec) -> str:
+    """The spec's path as generated files may show it: relative to the project (or its
+    file name outside it) when every character is safe in a C, Python and Markdown
+    comment; otherwise `<name>.yaml`, after the spec's own name, a checked identifier.
+    The hash beside it identifies the file either way."""
+    shown = project_relative(spec.source_path)
+    if _SAFE_PATH.match(shown) and "--" not in shown:
+        return shown
+    return f"<{spec.name}.yaml, path withheld: unsafe characters>"
+
+
 def provenance(template: str, spec: Spec) -> str:
-    """One line naming the template, the spec and its hash; no time, no version."""
+    """One line naming the template, the spec and its hash; no time, no version. Safe
+    inside a C, Python or Markdown comment whatever the spec's path (spec_label)."""
     return (
-        f"Generated from template {template} with spec {project_relative(spec.source_path)}"
+        f"Generated from template {template} with spec {spec_label(spec)}"
         f" (sha256 {spec.sha256}). Do not edit: regenerate with `make`."
     )
 

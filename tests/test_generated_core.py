@@ -172,7 +172,7 @@ def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow() -> N
 
 
 def test_design_should_reject_an_unreachable_accuracy_target(tmp_path: Path) -> None:
-    text = SPEC.read_text().replace("duty_counts: 1.0", "duty_counts: 0.5")
+    text = SPEC.read_text().replace("duty_counts: 1.0", "duty_counts: 0.501")
     with pytest.raises(FixedPointError, match="accurate enough"):
         _design_of(tmp_path, text)
 
