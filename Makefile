@@ -7,8 +7,12 @@ SHELL := /bin/bash
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
-SPEC   ?= spec/paper_motor.yaml
-SPEC_NAME = $(shell sed -n 's/^name: *//p' $(SPEC) | head -n 1)
+CLI    := $(PY) -m codegen
+# SPEC=path/to/motor.yaml runs any target on that one spec. Without SPEC: derive,
+# audit, generate, firmware and bench use DEFAULT_SPEC; verify and unity every
+# checked-in spec (SPECS); simulate each checked-in motor once (SIM_SPECS).
+DEFAULT_SPEC := spec/paper_motor.yaml
+ONE_SPEC = $(or $(SPEC),$(DEFAULT_SPEC))
 
 # Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
 APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm
@@ -42,35 +46,32 @@ $(VENV)/.installed: pyproject.toml
 setup: sysdeps $(VENV)/.installed
 
 derive: setup
-	$(PY) -m codegen derive $(SPEC)
+	$(CLI) derive $(ONE_SPEC)
 
 audit: setup
-	$(PY) -m codegen audit $(SPEC)
+	$(CLI) audit $(ONE_SPEC)
 
 generate: setup
-	$(PY) -m codegen generate $(SPEC)
+	$(CLI) generate $(ONE_SPEC)
 
-# Cross-compile the checked-in output of SPEC for the Cortex-M3; sizes by section.
+# Cross-compile the generated output of the spec for the Cortex-M3; sizes by section.
 firmware: setup
-	$(PY) -m codegen.build_firmware generated/$(SPEC_NAME) build/$(SPEC_NAME)
+	$(CLI) firmware $(ONE_SPEC)
 
-# The generated core against the exact symbolic model (exhaustive, random, boundary),
-# for every checked-in spec; report.json and error_vs_speed.png beside the code.
+# The generated core against the exact symbolic model (exhaustive, random, boundary);
+# report.json and error_vs_speed.png into generated/<name>/verify/.
 verify: setup
-	@for spec in $(SPECS); do $(PY) -m verify $$spec || exit 1; done
+	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) verify $$spec || exit $$?; done
 
 # Commutation simulation (casadi plants, the generated core in the loop): figures and
-# SIMULATION.md into generated/<spec>/simulation/, for every checked-in spec.
+# SIMULATION.md into generated/<name>/simulation/.
 simulate: setup
-	@for spec in $(SIM_SPECS); do $(PY) -m sim $$spec || exit 1; done
+	@for spec in $(or $(SPEC),$(SIM_SPECS)); do $(CLI) simulate $$spec || exit $$?; done
 
 # The generated Unity tests: host (ASan/UBSan) and Cortex-M3 under qemu mps2-an385.
 # Real Unity when UNITY_DIR points to a checkout, else the stand-in runner.
 unity: setup
-	@for spec in $(SPECS); do \
-	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
-	  $(PY) -m verify.unity_run generated/$$name || exit 1; \
-	done
+	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) unity $$spec || exit $$?; done
 
 lint: setup
 	$(PY) -m ruff check codegen verify sim tests
@@ -100,7 +101,7 @@ test: setup lint check-generated
 	$(PY) -m pytest
 
 bench: setup
-	$(PY) -m codegen.bench $(SPEC)
+	$(CLI) bench $(ONE_SPEC)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache

@@ -13,6 +13,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from codegen import __version__
 from codegen.audit.latex_cache import shared_cache
 from codegen.audit.report import render_report
 from codegen.audit.run import AuditResult, run_audit
@@ -84,6 +85,7 @@ def render_all(spec_path: str | Path) -> Generated:
     record = manifest_record(files)
     manifest = {
         "generator": record["generator"],
+        "generator_version": __version__,
         "spec": project_relative(spec.source_path),
         "spec_sha256": spec.sha256,
         "folders": record["folders"],
@@ -100,6 +102,8 @@ def write_tree(files: dict[str, str], target: Path) -> PublishResult:
 
 
 def generate(spec_path: str | Path, output: str | Path | None, project_root: Path) -> Generated:
+    """Render and publish; `output` defaults to project_root/generated/<name> (the CLI
+    passes its own, resolved against the working directory)."""
     result = render_all(spec_path)
     target = Path(output) if output else project_root / "generated" / result.spec.name
     write_tree(result.files, target)

@@ -396,13 +396,24 @@ def report(run: UnityRun) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = list(sys.argv[1:] if argv is None else argv)
-    if not 1 <= len(args) <= 2:
-        print("usage: python -m verify.unity_run GENERATED_DIR [BUILD_DIR]", file=sys.stderr)
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="python -m verify.unity_run",
+        description="Build and run the generated Unity tests on the host (ASan/UBSan) and"
+        " on a Cortex-M3 under qemu; exit 1 if a test fails or the two disagree.",
+    )
+    parser.add_argument("generated", metavar="GENERATED_DIR", help="e.g. generated/paper_motor")
+    parser.add_argument(
+        "build", metavar="BUILD_DIR", nargs="?", help="build folder (default: a temporary one)"
+    )
+    args = parser.parse_args(argv)
+    generated = Path(args.generated)
+    if not (generated / "tests" / "test_runner.c").is_file():
+        print(f"{generated} has no generated Unity tests: generate it first", file=sys.stderr)
         return 2
-    generated = Path(args[0])
     with tempfile.TemporaryDirectory() as scratch:
-        build_dir = Path(args[1]) if len(args) == 2 else Path(scratch)
+        build_dir = Path(args.build) if args.build else Path(scratch)
         runs = [run_host(generated, build_dir)]
         if qemu_available():
             runs.append(run_qemu(generated, build_dir))
