@@ -22,7 +22,7 @@ SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_max
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit generate firmware verify unity simulate test lint format check-generated bench clean
+.PHONY: all setup sysdeps lock derive audit generate firmware verify unity simulate test lint format check-generated bench clean
 
 all: setup derive generate
 
@@ -36,12 +36,24 @@ sysdeps:
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
 
-$(VENV)/.installed: pyproject.toml
+# Python dependencies: exactly the versions (and hashes) of requirements.lock, installed
+# by uv (from PyPI, pinned) into a fresh .venv whenever pyproject.toml or the lock change.
+UV_VERSION ?= 0.13.9
+UV := $(VENV)/bin/uv
+
+$(VENV)/.installed: pyproject.toml requirements.lock
 	@$(PYTHON) -m venv --help >/dev/null 2>&1 || $(MAKE) sysdeps
+	rm -rf $(VENV)
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e '.[dev]'
+	$(PY) -m pip install -q --disable-pip-version-check uv==$(UV_VERSION)
+	$(UV) pip install -q --python $(PY) --require-hashes -r requirements.lock
+	$(UV) pip install -q --python $(PY) --no-deps -e .
 	@touch $@
+
+# Re-resolve requirements.lock from pyproject.toml (newest versions that fit); commit it.
+lock: $(VENV)/.installed
+	$(UV) pip compile pyproject.toml --extra dev --universal --python-version 3.11 \
+	  --generate-hashes --no-header -q -o requirements.lock
 
 setup: sysdeps $(VENV)/.installed
 
