@@ -34,6 +34,7 @@ import subprocess
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 from codegen import __version__
 from codegen.errors import DerivationError, ExitCode, SpecError, internal_error_line
@@ -118,9 +119,12 @@ def _one_line(text: object) -> str:
 
 def _report(exc: BaseException, args: argparse.Namespace) -> int:
     """The exit status for an exception, after printing it on stderr as error lines."""
-    from codegen.fixedpoint.design import FixedPointError
-    from codegen.improved_r_rule.proof import RuleFormatError
-
+    # The design's errors come from modules that import SymPy: look them up only if
+    # they are loaded (an exception of theirs was raised), so a bad spec stays fast.
+    design = sys.modules.get("codegen.fixedpoint.design")
+    rule = sys.modules.get("codegen.improved_r_rule.proof")
+    FixedPointError = getattr(design, "FixedPointError", ()) if design else ()
+    RuleFormatError = getattr(rule, "RuleFormatError", ()) if rule else ()
     spec = getattr(args, "spec", "")
     if isinstance(exc, SpecError):
         for line in str(exc).splitlines():
@@ -146,8 +150,12 @@ def _report(exc: BaseException, args: argparse.Namespace) -> int:
         print(f"derivation failed (a bug in bldc-codegen): {_one_line(exc)}", file=sys.stderr)
         return EXIT_DERIVATION
     if isinstance(exc, subprocess.CalledProcessError):
-        tool = exc.cmd[0] if isinstance(exc.cmd, (list, tuple)) and exc.cmd else exc.cmd
-        print(f"error: {tool} failed with exit status {exc.returncode}", file=sys.stderr)
+        words = [str(w) for w in exc.cmd] if isinstance(exc.cmd, (list, tuple)) else [str(exc.cmd)]
+        if words and Path(words[0]).name.startswith("python"):
+            words[0] = "python"
+        command = " ".join(words)
+        command = command if len(command) <= 120 else command[:117] + "..."
+        print(f"error: `{command}` failed with exit status {exc.returncode}", file=sys.stderr)
         return int(ExitCode.ENVIRONMENT)
     if isinstance(exc, OSError):
         name = f" {exc.filename}" if exc.filename else ""

@@ -36,31 +36,34 @@ def environment(template_dir: Path = TEMPLATE_DIR) -> jinja2.Environment:
     return env
 
 
+#: Characters a path may show in a generated file. None of them can end a C or linker
+#: comment (`*/`), a Python comment (a newline) or a Markdown/HTML comment (`-->`), start
+#: a trigraph (`??`), continue a line (a backslash) or reach a terminal as a control code.
+_SAFE_PATH = re.compile(r"[A-Za-z0-9 _.,+=@%/-]{1,200}\Z", re.ASCII)
+WITHHELD = "path withheld: unsafe characters"
+
+
 def project_relative(path: str | Path) -> str:
     """A path as it should appear in generated files: relative to the project when
-    inside it, else just the file name, so output never depends on the checkout."""
+    inside it, else just the file name, so output never depends on the checkout; and
+    `<path withheld: unsafe characters>` when it holds anything that could end the
+    comment or string it is printed in (see _SAFE_PATH)."""
     resolved = Path(path).resolve()
     try:
-        return resolved.relative_to(PROJECT_ROOT).as_posix()
+        shown = resolved.relative_to(PROJECT_ROOT).as_posix()
     except ValueError:
-        return resolved.name
-
-
-#: Characters a path may show in a generated comment. None of them can end a C or linker
-#: comment (`*/`), a Python comment (a newline) or a Markdown/HTML comment (`-->`), start
-#: a trigraph (`??`), continue a line (`\\`) or reach a terminal as a control code.
-_SAFE_PATH = re.compile(r"[A-Za-z0-9 _.,+=@%/-]{1,200}\Z", re.ASCII)
+        shown = resolved.name
+    if _SAFE_PATH.match(shown) and "--" not in shown:
+        return shown
+    return f"<{WITHHELD}>"
 
 
 def spec_label(spec: Spec) -> str:
-    """The spec's path as generated files may show it: relative to the project (or its
-    file name outside it) when every character is safe in a C, Python and Markdown
-    comment; otherwise `<name>.yaml`, after the spec's own name, a checked identifier.
-    The hash beside it identifies the file either way."""
+    """The spec's path as generated files may show it (project_relative), or, when that
+    is withheld, `<name.yaml, path withheld: ...>` after the spec's own name, a checked
+    identifier. The hash beside it identifies the file either way."""
     shown = project_relative(spec.source_path)
-    if _SAFE_PATH.match(shown) and "--" not in shown:
-        return shown
-    return f"<{spec.name}.yaml, path withheld: unsafe characters>"
+    return shown if shown != f"<{WITHHELD}>" else f"<{spec.name}.yaml, {WITHHELD}>"
 
 
 def provenance(template: str, spec: Spec) -> str:

@@ -131,98 +131,96 @@ _NOT_PRINTABLE = re.compile(
 )
 
 
-def _composer_class(limits: Limits) -> type:
-    class _Composer(Reader, Scanner, Parser, Composer, BaseResolver):
-        """PyYAML's scanner and parser; composing with a depth limit, recursive
-        aliases refused, and scalars left unresolved for the core schema."""
+class _Composer(Reader, Scanner, Parser, Composer, BaseResolver):
+    """PyYAML's scanner and parser; composing with a depth limit, recursive
+    aliases refused, and scalars left unresolved for the core schema."""
 
-        def __init__(self, text: str) -> None:
-            Reader.__init__(self, text)
-            Scanner.__init__(self)
-            Parser.__init__(self)
-            Composer.__init__(self)
-            BaseResolver.__init__(self)
-            self.depth = 0
-            self.open_nodes: set[int] = set()
-            self.events = 0
+    def __init__(self, text: str, limits: Limits) -> None:
+        Reader.__init__(self, text)
+        Scanner.__init__(self)
+        Parser.__init__(self)
+        Composer.__init__(self)
+        BaseResolver.__init__(self)
+        self.limits = limits
+        self.depth = 0
+        self.open_nodes: set[int] = set()
+        self.events = 0
 
-        def resolve(self, kind: type, value: str | None, implicit: Any) -> str:
-            if kind is ScalarNode:
-                return _PLAIN if implicit[0] else _STR
-            return _SEQ if kind is SequenceNode else _MAP
+    def resolve(self, kind: type, value: str | None, implicit: Any) -> str:
+        if kind is ScalarNode:
+            return _PLAIN if implicit[0] else _STR
+        return _SEQ if kind is SequenceNode else _MAP
 
-        def compose_node(self, parent: Node | None, index: object) -> Node:
-            self.events += 1
-            if self.events > limits.max_nodes:
-                mark = self.peek_event().start_mark
-                raise YamlError(f"more than {limits.max_nodes} YAML nodes", mark.line + 1)
-            if self.check_event(yaml.AliasEvent):
-                event = self.peek_event()
-                target = self.anchors.get(event.anchor)
-                if target is not None and id(target) in self.open_nodes:
-                    raise YamlError(
-                        f"recursive alias *{event.anchor}: an anchor cannot contain itself",
-                        event.start_mark.line + 1,
-                    )
-                return super().compose_node(parent, index)
+    def compose_node(self, parent: Node | None, index: object) -> Node:
+        self.events += 1
+        if self.events > self.limits.max_nodes:
+            mark = self.peek_event().start_mark
+            raise YamlError(f"more than {self.limits.max_nodes} YAML nodes", mark.line + 1)
+        if self.check_event(yaml.AliasEvent):
             event = self.peek_event()
-            if self.depth >= limits.max_depth:
+            target = self.anchors.get(event.anchor)
+            if target is not None and id(target) in self.open_nodes:
                 raise YamlError(
-                    f"nested deeper than {limits.max_depth} levels", event.start_mark.line + 1
+                    f"recursive alias *{event.anchor}: an anchor cannot contain itself",
+                    event.start_mark.line + 1,
                 )
-            self.depth += 1
-            try:
-                return super().compose_node(parent, index)
-            finally:
-                self.depth -= 1
-
-        def compose_sequence_node(self, anchor: str | None) -> Node:
-            # As PyYAML's, but the node stays in open_nodes while its children are
-            # composed: an alias to it from inside is a recursive alias.
-            start = self.get_event()
-            node = SequenceNode(
-                _SEQ if start.tag in (None, "!") else start.tag,
-                [],
-                start.start_mark,
-                None,
-                flow_style=start.flow_style,
+            return super().compose_node(parent, index)
+        event = self.peek_event()
+        if self.depth >= self.limits.max_depth:
+            raise YamlError(
+                f"nested deeper than {self.limits.max_depth} levels", event.start_mark.line + 1
             )
-            return self._children(node, anchor, self._sequence_items)
+        self.depth += 1
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self.depth -= 1
 
-        def compose_mapping_node(self, anchor: str | None) -> Node:
-            start = self.get_event()
-            node = MappingNode(
-                _MAP if start.tag in (None, "!") else start.tag,
-                [],
-                start.start_mark,
-                None,
-                flow_style=start.flow_style,
-            )
-            return self._children(node, anchor, self._mapping_items)
+    def compose_sequence_node(self, anchor: str | None) -> Node:
+        # As PyYAML's, but the node stays in open_nodes while its children are
+        # composed: an alias to it from inside is a recursive alias.
+        start = self.get_event()
+        node = SequenceNode(
+            _SEQ if start.tag in (None, "!") else start.tag,
+            [],
+            start.start_mark,
+            None,
+            flow_style=start.flow_style,
+        )
+        return self._children(node, anchor, self._sequence_items)
 
-        def _children(self, node: Node, anchor: str | None, compose: Any) -> Node:
-            if anchor is not None:
-                self.anchors[anchor] = node
-            self.open_nodes.add(id(node))
-            try:
-                compose(node)
-            finally:
-                self.open_nodes.discard(id(node))
-            node.end_mark = self.get_event().end_mark
-            return node
+    def compose_mapping_node(self, anchor: str | None) -> Node:
+        start = self.get_event()
+        node = MappingNode(
+            _MAP if start.tag in (None, "!") else start.tag,
+            [],
+            start.start_mark,
+            None,
+            flow_style=start.flow_style,
+        )
+        return self._children(node, anchor, self._mapping_items)
 
-        def _sequence_items(self, node: SequenceNode) -> None:
-            index = 0
-            while not self.check_event(yaml.SequenceEndEvent):
-                node.value.append(self.compose_node(node, index))
-                index += 1
+    def _children(self, node: Node, anchor: str | None, compose: Any) -> Node:
+        if anchor is not None:
+            self.anchors[anchor] = node
+        self.open_nodes.add(id(node))
+        try:
+            compose(node)
+        finally:
+            self.open_nodes.discard(id(node))
+        node.end_mark = self.get_event().end_mark
+        return node
 
-        def _mapping_items(self, node: MappingNode) -> None:
-            while not self.check_event(yaml.MappingEndEvent):
-                key = self.compose_node(node, None)
-                node.value.append((key, self.compose_node(node, key)))
+    def _sequence_items(self, node: SequenceNode) -> None:
+        index = 0
+        while not self.check_event(yaml.SequenceEndEvent):
+            node.value.append(self.compose_node(node, index))
+            index += 1
 
-    return _Composer
+    def _mapping_items(self, node: MappingNode) -> None:
+        while not self.check_event(yaml.MappingEndEvent):
+            key = self.compose_node(node, None)
+            node.value.append((key, self.compose_node(node, key)))
 
 
 @dataclass
@@ -403,7 +401,7 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
             line,
             _key_near(text, line),
         )
-    composer = _composer_class(limits)(text)
+    composer = _Composer(text, limits)
     try:
         _check_flow_depth(text, limits)
         root = composer.get_single_node()

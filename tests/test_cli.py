@@ -157,7 +157,7 @@ def test_a_spec_path_cannot_inject_code_into_generated_files(tmp_path: Path) -> 
 def test_the_provenance_line_never_carries_comment_terminators() -> None:
     import dataclasses
 
-    from codegen.render import provenance
+    from codegen.render import project_relative, provenance
     from codegen.spec_loader import load_spec
 
     spec = load_spec(SPEC)
@@ -166,6 +166,9 @@ def test_the_provenance_line_never_carries_comment_terminators() -> None:
         text = provenance("t.j2", dataclasses.replace(spec, source_path=str(ROOT / evil)))
         assert "<paper_motor.yaml, path withheld: unsafe characters>" in text, evil
         assert spec.sha256 in text
+        # Other reports (sim's SIMULATION.md, verify's JSON) show paths the same way.
+        assert project_relative(ROOT / evil) == "<path withheld: unsafe characters>"
+    assert project_relative(ROOT / "spec" / "my motor+v2.yaml") == "spec/my motor+v2.yaml"
 
 
 def test_generate_killed_after_its_atomic_exchange_leaves_a_complete_tree(tmp_path: Path) -> None:

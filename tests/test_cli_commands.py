@@ -278,3 +278,18 @@ def test_make_targets_honour_spec(tmp_path: Path) -> None:
     assert "spec/paper_motor_improved_r.yaml" in dry_run("verify")
     assert "spec/example_maxon_ec45_flat_48v.yaml" in dry_run("simulate")
     assert "-m codegen firmware spec/paper_motor.yaml" in dry_run("firmware")
+
+
+def test_a_bad_spec_is_reported_without_loading_the_derivation(tmp_path: Path) -> None:
+    """The spec-error path needs no SymPy: the loader runs before any heavy import."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SPEC.read_text().replace("0.56 mH", "0.56 mh"))
+    code = (
+        "import sys; from codegen import cli;"
+        f"status = cli.main(['generate', {str(bad)!r}, '-o', {str(tmp_path / 'out')!r}]);"
+        "print(status, 'sympy' in sys.modules)"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+    )
+    assert result.stdout.split() == [str(int(ExitCode.SPEC)), "False"], result.stderr

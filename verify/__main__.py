@@ -8,7 +8,6 @@ import tempfile
 from pathlib import Path
 
 from codegen.errors import SpecError
-from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, plot, table, verify, write_json
 
@@ -16,7 +15,9 @@ from verify.run import DEFAULT_RANDOM_POINTS, plot, table, verify, write_json
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="verify", description=__doc__)
     parser.add_argument("spec")
-    parser.add_argument("--generated", type=Path, help="default: generated/<spec name>")
+    parser.add_argument(
+        "--generated", type=Path, help="default: generated/<spec name> in the current folder"
+    )
     parser.add_argument("--seed", type=int, help="replay a random set")
     parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS)
     parser.add_argument("--no-progress", action="store_true")
@@ -26,7 +27,8 @@ def main(argv: list[str] | None = None) -> int:
     except SpecError as exc:
         print(f"verify: {exc}", file=sys.stderr)
         return 2
-    generated = args.generated or PROJECT_ROOT / "generated" / spec.name
+    # Like bldc-codegen: generated/<name> under the current folder.
+    generated = args.generated or Path("generated") / spec.name
     if not (generated / "c" / "bldc_commutation.c").is_file():
         print(
             f"verify: no generated core in {generated}: run `make generate SPEC={args.spec}`",
