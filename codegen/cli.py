@@ -32,6 +32,7 @@ import argparse
 import os
 import subprocess
 import sys
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -105,7 +106,7 @@ def build_parser() -> argparse.ArgumentParser:
         child = sub.add_parser(
             command.name,
             help=command.summary,
-            description=command.description,
+            description=textwrap.fill(command.description, 88),
             formatter_class=_Formatter,
         )
         command.arguments(child)
