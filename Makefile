@@ -7,8 +7,12 @@ SHELL := /bin/bash
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
-SPEC   ?= spec/paper_motor.yaml
-SPEC_NAME = $(shell sed -n 's/^name: *//p' $(SPEC) | head -n 1)
+CLI    := $(PY) -m codegen
+# SPEC=path/to/motor.yaml runs any target on that one spec. Without SPEC: derive,
+# generate, firmware and bench use DEFAULT_SPEC (audit takes none); verify and unity every
+# checked-in spec (SPECS); simulate each checked-in motor once (SIM_SPECS).
+DEFAULT_SPEC := spec/paper_motor.yaml
+ONE_SPEC = $(or $(SPEC),$(DEFAULT_SPEC))
 
 # Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
 # chromium renders the HTML audit in its browser test; fonts-lmodern gives it a math font.
@@ -19,7 +23,7 @@ SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_max
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps derive audit audit-screenshot generate firmware verify unity simulate robustness test lint format check-generated bench clean
+.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware verify unity simulate robustness test lint format check-generated bench clean
 
 all: setup derive audit generate
 
@@ -33,21 +37,33 @@ sysdeps:
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
 
-$(VENV)/.installed: pyproject.toml
+# Python dependencies: exactly the versions (and hashes) of requirements.lock, installed
+# by uv (from PyPI, pinned) into a fresh .venv whenever pyproject.toml or the lock change.
+UV_VERSION ?= 0.13.9
+UV := $(VENV)/bin/uv
+
+$(VENV)/.installed: pyproject.toml requirements.lock
 	@$(PYTHON) -m venv --help >/dev/null 2>&1 || $(MAKE) sysdeps
+	rm -rf $(VENV)
 	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e '.[dev]'
+	$(PY) -m pip install -q --disable-pip-version-check uv==$(UV_VERSION)
+	$(UV) pip install -q --python $(PY) --require-hashes -r requirements.lock
+	$(UV) pip install -q --python $(PY) --no-deps -e .
 	@touch $@
+
+# Re-resolve requirements.lock from pyproject.toml (newest versions that fit); commit it.
+lock: $(VENV)/.installed
+	$(UV) pip compile pyproject.toml --extra dev --universal --python-version 3.11 \
+	  --generate-hashes --no-header -q -o requirements.lock
 
 setup: sysdeps $(VENV)/.installed
 
 derive: setup
-	$(PY) -m codegen derive $(SPEC)
+	$(CLI) derive $(ONE_SPEC)
 
 # The paper's audit, the same for every motor: generated/paper/AUDIT.md and AUDIT.html.
 audit: setup
-	$(PY) -m codegen audit
+	$(CLI) audit
 
 # The README's pictures of the HTML audit, taken in headless Chromium.
 audit-screenshot: setup
@@ -55,44 +71,40 @@ audit-screenshot: setup
 	$(PY) -m codegen.audit.browser generated/paper/AUDIT.html docs/audit_equation.png eq-4
 
 generate: setup
-	$(PY) -m codegen generate $(SPEC)
+	$(CLI) generate $(ONE_SPEC)
 
-# Cross-compile the checked-in output of SPEC for the Cortex-M3; sizes by section.
+# Cross-compile the generated output of the spec for the Cortex-M3; sizes by section.
 firmware: setup
-	$(PY) -m codegen.build_firmware generated/$(SPEC_NAME) build/$(SPEC_NAME)
+	$(CLI) firmware $(ONE_SPEC)
 
-# The generated core against the exact symbolic model (exhaustive, random, boundary),
-# for every checked-in spec; report.json and error_vs_speed.png beside the code.
+# The generated core against the exact symbolic model (exhaustive, random, boundary);
+# report.json and error_vs_speed.png into generated/<name>/verify/.
 verify: setup
-	@for spec in $(SPECS); do $(PY) -m verify $$spec || exit 1; done
+	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) verify $$spec || exit $$?; done
 
 # Commutation simulation (the generated core in the loop): figures and SIMULATION.md
-# into generated/<spec>/simulation/, for every checked-in spec, or SPEC=... only.
-SIM_RUN_SPECS = $(if $(filter command line environment,$(origin SPEC)),$(SPEC),$(SIM_SPECS))
+# into generated/<name>/simulation/, for every checked-in motor, or SPEC=... only.
 simulate: setup
-	@for spec in $(SIM_RUN_SPECS); do $(PY) -m sim $$spec || exit 1; done
+	@for spec in $(or $(SPEC),$(SIM_SPECS)); do $(CLI) simulate $$spec || exit $$?; done
 
 # Robustness campaign (Dask LocalCluster; the core against sampled tolerances):
-# ROBUSTNESS.md into generated/<spec>/robustness/, same spec choice as simulate.
+# ROBUSTNESS.md into generated/<name>/robustness/, same spec choice as simulate.
 robustness: setup
-	@for spec in $(SIM_RUN_SPECS); do $(PY) -m sim.robustness $$spec || exit 1; done
+	@for spec in $(or $(SPEC),$(SIM_SPECS)); do $(PY) -m sim.robustness $$spec || exit $$?; done
 
 # The generated Unity tests: host (ASan/UBSan) and Cortex-M3 under qemu mps2-an385.
 # Real Unity when UNITY_DIR points to a checkout, else the stand-in runner.
 unity: setup
-	@for spec in $(SPECS); do \
-	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
-	  $(PY) -m verify.unity_run generated/$$name || exit 1; \
-	done
+	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) unity $$spec || exit $$?; done
 
 lint: setup
-	$(PY) -m ruff check codegen oracle verify sim tests
-	$(PY) -m ruff format --check codegen oracle verify sim tests
+	$(PY) -m ruff check bldc codegen oracle verify sim tests
+	$(PY) -m ruff format --check bldc codegen oracle verify sim tests
 	$(VENV)/bin/lint-imports
 
 format: setup
-	$(PY) -m ruff format codegen oracle verify sim tests
-	$(PY) -m ruff check --fix codegen oracle verify sim tests
+	$(PY) -m ruff format bldc codegen oracle verify sim tests
+	$(PY) -m ruff check --fix bldc codegen oracle verify sim tests
 
 # Regenerate into a temporary folder and fail with a diff if generated/ is stale: the
 # paper audit (generated/paper/) and every checked-in spec.
@@ -119,7 +131,7 @@ test: setup lint check-generated
 	$(PY) -m pytest
 
 bench: setup
-	$(PY) -m codegen.bench $(SPEC)
+	$(CLI) bench $(ONE_SPEC)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache

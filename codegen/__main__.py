@@ -1,5 +1,5 @@
 """Allow `python -m codegen ...`."""
 
-from codegen.cli import main
+from bldc.cli import main
 
 raise SystemExit(main())

@@ -1,10 +1,28 @@
 """Errors the toolchain reports to its user.
 
 A SpecError always names the key path, the offending value, the unit and the allowed
-range, so that a user can fix the YAML without reading the loader.
+range, so that a user can fix the YAML without reading the loader. Its text is one line;
+MultiSpecError carries every error of one spec, one line each.
 """
 
 from __future__ import annotations
+
+import traceback
+from collections.abc import Sequence
+from enum import IntEnum
+from pathlib import Path
+
+#: Longest rendering of an offending value in a message: a value is quoted so the user
+#: can find it, not echoed whole (a 4 kB string or a 2000-item list would bury the line).
+_MAX_VALUE_CHARS = 60
+
+
+def show_value(value: object) -> str:
+    """repr() of a value, on one line and at most _MAX_VALUE_CHARS characters."""
+    text = repr(value)
+    if len(text) > _MAX_VALUE_CHARS:
+        text = text[: _MAX_VALUE_CHARS - 3] + "..."
+    return text
 
 
 class SpecError(ValueError):
@@ -21,19 +39,79 @@ class SpecError(ValueError):
     ) -> None:
         self.path = path
         self.value = value
-        self.problem = problem
-        self.allowed = allowed
+        self.problem = " ".join(problem.split())
+        self.allowed = " ".join(allowed.split())
         self.source = source
         self.line = line
         where = source
         if line is not None:
             where = f"{source}:{line}" if source else f"line {line}"
         head = f"{where}: " if where else ""
-        text = f"{head}{path} = {value!r}: {problem}"
-        if allowed:
-            text += f" (allowed: {allowed})"
+        text = f"{head}{path} = {show_value(value)}: {self.problem}"
+        if self.allowed:
+            text += f" (allowed: {self.allowed})"
         super().__init__(text)
+
+
+class MultiSpecError(SpecError):
+    """Every error found in one spec. Behaves as its first error (path, value, ...) for
+    callers that handle one; its text is one line per error, in the order found (the
+    spec's sections top down, then the sources)."""
+
+    def __init__(self, errors: Sequence[SpecError]) -> None:
+        if not errors:
+            raise ValueError("MultiSpecError needs at least one error")
+        ordered = list(errors)
+        first = ordered[0]
+        super().__init__(
+            first.path, first.value, first.problem, first.allowed, first.source, first.line
+        )
+        self.errors: tuple[SpecError, ...] = tuple(ordered)
+        self.args = ("\n".join(str(e) for e in ordered),)
+
+    def __str__(self) -> str:
+        return str(self.args[0])
 
 
 class DerivationError(RuntimeError):
     """The symbolic derivation failed to reach a result it must reach."""
+
+
+class ExitCode(IntEnum):
+    """Exit status of every bldc-codegen command (README, `bldc-codegen --help`)."""
+
+    OK = 0
+    #: A check ran and failed: verify or Unity found a wrong output, a bench target missed.
+    CHECK_FAILED = 1
+    #: The command line is wrong (argparse's own convention).
+    USAGE = 2
+    #: The spec is invalid (every error listed, one per line), or no design meets it.
+    SPEC = 3
+    #: generated/<name> was not generated from this spec: regenerate first.
+    STALE = 4
+    #: Something outside the spec is in the way: an output folder that cannot be written,
+    #: a missing or failing external tool (compiler, qemu).
+    ENVIRONMENT = 5
+    #: A bug in bldc-codegen (an unexpected exception); the message says where.
+    INTERNAL = 70
+
+
+def internal_error_line(exc: BaseException, root: Path) -> str:
+    """One line for an unexpected exception: what it is and where in our code it was
+    raised (the innermost frame under `root`), never a bare traceback."""
+    where = ""
+    for frame in reversed(traceback.extract_tb(exc.__traceback__)):
+        try:
+            rel = Path(frame.filename).resolve().relative_to(root)
+        except ValueError:
+            continue
+        where = f" at {rel.as_posix()}:{frame.lineno} in {frame.name}()"
+        break
+    text = " ".join(str(exc).split())
+    if len(text) > 200:
+        text = text[:197] + "..."
+    detail = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+    return (
+        f"internal error (a bug in bldc-codegen, not in your spec): {detail}{where};"
+        " run with --traceback for the full traceback"
+    )

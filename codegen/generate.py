@@ -1,25 +1,26 @@
 """`generate SPEC`: write generated/<spec name>/ atomically.
 
-Everything is rendered in memory, written to a temporary sibling folder and then
-swapped into place with renames, so a failure at any step leaves the previous output
-untouched. A manifest lists every file with its SHA-256.
+Everything is rendered in memory first, so a spec or design error writes nothing; then
+codegen.publish stages the tree beside the target and swaps it in with one atomic
+exchange, keeping whatever in the target bldc-codegen did not write (verify and
+simulation reports, a user's own files). The manifest lists every file with its SHA-256
+and every folder, which is how later runs know what they may replace.
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
-import os
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
+from codegen import __version__
 from codegen.audit.motor_report import render_derivation
 from codegen.core.float_model import float_model_context
 from codegen.core.module import Core, build_core, core_context, manifest_entry
 from codegen.derivation import derive
 from codegen.firmware import render_firmware_files
 from codegen.port import render_port_files
+from codegen.publish import MANIFEST, PublishResult, manifest_record, publish
 from codegen.render import project_relative, provenance, render
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -66,44 +67,28 @@ def render_all(spec_path: str | Path) -> Generated:
             lambda template: provenance(template, spec),
         )
     )
+    record = manifest_record(files)
     manifest = {
+        "generator": record["generator"],
+        "generator_version": __version__,
         "spec": project_relative(spec.source_path),
         "spec_sha256": spec.sha256,
         "core": manifest_entry(core),
-        "files": {
-            name: hashlib.sha256(text.encode()).hexdigest() for name, text in sorted(files.items())
-        },
+        "folders": record["folders"],
+        "files": record["files"],
     }
-    files["manifest.json"] = json.dumps(manifest, indent=2) + "\n"
+    files[MANIFEST] = json.dumps(manifest, indent=2) + "\n"
     return Generated(spec, core, files)
 
 
-def write_tree(files: dict[str, str], target: Path) -> None:
-    """Write all files to a sibling temporary folder, then swap it in by renaming."""
-    target = target.resolve()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = target.with_name(f".{target.name}.new-{os.getpid()}")
-    retired = target.with_name(f".{target.name}.old-{os.getpid()}")
-    shutil.rmtree(staging, ignore_errors=True)
-    try:
-        for name, text in files.items():
-            path = staging / name
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(text, encoding="utf-8", newline="\n")
-        if target.exists():
-            os.replace(target, retired)
-        try:
-            os.replace(staging, target)
-        except OSError:
-            if retired.exists():
-                os.replace(retired, target)  # put the previous output back
-            raise
-        shutil.rmtree(retired, ignore_errors=True)
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
+def write_tree(files: dict[str, str], target: Path) -> PublishResult:
+    """Publish the rendered tree into `target` atomically (codegen.publish)."""
+    return publish(files, target)
 
 
 def generate(spec_path: str | Path, output: str | Path | None, project_root: Path) -> Generated:
+    """Render and publish; `output` defaults to project_root/generated/<name> (the CLI
+    passes its own, resolved against the working directory)."""
     result = render_all(spec_path)
     target = Path(output) if output else project_root / "generated" / result.spec.name
     write_tree(result.files, target)

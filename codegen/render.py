@@ -7,6 +7,7 @@ in templates"); a missing variable is an error, never an empty string.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import jinja2
@@ -35,20 +36,41 @@ def environment(template_dir: Path = TEMPLATE_DIR) -> jinja2.Environment:
     return env
 
 
+#: Characters a path may show in a generated file. None of them can end a C or linker
+#: comment (`*/`), a Python comment (a newline) or a Markdown/HTML comment (`-->`), start
+#: a trigraph (`??`), continue a line (a backslash) or reach a terminal as a control code.
+_SAFE_PATH = re.compile(r"[A-Za-z0-9 _.,+=@%/-]{1,200}\Z", re.ASCII)
+WITHHELD = "path withheld: unsafe characters"
+
+
 def project_relative(path: str | Path) -> str:
     """A path as it should appear in generated files: relative to the project when
-    inside it, else just the file name, so output never depends on the checkout."""
+    inside it, else just the file name, so output never depends on the checkout; and
+    `<path withheld: unsafe characters>` when it holds anything that could end the
+    comment or string it is printed in (see _SAFE_PATH)."""
     resolved = Path(path).resolve()
     try:
-        return resolved.relative_to(PROJECT_ROOT).as_posix()
+        shown = resolved.relative_to(PROJECT_ROOT).as_posix()
     except ValueError:
-        return resolved.name
+        shown = resolved.name
+    if _SAFE_PATH.match(shown) and "--" not in shown:
+        return shown
+    return f"<{WITHHELD}>"
+
+
+def spec_label(spec: Spec) -> str:
+    """The spec's path as generated files may show it (project_relative), or, when that
+    is withheld, `<name.yaml, path withheld: ...>` after the spec's own name, a checked
+    identifier. The hash beside it identifies the file either way."""
+    shown = project_relative(spec.source_path)
+    return shown if shown != f"<{WITHHELD}>" else f"<{spec.name}.yaml, {WITHHELD}>"
 
 
 def provenance(template: str, spec: Spec) -> str:
-    """One line naming the template, the spec and its hash; no time, no version."""
+    """One line naming the template, the spec and its hash; no time, no version. Safe
+    inside a C, Python or Markdown comment whatever the spec's path (spec_label)."""
     return (
-        f"Generated from template {template} with spec {project_relative(spec.source_path)}"
+        f"Generated from template {template} with spec {spec_label(spec)}"
         f" (sha256 {spec.sha256}). Do not edit: regenerate with `make`."
     )
 

@@ -1,28 +1,33 @@
 """The one place where a spec is checked.
 
-load_spec() reads YAML with yaml.safe_load semantics (plus duplicate-key rejection),
+load_spec() reads the file through codegen.yaml12 (bounded, YAML 1.2 core schema),
 rejects unknown keys, converts every quantity to SI, checks each value against its
-allowed range, then checks the physics that ties the values together. It returns a
-frozen codegen.spec_model.Spec or raises codegen.errors.SpecError naming the key path,
-the value, the unit and the allowed range (and the YAML line where known).
+allowed range, then checks the physics that ties the values together and whether the
+values are plausible for a real drive. It returns a frozen codegen.spec_model.Spec or
+raises codegen.errors.MultiSpecError: every error of the spec, one line each, naming the key
+path, the value, the unit, the allowed range and the YAML line.
+
+Legal but unusual values give SpecWarnings (in Spec.warnings); a spec silences one by
+listing its id under `warnings: {silence: [...]}` (see WARNINGS below).
+
+Arithmetic on spec values is exact (Fractions); floats appear only in messages.
 """
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from decimal import Context, Decimal
 from fractions import Fraction
 from pathlib import Path
-from typing import Any
-
-import yaml
+from typing import Any, TypeVar
 
 from codegen import spec_optional, units
-from codegen.errors import SpecError
+from codegen.errors import MultiSpecError, SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
     Accuracy,
@@ -34,39 +39,40 @@ from codegen.spec_model import (
     Motor,
     OperatingPoint,
     Spec,
+    SpecWarning,
+)
+from codegen.yaml12 import (
+    DEFAULT_LIMITS,
+    ExactFloat,
+    YamlError,
+    child_path,
+    read_yaml,
+    type_name,
 )
 
-_NAME = re.compile(r"^[a-z][a-z0-9_]{0,63}$")
+_NAME = re.compile(r"[a-z][a-z0-9_]{0,63}\Z")
 #: generated/<this>/ is the paper audit's folder (codegen.audit), never a motor's.
 PAPER_AUDIT_NAME = "paper"
+_MAX_DESCRIPTION_CHARS = 500
+_MAX_SOURCE_CHARS = 500
+#: Operating points are the paper's experiment speeds: each one is printed in the audit,
+#: becomes Unity cases and is simulated in full, so a spec lists a few, not a sweep.
+MAX_OPERATING_POINTS = 16
 
+#: Plausibility warnings a spec may silence, by id: what each one means.
+WARNINGS: dict[str, str] = {
+    "braking-current-max-unreachable": "R * braking_current_max exceeds E at speed_max",
+    "braking-current-at-operating-point": "R * braking_current_nominal exceeds E at an operating point",
+    "braking-current-min-at-speed-min": "R * braking_current_min exceeds E at speed_min",
+    "current-resolution": "braking_current_nominal is fewer than 16 current-ADC codes",
+    "time-constant-short": "L/R is less than 4 PWM periods",
+    "dead-time-short": "dead time under 50 ns",
+    "dead-time-long": "two dead times take more than 4 % of the PWM period",
+    "duty-budget-large": "accuracy.duty_counts above 4 TIM1 counts",
+    "time-budget-large": "accuracy.commutation_time_ticks above 2 % of the shortest 60 deg sector",
+}
 
-class _StrictLoader(yaml.SafeLoader):
-    """safe_load that refuses duplicate keys instead of keeping the last one."""
-
-
-def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode) -> dict[Any, Any]:
-    seen: dict[Any, int] = {}
-    for key_node, _ in node.value:
-        key = loader.construct_object(key_node)
-        try:
-            duplicate = key in seen
-        except TypeError:
-            raise yaml.constructor.ConstructorError(
-                None, None, "found unhashable key", key_node.start_mark
-            ) from None
-        if duplicate:
-            raise yaml.constructor.ConstructorError(
-                None,
-                None,
-                f"duplicate key {key!r} (first defined on line {seen[key]})",
-                key_node.start_mark,
-            )
-        seen[key] = key_node.start_mark.line + 1
-    return loader.construct_mapping(node)
-
-
-_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -79,7 +85,7 @@ class _Range:
     low_inclusive: bool = True
     high_inclusive: bool = True
 
-    def contains(self, value: float) -> bool:
+    def contains(self, value: float | Fraction) -> bool:
         if self.low is not None and (
             value < self.low or (value == self.low and not self.low_inclusive)
         ):
@@ -97,53 +103,100 @@ class _Range:
         return f"{left}{low}, {high}{right} {self.unit}".rstrip()
 
 
-def _g(value: float | Fraction) -> str:
-    """%g of an int, float or Fraction; exact Fractions too large for a float still print."""
+def _g(value: float | Fraction | int) -> str:
+    """%g of an int, float or Fraction; exact values beyond a double (1e400 overflows,
+    1e-403 underflows to 0.0) print their own digits."""
     try:
-        return f"{float(value):g}"
+        as_float = float(value)
+        if as_float != 0 or value == 0:
+            return f"{as_float:g}"
     except OverflowError:
-        exact = Context(prec=6).divide(Decimal(value.numerator), Decimal(value.denominator))
-        return f"{exact.normalize():g}"
+        pass
+    exact = Fraction(value)
+    decimal = Context(prec=6).divide(Decimal(exact.numerator), Decimal(exact.denominator))
+    return f"{decimal.normalize():g}"
 
 
-def _positive(high: float, unit: str) -> _Range:
-    return _Range(0.0, high, unit, low_inclusive=False)
+def _f1(value: Fraction) -> str:
+    return f"{float(value):.1f}"
 
 
 class _Reader:
-    """Walks one parsed document, remembering YAML lines so errors can cite them."""
+    """Reads one parsed document, collecting every error and warning with its YAML line."""
 
     def __init__(self, source: str, lines: Mapping[str, int]) -> None:
         self.source = source
         self.lines = lines
+        self.errors: list[SpecError] = []
+        self.warnings: list[SpecWarning] = []
 
     def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError:
-        return SpecError(path, value, problem, allowed, self.source, self.lines.get(path))
+        return SpecError(path, value, problem, allowed, self.source, self._line(path))
 
-    def section(self, data: Mapping[str, Any], key: str, parent: str = "") -> Mapping[str, Any]:
-        path = f"{parent}.{key}" if parent else key
+    def _line(self, path: str) -> int | None:
+        # A missing key has no line: cite its section, the nearest place to add it.
+        while path:
+            if path in self.lines:
+                return self.lines[path]
+            path = path.rpartition(".")[0] if "." in path else ""
+        return None
+
+    def report(self, path: str, value: object, problem: str, allowed: str = "") -> None:
+        self.errors.append(self.error(path, value, problem, allowed))
+
+    def warn(self, warning_id: str, path: str, value: object, message: str) -> None:
+        assert warning_id in WARNINGS, warning_id
+        self.warnings.append(
+            SpecWarning(warning_id, path, value, message, self.source, self._line(path))
+        )
+
+    def attempt(self, read: Callable[[], T]) -> T | None:
+        """The value, or None after recording its SpecError (so reading goes on)."""
+        try:
+            return read()
+        except SpecError as exc:
+            self.errors.append(exc)
+            return None
+
+    def section(self, data: Mapping[str, Any], key: str) -> Mapping[str, Any] | None:
         if key not in data:
-            raise self.error(path, None, "missing required section", "a mapping")
+            self.report(key, None, "missing required section", "a mapping")
+            return None
         value = data[key]
         if not isinstance(value, Mapping):
-            raise self.error(path, value, f"must be a mapping, got {type(value).__name__}")
+            self.report(key, value, f"must be a mapping of keys, got {type_name(value)}")
+            return None
         return value
 
-    def only_keys(self, data: Mapping[str, Any], allowed: tuple[str, ...], path: str) -> None:
+    def only_keys(
+        self,
+        data: Mapping[Any, Any],
+        allowed: tuple[str, ...],
+        path: str,
+        optional: tuple[str, ...] = (),
+    ) -> None:
+        """Report every unknown key (suggesting the nearest known one); missing keys are
+        reported by the readers, each under its own path."""
+        known = (*allowed, *optional)
         for key in data:
-            if key not in allowed:
-                where = f"{path}.{key}" if path else str(key)
-                raise self.error(where, data[key], "unknown key", ", ".join(allowed))
-        for key in allowed:
-            if key not in data:
-                where = f"{path}.{key}" if path else key
-                raise self.error(where, None, "missing required key", "see spec/paper_motor.yaml")
+            if key in known:
+                continue
+            where = child_path(path, key)
+            guess = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
+            hint = f"; did you mean '{guess[0]}'?" if guess else ""
+            self.report(where, data[key], f"unknown key{hint}", ", ".join(known))
+
+    def raw(self, data: Mapping[str, Any], key: str, path: str) -> Any:
+        where = f"{path}.{key}" if path else key
+        if key not in data:
+            raise self.error(where, None, "missing required key", "see spec/paper_motor.yaml")
+        return data[key]
 
     def quantity(
         self, data: Mapping[str, Any], key: str, path: str, dim: units.Dimension, rng: _Range
     ) -> Fraction:
         where = f"{path}.{key}"
-        raw = data[key]
+        raw = self.raw(data, key, path)
         try:
             parsed = units.parse_quantity(raw, dim)
         except units.QuantityError as exc:
@@ -156,75 +209,45 @@ class _Reader:
 
     def number(self, data: Mapping[str, Any], key: str, path: str, rng: _Range) -> Fraction:
         where = f"{path}.{key}" if path else key
-        raw = data[key]
-        if (
-            isinstance(raw, bool)
-            or not isinstance(raw, (int, float))
-            or (isinstance(raw, float) and not math.isfinite(raw))
-        ):
-            raise self.error(where, raw, "must be a plain number", rng.describe())
-        if not rng.contains(raw):
+        raw = self.raw(data, key, path)
+        if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+            raise self.error(
+                where, raw, f"must be a plain number, got {type_name(raw)}", rng.describe()
+            )
+        if isinstance(raw, float) and not math.isfinite(raw):
+            raise self.error(where, raw, "must be a finite number", rng.describe())
+        exact = raw.exact if isinstance(raw, ExactFloat) else None
+        value = Fraction(raw) if exact is None else exact
+        if not rng.contains(value):
             raise self.error(where, raw, "out of range", rng.describe())
-        return Fraction(str(raw))
+        return value
 
     def integer(self, data: Mapping[str, Any], key: str, path: str, rng: _Range) -> int:
         where = f"{path}.{key}"
-        raw = data[key]
+        raw = self.raw(data, key, path)
         if isinstance(raw, bool) or not isinstance(raw, int):
-            raise self.error(where, raw, "must be an integer", rng.describe())
+            raise self.error(
+                where, raw, f"must be an integer, got {type_name(raw)}", rng.describe()
+            )
         if not rng.contains(raw):
             raise self.error(where, raw, "out of range", rng.describe())
         return raw
 
     def choice(self, data: Mapping[str, Any], key: str, path: str, options: tuple[str, ...]) -> str:
-        raw = data[key]
-        if raw not in options:
-            raise self.error(f"{path}.{key}", raw, "not a known option", ", ".join(options))
-        return str(raw)
+        raw = self.raw(data, key, path)
+        if not isinstance(raw, str) or raw not in options:
+            guess = (
+                difflib.get_close_matches(raw, options, n=1, cutoff=0.6)
+                if isinstance(raw, str)
+                else []
+            )
+            hint = f"; did you mean '{guess[0]}'?" if guess else ""
+            raise self.error(f"{path}.{key}", raw, f"not a known option{hint}", ", ".join(options))
+        return raw
 
 
-def _yaml_lines(text: str) -> dict[str, int]:
-    """Key path -> 1-based line of the value, for error messages."""
-    lines: dict[str, int] = {}
-    try:
-        root = yaml.compose(text, Loader=_StrictLoader)
-    except yaml.YAMLError:
-        return lines
-
-    def walk(node: yaml.Node, path: str, ancestors: frozenset[int]) -> None:
-        if path:
-            lines[path] = node.start_mark.line + 1
-        if id(node) in ancestors:  # a recursive alias such as `&x [*x]`
-            return
-        inner = ancestors | {id(node)}
-        if isinstance(node, yaml.MappingNode):
-            for key_node, value_node in node.value:
-                key = str(key_node.value)
-                walk(value_node, f"{path}.{key}" if path else key, inner)
-        elif isinstance(node, yaml.SequenceNode):
-            for index, item in enumerate(node.value):
-                walk(item, f"{path}[{index}]", inner)
-
-    if root is not None:
-        walk(root, "", frozenset())
-    return lines
-
-
-def _parse_yaml(text: str, source: str) -> Mapping[str, Any]:
-    try:
-        data = yaml.load(text, Loader=_StrictLoader)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark is not None else None
-        problem = exc.problem or str(exc)
-        raise SpecError(
-            "<document>", None, f"malformed YAML: {problem}", "", source, line
-        ) from None
-    except yaml.YAMLError as exc:
-        raise SpecError("<document>", None, f"malformed YAML: {exc}", "", source) from None
-    if not isinstance(data, Mapping):
-        raise SpecError("<document>", data, "the spec must be a YAML mapping", "", source, 1)
-    return data
+def _positive(low: float, high: float, unit: str) -> _Range:
+    return _Range(low, high, unit)
 
 
 _TOP_KEYS = (
@@ -239,113 +262,187 @@ _TOP_KEYS = (
     "operating_points",
     "sources",
 )
+_OPTIONAL_TOP_KEYS = ("warnings",)
+
+_MOTOR_KEYS = (
+    "rated_voltage",
+    "phase_resistance",
+    "phase_inductance",
+    "poles",
+    "back_emf_constant",
+    "back_emf_convention",
+    "rotor_inertia",
+)
+_INVERTER_KEYS = (
+    "bus_voltage_nominal",
+    "bus_voltage_min",
+    "bus_voltage_max",
+    "pwm_frequency",
+    "pwm_alignment",
+    "timer_clock",
+    "dead_time",
+)
+_HALL_KEYS = ("sequence", "timer_clock", "counter_bits")
+_ADC_KEYS = ("bits", "reference", "bus_voltage_divider", "current_gain", "current_offset")
+_CONTROLLER_KEYS = (
+    "method",
+    "braking_current_min",
+    "braking_current_nominal",
+    "braking_current_max",
+    "speed_min",
+    "speed_max",
+)
+_ACCURACY_KEYS = ("duty_counts", "commutation_time_ticks")
+_SECTIONS = {
+    "motor": _MOTOR_KEYS,
+    "inverter": _INVERTER_KEYS,
+    "hall": _HALL_KEYS,
+    "adc": _ADC_KEYS,
+    "controller": _CONTROLLER_KEYS,
+    "accuracy": _ACCURACY_KEYS,
+}
+
+# Ranges: what any real drive of this kind can have, so that no value can reach the
+# arithmetic below as zero, infinity or beyond a double (1e-400 V/krpm is 0.0 in float).
+_VOLTS = _positive(1, 1000, "V")
 
 
-def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor:
+def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
     sec = r.section(data, "motor")
-    keys = (
-        "rated_voltage",
-        "phase_resistance",
-        "phase_inductance",
-        "poles",
-        "back_emf_constant",
-        "back_emf_convention",
-        "rotor_inertia",
+    if sec is None:
+        return None
+    r.only_keys(sec, _MOTOR_KEYS, "motor", (spec_optional.EMF_SHAPE_KEY,))
+    shape = BackEmfShape()
+    if spec_optional.EMF_SHAPE_KEY in sec:
+        read = r.attempt(lambda: spec_optional.back_emf_shape(r, sec[spec_optional.EMF_SHAPE_KEY]))
+        shape = read if read is not None else shape
+
+    def poles() -> int:
+        count = r.integer(sec, "poles", "motor", _Range(2, 128, "poles"))
+        if count % 2:
+            raise r.error(
+                "motor.poles", count, "a rotor has an even number of poles", "2, 4, 6, ... 128"
+            )
+        return count
+
+    convention = r.attempt(
+        lambda: r.choice(sec, "back_emf_convention", "motor", ("phase", "line_to_line"))
     )
-    r.only_keys({k: v for k, v in sec.items() if k != spec_optional.EMF_SHAPE_KEY}, keys, "motor")
-    poles = r.integer(sec, "poles", "motor", _Range(2, 128, "poles"))
-    if poles % 2:
-        raise r.error(
-            "motor.poles", poles, "a rotor has an even number of poles", "2, 4, 6, ... 128"
+    k_e = r.attempt(
+        lambda: r.quantity(
+            sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _positive(1e-5, 1, "V/rpm")
         )
-    convention = r.choice(sec, "back_emf_convention", "motor", ("phase", "line_to_line"))
-    k_e = r.quantity(sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _positive(1.0, "V/rpm"))
+    )
+    values = (
+        r.attempt(lambda: r.quantity(sec, "rated_voltage", "motor", units.VOLTAGE, _VOLTS)),
+        r.attempt(
+            lambda: r.quantity(
+                sec, "phase_resistance", "motor", units.RESISTANCE, _positive(1e-4, 100, "ohm")
+            )
+        ),
+        r.attempt(
+            lambda: r.quantity(
+                sec, "phase_inductance", "motor", units.INDUCTANCE, _positive(1e-7, 1, "H")
+            )
+        ),
+        r.attempt(poles),
+        r.attempt(
+            lambda: r.quantity(
+                sec, "rotor_inertia", "motor", units.INERTIA, _positive(1e-9, 100, "kg*m^2")
+            )
+        ),
+    )
+    if convention is None or k_e is None or any(v is None for v in values):
+        return None
+    rated, resistance, inductance, pole_count, inertia = values
     if convention == "line_to_line":
         # Flat-top line-to-line EMF of the two conducting phases is 2E (paper Eq. 4).
         k_e /= 2
     return Motor(
-        rated_voltage_v=r.quantity(
-            sec, "rated_voltage", "motor", units.VOLTAGE, _positive(1000, "V")
-        ),
-        phase_resistance_ohm=r.quantity(
-            sec, "phase_resistance", "motor", units.RESISTANCE, _positive(100, "ohm")
-        ),
-        phase_inductance_h=r.quantity(
-            sec, "phase_inductance", "motor", units.INDUCTANCE, _positive(1.0, "H")
-        ),
-        poles=poles,
+        rated_voltage_v=rated,  # type: ignore[arg-type]
+        phase_resistance_ohm=resistance,  # type: ignore[arg-type]
+        phase_inductance_h=inductance,  # type: ignore[arg-type]
+        poles=pole_count,  # type: ignore[arg-type]
         back_emf_constant_v_per_rpm=k_e,
         back_emf_convention=convention,  # type: ignore[arg-type]
-        rotor_inertia_kg_m2=r.quantity(
-            sec, "rotor_inertia", "motor", units.INERTIA, _positive(100, "kg*m^2")
-        ),
-        back_emf_shape=spec_optional.back_emf_shape(r, sec[spec_optional.EMF_SHAPE_KEY])
-        if spec_optional.EMF_SHAPE_KEY in sec
-        else BackEmfShape(),
+        rotor_inertia_kg_m2=inertia,  # type: ignore[arg-type]
+        back_emf_shape=shape,
     )
 
 
-def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter:
+def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter | None:
     sec = r.section(data, "inverter")
-    keys = (
-        "bus_voltage_nominal",
-        "bus_voltage_min",
-        "bus_voltage_max",
-        "pwm_frequency",
-        "pwm_alignment",
-        "timer_clock",
-        "dead_time",
+    if sec is None:
+        return None
+    r.only_keys(sec, _INVERTER_KEYS, "inverter")
+    v_nom = r.attempt(
+        lambda: r.quantity(sec, "bus_voltage_nominal", "inverter", units.VOLTAGE, _VOLTS)
     )
-    r.only_keys(sec, keys, "inverter")
-    volts = _positive(1000, "V")
-    v_nom = r.quantity(sec, "bus_voltage_nominal", "inverter", units.VOLTAGE, volts)
-    v_min = r.quantity(sec, "bus_voltage_min", "inverter", units.VOLTAGE, volts)
-    v_max = r.quantity(sec, "bus_voltage_max", "inverter", units.VOLTAGE, volts)
-    if not v_min < v_max:
-        raise r.error(
+    v_min = r.attempt(lambda: r.quantity(sec, "bus_voltage_min", "inverter", units.VOLTAGE, _VOLTS))
+    v_max = r.attempt(lambda: r.quantity(sec, "bus_voltage_max", "inverter", units.VOLTAGE, _VOLTS))
+    timer_clock = r.attempt(
+        lambda: r.quantity(sec, "timer_clock", "inverter", units.FREQUENCY, _Range(1e6, 72e6, "Hz"))
+    )
+    f_pwm = r.attempt(
+        lambda: r.quantity(
+            sec, "pwm_frequency", "inverter", units.FREQUENCY, _Range(1e3, 100e3, "Hz")
+        )
+    )
+    alignment = r.attempt(lambda: r.choice(sec, "pwm_alignment", "inverter", ("edge", "center")))
+    # Both switches of a leg conducting at once short the bus: a bridge needs a dead time.
+    dead = r.attempt(
+        lambda: r.quantity(
+            sec, "dead_time", "inverter", units.TIME, _Range(0.0, 5e-6, "s", low_inclusive=False)
+        )
+    )
+    if v_min is not None and v_max is not None and not v_min < v_max:
+        r.report(
             "inverter.bus_voltage_max",
             sec["bus_voltage_max"],
             "bus voltage range is empty or inverted",
-            f"> bus_voltage_min = {float(v_min):g} V",
+            f"> bus_voltage_min = {_g(v_min)} V",
         )
-    if not v_min <= v_nom <= v_max:
-        raise r.error(
+    elif None not in (v_min, v_max, v_nom) and not v_min <= v_nom <= v_max:  # type: ignore[operator]
+        r.report(
             "inverter.bus_voltage_nominal",
             sec["bus_voltage_nominal"],
             "nominal bus voltage outside the operating range",
-            f"[{float(v_min):g}, {float(v_max):g}] V",
+            f"[{_g(v_min)}, {_g(v_max)}] V",  # type: ignore[arg-type]
         )
-    timer_clock = r.quantity(
-        sec, "timer_clock", "inverter", units.FREQUENCY, _Range(1e6, 72e6, "Hz")
-    )
-    f_pwm = r.quantity(sec, "pwm_frequency", "inverter", units.FREQUENCY, _Range(1e3, 100e3, "Hz"))
-    alignment = r.choice(sec, "pwm_alignment", "inverter", ("edge", "center"))
-    period_counts = timer_clock / f_pwm / (2 if alignment == "center" else 1)
-    if not 256 <= period_counts <= 65536 or period_counts.denominator != 1:
-        raise r.error(
-            "inverter.pwm_frequency",
-            sec["pwm_frequency"],
-            f"gives {float(period_counts):g} TIM1 counts per period at {float(timer_clock):g} Hz"
-            f" ({alignment})",
-            "a whole number of counts in [256, 65536]",
-        )
-    dead = r.quantity(sec, "dead_time", "inverter", units.TIME, _Range(0.0, 5e-6, "s"))
-    if dead * f_pwm * 2 >= Fraction(1, 10):
-        raise r.error(
+    if timer_clock is not None and f_pwm is not None and alignment is not None:
+        period_counts = timer_clock / f_pwm / (2 if alignment == "center" else 1)
+        if not 256 <= period_counts <= 65536 or period_counts.denominator != 1:
+            r.report(
+                "inverter.pwm_frequency",
+                sec["pwm_frequency"],
+                f"gives {_g(period_counts)} TIM1 counts per period at {_g(timer_clock)} Hz"
+                f" ({alignment})",
+                "a whole number of counts in [256, 65536]",
+            )
+    if dead is not None and f_pwm is not None and dead * f_pwm * 2 >= Fraction(1, 10):
+        r.report(
             "inverter.dead_time",
             sec["dead_time"],
-            "dead time eats more than 10 % of the PWM period",
-            f"< {0.05 / float(f_pwm):g} s at {float(f_pwm):g} Hz",
+            "two dead times per period eat more than 10 % of the PWM period, distorting"
+            " every duty by as much",
+            f"< {_g(Fraction(1, 20) / f_pwm)} s at {_g(f_pwm)} Hz",
         )
+    values = (v_nom, v_min, v_max, f_pwm, alignment, timer_clock, dead)
+    if any(v is None for v in values) or _any_under(r, "inverter"):
+        return None
     return Inverter(
-        bus_voltage_nominal_v=v_nom,
-        bus_voltage_min_v=v_min,
-        bus_voltage_max_v=v_max,
-        pwm_frequency_hz=f_pwm,
+        bus_voltage_nominal_v=v_nom,  # type: ignore[arg-type]
+        bus_voltage_min_v=v_min,  # type: ignore[arg-type]
+        bus_voltage_max_v=v_max,  # type: ignore[arg-type]
+        pwm_frequency_hz=f_pwm,  # type: ignore[arg-type]
         pwm_alignment=alignment,  # type: ignore[arg-type]
-        timer_clock_hz=timer_clock,
-        dead_time_s=dead,
+        timer_clock_hz=timer_clock,  # type: ignore[arg-type]
+        dead_time_s=dead,  # type: ignore[arg-type]
     )
+
+
+def _any_under(r: _Reader, section: str) -> bool:
+    return any(e.path == section or e.path.startswith(f"{section}.") for e in r.errors)
 
 
 def _hall_sequence(r: _Reader, raw: object) -> tuple[int, ...]:
@@ -376,265 +473,652 @@ def _hall_sequence(r: _Reader, raw: object) -> tuple[int, ...]:
     return tuple(raw)
 
 
-def _hall(r: _Reader, data: Mapping[str, Any]) -> HallSensor:
+def _hall(r: _Reader, data: Mapping[str, Any]) -> HallSensor | None:
     sec = r.section(data, "hall")
-    r.only_keys(sec, ("sequence", "timer_clock", "counter_bits"), "hall")
-    bits = r.integer(sec, "counter_bits", "hall", _Range(16, 16, "bits"))
-    return HallSensor(
-        sequence=_hall_sequence(r, sec["sequence"]),
-        timer_clock_hz=r.quantity(
-            sec, "timer_clock", "hall", units.FREQUENCY, _Range(1e3, 72e6, "Hz")
-        ),
-        counter_bits=bits,
+    if sec is None:
+        return None
+    r.only_keys(sec, _HALL_KEYS, "hall")
+    bits = r.attempt(lambda: r.integer(sec, "counter_bits", "hall", _Range(16, 16, "bits")))
+    sequence = r.attempt(lambda: _hall_sequence(r, r.raw(sec, "sequence", "hall")))
+    clock = r.attempt(
+        lambda: r.quantity(sec, "timer_clock", "hall", units.FREQUENCY, _Range(1e3, 72e6, "Hz"))
     )
+    if bits is None or sequence is None or clock is None:
+        return None
+    return HallSensor(sequence=sequence, timer_clock_hz=clock, counter_bits=bits)
 
 
-def _adc(r: _Reader, data: Mapping[str, Any]) -> Adc:
+def _adc(r: _Reader, data: Mapping[str, Any]) -> Adc | None:
     sec = r.section(data, "adc")
-    keys = ("bits", "reference", "bus_voltage_divider", "current_gain", "current_offset")
-    r.only_keys(sec, keys, "adc")
-    reference = r.quantity(sec, "reference", "adc", units.VOLTAGE, _positive(5.0, "V"))
+    if sec is None:
+        return None
+    r.only_keys(sec, _ADC_KEYS, "adc")
+    reference = r.attempt(
+        lambda: r.quantity(sec, "reference", "adc", units.VOLTAGE, _positive(0.5, 5.0, "V"))
+    )
+    bits = r.attempt(lambda: r.integer(sec, "bits", "adc", _Range(8, 16, "bits")))
+    divider = r.attempt(
+        lambda: r.number(sec, "bus_voltage_divider", "adc", _Range(1, 1000, "(V/V)"))
+    )
+    gain = r.attempt(
+        lambda: r.quantity(
+            sec, "current_gain", "adc", units.TRANSRESISTANCE, _positive(1e-4, 10.0, "V/A")
+        )
+    )
+    offset = (
+        None
+        if reference is None
+        else r.attempt(
+            lambda: r.quantity(
+                sec, "current_offset", "adc", units.VOLTAGE, _Range(0.0, float(reference), "V")
+            )
+        )
+    )
+    if None in (reference, bits, divider, gain, offset):
+        return None
     return Adc(
-        bits=r.integer(sec, "bits", "adc", _Range(8, 16, "bits")),
-        reference_v=reference,
-        bus_voltage_divider=r.number(sec, "bus_voltage_divider", "adc", _Range(1, 1000, "(V/V)")),
-        current_gain_v_per_a=r.quantity(
-            sec, "current_gain", "adc", units.TRANSRESISTANCE, _positive(10.0, "V/A")
-        ),
-        current_offset_v=r.quantity(
-            sec, "current_offset", "adc", units.VOLTAGE, _Range(0.0, reference, "V")
-        ),
+        bits=bits,  # type: ignore[arg-type]
+        reference_v=reference,  # type: ignore[arg-type]
+        bus_voltage_divider=divider,  # type: ignore[arg-type]
+        current_gain_v_per_a=gain,  # type: ignore[arg-type]
+        current_offset_v=offset,  # type: ignore[arg-type]
     )
 
 
-def _controller(r: _Reader, data: Mapping[str, Any]) -> Controller:
+def _controller(r: _Reader, data: Mapping[str, Any]) -> Controller | None:
     sec = r.section(data, "controller")
-    keys = (
-        "method",
-        "braking_current_min",
-        "braking_current_nominal",
-        "braking_current_max",
-        "speed_min",
-        "speed_max",
-    )
-    r.only_keys(sec, keys, "controller")
+    if sec is None:
+        return None
+    r.only_keys(sec, _CONTROLLER_KEYS, "controller")
     amps = _Range(0.0, 1000.0, "A")
-    i_min = r.quantity(sec, "braking_current_min", "controller", units.CURRENT, amps)
-    i_nom = r.quantity(sec, "braking_current_nominal", "controller", units.CURRENT, amps)
-    i_max = r.quantity(sec, "braking_current_max", "controller", units.CURRENT, amps)
-    if not i_min < i_max:
-        raise r.error(
+    method = r.attempt(lambda: r.choice(sec, "method", "controller", COMMUTATION_METHODS))
+    i_min = r.attempt(
+        lambda: r.quantity(sec, "braking_current_min", "controller", units.CURRENT, amps)
+    )
+    i_nom = r.attempt(
+        lambda: r.quantity(sec, "braking_current_nominal", "controller", units.CURRENT, amps)
+    )
+    i_max = r.attempt(
+        lambda: r.quantity(sec, "braking_current_max", "controller", units.CURRENT, amps)
+    )
+    speeds = _positive(1, 1e6, "rpm")
+    n_min = r.attempt(lambda: r.quantity(sec, "speed_min", "controller", units.SPEED, speeds))
+    n_max = r.attempt(lambda: r.quantity(sec, "speed_max", "controller", units.SPEED, speeds))
+    if i_min is not None and i_max is not None and not i_min < i_max:
+        r.report(
             "controller.braking_current_max",
             sec["braking_current_max"],
             "braking current range is empty or inverted",
-            f"> braking_current_min = {float(i_min):g} A",
+            f"> braking_current_min = {_g(i_min)} A",
         )
-    if not i_min <= i_nom <= i_max:
-        raise r.error(
+    elif None not in (i_min, i_nom, i_max) and not i_min <= i_nom <= i_max:  # type: ignore[operator]
+        r.report(
             "controller.braking_current_nominal",
             sec["braking_current_nominal"],
             "nominal braking current outside its range",
-            f"[{float(i_min):g}, {float(i_max):g}] A",
+            f"[{_g(i_min)}, {_g(i_max)}] A",  # type: ignore[arg-type]
         )
-    if i_nom <= 0.0:
-        raise r.error(
+    elif i_nom is not None and i_nom <= 0:
+        r.report(
             "controller.braking_current_nominal",
             sec["braking_current_nominal"],
             "braking needs a current",
-            f"(0, {float(i_max):g}] A",
+            f"(0, {_g(i_max)}] A" if i_max is not None else "> 0 A",
         )
-    speeds = _positive(1e6, "rpm")
-    n_min = r.quantity(sec, "speed_min", "controller", units.SPEED, speeds)
-    n_max = r.quantity(sec, "speed_max", "controller", units.SPEED, speeds)
-    if not n_min < n_max:
-        raise r.error(
+    if n_min is not None and n_max is not None and not n_min < n_max:
+        r.report(
             "controller.speed_max",
             sec["speed_max"],
             "speed range is empty or inverted",
-            f"> speed_min = {float(n_min):g} rpm",
+            f"> speed_min = {_g(n_min)} rpm",
         )
+    if None in (method, i_min, i_nom, i_max, n_min, n_max) or _any_under(r, "controller"):
+        return None
     return Controller(
-        method=r.choice(sec, "method", "controller", COMMUTATION_METHODS),  # type: ignore[arg-type]
-        braking_current_min_a=i_min,
-        braking_current_nominal_a=i_nom,
-        braking_current_max_a=i_max,
-        speed_min_rpm=n_min,
-        speed_max_rpm=n_max,
+        method=method,  # type: ignore[arg-type]
+        braking_current_min_a=i_min,  # type: ignore[arg-type]
+        braking_current_nominal_a=i_nom,  # type: ignore[arg-type]
+        braking_current_max_a=i_max,  # type: ignore[arg-type]
+        speed_min_rpm=n_min,  # type: ignore[arg-type]
+        speed_max_rpm=n_max,  # type: ignore[arg-type]
     )
 
 
-_RELAXATION = ("ill_conditioned_above", "ill_conditioned_counts")
-
-
-def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy:
+def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
     sec = r.section(data, "accuracy")
+    if sec is None:
+        return None
+    r.only_keys(sec, _ACCURACY_KEYS, "accuracy", _RELAXATION)
+    # An error budget is a few LSBs: the final rounding alone costs half of one, so the
+    # budget must exceed 1/2; past 16 counts (0.4 % of a 3600-count period) or 64 ticks
+    # it no longer describes an accurate implementation.
+    duty = r.attempt(
+        lambda: r.number(
+            sec,
+            "duty_counts",
+            "accuracy",
+            _Range(0.5, 16, "TIM1 counts", low_inclusive=False),
+        )
+    )
+    ticks = r.attempt(
+        lambda: r.number(
+            sec,
+            "commutation_time_ticks",
+            "accuracy",
+            _Range(0.5, 64, "Hall timer ticks", low_inclusive=False),
+        )
+    )
     present = tuple(k for k in _RELAXATION if k in sec)
-    r.only_keys(sec, ("duty_counts", "commutation_time_ticks", *present), "accuracy")
     if len(present) == 1:
         missing = next(k for k in _RELAXATION if k not in present)
-        raise r.error(
+        r.report(
             f"accuracy.{missing}",
             None,
             f"missing: accuracy.{present[0]} declares a relaxation, which needs both keys",
             "both ill_conditioned_above (ticks per count) and ill_conditioned_counts (counts), or neither",
         )
+        return None
     above = counts = None
     if present:
-        above = r.number(
-            sec, "ill_conditioned_above", "accuracy", _Range(1, 1e6, "Hall ticks per TIM1 count")
+        # Where one count of error moves t_com by more than `above` ticks, t_com need only
+        # be exact for an error of `counts` (checked by verify, never claimed by a design).
+        above = r.attempt(
+            lambda: r.number(
+                sec,
+                "ill_conditioned_above",
+                "accuracy",
+                _Range(1, 1e6, "Hall ticks per TIM1 count"),
+            )
         )
-        counts = r.number(
-            sec, "ill_conditioned_counts", "accuracy", _Range(0.001, 4, "TIM1 counts")
+        counts = r.attempt(
+            lambda: r.number(
+                sec, "ill_conditioned_counts", "accuracy", _Range(0.001, 4, "TIM1 counts")
+            )
         )
+        if above is None or counts is None:
+            return None
+    if duty is None or ticks is None:
+        return None
     return Accuracy(
-        duty_counts=r.number(sec, "duty_counts", "accuracy", _Range(0.5, 64, "TIM1 counts")),
-        commutation_time_ticks=r.number(
-            sec, "commutation_time_ticks", "accuracy", _Range(0.5, 1024, "Hall timer ticks")
-        ),
+        duty_counts=duty,
+        commutation_time_ticks=ticks,
         ill_conditioned_above=above,
         ill_conditioned_counts=counts,
     )
 
 
-def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoint, ...]:
-    raw = data["operating_points"]
+#: The optional declared relaxation of accuracy: (threshold, backward tolerance).
+_RELAXATION = ("ill_conditioned_above", "ill_conditioned_counts")
+
+
+def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoint, ...] | None:
+    raw = r.attempt(lambda: r.raw(data, "operating_points", ""))
+    if raw is None:
+        return None
+    allowed = f"1 to {MAX_OPERATING_POINTS} mappings {{speed, main_duty}}"
     if not isinstance(raw, list):
-        raise r.error("operating_points", raw, "must be a list of {speed, main_duty}")
-    points = []
+        r.report("operating_points", raw, f"must be a list, got {type_name(raw)}", allowed)
+        return None
+    if not raw:
+        r.report(
+            "operating_points",
+            raw,
+            "is empty: the audit, the Unity tests and the simulation work at these speeds"
+            " (the paper's experiment), so there must be at least one",
+            allowed,
+        )
+        return None
+    if len(raw) > MAX_OPERATING_POINTS:
+        r.report(
+            "operating_points",
+            raw,
+            f"lists {len(raw)} points: each is printed in the audit, becomes Unity cases and"
+            " is simulated in full, so list the few speeds that matter, not a sweep",
+            allowed,
+        )
+        return None
+    points: list[OperatingPoint] = []
     for index, item in enumerate(raw):
         path = f"operating_points[{index}]"
         if not isinstance(item, Mapping):
-            raise r.error(path, item, "must be a mapping {speed, main_duty}")
+            r.report(path, item, f"must be a mapping {{speed, main_duty}}, got {type_name(item)}")
+            continue
         r.only_keys(item, ("speed", "main_duty"), path)
-        points.append(
-            OperatingPoint(
-                speed_rpm=r.quantity(item, "speed", path, units.SPEED, _positive(1e6, "rpm")),
-                main_duty=r.number(item, "main_duty", path, _Range(0.0, 1.0, "")),
+        speed = r.attempt(
+            lambda item=item, path=path: r.quantity(
+                item, "speed", path, units.SPEED, _positive(1, 1e6, "rpm")
             )
         )
+        duty = r.attempt(
+            lambda item=item, path=path: r.number(item, "main_duty", path, _Range(0.0, 1.0, ""))
+        )
+        if speed is not None and duty is not None:
+            points.append(OperatingPoint(speed_rpm=speed, main_duty=duty))
+    if len(points) != len(raw):
+        return None
     return tuple(points)
 
 
-def _sources(
-    r: _Reader, data: Mapping[str, Any], lines: Mapping[str, int]
-) -> tuple[tuple[str, str], ...]:
-    raw = data["sources"]
+def _value_paths(data: Mapping[str, Any]) -> list[str]:
+    """Every value that must say where it comes from: each key of each section and
+    each operating point's fields."""
+    paths = [f"{section}.{key}" for section, keys in _SECTIONS.items() for key in keys]
+    points = data.get("operating_points")
+    if isinstance(points, list):
+        paths += [
+            f"operating_points[{i}].{key}"
+            for i in range(len(points))
+            for key in ("speed", "main_duty")
+        ]
+    return paths
+
+
+def _covered(path: str, named: set[str]) -> bool:
+    """A source for a value or for any section or item that contains it covers it."""
+    while path:
+        if path in named:
+            return True
+        cut = max(path.rfind("."), path.rfind("["))
+        path = path[:cut] if cut > 0 else ""
+    return False
+
+
+def _sources(r: _Reader, data: Mapping[str, Any]) -> tuple[tuple[str, str], ...] | None:
+    raw = r.attempt(lambda: r.raw(data, "sources", ""))
+    if raw is None:
+        return None
     if not isinstance(raw, Mapping):
-        raise r.error("sources", raw, "must map key paths to where each value comes from")
-    out = []
+        r.report(
+            "sources",
+            raw,
+            f"must map key paths to where each value comes from, got {type_name(raw)}",
+        )
+        return None
+    out: list[tuple[str, str]] = []
+    required = _value_paths(data)
+    schema = set(required)
     for key, text in raw.items():
+        path = child_path("sources", key)
         if not isinstance(text, str) or not text.strip():
-            raise r.error(f"sources.{key}", text, "must be a non-empty description")
-        if key not in lines or key.startswith("sources"):
-            raise r.error(f"sources.{key}", text, "names a key that the spec does not have")
-        out.append((str(key), text))
+            r.report(path, text, "must be a non-empty description")
+            continue
+        if len(text) > _MAX_SOURCE_CHARS:
+            r.report(path, text, f"a source of {len(text)} characters", f"<= {_MAX_SOURCE_CHARS}")
+            continue
+        key_text = str(key)
+        # A key of the schema that the spec lacks is reported where it is missing.
+        in_schema = key_text in schema or key_text in _SECTIONS or key_text == "operating_points"
+        if key_text.startswith(("sources", "warnings")) or (
+            key_text not in r.lines and not in_schema
+        ):
+            known = [p for p in r.lines if not p.startswith(("sources", "warnings"))]
+            guess = difflib.get_close_matches(key_text, known, n=1, cutoff=0.6)
+            hint = f"; did you mean '{guess[0]}'?" if guess else ""
+            r.report(path, text, f"names a key that the spec does not have{hint}")
+            continue
+        out.append((key_text, text))
+    named = {key for key, _ in out} | {str(key) for key in raw}
+    missing = [path for path in required if not _covered(path, named)]
+    allowed = (
+        "a datasheet, the paper, a measurement or 'assumption: why', for the key or its section"
+    )
+    if len(missing) > 3:  # one line, not thirty, for a spec with no sources yet
+        listed = ", ".join(missing[:4])
+        r.report(
+            "sources",
+            raw,
+            f"{len(missing)} values do not say where they come from: {listed}, ...",
+            allowed,
+        )
+        return tuple(out)
+    for path in missing:
+        r.report(f"sources.{path}", None, "missing: say where this value comes from", allowed)
     return tuple(out)
 
 
-def _check_physics(
-    r: _Reader,
-    data: Mapping[str, Any],
-    motor: Motor,
-    inverter: Inverter,
-    hall: HallSensor,
-    adc: Adc,
-    controller: Controller,
-    points: tuple[OperatingPoint, ...],
-) -> None:
-    """Cross-key consistency: what makes a spec physically impossible."""
-    k_e = float(motor.back_emf_constant_v_per_rpm)
+def _silenced(r: _Reader, data: Mapping[str, Any]) -> tuple[str, ...]:
+    if "warnings" not in data:
+        return ()
+    sec = data["warnings"]
+    if not isinstance(sec, Mapping):
+        r.report("warnings", sec, f"must be a mapping {{silence: [...]}}, got {type_name(sec)}")
+        return ()
+    r.only_keys(sec, ("silence",), "warnings")
+    ids = sec.get("silence", [])
+    allowed = ", ".join(WARNINGS)
+    if not isinstance(ids, list):
+        r.report(
+            "warnings.silence", ids, f"must be a list of warning ids, got {type_name(ids)}", allowed
+        )
+        return ()
+    out: list[str] = []
+    for index, warning_id in enumerate(ids):
+        if not isinstance(warning_id, str) or warning_id not in WARNINGS:
+            guess = (
+                difflib.get_close_matches(warning_id, list(WARNINGS), n=1, cutoff=0.6)
+                if isinstance(warning_id, str)
+                else []
+            )
+            hint = f"; did you mean '{guess[0]}'?" if guess else ""
+            r.report(f"warnings.silence[{index}]", warning_id, f"not a warning id{hint}", allowed)
+            continue
+        out.append(warning_id)
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class _Parts:
+    motor: Motor
+    inverter: Inverter
+    hall: HallSensor
+    adc: Adc
+    controller: Controller
+    accuracy: Accuracy
+    points: tuple[OperatingPoint, ...]
+
+
+def _raw(data: Mapping[str, Any], path: str) -> object:
+    section, _, key = path.partition(".")
+    return data[section][key]
+
+
+def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
+    """Cross-key consistency: what makes a spec physically impossible. Exact arithmetic."""
+    motor, inverter, hall, adc, controller = p.motor, p.inverter, p.hall, p.adc, p.controller
+    k_e = motor.back_emf_constant_v_per_rpm
     # Above U_d / (2 k_e) the line EMF 2E exceeds the bus and the bridge diodes
     # rectify uncontrolled: PWM-OFF-PWM braking no longer controls the current
     # (paper Eq. 11 upper bound, section 4.2).
-    n_limit = float(inverter.bus_voltage_nominal_v) / (2.0 * k_e)
+    n_limit = inverter.bus_voltage_nominal_v / (2 * k_e)
     if controller.speed_max_rpm >= n_limit:
-        raise r.error(
+        r.report(
             "controller.speed_max",
-            data["controller"]["speed_max"],
-            f"at or above U_d/(2 k_e) = {n_limit:.1f} rpm, where 2E reaches the bus voltage",
-            f"< {n_limit:.1f} rpm",
+            _raw(data, "controller.speed_max"),
+            f"at or above U_d/(2 k_e) = {_f1(n_limit)} rpm, where 2E reaches the bus voltage",
+            f"< {_f1(n_limit)} rpm",
         )
-    pole_pairs = motor.pole_pairs
-    ticks_per_rpm_60deg = float(hall.timer_clock_hz) * 60.0 / (6.0 * pole_pairs)
-    slowest = ticks_per_rpm_60deg / controller.speed_min_rpm
+    ticks_per_rpm_60deg = hall.timer_clock_hz * 60 / (6 * motor.pole_pairs)
     counter_max = 2**hall.counter_bits - 1
+    slowest = ticks_per_rpm_60deg / controller.speed_min_rpm
     if slowest > counter_max:
-        raise r.error(
+        r.report(
             "controller.speed_min",
-            data["controller"]["speed_min"],
-            f"its 60 deg Hall period is {slowest:.0f} ticks, beyond the {hall.counter_bits}-bit counter",
-            f">= {ticks_per_rpm_60deg / counter_max:.1f} rpm at {_g(hall.timer_clock_hz)} Hz",
+            _raw(data, "controller.speed_min"),
+            f"its 60 deg Hall period is {float(slowest):.0f} ticks, beyond the"
+            f" {hall.counter_bits}-bit counter",
+            f">= {_f1(ticks_per_rpm_60deg / counter_max)} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
     fastest = ticks_per_rpm_60deg / controller.speed_max_rpm
     if fastest < 64:
-        raise r.error(
+        r.report(
             "controller.speed_max",
-            data["controller"]["speed_max"],
-            f"its 60 deg Hall period is only {fastest:.1f} ticks: speed resolution worse than 1.6 %",
-            f"<= {ticks_per_rpm_60deg / 64:.1f} rpm at {_g(hall.timer_clock_hz)} Hz",
+            _raw(data, "controller.speed_max"),
+            f"its 60 deg Hall period is only {_f1(fastest)} ticks: speed resolution worse than"
+            " 1.6 %",
+            f"<= {_f1(ticks_per_rpm_60deg / 64)} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
-    bus_full_scale = float(adc.reference_v * adc.bus_voltage_divider)
+    # The port clocks TIM3 (the Hall timer) from the timer clock through a 16-bit prescaler.
+    prescale = inverter.timer_clock_hz / hall.timer_clock_hz
+    if prescale.denominator != 1 or not 1 <= prescale <= 65536:
+        r.report(
+            "hall.timer_clock",
+            _raw(data, "hall.timer_clock"),
+            f"is not the timer clock {_g(inverter.timer_clock_hz)} Hz divided by a whole"
+            " prescaler (TIM3 counts the timer clock through a 16-bit prescaler)",
+            f"{_g(inverter.timer_clock_hz)} Hz / N for a whole N in [1, 65536]",
+        )
+    bus_full_scale = adc.reference_v * adc.bus_voltage_divider
     if inverter.bus_voltage_max_v > bus_full_scale:
-        raise r.error(
+        r.report(
             "inverter.bus_voltage_max",
-            data["inverter"]["bus_voltage_max"],
-            f"beyond the ADC full scale reference x divider = {bus_full_scale:g} V",
-            f"<= {bus_full_scale:g} V",
+            _raw(data, "inverter.bus_voltage_max"),
+            f"beyond the ADC full scale reference x divider = {_g(bus_full_scale)} V",
+            f"<= {_g(bus_full_scale)} V",
         )
-    i_span = float((adc.reference_v - adc.current_offset_v) / adc.current_gain_v_per_a)
+    # The core divides by the bus code: at the lowest bus voltage it must still resolve
+    # the voltage to about 3 % (32 codes), or the duties are as coarse.
+    volts_per_code = bus_full_scale / 2**adc.bits
+    bus_code_min = inverter.bus_voltage_min_v / volts_per_code
+    if bus_code_min < 32:
+        r.report(
+            "inverter.bus_voltage_min",
+            _raw(data, "inverter.bus_voltage_min"),
+            f"reads as only {_f1(bus_code_min)} ADC codes ({_g(volts_per_code)} V per code):"
+            " the duties are computed from it, so they would be as coarse",
+            f">= {_g(32 * volts_per_code)} V (32 codes)",
+        )
+    i_span = (adc.reference_v - adc.current_offset_v) / adc.current_gain_v_per_a
     if controller.braking_current_max_a > i_span:
-        raise r.error(
+        r.report(
             "controller.braking_current_max",
-            data["controller"]["braking_current_max"],
-            f"beyond the current-sense range (reference - offset) / gain = {i_span:g} A",
-            f"<= {i_span:g} A",
+            _raw(data, "controller.braking_current_max"),
+            f"beyond the current-sense range (reference - offset) / gain = {_g(i_span)} A",
+            f"<= {_g(i_span)} A",
         )
-    if inverter.bus_voltage_nominal_v > 1.5 * motor.rated_voltage_v:
-        raise r.error(
+    amps_per_code = adc.reference_v / 2**adc.bits / adc.current_gain_v_per_a
+    if controller.braking_current_nominal_a < amps_per_code:
+        r.report(
+            "controller.braking_current_nominal",
+            _raw(data, "controller.braking_current_nominal"),
+            f"below one current-ADC code ({_g(amps_per_code)} A = reference / 2^bits / gain):"
+            " the controller cannot tell it from zero",
+            f">= {_g(amps_per_code)} A",
+        )
+    if inverter.bus_voltage_nominal_v > Fraction(3, 2) * motor.rated_voltage_v:
+        r.report(
             "inverter.bus_voltage_nominal",
-            data["inverter"]["bus_voltage_nominal"],
-            f"more than 1.5 x the motor's rated {float(motor.rated_voltage_v):g} V",
-            f"<= {1.5 * float(motor.rated_voltage_v):g} V",
+            _raw(data, "inverter.bus_voltage_nominal"),
+            f"more than 1.5 x the motor's rated {_g(motor.rated_voltage_v)} V",
+            f"<= {_g(Fraction(3, 2) * motor.rated_voltage_v)} V",
         )
-    for index, point in enumerate(points):
+    # In braking the back-EMF drives the current: with both switches of the loop closed
+    # the two conducting phases see 2E across 2R, so the largest current braking can
+    # hold at speed n is I = E(n) / R = k_e n / R, whatever the bus (which only takes
+    # the current back during the OFF part of the PWM). E is at most U_d/2 in the speed
+    # range (checked above), so R I must stay below E(speed_max) < U_d/2.
+    r_ohm = motor.phase_resistance_ohm
+    e_top = k_e * controller.speed_max_rpm
+    drop_nominal = r_ohm * controller.braking_current_nominal_a
+    if drop_nominal > e_top:
+        r.report(
+            "controller.braking_current_nominal",
+            _raw(data, "controller.braking_current_nominal"),
+            f"R x I = {_g(r_ohm)} ohm x {_g(controller.braking_current_nominal_a)} A ="
+            f" {_g(drop_nominal)} V, but in braking only the back-EMF drives the current and"
+            f" E at speed_max is {_g(e_top)} V (E < U_d/2 = {_g(inverter.bus_voltage_nominal_v / 2)} V"
+            " in the speed range): no speed can hold this current",
+            f"<= E(speed_max)/R = {_g(e_top / r_ohm)} A",
+        )
+    # The averaged duty-cycle model of Eqs. 13-20 treats the current as a straight line
+    # over a PWM period; an RL circuit with L/R below one period relaxes almost fully
+    # within it (1 - e^-1 = 63 %), so the model, and the commutation times, do not hold.
+    tau = motor.phase_inductance_h / r_ohm
+    period = 1 / inverter.pwm_frequency_hz
+    if tau <= period:
+        r.report(
+            "motor.phase_inductance",
+            _raw(data, "motor.phase_inductance"),
+            f"gives L/R = {_g(tau)} s, not longer than the PWM period {_g(period)} s: the current"
+            " relaxes within one period, so the duty-cycle model of Eqs. 13-20 does not hold",
+            f"> R x T_pwm = {_g(r_ohm * period)} H",
+        )
+    ticks_fastest = fastest
+    budget = p.accuracy.commutation_time_ticks
+    if budget > ticks_fastest / 10:
+        r.report(
+            "accuracy.commutation_time_ticks",
+            _raw(data, "accuracy.commutation_time_ticks"),
+            f"is more than 10 % of the shortest 60 deg sector ({_f1(ticks_fastest)} ticks at"
+            " speed_max): not an accuracy target for the commutation time",
+            f"<= {_g(ticks_fastest / 10)} ticks",
+        )
+    for index, point in enumerate(p.points):
         if not controller.speed_min_rpm <= point.speed_rpm <= controller.speed_max_rpm:
-            raise r.error(
+            r.report(
                 f"operating_points[{index}].speed",
                 data["operating_points"][index]["speed"],
                 "outside the controller speed range",
-                f"[{float(controller.speed_min_rpm):g}, {float(controller.speed_max_rpm):g}] rpm",
+                f"[{_g(controller.speed_min_rpm)}, {_g(controller.speed_max_rpm)}] rpm",
             )
 
 
+def _check_plausible(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
+    """Legal but unusual values: each a warning that the spec may silence."""
+    motor, inverter, hall, adc, controller = p.motor, p.inverter, p.hall, p.adc, p.controller
+    k_e = motor.back_emf_constant_v_per_rpm
+    r_ohm = motor.phase_resistance_ohm
+    emf_note = "in braking only the back-EMF drives the current, at most E/R"
+
+    def speed_for(current: Fraction) -> str:
+        return f"{_g(r_ohm * current / k_e)} rpm"
+
+    e_top = k_e * controller.speed_max_rpm
+    i_max = controller.braking_current_max_a
+    if r_ohm * i_max > e_top:
+        r.warn(
+            "braking-current-max-unreachable",
+            "controller.braking_current_max",
+            _raw(data, "controller.braking_current_max"),
+            f"R x I = {_g(r_ohm * i_max)} V exceeds E(speed_max) = {_g(e_top)} V ({emf_note}):"
+            f" no speed in the range reaches {_g(i_max)} A, so the design covers currents that"
+            " cannot occur",
+        )
+    i_nom = controller.braking_current_nominal_a
+    for index, point in enumerate(p.points):
+        e_point = k_e * point.speed_rpm
+        if r_ohm * i_nom > e_point:
+            r.warn(
+                "braking-current-at-operating-point",
+                f"operating_points[{index}].speed",
+                data["operating_points"][index]["speed"],
+                f"E = {_g(e_point)} V here, below R x braking_current_nominal ="
+                f" {_g(r_ohm * i_nom)} V ({emf_note}): {_g(i_nom)} A needs at least"
+                f" {speed_for(i_nom)}",
+            )
+    i_min = controller.braking_current_min_a
+    e_bottom = k_e * controller.speed_min_rpm
+    if r_ohm * i_min > e_bottom:
+        r.warn(
+            "braking-current-min-at-speed-min",
+            "controller.braking_current_min",
+            _raw(data, "controller.braking_current_min"),
+            f"R x I = {_g(r_ohm * i_min)} V exceeds E(speed_min) = {_g(e_bottom)} V ({emf_note}):"
+            f" below {speed_for(i_min)} no current in the designed range can be held",
+        )
+    amps_per_code = adc.reference_v / 2**adc.bits / adc.current_gain_v_per_a
+    if i_nom < 16 * amps_per_code:
+        r.warn(
+            "current-resolution",
+            "controller.braking_current_nominal",
+            _raw(data, "controller.braking_current_nominal"),
+            f"only {_f1(i_nom / amps_per_code)} current-ADC codes ({_g(amps_per_code)} A per"
+            " code): the current the commutation time is computed from is quantised by more"
+            " than 6 %",
+        )
+    tau = motor.phase_inductance_h / r_ohm
+    period = 1 / inverter.pwm_frequency_hz
+    if tau < 4 * period:
+        r.warn(
+            "time-constant-short",
+            "motor.phase_inductance",
+            _raw(data, "motor.phase_inductance"),
+            f"L/R = {_g(tau)} s is only {_f1(tau / period)} PWM periods: the current departs"
+            f" from the straight line the duty-cycle model assumes by about T/(2 L/R) ="
+            f" {float(period / (2 * tau)) * 100:.0f} % within a period",
+        )
+    dead = inverter.dead_time_s
+    if dead < Fraction(50, 10**9):
+        r.warn(
+            "dead-time-short",
+            "inverter.dead_time",
+            _raw(data, "inverter.dead_time"),
+            f"{_g(dead)} s is shorter than silicon MOSFETs and their gate drivers switch off"
+            " (typically 100 ns or more): risk of shoot-through",
+        )
+    if 2 * dead * inverter.pwm_frequency_hz > Fraction(4, 100):
+        r.warn(
+            "dead-time-long",
+            "inverter.dead_time",
+            _raw(data, "inverter.dead_time"),
+            f"two dead times take {float(2 * dead * inverter.pwm_frequency_hz) * 100:.1f} % of"
+            " the PWM period: every duty is distorted by as much",
+        )
+    if p.accuracy.duty_counts > 4:
+        r.warn(
+            "duty-budget-large",
+            "accuracy.duty_counts",
+            _raw(data, "accuracy.duty_counts"),
+            "an error budget of more than 4 TIM1 counts: the rounding alone needs 1/2",
+        )
+    fastest = hall.timer_clock_hz * 10 / (motor.pole_pairs * controller.speed_max_rpm)
+    budget = p.accuracy.commutation_time_ticks
+    if budget > fastest / 50:
+        r.warn(
+            "time-budget-large",
+            "accuracy.commutation_time_ticks",
+            _raw(data, "accuracy.commutation_time_ticks"),
+            f"{float(budget / fastest) * 100:.1f} % of the shortest 60 deg sector"
+            f" ({_f1(fastest)} ticks at speed_max)",
+        )
+
+
+def _read_bytes(file: Path, source: str) -> bytes:
+    try:
+        with file.open("rb") as stream:
+            raw = stream.read(DEFAULT_LIMITS.max_bytes + 1)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise MultiSpecError([SpecError("<file>", source, f"cannot read spec: {reason}")]) from None
+    return raw
+
+
 def load_spec(path: str | Path) -> Spec:
-    """Load, validate and freeze a spec file."""
+    """Load, validate and freeze a spec file; MultiSpecError lists every problem found."""
     file = Path(path)
     source = str(path)
+    raw_bytes = _read_bytes(file, source)
     try:
-        raw_bytes = file.read_bytes()
-    except OSError as exc:
-        raise SpecError("<file>", source, f"cannot read spec: {exc.strerror}") from None
-    try:
-        text = raw_bytes.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SpecError("<file>", source, "spec is not UTF-8 text") from None
-    data = _parse_yaml(text, source)
-    lines = _yaml_lines(text)
+        data, lines = read_yaml(raw_bytes)
+    except YamlError as exc:
+        raise MultiSpecError(
+            [SpecError(exc.path or "<document>", None, exc.problem, "", source, exc.line)]
+        ) from None
+    if not isinstance(data, Mapping):
+        raise MultiSpecError(
+            [
+                SpecError(
+                    "<document>",
+                    data,
+                    f"the spec must be a YAML mapping of sections, got {type_name(data)}",
+                    "",
+                    source,
+                    1,
+                )
+            ]
+        )
     r = _Reader(source, lines)
-    r.only_keys({k: v for k, v in data.items() if k != spec_optional.TOLERANCES_KEY}, _TOP_KEYS, "")
-    name = data["name"]
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise r.error("name", name, "must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}")
-    if name == PAPER_AUDIT_NAME:
-        raise r.error(
+    r.only_keys(data, _TOP_KEYS, "", (*_OPTIONAL_TOP_KEYS, spec_optional.TOLERANCES_KEY))
+    name = r.attempt(lambda: r.raw(data, "name", ""))
+    if "name" in data and (not isinstance(name, str) or not _NAME.match(name)):
+        r.report("name", name, "must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}")
+    elif name == PAPER_AUDIT_NAME:
+        r.report(
             "name",
             name,
             "is reserved: generated/paper/ holds the paper's audit",
             "any other lower-case identifier",
         )
-    description = data["description"]
-    if not isinstance(description, str):
-        raise r.error("description", description, "must be a string")
+    description = r.attempt(lambda: r.raw(data, "description", ""))
+    if "description" in data:
+        if not isinstance(description, str):
+            r.report("description", description, f"must be a string, got {type_name(description)}")
+        elif len(description) > _MAX_DESCRIPTION_CHARS:
+            r.report(
+                "description",
+                description,
+                f"a description of {len(description)} characters",
+                f"<= {_MAX_DESCRIPTION_CHARS}",
+            )
     motor = _motor(r, data)
     inverter = _inverter(r, data)
     hall = _hall(r, data)
@@ -642,25 +1126,37 @@ def load_spec(path: str | Path) -> Spec:
     controller = _controller(r, data)
     accuracy = _accuracy(r, data)
     points = _operating_points(r, data)
-    sources = _sources(r, data, lines)
-    _check_physics(r, data, motor, inverter, hall, adc, controller, points)
-    tolerances = (
-        spec_optional.tolerances(r, data[spec_optional.TOLERANCES_KEY], inverter)
-        if spec_optional.TOLERANCES_KEY in data
-        else None
-    )
+    sources = _sources(r, data)
+    silenced = _silenced(r, data)
+    tolerances = None
+    if spec_optional.TOLERANCES_KEY in data and inverter is not None:
+        tolerances = r.attempt(
+            lambda: spec_optional.tolerances(r, data[spec_optional.TOLERANCES_KEY], inverter)
+        )
+    if r.errors:
+        raise MultiSpecError(r.errors)
+    parts = _Parts(motor, inverter, hall, adc, controller, accuracy, points)  # type: ignore[arg-type]
+    _check_physics(r, data, parts)
+    if r.errors:
+        raise MultiSpecError(r.errors)
+    _check_plausible(r, data, parts)
     return Spec(
-        name=name,
-        description=description,
+        name=name,  # type: ignore[arg-type]
+        description=description,  # type: ignore[arg-type]
         source_path=source,
         sha256=hashlib.sha256(raw_bytes).hexdigest(),
-        motor=motor,
-        inverter=inverter,
-        hall=hall,
-        adc=adc,
-        controller=controller,
-        accuracy=accuracy,
-        operating_points=points,
-        sources=sources,
+        motor=parts.motor,
+        inverter=parts.inverter,
+        hall=parts.hall,
+        adc=parts.adc,
+        controller=parts.controller,
+        accuracy=parts.accuracy,
+        operating_points=parts.points,
+        sources=sources,  # type: ignore[arg-type]
         tolerances=tolerances,
+        warnings=tuple(w for w in r.warnings if w.id not in silenced),
+        silenced_warnings=silenced,
     )
+
+
+__all__ = ["MAX_OPERATING_POINTS", "PAPER_AUDIT_NAME", "WARNINGS", "load_spec"]

@@ -151,6 +151,26 @@ class OperatingPoint:
 
 
 @dataclass(frozen=True)
+class SpecWarning:
+    """A legal but unusual value: printed on stderr, one line, unless the spec lists
+    its `id` under `warnings.silence`."""
+
+    id: str
+    path: str
+    value: object
+    message: str
+    source: str = ""
+    line: int | None = None
+
+    def __str__(self) -> str:
+        where = f"{self.source}:{self.line}" if self.line is not None else self.source
+        return (
+            f"{where}: {self.path} = {self.value!r}: {self.message}"
+            f" [silence with `warnings: {{silence: [{self.id}]}}`]"
+        )
+
+
+@dataclass(frozen=True)
 class Spec:
     name: str
     description: str
@@ -168,6 +188,9 @@ class Spec:
     sources: tuple[tuple[str, str], ...]
     #: Optional `tolerances` section (robustness campaign); None when absent.
     tolerances: Tolerances | None = None
+    #: Plausibility warnings the spec did not silence, and the ids it silenced.
+    warnings: tuple[SpecWarning, ...] = ()
+    silenced_warnings: tuple[str, ...] = ()
 
     @property
     def assumptions(self) -> tuple[tuple[str, str], ...]:

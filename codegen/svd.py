@@ -1,9 +1,10 @@
 """STM32F103 register map from the vendor SVD, and the minimal CMSIS header built from it.
 
 No address, offset or bit position of the generated `stm32f103_regs.h` is typed by
-hand: they all come from ST's CMSIS-SVD description of the STM32F103, which the pyocd
-package ships (`pyocd/debug/svd/svd_data.zip`, member `STM32F103xx.svd`). Typing them in
-would make the header a second, unchecked copy of RM0008; reading them keeps one source.
+hand: they all come from ST's CMSIS-SVD description of the STM32F103
+(`codegen/data/STM32F103xx.svd`, the file pyocd ships; see codegen/data/NOTICE.md),
+read with the cmsis-svd parser. Typing them in would make the header a second,
+unchecked copy of RM0008; reading them keeps one source.
 
 The header is deliberately small (only what the port uses) and CMSIS/Cube compatible:
 the same type, instance, field and IRQ names as STM32Cube's `stm32f103xb.h`, so that a
@@ -17,15 +18,14 @@ import hashlib
 import importlib.resources
 import re
 import xml.etree.ElementTree as ET
-import zipfile
 from dataclasses import dataclass
 
 from codegen.render import provenance, render
 from codegen.spec_model import Spec
 
-SVD_PACKAGE = "pyocd.debug.svd"
-SVD_ARCHIVE = "svd_data.zip"
 SVD_MEMBER = "STM32F103xx.svd"
+#: Where the file came from, for the header's provenance (codegen/data/NOTICE.md).
+SVD_ORIGIN = "ST STM32F103xx.svd v1.3 (Apache-2.0), as shipped in pyocd's svd_data.zip"
 
 REGS_TEMPLATE = "c/stm32f103_regs.h.j2"
 REGS_HEADER = "stm32f103_regs.h"
@@ -94,148 +94,110 @@ class Device:
 # --------------------------------------------------------------------------- parsing
 
 
-def _int(text: str) -> int:
-    """SVD scaledNonNegativeInteger: 0x.., #binary or decimal (no size suffixes here)."""
-    t = text.strip()
-    if t.lower().startswith("0x"):
-        return int(t, 16)
-    if t.startswith("#"):
-        return int(t[1:].replace("x", "0"), 2)
-    return int(t, 10)
+def _words(text: str | None) -> str:
+    """SVD descriptions wrap lines inside the XML: one space between words."""
+    return " ".join((text or "").split())
 
 
-def _text(el: ET.Element, tag: str, default: str | None = None) -> str | None:
-    child = el.find(tag)
-    if child is None or child.text is None:
-        return default
-    return " ".join(child.text.split())
-
-
-def _required(el: ET.Element, tag: str, where: str) -> str:
-    value = _text(el, tag)
+def _access(value: object, default: str) -> str:
     if value is None:
-        raise ValueError(f"SVD: {where} has no <{tag}>")
-    return value
+        return default
+    return str(getattr(value, "value", value))
 
 
-def _field(el: ET.Element, where: str) -> Field:
-    name = _required(el, "name", where)
-    where = f"{where}.{name}"
-    if el.find("bitOffset") is not None:
-        offset = _int(_required(el, "bitOffset", where))
-        width = _int(_text(el, "bitWidth", "1") or "1")
-    elif el.find("lsb") is not None:
-        offset = _int(_required(el, "lsb", where))
-        width = _int(_required(el, "msb", where)) - offset + 1
-    else:
-        match = re.fullmatch(r"\[(\d+):(\d+)\]", _required(el, "bitRange", where))
-        if match is None:
-            raise ValueError(f"SVD: {where} has a malformed <bitRange>")
-        offset = int(match.group(2))
-        width = int(match.group(1)) - offset + 1
-    return Field(name, offset, width, _text(el, "description", "") or "")
-
-
-def _register(el: ET.Element, where: str, size: int, access: str) -> Register:
-    name = _required(el, "name", where)
-    if el.find("dim") is not None:
-        raise ValueError(f"SVD: {where}.{name} is a dim array, which this reader does not expand")
-    where = f"{where}.{name}"
-    fields_el = el.find("fields")
-    fields = () if fields_el is None else tuple(_field(f, where) for f in fields_el.iter("field"))
-    return Register(
-        name=name,
-        address_offset=_int(_required(el, "addressOffset", where)),
-        size_bits=_int(_text(el, "size") or str(size)),
-        access=_text(el, "access") or access,
-        fields=tuple(sorted(fields, key=lambda f: f.bit_offset)),
-        alternate_of=_text(el, "alternateRegister"),
-        description=_text(el, "description", "") or "",
-    )
+def _check_derivations(data: bytes) -> None:
+    """Refuse a derivedFrom cycle before the parser follows it (it would not return)."""
+    root = ET.fromstring(data)
+    base = {
+        (el.findtext("name") or "").strip(): el.get("derivedFrom") for el in root.iter("peripheral")
+    }
+    for name in base:
+        chain = [name]
+        while (parent := base.get(chain[-1])) is not None:
+            if parent in chain:
+                raise ValueError(f"SVD: derivedFrom cycle {' -> '.join((*chain, parent))}")
+            if parent not in base:
+                raise ValueError(f"SVD: {chain[-1]} is derived from unknown peripheral {parent!r}")
+            chain.append(parent)
 
 
 def parse_svd(data: bytes, source: str = SVD_MEMBER) -> Device:
-    """Parse CMSIS-SVD bytes; resolve derivedFrom so every peripheral has its registers.
+    """Parse CMSIS-SVD bytes with cmsis-svd (derivedFrom resolved) into the frozen view
+    the header is built from. A derived peripheral keeps its own name and base address
+    and inherits whatever else it does not redefine (registers, group, and interrupts if
+    it lists none; ST's file lists each instance's own)."""
+    from cmsis_svd.parser import SVDParser
 
-    A derived peripheral keeps its own name, base address and interrupts (SVD lists
-    interrupts per instance) and inherits the registers, group and description of its
-    base unless it redefines them.
-    """
-    root = ET.fromstring(data)
-    device_size = _int(_text(root, "size", "32") or "32")
-    device_access = _text(root, "access", "read-write") or "read-write"
-    raw: dict[str, ET.Element] = {}
-    order: list[str] = []
-    peripherals_el = root.find("peripherals")
-    if peripherals_el is None:
-        raise ValueError("SVD: no <peripherals>")
-    for el in peripherals_el.findall("peripheral"):
-        name = _required(el, "name", "peripheral")
-        raw[name] = el
-        order.append(name)
-
-    resolved: dict[str, Peripheral] = {}
-
-    def resolve(name: str, chain: tuple[str, ...] = ()) -> Peripheral:
-        if name in resolved:
-            return resolved[name]
-        if name in chain:
-            raise ValueError(f"SVD: derivedFrom cycle {' -> '.join((*chain, name))}")
-        if name not in raw:
-            raise ValueError(f"SVD: {chain[-1]} is derived from unknown peripheral {name!r}")
-        el = raw[name]
-        base_name = el.get("derivedFrom")
-        base = resolve(base_name, (*chain, name)) if base_name else None
-        size = _int(_text(el, "size") or str(device_size))
-        access = _text(el, "access") or device_access
-        regs_el = el.find("registers")
-        if regs_el is not None:
-            registers = tuple(_register(r, name, size, access) for r in regs_el.findall("register"))
-        elif base is not None:
-            registers = base.registers
-        else:
-            registers = ()
-        interrupts = tuple(
-            Interrupt(
-                name=_required(i, "name", f"{name} interrupt"),
-                value=_int(_required(i, "value", f"{name} interrupt")),
-                description=_text(i, "description", "") or "",
+    _check_derivations(data)
+    parsed = SVDParser(_lxml_tree(data)).get_device()
+    device_access = _access(parsed.access, "read-write")
+    peripherals = []
+    for p in parsed.peripherals:
+        registers = []
+        for r in p.registers or ():
+            if getattr(r, "dim", None):
+                raise ValueError(
+                    f"SVD: {p.name}.{r.name} is a dim array, which this reader does not expand"
+                )
+            fields = tuple(
+                sorted(
+                    (
+                        Field(f.name, int(f.bit_offset), int(f.bit_width), _words(f.description))
+                        for f in r.fields or ()
+                    ),
+                    key=lambda f: f.bit_offset,
+                )
             )
-            for i in el.findall("interrupt")
+            registers.append(
+                Register(
+                    name=r.name,
+                    address_offset=int(r.address_offset),
+                    size_bits=int(r.size),
+                    access=_access(r.access, _access(p.access, device_access)),
+                    fields=fields,
+                    alternate_of=r.alternate_register,
+                    description=_words(r.description),
+                )
+            )
+        peripherals.append(
+            Peripheral(
+                name=p.name,
+                group_name=p.group_name or p.name,
+                base_address=int(p.base_address),
+                derived_from=p.derived_from,
+                registers=tuple(registers),
+                interrupts=tuple(
+                    Interrupt(i.name, int(i.value), _words(i.description))
+                    for i in p.interrupts or ()
+                ),
+            )
         )
-        group = _text(el, "groupName") or (base.group_name if base else name)
-        peripheral = Peripheral(
-            name=name,
-            group_name=group,
-            base_address=_int(_required(el, "baseAddress", name)),
-            derived_from=base_name,
-            registers=registers,
-            interrupts=interrupts,
-        )
-        resolved[name] = peripheral
-        return peripheral
-
     return Device(
-        name=_required(root, "name", "device"),
-        version=_text(root, "version", "") or "",
+        name=parsed.name,
+        version=parsed.version or "",
         source=source,
         sha256=hashlib.sha256(data).hexdigest(),
-        peripherals=tuple(resolve(n) for n in order),
+        peripherals=tuple(peripherals),
     )
 
 
-def svd_bytes(member: str = SVD_MEMBER) -> bytes:
-    """The SVD as shipped inside the installed pyocd package (found as a package resource,
-    so it works from a wheel, a zip import or an editable install alike)."""
-    archive = importlib.resources.files(SVD_PACKAGE).joinpath(SVD_ARCHIVE)
-    with archive.open("rb") as raw, zipfile.ZipFile(raw) as zf:
-        return zf.read(member)
+def _lxml_tree(data: bytes) -> object:
+    """The lxml tree cmsis-svd's SVDParser takes, without entity expansion or network."""
+    from lxml import etree
+
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=False)
+    return etree.ElementTree(etree.fromstring(data, parser))
 
 
-@functools.lru_cache(maxsize=4)
-def load_device(member: str = SVD_MEMBER) -> Device:
+def svd_bytes() -> bytes:
+    """The vendor SVD kept in the package (codegen/data, see its NOTICE)."""
+    return importlib.resources.files("codegen.data").joinpath(SVD_MEMBER).read_bytes()
+
+
+@functools.lru_cache(maxsize=1)
+def load_device() -> Device:
     """The parsed STM32F103 device (cached: the SVD is 850 kB)."""
-    return parse_svd(svd_bytes(member), member)
+    return parse_svd(svd_bytes(), SVD_MEMBER)
 
 
 # ------------------------------------------------------------ the CMSIS header's content
@@ -561,7 +523,7 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
     return {
         "svd_name": dev.name,
         "svd_version": dev.version,
-        "svd_source": f"pyocd {SVD_PACKAGE.replace('.', '/')}/{SVD_ARCHIVE}:{dev.source}",
+        "svd_source": f"codegen/data/{dev.source} ({SVD_ORIGIN})",
         "svd_sha256": dev.sha256,
         "structs": structs,
         "instances": instances,

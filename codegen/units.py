@@ -7,13 +7,19 @@ Anything else is an error that lists what is accepted; nothing is guessed.
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
 from dataclasses import dataclass
 from fractions import Fraction
 
-_NUMBER = r"[-+]?(?:\d{1,30}\.?\d{0,30}|\.\d{1,30})(?:[eE][-+]?\d{1,3})?"
-_QUANTITY = re.compile(rf"^\s*(?P<number>{_NUMBER})\s*(?P<unit>\S.*?)?\s*$")
+from codegen.yaml12 import type_name
+
+# ASCII digits only: Python's \d and int() also accept other scripts' digits, and a
+# spec that reads "٢٤ V" as 24 V is not what its author can see at a glance.
+_NUMBER = r"[-+]?(?:[0-9]{1,30}\.?[0-9]{0,30}|\.[0-9]{1,30})(?:[eE][-+]?[0-9]{1,3})?"
+_QUANTITY = re.compile(rf"^[ \t]*(?P<number>{_NUMBER})[ \t]*(?P<unit>\S.*?)?[ \t]*$", re.ASCII)
+_MAX_QUANTITY_CHARS = 80
 
 _RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
@@ -27,6 +33,11 @@ class Dimension:
     #: (spelling, exact factor to the SI unit as a decimal string)
     scales: tuple[tuple[str, str], ...]
 
+    @property
+    def a_name(self) -> str:
+        """The name with its indefinite article: 'an inductance', 'a voltage'."""
+        return f"{'an' if self.name[0] in 'aeiou' else 'a'} {self.name}"
+
     def accepted(self) -> str:
         return ", ".join(unit for unit, _ in self.scales)
 
@@ -35,6 +46,16 @@ class Dimension:
             if known == unit:
                 return Fraction(factor)
         return None
+
+    def suggest(self, unit: str) -> str | None:
+        """The accepted spelling a typo most likely meant: the same letters in another
+        case (`mh` -> `mH`, never guessing between mV and MV), else the closest one."""
+        spellings = [known for known, _ in self.scales]
+        same_letters = [known for known in spellings if known.lower() == unit.lower()]
+        if len(same_letters) == 1:
+            return same_letters[0]
+        close = difflib.get_close_matches(unit, spellings, n=1, cutoff=0.6)
+        return close[0] if close else None
 
 
 VOLTAGE = Dimension("voltage", "V", (("V", "1.0"), ("mV", "1e-3"), ("kV", "1e3")))
@@ -82,24 +103,32 @@ def parse_quantity(raw: object, dimension: Dimension) -> ParsedQuantity:
     """Read "<number> <unit>" and convert it to the dimension's SI unit."""
     if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
         raise QuantityError(
-            f"expected a {dimension.name} such as '1.5 {dimension.scales[0][0]}', "
-            f"got a {type(raw).__name__}"
+            f"expected {dimension.a_name} such as '1.5 {dimension.scales[0][0]}', "
+            f"got {type_name(raw)}"
         )
     if isinstance(raw, (int, float)):
         raise QuantityError(
-            f"missing unit for a {dimension.name}; write e.g. '{raw} {dimension.scales[0][0]}' "
+            f"missing unit for {dimension.a_name}; write e.g. '{raw} {dimension.scales[0][0]}' "
             f"(units: {dimension.accepted()})"
+        )
+    if len(raw) > _MAX_QUANTITY_CHARS:
+        raise QuantityError(
+            f"{dimension.a_name} of {len(raw)} characters is not a number and a unit"
         )
     match = _QUANTITY.match(raw)
     if match is None:
-        raise QuantityError(f"not a number followed by a unit (units: {dimension.accepted()})")
+        raise QuantityError(
+            f"not a number (ASCII digits) followed by a unit (units: {dimension.accepted()})"
+        )
     unit = match.group("unit")
     if unit is None:
-        raise QuantityError(f"missing unit for a {dimension.name} (units: {dimension.accepted()})")
+        raise QuantityError(f"missing unit for {dimension.a_name} (units: {dimension.accepted()})")
     factor = dimension.scale(unit)
     if factor is None:
+        guess = dimension.suggest(unit)
+        hint = f"; did you mean '{guess}'?" if guess else ""
         raise QuantityError(
-            f"unit '{unit}' is not a {dimension.name} unit (units: {dimension.accepted()})"
+            f"unit '{unit}' is not {dimension.a_name} unit{hint} (units: {dimension.accepted()})"
         )
     number = Fraction(match.group("number"))
     return ParsedQuantity(si_value=number * factor, unit=unit)

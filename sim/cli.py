@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from codegen.errors import DerivationError, SpecError
-from codegen.render import PROJECT_ROOT, project_relative, write_atomically
+from codegen.render import project_relative, write_atomically
 from codegen.spec_loader import load_spec
 
 EXIT_SPEC = 2
@@ -31,7 +31,7 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
 
     start = time.perf_counter()
     spec = load_spec(spec_path)
-    out = Path(output) if output else PROJECT_ROOT / "generated" / spec.name / "simulation"
+    out = Path(output) if output else Path("generated") / spec.name / "simulation"
     results = run_all(spec, progress=progress)
     bounds = limits(results.drive)
     figure_start = time.perf_counter()

@@ -1,8 +1,13 @@
-"""Green means it ran: a skipped test fails the session unless it is on the allow-list
-below, with its reason. A missing tool (a compiler, qemu, chromium, the paper) must make
-`make test` fail, never pass quietly."""
+"""Session-wide: green means it ran, and the spec fuzzer's outcome counts.
+
+A skipped test fails the session unless it is on the allow-list below, with its reason:
+a missing tool (a compiler, qemu, chromium, the paper) must make `make test` fail, never
+pass quietly.
+"""
 
 from __future__ import annotations
+
+import sys
 
 import pytest
 
@@ -31,3 +36,9 @@ def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
         terminalreporter.section("skipped tests fail the run (tests/conftest.py)", red=True)
         for nodeid, reason in _skipped:
             terminalreporter.write_line(f"{nodeid}: {reason}")
+    fuzz = sys.modules.get("test_spec_fuzz")
+    counts = getattr(fuzz, "COUNTS", None)
+    if counts:
+        terminalreporter.section("spec fuzzing")
+        for name, count in sorted(counts.items()):
+            terminalreporter.write_line(f"{name}: {count}")

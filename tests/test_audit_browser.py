@@ -12,7 +12,7 @@ from typing import Any
 
 import pytest
 
-from codegen import cli
+from bldc import cli
 from codegen.audit.browser import Chromium
 from codegen.audit.run import AuditResult, run_audit
 from codegen.audit.transcription import Transcription, load_transcription

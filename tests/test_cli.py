@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from codegen import cli
+from bldc import cli
 from codegen.errors import DerivationError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -80,7 +80,7 @@ def test_derive_should_print_the_default_spec_numbers(capsys: pytest.CaptureFixt
     assert "control fail area" in out
 
 
-def test_a_bad_spec_should_exit_2_naming_the_key(
+def test_a_bad_spec_should_exit_with_the_spec_code_naming_the_key(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     bad = tmp_path / "bad.yaml"
@@ -92,7 +92,7 @@ def test_a_bad_spec_should_exit_2_naming_the_key(
     assert not (tmp_path / "out").exists()
 
 
-def test_a_failing_derivation_should_exit_3_and_keep_the_old_reports(
+def test_a_failing_derivation_should_exit_as_an_internal_error_and_keep_the_old_report(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     assert cli.main(["audit", str(SPEC), "-o", str(tmp_path)]) == 0
@@ -115,7 +115,7 @@ def test_module_and_console_entry_points_should_run() -> None:
     assert result.returncode == 0 and "audit" in result.stdout
 
 
-def test_an_improved_r_spec_the_formats_cannot_meet_should_exit_2_writing_nothing(
+def test_an_improved_r_spec_the_formats_cannot_meet_should_exit_3_writing_nothing(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     from codegen.core.module import build_core
@@ -132,3 +132,110 @@ def test_an_improved_r_spec_the_formats_cannot_meet_should_exit_2_writing_nothin
     err = capsys.readouterr().err
     assert "controller.method = 'improved_r'" in err and "accuracy targets" in err
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_generate_keeps_reports_and_foreign_files_in_its_output_folder(tmp_path: Path) -> None:
+    out = tmp_path / "project"
+    (out / "verify").mkdir(parents=True)
+    (out / "verify" / "report.json").write_text('{"passed": true}\n')
+    (out / "simulation").mkdir()
+    (out / "simulation" / "SIMULATION.md").write_text("# sim\n")
+    (out / "Makefile").write_text("all:\n")
+    assert cli.main(["generate", str(SPEC), "-o", str(out)]) == 0
+    assert (out / "c" / "bldc_commutation.c").is_file()
+    (out / "c" / "my_app.c").write_text("/* mine */\n")
+    assert cli.main(["generate", str(SPEC), "-o", str(out)]) == 0
+    assert (out / "verify" / "report.json").read_text() == '{"passed": true}\n'
+    assert (out / "simulation" / "SIMULATION.md").read_text() == "# sim\n"
+    assert (out / "Makefile").read_text() == "all:\n"
+    assert (out / "c" / "my_app.c").read_text() == "/* mine */\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".project.bldc-codegen.lock", "project"]
+
+
+def test_generate_refuses_to_overwrite_a_file_it_did_not_write(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "project"
+    out.mkdir()
+    (out / "DERIVATION.md").write_text("my notes\n")
+    assert cli.main(["generate", str(SPEC), "-o", str(out)]) == int(cli.ExitCode.ENVIRONMENT)
+    assert "DERIVATION.md is in the way" in capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == ["DERIVATION.md"]
+
+
+def test_a_spec_path_cannot_inject_code_into_generated_files(tmp_path: Path) -> None:
+    """A newline, `*/` and `-->` in the spec's path would end the comment that carries
+    the provenance; the generated C must still compile and the Python still import."""
+    evil = tmp_path / 'm *\n#"--> y.yaml'
+    evil.write_text(SPEC.read_text(encoding="utf-8"), encoding="utf-8")
+    out = tmp_path / "out"
+    assert cli.main(["generate", str(evil), "-o", str(out)]) == 0
+    first_lines = {
+        path.relative_to(out).as_posix(): path.read_text(encoding="utf-8").splitlines()[0]
+        for path in out.rglob("*")
+        if path.is_file() and path.suffix in (".c", ".h", ".py", ".md", ".ld")
+    }
+    for name, line in first_lines.items():
+        assert "<paper_motor.yaml, path withheld: unsafe characters>" in line, name
+        assert "*/" not in line[2:-2] and "-->" not in line[4:-3], name
+    for source in sorted((out / "c").glob("*.c")):
+        subprocess.run(
+            ["gcc", "-std=c99", "-fsyntax-only", "-Wall", "-Werror", f"-I{out / 'c'}", str(source)],
+            check=True,
+        )
+    for module in sorted((out / "python").glob("*.py")):
+        compile(module.read_text(encoding="utf-8"), str(module), "exec")
+
+
+def test_the_provenance_line_never_carries_comment_terminators() -> None:
+    import dataclasses
+
+    from codegen.render import project_relative, provenance
+    from codegen.spec_loader import load_spec
+
+    spec = load_spec(SPEC)
+    assert "with spec spec/paper_motor.yaml (sha256" in provenance("t.j2", spec)
+    for evil in ("spec/a */b.yaml", "spec/a\nb.yaml", "spec/a-->b.yaml", "spec/a??/b.yaml"):
+        text = provenance("t.j2", dataclasses.replace(spec, source_path=str(ROOT / evil)))
+        assert "<paper_motor.yaml, path withheld: unsafe characters>" in text, evil
+        assert spec.sha256 in text
+        # Other reports (sim's SIMULATION.md, verify's JSON) show paths the same way.
+        assert project_relative(ROOT / evil) == "<path withheld: unsafe characters>"
+    assert project_relative(ROOT / "spec" / "my motor+v2.yaml") == "spec/my motor+v2.yaml"
+
+
+def test_generate_killed_after_its_atomic_exchange_leaves_a_complete_tree(tmp_path: Path) -> None:
+    """The generate command, SIGKILLed at its first rename after the exchange: the new tree
+    is in place and whole; the old one and the verify report are beside it until the
+    next run, which moves the report back in and removes the rest."""
+    import json
+    import os
+    import signal
+
+    out = tmp_path / "motor"
+    assert cli.main(["generate", str(SPEC), "-o", str(out)]) == 0
+    (out / "verify").mkdir()
+    (out / "verify" / "report.json").write_text("{}\n")
+    other = tmp_path / "other.yaml"
+    other.write_text(SPEC.read_text().replace("dead_time: 500 ns", "dead_time: 400 ns"))
+    # A forked child keeps this process's warm derivation: the same command, seconds faster.
+    pid = os.fork()
+    if pid == 0:  # pragma: no cover - the child
+        os.environ["BLDC_CODEGEN_TEST_KILL_AT_LABEL"] = "rename "
+        try:
+            cli.main(["generate", str(other), "-o", str(out)])
+        finally:
+            os._exit(0)
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGKILL
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["spec_sha256"] == hashlib.sha256(other.read_bytes()).hexdigest()
+    for name, digest in manifest["files"].items():
+        assert hashlib.sha256((out / name).read_bytes()).hexdigest() == digest, name
+    assert cli.main(["generate", str(other), "-o", str(out)]) == 0
+    assert (out / "verify" / "report.json").read_text() == "{}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        ".motor.bldc-codegen.lock",
+        "motor",
+        "other.yaml",
+    ]

@@ -169,7 +169,7 @@ def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow(tmp_pa
 
 
 def test_design_should_reject_an_unreachable_accuracy_target(tmp_path: Path) -> None:
-    text = SPEC.read_text().replace("duty_counts: 0.75", "duty_counts: 0.5")
+    text = SPEC.read_text().replace("duty_counts: 0.75", "duty_counts: 0.501")
     with pytest.raises(FixedPointError, match=r"accuracy\.duty_counts"):
         _core_of(tmp_path, text)
 

@@ -14,7 +14,7 @@ from typing import Any
 import sympy as sp
 import yaml
 
-from codegen import cli
+from bldc import cli
 from codegen.derivation import derive
 from codegen.derivation.figures import spec_figures
 from codegen.spec_loader import load_spec

@@ -175,13 +175,13 @@ BAD_SPECS = [
     # ---- YAML structure
     pytest.param(
         _replace("phase_inductance: 0.56 mH", "phase_inductance: 0.56 mH: oops"),
-        "<document>",
+        "motor.phase_inductance",
         ("malformed YAML", "mapping values are not allowed", f"bad.yaml:{INDUCTANCE_LINE}"),
-        id="malformed-yaml-cites-line",
+        id="malformed-yaml-cites-line-and-key",
     ),
     pytest.param(
         _replace("  poles: 2\n", "  poles: 2\n  poles: 4\n"),
-        "<document>",
+        "motor.poles",
         (
             "duplicate key 'poles'",
             f"first defined on line {POLES_LINE}",
@@ -192,7 +192,7 @@ BAD_SPECS = [
     pytest.param(
         _replace("name: paper_motor\n", "name: paper_motor\n? [a, b]\n: 1\n"),
         "<document>",
-        ("malformed YAML", "unhashable key"),
+        ("a mapping key must be a plain value",),
         id="unhashable-key",
     ),
     pytest.param(_as_list, "<document>", ("must be a YAML mapping",), id="top-level-is-list"),
@@ -210,12 +210,12 @@ BAD_SPECS = [
         id="unknown-nested-key",
     ),
     pytest.param(
-        _edit(lambda d: d.pop("hall")), "hall", ("missing required key",), id="missing-section"
+        _edit(lambda d: d.pop("hall")), "hall", ("missing required section",), id="missing-section"
     ),
     pytest.param(
         _edit(lambda d: d.update(motor=5)),
         "motor",
-        ("must be a mapping, got int",),
+        ("must be a mapping of keys, got an integer",),
         id="section-not-a-mapping",
     ),
     pytest.param(
@@ -227,20 +227,20 @@ BAD_SPECS = [
     pytest.param(
         _edit_line("description:", "description: &x [*x]"),
         "description",
-        ("must be a string",),
+        ("recursive alias *x",),
         id="recursive-alias",
     ),
     # ---- quantities and units
     pytest.param(
         _replace("0.56 mH", "0.56 mF"),
         "motor.phase_inductance",
-        ("unit 'mF' is not a inductance unit", "H, mH, uH", f"bad.yaml:{INDUCTANCE_LINE}"),
+        ("unit 'mF' is not an inductance unit", "H, mH, uH", f"bad.yaml:{INDUCTANCE_LINE}"),
         id="wrong-unit",
     ),
     pytest.param(
         _replace("0.56 mH", "0.56"),
         "motor.phase_inductance",
-        ("missing unit for a inductance", "H, mH, uH", "(0, 1] H"),
+        ("missing unit for an inductance", "H, mH, uH", "[1e-07, 1] H"),
         id="missing-unit-bare-number",
     ),
     pytest.param(
@@ -252,7 +252,7 @@ BAD_SPECS = [
     pytest.param(
         _replace("0.56 mH", "lots mH"),
         "motor.phase_inductance",
-        ("not a number followed by a unit", "H, mH, uH"),
+        ("not a number (ASCII digits) followed by a unit", "H, mH, uH"),
         id="non-numeric-quantity",
     ),
     pytest.param(
@@ -264,19 +264,19 @@ BAD_SPECS = [
     pytest.param(
         _replace("0.21 ohm", "-0.21 ohm"),
         "motor.phase_resistance",
-        ("-0.21 ohm is out of range", "(0, 100] ohm"),
+        ("-0.21 ohm is out of range", "[0.0001, 100] ohm"),
         id="negative-resistance",
     ),
     pytest.param(
         _replace("0.56 mH", "0 mH"),
         "motor.phase_inductance",
-        ("0 H is out of range", "(0, 1] H"),
+        ("0 H is out of range", "[1e-07, 1] H"),
         id="zero-inductance",
     ),
     pytest.param(
         _replace("0.56 mH", "1e400 mH"),
         "motor.phase_inductance",
-        ("1e+397 H is out of range", "(0, 1] H"),
+        ("1e+397 H is out of range", "[1e-07, 1] H"),
         id="inductance-beyond-float-range",
     ),
     pytest.param(
@@ -307,7 +307,7 @@ BAD_SPECS = [
     pytest.param(
         _replace("  poles: 2\n", f"  poles: {'9' * 400}\n"),
         "motor.poles",
-        ("out of range", "[2, 128] poles"),
+        ("a number of 400 characters (at most 64)",),
         id="pole-count-huge-integer",
     ),
     pytest.param(
@@ -319,13 +319,13 @@ BAD_SPECS = [
     pytest.param(
         _replace("duty_counts: 0.75", "duty_counts: .nan"),
         "accuracy.duty_counts",
-        ("must be a plain number", "[0.5, 64] TIM1 counts"),
+        ("must be a finite number", "(0.5, 16] TIM1 counts"),
         id="duty-accuracy-nan",
     ),
     pytest.param(
         _replace("duty_counts: 0.75", f"duty_counts: {'9' * 400}"),
         "accuracy.duty_counts",
-        ("out of range", "[0.5, 64] TIM1 counts"),
+        ("a number of 400 characters (at most 64)",),
         id="duty-accuracy-huge-integer",
     ),
     pytest.param(
@@ -540,11 +540,11 @@ def test_out_of_range_quantity_states_value_and_allowed_range(tmp_path: Path) ->
     assert error.path == "motor.phase_inductance"
     assert error.value == "2 H"
     assert error.problem == "2 H is out of range"
-    assert error.allowed == "(0, 1] H"
+    assert error.allowed == "[1e-07, 1] H"
     assert error.line == INDUCTANCE_LINE
     assert str(error) == (
         f"{path}:{INDUCTANCE_LINE}: motor.phase_inductance = '2 H': 2 H is out of range"
-        " (allowed: (0, 1] H)"
+        " (allowed: [1e-07, 1] H)"
     )
 
 

@@ -8,7 +8,6 @@ import tempfile
 from pathlib import Path
 
 from codegen.errors import SpecError
-from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, StaleOutputError, plot, table, verify, write_json
 
@@ -23,7 +22,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("spec", help="motor spec YAML")
     parser.add_argument(
-        "--generated", type=Path, help="generated folder (default: generated/<spec name>)"
+        "--generated",
+        type=Path,
+        help="generated folder (default: generated/<spec name> in the current folder)",
     )
     parser.add_argument("--seed", type=int, help="replay a random set")
     parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS, help="random points")
@@ -34,7 +35,8 @@ def main(argv: list[str] | None = None) -> int:
     except SpecError as exc:
         print(f"verify: {exc}", file=sys.stderr)
         return EXIT_SPEC
-    generated = args.generated or PROJECT_ROOT / "generated" / spec.name
+    # Like bldc-codegen: generated/<name> under the current folder.
+    generated = args.generated or Path("generated") / spec.name
     if not (generated / "c" / "bldc_commutation.c").is_file():
         print(
             f"verify: no generated core in {generated}: run `make generate SPEC={args.spec}`",

@@ -395,30 +395,28 @@ def report(run: UnityRun) -> str:
     return "\n".join(lines)
 
 
-USAGE = """usage: python -m verify.unity_run GENERATED_DIR [BUILD_DIR]
-
-Builds and runs generated/<spec>/tests on the host (ASan/UBSan) and on a Cortex-M3
-(qemu mps2-an385), with real Unity when UNITY_DIR points to a checkout, else the
-stand-in runner. Exit 0 when both pass with identical per-test results; 1 when a test
-fails or they differ; 2 for a usage error; 3 when qemu-system-arm or arm-none-eabi-gcc
-is missing (the target run cannot be skipped)."""
 EXIT_MISSING_TOOL = 3
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = list(sys.argv[1:] if argv is None else argv)
-    if args and args[0] in ("-h", "--help"):
-        print(USAGE)
-        return 0
-    if not 1 <= len(args) <= 2:
-        print(USAGE, file=sys.stderr)
-        return 2
-    generated = Path(args[0])
-    if not (generated / "tests").is_dir():
-        print(
-            f"unity_run: no generated tests in {generated}: run `make generate SPEC=...`",
-            file=sys.stderr,
-        )
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="python -m verify.unity_run",
+        description="Build and run the generated Unity tests on the host (ASan/UBSan) and"
+        " on a Cortex-M3 under qemu (mps2-an385), with real Unity when UNITY_DIR points to a"
+        " checkout, else the stand-in runner. Exit 0 when both pass with identical per-test"
+        " results; 1 when a test fails or they differ; 2 for a usage error; 3 when"
+        " qemu-system-arm or arm-none-eabi-gcc is missing (the target run cannot be skipped).",
+    )
+    parser.add_argument("generated", metavar="GENERATED_DIR", help="e.g. generated/paper_motor")
+    parser.add_argument(
+        "build", metavar="BUILD_DIR", nargs="?", help="build folder (default: a temporary one)"
+    )
+    args = parser.parse_args(argv)
+    generated = Path(args.generated)
+    if not (generated / "tests" / "test_runner.c").is_file():
+        print(f"{generated} has no generated Unity tests: generate it first", file=sys.stderr)
         return 2
     if not qemu_available():
         print(
@@ -427,7 +425,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         return EXIT_MISSING_TOOL
     with tempfile.TemporaryDirectory() as scratch:
-        build_dir = Path(args[1]) if len(args) == 2 else Path(scratch)
+        build_dir = Path(args.build) if args.build else Path(scratch)
         runs = [run_host(generated, build_dir), run_qemu(generated, build_dir)]
     for run in runs:
         print(report(run))

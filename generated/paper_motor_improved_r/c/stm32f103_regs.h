@@ -9,7 +9,7 @@
  *
  * Every address, offset, bit position and IRQ number below is read from the vendor
  * SVD STM32F103xx v1.3
- *   pyocd pyocd/debug/svd/svd_data.zip:STM32F103xx.svd
+ *   codegen/data/STM32F103xx.svd (ST STM32F103xx.svd v1.3 (Apache-2.0), as shipped in pyocd's svd_data.zip)
  *   sha256 1d92b65aaf397a18a599fb6a840812015ad379cdcc0cc3687f673f63e7445367
  * by codegen/svd.py; none is typed by hand.
  *

@@ -1,0 +1,291 @@
+"""Subcommands that build, check and measure a spec's generated output: firmware, verify,
+unity, simulate, bench, all. Each delegates to the module that owns the work
+(codegen.build_firmware, verify, verify.unity_run, sim, codegen.bench) after checking
+that the generated folder is this spec's (codegen.freshness)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from bldc.cli import COMMANDS, Command, register
+from bldc.commands.common import (
+    add_generated,
+    add_json,
+    add_progress,
+    add_spec,
+    emit_json,
+    fresh_generated,
+    load,
+    shown,
+)
+from codegen.errors import ExitCode
+
+
+def _require_tools(*tools: str) -> None:
+    missing = [tool for tool in tools if shutil.which(tool) is None]
+    if missing:
+        raise FileNotFoundError(
+            2, f"{', '.join(missing)} not found on PATH (install with `make sysdeps`)"
+        )
+
+
+# --------------------------------------------------------------------- firmware
+
+
+def _firmware(args: argparse.Namespace) -> int:
+    from codegen import build_firmware
+
+    spec = load(args.spec)
+    generated = fresh_generated(spec, args.generated)
+    build_dir = Path(args.build) if args.build else Path("build") / spec.name
+    _require_tools("arm-none-eabi-gcc", "arm-none-eabi-size")
+    try:
+        if not args.json:
+            return build_firmware.main([str(generated), str(build_dir)])
+        sizes = build_firmware.build(generated, build_dir)
+    except subprocess.CalledProcessError as exc:
+        print(f"error: the generated firmware does not build ({exc.cmd[0]})", file=sys.stderr)
+        return int(ExitCode.CHECK_FAILED)
+    emit_json(
+        {
+            "elf": shown(build_dir / "firmware.elf"),
+            "sizes": {
+                name: {"flash": size.flash, "ram": size.ram, "sections": size.sections}
+                for name, size in sizes.items()
+            },
+        }
+    )
+    return 0
+
+
+def _firmware_arguments(parser: argparse.ArgumentParser) -> None:
+    add_spec(parser)
+    add_generated(parser)
+    parser.add_argument("--build", metavar="DIR", help="build folder (default: build/<spec name>)")
+    add_json(parser)
+
+
+register(
+    Command(
+        "firmware",
+        "cross-compile the generated firmware for the Cortex-M3; flash and RAM by section",
+        "Build core, port, start-up and main with arm-none-eabi-gcc (-Wall -Wextra"
+        " -Wconversion -Werror) and link them; report flash and RAM by section and for the"
+        " commutation code (core + port) against its 2 KiB / 64 B budget.",
+        _firmware_arguments,
+        _firmware,
+    )
+)
+
+
+# --------------------------------------------------------------------- verify
+
+
+def _verify(args: argparse.Namespace) -> int:
+    from verify.__main__ import main as verify_main
+
+    spec = load(args.spec)
+    generated = fresh_generated(spec, args.generated)
+    argv = [args.spec, "--generated", str(generated)]
+    if args.random is not None:
+        argv += ["--random", str(args.random)]
+    if args.seed is not None:
+        argv += ["--seed", str(args.seed)]
+    if args.no_progress or args.json:
+        argv.append("--no-progress")
+    if args.json:
+        import contextlib
+        import io
+
+        with contextlib.redirect_stdout(io.StringIO()):
+            code = verify_main(argv)
+        report = generated / "verify" / "report.json"
+        emit_json(json.loads(report.read_text(encoding="utf-8")) if report.is_file() else {})
+    else:
+        code = verify_main(argv)
+    return int(ExitCode.CHECK_FAILED) if code == 1 else code
+
+
+def _verify_arguments(parser: argparse.ArgumentParser) -> None:
+    add_spec(parser)
+    add_generated(parser)
+    parser.add_argument(
+        "--seed", type=int, metavar="N", help="seed of the random set, to replay a run"
+    )
+    parser.add_argument(
+        "--random",
+        type=int,
+        metavar="N",
+        help="number of random points over the whole input space (default: verify's, 20000)",
+    )
+    add_progress(parser)
+    add_json(parser)
+
+
+register(
+    Command(
+        "verify",
+        "check the generated C against the exact symbolic model (exit 1 on a failure)",
+        "Build the generated core for the host and run it over every Hall period code of"
+        " the speed range, random points and the boundaries; compare each output with the"
+        " derivation's exact model and the bit-exact Python twin. Writes"
+        " DIR/verify/report.json and error_vs_speed.png.",
+        _verify_arguments,
+        _verify,
+    )
+)
+
+
+# --------------------------------------------------------------------- unity
+
+
+def _unity(args: argparse.Namespace) -> int:
+    from verify import unity_run
+
+    spec = load(args.spec)
+    generated = fresh_generated(spec, args.generated)
+    argv = [str(generated)] + ([args.build] if args.build else [])
+    code = unity_run.main(argv)
+    return int(ExitCode.CHECK_FAILED) if code == 1 else code
+
+
+def _unity_arguments(parser: argparse.ArgumentParser) -> None:
+    add_spec(parser)
+    add_generated(parser)
+    parser.add_argument("--build", metavar="DIR", help="build folder (default: a temporary folder)")
+
+
+register(
+    Command(
+        "unity",
+        "run the generated Unity tests on the host (ASan/UBSan) and on a Cortex-M3 (qemu)",
+        "Build and run the generated Unity tests on the host under AddressSanitizer and"
+        " UBSan and on an emulated Cortex-M3 (qemu mps2-an385); the per-test results must"
+        " be identical. Real Unity when UNITY_DIR points to a checkout, else the stand-in"
+        " runner.",
+        _unity_arguments,
+        _unity,
+    )
+)
+
+
+# --------------------------------------------------------------------- simulate
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    from sim.cli import main as sim_main
+
+    spec = load(args.spec)
+    out = Path(args.output) if args.output else Path("generated") / spec.name / "simulation"
+    argv = [args.spec, "-o", str(out)] + (["--no-progress"] if args.no_progress else [])
+    code = sim_main(argv)
+    # sim.cli: 2 bad spec (already refused above), 3 derivation, 4 software in the loop.
+    return {0: 0, 2: int(ExitCode.SPEC), 3: int(ExitCode.INTERNAL)}.get(
+        code, int(ExitCode.ENVIRONMENT)
+    )
+
+
+def _simulate_arguments(parser: argparse.ArgumentParser) -> None:
+    add_spec(parser)
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="DIR",
+        help="report folder (default: generated/<spec name>/simulation in the current folder)",
+    )
+    add_progress(parser)
+
+
+register(
+    Command(
+        "simulate",
+        "simulate commutations with the generated C core in the loop; write SIMULATION.md",
+        "Generate the spec's core for each method, compile it for the host and drive it"
+        " from switched and averaged plants of Eq. 1 over the speed range; write the"
+        " figures and SIMULATION.md.",
+        _simulate_arguments,
+        _simulate,
+    )
+)
+
+
+# --------------------------------------------------------------------- bench
+
+
+def _bench(args: argparse.Namespace) -> int:
+    from codegen import bench
+
+    spec = load(args.spec)
+    fresh_generated(spec, None)  # the bench reads generated/<name> and builds under build/
+    return bench.main([args.spec])
+
+
+def _bench_arguments(parser: argparse.ArgumentParser) -> None:
+    add_spec(parser)
+
+
+register(
+    Command(
+        "bench",
+        "measure speed, size and interrupt cost of the generated code",
+        "Measure derive + audit and regeneration time, flash and RAM, the interrupt"
+        " handlers' cycles (emulated Cortex-M3), the resistance-aware rule's cost, and the"
+        " run times of verify, the qemu Unity tests and the simulation. Reads"
+        " generated/<spec name> in the current folder.",
+        _bench_arguments,
+        _bench,
+    )
+)
+
+
+# --------------------------------------------------------------------- all
+
+
+def _all(args: argparse.Namespace) -> int:
+    steps = ["generate", "firmware", "verify", "unity", "simulate"] + (
+        ["bench"] if args.bench else []
+    )
+    for step in steps:
+        print(f"all: {step} {args.spec}", file=sys.stderr)
+        step_args = argparse.Namespace(
+            spec=args.spec,
+            output=None,
+            generated=None,
+            build=None,
+            json=False,
+            seed=None,
+            random=args.random,
+            no_progress=args.no_progress,
+            bench=False,
+        )
+        code = COMMANDS[step].run(step_args)
+        if code != 0:
+            print(f"all: stopped at {step} (exit {code})", file=sys.stderr)
+            return code
+    return 0
+
+
+def _all_arguments(parser: argparse.ArgumentParser) -> None:
+    add_spec(parser)
+    parser.add_argument(
+        "--random", type=int, metavar="N", help="random points for verify (default: 20000)"
+    )
+    parser.add_argument("--bench", action="store_true", help="run the bench as the last step")
+    add_progress(parser)
+
+
+register(
+    Command(
+        "all",
+        "generate, then firmware, verify, unity and simulate (and bench with --bench)",
+        "Run every step for one spec in the current folder, in order, stopping at the"
+        " first that fails; the exit status is that step's.",
+        _all_arguments,
+        _all,
+    )
+)

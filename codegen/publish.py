@@ -1,0 +1,452 @@
+"""Publish a generated tree into a folder so that it cannot be lost or half-written.
+
+`publish(files, target)` replaces the files bldc-codegen wrote in `target` by `files`:
+
+1. Lock: `.<name>.bldc-codegen.lock` beside the target (flock), so concurrent runs into
+   the same folder take turns instead of renaming over each other.
+2. Recover: leftovers of a killed run (the hidden siblings `.<name>.bldc-codegen-new`
+   and `.<name>.bldc-codegen-old`) are finished or undone before anything else.
+3. Stage: every file is written (manifest first, then the files, each fsynced) into
+   `.<name>.bldc-codegen-new`, a sibling on the same file system.
+4. Publish, in ONE step: renameat2(RENAME_EXCHANGE) swaps the staged folder and the
+   target atomically (Linux 3.15+ on ext4, btrfs, xfs, tmpfs...). A reader or a kill
+   at any instant sees the complete old tree or the complete new one. Where the
+   exchange is unavailable (other systems, some file systems) two renames do it, and a
+   kill between them leaves the target missing until the next run, whose recovery puts
+   the complete new tree (verified against its manifest) or else the old one in place.
+5. Carry over: everything in the old tree that bldc-codegen did not write (reports of
+   `verify` and `sim` in verify/ and simulation/, a user's own files) is moved, by
+   rename, into the new tree. Then the old tree's own files are deleted, and its
+   folders if they are empty. Nothing else is ever deleted.
+
+What bldc-codegen wrote is what the target's manifest.json lists ("files" and
+"folders", with "generator": "bldc-codegen"). The target keeps its place and its name:
+it is a real folder, not a symlink, so git, `make check-generated`, diff and Windows
+see the same layout as always. Its inode changes at each publish: a shell whose working
+directory is the target must `cd` into it again.
+
+Before staging, a file the new tree would put where a foreign file already is (say a
+hand-written AUDIT.md in a folder given with -o) stops the publish with PublishError:
+nothing is overwritten that the tool did not write.
+
+Fault injection for tests: with BLDC_CODEGEN_TEST_KILL_AT_STEP=k in the environment the
+process SIGKILLs itself at its k-th file-system step (every write, fsync, mkdir, rename,
+exchange, unlink and rmdir here is one); BLDC_CODEGEN_TEST_STEP_LOG=FILE appends each
+step's label to FILE; BLDC_CODEGEN_TEST_KILL_AT_LABEL=PREFIX kills at the first step whose
+label starts with PREFIX ("exchange", "write AUDIT.md"). BLDC_CODEGEN_NO_EXCHANGE=1
+forces the two-rename fallback.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import errno
+import hashlib
+import json
+import os
+import signal
+import sys
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+GENERATOR = "bldc-codegen"
+MANIFEST = "manifest.json"
+_TAG = "bldc-codegen"
+
+
+class PublishError(OSError):
+    """The output cannot be published (a foreign file in the way, an unusable target)."""
+
+
+@dataclass
+class PublishResult:
+    target: Path
+    atomic_exchange: bool
+    recovered: list[str] = field(default_factory=list)
+    carried_over: list[str] = field(default_factory=list)
+    left_behind: list[str] = field(default_factory=list)
+
+
+# --------------------------------------------------------------------- fault injection
+
+_steps = 0
+
+
+def _step(label: str) -> None:
+    """Count one file-system step; the fault-injection hook for the kill -9 tests."""
+    global _steps
+    _steps += 1
+    log = os.environ.get("BLDC_CODEGEN_TEST_STEP_LOG")
+    if log:
+        with open(log, "a", encoding="utf-8") as stream:
+            stream.write(f"{_steps} {label}\n")
+    kill_at = os.environ.get("BLDC_CODEGEN_TEST_KILL_AT_STEP")
+    kill_label = os.environ.get("BLDC_CODEGEN_TEST_KILL_AT_LABEL")
+    if (kill_at and int(kill_at) == _steps) or (kill_label and label.startswith(kill_label)):
+        os.kill(os.getpid(), signal.SIGKILL)
+
+
+# --------------------------------------------------------------------- file system steps
+
+
+def _write(path: Path, text: str) -> None:
+    _step(f"write {path.name}")
+    data = text.encode("utf-8")
+    with open(path, "wb") as stream:
+        stream.write(data)
+        stream.flush()
+        _step(f"fsync {path.name}")
+        os.fsync(stream.fileno())
+
+
+def _fsync_dir(path: Path) -> None:
+    if os.name != "posix":
+        return
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _mkdir(path: Path) -> None:
+    _step(f"mkdir {path.name}")
+    path.mkdir()
+
+
+def _rename(src: Path, dst: Path) -> None:
+    _step(f"rename {src.name} -> {dst.name}")
+    os.rename(src, dst)
+
+
+def _unlink(path: Path) -> None:
+    _step(f"unlink {path.name}")
+    path.unlink()
+
+
+def _rmdir(path: Path) -> None:
+    _step(f"rmdir {path.name}")
+    path.rmdir()
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two directory entries atomically; False if this system cannot."""
+    if os.environ.get("BLDC_CODEGEN_NO_EXCHANGE") or not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    renameat2.argtypes = (
+        ctypes.c_int,
+        ctypes.c_char_p,
+        ctypes.c_int,
+        ctypes.c_char_p,
+        ctypes.c_uint,
+    )
+    _step(f"exchange {a.name} <-> {b.name}")
+    if renameat2(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.ENOTSUP, errno.EOPNOTSUPP):
+        return False
+    raise OSError(code, os.strerror(code), str(b))
+
+
+# --------------------------------------------------------------------- ownership
+
+
+@dataclass(frozen=True)
+class _Owned:
+    files: frozenset[str]
+    folders: frozenset[str]
+    hashes: Mapping[str, str]
+
+
+def manifest_record(files: Mapping[str, str]) -> dict[str, object]:
+    """The manifest's ownership part for a tree of `files` (path -> text): every file
+    with its SHA-256 and every folder the tree creates. manifest.json itself is owned."""
+    folders = sorted(
+        {"/".join(name.split("/")[:i]) for name in files for i in range(1, name.count("/") + 1)}
+    )
+    return {
+        "generator": GENERATOR,
+        "folders": folders,
+        "files": {
+            name: hashlib.sha256(text.encode()).hexdigest() for name, text in sorted(files.items())
+        },
+    }
+
+
+def _owned(tree: Path) -> _Owned | None:
+    """What bldc-codegen wrote in `tree`, from its manifest; None if it has none."""
+    try:
+        data = json.loads((tree / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict) or not isinstance(data.get("files"), dict):
+        return None
+    # Manifests written before "generator" existed have spec_sha256 and files.
+    if data.get("generator") != GENERATOR and "spec_sha256" not in data:
+        return None
+    files = {str(name) for name in data["files"]}
+    folders = {"/".join(n.split("/")[:i]) for n in files for i in range(1, n.count("/") + 1)}
+    folders |= {str(f) for f in data.get("folders", []) if isinstance(f, str)}
+    hashes = {str(k): str(v) for k, v in data["files"].items()}
+    return _Owned(frozenset(files | {MANIFEST}), frozenset(folders), hashes)
+
+
+def _complete(tree: Path) -> bool:
+    """Whether every file the tree's manifest lists is there with its hash."""
+    owned = _owned(tree)
+    if owned is None:
+        return False
+    for name, digest in owned.hashes.items():
+        try:
+            if hashlib.sha256((tree / name).read_bytes()).hexdigest() != digest:
+                return False
+        except OSError:
+            return False
+    return True
+
+
+# --------------------------------------------------------------------- lock
+
+
+@contextlib.contextmanager
+def _locked(lock_path: Path) -> Iterator[None]:
+    fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        if os.name == "posix":
+            import fcntl
+
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                print(
+                    f"waiting for another bldc-codegen run writing {lock_path.parent}",
+                    file=sys.stderr,
+                )
+                fcntl.flock(fd, fcntl.LOCK_EX)
+        else:  # pragma: no cover - Windows
+            import msvcrt
+
+            while True:
+                try:
+                    msvcrt.locking(fd, msvcrt.LK_LOCK, 1)
+                    break
+                except OSError:
+                    continue
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+# --------------------------------------------------------------------- paths
+
+
+@dataclass(frozen=True)
+class _Paths:
+    target: Path
+    staging: Path
+    retired: Path
+    lock: Path
+
+
+def _paths(target: Path) -> _Paths:
+    target = Path(os.path.abspath(target))
+    if target.is_symlink():
+        target = target.resolve()  # publish into the folder the link points to
+    if target.parent == target:
+        raise PublishError(f"{target} is a file-system root: choose a folder inside it")
+    parent = target.parent.resolve()
+    name = target.name
+    return _Paths(
+        parent / name,
+        parent / f".{name}.{_TAG}-new",
+        parent / f".{name}.{_TAG}-old",
+        parent / f".{name}.{_TAG}.lock",
+    )
+
+
+def check_target(target: Path) -> Path:
+    """The absolute target folder, or PublishError if it can never hold the output (a
+    file-system root, a file): cheap, so a command can fail before it does any work."""
+    p = _paths(target)
+    if p.target.exists() and not p.target.is_dir():
+        raise PublishError(f"{p.target} exists and is not a folder")
+    return p.target
+
+
+# --------------------------------------------------------------------- recovery
+
+
+def _carry_over(old: Path, new: Path, result: PublishResult) -> bool:
+    """Move what bldc-codegen did not write from `old` into `new` (merging folders that
+    exist on both sides), then delete what it did write and the folders this emptied.
+    True if `old` is gone; a foreign entry whose place in `new` is taken stays in `old`."""
+    owned = _owned(old) or _Owned(frozenset(), frozenset(), {})
+    merged: list[Path] = []
+
+    def visit(rel: str) -> None:
+        here = old / rel if rel else old
+        for entry in sorted(here.iterdir(), key=lambda path: path.name):
+            name = f"{rel}/{entry.name}" if rel else entry.name
+            real_dir = entry.is_dir() and not entry.is_symlink()
+            if name in owned.files and not real_dir:
+                continue  # deleted below, once everything foreign is safe
+            destination = new / name
+            if real_dir and (
+                name in owned.folders or (destination.is_dir() and not destination.is_symlink())
+            ):
+                merged.append(entry)
+                visit(name)
+                continue
+            if destination.exists() or destination.is_symlink():
+                result.left_behind.append(str(entry))
+                continue
+            missing = [folder for folder in destination.parents if not folder.exists()]
+            for folder in reversed(missing):
+                _mkdir(folder)
+            _rename(entry, destination)
+            result.carried_over.append(name)
+
+    visit("")
+    for name in sorted(owned.files - {MANIFEST}):
+        path = old / name
+        if path.is_symlink() or path.is_file():
+            _unlink(path)
+    for folder in sorted(merged, key=lambda path: -len(path.parts)):
+        if folder.is_dir() and not any(folder.iterdir()):
+            _rmdir(folder)
+    manifest = old / MANIFEST
+    if MANIFEST in owned.files and manifest.is_file():
+        _unlink(manifest)
+    if any(old.iterdir()):
+        return False
+    _rmdir(old)
+    return True
+
+
+def _only_a_partial_manifest(tree: Path) -> bool:
+    return {p.name for p in tree.iterdir()} <= {MANIFEST} and _owned(tree) is None
+
+
+def _recover(p: _Paths, result: PublishResult) -> None:
+    """Finish or undo a killed run: afterwards no staging or retired folder is left
+    (unless it holds something bldc-codegen may not delete) and the target is whole."""
+    if not p.target.exists():
+        if p.staging.is_dir() and _complete(p.staging) and p.retired.is_dir():
+            # Killed between the two renames of the fallback: the new tree is whole.
+            _rename(p.staging, p.target)
+            result.recovered.append(f"published the complete {p.staging.name}")
+        elif p.retired.is_dir():
+            _rename(p.retired, p.target)
+            result.recovered.append(f"restored {p.retired.name}")
+    for leftover in (p.staging, p.retired):
+        if not leftover.is_dir():
+            continue
+        if _owned(leftover) is None and _only_a_partial_manifest(leftover):
+            for entry in leftover.iterdir():
+                _unlink(entry)
+            _rmdir(leftover)
+            result.recovered.append(f"removed the empty {leftover.name}")
+            continue
+        if _carry_over(leftover, p.target, result):
+            result.recovered.append(f"cleaned up {leftover.name}")
+
+
+def recover(target: Path) -> PublishResult:
+    """Recover the leftovers of a killed publish into `target`, under the lock."""
+    p = _paths(target)
+    result = PublishResult(p.target, atomic_exchange=False)
+    if not p.target.parent.is_dir():
+        return result
+    with _locked(p.lock):
+        _recover(p, result)
+    return result
+
+
+# --------------------------------------------------------------------- publish
+
+
+def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
+    """Refuse, before writing anything, to put a file where a foreign one is."""
+    if p.target.is_symlink() or (p.target.exists() and not p.target.is_dir()):
+        raise PublishError(f"{p.target} exists and is not a folder")
+    if not p.target.exists():
+        return
+    owned = _owned(p.target)
+    mine = owned.files if owned else frozenset()
+    for name in files:
+        parts = name.split("/")
+        for depth in range(1, len(parts) + 1):
+            rel = "/".join(parts[:depth])
+            path = p.target / rel
+            if not (path.exists() or path.is_symlink()):
+                break
+            real_dir = path.is_dir() and not path.is_symlink()
+            if depth < len(parts) and real_dir:
+                continue
+            if depth == len(parts) and not real_dir and not path.is_symlink() and rel in mine:
+                break
+            raise PublishError(
+                f"{path} is in the way and was not written by bldc-codegen (its manifest"
+                " does not list it): move it away or choose another output folder"
+            )
+
+
+def publish(files: Mapping[str, str], target: Path) -> PublishResult:
+    """Replace bldc-codegen's files in `target` by `files` (path -> text, '/'-separated,
+    including manifest.json), atomically, keeping everything else in `target`."""
+    if MANIFEST not in files:
+        raise ValueError("publish() needs the tree's manifest.json")
+    for name in files:
+        if name.startswith("/") or ".." in name.split("/") or name.endswith("/"):
+            raise ValueError(f"unsafe output path {name!r}")
+    p = _paths(target)
+    p.target.parent.mkdir(parents=True, exist_ok=True)
+    result = PublishResult(p.target, atomic_exchange=False)
+    with _locked(p.lock):
+        _recover(p, result)
+        _check_target(p, files)
+        _stage(p.staging, files)
+        if p.target.exists():
+            with contextlib.suppress(OSError):
+                os.chmod(p.staging, p.target.stat().st_mode & 0o7777)
+            result.atomic_exchange = _exchange(p.staging, p.target)
+            if result.atomic_exchange:
+                _rename(p.staging, p.retired)
+            else:
+                _rename(p.target, p.retired)
+                _rename(p.staging, p.target)
+            _fsync_dir(p.target.parent)
+            if not _carry_over(p.retired, p.target, result):
+                result.left_behind.append(str(p.retired))
+        else:
+            _rename(p.staging, p.target)
+            _fsync_dir(p.target.parent)
+    return result
+
+
+def _stage(staging: Path, files: Mapping[str, str]) -> None:
+    _mkdir(staging)
+    ordered = [MANIFEST, *sorted(name for name in files if name != MANIFEST)]
+    made: set[Path] = {staging}
+    for name in ordered:
+        path = staging / name
+        for folder in reversed(path.parents):
+            if folder in made or staging not in (folder, *folder.parents):
+                continue
+            _mkdir(folder)
+            made.add(folder)
+        _write(path, files[name])
+    for folder in sorted(made, key=lambda f: -len(f.parts)):
+        _fsync_dir(folder)

@@ -1,0 +1,488 @@
+"""`bldc-codegen init`: a commented spec for a new motor, from datasheet values.
+
+Datasheets quote what is easy to measure at the terminals; the spec wants what the
+paper's equations use. The conversions (a star-connected winding is assumed, as the
+paper's Eq. 1 does):
+
+* resistance and inductance measured line to line are two phases in series, so the
+  phase value is half;
+* a line-to-line back-EMF constant is 2 k_e (two conducting phases, Eq. 4); the spec
+  keeps the datasheet's number with `back_emf_convention: line_to_line` and the loader
+  halves it;
+* a speed constant Kv in rpm/V gives the line-to-line constant 1/Kv (the no-load speed
+  per volt of the six-step bus is the speed per volt of line-to-line flat-top EMF);
+* pole pairs are poles / 2.
+
+Every conversion and every value not given is recorded in `sources`; values not given
+are the paper motor's or derived from the ones given (speed range, Hall timer clock,
+ADC scaling), marked 'assumption:'. The written spec is loaded once to report at once
+what still does not fit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+
+from codegen import units
+from codegen.errors import SpecError
+from codegen.render import write_atomically
+from codegen.spec_loader import load_spec
+from codegen.spec_model import SpecWarning
+
+TIMER_CLOCK_HZ = 72_000_000
+#: Hall timer clocks that divide the 72 MHz timer clock, slowest first.
+HALL_CLOCKS_HZ = (
+    100_000,
+    250_000,
+    500_000,
+    1_000_000,
+    2_000_000,
+    4_000_000,
+    6_000_000,
+    8_000_000,
+    12_000_000,
+    18_000_000,
+    24_000_000,
+    36_000_000,
+    72_000_000,
+)
+ADC_REFERENCE_V = Fraction(33, 10)
+COUNTER_MAX = 65535
+
+
+def _quantity(dimension: units.Dimension) -> object:
+    def parse(text: str) -> tuple[Fraction, str]:
+        try:
+            return units.parse_quantity(text, dimension).si_value, text
+        except units.QuantityError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    parse.__name__ = dimension.name  # argparse names the type in its error
+    return parse
+
+
+def _positive_number(text: str) -> Fraction:
+    try:
+        value = Fraction(text)
+    except (ValueError, ZeroDivisionError):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"{text} must be positive")
+    return value
+
+
+def spec_name(text: str) -> str:
+    """argparse type: a spec name the loader accepts."""
+    if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", text):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a lower-case identifier ([a-z][a-z0-9_]{{0,63}}), e.g. my_motor"
+        )
+    return text
+
+
+def _count(text: str) -> int:
+    if not text.isascii() or not text.isdigit() or not 1 <= int(text) <= 64:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number from 1 to 64")
+    return int(text)
+
+
+def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group(
+        "datasheet values (quantities with their unit, e.g. '0.42 ohm'; defaults: the"
+        " paper's motor, marked as assumptions)"
+    )
+    poles = group.add_mutually_exclusive_group()
+    poles.add_argument("--poles", type=_count, metavar="N", help="number of rotor poles")
+    poles.add_argument(
+        "--pole-pairs", type=_count, metavar="N", help="number of pole pairs (poles = 2 N)"
+    )
+    r = group.add_mutually_exclusive_group()
+    r.add_argument(
+        "--resistance", type=_quantity(units.RESISTANCE), metavar="Q", help="phase resistance"
+    )
+    r.add_argument(
+        "--resistance-line-to-line",
+        type=_quantity(units.RESISTANCE),
+        metavar="Q",
+        help="terminal (line-to-line) resistance; the phase value is half",
+    )
+    inductance = group.add_mutually_exclusive_group()
+    inductance.add_argument(
+        "--inductance", type=_quantity(units.INDUCTANCE), metavar="Q", help="phase inductance"
+    )
+    inductance.add_argument(
+        "--inductance-line-to-line",
+        type=_quantity(units.INDUCTANCE),
+        metavar="Q",
+        help="terminal (line-to-line) inductance; the phase value is half",
+    )
+    emf = group.add_mutually_exclusive_group()
+    emf.add_argument(
+        "--ke",
+        type=_quantity(units.EMF_CONSTANT),
+        metavar="Q",
+        help="phase back-EMF constant k_e (E = k_e n, flat top), e.g. '2.36 V/krpm'",
+    )
+    emf.add_argument(
+        "--ke-line-to-line",
+        type=_quantity(units.EMF_CONSTANT),
+        metavar="Q",
+        help="line-to-line back-EMF constant (= 2 k_e)",
+    )
+    emf.add_argument(
+        "--kv",
+        type=_positive_number,
+        metavar="RPM_PER_V",
+        help="speed constant in rpm/V; line-to-line k_e = 1/Kv",
+    )
+    group.add_argument(
+        "--rated-voltage", type=_quantity(units.VOLTAGE), metavar="Q", help="motor rated voltage"
+    )
+    group.add_argument(
+        "--inertia", type=_quantity(units.INERTIA), metavar="Q", help="rotor inertia"
+    )
+    group.add_argument(
+        "--bus-voltage",
+        type=_quantity(units.VOLTAGE),
+        metavar="Q",
+        help="nominal DC bus voltage (range: 0.8 to 1.25 times it)",
+    )
+    group.add_argument(
+        "--braking-current",
+        type=_quantity(units.CURRENT),
+        metavar="Q",
+        help="nominal braking current (range: 0 to twice it)",
+    )
+    group.add_argument(
+        "--speed-max",
+        type=_quantity(units.SPEED),
+        metavar="Q",
+        help="top speed (default: 95 %% of U_d/(2 k_e), where 2E reaches the bus)",
+    )
+    group.add_argument(
+        "--pwm-frequency",
+        type=_quantity(units.FREQUENCY),
+        metavar="Q",
+        help="PWM frequency, edge-aligned",
+    )
+
+
+@dataclass(frozen=True)
+class Datasheet:
+    """The values given to `init`: (SI value, text as typed) or None."""
+
+    poles: int | None = None
+    pole_pairs: int | None = None
+    resistance: tuple[Fraction, str] | None = None
+    resistance_line_to_line: tuple[Fraction, str] | None = None
+    inductance: tuple[Fraction, str] | None = None
+    inductance_line_to_line: tuple[Fraction, str] | None = None
+    ke: tuple[Fraction, str] | None = None
+    ke_line_to_line: tuple[Fraction, str] | None = None
+    kv: Fraction | None = None
+    rated_voltage: tuple[Fraction, str] | None = None
+    inertia: tuple[Fraction, str] | None = None
+    bus_voltage: tuple[Fraction, str] | None = None
+    braking_current: tuple[Fraction, str] | None = None
+    speed_max: tuple[Fraction, str] | None = None
+    pwm_frequency: tuple[Fraction, str] | None = None
+
+    @classmethod
+    def from_arguments(cls, args: argparse.Namespace) -> Datasheet:
+        return cls(**{name: getattr(args, name, None) for name in cls.__dataclass_fields__})
+
+
+@dataclass(frozen=True)
+class Written:
+    path: Path
+    error: SpecError | None
+    warnings: tuple[SpecWarning, ...]
+
+
+def _num(value: Fraction, digits: int = 6) -> str:
+    """A decimal with at most `digits` significant digits, no exponent for spec values."""
+    text = f"{float(value):.{digits}g}"
+    if "e" in text:
+        text = f"{float(value):.{digits + 6}f}".rstrip("0").rstrip(".")
+    return text
+
+
+_DEFAULT = "assumption: bldc-codegen init default (the paper's motor, Table 3); replace"
+
+
+def _motor(sheet: Datasheet) -> tuple[dict[str, str], dict[str, str], dict[str, Fraction]]:
+    values: dict[str, str] = {}
+    sources: dict[str, str] = {}
+    si: dict[str, Fraction] = {}
+    if sheet.poles is not None:
+        values["poles"], sources["poles"] = str(sheet.poles), "datasheet: number of poles"
+    elif sheet.pole_pairs is not None:
+        values["poles"] = str(2 * sheet.pole_pairs)
+        sources["poles"] = (
+            f"datasheet: {sheet.pole_pairs} pole pairs, poles = 2 x pole pairs (bldc-codegen init)"
+        )
+    else:
+        values["poles"], sources["poles"] = "2", f"{_DEFAULT} with your motor's poles"
+    si["pole_pairs"] = Fraction(int(values["poles"]) // 2)
+    if sheet.resistance is not None:
+        si["r"] = sheet.resistance[0]
+        values["phase_resistance"] = f"{_num(si['r'])} ohm"
+        sources["phase_resistance"] = f"datasheet: phase resistance {sheet.resistance[1]}"
+    elif sheet.resistance_line_to_line is not None:
+        si["r"] = sheet.resistance_line_to_line[0] / 2
+        values["phase_resistance"] = f"{_num(si['r'])} ohm"
+        sources["phase_resistance"] = (
+            f"datasheet: {sheet.resistance_line_to_line[1]} line to line; star winding, so"
+            " phase = line-to-line / 2 (bldc-codegen init)"
+        )
+    else:
+        si["r"] = Fraction(21, 100)
+        values["phase_resistance"] = "0.21 ohm"
+        sources["phase_resistance"] = f"{_DEFAULT} with your motor's phase resistance"
+    if sheet.inductance is not None:
+        si["l"] = sheet.inductance[0]
+        sources["phase_inductance"] = f"datasheet: phase inductance {sheet.inductance[1]}"
+    elif sheet.inductance_line_to_line is not None:
+        si["l"] = sheet.inductance_line_to_line[0] / 2
+        sources["phase_inductance"] = (
+            f"datasheet: {sheet.inductance_line_to_line[1]} line to line; star winding, so"
+            " phase = line-to-line / 2 (bldc-codegen init)"
+        )
+    else:
+        si["l"] = Fraction(56, 100_000)
+        sources["phase_inductance"] = f"{_DEFAULT} with your motor's phase inductance"
+    values["phase_inductance"] = f"{_num(si['l'] * 1000)} mH"
+    if sheet.ke is not None:
+        si["ke"] = sheet.ke[0]
+        values["back_emf_constant"] = f"{_num(si['ke'] * 1000)} V/krpm"
+        values["back_emf_convention"] = "phase"
+        sources["back_emf_constant"] = f"datasheet: phase back-EMF constant {sheet.ke[1]}"
+        sources["back_emf_convention"] = "datasheet value is per phase (bldc-codegen init --ke)"
+    elif sheet.ke_line_to_line is not None or sheet.kv is not None:
+        if sheet.kv is not None:
+            line_to_line = 1 / sheet.kv  # V per rpm
+            sources["back_emf_constant"] = (
+                f"datasheet: Kv = {_num(sheet.kv)} rpm/V, so the line-to-line constant is"
+                f" 1/Kv = {_num(line_to_line * 1000)} V/krpm (bldc-codegen init)"
+            )
+        else:
+            assert sheet.ke_line_to_line is not None
+            line_to_line = sheet.ke_line_to_line[0]
+            sources["back_emf_constant"] = (
+                f"datasheet: line-to-line back-EMF constant {sheet.ke_line_to_line[1]}"
+            )
+        si["ke"] = line_to_line / 2
+        values["back_emf_constant"] = f"{_num(line_to_line * 1000)} V/krpm"
+        values["back_emf_convention"] = "line_to_line"
+        sources["back_emf_convention"] = (
+            "the datasheet's constant is line to line (2E of two conducting phases, Eq. 4);"
+            " the loader halves it to the phase k_e"
+        )
+    else:
+        si["ke"] = Fraction(236, 100_000)
+        values["back_emf_constant"] = "2.36 V/krpm"
+        values["back_emf_convention"] = "phase"
+        sources["back_emf_constant"] = f"{_DEFAULT} with your motor's back-EMF constant"
+        sources["back_emf_convention"] = f"{_DEFAULT}: phase or line_to_line, as the datasheet"
+    if sheet.rated_voltage is not None:
+        si["rated"] = sheet.rated_voltage[0]
+        sources["rated_voltage"] = f"datasheet: rated voltage {sheet.rated_voltage[1]}"
+    elif sheet.bus_voltage is not None:
+        si["rated"] = sheet.bus_voltage[0]
+        sources["rated_voltage"] = "assumption: bldc-codegen init, the nominal bus voltage"
+    else:
+        si["rated"] = Fraction(24)
+        sources["rated_voltage"] = f"{_DEFAULT} with your motor's rated voltage"
+    values["rated_voltage"] = f"{_num(si['rated'])} V"
+    if sheet.inertia is not None:
+        values["rotor_inertia"] = f"{_num(sheet.inertia[0])} kg*m^2"
+        sources["rotor_inertia"] = f"datasheet: rotor inertia {sheet.inertia[1]}"
+    else:
+        values["rotor_inertia"] = "0.00119 kg*m^2"
+        sources["rotor_inertia"] = f"{_DEFAULT} with your motor's rotor inertia"
+    return values, sources, si
+
+
+def _round_down(value: Fraction, step: int) -> Fraction:
+    return Fraction(math.floor(value / step) * step)
+
+
+def _round_up(value: Fraction, step: int) -> Fraction:
+    return Fraction(math.ceil(value / step) * step)
+
+
+def render_spec(name: str, sheet: Datasheet) -> str:
+    """The spec text for `name` from the datasheet values (see the module docstring)."""
+    motor, motor_sources, si = _motor(sheet)
+    derived = "assumption: bldc-codegen init, derived:"
+    bus = sheet.bus_voltage[0] if sheet.bus_voltage else si["rated"]
+    bus_source = (
+        f"datasheet/board: nominal bus {sheet.bus_voltage[1]}"
+        if sheet.bus_voltage
+        else "assumption: bldc-codegen init, the motor's rated voltage"
+    )
+    v_min, v_max = _round_down(bus * 8, 1) / 10, _round_up(bus * 125, 1) / 100
+    divider = max(1, math.ceil(v_max * Fraction(11, 10) / ADC_REFERENCE_V))
+    n_limit = bus / (2 * si["ke"])
+    if sheet.speed_max is not None:
+        n_max = sheet.speed_max[0]
+        n_max_source = f"datasheet/application: top speed {sheet.speed_max[1]}"
+    else:
+        n_max = max(Fraction(10), _round_down(n_limit * Fraction(95, 100), 10))
+        n_max_source = f"{derived} 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm, rounded down"
+    pole_pairs = si["pole_pairs"]
+    hall_clock = next(
+        (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),
+        HALL_CLOCKS_HZ[-1],
+    )
+    fastest = Fraction(hall_clock * 10) / (pole_pairs * n_max)
+    slowest_rpm = Fraction(hall_clock * 10) / (pole_pairs * COUNTER_MAX)
+    n_min = max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), 5))
+    pwm = sheet.pwm_frequency[0] if sheet.pwm_frequency else Fraction(20_000)
+    dead_ns = min(Fraction(500), _round_down(Fraction(10**9, 100) / pwm, 10))
+    e_top = si["ke"] * n_max
+    if sheet.braking_current is not None:
+        i_nom = sheet.braking_current[0]
+        i_source = f"datasheet/application: nominal braking current {sheet.braking_current[1]}"
+    else:
+        i_nom = min(Fraction(5), _round_down(e_top / si["r"] * 5, 1) / 10)
+        i_source = (
+            f"{derived} 5 A, or half of E(speed_max)/R = {_num(e_top / si['r'])} A (what"
+            " the back-EMF can drive in braking) if less"
+        )
+    i_nom = max(i_nom, Fraction(1, 10))
+    i_max = 2 * i_nom
+    gain_mv = max(Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1320) / i_max, 1)))
+    budget = min(Fraction(8), _round_down(fastest / 20, 1))
+    points = sorted(
+        {max(n_min, _round_down(n_max * Fraction(3, 10), 10)), _round_down(n_max * 9 / 10, 10)}
+    )
+    point_lines = "\n".join(f"  - {{speed: {_num(p)} rpm, main_duty: 0.42}}" for p in points)
+    sources = {f"motor.{k}": v for k, v in motor_sources.items()} | {
+        "inverter.bus_voltage_nominal": bus_source,
+        "inverter.bus_voltage_min": f"{derived} 0.8 x nominal; set your undervoltage trip",
+        "inverter.bus_voltage_max": f"{derived} 1.25 x nominal; set your overvoltage trip",
+        "inverter.pwm_frequency": (
+            f"datasheet/board: {sheet.pwm_frequency[1]}"
+            if sheet.pwm_frequency
+            else "assumption: bldc-codegen init default, 20 kHz (above the audible range)"
+        ),
+        "inverter.pwm_alignment": "assumption: bldc-codegen init default, edge-aligned TIM1",
+        "inverter.timer_clock": "STM32F103 TIM1 clock (APB2 at 72 MHz)",
+        "inverter.dead_time": (
+            f"{derived} 500 ns, at most 1 % of the PWM period; check your gate driver"
+        ),
+        "hall.sequence": "assumption: the paper's Table 1 order; check your motor's wiring",
+        "hall.timer_clock": (
+            f"{derived} the slowest 72 MHz / N giving >= 500 ticks per 60 deg at speed_max"
+        ),
+        "hall.counter_bits": "STM32F103 general-purpose timers are 16 bit",
+        "adc.bits": "STM32F103 ADC resolution",
+        "adc.reference": "assumption: VREF+ = 3.3 V",
+        "adc.bus_voltage_divider": f"{derived} full scale at least 1.1 x bus_voltage_max",
+        "adc.current_gain": (
+            f"{derived} full scale (3.3 V - offset) / gain at least 1.25 x braking_current_max;"
+            " set your shunt x amplifier gain"
+        ),
+        "adc.current_offset": "assumption: bipolar current sense biased at mid-rail",
+        "controller.method": "paper Eq. 18 (the proposed method)",
+        "controller.braking_current_min": "assumption: bldc-codegen init default",
+        "controller.braking_current_nominal": i_source,
+        "controller.braking_current_max": f"{derived} twice nominal",
+        "controller.speed_min": (
+            f"{derived} 1.1 x the speed whose 60 deg Hall period fills the 16-bit counter"
+        ),
+        "controller.speed_max": n_max_source,
+        "accuracy.duty_counts": "assumption: 1 TIM1 count error budget for D_on and D_off",
+        "accuracy.commutation_time_ticks": (
+            f"{derived} 8 Hall ticks, at most 5 % of the shortest 60 deg sector"
+        ),
+        "operating_points": f"{derived} 30 % and 90 % of speed_max; set your test speeds",
+    }
+    source_lines = "\n".join(f"  {key}: {_yaml_string(text)}" for key, text in sources.items())
+    return f"""\
+# Motor spec written by `bldc-codegen init {name}`. Edit every value marked
+# 'assumption:' in `sources` for your motor and board, then run
+#   bldc-codegen generate <this file>
+#
+# Conventions (checked by codegen/spec_loader.py):
+#   * Quantities are "<number> <unit>" strings; plain numbers are dimensionless.
+#   * Speeds are mechanical rpm; poles counts poles (pole pairs = poles / 2).
+#   * back_emf_constant is k_e in E = k_e n (paper Eq. 3), the flat-top EMF of one phase;
+#     with back_emf_convention: line_to_line it is the datasheet's line-to-line value
+#     and the loader halves it.
+#   * Every value says where it comes from in `sources`.
+name: {name}
+description: {name} (written by bldc-codegen init; describe your drive here)
+
+motor:
+  rated_voltage: {motor["rated_voltage"]}
+  phase_resistance: {motor["phase_resistance"]}
+  phase_inductance: {motor["phase_inductance"]}
+  poles: {motor["poles"]}
+  back_emf_constant: {motor["back_emf_constant"]}
+  back_emf_convention: {motor["back_emf_convention"]}
+  rotor_inertia: {motor["rotor_inertia"]}
+
+inverter:
+  # The braking speed limit is U_d/(2 k_e) = {_num(n_limit)} rpm at the nominal bus.
+  bus_voltage_nominal: {_num(bus)} V
+  bus_voltage_min: {_num(v_min)} V
+  bus_voltage_max: {_num(v_max)} V
+  pwm_frequency: {_num(pwm / 1000)} kHz
+  pwm_alignment: edge
+  timer_clock: 72 MHz
+  dead_time: {_num(dead_ns)} ns
+
+hall:
+  # Code (A B C as bits 2 1 0) of each 60 deg sector in forward rotation (Table 1).
+  sequence: [5, 4, 6, 2, 3, 1]
+  timer_clock: {_num(Fraction(hall_clock) / 1000)} kHz
+  counter_bits: 16
+
+adc:
+  bits: 12
+  reference: 3.3 V
+  bus_voltage_divider: {divider}
+  current_gain: {_num(gain_mv)} mV/A
+  current_offset: 1.65 V
+
+controller:
+  method: improved
+  braking_current_min: 0 A
+  braking_current_nominal: {_num(i_nom)} A
+  braking_current_max: {_num(i_max)} A
+  speed_min: {_num(n_min)} rpm
+  speed_max: {_num(n_max)} rpm
+
+accuracy:
+  duty_counts: 1.0
+  commutation_time_ticks: {_num(budget)}
+
+# The speeds (and the current controller's main duty there) the audit, the Unity tests
+# and the simulation report on.
+operating_points:
+{point_lines}
+
+sources:
+{source_lines}
+"""
+
+
+def _yaml_string(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
+    """Write the spec and load it once: the caller reports what still does not fit."""
+    write_atomically(path, render_spec(name, sheet))
+    try:
+        spec = load_spec(path)
+    except SpecError as exc:
+        return Written(path, exc, ())
+    return Written(path, None, spec.warnings)

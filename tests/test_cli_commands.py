@@ -1,0 +1,296 @@
+"""`bldc-codegen`: every subcommand, its help, exit codes, stale output, the working
+directory, `init`'s datasheet conversions, and a new user's own motors end to end."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from bldc import cli
+from codegen import __version__
+from codegen.errors import ExitCode
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+EXPECTED = ["init", "derive", "audit", "generate", "firmware", "verify", "unity", "simulate"]
+EXPECTED += ["bench", "all"]
+
+
+def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    raise AssertionError("no subcommands")
+
+
+def test_every_command_is_there_and_documents_every_option() -> None:
+    parser = cli.build_parser()
+    assert parser.prog == "bldc-codegen"
+    commands = _subparsers(parser)
+    assert list(commands) == EXPECTED
+    for name, sub in commands.items():
+        assert sub.prog == f"bldc-codegen {name}"
+        assert sub.description, name
+        for action in sub._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            assert action.help, f"{name} {action.option_strings or action.dest} has no help"
+
+
+def test_version_and_help(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as caught:
+        cli.main(["--version"])
+    assert caught.value.code == 0
+    assert capsys.readouterr().out.strip() == f"bldc-codegen {__version__}"
+    for name in EXPECTED:
+        with pytest.raises(SystemExit) as caught:
+            cli.main([name, "--help"])
+        assert caught.value.code == 0
+        out = capsys.readouterr().out
+        assert out.startswith(f"usage: bldc-codegen {name}"), name
+
+
+def test_a_usage_error_exits_2_and_a_bad_spec_3(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(SystemExit) as caught:
+        cli.main(["generate"])
+    assert caught.value.code == ExitCode.USAGE
+    assert "the following arguments are required: SPEC" in capsys.readouterr().err
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SPEC.read_text().replace("0.56 mH", "0.56 mh"))
+    assert cli.main(["derive", str(bad)]) == ExitCode.SPEC
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {bad}:") and "did you mean 'mH'?" in err
+
+
+def test_an_internal_error_is_one_line_saying_where(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    def broken(*_: object) -> None:
+        raise ZeroDivisionError("planted")
+
+    monkeypatch.setattr("codegen.derivation.figures.spec_figures", broken)
+    assert cli.main(["derive", str(SPEC)]) == ExitCode.INTERNAL
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith("internal error (a bug in bldc-codegen, not in your spec):")
+    assert "ZeroDivisionError: planted at tests/test_cli_commands.py:" in err[0]
+    with pytest.raises(ZeroDivisionError):
+        cli.main(["--traceback", "derive", str(SPEC)])
+
+
+def test_a_command_is_one_registration(capsys: pytest.CaptureFixture[str]) -> None:
+    def run(args: argparse.Namespace) -> int:
+        print(f"pil {args.spec}")
+        return 0
+
+    def arguments(parser: argparse.ArgumentParser) -> None:
+        parser.add_argument("spec", help="motor spec")
+
+    cli.register(
+        cli.Command("pil-test", "processor in the loop", "A test command.", arguments, run)
+    )
+    try:
+        assert cli.main(["pil-test", "x.yaml"]) == 0
+        assert capsys.readouterr().out == "pil x.yaml\n"
+    finally:
+        del cli.COMMANDS["pil-test"]
+
+
+def _copy_generated(tmp_path: Path, name: str = "paper_motor") -> Path:
+    target = tmp_path / "generated" / name
+    shutil.copytree(ROOT / "generated" / name, target)
+    return target
+
+
+def test_commands_that_read_generated_output_refuse_stale_output(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    spec = tmp_path / "paper_motor.yaml"
+    spec.write_text(SPEC.read_text())
+    assert cli.main(["firmware", str(spec)]) == ExitCode.STALE
+    assert "has no generated output" in capsys.readouterr().err
+    generated = _copy_generated(tmp_path)
+    assert cli.main(["firmware", str(spec), "--json"]) == 0  # fresh: the copy is this spec's
+    assert json.loads(capsys.readouterr().out)["sizes"]["core"]["flash"] > 0
+    spec.write_text(SPEC.read_text().replace("dead_time: 500 ns", "dead_time: 400 ns"))
+    for command in ("firmware", "verify", "unity", "bench"):
+        assert cli.main([command, str(spec)]) == ExitCode.STALE, command
+        err = capsys.readouterr().err
+        assert "was generated from another version of the spec" in err, command
+        assert f"regenerate with `bldc-codegen generate {spec}`" in err, command
+    spec.write_text(SPEC.read_text())
+    (generated / "c" / "bldc_commutation.c").write_text("/* edited */\n")
+    assert cli.main(["unity", str(spec)]) == ExitCode.STALE
+    assert "c/bldc_commutation.c differs from what bldc-codegen wrote" in capsys.readouterr().err
+    manifest = json.loads((ROOT / "generated/paper_motor/manifest.json").read_text())
+    manifest["generator_version"] = "0.0.1"
+    shutil.copy(ROOT / "generated/paper_motor/c/bldc_commutation.c", generated / "c")
+    (generated / "manifest.json").write_text(json.dumps(manifest))
+    assert cli.main(["verify", str(spec)]) == ExitCode.STALE
+    assert f"bldc-codegen 0.0.1, this is {__version__}" in capsys.readouterr().err
+
+
+def test_paths_resolve_against_the_working_directory_outside_the_repo(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    before = (ROOT / "generated" / "paper_motor" / "manifest.json").read_bytes()
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "specs").mkdir()
+    (tmp_path / "specs" / "mine.yaml").write_text(
+        SPEC.read_text().replace("name: paper_motor", "name: mine")
+    )
+    assert cli.main(["generate", "specs/mine.yaml", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["output"] == "generated/mine"
+    assert (tmp_path / "generated" / "mine" / "manifest.json").is_file()
+    assert cli.main(["generate", str(tmp_path / "specs" / "mine.yaml"), "-o", "out/x"]) == 0
+    assert "-> out/x" in capsys.readouterr().out
+    assert (tmp_path / "out" / "x" / "c" / "bldc_commutation.c").is_file()
+    assert not (ROOT / "generated" / "mine").exists()
+    assert (ROOT / "generated" / "paper_motor" / "manifest.json").read_bytes() == before
+
+
+def test_init_converts_datasheet_values_and_records_each_conversion(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "drone", "--pole-pairs", "7", "--kv", "625"]
+    argv += ["--resistance-line-to-line", "0.1 ohm", "--inductance-line-to-line", "30 uH"]
+    argv += ["--bus-voltage", "12 V", "--pwm-frequency", "16 kHz"]
+    assert cli.main(argv) == 0
+    assert capsys.readouterr().out == "init: wrote spec/drone.yaml\n"
+    spec = load_spec(tmp_path / "spec" / "drone.yaml")
+    assert spec.motor.poles == 14
+    assert float(spec.motor.phase_resistance_ohm) == pytest.approx(0.05)
+    assert float(spec.motor.phase_inductance_h) == pytest.approx(15e-6)
+    assert spec.motor.back_emf_convention == "line_to_line"
+    assert float(spec.motor.back_emf_constant_v_per_rpm) == pytest.approx(1 / 625 / 2)
+    sources = dict(spec.sources)
+    assert "7 pole pairs, poles = 2 x pole pairs" in sources["motor.poles"]
+    assert "Kv = 625 rpm/V" in sources["motor.back_emf_constant"]
+    assert "1/Kv = 1.6 V/krpm" in sources["motor.back_emf_constant"]
+    assert "line-to-line / 2" in sources["motor.phase_resistance"]
+    assert "line-to-line / 2" in sources["motor.phase_inductance"]
+    assert sources["motor.rotor_inertia"].startswith("assumption:")
+    assert cli.main(["init", "drone"]) == ExitCode.USAGE  # never overwrites by surprise
+    assert "exists" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("name", "datasheet", "edit"),
+    [
+        pytest.param(
+            "hub46",
+            [
+                *("--pole-pairs", "23", "--ke", "60 V/krpm"),
+                *("--resistance-line-to-line", "0.24 ohm", "--inductance", "0.25 mH"),
+                *("--bus-voltage", "48 V", "--speed-max", "360 rpm", "--braking-current", "8 A"),
+            ],
+            ("sequence: [5, 4, 6, 2, 3, 1]", "sequence: [3, 2, 6, 4, 5, 1]"),
+            id="46-pole-hub-cut-off-200-rpm-reversed-hall-order",
+        ),
+        pytest.param(
+            "drone14",
+            [
+                *("--poles", "14", "--kv", "625", "--resistance-line-to-line", "0.1 ohm"),
+                *("--inductance-line-to-line", "30 uH", "--bus-voltage", "12 V"),
+                *("--speed-max", "7000 rpm", "--pwm-frequency", "16 kHz"),
+            ],
+            ("pwm_alignment: edge", "pwm_alignment: center"),
+            id="14-pole-7000-rpm-line-to-line-centre-aligned-16-kHz",
+        ),
+        pytest.param(
+            "conventional",
+            [
+                *("--ke-line-to-line", "8 V/krpm", "--resistance", "0.3 ohm"),
+                *("--inductance", "0.4 mH", "--bus-voltage", "24 V", "--braking-current", "6 A"),
+            ],
+            ("method: improved", "method: conventional"),
+            id="conventional-method",
+        ),
+    ],
+)
+def test_a_new_users_motor_goes_through_every_step_outside_the_repo(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    name: str,
+    datasheet: list[str],
+    edit: tuple[str, str],
+) -> None:
+    """init, edit, generate, firmware, unity, verify from an empty folder outside the
+    repo (simulate and bench are the owning modules' to make robust; run by hand)."""
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["init", name, *datasheet]) == 0
+    spec = Path("spec") / f"{name}.yaml"
+    spec.write_text(spec.read_text().replace(*edit))
+    assert cli.main(["generate", str(spec)]) == 0
+    assert cli.main(["firmware", str(spec)]) == 0
+    assert (tmp_path / "build" / name / "firmware.elf").is_file()
+    assert cli.main(["unity", str(spec)]) == 0
+    if name == "hub46":
+        assert cli.main(["verify", str(spec), "--no-progress", "--random", "2000"]) == 0
+        assert (tmp_path / "generated" / name / "verify" / "report.json").is_file()
+        assert cli.main(["generate", str(spec)]) == 0  # the report survives a regenerate
+        assert (tmp_path / "generated" / name / "verify" / "report.json").is_file()
+
+
+def test_the_module_entry_points_stay_and_unity_run_has_help() -> None:
+    for module in ("codegen", "verify.unity_run"):
+        result = subprocess.run(
+            [sys.executable, "-m", module, "--help"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert result.returncode == 0, result.stderr
+        assert "Traceback" not in result.stderr and result.stdout.startswith("usage:")
+
+
+def test_make_targets_honour_spec(tmp_path: Path) -> None:
+    def dry_run(*args: str) -> str:
+        return subprocess.run(
+            ["make", "-n", "--no-print-directory", *args],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+
+    for target in ("derive", "generate", "firmware", "bench"):
+        out = dry_run(target, "SPEC=my/motor.yaml")
+        assert f"-m codegen {target} my/motor.yaml" in out, (target, out)
+        assert "spec/paper_motor.yaml" not in out, (target, out)
+    for target in ("verify", "unity", "simulate"):
+        out = dry_run(target, "SPEC=my/motor.yaml")
+        assert "for spec in my/motor.yaml; do" in out, (target, out)
+        assert f"-m codegen {target} $spec" in out, (target, out)
+    assert "spec/paper_motor_improved_r.yaml" in dry_run("verify")
+    assert "spec/example_maxon_ec45_flat_48v.yaml" in dry_run("simulate")
+    assert "-m codegen firmware spec/paper_motor.yaml" in dry_run("firmware")
+
+
+def test_a_bad_spec_is_reported_without_loading_the_derivation(tmp_path: Path) -> None:
+    """The spec-error path needs no SymPy: the loader runs before any heavy import."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SPEC.read_text().replace("0.56 mH", "0.56 mh"))
+    code = (
+        "import sys; from bldc import cli;"
+        f"status = cli.main(['generate', {str(bad)!r}, '-o', {str(tmp_path / 'out')!r}]);"
+        "print(status, 'sympy' in sys.modules)"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+    )
+    assert result.stdout.split() == [str(int(ExitCode.SPEC)), "False"], result.stderr

@@ -1,0 +1,232 @@
+"""Regression tests for every case of issue 15 ("hostile and careless input").
+
+Each case is a mutation of spec/paper_motor.yaml run through the real CLI in a
+subprocess (`python -m codegen generate SPEC -o DIR`): it must exit with the bad-spec
+code, print one `error:` line per problem naming the key, never a traceback, and write
+nothing. A time limit guards against hangs (it is a guard, not a speed measurement).
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from codegen.errors import ExitCode
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+TEXT = SPEC.read_text(encoding="utf-8")
+HANG_GUARD_S = 60
+
+
+def replace(old: str, new: str) -> Callable[[str], str]:
+    def mutate(text: str) -> str:
+        assert text.count(old) == 1, old
+        return text.replace(old, new)
+
+    return mutate
+
+
+def with_operating_points(block: str) -> Callable[[str], str]:
+    def mutate(text: str) -> str:
+        start = text.index("operating_points:\n")
+        end = text.index("\nsources:")
+        return text[:start] + block + "\n" + text[end:]
+
+    return mutate
+
+
+ALIAS_BOMB = "lol0: &l0 [x, x, x, x, x, x, x, x, x]\n" + "".join(
+    f"lol{i}: &l{i} [{', '.join([f'*l{i - 1}'] * 9)}]\n" for i in range(1, 10)
+)
+MANY_POINTS = "operating_points:\n" + "".join(
+    f"  - {{speed: {300 + i} rpm, main_duty: 0.42}}\n" for i in range(2000)
+)
+
+CASES = [
+    # Tracebacks
+    pytest.param(
+        replace("2.36 V/krpm", "1e-400 V/krpm"),
+        ("motor.back_emf_constant", "1e-403 V/rpm is out of range"),
+        id="back-emf-constant-1e-400",
+    ),
+    pytest.param(
+        replace("speed_min: 200 rpm", "speed_min: 1e-400 rpm"),
+        ("controller.speed_min", "out of range"),
+        id="speed-min-1e-400",
+    ),
+    pytest.param(
+        replace("current_gain: 50 mV/A", "current_gain: 1e-400 mV/A"),
+        ("adc.current_gain", "out of range"),
+        id="current-gain-1e-400",
+    ),
+    pytest.param(
+        with_operating_points("operating_points: []"),
+        ("operating_points = []", "at least one"),
+        id="operating-points-empty",
+    ),
+    pytest.param(
+        replace("description: Table", f"description: {'[' * 5000}{']' * 5000} # Table"),
+        ("description", "nested deeper than 16 levels"),
+        id="deeply-nested-lists",
+    ),
+    pytest.param(
+        replace("description: Table", f"description: {'{a: ' * 5000}1{'}' * 5000} # Table"),
+        ("description", "nested deeper than 16 levels"),
+        id="deeply-nested-maps",
+    ),
+    # Hangs
+    pytest.param(
+        lambda text: ALIAS_BOMB + text,
+        ("expands to more than 10000 values",),
+        id="alias-bomb",
+    ),
+    pytest.param(
+        with_operating_points(MANY_POINTS),
+        ("operating_points", "lists 2000 points", "1 to 16"),
+        id="2000-operating-points",
+    ),
+    # Nonsense accepted
+    pytest.param(
+        replace("  poles: 2\n", "  poles: 1:00\n"),
+        ("motor.poles = '1:00'", "must be an integer, got a string"),
+        id="yaml-1.1-base-60",
+    ),
+    pytest.param(
+        replace("rated_voltage: 24 V", "rated_voltage: ٢٤ V"),
+        ("motor.rated_voltage", "ASCII digits"),
+        id="arabic-indic-digits",
+    ),
+    pytest.param(
+        replace("phase_resistance: 0.21 ohm", "phase_resistance: 100 ohm"),
+        ("controller.braking_current_nominal", "R x I = 100 ohm x 5 A = 500 V", "back-EMF"),
+        id="100-ohm-with-5-A",
+    ),
+    pytest.param(
+        replace("braking_current_nominal: 5 A", "braking_current_nominal: 1e-9 A"),
+        ("controller.braking_current_nominal", "below one current-ADC code"),
+        id="braking-current-1e-9-A",
+    ),
+    pytest.param(
+        replace("dead_time: 500 ns", "dead_time: 0 ns"),
+        ("inverter.dead_time", "0 s is out of range", "(0, 5e-06] s"),
+        id="dead-time-0",
+    ),
+    pytest.param(
+        replace("commutation_time_ticks: 8", "commutation_time_ticks: 1024"),
+        ("accuracy.commutation_time_ticks", "(0.5, 64] Hall timer ticks"),
+        id="time-budget-1024-ticks",
+    ),
+    pytest.param(
+        lambda text: text[: text.index("sources:")] + "sources: {}\n",
+        ("sources = {}", "values do not say where they come from"),
+        id="sources-empty",
+    ),
+    # Error messages
+    pytest.param(
+        lambda _: b"\x00\x01\x02\xff\xfe binary",
+        ("not UTF-8 text",),
+        id="binary-input",
+    ),
+    pytest.param(
+        replace("0.56 mH", "0.56 mh"),
+        ("motor.phase_inductance", "did you mean 'mH'?"),
+        id="unit-typo-suggestion",
+    ),
+]
+
+
+def run_generate(spec: Path, output: Path | str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "codegen", "generate", str(spec), "-o", str(output)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=HANG_GUARD_S,
+        check=False,
+    )
+
+
+@pytest.mark.parametrize(("mutate", "fragments"), CASES)
+def test_a_hostile_spec_exits_3_with_one_line_per_error_and_writes_nothing(
+    tmp_path: Path, mutate: Callable[[str], str], fragments: tuple[str, ...]
+) -> None:
+    spec = tmp_path / "spec.yaml"
+    content = mutate(TEXT)
+    spec.write_bytes(content if isinstance(content, bytes) else content.encode("utf-8"))
+    output = tmp_path / "out"
+    result = run_generate(spec, output)
+    assert result.returncode == ExitCode.SPEC, result.stderr
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.splitlines()
+    assert lines and all(line.startswith(f"error: {spec}") for line in lines), lines
+    for fragment in fragments:
+        assert fragment in result.stderr, (fragment, result.stderr)
+    assert not output.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
+
+
+def test_output_into_the_file_system_root_is_refused_in_one_line(tmp_path: Path) -> None:
+    result = run_generate(SPEC, "/")
+    assert result.returncode == ExitCode.ENVIRONMENT
+    assert result.stderr.strip().splitlines() == [
+        "error: output: / is a file-system root: choose a folder inside it"
+    ]
+
+
+def test_several_errors_are_reported_at_once_each_on_its_own_line(tmp_path: Path) -> None:
+    spec = tmp_path / "spec.yaml"
+    text = TEXT.replace("0.56 mH", "0.56 mh").replace("  poles: 2\n", "  poles: 3\n")
+    text = text.replace("pwm_alignment: edge", "pwm_alignment: egde")
+    spec.write_text(text.replace("method: improved", "methd: improved"), encoding="utf-8")
+    result = run_generate(spec, tmp_path / "out")
+    assert result.returncode == ExitCode.SPEC
+    lines = result.stderr.splitlines()
+    keys = [line.split(": ", 2)[2].split(" = ")[0] for line in lines]
+    assert keys == [
+        "motor.phase_inductance",
+        "motor.poles",
+        "inverter.pwm_alignment",
+        "controller.methd",
+        "controller.method",
+    ], lines
+    assert "did you mean 'edge'?" in lines[2]
+    assert "did you mean 'method'?" in lines[3]
+    assert all(line.split(": ", 2)[1].startswith(f"{spec}:") for line in lines[:4])  # line no.
+
+
+def test_a_warning_is_printed_once_and_can_be_silenced_in_the_spec(tmp_path: Path) -> None:
+    # R x I_min = 0.21 ohm x 3 A = 0.63 V > E(200 rpm) = 2.36 V/krpm x 200 rpm = 0.47 V.
+    text = TEXT.replace("braking_current_min: 0 A", "braking_current_min: 3 A")
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(text, encoding="utf-8")
+    from codegen.spec_loader import load_spec
+
+    warnings = load_spec(spec).warnings
+    assert [w.id for w in warnings] == ["braking-current-min-at-speed-min"]
+    line = str(warnings[0])
+    assert "controller.braking_current_min = '3 A'" in line
+    assert "below 266.949 rpm no current in the designed range can be held" in line
+    assert "silence with `warnings: {silence: [braking-current-min-at-speed-min]}`" in line
+    silenced = tmp_path / "silenced.yaml"
+    silenced.write_text(
+        text + "\nwarnings:\n  silence: [braking-current-min-at-speed-min]\n", encoding="utf-8"
+    )
+    spec_silenced = load_spec(silenced)
+    assert spec_silenced.warnings == ()
+    assert spec_silenced.silenced_warnings == ("braking-current-min-at-speed-min",)
+
+
+def test_an_unknown_warning_id_is_an_error_that_suggests_the_right_one(tmp_path: Path) -> None:
+    from codegen.errors import SpecError
+    from codegen.spec_loader import load_spec
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(TEXT + "\nwarnings:\n  silence: [dead-time-shrot]\n", encoding="utf-8")
+    with pytest.raises(SpecError, match=r"did you mean 'dead-time-short'\?") as caught:
+        load_spec(spec)
+    assert caught.value.path == "warnings.silence[0]"

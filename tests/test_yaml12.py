@@ -1,0 +1,115 @@
+"""codegen.yaml12: YAML 1.2 core-schema values, and hostile documents stopped early."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+
+from codegen.yaml12 import ExactFloat, Limits, YamlError, read_yaml
+
+
+def value(text: str) -> object:
+    data, _ = read_yaml(f"v: {text}\n".encode())
+    assert isinstance(data, dict)
+    return data["v"]
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        # YAML 1.1 literals that 1.2's core schema reads as strings
+        ("1:00", "1:00"),
+        ("yes", "yes"),
+        ("No", "No"),
+        ("on", "on"),
+        ("OFF", "OFF"),
+        ("y", "y"),
+        ("1_000", "1_000"),
+        ("2001-12-14", "2001-12-14"),
+        ("0b101", "0b101"),
+        ("٢٤", "٢٤"),  # Arabic-Indic digits are not a number
+        ("２４", "２４"),  # nor are full-width ones
+        # the core schema's own values
+        ("010", 10),  # decimal in 1.2, octal 8 in 1.1
+        ("0o17", 15),
+        ("0x1F", 31),
+        ("-12", -12),
+        ("+7", 7),
+        ("true", True),
+        ("FALSE", False),
+        ("~", None),
+        ("null", None),
+        ("", None),
+        ("'12'", "12"),
+        ("!!str 12", "12"),
+        ("!!float 1", 1.0),
+    ],
+)
+def test_plain_scalars_follow_the_yaml_1_2_core_schema(text: str, expected: object) -> None:
+    got = value(text)
+    assert got == expected
+    if isinstance(expected, bool) or expected is None:
+        assert got is expected
+    else:  # an ExactFloat is a float; 1 is not True
+        assert isinstance(got, type(expected)) and not isinstance(got, bool)
+
+
+def test_floats_keep_their_exact_decimal_value() -> None:
+    got = value("0.42")
+    assert isinstance(got, ExactFloat) and got.exact == Fraction(21, 50)
+    tiny = value("1e-400")
+    assert isinstance(tiny, ExactFloat) and tiny == 0.0 and tiny.exact == Fraction(1, 10**400)
+    assert value(".inf") == float("inf") and value("-.Inf") == float("-inf")
+    nan = value(".NaN")
+    assert isinstance(nan, float) and nan != nan
+
+
+@pytest.mark.parametrize(
+    ("document", "fragment", "path"),
+    [
+        (b"a: &x [*x]\n", "recursive alias *x", "a"),
+        (b"a: &x {b: *x}\n", "recursive alias *x", "a"),
+        (b"a: *nope\n", "found undefined alias 'nope'", "a"),
+        (b"a: " + b"[" * 40 + b"]" * 40 + b"\n", "nested deeper than 16 levels", "a"),
+        (b"a: !!python/object:os.system x\n", "YAML tag !!python/object:os.system", "a"),
+        (b"a: !!binary aGk=\n", "YAML tag !!binary is not allowed", "a"),
+        (b"a: !!int 1.5\n", "'1.5' is not a valid int", "a"),
+        (b"a: 1\nb: 2\na: 3\n", "duplicate key 'a' (first defined on line 1)", "a"),
+        (b"? [a, b]\n: 1\n", "a mapping key must be a plain value", ""),
+        (b"a: " + b"9" * 100 + b"\n", "a number of 100 characters", "a"),
+        (b"a: 1e99999\n", "exponent beyond +-999", "a"),
+        (b"a: 1\nb: \x07\n", "character U+0007 is not allowed", "b"),
+        (b"a: 1\n---\nb: 2\n", "expected a single document", "a"),
+        (b"m:\n  x: 1\n  y: 2: 3\n", "mapping values are not allowed here", "m.y"),
+        (b"a: \xff\n", "not UTF-8 text (byte 0xff at offset 3)", "a"),
+        (b"x" * 300_000, "a spec has at most 262144", ""),
+    ],
+)
+def test_hostile_documents_are_refused_in_one_line(
+    document: bytes, fragment: str, path: str
+) -> None:
+    with pytest.raises(YamlError) as caught:
+        read_yaml(document)
+    assert fragment in caught.value.problem
+    assert "\n" not in caught.value.problem
+    assert caught.value.path == path
+
+
+def test_an_alias_bomb_is_stopped_by_the_expansion_limit() -> None:
+    bomb = "a0: &a0 [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]\n" for i in range(1, 12)
+    )
+    with pytest.raises(YamlError, match="expands to more than 10000 values"):
+        read_yaml(bomb.encode())
+    small = "a: &a [1, 2]\nb: [*a, *a]\n"
+    data, _ = read_yaml(small.encode())
+    assert data == {"a": [1, 2], "b": [[1, 2], [1, 2]]}
+
+
+def test_limits_are_configurable_and_lines_are_recorded() -> None:
+    with pytest.raises(YamlError, match="nested deeper than 2 levels"):
+        read_yaml(b"a:\n  b:\n    c: 1\n", Limits(max_depth=2))
+    data, lines = read_yaml(b"a:\n  b: 1\n  c: [1, 2]\n'': 3\n")
+    assert data == {"a": {"b": 1, "c": [1, 2]}, "": 3}
+    assert lines == {"a": 2, "a.b": 2, "a.c": 3, "a.c[0]": 3, "a.c[1]": 3, "['']": 4}
