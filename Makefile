@@ -73,12 +73,12 @@ unity: setup
 	done
 
 lint: setup
-	$(PY) -m ruff check codegen verify sim tests
-	$(PY) -m ruff format --check codegen verify sim tests
+	$(PY) -m ruff check codegen verify sim emulation tests
+	$(PY) -m ruff format --check codegen verify sim emulation tests
 
 format: setup
-	$(PY) -m ruff format codegen verify sim tests
-	$(PY) -m ruff check --fix codegen verify sim tests
+	$(PY) -m ruff format codegen verify sim emulation tests
+	$(PY) -m ruff check --fix codegen verify sim emulation tests
 
 # Regenerate into a temporary folder and fail with a diff if generated/ is stale.
 check-generated: setup
@@ -100,7 +100,7 @@ test: setup lint check-generated
 	$(PY) -m pytest
 
 bench: setup
-	$(PY) -m codegen.bench $(SPEC)
+	$(PY) -m emulation.bench $(SPEC)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache

@@ -1,6 +1,6 @@
 """Instructions and estimated Cortex-M3 cycles of the port's interrupt handlers.
 
-The firmware image that `make firmware` links is run in unicorn (verify.armsim). Each
+The firmware image that `make firmware` links is run in unicorn (emulation.armsim). Each
 Hall edge is staged the way the hardware presents it: the Hall pins in GPIO IDR, the
 captured 60 degree interval in TIM3 CCR1, TIM3 SR.CC1IF set, and the ADC and duty
 inputs filled (bldc_port_set_bus_voltage(), bldc_port_set_main_duty()); the commutation
@@ -39,8 +39,8 @@ from codegen.port import port_context
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
-from verify.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
-from verify.cycles import estimate_cycles, isr_cycles
+from emulation.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
+from emulation.cycles import estimate_cycles, isr_cycles
 
 TARGET_HALL_INSTRUCTIONS = 64
 TARGET_HALL_CYCLES = 120

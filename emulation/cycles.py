@@ -1,6 +1,6 @@
 """Cortex-M3 cycle estimate of an executed instruction trace.
 
-The emulator (`verify.armsim`) says *which* instructions ran; this module says what they
+The emulator (`emulation.armsim`) says *which* instructions ran; this module says what they
 cost, from the Cortex-M3 Technical Reference Manual r2p1 (ARM DDI 0337I), Table 3-1
 "Cortex-M3 instruction set summary" and section "Load/store timings". The figures assume
 zero wait states (the TRM's premise): on an STM32F103 at 72 MHz the flash has two wait
@@ -51,7 +51,7 @@ import capstone  # type: ignore[import-untyped]
 from capstone import arm_const as arm
 
 if TYPE_CHECKING:
-    from verify.armsim import CallResult, Step
+    from emulation.armsim import CallResult, Step
 
 UdivMode = Literal["estimate", "worst"]
 

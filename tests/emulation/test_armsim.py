@@ -10,8 +10,8 @@ from pathlib import Path
 import capstone  # type: ignore[import-untyped]
 import pytest
 
-from verify.armsim import CortexM3Sim, SimulationError, load_elf
-from verify.cycles import (
+from emulation.armsim import CortexM3Sim, SimulationError, load_elf
+from emulation.cycles import (
     EXCEPTION_ENTRY_CYCLES,
     EXCEPTION_EXIT_CYCLES,
     InstructionClass,

@@ -5,14 +5,14 @@
 * flash and RAM of the commutation code (core + port) and of the whole image;
 * instructions and estimated Cortex-M3 cycles of the three interrupt handlers (Hall
   edge, commutation end, and the next edge's timing at low priority), run in unicorn
-  over all Hall codes, both directions and a sweep of inputs (verify/isr_bench.py);
+  over all Hall codes, both directions and a sweep of inputs (emulation/isr_bench.py);
 * the same for the resistance-aware rule: the SPEC with its method replaced by
-  improved_r, generated and linked under build/bench/ (verify/rule_bench.py): flash and
+  improved_r, generated and linked under build/bench/ (emulation/rule_bench.py): flash and
   RAM with the psi table's share, the three handlers, and the timing handler that runs
   the rule's bisection over a sweep of the whole speed range, bus voltage and current,
   as a share of the shortest sector; no library helper reachable from it;
 * the bus reciprocal: hardware divide (measured) against a lookup table sized for the
-  accuracy target (verify/reciprocal_bench.py), and which one the budget allows;
+  accuracy target (emulation/reciprocal_bench.py), and which one the budget allows;
 * the exhaustive host verification of the spec (`python -m verify`, whole run);
 * the generated Unity tests built for and run on the emulated Cortex-M3 (qemu);
 * the whole simulation of the spec (`python -m sim`: sweep, figures, report).
@@ -80,8 +80,8 @@ def main(argv: list[str]) -> int:
     from codegen.build_firmware import build
     from codegen.generate import fixed_point_design
     from codegen.spec_loader import load_spec
-    from verify.isr_bench import bench, report, shortest_sector_cycles
-    from verify.reciprocal_bench import ReciprocalChoice, table_option
+    from emulation.isr_bench import bench, report, shortest_sector_cycles
+    from emulation.reciprocal_bench import ReciprocalChoice, table_option
 
     spec = argv[0] if argv else "spec/paper_motor.yaml"
     cold = cold_audit_seconds(spec)
@@ -116,7 +116,7 @@ def main(argv: list[str]) -> int:
     )
     for line in reciprocal.lines():
         print(f"bench: {line}")
-    from verify import rule_bench
+    from emulation import rule_bench
 
     started = time.perf_counter()
     rule = rule_bench.run(spec, RULE_BENCH_DIR)

@@ -43,7 +43,7 @@ from unicorn import (
 )
 from unicorn import arm_const as uc_arm
 
-from verify.cycles import disassemble, estimate_cycles
+from emulation.cycles import disassemble, estimate_cycles
 
 PAGE = 0x1000  # unicorn maps whole 4 KiB pages
 STM32F103_RAM_BASE = 0x2000_0000
@@ -123,7 +123,7 @@ class Step(NamedTuple):
 @dataclass(frozen=True)
 class CallResult:
     instructions: int  # executed; condition-failed IT-block instructions are not counted
-    cycles: int  # `verify.cycles.estimate_cycles` with its defaults
+    cycles: int  # `emulation.cycles.estimate_cycles` with its defaults
     trace: tuple[Step, ...]
     return_value: int  # r0
 

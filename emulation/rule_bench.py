@@ -2,7 +2,7 @@
 
 The bench's SPEC is re-used with its method replaced by improved_r (a spec that already
 has it is used as it is), generated and linked into a folder of its own (build/bench/ by
-default), and measured with the machinery of verify/isr_bench.py:
+default), and measured with the machinery of emulation/isr_bench.py:
 
 * flash and RAM of core + port, with the share of the core's largest table (the octave
   psi table of the rule);
@@ -34,7 +34,7 @@ from codegen.generate import generate
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from codegen.spec_variant import spec_with_method
-from verify.isr_bench import (
+from emulation.isr_bench import (
     TIMING_HANDLER,
     PortRig,
     Sample,
