@@ -40,7 +40,8 @@ from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
 from emulation.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
-from emulation.cycles import estimate_cycles, isr_cycles
+from emulation.cycles import UdivMode, estimate_cycles, isr_cycles
+from emulation.memory import STM32F103_72MHZ, MemoryTiming
 
 TARGET_HALL_INSTRUCTIONS = 64
 TARGET_HALL_CYCLES = 120
@@ -152,8 +153,9 @@ def sweep(spec: Spec, sc: Scaling, period_points: int = BENCH_PERIOD_POINTS) -> 
 class PortRig:
     """The linked image in unicorn, with the timers and the NVIC played around it."""
 
-    def __init__(self, spec: Spec, elf: Path) -> None:
+    def __init__(self, spec: Spec, elf: Path, timing: MemoryTiming = STM32F103_72MHZ) -> None:
         self.spec = spec
+        self.memory_timing = timing
         self.sim = CortexM3Sim(load_elf(elf))
         self.sim.call("bldc_port_init")
         self.pins = port_context(spec)["hall_pins"]
@@ -248,11 +250,15 @@ class PortRig:
 
     def cost(self, result: CallResult) -> Sample:
         """Instructions and cycles of a handler call, exception entry and exit included."""
-        return Sample(
-            result.instructions,
-            isr_cycles(estimate_cycles(result.trace, self.sim, udiv_mode="worst")),
-            isr_cycles(estimate_cycles(result.trace, self.sim, udiv_mode="estimate")),
-        )
+        entry = result.trace[0].address
+
+        def cycles(mode: UdivMode) -> int:
+            body = estimate_cycles(
+                result.trace, self.sim, udiv_mode=mode, timing=self.memory_timing, after_exception=True
+            )
+            return isr_cycles(body, entry)
+
+        return Sample(result.instructions, cycles("worst"), cycles("estimate"))
 
     def part(self, result: CallResult, symbol: Symbol) -> Sample:
         """The cost of the steps of a call that ran inside `symbol` (no entry or exit)."""
@@ -261,8 +267,8 @@ class PortRig:
         ]
         return Sample(
             len(inside),
-            estimate_cycles(inside, self.sim, udiv_mode="worst").cycles,
-            estimate_cycles(inside, self.sim, udiv_mode="estimate").cycles,
+            estimate_cycles(inside, self.sim, udiv_mode="worst", timing=self.memory_timing).cycles,
+            estimate_cycles(inside, self.sim, udiv_mode="estimate", timing=self.memory_timing).cycles,
         )
 
     def entries(self, trace: Iterable[Step]) -> Counter[str]:
