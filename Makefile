@@ -99,8 +99,11 @@ check-generated: setup
 test: setup lint check-generated
 	$(PY) -m pytest
 
+# Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the
+# driver (python -m emulation --help): BENCH_FLAGS=--report-only, --only handlers,peers.
+BENCH_FLAGS ?=
 bench: setup
-	$(PY) -m emulation.bench $(SPEC)
+	$(PY) -m emulation $(SPEC) $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -71,7 +72,10 @@ def section_sizes(path: Path) -> Sizes:
     return Sizes(sections)
 
 
-def build(generated: Path, build_dir: Path) -> dict[str, Sizes]:
+def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> dict[str, Sizes]:
+    """Compile and link; `defines` are NAME=VALUE macros for every source (the bench
+    builds the port's alternatives with them). Each object's stack frames are written
+    beside it (-fstack-usage, `<name>.su`)."""
     build_dir.mkdir(parents=True, exist_ok=True)
     objects = {}
     for name, source in SOURCES.items():
@@ -80,6 +84,8 @@ def build(generated: Path, build_dir: Path) -> dict[str, Sizes]:
             [
                 "arm-none-eabi-gcc",
                 *CFLAGS,
+                "-fstack-usage",
+                *(f"-D{d}" for d in defines),
                 f"-I{generated / 'c'}",
                 "-c",
                 str(generated / source),

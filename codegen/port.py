@@ -289,6 +289,30 @@ def _edge_context(spec: Spec) -> dict[str, object]:
     }
 
 
+def _pin_groups(pins: tuple[Pin, ...], mode: str, cnf: str, bsrr: str) -> list[dict[str, object]]:
+    """The pins by configuration register (GPIOx CRL/CRH): one read-modify-write and one
+    BSRR write per register configure all of its pins."""
+    groups: dict[tuple[str, str], list[Pin]] = {}
+    for pin in pins:
+        groups.setdefault((pin.port, "CRL" if pin.number < 8 else "CRH"), []).append(pin)
+    return [
+        {
+            "port": port,
+            "cr": cr,
+            "bsrr": " | ".join(f"GPIO_BSRR_{bsrr}{p.number}" for p in members),
+            "mask": " | ".join(
+                f"GPIO_{cr}_MODE{p.number}_Msk | GPIO_{cr}_CNF{p.number}_Msk" for p in members
+            ),
+            "value": [
+                f"({mode} << GPIO_{cr}_MODE{p.number}_Pos) | ({cnf} << GPIO_{cr}_CNF{p.number}_Pos)"
+                for p in members
+            ],
+            "pins": [f"P{p.port[-1]}{p.number} {p.signal}: {p.role}" for p in members],
+        }
+        for (port, cr), members in groups.items()
+    ]
+
+
 def port_context(
     spec: Spec, *, hall_timer_input_clock_hz: Fraction | None = None
 ) -> dict[str, object]:
@@ -341,8 +365,10 @@ def port_context(
     volts = sc.volts_per_bus_code
     # X = k_x / (T B) counts: a bus code H off moves it most at the top speed and the
     # lowest bus code.
-    stale = sc.k_x * BUS_HYSTERESIS_CODES / (
-        sc.period_min_ticks * sc.bus_code_min * (sc.bus_code_min + BUS_HYSTERESIS_CODES)
+    stale = (
+        sc.k_x
+        * BUS_HYSTERESIS_CODES
+        / (sc.period_min_ticks * sc.bus_code_min * (sc.bus_code_min + BUS_HYSTERESIS_CODES))
     )
     defines = [
         _define(
@@ -407,6 +433,12 @@ def port_context(
         "defines": defines,
         "output_pins": [_pin(p) for p in OUTPUT_PINS],
         "hall_pins": [_pin(p, 1 << (2 - i)) for i, p in enumerate(HALL_PINS)],
+        "hall_pin_groups": _pin_groups(
+            HALL_PINS, "BLDC_PORT_GPIO_MODE_INPUT", "BLDC_PORT_GPIO_CNF_INPUT_PULL", "BS"
+        ),
+        "output_pin_groups": _pin_groups(
+            OUTPUT_PINS, "BLDC_PORT_GPIO_MODE_OUTPUT_50MHZ", "BLDC_PORT_GPIO_CNF_AF_PUSH_PULL", "BR"
+        ),
         "bus_hysteresis_codes": BUS_HYSTERESIS_CODES,
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",

@@ -108,6 +108,9 @@ class ArmImage:
     segments: tuple[Segment, ...]
     symbols: dict[str, Symbol]
     ambiguous: frozenset[str] = field(default_factory=frozenset)
+    #: ARM ELF mapping symbols, sorted: (address, "t" for Thumb code or "d" for data such
+    #: as a literal pool inside a function).
+    mapping: tuple[tuple[int, str], ...] = ()
 
     def symbol(self, name: str) -> Symbol:
         if name in self.ambiguous:
@@ -141,10 +144,28 @@ class Step(NamedTuple):
 @dataclass(frozen=True)
 class CallResult:
     instructions: int  # executed; condition-failed IT-block instructions are not counted
-    cycles: int  # `emulation.cycles.estimate_cycles` with its defaults
     trace: tuple[Step, ...]
     return_value: int  # r0
     stack_bytes: int  # below the SP at the call: the deepest stack write it made
+    memory: CortexM3Sim = field(repr=False, compare=False)
+
+    @property
+    def cycles(self) -> int:
+        """`emulation.cycles.estimate_cycles` with its defaults (computed when asked)."""
+        return estimate_cycles(self.trace, self.memory).cycles
+
+
+def _read_mapping(elf: ELFFile) -> tuple[tuple[int, str], ...]:
+    """$t / $a / $d mapping symbols (AAELF 5.5.5): where code and data start."""
+    marks = set()
+    for table in elf.iter_sections():
+        if not isinstance(table, SymbolTableSection):
+            continue
+        for entry in table.iter_symbols():
+            name = entry.name
+            if name[:2] in ("$t", "$a", "$d") and (len(name) == 2 or name[2] == "."):
+                marks.add((entry["st_value"] & ~1, "d" if name[1] == "d" else "t"))
+    return tuple(sorted(marks))
 
 
 def _read_symbols(elf: ELFFile) -> tuple[dict[str, Symbol], frozenset[str]]:
@@ -197,7 +218,8 @@ def load_elf(path: str | Path) -> ArmImage:
             if segment["p_type"] == "PT_LOAD" and segment["p_memsz"] > 0
         )
         symbols, ambiguous = _read_symbols(elf)
-    return ArmImage(path, segments, symbols, ambiguous)
+        mapping = _read_mapping(elf)
+    return ArmImage(path, segments, symbols, ambiguous, mapping)
 
 
 def _divide_sites(segments: Sequence[Segment]) -> dict[int, tuple[int, int]]:
@@ -397,7 +419,7 @@ class CortexM3Sim:
         )
         return CallResult(
             instructions=len(trace),
-            cycles=estimate_cycles(trace, self).cycles,
+            memory=self,
             trace=trace,
             return_value=uc.reg_read(uc_arm.UC_ARM_REG_R0),
             stack_bytes=self.stack_top - deepest,

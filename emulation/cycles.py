@@ -144,8 +144,7 @@ class CycleBreakdown:
     def lines(self) -> list[str]:
         """One line per class, `class  count  cycles`, in the enum's order, for reports."""
         rows = [
-            f"{kind.value:<15} {self.instructions.get(kind, 0):>6}"
-            f" {self.cycles_by_class[kind]:>7}"
+            f"{kind.value:<15} {self.instructions.get(kind, 0):>6} {self.cycles_by_class[kind]:>7}"
             for kind in InstructionClass
             if self.instructions.get(kind) or self.cycles_by_class.get(kind)
         ]

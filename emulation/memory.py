@@ -20,13 +20,17 @@ Flash (RM0008 3.3.3 "Read operations", "Prefetch buffer", "DCode interface"):
   the D-Code bus, bypass the prefetch buffer, and cost one flash read per bus transfer
   (an LDRD is two). They have priority over a queued prefetch, but wait for a read in
   flight.
-* The Cortex-M3 requests each instruction's code two cycles before it executes (its
-  fetch and decode stages); a deeper look-ahead of its fetch queue is not modelled, which
-  errs high for code that runs ahead of the flash.
-* Taken branches keep the TRM's refill P; the target's block, if not in the buffer, adds
-  its read. The core's speculative fetch of a conditional branch's target is not
-  modelled: it would hide some of a taken branch's wait and could evict a prefetched
-  block on a branch not taken.
+* The Cortex-M3's prefetch unit (TRM r2p0 1.4 "Prefetch Unit") fetches 32-bit words in
+  order, at most one a cycle, and buffers up to three of them ahead of decode; an
+  instruction executes the cycle after its last word is decoded, and never earlier than
+  the TRM's timing. A fetch held by wait states holds the next one too.
+* Branches: the TRM's refill P stays the floor. The target of B, B<cond>, BL, CBZ and
+  CBNZ is presented at decode (TRM 1.4); of BX, POP {pc} and other writes to the PC once
+  the instruction has produced it. A conditional branch's target is fetched at decode
+  whether or not the branch is taken ("speculatively presented, consuming a fetch
+  slot"): from flash that is a read into the buffer, which can evict the block the code
+  runs on into (RM0008 does not say the interface treats it otherwise).
+* Requests reach the flash in the order the trace walk makes them.
 
 SRAM (code placed in `.ramfunc`): SRAM has no wait states (RM0008 3.3.1), but code there
 is fetched over the System bus, which also carries every data access to SRAM and to the
@@ -109,8 +113,7 @@ ZERO_WAIT = MemoryTiming("zero wait states", None, 0)
 STM32F103_72MHZ = MemoryTiming("STM32F103 at 72 MHz", 2, 1)
 
 ASSUMPTIONS = (
-    "flash: LATENCY = 2 at 72 MHz, a 64-bit read takes 3 cycles, one read at a time"
-    " (RM0008 3.3.3)",
+    "flash: LATENCY = 2 at 72 MHz, a 64-bit read takes 3 cycles, one read at a time (RM0008 3.3.3)",
     "prefetch buffer: 2 blocks of 8 bytes, direct-mapped; entering block b queues a read"
     " of b + 1; a fetch outside the buffer waits for its block (taken branches: TRM refill"
     " P = 3 plus that read)",

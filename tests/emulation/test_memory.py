@@ -78,7 +78,9 @@ def test_literal_load_from_flash_should_cost_the_wait_states() -> None:
     assert stalls([*lead, load])[-1] == WAIT
     assert stalls([*lead, from_sram])[-1] == 0
     # an LDRD from flash is two D-Code reads, one after the other
-    double = replace(load, cycles=3, accesses=((FLASH + 0x400, 4, False), (FLASH + 0x404, 4, False)))
+    double = replace(
+        load, cycles=3, accesses=((FLASH + 0x400, 4, False), (FLASH + 0x404, 4, False))
+    )
     assert stalls([*lead, double])[-1] == 2 * WAIT
 
 

@@ -26,7 +26,8 @@ from codegen.generate import generate
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from emulation.armsim import load_elf
-from emulation.isr_bench import HALL_HANDLER, TIMING_HANDLER, reached_functions, timing_sweep
+from emulation.callgraph import reached_functions
+from emulation.isr_bench import HALL_HANDLER, TIMING_HANDLER, timing_sweep
 from emulation.rule_bench import (
     METHOD,
     helper_names,
