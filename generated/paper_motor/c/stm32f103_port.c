@@ -309,14 +309,6 @@ BLDC_PORT_FAST_CODE void TIM3_IRQHandler(void)
     }
 }
 
-/* The bus voltage changed beyond the hysteresis: its reciprocals, once per change. Kept
- * out of line so the usual run of the timing handler stays short. */
-BLDC_PORT_COLD static void port_update_bus(void)
-{
-    port.bus_changed = 0u; /* first: a newer code arriving meanwhile sets it again */
-    port.bus = bldc_bus_condition(port.bus_code);
-}
-
 /* The next edge's duties and commutation time, at a lower priority than TIM3. Raised
  * by every COM event (DIER.COMIE), which every Hall edge generates, and pended by
  * software when the bus voltage or, for the methods that use it, the main duty changes.
@@ -327,7 +319,10 @@ void TIM1_TRG_COM_IRQHandler(void)
 {
     TIM1->SR = ~TIM_SR_COMIF;
     if (BLDC_PORT_RARE(port.bus_changed != 0u)) {
-        port_update_bus();
+        /* The bus voltage changed beyond the hysteresis: its reciprocals, once per
+         * change. The flag first: a newer code arriving meanwhile sets it again. */
+        port.bus_changed = 0u;
+        port.bus = bldc_bus_condition(port.bus_code);
     }
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
      * an edge sees the previous timing or this one, never half of either. */
