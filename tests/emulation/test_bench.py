@@ -43,7 +43,7 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         assert expected in names, expected
     assert any(n.startswith("TIM1_TRG_COM_IRQHandler worst") for n in names)
     for figure in report.figures:
-        assert math.isfinite(figure.value) and figure.value >= 0 or figure.name.startswith(
+        assert (math.isfinite(figure.value) and figure.value >= 0) or figure.name.startswith(
             "Hall edge from SRAM"
         ), figure.line()
         assert figure.line().startswith(figure.name)
