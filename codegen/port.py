@@ -21,7 +21,7 @@ from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
 from codegen.render import provenance, render
 from codegen.spec_model import Spec, uses_main_duty
-from codegen.svd import REGS_HEADER, render_regs_header
+from codegen.svd import REGS_HEADER, load_device, render_regs_header
 
 PORT_HEADER_TEMPLATE = "c/stm32f103_port.h.j2"
 PORT_SOURCE_TEMPLATE = "c/stm32f103_port.c.j2"
@@ -313,6 +313,24 @@ def _pin_groups(pins: tuple[Pin, ...], mode: str, cnf: str, bsrr: str) -> list[d
     ]
 
 
+#: RM0008 3.3: the peripheral registers lie in one 512 MB region of the Cortex-M3 map.
+PERIPHERAL_REGION_BYTES = 0x2000_0000
+
+
+def _peripheral_region() -> dict[str, str]:
+    """The start of the peripheral region holding the port's timers and GPIO ports (from
+    the SVD): the handlers build their addresses from it (one MOV, a Thumb-2 modified
+    immediate) instead of loading each from a literal pool in flash."""
+    device = load_device()
+    bases = {device.peripheral(n).base_address for n in ("TIM1", "TIM3", "GPIOA", "GPIOB")}
+    (start,) = {b - b % PERIPHERAL_REGION_BYTES for b in bases}
+    return {
+        "peripheral_region": f"{start:#010x}u",
+        "peripheral_region_text": "start of the peripheral region holding TIM1, TIM3, GPIOA"
+        " and GPIOB (RM0008 3.3, bases from the SVD)",
+    }
+
+
 def port_context(
     spec: Spec, *, hall_timer_input_clock_hz: Fraction | None = None
 ) -> dict[str, object]:
@@ -439,6 +457,7 @@ def port_context(
         "output_pin_groups": _pin_groups(
             OUTPUT_PINS, "BLDC_PORT_GPIO_MODE_OUTPUT_50MHZ", "BLDC_PORT_GPIO_CNF_AF_PUSH_PULL", "BR"
         ),
+        **_peripheral_region(),
         "bus_hysteresis_codes": BUS_HYSTERESIS_CODES,
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",

@@ -203,7 +203,7 @@ static volatile uint32_t *port_compare(TIM_TypeDef *tim1, uint32_t channel)
  * each such load waits two cycles for the flash (RM0008 3.3.3). The empty asm hides the
  * value of the peripheral region's start (one MOV), so the handlers reach TIM1, TIM3 and
  * the GPIO ports with an ADD or an offset from it instead. */
-#define BLDC_PORT_PERIPHERALS 0x40000000u /* RM0008 3.3: start of the peripheral region */
+#define BLDC_PORT_PERIPHERALS 0x40000000u /* start of the peripheral region holding TIM1, TIM3, GPIOA and GPIOB (RM0008 3.3, bases from the SVD) */
 static inline uintptr_t port_peripherals(void)
 {
     uintptr_t anchor = BLDC_PORT_PERIPHERALS;
