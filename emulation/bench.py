@@ -51,7 +51,7 @@ from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.spec_variant import spec_with_method
-from emulation import peers, rule_bench
+from emulation import peers, progress, rule_bench
 from emulation.armsim import load_elf
 from emulation.figures import Figure, misses
 from emulation.isr_bench import (
@@ -537,6 +537,11 @@ def parse(argv: Sequence[str]) -> argparse.Namespace:
         help="small sweeps: checks that the bench runs, not headline figures",
     )
     parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bars on stderr (they show only when stderr is a terminal)",
+    )
+    parser.add_argument(
         "--work",
         type=Path,
         default=DEFAULT_WORK,
@@ -553,6 +558,7 @@ def parse(argv: Sequence[str]) -> argparse.Namespace:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = parse(sys.argv[1:] if argv is None else argv)
+    progress.enabled = sys.stderr.isatty() and not args.no_progress
     sections = args.only.split(",")
     missed: list[tuple[str, Figure]] = []
     for spec_path in args.specs or [Path(DEFAULT_SPEC)]:

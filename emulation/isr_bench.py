@@ -38,6 +38,7 @@ from codegen.svd import load_device
 from emulation.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
 from emulation.cycles import CycleBreakdown, UdivMode, estimate_cycles, isr_cycles
 from emulation.memory import STM32F103_72MHZ, MemoryTiming
+from emulation.progress import progress
 
 TARGET_HALL_INSTRUCTIONS = 64
 TARGET_HALL_CYCLES = 120
@@ -355,26 +356,26 @@ def bench(
             measure_timing(pended)
 
     periods = inputs.periods
-    for direction in (1, -1):
+    runs = [(d, p) for d in (1, -1) for p in periods]
+    for direction, period in progress(runs, f"bench {spec.name} handlers"):
         sequence = spec.hall.sequence if direction > 0 else tuple(reversed(spec.hall.sequence))
-        for period in periods:
-            for bus in inputs.buses:
-                for current in inputs.currents:
-                    for duty in inputs.duties:
-                        set_inputs(bus, current, duty)
-                        for index, code in enumerate(sequence):
-                            # The slowest period also as a Hall timeout (the counter wrapped).
-                            edge = rig.hall_edge(code, period, timeout=period == periods[-1])
-                            hall_edge.append(rig.cost(edge))
-                            # The timing depends on the period, bus, current and duty only,
-                            # the same for every edge of this loop: after the first edge
-                            # (and its commutation end) a rerun would publish the same
-                            # values, so it is skipped.
-                            if index == 0:
-                                measure_timing(rig.timing())
-                            commutation_end.append(rig.cost(rig.commutation_end()))
-                            if rig.com_event() and index == 0:
-                                measure_timing(rig.timing())
+        for bus in inputs.buses:
+            for current in inputs.currents:
+                for duty in inputs.duties:
+                    set_inputs(bus, current, duty)
+                    for index, code in enumerate(sequence):
+                        # The slowest period also as a Hall timeout (the counter wrapped).
+                        edge = rig.hall_edge(code, period, timeout=period == periods[-1])
+                        hall_edge.append(rig.cost(edge))
+                        # The timing depends on the period, bus, current and duty only,
+                        # the same for every edge of this loop: after the first edge
+                        # (and its commutation end) a rerun would publish the same
+                        # values, so it is skipped.
+                        if index == 0:
+                            measure_timing(rig.timing())
+                        commutation_end.append(rig.cost(rig.commutation_end()))
+                        if rig.com_event() and index == 0:
+                            measure_timing(rig.timing())
     # The safe-state paths: an invalid code (000, 111) from a valid one, and back.
     for code in (7, spec.hall.sequence[0], 0, spec.hall.sequence[0]):
         hall_edge.append(rig.cost(rig.hall_edge(code, periods[0])))
@@ -441,7 +442,7 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
     step = 0
     points = []
     bus_changes = []
-    for period in inputs.periods:
+    for period in progress(inputs.periods, f"bench {spec.name} timing sweep"):
         for bus in inputs.buses:
             for current in inputs.currents:
                 for duty in inputs.duties:

@@ -41,6 +41,7 @@ from codegen.spec_model import Spec
 from emulation.armsim import CortexM3Sim, Symbol, load_elf
 from emulation.cycles import estimate_cycles
 from emulation.memory import STM32F103_72MHZ, MemoryTiming
+from emulation.progress import progress
 
 ENTRY = "peer_run"
 OUT = "peer_out"
@@ -393,7 +394,7 @@ def _measure(
     out = sim.image.symbol(OUT).address
     part: Symbol | None = sim.image.symbol(bus_symbol) if bus_symbol else None
     worst, typical, bus_cycles, outputs = [], [], [], []
-    for k in range(len(inputs)):
+    for k in progress(range(len(inputs)), f"bench peer {name}"):
         result = sim.call(
             ENTRY,
             args=(inputs.bus[k], inputs.period[k], inputs.current[k], inputs.duty[k]),
