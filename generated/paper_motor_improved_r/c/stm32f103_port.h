@@ -34,6 +34,9 @@
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
  *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2); a Hall timeout (update
  *         flag, no interrupt) is read by the next edge. Priority BLDC_PORT_HALL_PRIORITY.
+ *         Runs from SRAM with its pin table: section .RamFunc, which the linker script
+ *         must place in .data for the start-up code to copy (STM32Cube's scripts do;
+ *         define BLDC_PORT_HALL_EDGE_IN_FLASH to 1 to keep it in flash instead).
  *   TIM1_TRG_COM_IRQHandler: the next edge's duties and commutation time, raised by
  *         every COM event (DIER.COMIE: each Hall edge and each commutation end) and
  *         pended by software (NVIC set-pending) when the bus voltage or main duty changes.
