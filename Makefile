@@ -98,13 +98,13 @@ unity: setup
 	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) unity $$spec || exit $$?; done
 
 lint: setup
-	$(PY) -m ruff check bldc codegen oracle verify sim tests
-	$(PY) -m ruff format --check bldc codegen oracle verify sim tests
+	$(PY) -m ruff check bldc codegen oracle verify sim emulation tests
+	$(PY) -m ruff format --check bldc codegen oracle verify sim emulation tests
 	$(VENV)/bin/lint-imports
 
 format: setup
-	$(PY) -m ruff format bldc codegen oracle verify sim tests
-	$(PY) -m ruff check --fix bldc codegen oracle verify sim tests
+	$(PY) -m ruff format bldc codegen oracle verify sim emulation tests
+	$(PY) -m ruff check --fix bldc codegen oracle verify sim emulation tests
 
 # Regenerate into a temporary folder and fail with a diff if generated/ is stale: the
 # paper audit (generated/paper/) and every checked-in spec.
@@ -130,8 +130,11 @@ check-generated: setup
 test: setup lint check-generated
 	$(PY) -m pytest
 
+# Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the
+# driver (python -m emulation --help): BENCH_FLAGS=--report-only, --only handlers,peers.
+BENCH_FLAGS ?=
 bench: setup
-	$(CLI) bench $(ONE_SPEC)
+	$(PY) -m emulation $(ONE_SPEC) $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache

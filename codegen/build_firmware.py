@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -30,8 +31,10 @@ SOURCES = {
     "startup": "firmware/startup_stm32f103.c",
     "main": "firmware/main.c",
 }
-FLASH_SECTIONS = (".isr_vector", ".text", ".rodata", ".data")
-RAM_SECTIONS = (".data", ".bss")
+#: .RamFunc holds code and tables that run from SRAM: in flash as the load image, copied
+#: to RAM by the start-up code, so it counts for both.
+FLASH_SECTIONS = (".isr_vector", ".text", ".rodata", ".data", ".RamFunc")
+RAM_SECTIONS = (".data", ".bss", ".RamFunc")
 
 
 @dataclass(frozen=True)
@@ -46,6 +49,16 @@ class Sizes:
     def ram(self) -> int:
         return sum(v for k, v in self.sections.items() if k.startswith(RAM_SECTIONS))
 
+    @property
+    def ram_code(self) -> int:
+        """Of `ram`, the code and tables copied to SRAM to run there (.RamFunc)."""
+        return sum(v for k, v in self.sections.items() if k.startswith(".RamFunc"))
+
+    @property
+    def ram_state(self) -> int:
+        """Of `ram`, the variables (.data, .bss)."""
+        return self.ram - self.ram_code
+
 
 def section_sizes(path: Path) -> Sizes:
     out = subprocess.run(
@@ -59,7 +72,10 @@ def section_sizes(path: Path) -> Sizes:
     return Sizes(sections)
 
 
-def build(generated: Path, build_dir: Path) -> dict[str, Sizes]:
+def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> dict[str, Sizes]:
+    """Compile and link; `defines` are NAME=VALUE macros for every source (the bench
+    builds the port's alternatives with them). Each object's stack frames are written
+    beside it (-fstack-usage, `<name>.su`)."""
     build_dir.mkdir(parents=True, exist_ok=True)
     objects = {}
     for name, source in SOURCES.items():
@@ -68,6 +84,8 @@ def build(generated: Path, build_dir: Path) -> dict[str, Sizes]:
             [
                 "arm-none-eabi-gcc",
                 *CFLAGS,
+                "-fstack-usage",
+                *(f"-D{d}" for d in defines),
                 f"-I{generated / 'c'}",
                 "-c",
                 str(generated / source),
@@ -107,8 +125,12 @@ def main(argv: list[str]) -> int:
         detail = ", ".join(f"{k} {v}" for k, v in sorted(size.sections.items()))
         print(f"  {name:13s} flash {size.flash:5d} B  RAM {size.ram:4d} B  ({detail})")
     code = sizes["core"].flash + sizes["port"].flash
-    ram = sizes["core"].ram + sizes["port"].ram
-    print(f"  commutation code (core + port): flash {code} B of 2048, RAM {ram} B of 64")
+    state = sizes["core"].ram_state + sizes["port"].ram_state
+    ram_code = sizes["core"].ram_code + sizes["port"].ram_code
+    print(
+        f"  commutation code (core + port): flash {code} B of 2048, RAM {state} B of"
+        f" variables and {ram_code} B of code and tables run from SRAM (.RamFunc)"
+    )
     return 0
 
 

@@ -18,9 +18,10 @@ from fractions import Fraction
 
 from codegen.core.hall import edge_index, edge_of_hall_pair
 from codegen.derivation import derive
+from codegen.fixedpoint.scaling import scaling
 from codegen.render import provenance, render
 from codegen.spec_model import Spec, uses_main_duty
-from codegen.svd import REGS_HEADER, render_regs_header
+from codegen.svd import REGS_HEADER, load_device, render_regs_header
 
 PORT_HEADER_TEMPLATE = "c/stm32f103_port.h.j2"
 PORT_SOURCE_TEMPLATE = "c/stm32f103_port.c.j2"
@@ -36,6 +37,11 @@ CMS_CENTER_1 = 1
 #: RM0008 TIMx_CCMR1.IC1F = 0011: f_SAMPLING = f_CK_INT, N = 8 consecutive equal samples.
 HALL_FILTER_IC1F = 0b0011
 HALL_FILTER_SAMPLES = 8
+
+#: Bus codes by which a new bus-voltage sample may differ from the one the timing was
+#: computed for before the bus state is recomputed (BLDC_PORT_BUS_HYSTERESIS_CODES): one
+#: code of ADC noise then costs no recomputation.
+BUS_HYSTERESIS_CODES = 1
 
 #: RM0008 TIMx_BDTR.DTG: the largest dead time, in t_DTS, of the last range
 #: (DTG[7:5] = 111: (32 + 31) x 16).
@@ -162,13 +168,58 @@ def _pin(p: Pin, code_bit: int | None = None) -> dict[str, str]:
     }
 
 
-def _switch_registers(switch: str) -> tuple[str, str, str]:
-    """T1..T6 -> (its CCER enable bit, its partner's, its compare register)."""
-    index = int(switch[1:]) - 1
-    channel = index // 2 + 1
-    own = f"TIM_CCER_CC{channel}{'N' if index % 2 else ''}E"
-    partner = f"TIM_CCER_CC{channel}{'' if index % 2 else 'N'}E"
-    return own, partner, f"CCR{channel}"
+#: RM0008 TIMx_CCER: CCxE is bit 4 (x - 1), CCxNE bit 4 (x - 1) + 2.
+CCER_BITS_PER_CHANNEL = 4
+CCER_COMPLEMENTARY_OFFSET = 2
+#: The packed edge record of the port's pin-indexed table (see EDGE_RECORD_LAYOUT).
+RECORD_CHANNEL_ON_SHIFT = 11
+RECORD_CHANNEL_OFF_SHIFT = 13
+RECORD_FORBIDDEN_SHIFT = 16
+EDGE_RECORD_LAYOUT = (
+    "bits 10:0 CCER during the commutation (turn-on and turn-off switch),"
+    " bits 12:11 and 14:13 the TIM1 channel (0..2 = CCR1..CCR3) of the turn-on and"
+    " turn-off switch, bits 26:16 the CCER bits of their phase partners; 0 = no valid edge"
+)
+
+
+@dataclass(frozen=True)
+class Switch:
+    """One transistor T1..T6 as TIM1 drives it."""
+
+    name: str
+    channel: int  # 0..2: TIM1 CH1..CH3 (phases A, B, C)
+    lower: bool  # CHxN: the lower switch of the phase
+
+    @property
+    def ccer_bit(self) -> int:
+        return 1 << (
+            CCER_BITS_PER_CHANNEL * self.channel + (CCER_COMPLEMENTARY_OFFSET if self.lower else 0)
+        )
+
+    @property
+    def partner_bit(self) -> int:
+        """The CCER bit of the other switch of the same phase."""
+        return 1 << (
+            CCER_BITS_PER_CHANNEL * self.channel + (0 if self.lower else CCER_COMPLEMENTARY_OFFSET)
+        )
+
+
+def switch(name: str) -> Switch:
+    """T1..T6 -> its TIM1 channel and output: T1/T2, T3/T4, T5/T6 are the upper/lower
+    switches of phases A, B, C."""
+    index = int(name[1:]) - 1
+    return Switch(name, index // 2, bool(index % 2))
+
+
+def edge_record(turn_on: Switch, turn_off: Switch) -> int:
+    """The packed record of one commutation edge (EDGE_RECORD_LAYOUT)."""
+    return (
+        turn_on.ccer_bit
+        | turn_off.ccer_bit
+        | turn_on.channel << RECORD_CHANNEL_ON_SHIFT
+        | turn_off.channel << RECORD_CHANNEL_OFF_SHIFT
+        | (turn_on.partner_bit | turn_off.partner_bit) << RECORD_FORBIDDEN_SHIFT
+    )
 
 
 def hall_code_of_pins(raw: int) -> int:
@@ -176,52 +227,107 @@ def hall_code_of_pins(raw: int) -> int:
     return sum(((raw >> i) & 1) << (2 - i) for i in range(3))
 
 
-def _edge_context(spec: Spec) -> dict[str, object]:
-    """The port's per-edge register table, in the core's edge numbering, and the Hall
-    pin decoding."""
+def edge_records(spec: Spec) -> list[int]:
+    """The core's edge of every Hall pin pair, (previous << 3 | now) as the pins read,
+    as the packed record of its switches (0 where the pair is not a commutation)."""
     switching = derive().switching
-    edges = []
+    by_edge: dict[int, int] = {}
     for direction in ("forward", "reverse"):
         for sector in range(6):
             edge = switching.edge_into(sector, direction)
-            on, on_partner, on_ccr = _switch_registers(edge.modulated_on)
-            off, off_partner, off_ccr = _switch_registers(edge.modulated_off)
-            edges.append(
-                {
-                    "index": edge_index(direction, sector),
-                    "ccer_during": f"{on} | {off}",
-                    "forbidden": f"{on_partner} | {off_partner}",
-                    "ccer_after": on,
-                    "on_ccr": on_ccr,
-                    "off_ccr": off_ccr,
-                    "comment": f"{direction} into sector {sector}: {edge.modulated_on} on,"
-                    f" {edge.modulated_off} off",
-                }
+            by_edge[edge_index(direction, sector)] = edge_record(
+                switch(edge.modulated_on), switch(edge.modulated_off)
+            )
+    core_edges = edge_of_hall_pair(spec.hall.sequence)
+    records = []
+    for index in range(64):
+        previous, now = hall_code_of_pins(index >> 3), hall_code_of_pins(index & 7)
+        records.append(by_edge.get(core_edges[(previous << 3) | now], 0))
+    return records
+
+
+def _edge_context(spec: Spec) -> dict[str, object]:
+    """The port's pin-indexed table of packed edge records and the Hall pin decoding."""
+    switching = derive().switching
+    described: dict[int, str] = {}
+    for direction in ("forward", "reverse"):
+        for sector in range(6):
+            edge = switching.edge_into(sector, direction)
+            described[edge_index(direction, sector)] = (
+                f"edge {edge_index(direction, sector)}, {direction} into sector {sector}:"
+                f" {edge.modulated_on} on, {edge.modulated_off} off"
             )
     a, b, c = HALL_PINS
     if not (a.port == b.port and b.number == a.number + 1 and c.port != a.port):
         raise ValueError("the Hall pin read expects two neighbouring pins and one on another port")
     core_edges = edge_of_hall_pair(spec.hall.sequence)
-    edge_of_pins = []
-    for index in range(64):
+    rows = []
+    for index, record in enumerate(edge_records(spec)):
         previous, now = hall_code_of_pins(index >> 3), hall_code_of_pins(index & 7)
         edge = core_edges[(previous << 3) | now]
-        what = "invalid" if edge >= len(edges) else f"edge {edge}"
-        edge_of_pins.append(
+        rows.append(
             {
-                "value": edge,
-                "comment": f"pins {index >> 3:03b} -> {index & 7:03b}: Hall {previous:03b} -> {now:03b}, {what}",
+                "value": f"{record:#010x}u",
+                "comment": f"pins {index >> 3:03b} -> {index & 7:03b}: Hall {previous:03b} ->"
+                f" {now:03b}, {described.get(edge, 'invalid')}",
             }
         )
     return {
         # The improved rule (Eq. 18) does not use the main duty for the commutation.
         "method": spec.controller.method,
         "uses_main_duty": uses_main_duty(spec.controller.method),
-        "port_edges": edges,
-        "edge_of_pins": edge_of_pins,
+        "edge_records": rows,
+        "edge_record_layout": EDGE_RECORD_LAYOUT,
+        "record_on_shift": RECORD_CHANNEL_ON_SHIFT,
+        "record_off_shift": RECORD_CHANNEL_OFF_SHIFT,
+        "record_forbidden_shift": RECORD_FORBIDDEN_SHIFT,
         "pins_expression": f"(({a.port}->IDR >> {a.number}) & 3u) | (({c.port}->IDR >> {c.number} & 1u) << 2)",
+        "pins_expression_anchored": f"((PORT_AT(anchor, {a.port}, GPIO_TypeDef)->IDR >> {a.number}) & 3u) |"
+        f" ((PORT_AT(anchor, {c.port}, GPIO_TypeDef)->IDR >> {c.number} & 1u) << 2)",
         "pins_expression_text": f"P{a.port[-1]}{a.number} | P{b.port[-1]}{b.number} << 1 |"
         f" P{c.port[-1]}{c.number} << 2",
+    }
+
+
+def _pin_groups(pins: tuple[Pin, ...], mode: str, cnf: str, bsrr: str) -> list[dict[str, object]]:
+    """The pins by configuration register (GPIOx CRL/CRH): one read-modify-write and one
+    BSRR write per register configure all of its pins."""
+    groups: dict[tuple[str, str], list[Pin]] = {}
+    for pin in pins:
+        groups.setdefault((pin.port, "CRL" if pin.number < 8 else "CRH"), []).append(pin)
+    return [
+        {
+            "port": port,
+            "cr": cr,
+            "bsrr": " | ".join(f"GPIO_BSRR_{bsrr}{p.number}" for p in members),
+            "mask": " | ".join(
+                f"GPIO_{cr}_MODE{p.number}_Msk | GPIO_{cr}_CNF{p.number}_Msk" for p in members
+            ),
+            "value": [
+                f"({mode} << GPIO_{cr}_MODE{p.number}_Pos) | ({cnf} << GPIO_{cr}_CNF{p.number}_Pos)"
+                for p in members
+            ],
+            "pins": [f"P{p.port[-1]}{p.number} {p.signal}: {p.role}" for p in members],
+        }
+        for (port, cr), members in groups.items()
+    ]
+
+
+#: RM0008 3.3: the peripheral registers lie in one 512 MB region of the Cortex-M3 map.
+PERIPHERAL_REGION_BYTES = 0x2000_0000
+
+
+def _peripheral_region() -> dict[str, str]:
+    """The start of the peripheral region holding the port's timers and GPIO ports (from
+    the SVD): the handlers build their addresses from it (one MOV, a Thumb-2 modified
+    immediate) instead of loading each from a literal pool in flash."""
+    device = load_device()
+    bases = {device.peripheral(n).base_address for n in ("TIM1", "TIM3", "GPIOA", "GPIOB")}
+    (start,) = {b - b % PERIPHERAL_REGION_BYTES for b in bases}
+    return {
+        "peripheral_region": f"{start:#010x}u",
+        "peripheral_region_text": "start of the peripheral region holding TIM1, TIM3, GPIOA"
+        " and GPIOB (RM0008 3.3, bases from the SVD)",
     }
 
 
@@ -273,6 +379,15 @@ def port_context(
     filter_s = Fraction(HALL_FILTER_SAMPLES) / hall_in
 
     pwm = _freq(inv.pwm_frequency_hz)
+    sc = scaling(spec, derive())
+    volts = sc.volts_per_bus_code
+    # X = k_x / (T B) counts: a bus code H off moves it most at the top speed and the
+    # lowest bus code.
+    stale = (
+        sc.k_x
+        * BUS_HYSTERESIS_CODES
+        / (sc.period_min_ticks * sc.bus_code_min * (sc.bus_code_min + BUS_HYSTERESIS_CODES))
+    )
     defines = [
         _define(
             "BLDC_PORT_TIM1_PSC",
@@ -312,6 +427,12 @@ def port_context(
             " the last edge, and a longer interval reads as this value",
         ),
         _define(
+            "BLDC_PORT_BUS_CODE_MAX",
+            f"{sc.bus_code_max}u",
+            f"the core's over-voltage threshold, {float(sc.bus_code_max * volts):.4g} V: crossing it"
+            " always recomputes, whatever the hysteresis",
+        ),
+        _define(
             "BLDC_PORT_TIM3_IC1F",
             f"{HALL_FILTER_IC1F}u",
             f"Hall input filter: {HALL_FILTER_SAMPLES} equal samples at {_freq(hall_in)},"
@@ -330,6 +451,17 @@ def port_context(
         "defines": defines,
         "output_pins": [_pin(p) for p in OUTPUT_PINS],
         "hall_pins": [_pin(p, 1 << (2 - i)) for i, p in enumerate(HALL_PINS)],
+        "hall_pin_groups": _pin_groups(
+            HALL_PINS, "BLDC_PORT_GPIO_MODE_INPUT", "BLDC_PORT_GPIO_CNF_INPUT_PULL", "BS"
+        ),
+        "output_pin_groups": _pin_groups(
+            OUTPUT_PINS, "BLDC_PORT_GPIO_MODE_OUTPUT_50MHZ", "BLDC_PORT_GPIO_CNF_AF_PUSH_PULL", "BR"
+        ),
+        **_peripheral_region(),
+        "bus_hysteresis_codes": BUS_HYSTERESIS_CODES,
+        "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
+        f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",
+        "bus_hysteresis_duty_text": f"{float(stale):.3g} counts",
     }
 
 

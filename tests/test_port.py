@@ -198,11 +198,32 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     assert "__aeabi_" not in dump
     assert not re.search(r"\b[us]div\b", dump)
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
-    # nothing else leaves the object (port_outputs_off is the port's own cold path, in
-    # .text.unlikely), and the Hall edge does not call the core
-    assert called == {"bldc_bus_condition", "bldc_commutation_timing", "port_outputs_off"}
+    # nothing else leaves the object (port_update_bus and port_outputs_off are the port's
+    # own cold paths), and the Hall edge does not call the core
+    assert {"bldc_bus_condition", "bldc_commutation_timing"} <= called
+    assert called <= {
+        "bldc_bus_condition",
+        "bldc_commutation_timing",
+        "port_update_bus",
+        "port_outputs_off",
+    }
     handler = dump[dump.index("<TIM3_IRQHandler>:") :].split("\n\n")[0]
     assert "bldc_" not in handler
+
+
+def test_port_should_compile_warning_free_on_the_host(tmp_path: Path, spec: Spec) -> None:
+    """The same -Werror set as the target build, with the host's gcc (the PRIMASK and
+    anchor asm compile there too; the register header maps the peripherals)."""
+    assert HOST_CC is not None, "no host C compiler"
+    _write_port(tmp_path, spec)
+    flags = ["-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wpedantic", "-Werror", "-O2"]
+    run = subprocess.run(
+        [HOST_CC, *flags, "-c", "stm32f103_port.c", "-o", "port.o"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
 
 
 @pytest.mark.skipif(ARM_GCC is None, reason="arm-none-eabi-gcc missing")
@@ -253,11 +274,13 @@ unsigned fake_nvic_priority[64];
 static bldc_timing_t stub_next = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
 static uint32_t stub_seen[4];
 static unsigned timing_runs;
+static unsigned bus_runs;
 static unsigned long raw_egr, raw_sr; /* TIM1 EGR and TIM3 SR as the Hall edge left them */
 
 bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
     bldc_bus_t bus = {0u, 0u, 0, 0u, bus_code, 0u};
+    ++bus_runs;
     return bus;
 }
 
@@ -337,13 +360,13 @@ static void end_of_commutation(void)
 static void show(const char *step)
 {
     printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu "
-           "in bus=%lu period=%lu cur=%lu duty=%lu runs=%u edge egr=%lu sr=%lu\n",
+           "in bus=%lu period=%lu cur=%lu duty=%lu runs=%u busruns=%u edge egr=%lu sr=%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
            (unsigned long)fake_tim1.CCR2, (unsigned long)fake_tim1.CCR3,
            (unsigned long)fake_tim1.EGR, (unsigned long)fake_tim3.CCR2,
            (unsigned long)fake_tim3.EGR, (unsigned long)stub_seen[0],
            (unsigned long)stub_seen[1], (unsigned long)stub_seen[2],
-           (unsigned long)stub_seen[3], timing_runs, raw_egr, raw_sr);
+           (unsigned long)stub_seen[3], timing_runs, bus_runs, raw_egr, raw_sr);
 }
 
 int main(void)
@@ -430,6 +453,35 @@ int main(void)
     /* Hall timeout since the last edge: the interval reads as the full counter */
     edge(6u, TIM_SR_CC1IF | TIM_SR_UIF, 17u, 10u);
     show("timeout");
+
+    /* The bus state is cached: recomputed only for a change beyond the hysteresis. */
+    timing_runs = 0u;
+    bus_runs = 0u;
+    bldc_port_set_bus_voltage(2000u); /* unchanged */
+    settle();
+    show("bus_same");
+    bldc_port_set_bus_voltage((uint16_t)(2000u + BLDC_PORT_BUS_HYSTERESIS_CODES)); /* noise */
+    settle();
+    show("bus_noise");
+    bldc_port_set_bus_voltage((uint16_t)(2001u + BLDC_PORT_BUS_HYSTERESIS_CODES));
+    settle();
+    show("bus_step");
+    timing_runs = 0u;
+    bus_runs = 0u;
+    edge(2u, TIM_SR_CC1IF, 5000u, 10u); /* an edge recomputes the timing, not the bus */
+    show("bus_edge");
+    bldc_port_set_bus_voltage((uint16_t)BLDC_PORT_BUS_CODE_MAX);
+    settle();
+    timing_runs = 0u;
+    bus_runs = 0u;
+    bldc_port_set_bus_voltage((uint16_t)(BLDC_PORT_BUS_CODE_MAX + 1u)); /* over-voltage */
+    settle();
+    show("bus_over");
+    timing_runs = 0u;
+    bus_runs = 0u;
+    bldc_port_set_bus_voltage((uint16_t)BLDC_PORT_BUS_CODE_MAX); /* and back */
+    settle();
+    show("bus_back");
     return 0;
 }
 """
@@ -602,20 +654,80 @@ def test_invalid_hall_should_disable_all_outputs(host_run: dict[str, dict[str, i
     assert host_run["after_invalid"]["tim1.egr"] == 0
 
 
+def test_bus_state_should_be_recomputed_only_beyond_the_hysteresis(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    # the same code and a change within the hysteresis cost nothing
+    for step in ("bus_same", "bus_noise"):
+        assert (host_run[step]["in.runs"], host_run[step]["in.busruns"]) == (0, 0), step
+    # a larger change recomputes the bus state once and the timing with it
+    r = host_run["bus_step"]
+    assert (r["in.runs"], r["in.busruns"]) == (1, 1)
+    assert r["in.bus"] == 2001 + port.BUS_HYSTERESIS_CODES
+    # the Hall edge's own timing run reuses the cached bus state
+    r = host_run["bus_edge"]
+    assert (r["in.runs"], r["in.busruns"]) == (1, 0)
+    assert r["in.bus"] == 2001 + port.BUS_HYSTERESIS_CODES
+
+
+def test_over_voltage_should_be_recomputed_whatever_the_hysteresis(
+    host_run: dict[str, dict[str, int]], spec: Spec
+) -> None:
+    from codegen.derivation import derive
+    from codegen.fixedpoint.scaling import scaling
+
+    bus_max = scaling(spec, derive()).bus_code_max
+    # the port's threshold is the core's
+    assert _defines(port.port_context(spec))["BLDC_PORT_BUS_CODE_MAX"] == f"{bus_max}u"
+    core = (ROOT / "generated" / spec.name / "c" / "bldc_commutation.h").read_text()
+    assert f"#define BLDC_BUS_CODE_MAX {bus_max}u" in core
+    assert port.BUS_HYSTERESIS_CODES >= 1  # so one code is within it
+    over, back = host_run["bus_over"], host_run["bus_back"]
+    assert (over["in.runs"], over["in.busruns"], over["in.bus"]) == (1, 1, bus_max + 1)
+    assert (back["in.runs"], back["in.busruns"], back["in.bus"]) == (1, 1, bus_max)
+
+
 def test_pin_indexed_edge_table_should_give_the_cores_edge_for_every_pair(spec: Spec) -> None:
-    """PA6 = Hall A, PA7 = Hall B, PB0 = Hall C, read as PA6 | PA7 << 1 | PB0 << 2."""
+    """PA6 = Hall A, PA7 = Hall B, PB0 = Hall C, read as PA6 | PA7 << 1 | PB0 << 2; each
+    entry is the packed record of the edge's two switches (codegen.port.EDGE_RECORD_LAYOUT),
+    checked here against RM0008's CCER layout written out by hand."""
+    from codegen.derivation import derive
 
     def pins(code: int) -> int:
         a, b, c = (code >> 2) & 1, (code >> 1) & 1, code & 1
         return a | b << 1 | c << 2
 
-    table = [e["value"] for e in port.port_context(spec)["edge_of_pins"]]  # type: ignore[index]
+    def ccer_bit(switch: str) -> int:
+        # T1/T2 = CH1/CH1N (bits 0, 2), T3/T4 = CH2/CH2N (4, 6), T5/T6 = CH3/CH3N (8, 10)
+        return 1 << {"T1": 0, "T2": 2, "T3": 4, "T4": 6, "T5": 8, "T6": 10}[switch]
+
+    def partner(switch: str) -> str:
+        n = int(switch[1:])
+        return f"T{n + 1 if n % 2 else n - 1}"
+
+    def channel(switch: str) -> int:
+        return (int(switch[1:]) - 1) // 2
+
+    table = port.edge_records(spec)
+    switching = derive().switching
     sequence = spec.hall.sequence
     expected = {}
     for sector, code in enumerate(sequence):
-        expected[(sequence[sector - 1], code)] = sector  # forward into `sector`
-        expected[(sequence[(sector + 1) % 6], code)] = 6 + sector  # reverse into it
+        for direction, previous in (
+            ("forward", sequence[sector - 1]),
+            ("reverse", sequence[(sector + 1) % 6]),
+        ):
+            edge = switching.edge_into(sector, direction)
+            on, off = edge.modulated_on, edge.modulated_off
+            expected[(previous, code)] = (
+                ccer_bit(on)
+                | ccer_bit(off)
+                | channel(on) << 11
+                | channel(off) << 13
+                | (ccer_bit(partner(on)) | ccer_bit(partner(off))) << 16
+            )
+    assert len(expected) == 12
     for previous in range(8):
         for code in range(8):
-            want = expected.get((previous, code), 0xFF)
+            want = expected.get((previous, code), 0)
             assert table[pins(previous) << 3 | pins(code)] == want, (previous, code)

@@ -34,6 +34,9 @@
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
  *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2); a Hall timeout (update
  *         flag, no interrupt) is read by the next edge. Priority BLDC_PORT_HALL_PRIORITY.
+ *         Runs from SRAM with its pin table: section .RamFunc, which the linker script
+ *         must place in .data for the start-up code to copy (STM32Cube's scripts do;
+ *         define BLDC_PORT_HALL_EDGE_IN_FLASH to 1 to keep it in flash instead).
  *   TIM1_TRG_COM_IRQHandler: the next edge's duties and commutation time, raised by
  *         every COM event (DIER.COMIE: each Hall edge and each commutation end) and
  *         pended by software (NVIC set-pending) when the bus voltage or main duty changes.
@@ -60,6 +63,7 @@
 #define BLDC_PORT_TIM1_DTG 0x24u /* dead time 500 ns requested, 36 t_DTS = 500 ns programmed (t_DTS = 1 / 72 MHz) */
 #define BLDC_PORT_TIM3_PSC 71u /* Hall timer ticks at 1 MHz from 72 MHz */
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
+#define BLDC_PORT_BUS_CODE_MAX 3385u /* the core's over-voltage threshold, 30 V: crossing it always recomputes, whatever the hysteresis */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
 
 /* NVIC priorities (0 is the most urgent; the STM32F103 implements 4 bits). Define them
@@ -75,15 +79,28 @@
 #error "the Hall edge must preempt the timing computation"
 #endif
 
+/* Bus codes a new bus-voltage sample may differ from the code the timing uses before
+ * the port recomputes the bus state (bldc_bus_condition(), five divides): the default
+ * 1 code = 8.862 mV keeps one code of ADC noise from costing a recomputation.
+ * The price: the duties are computed for a bus voltage up to that much off the latest
+ * sample, which moves them by up to 3.76 counts at the top speed and
+ * the lowest bus voltage (X = 4PE/U_d); define 0 to recompute on every change. Crossing
+ * the over-voltage threshold BLDC_PORT_BUS_CODE_MAX recomputes whatever the value. */
+#ifndef BLDC_PORT_BUS_HYSTERESIS_CODES
+#define BLDC_PORT_BUS_HYSTERESIS_CODES 1u
+#endif
+
 /*
  * Inputs from outside the port.
  *
- * bldc_port_set_bus_voltage(): the latest bus-voltage ADC result in counts. It stores
- * the code and pends the timing computation, which saturates it and computes the bus
- * voltage's reciprocals (bldc_bus_condition()). Call it whenever the bus voltage is
- * sampled (a few hundred Hz is plenty: the bus changes slowly), from thread mode or any
- * interrupt. Until the first call the bridge stays off (treated as over-voltage); an
- * over-voltage code turns it off from the next edge on.
+ * bldc_port_set_bus_voltage(): the latest bus-voltage ADC result in counts. When it
+ * differs from the code in use by more than BLDC_PORT_BUS_HYSTERESIS_CODES, or crosses
+ * the over-voltage threshold, it stores the code and pends the timing computation, which
+ * then saturates it and computes the bus voltage's reciprocals once
+ * (bldc_bus_condition()); otherwise it does nothing. Call it whenever the bus voltage
+ * is sampled (a few hundred Hz is plenty: the bus changes slowly), from thread mode or
+ * any interrupt. Until the first call the bridge stays off (treated as over-voltage);
+ * an over-voltage code turns it off from the next edge on.
  *
  * bldc_adc_phase_current: latest ADC result of the commutated phase current I in
  * counts, written by the user's ADC conversion-complete interrupt or as the destination

@@ -1,8 +1,9 @@
 /* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 63a0dc42fff05d0f6f8cb3075865de9694b3e07c2854b399c9fb056dc0d7bc10). Do not edit: regenerate with `make`. */
 /* Firmware entry for the project's own build: bring up the port, then sleep. The
  * Hall-edge and commutation-end work happens in TIM3_IRQHandler, the next edge's timing
- * in TIM1_TRG_COM_IRQHandler; thread mode hands the latest bus-voltage sample and main
- * duty to the port after every wake-up (the port recomputes only when they change). */
+ * in TIM1_TRG_COM_IRQHandler; thread mode hands a new bus-voltage sample or main duty
+ * to the port when one arrived (the port itself recomputes only for a bus change beyond
+ * its hysteresis). */
 #include "stm32f103_port.h"
 
 /* Bus-voltage ADC result, written by the application's ADC (e.g. a circular DMA), and
@@ -12,10 +13,22 @@ volatile uint16_t app_main_duty;
 
 int main(void)
 {
+    /* No sample has been handed over yet: a value no 12-bit ADC produces. */
+    uint32_t bus_handed = UINT32_MAX;
+    uint32_t duty_handed = UINT32_MAX;
+
     bldc_port_init();
     for (;;) {
         __asm__ volatile("wfi");
-        bldc_port_set_bus_voltage(app_bus_voltage_adc);
-        bldc_port_set_main_duty(app_main_duty);
+        const uint16_t bus = app_bus_voltage_adc;
+        const uint16_t duty = app_main_duty;
+        if (bus != bus_handed) {
+            bus_handed = bus;
+            bldc_port_set_bus_voltage(bus);
+        }
+        if (duty != duty_handed) {
+            duty_handed = duty;
+            bldc_port_set_main_duty(duty);
+        }
     }
 }

@@ -1,11 +1,11 @@
 """Cortex-M3 cycle estimate of an executed instruction trace.
 
-The emulator (`verify.armsim`) says *which* instructions ran; this module says what they
-cost, from the Cortex-M3 Technical Reference Manual r2p1 (ARM DDI 0337I), Table 3-1
-"Cortex-M3 instruction set summary" and section "Load/store timings". The figures assume
-zero wait states (the TRM's premise): on an STM32F103 at 72 MHz the flash has two wait
-states, hidden by the prefetch buffer on straight-line code but not after a branch, so
-real timings of branchy code are somewhat higher.
+The emulator (`emulation.armsim`) says *which* instructions ran and what memory they
+touched; this module says what they cost: first by the Cortex-M3 Technical Reference
+Manual r2p1 (ARM DDI 0337I), Table 3-1 "Cortex-M3 instruction set summary" and section
+"Load/store timings", which assume zero wait states; then what the STM32F103's flash
+wait states, prefetch buffer and System bus add (`emulation.memory`, whose `ASSUMPTIONS`
+the bench prints), unless `timing` is `ZERO_WAIT`.
 
 Choices where the TRM gives a range or depends on operand values (P is the pipeline
 refill, 1 to 3 cycles by the TRM; `pipeline_refill` sets it, default 3, the worst case):
@@ -32,9 +32,10 @@ refill, 1 to 3 cycles by the TRM; `pipeline_refill` sets it, default 3, the wors
 * MRS/MSR/CPS 2 (the TRM's upper figure); DMB/DSB 1 (barrier time B has minimum 0),
   ISB 1 + P.
 
-Exception entry 12 cycles and return 10 cycles are added by `isr_cycles`. The handler's
-own return instruction is still charged 1 + P, an overlap with the exit sequence that
-this model leaves in, so ISR totals err high by at most P.
+`isr_cycles` adds the exception entry and exit of `emulation.memory` (12 and 10 with
+zero wait states). The handler's own return instruction is still charged 1 + P, an
+overlap with the exit sequence that this model leaves in, so ISR totals err high by at
+most P.
 """
 
 from __future__ import annotations
@@ -50,13 +51,20 @@ from typing import TYPE_CHECKING, Literal, Protocol
 import capstone  # type: ignore[import-untyped]
 from capstone import arm_const as arm
 
+from emulation.memory import (
+    STM32F103_72MHZ,
+    Executed,
+    MemoryTiming,
+    exception_entry_cycles,
+    exception_exit_cycles,
+    memory_stalls,
+)
+
 if TYPE_CHECKING:
-    from verify.armsim import CallResult, Step
+    from emulation.armsim import Step
 
 UdivMode = Literal["estimate", "worst"]
 
-EXCEPTION_ENTRY_CYCLES = 12  # stacking 8 registers and fetching the vector, zero wait states
-EXCEPTION_EXIT_CYCLES = 10  # unstacking on EXC_RETURN
 DIVIDE_WORST_CYCLES = 12  # UDIV/SDIV, TRM Table 3-1 "2 to 12"
 LONG_MULTIPLY_WORST_CYCLES = 5  # UMULL/SMULL "3 to 5"
 LONG_MULTIPLY_ACCUMULATE_WORST_CYCLES = 7  # UMLAL/SMLAL "4 to 7"
@@ -80,6 +88,7 @@ class InstructionClass(StrEnum):
     SYSTEM = "system"
     BARRIER = "barrier"
     HINT = "hint"
+    MEMORY_STALL = "memory_stall"  # wait states and bus contention (emulation.memory)
 
 
 class CodeMemory(Protocol):
@@ -102,6 +111,10 @@ class Decoded:
     refill: Literal["never", "always", "if_taken"]
     signed_divide: bool = False
     it_length: int = 0  # instructions an IT covers (1 to 4), 0 for every other instruction
+    #: B, B<cond>, BL, CBZ, CBNZ: the target relative to the instruction's address, which
+    #: the prefetch unit knows at decode (TRM 1.4); None for every other instruction.
+    target_offset: int | None = None
+    conditional: bool = False
 
 
 @dataclass(frozen=True)
@@ -110,7 +123,9 @@ class CycleBreakdown:
 
     `instructions` counts executed instructions per class, plus the condition-failed
     instructions of IT blocks under `InstructionClass.IT_SKIPPED` (which the emulator's
-    instruction count does not include).
+    instruction count does not include). What the memory system added is under
+    `InstructionClass.MEMORY_STALL` (no instructions), split in `fetch_stall` (waiting
+    for code) and `data_stall` (waiting for flash data or the System bus).
     """
 
     cycles: int
@@ -120,13 +135,18 @@ class CycleBreakdown:
     not_taken_branches: int
     udiv_mode: UdivMode
     pipeline_refill: int
+    timing: MemoryTiming = STM32F103_72MHZ
+    fetch_stall: int = 0
+    data_stall: int = 0
+    flash_data_reads: int = 0
+    peripheral_accesses: int = 0
 
     def lines(self) -> list[str]:
         """One line per class, `class  count  cycles`, in the enum's order, for reports."""
         rows = [
-            f"{kind.value:<15} {self.instructions[kind]:>6} {self.cycles_by_class[kind]:>7}"
+            f"{kind.value:<15} {self.instructions.get(kind, 0):>6} {self.cycles_by_class[kind]:>7}"
             for kind in InstructionClass
-            if self.instructions.get(kind)
+            if self.instructions.get(kind) or self.cycles_by_class.get(kind)
         ]
         rows.append(f"{'total':<15} {sum(self.instructions.values()):>6} {self.cycles:>7}")
         return rows
@@ -240,8 +260,14 @@ def decode(code: bytes) -> Decoded:
         conditional = ident in (arm.ARM_INS_CBZ, arm.ARM_INS_CBNZ) or (
             ident == arm.ARM_INS_B and instruction.cc not in (arm.ARM_CC_AL, arm.ARM_CC_INVALID)
         )
+        immediates = [op.imm for op in instruction.operands if op.type == arm.ARM_OP_IMM]
         return Decoded(
-            mnemonic, InstructionClass.BRANCH, 1, "if_taken" if conditional else "always"
+            mnemonic,
+            InstructionClass.BRANCH,
+            1,
+            "if_taken" if conditional else "always",
+            target_offset=immediates[-1] if immediates else None,  # decoded at address 0
+            conditional=conditional,
         )
     if ident in (arm.ARM_INS_TBB, arm.ARM_INS_TBH):
         return Decoded(mnemonic, InstructionClass.TABLE_BRANCH, 2, "always")
@@ -329,10 +355,14 @@ def estimate_cycles(
     *,
     udiv_mode: UdivMode = "estimate",
     pipeline_refill: int = 3,
+    timing: MemoryTiming = STM32F103_72MHZ,
+    after_exception: bool = False,
 ) -> CycleBreakdown:
     """Cycles of an executed trace (one `CortexM3Sim.call`), by the model in the module doc.
 
     The last step is the call's return, so a conditional branch there counts as taken.
+    `after_exception`: the trace is a handler entered by an exception, whose entry
+    already fetched its first instructions (see `isr_cycles`).
     """
     if udiv_mode not in ("estimate", "worst"):
         raise ValueError(f"udiv_mode must be 'estimate' or 'worst', not {udiv_mode!r}")
@@ -342,6 +372,7 @@ def estimate_cycles(
     cycles: Counter[InstructionClass] = Counter()
     taken = not_taken = 0
     decoded: dict[int, Decoded] = {}  # code does not change during one call
+    executed: list[Executed] = []
     for index, step in enumerate(trace):
         info = decoded.get(step.address)
         if info is None:
@@ -352,11 +383,13 @@ def estimate_cycles(
                 raise ValueError(f"divide at 0x{step.address:08x} has no recorded operands")
             dividend, divisor = step.divide_operands
             cost = divide_cycles(dividend, divisor, signed=info.signed_divide, udiv_mode=udiv_mode)
+        jumps = False
         if info.refill != "never":
             following = trace[index + 1].address if index + 1 < len(trace) else None
             if info.refill == "always" or following != step.address + step.size:
                 cost += pipeline_refill
                 taken += 1
+                jumps = True
             else:
                 not_taken += 1
         instructions[info.kind] += 1
@@ -365,6 +398,24 @@ def estimate_cycles(
             skipped = _skipped_in_it_block(trace, index, info.it_length, memory)
             instructions[InstructionClass.IT_SKIPPED] += skipped
             cycles[InstructionClass.IT_SKIPPED] += skipped
+            cost += skipped
+        executed.append(
+            Executed(
+                address=step.address,
+                size=step.size,
+                accesses=tuple((a.address, a.size, a.write) for a in step.accesses),
+                cycles=cost,
+                jumps=jumps,
+                target=None
+                if info.target_offset is None
+                else (step.address + info.target_offset) & 0xFFFF_FFFF,
+                conditional=info.conditional,
+                pc_known_after=cost - (pipeline_refill if jumps else 0),
+            )
+        )
+    stalls = memory_stalls(timing, executed, after_exception=after_exception)
+    if stalls.total:
+        cycles[InstructionClass.MEMORY_STALL] += stalls.total
     return CycleBreakdown(
         cycles=sum(cycles.values()),
         instructions=dict(instructions),
@@ -373,9 +424,23 @@ def estimate_cycles(
         not_taken_branches=not_taken,
         udiv_mode=udiv_mode,
         pipeline_refill=pipeline_refill,
+        timing=timing,
+        fetch_stall=stalls.fetch,
+        data_stall=stalls.data,
+        flash_data_reads=stalls.flash_data_reads,
+        peripheral_accesses=stalls.peripheral_accesses,
     )
 
 
-def isr_cycles(body: CallResult | CycleBreakdown) -> int:
-    """Cycles from interrupt request to the interrupted code: entry + handler body + exit."""
-    return EXCEPTION_ENTRY_CYCLES + body.cycles + EXCEPTION_EXIT_CYCLES
+def entry_cycles(body: CycleBreakdown, handler_address: int) -> int:
+    return exception_entry_cycles(body.timing, handler_address)
+
+
+def exit_cycles(body: CycleBreakdown) -> int:
+    return exception_exit_cycles(body.timing)
+
+
+def isr_cycles(body: CycleBreakdown, handler_address: int) -> int:
+    """Cycles from interrupt request to the interrupted code: entry + handler body + exit,
+    with the handler at `handler_address` and the body priced `after_exception`."""
+    return entry_cycles(body, handler_address) + body.cycles + exit_cycles(body)

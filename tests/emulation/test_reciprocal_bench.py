@@ -9,9 +9,9 @@ import sympy as sp
 
 from codegen.core.module import build_core
 from codegen.spec_loader import load_spec
-from verify.reciprocal_bench import FLASH_BUDGET_BYTES, _step, table_option
+from emulation.reciprocal_bench import FLASH_BUDGET_BYTES, _step, table_option
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _worst_interpolation_error(numerator: int, b_min: int, step: int) -> Fraction:

@@ -10,15 +10,14 @@ from pathlib import Path
 import capstone  # type: ignore[import-untyped]
 import pytest
 
-from verify.armsim import CortexM3Sim, SimulationError, load_elf
-from verify.cycles import (
-    EXCEPTION_ENTRY_CYCLES,
-    EXCEPTION_EXIT_CYCLES,
+from emulation.armsim import CortexM3Sim, SimulationError, load_elf
+from emulation.cycles import (
     InstructionClass,
     divide_cycles,
     estimate_cycles,
     isr_cycles,
 )
+from emulation.memory import ZERO_WAIT
 
 SAMPLE = Path(__file__).parent / "data" / "armsim_sample.c"
 GCC = shutil.which("arm-none-eabi-gcc")
@@ -98,7 +97,8 @@ def test_sum_to_should_cost_one_loop_body_per_iteration(sim: CortexM3Sim) -> Non
     body = _loop_body_length(sim, "sum_to")
     assert {b.instructions - a.instructions for a, b in itertools.pairwise(runs)} == {body}
     # The body's instructions are single-cycle ALU ones but for the taken branch back.
-    assert {b.cycles - a.cycles for a, b in itertools.pairwise(runs)} == {body + REFILL}
+    trm = [estimate_cycles(run.trace, sim, timing=ZERO_WAIT).cycles for run in runs]
+    assert {b - a for a, b in itertools.pairwise(trm)} == {body + REFILL}
     assert sim.call("sum_to", [0]).return_value == 0
     assert sim.call("sum_to", [100]).return_value == 5050
 
@@ -106,14 +106,14 @@ def test_sum_to_should_cost_one_loop_body_per_iteration(sim: CortexM3Sim) -> Non
 def test_div_should_run_a_udiv_charged_by_quotient_size(sim: CortexM3Sim) -> None:
     result = sim.call("div", [100, 7])
     assert result.return_value == 14
-    estimate = estimate_cycles(result.trace, sim)
-    worst = estimate_cycles(result.trace, sim, udiv_mode="worst")
+    estimate = estimate_cycles(result.trace, sim, timing=ZERO_WAIT)
+    worst = estimate_cycles(result.trace, sim, udiv_mode="worst", timing=ZERO_WAIT)
     assert estimate.instructions[InstructionClass.DIVIDE] == 1
     assert estimate.cycles_by_class[InstructionClass.DIVIDE] == 2 + 1  # 14 has 4 bits
     assert worst.cycles_by_class[InstructionClass.DIVIDE] == 12
     assert worst.cycles - estimate.cycles == 12 - 3
-    assert result.cycles == estimate.cycles
-    big = estimate_cycles(sim.call("div", [0xFFFF_FFFF, 1]).trace, sim)
+    assert result.cycles == estimate_cycles(result.trace, sim).cycles  # the STM32F103 default
+    big = estimate_cycles(sim.call("div", [0xFFFF_FFFF, 1]).trace, sim, timing=ZERO_WAIT)
     assert big.cycles_by_class[InstructionClass.DIVIDE] == 2 + 8
     assert sim.call("div", [5, 0]).return_value == 0  # CCR.DIV_0_TRP clear
 
@@ -151,7 +151,7 @@ def test_failed_it_conditions_should_cost_one_cycle_each(sim: CortexM3Sim) -> No
         result = sim.call("it_select", [a, b])
         assert result.return_value == expected
         assert result.instructions == 4  # the skipped one is not reported by the emulator
-        breakdown = estimate_cycles(result.trace, sim)
+        breakdown = estimate_cycles(result.trace, sim, timing=ZERO_WAIT)
         assert breakdown.instructions[InstructionClass.IT_SKIPPED] == 1
         assert breakdown.cycles == 1 + 1 + 1 + 1 + (1 + REFILL)
 
@@ -159,15 +159,16 @@ def test_failed_it_conditions_should_cost_one_cycle_each(sim: CortexM3Sim) -> No
 def test_push_pop_return_and_long_multiply_should_follow_the_trm(sim: CortexM3Sim) -> None:
     result = sim.call("multiply_high", [0x8000_0000, 6])
     assert result.return_value == 3
-    breakdown = estimate_cycles(result.trace, sim)
+    breakdown = estimate_cycles(result.trace, sim, timing=ZERO_WAIT)
     assert breakdown.cycles_by_class[InstructionClass.STORE_MULTIPLE] == 1 + 2
     assert breakdown.cycles_by_class[InstructionClass.LONG_MULTIPLY] == 5
     assert breakdown.cycles_by_class[InstructionClass.LOAD_MULTIPLE] == 1 + 2 + REFILL
     assert breakdown.taken_branches == 1
-    assert result.cycles == 3 + 5 + 6
-    assert isr_cycles(result) == EXCEPTION_ENTRY_CYCLES + 14 + EXCEPTION_EXIT_CYCLES
-    fastest = estimate_cycles(result.trace, sim, pipeline_refill=1)
-    assert fastest.cycles == result.cycles - (REFILL - 1)
+    assert breakdown.cycles == 3 + 5 + 6
+    # the TRM's 12-cycle entry and 10-cycle exit with zero wait states
+    assert isr_cycles(breakdown, result.trace[0].address) == 12 + 14 + 10
+    fastest = estimate_cycles(result.trace, sim, pipeline_refill=1, timing=ZERO_WAIT)
+    assert fastest.cycles == breakdown.cycles - (REFILL - 1)
     assert fastest.lines()[-1].split() == ["total", "3", str(fastest.cycles)]
 
 

@@ -10,6 +10,11 @@ A call runs one function under the AAPCS: arguments in r0-r3, the stack at the t
 RAM, LR pointing at a return address outside the image where emulation stops. Anything
 else, an unmapped or forbidden access, an undefined instruction or a runaway loop,
 raises `SimulationError` naming the PC and the address.
+
+Each executed instruction is recorded with the data accesses it made (address, size,
+read or write), because what they cost depends on where they go: a load from flash
+waits for the flash, one from SRAM does not (`emulation.cycles`). The lowest stack
+address a call wrote is its measured stack depth.
 """
 
 from __future__ import annotations
@@ -27,8 +32,11 @@ from unicorn import (
     UC_ARCH_ARM,
     UC_HOOK_CODE,
     UC_HOOK_MEM_INVALID,
+    UC_HOOK_MEM_READ,
+    UC_HOOK_MEM_WRITE,
     UC_MEM_FETCH_PROT,
     UC_MEM_FETCH_UNMAPPED,
+    UC_MEM_READ,
     UC_MEM_READ_PROT,
     UC_MEM_READ_UNMAPPED,
     UC_MEM_WRITE_PROT,
@@ -43,7 +51,7 @@ from unicorn import (
 )
 from unicorn import arm_const as uc_arm
 
-from verify.cycles import disassemble, estimate_cycles
+from emulation.cycles import disassemble, estimate_cycles
 
 PAGE = 0x1000  # unicorn maps whole 4 KiB pages
 STM32F103_RAM_BASE = 0x2000_0000
@@ -100,6 +108,9 @@ class ArmImage:
     segments: tuple[Segment, ...]
     symbols: dict[str, Symbol]
     ambiguous: frozenset[str] = field(default_factory=frozenset)
+    #: ARM ELF mapping symbols, sorted: (address, "t" for Thumb code or "d" for data such
+    #: as a literal pool inside a function).
+    mapping: tuple[tuple[int, str], ...] = ()
 
     def symbol(self, name: str) -> Symbol:
         if name in self.ambiguous:
@@ -111,21 +122,50 @@ class ArmImage:
         return self.symbols[name]
 
 
+class Access(NamedTuple):
+    """One data transfer of an instruction, as the bus sees it."""
+
+    address: int
+    size: int  # bytes
+    write: bool
+
+
 class Step(NamedTuple):
     """One executed instruction. A UDIV/SDIV also records (Rn, Rm) as read before it ran,
-    because its cycle count depends on the values."""
+    because its cycle count depends on the values; every instruction records its data
+    accesses in program order (an LDM or PUSH one per register)."""
 
     address: int
     size: int
     divide_operands: tuple[int, int] | None = None
+    accesses: tuple[Access, ...] = ()
 
 
 @dataclass(frozen=True)
 class CallResult:
     instructions: int  # executed; condition-failed IT-block instructions are not counted
-    cycles: int  # `verify.cycles.estimate_cycles` with its defaults
     trace: tuple[Step, ...]
     return_value: int  # r0
+    stack_bytes: int  # below the SP at the call: the deepest stack write it made
+    memory: CortexM3Sim = field(repr=False, compare=False)
+
+    @property
+    def cycles(self) -> int:
+        """`emulation.cycles.estimate_cycles` with its defaults (computed when asked)."""
+        return estimate_cycles(self.trace, self.memory).cycles
+
+
+def _read_mapping(elf: ELFFile) -> tuple[tuple[int, str], ...]:
+    """$t / $a / $d mapping symbols (AAELF 5.5.5): where code and data start."""
+    marks = set()
+    for table in elf.iter_sections():
+        if not isinstance(table, SymbolTableSection):
+            continue
+        for entry in table.iter_symbols():
+            name = entry.name
+            if name[:2] in ("$t", "$a", "$d") and (len(name) == 2 or name[2] == "."):
+                marks.add((entry["st_value"] & ~1, "d" if name[1] == "d" else "t"))
+    return tuple(sorted(marks))
 
 
 def _read_symbols(elf: ELFFile) -> tuple[dict[str, Symbol], frozenset[str]]:
@@ -178,7 +218,8 @@ def load_elf(path: str | Path) -> ArmImage:
             if segment["p_type"] == "PT_LOAD" and segment["p_memsz"] > 0
         )
         symbols, ambiguous = _read_symbols(elf)
-    return ArmImage(path, segments, symbols, ambiguous)
+        mapping = _read_mapping(elf)
+    return ArmImage(path, segments, symbols, ambiguous, mapping)
 
 
 def _divide_sites(segments: Sequence[Segment]) -> dict[int, tuple[int, int]]:
@@ -235,6 +276,15 @@ class CortexM3Sim:
     ) -> None:
         self.image = image
         self.stack_top = ram_base + ram_size
+        # Static data (.data, .bss) ends here; the stack grows down towards it.
+        self.stack_limit = max(
+            (
+                s.address + len(s.data)
+                for s in image.segments
+                if s.writable and ram_base <= s.address < self.stack_top
+            ),
+            default=ram_base,
+        )
         for segment in image.segments:
             end = segment.address + len(segment.data)
             if segment.writable and ram_base <= segment.address < self.stack_top < end:
@@ -250,8 +300,10 @@ class CortexM3Sim:
             self._uc.mem_write(segment.address, segment.data)
         self._divides = _divide_sites(image.segments)
         self._steps: list[Step] = []
+        self._accesses: list[Access] = []  # of the instruction running now
         self._fault: tuple[int, int, int, int] | None = None  # access, address, size, pc
         self._uc.hook_add(UC_HOOK_CODE, self._on_instruction)
+        self._uc.hook_add(UC_HOOK_MEM_READ | UC_HOOK_MEM_WRITE, self._on_access)
         self._uc.hook_add(UC_HOOK_MEM_INVALID, self._on_invalid_access)
 
     def _map(self, pages: dict[int, int]) -> None:
@@ -268,12 +320,24 @@ class CortexM3Sim:
                 run_start = None
 
     def _on_instruction(self, uc: Uc, address: int, size: int, _data: object) -> None:
+        self._close_step()
         registers = self._divides.get(address)
         if registers is None:
             self._steps.append(Step(address, size))
         else:
             operands = (uc.reg_read(registers[0]), uc.reg_read(registers[1]))
             self._steps.append(Step(address, size, operands))
+
+    def _on_access(
+        self, _uc: Uc, access: int, address: int, size: int, _value: int, _data: object
+    ) -> None:
+        self._accesses.append(Access(address, size, access != UC_MEM_READ))
+
+    def _close_step(self) -> None:
+        """Attach the accesses made since the last instruction began to that instruction."""
+        if self._accesses:
+            self._steps[-1] = self._steps[-1]._replace(accesses=tuple(self._accesses))
+            self._accesses = []
 
     def _on_invalid_access(
         self, uc: Uc, access: int, address: int, size: int, _value: int, _data: object
@@ -330,22 +394,35 @@ class CortexM3Sim:
         uc.reg_write(uc_arm.UC_ARM_REG_SP, self.stack_top)
         uc.reg_write(uc_arm.UC_ARM_REG_LR, RETURN_ADDRESS | 1)
         self._steps = []
+        self._accesses = []
         self._fault = None
         try:
             uc.emu_start(entry | 1, RETURN_ADDRESS, count=max_instructions)
         except UcError as error:
             raise SimulationError(self._failure(name, str(error))) from None
+        finally:
+            self._close_step()
         pc = uc.reg_read(uc_arm.UC_ARM_REG_PC)
         if pc != RETURN_ADDRESS:
             raise SimulationError(
                 self._failure(name, f"no return after {max_instructions} instructions")
             )
         trace = tuple(self._steps)
+        deepest = min(
+            (
+                a.address
+                for step in trace
+                for a in step.accesses
+                if a.write and self.stack_limit <= a.address < self.stack_top
+            ),
+            default=self.stack_top,
+        )
         return CallResult(
             instructions=len(trace),
-            cycles=estimate_cycles(trace, self).cycles,
+            memory=self,
             trace=trace,
             return_value=uc.reg_read(uc_arm.UC_ARM_REG_R0),
+            stack_bytes=self.stack_top - deepest,
         )
 
     def _describe(self, address: int) -> str:

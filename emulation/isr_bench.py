@@ -1,6 +1,6 @@
 """Instructions and estimated Cortex-M3 cycles of the port's interrupt handlers.
 
-The firmware image that `make firmware` links is run in unicorn (verify.armsim). Each
+The firmware image that `make firmware` links is run in unicorn (emulation.armsim). Each
 Hall edge is staged the way the hardware presents it: the Hall pins in GPIO IDR, the
 captured 60 degree interval in TIM3 CCR1, TIM3 SR.CC1IF set, and the ADC and duty
 inputs filled (bldc_port_set_bus_voltage(), bldc_port_set_main_duty()); the commutation
@@ -22,15 +22,11 @@ included) it can reach.
 
 from __future__ import annotations
 
-import bisect
 import statistics
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-
-import capstone  # type: ignore[import-untyped]
-from capstone import arm_const as arm
 
 from codegen.build_firmware import build
 from codegen.derivation import derive
@@ -39,8 +35,10 @@ from codegen.port import port_context
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
-from verify.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
-from verify.cycles import estimate_cycles, isr_cycles
+from emulation.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
+from emulation.cycles import CycleBreakdown, UdivMode, estimate_cycles, isr_cycles
+from emulation.memory import STM32F103_72MHZ, MemoryTiming
+from emulation.progress import progress
 
 TARGET_HALL_INSTRUCTIONS = 64
 TARGET_HALL_CYCLES = 120
@@ -64,16 +62,22 @@ class HandlerStats:
     instructions_mean: float
     cycles_worst: int  # UDIV at 12 cycles, taken branches with a 3-cycle refill
     cycles_mean: float  # UDIV early-termination estimate
+    stack_bytes: int = 0  # deepest below the entry SP, exception frame not included
+    peripheral_accesses: int = 0  # worst per call
 
 
 @dataclass(frozen=True)
 class Sample:
     """The cost of one call: instructions, cycles with UDIV at its worst, cycles with the
-    UDIV estimate (both with exception entry and exit for a handler)."""
+    UDIV estimate (both with exception entry and exit for a handler), the stack it used
+    below its entry SP (the exception frame not included) and its accesses to
+    peripheral registers (whose APB wait states the model does not price)."""
 
     instructions: int
     cycles_worst: int
     cycles_typical: int
+    stack_bytes: int = 0
+    peripheral_accesses: int = 0
 
 
 def _register(peripheral: str, register: str) -> int:
@@ -97,6 +101,8 @@ def _stats(name: str, samples: Sequence[Sample]) -> HandlerStats:
         instructions_mean=statistics.fmean(s.instructions for s in samples),
         cycles_worst=max(s.cycles_worst for s in samples),
         cycles_mean=statistics.fmean(s.cycles_typical for s in samples),
+        stack_bytes=max(s.stack_bytes for s in samples),
+        peripheral_accesses=max(s.peripheral_accesses for s in samples),
     )
 
 
@@ -152,8 +158,9 @@ def sweep(spec: Spec, sc: Scaling, period_points: int = BENCH_PERIOD_POINTS) -> 
 class PortRig:
     """The linked image in unicorn, with the timers and the NVIC played around it."""
 
-    def __init__(self, spec: Spec, elf: Path) -> None:
+    def __init__(self, spec: Spec, elf: Path, timing: MemoryTiming = STM32F103_72MHZ) -> None:
         self.spec = spec
+        self.memory_timing = timing
         self.sim = CortexM3Sim(load_elf(elf))
         self.sim.call("bldc_port_init")
         self.pins = port_context(spec)["hall_pins"]
@@ -203,13 +210,15 @@ class PortRig:
         self.sim.write_u32(self.tim1_egr, 0)
         return com
 
-    def set_inputs(self, bus: int, current: int, duty: int) -> None:
-        """The application's setters and the current ADC; a pended timing runs (unmeasured)."""
+    def set_inputs(self, bus: int, current: int, duty: int) -> CallResult | None:
+        """The application's setters and the current ADC; the timing run a setter pended,
+        if one did."""
         self.sim.call("bldc_port_set_bus_voltage", args=(bus,))
         self.sim.write_u16(self.current_adc, current)
         self.sim.call("bldc_port_set_main_duty", args=(duty,))
         if self.nvic_pending():
-            self.sim.call(TIMING_HANDLER)
+            return self.sim.call(TIMING_HANDLER)
+        return None
 
     def hall_edge(self, code: int, period: int, *, timeout: bool = False) -> CallResult:
         """A Hall edge to `code` after `period` ticks (with the counter wrapped if
@@ -229,6 +238,7 @@ class PortRig:
 
     def commutation_end(self) -> CallResult:
         self.sim.write_u32(self.tim3_sr, self.cc2if)
+        self.sim.write_u32(self.tim1_egr, 0)
         return self.sim.call(HALL_HANDLER)
 
     def mark_unwritten(self) -> None:
@@ -248,10 +258,24 @@ class PortRig:
 
     def cost(self, result: CallResult) -> Sample:
         """Instructions and cycles of a handler call, exception entry and exit included."""
+        entry = result.trace[0].address
+
+        def body(mode: UdivMode) -> CycleBreakdown:
+            return estimate_cycles(
+                result.trace,
+                self.sim,
+                udiv_mode=mode,
+                timing=self.memory_timing,
+                after_exception=True,
+            )
+
+        worst = body("worst")
         return Sample(
             result.instructions,
-            isr_cycles(estimate_cycles(result.trace, self.sim, udiv_mode="worst")),
-            isr_cycles(estimate_cycles(result.trace, self.sim, udiv_mode="estimate")),
+            isr_cycles(worst, entry),
+            isr_cycles(body("estimate"), entry),
+            result.stack_bytes,
+            worst.peripheral_accesses,
         )
 
     def part(self, result: CallResult, symbol: Symbol) -> Sample:
@@ -261,8 +285,10 @@ class PortRig:
         ]
         return Sample(
             len(inside),
-            estimate_cycles(inside, self.sim, udiv_mode="worst").cycles,
-            estimate_cycles(inside, self.sim, udiv_mode="estimate").cycles,
+            estimate_cycles(inside, self.sim, udiv_mode="worst", timing=self.memory_timing).cycles,
+            estimate_cycles(
+                inside, self.sim, udiv_mode="estimate", timing=self.memory_timing
+            ).cycles,
         )
 
     def entries(self, trace: Iterable[Step]) -> Counter[str]:
@@ -270,52 +296,97 @@ class PortRig:
         return Counter(self.function_at[s.address] for s in trace if s.address in self.function_at)
 
 
-Stats = tuple[HandlerStats, HandlerStats, HandlerStats, HandlerStats]
+@dataclass(frozen=True)
+class Stats:
+    """The port's handlers over a bench run. The timing handler's runs are split by
+    whether they recomputed the bus state (a new bus code beyond the hysteresis) or
+    used the cached one; `core_*` are the core's functions inside those runs (no entry
+    or exit)."""
+
+    hall: HandlerStats
+    end: HandlerStats
+    timing: HandlerStats | None  # runs on the cached bus state
+    timing_bus: HandlerStats | None  # runs that called bldc_bus_condition()
+    core_bus: HandlerStats | None  # bldc_bus_condition() inside them
+    core_timing: HandlerStats  # bldc_commutation_timing() inside every run
+
+    @property
+    def timing_worst(self) -> HandlerStats:
+        """The slower of the two timing paths (the worst case a budget must take)."""
+        paths = [t for t in (self.timing, self.timing_bus) if t is not None]
+        return max(paths, key=lambda t: t.cycles_worst)
 
 
 def bench(
-    spec_path: str | Path, generated: Path, build_dir: Path, inputs: Sweep | None = None
+    spec_path: str | Path,
+    generated: Path,
+    build_dir: Path,
+    inputs: Sweep | None = None,
+    *,
+    defines: Sequence[str] = (),
+    timing: MemoryTiming = STM32F103_72MHZ,
 ) -> Stats:
-    """All three handlers in their order (edge, timing, end) over `inputs` (default
-    `sweep`), all six Hall codes in both directions, plus the safe-state paths."""
+    """All three handlers in their order (edge, timing, end, timing) over `inputs`
+    (default `sweep`), all six Hall codes in both directions, plus the safe-state paths;
+    the timing runs a bus change pends included."""
     spec = load_spec(spec_path)
     if inputs is None:
         inputs = sweep(spec, scaling(spec, derive()))
-    build(generated, build_dir)
-    rig = PortRig(spec, build_dir / "firmware.elf")
+    build(generated, build_dir, defines=defines)
+    rig = PortRig(spec, build_dir / "firmware.elf", timing)
+    timing_symbol = rig.image.symbol("bldc_commutation_timing")
     hall_edge: list[Sample] = []
-    timing: list[Sample] = []
+    cached: list[Sample] = []
+    recomputed: list[Sample] = []
     bus_part: list[Sample] = []
+    timing_part: list[Sample] = []
     commutation_end: list[Sample] = []
 
-    def run_timing() -> None:
-        result = rig.timing()
-        bus_part.append(rig.part(result, rig.bus_symbol))
-        timing.append(rig.cost(result))
+    def measure_timing(result: CallResult) -> None:
+        timing_part.append(rig.part(result, timing_symbol))
+        if BUS_FUNCTION in rig.entries(result.trace):
+            bus_part.append(rig.part(result, rig.bus_symbol))
+            recomputed.append(rig.cost(result))
+        else:
+            cached.append(rig.cost(result))
+
+    def set_inputs(bus: int, current: int, duty: int) -> None:
+        pended = rig.set_inputs(bus, current, duty)
+        if pended is not None:
+            measure_timing(pended)
 
     periods = inputs.periods
-    for direction in (1, -1):
+    runs = [(d, p) for d in (1, -1) for p in periods]
+    for direction, period in progress(runs, f"bench {spec.name} handlers"):
         sequence = spec.hall.sequence if direction > 0 else tuple(reversed(spec.hall.sequence))
-        for period in periods:
-            for bus in inputs.buses:
-                for current in inputs.currents:
-                    for duty in inputs.duties:
-                        rig.set_inputs(bus, current, duty)
-                        for code in sequence:
-                            # The slowest period also as a Hall timeout (the counter wrapped).
-                            edge = rig.hall_edge(code, period, timeout=period == periods[-1])
-                            hall_edge.append(rig.cost(edge))
-                            run_timing()
-                            commutation_end.append(rig.cost(rig.commutation_end()))
+        for bus in inputs.buses:
+            for current in inputs.currents:
+                for duty in inputs.duties:
+                    set_inputs(bus, current, duty)
+                    for index, code in enumerate(sequence):
+                        # The slowest period also as a Hall timeout (the counter wrapped).
+                        edge = rig.hall_edge(code, period, timeout=period == periods[-1])
+                        hall_edge.append(rig.cost(edge))
+                        # The timing depends on the period, bus, current and duty only,
+                        # the same for every edge of this loop: after the first edge
+                        # (and its commutation end) a rerun would publish the same
+                        # values, so it is skipped.
+                        if index == 0:
+                            measure_timing(rig.timing())
+                        commutation_end.append(rig.cost(rig.commutation_end()))
+                        if rig.com_event() and index == 0:
+                            measure_timing(rig.timing())
     # The safe-state paths: an invalid code (000, 111) from a valid one, and back.
     for code in (7, spec.hall.sequence[0], 0, spec.hall.sequence[0]):
         hall_edge.append(rig.cost(rig.hall_edge(code, periods[0])))
-        run_timing()
-    return (
-        _stats("Hall edge (TIM3 CC1)", hall_edge),
-        _stats("commutation end (TIM3 CC2)", commutation_end),
-        _stats("next edge's timing (TIM1_TRG_COM, low priority)", timing),
-        _stats(f"{BUS_FUNCTION}() inside it", bus_part),
+        measure_timing(rig.timing())
+    return Stats(
+        hall=_stats("Hall edge (TIM3 CC1)", hall_edge),
+        end=_stats("commutation end (TIM3 CC2)", commutation_end),
+        timing=_stats(f"{TIMING_HANDLER}, bus state cached", cached) if cached else None,
+        timing_bus=_stats(f"{TIMING_HANDLER}, bus changed", recomputed) if recomputed else None,
+        core_bus=_stats(f"{BUS_FUNCTION}()", bus_part) if bus_part else None,
+        core_timing=_stats("bldc_commutation_timing()", timing_part),
     )
 
 
@@ -338,6 +409,13 @@ class TimingPoint:
 class TimingSweep:
     inputs: Sweep
     points: tuple[TimingPoint, ...]
+    bus_changes: tuple[Sample, ...] = ()  # the runs a new bus code pended (cost only)
+
+    @property
+    def bus_change_stats(self) -> HandlerStats | None:
+        if not self.bus_changes:
+            return None
+        return _stats(f"{TIMING_HANDLER}, bus changed", self.bus_changes)
 
     @property
     def stats(self) -> HandlerStats:
@@ -363,11 +441,14 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
     sequence = spec.hall.sequence
     step = 0
     points = []
-    for period in inputs.periods:
+    bus_changes = []
+    for period in progress(inputs.periods, f"bench {spec.name} timing sweep"):
         for bus in inputs.buses:
             for current in inputs.currents:
                 for duty in inputs.duties:
-                    rig.set_inputs(bus, current, duty)
+                    pended = rig.set_inputs(bus, current, duty)
+                    if pended is not None:
+                        bus_changes.append(rig.cost(pended))
                     rig.hall_edge(sequence[step % 6], period)
                     result = rig.timing()
                     rig.commutation_end()
@@ -390,70 +471,7 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
                             applied,
                         )
                     )
-    return TimingSweep(inputs, tuple(points))
-
-
-def _direct_targets(code: bytes, address: int) -> tuple[set[int], bool]:
-    """Branch and call targets of a function's code, and whether it branches indirectly
-    (other than returning)."""
-    engine = capstone.Cs(capstone.CS_ARCH_ARM, capstone.CS_MODE_THUMB | capstone.CS_MODE_MCLASS)
-    engine.detail = True
-    targets: set[int] = set()
-    indirect = False
-    for insn in engine.disasm(code, address):
-        if insn.id in (arm.ARM_INS_BL, arm.ARM_INS_B, arm.ARM_INS_CBZ, arm.ARM_INS_CBNZ):
-            immediates = [op.imm for op in insn.operands if op.type == arm.ARM_OP_IMM]
-            targets.update(immediates)
-        elif insn.id in (arm.ARM_INS_BLX, arm.ARM_INS_BX):
-            registers = [op.reg for op in insn.operands if op.type == arm.ARM_OP_REG]
-            indirect |= registers != [arm.ARM_REG_LR]
-    return targets, indirect
-
-
-def reached_functions(image: ArmImage, root: str) -> tuple[frozenset[str], bool]:
-    """Functions reachable from `root` through direct calls and branches in the linked
-    image (its static call graph), and whether any of them branches indirectly.
-
-    A function symbol without a size (hand-written library assembly) extends to the next
-    function symbol; a branch target belongs to the function whose extent holds it."""
-    functions = sorted(
-        (s for s in image.symbols.values() if s.is_function), key=lambda s: s.address
-    )
-    starts = [s.address for s in functions]
-
-    def extent(index: int) -> int:
-        symbol = functions[index]
-        if symbol.size:
-            return symbol.size
-        following = starts[index + 1] if index + 1 < len(starts) else symbol.address
-        return following - symbol.address
-
-    def owner(address: int) -> int:
-        index = bisect.bisect_right(starts, address) - 1
-        if index < 0 or address >= starts[index] + extent(index):
-            raise ValueError(f"a branch to 0x{address:08x} lies outside every function")
-        return index
-
-    def read(index: int) -> bytes:
-        symbol = functions[index]
-        for segment in image.segments:
-            start = symbol.address - segment.address
-            if start >= 0 and start + extent(index) <= len(segment.data):
-                return segment.data[start : start + extent(index)]
-        raise ValueError(f"{symbol.name} is not in a loaded segment")
-
-    seen: set[int] = set()
-    indirect = False
-    pending = [owner(image.symbol(root).address)]
-    while pending:
-        index = pending.pop()
-        if index in seen:
-            continue
-        seen.add(index)
-        targets, branches_indirectly = _direct_targets(read(index), starts[index])
-        indirect |= branches_indirectly
-        pending.extend(owner(target) for target in targets)
-    return frozenset(functions[i].name for i in seen), indirect
+    return TimingSweep(inputs, tuple(points), tuple(bus_changes))
 
 
 def shortest_sector_cycles(spec_path: str | Path) -> int:
@@ -463,43 +481,10 @@ def shortest_sector_cycles(spec_path: str | Path) -> int:
     return int(sc.period_min_ticks * CPU_HZ / spec.hall.timer_clock_hz)
 
 
-def report(stats: Stats, sector_cycles: int | None = None) -> list[str]:
-    hall, end, timing, _ = stats
-    lines = []
-    for s, target_i, target_c in (
-        (hall, TARGET_HALL_INSTRUCTIONS, TARGET_HALL_CYCLES),
-        (end, TARGET_END_INSTRUCTIONS, None),
-    ):
-        lines.append(
-            f"{s.name}: {s.calls} calls; instructions worst {s.instructions_worst} mean"
-            f" {s.instructions_mean:.1f} (target <= {target_i}); cycles worst {s.cycles_worst}"
-            f" mean {s.cycles_mean:.1f} incl. 12 entry + 10 exit"
-            + (f" (target <= {target_c})" if target_c else "")
-        )
-    lines.append(timing_line(timing, sector_cycles))
-    return lines
-
-
 def sector_share(cycles: int, sector_cycles: int | None) -> str:
     if not sector_cycles:
         return ""
     return (
         f", {100.0 * cycles / sector_cycles:.1f} % of the shortest 60 degree"
         f" interval ({sector_cycles} cycles)"
-    )
-
-
-def timing_line(timing: HandlerStats, sector_cycles: int | None = None) -> str:
-    return (
-        f"{timing.name}: {timing.calls} calls; instructions worst {timing.instructions_worst}"
-        f" mean {timing.instructions_mean:.1f}; cycles worst {timing.cycles_worst} mean"
-        f" {timing.cycles_mean:.1f}{sector_share(timing.cycles_worst, sector_cycles)}"
-        " (no target: off the edge, preempted by it)"
-    )
-
-
-def meets_hall_targets(hall: HandlerStats) -> bool:
-    return (
-        hall.instructions_worst <= TARGET_HALL_INSTRUCTIONS
-        and hall.cycles_worst <= TARGET_HALL_CYCLES
     )

@@ -1,4 +1,4 @@
-"""The improved_r part of `make bench` (verify/rule_bench.py): the variant it builds, the
+"""The improved_r part of `make bench` (emulation/rule_bench.py): the variant it builds, the
 helper check it reports and the sweep it measures the rule's handler over.
 
 Figures (instructions, cycles) are measured by `make bench`, never asserted here. What
@@ -25,9 +25,10 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
-from verify.armsim import load_elf
-from verify.isr_bench import HALL_HANDLER, TIMING_HANDLER, reached_functions, timing_sweep
-from verify.rule_bench import (
+from emulation.armsim import load_elf
+from emulation.callgraph import reached_functions
+from emulation.isr_bench import HALL_HANDLER, TIMING_HANDLER, timing_sweep
+from emulation.rule_bench import (
     METHOD,
     helper_names,
     improved_r_spec,
@@ -36,7 +37,7 @@ from verify.rule_bench import (
 )
 from verify.run import load_twin
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 PAPER_IMPROVED_R = ROOT / "spec" / "paper_motor_improved_r.yaml"
 #: The rule's bisection in the generated core (one call per step).

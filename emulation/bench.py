@@ -1,0 +1,602 @@
+"""`make bench`: speed and size figures, measured, each printed with its target.
+
+    python -m emulation [SPEC ...] [--only SECTIONS] [--quick] [--report-only] [--work DIR]
+
+Every SPEC (default spec/paper_motor.yaml) is generated afresh into WORK/<name>/
+(default build/bench/), built for the STM32F103 and measured:
+
+* size: flash of the commutation code (core + port, 2 KiB), its variables in RAM, the
+  code and tables it runs from SRAM (.RamFunc), the whole image;
+* handlers: the port's interrupt handlers in unicorn over all Hall codes, both
+  directions and a sweep of speed, bus voltage, current and duty
+  (emulation/isr_bench.py), priced by the cycle model of emulation/cycles.py and
+  emulation/memory.py (flash wait states, prefetch buffer; its assumptions are
+  printed): the Hall edge (120 cycles, entry and exit included), the commutation end,
+  the timing handler on the cached bus state (150) and when the bus changed, the core's
+  arithmetic inside it, the CPU load at the top speed with the bus-change path in it,
+  and the stack per handler (static from -fstack-usage, and measured);
+* placement: the Hall edge handler built in flash instead of SRAM: SRAM must be faster,
+  or the port's default is wrong;
+* peers: the same outputs computed by sympy.ccode in float and double and by plain
+  32-bit fixed point, on the same inputs, as cycle ratios, with their errors against
+  the exact model (emulation/peers.py);
+* rule: the spec with the resistance-aware rule (emulation/rule_bench.py);
+* reciprocal: the bus reciprocal by divide or by table (emulation/reciprocal_bench.py);
+* times: derive + audit from a cold start, regeneration, verify, the Unity tests under
+  qemu and the simulation, wall time.
+
+Exit status: 0 when every figure meets its target, 1 when one misses (0 with
+--report-only), 2 for a bad spec or usage. --quick shrinks the sweeps (the bench's own
+tests use it); its figures are not the headline ones.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from codegen.build_firmware import Sizes, build
+from codegen.core.module import build_core
+from codegen.derivation import derive
+from codegen.errors import SpecError
+from codegen.fixedpoint.scaling import scaling
+from codegen.generate import generate
+from codegen.render import PROJECT_ROOT
+from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
+from codegen.spec_variant import spec_with_method
+from emulation import peers, progress, rule_bench
+from emulation.armsim import load_elf
+from emulation.figures import Figure, misses
+from emulation.isr_bench import (
+    HALL_HANDLER,
+    TIMING_HANDLER,
+    Stats,
+    Sweep,
+    bench,
+    shortest_sector_cycles,
+    sweep,
+)
+from emulation.memory import ASSUMPTIONS, STM32F103_72MHZ
+from emulation.reciprocal_bench import ReciprocalChoice, table_option
+from emulation.stack import EXCEPTION_FRAME_BYTES, read_frames, static_depth
+
+SECTIONS = ("size", "handlers", "placement", "peers", "rule", "reciprocal", "times")
+DEFAULT_SPEC = "spec/paper_motor.yaml"
+DEFAULT_WORK = Path("build") / "bench"
+
+FLASH_TARGET_BYTES = 2048
+#: The port's and the core's variables: the timing slots and the cached bus state the
+#: timing handler's speed needs, the Hall-edge state. Code run from SRAM is separate.
+RAM_STATE_TARGET_BYTES = 128
+HALL_TARGET_CYCLES = 120
+HALL_TARGET_INSTRUCTIONS = 64
+TIMING_TARGET_CYCLES = 150
+#: Issue 17: the arithmetic of a commutation at most as costly as plain fixed point.
+PEER_RATIO_TARGET = 1.0
+RUNS = 5
+TARGET_DERIVE_AUDIT_S = 3.0
+TARGET_REGENERATE_WARM_S = 2.0
+TARGET_VERIFY_S = 10.0
+TARGET_QEMU_S = 60.0
+TARGET_SIMULATE_S = 60.0
+#: Defines that build the Hall edge handler in flash (the placement comparison).
+IN_FLASH = ("BLDC_PORT_HALL_EDGE_IN_FLASH=1",)
+
+
+@dataclass
+class Report:
+    """What one spec's bench printed: figures with targets, and lines of context."""
+
+    spec: Spec
+    figures: list[Figure] = field(default_factory=list)
+    lines: list[str] = field(default_factory=list)
+
+    def add(self, *figures: Figure) -> None:
+        self.figures.extend(figures)
+        for figure in figures:
+            print(f"bench: {figure.line()}", flush=True)
+
+    def say(self, *lines: str) -> None:
+        self.lines.extend(lines)
+        for line in lines:
+            print(f"bench: {line}", flush=True)
+
+
+@dataclass(frozen=True)
+class Bench:
+    """One spec prepared for measuring: generated and built under `work`."""
+
+    spec_path: Path
+    spec: Spec
+    work: Path
+    quick: bool
+
+    @property
+    def generated(self) -> Path:
+        return self.work / "generated"
+
+    @property
+    def build_dir(self) -> Path:
+        return self.work / "firmware"
+
+    def inputs(self) -> Sweep:
+        full = sweep(self.spec, scaling(self.spec, derive()))
+        if not self.quick:
+            return full
+        return replace(
+            full,
+            periods=(full.periods[0], full.periods[-1]),
+            buses=(full.buses[0], full.buses[-1]),
+            currents=(full.currents[-1],),
+            duties=(full.duties[1],),
+        )
+
+
+def prepare(spec_path: Path, work_root: Path, quick: bool) -> Bench:
+    spec = load_spec(spec_path)
+    work = work_root / spec.name
+    generate(spec_path, work / "generated", PROJECT_ROOT)
+    return Bench(spec_path, spec, work, quick)
+
+
+# ------------------------------------------------------------------ sections
+
+
+def section_size(b: Bench, report: Report) -> dict[str, Sizes]:
+    sizes = build(b.generated, b.build_dir)
+    core, port, image = sizes["core"], sizes["port"], sizes["firmware.elf"]
+    report.add(
+        Figure(
+            "core + port flash",
+            core.flash + port.flash,
+            "B",
+            FLASH_TARGET_BYTES,
+            f"core {core.flash}, port {port.flash} (.RamFunc load image included)",
+        ),
+        Figure(
+            "core + port RAM, variables",
+            core.ram_state + port.ram_state,
+            "B",
+            RAM_STATE_TARGET_BYTES,
+        ),
+        Figure(
+            "core + port RAM, code and tables run from SRAM (.RamFunc)",
+            core.ram_code + port.ram_code,
+            "B",
+            detail="copied from flash by the start-up code",
+        ),
+        Figure("whole image flash", image.flash, "B"),
+        Figure("whole image RAM (stack not included)", image.ram, "B"),
+    )
+    return sizes
+
+
+def _share(cycles: int, sector: int) -> str:
+    return f"{100.0 * cycles / sector:.2f} % of the shortest 60 degree interval ({sector} cycles)"
+
+
+def _stack_figures(b: Bench, stats: Stats) -> list[Figure]:
+    image = load_elf(b.build_dir / "firmware.elf")
+    frames = read_frames(b.build_dir)
+    measured = {
+        HALL_HANDLER: max(stats.hall.stack_bytes, stats.end.stack_bytes),
+        TIMING_HANDLER: max(
+            t.stack_bytes for t in (stats.timing, stats.timing_bus) if t is not None
+        ),
+    }
+    figures = []
+    totals = []
+    for handler in (HALL_HANDLER, TIMING_HANDLER, "main"):
+        depth = static_depth(image, frames, handler)
+        frame = 0 if handler == "main" else EXCEPTION_FRAME_BYTES
+        if depth.bytes is None:
+            figures.append(
+                Figure(
+                    f"stack {handler} (static)",
+                    float("nan"),
+                    "B",
+                    detail=f"unknown: no bounded frame for {', '.join(depth.missing)}",
+                )
+            )
+            continue
+        totals.append(depth.bytes + frame)
+        detail = f"{' > '.join(depth.path)}"
+        if handler != "main":
+            detail = (
+                f"{detail} + {EXCEPTION_FRAME_BYTES} B exception frame; measured"
+                f" {measured[handler] + EXCEPTION_FRAME_BYTES} B"
+            )
+        figures.append(Figure(f"stack {handler} (static)", depth.bytes + frame, "B", detail=detail))
+    if len(totals) == 3:
+        figures.append(
+            Figure(
+                "stack worst case (main, preempted by the timing, preempted by the Hall edge)",
+                sum(totals),
+                "B",
+            )
+        )
+    return figures
+
+
+def section_handlers(b: Bench, report: Report) -> Stats:
+    report.say(f"cycle model: {STM32F103_72MHZ.describe()}")
+    report.say(*(f"  assumes: {a}" for a in ASSUMPTIONS))
+    inputs = b.inputs()
+    stats = bench(b.spec_path, b.generated, b.build_dir, inputs)
+    sector = shortest_sector_cycles(b.spec_path)
+    report.say(f"inputs: {inputs.describe()}, all Hall codes both ways, safe-state paths")
+    hall, end = stats.hall, stats.end
+    report.add(
+        Figure(
+            "Hall edge (TIM3 CC1) worst",
+            hall.cycles_worst,
+            "cycles",
+            HALL_TARGET_CYCLES,
+            f"entry and exit included; mean {hall.cycles_mean:.1f}; {hall.calls} edges;"
+            f" handler in SRAM",
+        ),
+        Figure(
+            "Hall edge instructions worst",
+            hall.instructions_worst,
+            "",
+            HALL_TARGET_INSTRUCTIONS,
+        ),
+        Figure(
+            "commutation end (TIM3 CC2) worst",
+            end.cycles_worst,
+            "cycles",
+            detail=f"{end.instructions_worst} instructions",
+        ),
+    )
+    timing_target = (
+        rule_bench.TIMING_TARGET_CYCLES
+        if b.spec.controller.method == rule_bench.METHOD
+        else TIMING_TARGET_CYCLES
+    )
+    if stats.timing is not None:
+        report.add(
+            Figure(
+                f"{TIMING_HANDLER} worst, bus state cached",
+                stats.timing.cycles_worst,
+                "cycles",
+                timing_target,
+                f"mean {stats.timing.cycles_mean:.1f}; {stats.timing.calls} runs",
+            )
+        )
+    if stats.timing_bus is not None:
+        report.add(
+            Figure(
+                f"{TIMING_HANDLER} worst, bus changed",
+                stats.timing_bus.cycles_worst,
+                "cycles",
+                detail=f"{stats.timing_bus.calls} runs; in the CPU-load budget below",
+            )
+        )
+    core = stats.core_timing.cycles_worst + (stats.core_bus.cycles_worst if stats.core_bus else 0)
+    report.add(
+        Figure(
+            "core arithmetic of one commutation worst (bldc_bus_condition +"
+            " bldc_commutation_timing, no entry or exit)",
+            core,
+            "cycles",
+            detail=f"bldc_commutation_timing {stats.core_timing.cycles_worst}, bldc_bus_condition"
+            f" {stats.core_bus.cycles_worst if stats.core_bus else 'not run'}",
+        )
+    )
+    worst_timing = stats.timing_worst.cycles_worst
+    load = hall.cycles_worst + end.cycles_worst + 3 * worst_timing
+    report.add(
+        Figure(
+            "CPU load at the top speed",
+            100.0 * load / sector,
+            "%",
+            detail=f"per shortest sector: Hall edge {hall.cycles_worst} + end"
+            f" {end.cycles_worst} + 3 timing runs (after the edge, after the end, one pended"
+            f" by a bus sample) all on the bus-change path {worst_timing} = {load} cycles of"
+            f" {sector}",
+            decimals=2,
+        ),
+    )
+    if stats.timing is not None:
+        cached = hall.cycles_worst + end.cycles_worst + 3 * stats.timing.cycles_worst
+        report.add(
+            Figure(
+                "CPU load at the top speed, bus state cached",
+                100.0 * cached / sector,
+                "%",
+                detail=f"the same three timing runs on the cached bus state: {cached} cycles",
+                decimals=2,
+            )
+        )
+    report.add(*_stack_figures(b, stats))
+    report.say(
+        "peripheral register accesses per run (APB wait states not priced): Hall edge"
+        f" {hall.peripheral_accesses}, commutation end {end.peripheral_accesses}, timing"
+        f" {stats.timing_worst.peripheral_accesses}"
+    )
+    return stats
+
+
+def section_placement(b: Bench, report: Report, in_sram: Stats | None) -> None:
+    inputs = b.inputs()
+    if not b.quick:
+        inputs = replace(inputs, periods=(inputs.periods[0], inputs.periods[-1]))
+    flash_dir = b.work / "firmware-hall-in-flash"
+    in_flash = bench(b.spec_path, b.generated, flash_dir, inputs, defines=IN_FLASH)
+    sram = in_sram or bench(b.spec_path, b.generated, b.build_dir, inputs)
+    report.add(
+        Figure(
+            "Hall edge from SRAM (the port's default) minus from flash",
+            sram.hall.cycles_worst - in_flash.hall.cycles_worst,
+            "cycles",
+            0,
+            f"worst {sram.hall.cycles_worst} in SRAM, {in_flash.hall.cycles_worst} in flash;"
+            f" commutation end {sram.end.cycles_worst} vs {in_flash.end.cycles_worst}",
+        )
+    )
+
+
+def _closed_form_spec(b: Bench) -> tuple[Spec, Path]:
+    """The spec the peers run on, and its generated core: the spec itself, or the same
+    motor with the paper's improved rule for improved_r."""
+    if b.spec.controller.method in peers.CLOSED_FORM:
+        return b.spec, b.generated
+    folder = b.work / "peers-spec"
+    folder.mkdir(parents=True, exist_ok=True)
+    name = f"{b.spec.name}_improved"[:64]
+    path = folder / f"{name}.yaml"
+    path.write_text(
+        spec_with_method(b.spec_path.read_text(encoding="utf-8"), "improved", name),
+        encoding="utf-8",
+    )
+    generate(path, folder / "generated", PROJECT_ROOT)
+    return load_spec(path), folder / "generated"
+
+
+def section_peers(b: Bench, report: Report) -> None:
+    spec, generated = _closed_form_spec(b)
+    full = sweep(spec, scaling(spec, derive()), 2 if b.quick else 6)
+    duties = full.duties if spec.controller.method != "improved" else full.duties[1:2]
+    if b.quick:
+        full = replace(full, buses=full.buses[::2], currents=full.currents[1:])
+        duties = duties[-1:]
+    points = peers.points(full.buses, full.periods, full.currents, duties)
+    if spec is not b.spec:
+        report.say(
+            f"peers on {spec.name} (the paper's improved rule: {b.spec.name} has no closed form)"
+        )
+    results = peers.run(spec, generated, b.work / "peers", points)
+    ours = results[0]
+    plain = next(r for r in results if r.name == "plain fixed point")
+    report.say(f"peers: {len(points)} points, same emulator and cycle model, functions in flash")
+    for r in results:
+        ratio = r.cycles_worst / ours.cycles_worst
+        bus = f", of which bldc_bus_condition {r.bus_part_worst}" if r.bus_part_worst else ""
+        report.add(
+            Figure(
+                f"arithmetic {r.name} worst",
+                r.cycles_worst,
+                "cycles",
+                detail=f"{ratio:.2f} x ours; mean {r.cycles_mean:.0f}{bus}; {r.flash_bytes} B of"
+                f" code; error vs the exact model: duties {r.duty_error:.3f} counts, t_com"
+                f" {r.time_error:.3f} ticks",
+            )
+        )
+    report.add(
+        Figure(
+            "ours / plain fixed point",
+            ours.cycles_worst / plain.cycles_worst,
+            "x",
+            PEER_RATIO_TARGET,
+            f"ours {ours.cycles_worst} cycles (bus part {ours.bus_part_worst}), plain"
+            f" {plain.cycles_worst}; with the bus state cached ours is"
+            f" {(ours.cycles_worst - (ours.bus_part_worst or 0)) / plain.cycles_worst:.2f} x",
+            decimals=2,
+        )
+    )
+
+
+def section_rule(b: Bench, report: Report) -> None:
+    started = time.perf_counter()
+    rule = rule_bench.run(b.spec_path, b.work / "rule", quick=b.quick)
+    report.add(*rule.figures())
+    report.say(*rule.lines())
+    report.say(
+        f"{rule_bench.METHOD} generate + build + measure {time.perf_counter() - started:.1f} s"
+    )
+
+
+def section_reciprocal(b: Bench, report: Report, sizes: dict[str, Sizes], stats: Stats) -> None:
+    bus = stats.core_bus
+    if bus is None:
+        report.say("bus reciprocal: no bldc_bus_condition run measured")
+        return
+    choice = ReciprocalChoice(
+        table=table_option(b.spec, build_core(b.spec)),
+        divide_instructions=bus.instructions_worst,
+        divide_cycles=bus.cycles_worst,
+        flash_in_use=sizes["core"].flash + sizes["port"].flash,
+    )
+    report.say(*choice.lines())
+
+
+def _seconds(command: Sequence[str]) -> float:
+    started = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    return time.perf_counter() - started
+
+
+def section_times(b: Bench, report: Report) -> None:
+    python = sys.executable
+    spec = str(b.spec_path)
+    with tempfile.TemporaryDirectory() as out:
+        cold = [_seconds([python, "-m", "codegen", "audit", spec, "-o", out]) for _ in range(RUNS)]
+    report.add(
+        Figure(
+            "derive + audit, cold start, median",
+            statistics.median(cold),
+            "s",
+            TARGET_DERIVE_AUDIT_S,
+            f"{RUNS} runs, min {min(cold):.2f} s",
+            decimals=2,
+        )
+    )
+    from codegen.generate import render_all
+
+    render_all(spec)
+    warm = []
+    for _ in range(RUNS):
+        started = time.perf_counter()
+        render_all(spec)
+        warm.append(time.perf_counter() - started)
+    report.add(
+        Figure(
+            "regenerate, warm, median",
+            statistics.median(warm),
+            "s",
+            TARGET_REGENERATE_WARM_S,
+            decimals=2,
+        )
+    )
+    report.add(
+        Figure(
+            "verify (exhaustive + random + boundary, host)",
+            _seconds([python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]),
+            "s",
+            TARGET_VERIFY_S,
+            decimals=1,
+        )
+    )
+    from verify.unity_run import run_qemu
+
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory() as qemu_build:
+        run = run_qemu(b.generated, Path(qemu_build))
+    seconds = time.perf_counter() - started
+    report.add(
+        Figure(
+            "Unity tests on the emulated Cortex-M3 (build + qemu run)",
+            seconds if run.passed else float("inf"),
+            "s",
+            TARGET_QEMU_S,
+            f"{len(run.results)} tests, {'pass' if run.passed else 'FAIL'}",
+            decimals=1,
+        )
+    )
+    with tempfile.TemporaryDirectory() as sim_out:
+        seconds = _seconds([python, "-m", "sim", spec, "-o", sim_out, "--no-progress"])
+    report.add(
+        Figure(
+            "simulate (sweep, optimum, figures, report)",
+            seconds,
+            "s",
+            TARGET_SIMULATE_S,
+            decimals=1,
+        )
+    )
+
+
+# ------------------------------------------------------------------ driver
+
+
+def run_spec(b: Bench, sections: Sequence[str]) -> Report:
+    report = Report(b.spec)
+    report.say(
+        f"spec {b.spec_path} ({b.spec.name}, method {b.spec.controller.method}), work {b.work}"
+    )
+    sizes = section_size(b, report) if "size" in sections or "reciprocal" in sections else None
+    stats = None
+    if "handlers" in sections or "reciprocal" in sections:
+        stats = section_handlers(b, report)
+    steps: dict[str, Callable[[], None]] = {
+        "placement": lambda: section_placement(b, report, stats if not b.quick else None),
+        "peers": lambda: section_peers(b, report),
+        "rule": lambda: section_rule(b, report),
+        "times": lambda: section_times(b, report),
+    }
+    for name in ("placement", "peers", "rule"):
+        if name in sections:
+            steps[name]()
+    if "reciprocal" in sections and sizes is not None and stats is not None:
+        section_reciprocal(b, report, sizes, stats)
+    if "times" in sections:
+        steps["times"]()
+    return report
+
+
+def parse(argv: Sequence[str]) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="python -m emulation",
+        description="Speed and size figures of the generated firmware, each with its target.",
+    )
+    parser.add_argument("specs", nargs="*", type=Path, help=f"spec files (default {DEFAULT_SPEC})")
+    parser.add_argument(
+        "--only",
+        default=",".join(SECTIONS),
+        help=f"comma-separated sections to run, of {', '.join(SECTIONS)} (default all)",
+    )
+    parser.add_argument(
+        "--report-only",
+        action="store_true",
+        help="print the figures and exit 0 even when one misses its target",
+    )
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="small sweeps: checks that the bench runs, not headline figures",
+    )
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bars on stderr (they show only when stderr is a terminal)",
+    )
+    parser.add_argument(
+        "--work",
+        type=Path,
+        default=DEFAULT_WORK,
+        help=f"where each spec is generated and built (default {DEFAULT_WORK})",
+    )
+    args = parser.parse_args(argv)
+    unknown = set(args.only.split(",")) - set(SECTIONS)
+    if unknown:
+        parser.error(
+            f"--only: unknown section {', '.join(sorted(unknown))} (allowed: {', '.join(SECTIONS)})"
+        )
+    return args
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = parse(sys.argv[1:] if argv is None else argv)
+    progress.enabled = sys.stderr.isatty() and not args.no_progress
+    sections = args.only.split(",")
+    missed: list[tuple[str, Figure]] = []
+    for spec_path in args.specs or [Path(DEFAULT_SPEC)]:
+        try:
+            b = prepare(spec_path, args.work, args.quick)
+        except SpecError as error:
+            print(f"bench: {error}", file=sys.stderr)
+            return 2
+        except OSError as error:
+            print(f"bench: cannot read spec {spec_path}: {error.strerror}", file=sys.stderr)
+            return 2
+        report = run_spec(b, sections)
+        missed += [(b.spec.name, f) for f in misses(report.figures)]
+    if missed:
+        print(f"bench: {len(missed)} figure(s) MISS their targets:")
+        for name, figure in missed:
+            print(f"bench:   {name}: {figure.line()}")
+        return 0 if args.report_only else 1
+    print("bench: every figure meets its target")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

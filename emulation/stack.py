@@ -1,0 +1,76 @@
+"""Stack usage of the interrupt handlers, two ways.
+
+* Static: the compiler's frame of each function (-fstack-usage, the `.su` files the
+  firmware build writes beside its objects) summed along the deepest path of the
+  handler's static call graph (`emulation.callgraph`). A frame the compiler marks
+  `dynamic` (alloca, variable-length arrays) makes the bound unknown.
+* Measured: the deepest stack write of any emulated run of the handler.
+
+Both add the exception frame the Cortex-M3 pushes on entry: eight words, plus one word
+of padding when the stack pointer is not 8-byte aligned (CCR.STKALIGN, PM0056 4.4.7):
+36 bytes at most. A handler preempted by a more urgent one adds that one's total.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from emulation.armsim import ArmImage
+from emulation.callgraph import call_graph
+
+#: r0-r3, r12, lr, pc, xPSR, and the alignment word.
+EXCEPTION_FRAME_BYTES = 8 * 4 + 4
+
+_SU_LINE = re.compile(r"^(?P<where>.+):(?P<function>[^:\s]+)\s+(?P<bytes>\d+)\s+(?P<kind>\S+)$")
+
+
+@dataclass(frozen=True)
+class Frame:
+    bytes: int
+    bounded: bool  # static or bounded, not dynamic
+
+
+def read_frames(build_dir: Path) -> dict[str, Frame]:
+    """Function -> its frame, from every `.su` file in `build_dir`."""
+    frames: dict[str, Frame] = {}
+    for path in sorted(build_dir.glob("*.su")):
+        for line in path.read_text(encoding="utf-8").splitlines():
+            match = _SU_LINE.match(line.strip())
+            if match is None:
+                continue
+            name = match["function"]
+            frame = Frame(int(match["bytes"]), "dynamic" not in match["kind"].split(","))
+            previous = frames.get(name)
+            if previous is None or frame.bytes > previous.bytes:
+                frames[name] = frame
+    return frames
+
+
+@dataclass(frozen=True)
+class StaticDepth:
+    handler: str
+    bytes: int | None  # None when a frame on the path is unknown or dynamic
+    path: tuple[str, ...]
+    missing: tuple[str, ...]  # reached functions without a known, bounded frame
+
+    def with_frame(self) -> int | None:
+        return None if self.bytes is None else self.bytes + EXCEPTION_FRAME_BYTES
+
+
+def static_depth(image: ArmImage, frames: dict[str, Frame], handler: str) -> StaticDepth:
+    """The deepest frame sum over the handler's static call paths (no recursion)."""
+    graph = call_graph(image, handler)
+    missing = tuple(sorted(f for f in graph.functions if f not in frames or not frames[f].bounded))
+
+    def deepest(function: str, above: tuple[str, ...]) -> tuple[int, tuple[str, ...]]:
+        if function in above:
+            raise ValueError(f"{handler}: recursion through {function}: no static bound")
+        own = frames[function].bytes if function in frames else 0
+        below = [deepest(c, (*above, function)) for c in sorted(graph.calls[function])]
+        best = max(below, default=(0, ()))
+        return own + best[0], (function, *best[1])
+
+    total, path = deepest(handler, ())
+    return StaticDepth(handler, None if missing else total, path, missing)

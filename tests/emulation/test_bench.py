@@ -1,0 +1,80 @@
+"""`make bench` (emulation/bench.py): it runs on any spec, generated afresh, including the
+unusual motors, prints every figure with a target verdict and exits by them.
+
+No figure is asserted here (the bench reports numbers; tests check behaviour): what is
+asserted is that every section runs, that each figure it promises is there and is a
+finite measurement, and how the exit status follows the verdicts.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from emulation import bench
+from emulation.bench import main, prepare, run_spec
+
+ROOT = Path(__file__).resolve().parents[2]
+FIXTURES = sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml"))
+SECTIONS = ["size", "handlers", "placement", "peers", "rule"]
+
+
+@pytest.mark.parametrize("spec", FIXTURES, ids=lambda p: p.stem)
+def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> None:
+    report = run_spec(prepare(spec, tmp_path, quick=True), SECTIONS)
+    names = [f.name for f in report.figures]
+    for expected in (
+        "core + port flash",
+        "Hall edge (TIM3 CC1) worst",
+        "commutation end (TIM3 CC2) worst",
+        "CPU load at the top speed",
+        "stack TIM3_IRQHandler (static)",
+        "stack TIM1_TRG_COM_IRQHandler (static)",
+        "Hall edge from SRAM (the port's default) minus from flash",
+        "arithmetic ccode float worst",
+        "arithmetic ccode double worst",
+        "arithmetic plain fixed point worst",
+        "ours / plain fixed point",
+        "improved_r Hall edge worst",
+        "improved_r library helpers reachable from TIM1_TRG_COM_IRQHandler",
+    ):
+        assert expected in names, expected
+    assert any(n.startswith("TIM1_TRG_COM_IRQHandler worst") for n in names)
+    for figure in report.figures:
+        assert (math.isfinite(figure.value) and figure.value >= 0) or figure.name.startswith(
+            "Hall edge from SRAM"
+        ), figure.line()
+        assert figure.line().startswith(figure.name)
+    # the generated output went where the bench was told, not into the repository
+    assert (tmp_path / report.spec.name / "generated" / "c" / "stm32f103_port.c").is_file()
+
+
+def test_exit_status_should_follow_the_targets(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    spec = str(ROOT / "spec" / "paper_motor.yaml")
+    args = [spec, "--quick", "--only", "size", "--work", str(tmp_path)]
+    assert main(args) == 0
+    assert "every figure meets its target" in capsys.readouterr().out
+    monkeypatch.setattr(bench, "FLASH_TARGET_BYTES", 16)
+    assert main(args) == 1
+    out = capsys.readouterr().out
+    assert "core + port flash" in out and "MISSES" in out and "MISS their targets" in out
+    assert main([*args, "--report-only"]) == 0
+
+
+def test_bad_spec_should_exit_2_with_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text.replace("0.56 mH", "0.56 mX", 1), encoding="utf-8")
+    assert "0.56 mX" in bad.read_text(encoding="utf-8")
+    assert main([str(bad), "--only", "size", "--work", str(tmp_path / "work")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "bad.yaml" in err[0] and "0.56 mX" in err[0]
+    with pytest.raises(SystemExit) as usage:
+        main([str(bad), "--only", "speed"])
+    assert usage.value.code == 2
