@@ -31,8 +31,9 @@ from pathlib import Path
 from codegen import units
 from codegen.errors import SpecError
 from codegen.render import write_atomically
+from codegen.spec_drive import short_circuit_peak
 from codegen.spec_loader import load_spec
-from codegen.spec_model import SpecWarning
+from codegen.spec_model import BackEmfShape, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
 #: Hall timer clocks that divide the 72 MHz timer clock, slowest first.
@@ -362,6 +363,24 @@ def render_spec(name: str, sheet: Datasheet) -> str:
     points = sorted(
         {max(n_min, _round_down(n_max * Fraction(3, 10), 10)), _round_down(n_max * 9 / 10, 10)}
     )
+    bandwidth_hz = min(Fraction(1000), pwm / 10)
+    over_current = _round_up(i_max * Fraction(3, 2), 1)
+    short_max = _round_up(
+        Fraction(
+            math.ceil(
+                short_circuit_peak(
+                    speed_rpm=float(n_max),
+                    k_e=float(si["ke"]),
+                    pole_pairs=int(pole_pairs),
+                    resistance_ohm=float(si["r"]),
+                    inductance_h=float(si["l"]),
+                    shape=BackEmfShape(),
+                    current_at_entry_a=float(over_current),
+                )
+            )
+        ),
+        1,
+    )
     point_lines = "\n".join(f"  - {{speed: {_num(p)} rpm, main_duty: 0.42}}" for p in points)
     sources = {f"motor.{k}": v for k, v in motor_sources.items()} | {
         "inverter.bus_voltage_nominal": bus_source,
@@ -403,6 +422,18 @@ def render_spec(name: str, sheet: Datasheet) -> str:
             f"{derived} 8 Hall ticks, at most 5 % of the shortest 60 deg sector"
         ),
         "operating_points": f"{derived} 30 % and 90 % of speed_max; set your test speeds",
+        "accuracy.current_loop_duty_counts": "assumption: 1 TIM1 count for the braking-current PI",
+        "sensing": "assumption: bldc-codegen init default, a DC-link shunt on ADC12_IN0 (PA0), the"
+        " bus divider on ADC12_IN1 (PA1); set your board's topology, channels and settling time",
+        "current_loop.bandwidth": f"{derived} 1 kHz or a tenth of the PWM frequency if less",
+        "protection.over_current": f"{derived} 1.5 x braking_current_max; set your comparator's trip",
+        "protection.break_input": "assumption: open-drain comparator output, low on over-current",
+        "protection.short_circuit_current_max": (
+            f"{derived} the short-circuit bound at speed_max, rounded up; set your bridge's"
+            " pulsed rating"
+        ),
+        "protection.safe_state": "assumption: all-off where both are valid",
+        "firmware": "assumption: bldc-codegen init defaults; the budgets of issue 12",
     }
     source_lines = "\n".join(f"  {key}: {_yaml_string(text)}" for key, text in sources.items())
     return f"""\
@@ -463,11 +494,39 @@ controller:
 accuracy:
   duty_counts: 1.0
   commutation_time_ticks: {_num(budget)}
+  current_loop_duty_counts: 1.0
 
 # The speeds (and the current controller's main duty there) the audit, the Unity tests
 # and the simulation report on.
 operating_points:
 {point_lines}
+
+# The braking drive around the core: current sensing, the braking-current PI, the
+# protection and the firmware build (see spec/paper_motor.yaml).
+sensing:
+  topology: dc_link_shunt
+  current_channels: [0]
+  bus_voltage_channel: 1
+  settling_time: 1 us
+  adc_sample_time: 7.5
+
+current_loop:
+  bandwidth: {_num(bandwidth_hz)} Hz
+
+protection:
+  over_current: {_num(over_current)} A
+  break_input: active_low
+  short_circuit_current_max: {_num(short_max)} A
+  safe_state: all_off
+
+firmware:
+  integration: vector_table
+  hse_startup_timeout: 10 ms
+  watchdog_timeout: 20 ms
+  flash_budget: 8192
+  ram_budget: 512
+  cpu_load_budget: 25
+  current_loop_budget: 150
 
 sources:
 {source_lines}

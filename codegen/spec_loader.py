@@ -26,7 +26,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, TypeVar
 
-from codegen import spec_optional, units
+from codegen import spec_drive, spec_optional, units
 from codegen.errors import MultiSpecError, SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
@@ -70,6 +70,8 @@ WARNINGS: dict[str, str] = {
     "dead-time-long": "two dead times take more than 4 % of the PWM period",
     "duty-budget-large": "accuracy.duty_counts above 4 TIM1 counts",
     "time-budget-large": "accuracy.commutation_time_ticks above 2 % of the shortest 60 deg sector",
+    "current-sense-window": "an operating point's nominal braking current needs a duty above"
+    " the current sample window's maximum",
 }
 
 T = TypeVar("T")
@@ -260,6 +262,7 @@ _TOP_KEYS = (
     "controller",
     "accuracy",
     "operating_points",
+    *spec_drive.SECTIONS,
     "sources",
 )
 _OPTIONAL_TOP_KEYS = ("warnings",)
@@ -292,7 +295,7 @@ _CONTROLLER_KEYS = (
     "speed_min",
     "speed_max",
 )
-_ACCURACY_KEYS = ("duty_counts", "commutation_time_ticks")
+_ACCURACY_KEYS = ("duty_counts", "commutation_time_ticks", "current_loop_duty_counts")
 _SECTIONS = {
     "motor": _MOTOR_KEYS,
     "inverter": _INVERTER_KEYS,
@@ -300,6 +303,7 @@ _SECTIONS = {
     "adc": _ADC_KEYS,
     "controller": _CONTROLLER_KEYS,
     "accuracy": _ACCURACY_KEYS,
+    **spec_drive.SECTIONS,
 }
 
 # Ranges: what any real drive of this kind can have, so that no value can reach the
@@ -608,6 +612,14 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
             _Range(0.5, 64, "Hall timer ticks", low_inclusive=False),
         )
     )
+    loop = r.attempt(
+        lambda: r.number(
+            sec,
+            "current_loop_duty_counts",
+            "accuracy",
+            _Range(0.5, 16, "TIM1 counts", low_inclusive=False),
+        )
+    )
     present = tuple(k for k in _RELAXATION if k in sec)
     if len(present) == 1:
         missing = next(k for k in _RELAXATION if k not in present)
@@ -637,13 +649,14 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
         )
         if above is None or counts is None:
             return None
-    if duty is None or ticks is None:
+    if duty is None or ticks is None or loop is None:
         return None
     return Accuracy(
         duty_counts=duty,
         commutation_time_ticks=ticks,
         ill_conditioned_above=above,
         ill_conditioned_counts=counts,
+        current_loop_duty_counts=loop,
     )
 
 
@@ -1126,6 +1139,10 @@ def load_spec(path: str | Path) -> Spec:
     controller = _controller(r, data)
     accuracy = _accuracy(r, data)
     points = _operating_points(r, data)
+    sensing = spec_drive.read_sensing(r, data, _Range)
+    current_loop = spec_drive.read_current_loop(r, data, _Range)
+    protection = spec_drive.read_protection(r, data, _Range)
+    firmware = spec_drive.read_firmware(r, data, _Range)
     sources = _sources(r, data)
     silenced = _silenced(r, data)
     tolerances = None
@@ -1137,6 +1154,21 @@ def load_spec(path: str | Path) -> Spec:
         raise MultiSpecError(r.errors)
     parts = _Parts(motor, inverter, hall, adc, controller, accuracy, points)  # type: ignore[arg-type]
     _check_physics(r, data, parts)
+    if r.errors:
+        raise MultiSpecError(r.errors)
+    assert sensing and current_loop and protection and firmware  # else r.errors
+    spec_drive.check_drive(
+        r,
+        data,
+        motor=parts.motor,
+        inverter=parts.inverter,
+        adc=parts.adc,
+        controller=parts.controller,
+        points=parts.points,
+        sensing=sensing,
+        current_loop=current_loop,
+        protection=protection,
+    )
     if r.errors:
         raise MultiSpecError(r.errors)
     _check_plausible(r, data, parts)
@@ -1152,6 +1184,10 @@ def load_spec(path: str | Path) -> Spec:
         controller=parts.controller,
         accuracy=parts.accuracy,
         operating_points=parts.points,
+        sensing=sensing,
+        current_loop=current_loop,
+        protection=protection,
+        firmware=firmware,
         sources=sources,  # type: ignore[arg-type]
         tolerances=tolerances,
         warnings=tuple(w for w in r.warnings if w.id not in silenced),

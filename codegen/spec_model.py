@@ -13,6 +13,10 @@ from typing import Literal
 CommutationMethod = Literal["improved", "conventional", "none", "improved_r"]
 PwmAlignment = Literal["edge", "center"]
 EmfConvention = Literal["phase", "line_to_line"]
+SensingTopology = Literal["dc_link_shunt", "low_side_phase_shunts"]
+BreakPolarity = Literal["active_low", "active_high"]
+SafeStatePolicy = Literal["all_off", "short_circuit"]
+Integration = Literal["vector_table", "cube"]
 
 COMMUTATION_METHODS: tuple[str, ...] = ("improved", "conventional", "none", "improved_r")
 
@@ -142,6 +146,59 @@ class Accuracy:
     #: sum). None: no relaxation, the time target holds everywhere.
     ill_conditioned_above: Fraction | None = None
     ill_conditioned_counts: Fraction | None = None
+    #: |duty - exact| of the braking-current PI, TIM1 counts: one step from any state,
+    #: and along step responses and saturation from the same measured codes.
+    current_loop_duty_counts: Fraction = Fraction(1)
+
+
+@dataclass(frozen=True)
+class Sensing:
+    """Where the braking current I of Eqs. 15-20 and the bus voltage are measured.
+
+    `dc_link_shunt`: one shunt in the bridge's negative rail (one ADC channel);
+    `low_side_phase_shunts`: one shunt under each lower switch (channels of phases A, B,
+    C). Every channel's chain reads I as `adc.current_offset + adc.current_gain I`.
+    Which signal is I in each sector, and when in the PWM period it is sampled, is
+    derived from the switching table (codegen/control/sensing.py)."""
+
+    topology: SensingTopology
+    current_channels: tuple[int, ...]  # ADC12_INx: one (DC link) or three (A, B, C)
+    bus_voltage_channel: int
+    #: ringing after a switching edge before the shunt signal is valid
+    settling_time_s: Fraction
+    #: ADC sample time in ADC clock cycles (RM0008 ADC_SMPRx: 1.5 ... 239.5)
+    adc_sample_cycles: Fraction
+
+
+@dataclass(frozen=True)
+class CurrentLoop:
+    """The braking-current PI: crossover of the open loop (pole-zero cancellation)."""
+
+    bandwidth_hz: Fraction
+
+
+@dataclass(frozen=True)
+class Protection:
+    #: trip level of the external over-current comparator on TIM1 BKIN (phase current)
+    over_current_a: Fraction
+    break_polarity: BreakPolarity
+    #: peak phase current the bridge may carry in an active short circuit
+    short_circuit_current_max_a: Fraction
+    #: the safe state where both all-off and the short circuit are valid
+    safe_state: SafeStatePolicy
+
+
+@dataclass(frozen=True)
+class Firmware:
+    """How the firmware is built and integrated, and its budgets (`make firmware`)."""
+
+    integration: Integration
+    hse_startup_timeout_s: Fraction
+    watchdog_timeout_s: Fraction
+    flash_budget_bytes: int
+    ram_budget_bytes: int  # stack included
+    cpu_load_budget_percent: Fraction
+    current_loop_budget_cycles: int
 
 
 @dataclass(frozen=True)
@@ -184,6 +241,10 @@ class Spec:
     controller: Controller
     accuracy: Accuracy
     operating_points: tuple[OperatingPoint, ...]
+    sensing: Sensing
+    current_loop: CurrentLoop
+    protection: Protection
+    firmware: Firmware
     #: Key path -> where the value comes from ("paper Table 3", "assumption: ...").
     sources: tuple[tuple[str, str], ...]
     #: Optional `tolerances` section (robustness campaign); None when absent.

@@ -1,0 +1,582 @@
+"""The spec's drive sections, read and checked (called by `spec_loader`), and the
+physics of the drive that the loader checks and the design uses.
+
+Sections:
+
+* `sensing`: the current-sensing topology (`dc_link_shunt` or `low_side_phase_shunts`),
+  the ADC channels of the current shunt(s) and of the bus divider, the settling time of
+  the shunt signal after a switching edge and the ADC sample time;
+* `current_loop`: the bandwidth of the braking-current PI;
+* `protection`: the over-current comparator's trip level on TIM1 BKIN and its polarity,
+  the peak current the bridge may carry in an active short circuit, and the safe state
+  where both all-off and the short circuit are valid;
+* `firmware`: vector table or STM32Cube integration, the HSE start-up timeout, the
+  independent watchdog's timeout and the budgets `make firmware` and `make bench` hold
+  the image to.
+
+The physics (one copy, used by the loader's checks and by codegen/control):
+
+* `sense_window`: where in the PWM period the injected conversion samples the current
+  and the largest duty whose OFF time still holds that sample away from every switching
+  edge (RM0008 11.3.9 injected conversions, DS5319 Table 46 latency);
+* `rectifying_speed`: above U_d / (lambda k_e) the bridge's diodes conduct with every
+  switch off (lambda E is the peak line-to-line EMF: 2E for the 120 deg trapezoid),
+  so all-off is no safe state there;
+* `short_circuit_peak`: a bound on the phase current of an active short circuit
+  (all lower switches on) at a speed, from the EMF's harmonics.
+
+Every error names the key path, the value, the unit and the allowed range.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any, Protocol
+
+from codegen import units
+from codegen.errors import SpecError
+from codegen.spec_model import (
+    BackEmfShape,
+    CurrentLoop,
+    Firmware,
+    Protection,
+    Sensing,
+)
+
+SENSING_KEYS = (
+    "topology",
+    "current_channels",
+    "bus_voltage_channel",
+    "settling_time",
+    "adc_sample_time",
+)
+CURRENT_LOOP_KEYS = ("bandwidth",)
+PROTECTION_KEYS = ("over_current", "break_input", "short_circuit_current_max", "safe_state")
+FIRMWARE_KEYS = (
+    "integration",
+    "hse_startup_timeout",
+    "watchdog_timeout",
+    "flash_budget",
+    "ram_budget",
+    "cpu_load_budget",
+    "current_loop_budget",
+)
+SECTIONS = {
+    "sensing": SENSING_KEYS,
+    "current_loop": CURRENT_LOOP_KEYS,
+    "protection": PROTECTION_KEYS,
+    "firmware": FIRMWARE_KEYS,
+}
+TOPOLOGIES = ("dc_link_shunt", "low_side_phase_shunts")
+#: ADC12_IN0..IN5 are PA0..PA5, IN9 is PB1. IN6, IN7 and IN8 (PA6, PA7, PB0) carry the
+#: Hall inputs of TIM3 (DS5319 Table 5), so they cannot be analog inputs here.
+ADC_CHANNELS = (0, 1, 2, 3, 4, 5, 9)
+#: RM0008 ADC_SMPRx SMPx codes 000..111: sample time in ADC clock cycles.
+ADC_SAMPLE_CYCLES: tuple[Fraction, ...] = tuple(
+    Fraction(x) for x in ("1.5", "7.5", "13.5", "28.5", "41.5", "55.5", "71.5", "239.5")
+)
+#: The ADC clock: PCLK2 72 MHz / 6 (RCC_CFGR.ADCPRE = 10), within the 14 MHz maximum of
+#: DS5319 Table 46. The port sets the prescaler.
+ADC_CLOCK_HZ = Fraction(12_000_000)
+ADC_PRESCALER = 6
+#: RM0008 11.6: a conversion takes the sample time plus 12.5 ADC cycles.
+ADC_CONVERSION_CYCLES = Fraction(25, 2)
+#: DS5319 Table 46, t_latj: injected trigger to the start of sampling, at most 3 ADC cycles.
+INJECTED_LATENCY_CYCLES = 3
+#: The port converts four injected channels (JL = 3), so JSQx lands in JDRx (RM0008
+#: 11.12.12): the current channel(s) first, the bus divider in the remaining slots.
+INJECTED_CONVERSIONS = 4
+BREAK_POLARITIES = ("active_low", "active_high")
+SAFE_STATES = ("all_off", "short_circuit")
+INTEGRATIONS = ("vector_table", "cube")
+#: A loop delay of one PWM period costs 360 deg x f_c / f_pwm of phase margin: at
+#: f_pwm / 10 the margin of the pole-zero cancelled loop is 90 - 36 = 54 deg.
+BANDWIDTH_MAX_PER_PWM = Fraction(1, 10)
+#: TIM1 and TIM3's clock in the generated clock tree (codegen/system_clock.py).
+FIRMWARE_TIMER_CLOCK_HZ = Fraction(72_000_000)
+#: Harmonics summed in the short-circuit bound (odd, not multiples of 3).
+SHORT_CIRCUIT_HARMONICS = 999
+
+
+class Reader(Protocol):
+    """What `spec_loader._Reader` offers this module."""
+
+    def section(self, data: Mapping[str, Any], key: str) -> Mapping[str, Any] | None: ...
+    def only_keys(
+        self,
+        data: Mapping[Any, Any],
+        allowed: tuple[str, ...],
+        path: str,
+        optional: tuple[str, ...] = (),
+    ) -> None: ...
+    def attempt(self, read: Any) -> Any: ...
+    def raw(self, data: Mapping[str, Any], key: str, path: str) -> Any: ...
+    def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError: ...
+    def report(self, path: str, value: object, problem: str, allowed: str = "") -> None: ...
+    def warn(self, warning_id: str, path: str, value: object, message: str) -> None: ...
+    def quantity(
+        self, data: Mapping[str, Any], key: str, path: str, dim: units.Dimension, rng: Any
+    ) -> Fraction: ...
+    def number(self, data: Mapping[str, Any], key: str, path: str, rng: Any) -> Fraction: ...
+    def integer(self, data: Mapping[str, Any], key: str, path: str, rng: Any) -> int: ...
+    def choice(
+        self, data: Mapping[str, Any], key: str, path: str, options: tuple[str, ...]
+    ) -> str: ...
+
+
+def _g(value: Fraction | float | int) -> str:
+    return f"{float(value):g}"
+
+
+# ------------------------------------------------------------------ readers
+
+
+def read_sensing(r: Reader, data: Mapping[str, Any], rng: Any) -> Sensing | None:
+    sec = r.section(data, "sensing")
+    if sec is None:
+        return None
+    r.only_keys(sec, SENSING_KEYS, "sensing")
+    topology = r.attempt(lambda: r.choice(sec, "topology", "sensing", TOPOLOGIES))
+    channels_allowed = f"ADC12_IN channels {', '.join(map(str, ADC_CHANNELS))}"
+
+    def channel(value: object, path: str) -> int:
+        if isinstance(value, bool) or not isinstance(value, int) or value not in ADC_CHANNELS:
+            raise r.error(
+                path,
+                value,
+                "not an ADC input the port can use (IN6, IN7 and IN8 are the Hall pins"
+                " PA6, PA7 and PB0)",
+                channels_allowed,
+            )
+        return value
+
+    def current_channels() -> tuple[int, ...]:
+        raw = r.raw(sec, "current_channels", "sensing")
+        wanted = {"dc_link_shunt": 1, "low_side_phase_shunts": 3}.get(str(topology), 0)
+        allowed = (
+            f"a list of {wanted} distinct channels ({channels_allowed})"
+            if wanted
+            else channels_allowed
+        )
+        if not isinstance(raw, list) or (wanted and len(raw) != wanted):
+            raise r.error(
+                "sensing.current_channels",
+                raw,
+                f"topology {topology} needs {wanted} current channel(s)"
+                + (": phases A, B, C in that order" if wanted == 3 else ""),
+                allowed,
+            )
+        out = tuple(channel(v, f"sensing.current_channels[{i}]") for i, v in enumerate(raw))
+        if len(set(out)) != len(out):
+            raise r.error("sensing.current_channels", raw, "channels repeat", allowed)
+        return out
+
+    currents = r.attempt(current_channels) if topology is not None else None
+    bus = r.attempt(
+        lambda: channel(r.raw(sec, "bus_voltage_channel", "sensing"), "sensing.bus_voltage_channel")
+    )
+    if bus is not None and currents is not None and bus in currents:
+        r.report(
+            "sensing.bus_voltage_channel",
+            bus,
+            "is also a current channel",
+            f"a channel other than {', '.join(map(str, currents))}",
+        )
+        bus = None
+    settle = r.attempt(
+        lambda: r.quantity(
+            sec,
+            "settling_time",
+            "sensing",
+            units.TIME,
+            rng(0.0, 10e-6, "s", low_inclusive=False),
+        )
+    )
+
+    def sample_time() -> Fraction:
+        allowed = ", ".join(_g(c) for c in ADC_SAMPLE_CYCLES) + " ADC clock cycles"
+        raw = r.raw(sec, "adc_sample_time", "sensing")
+        exact = getattr(raw, "exact", None)
+        value = exact if exact is not None else raw
+        if isinstance(raw, bool) or not isinstance(raw, int | float):
+            raise r.error("sensing.adc_sample_time", raw, "must be a plain number", allowed)
+        if Fraction(value) not in ADC_SAMPLE_CYCLES:
+            raise r.error(
+                "sensing.adc_sample_time",
+                raw,
+                "not a sample time of RM0008 ADC_SMPRx",
+                allowed,
+            )
+        return Fraction(value)
+
+    cycles = r.attempt(sample_time)
+    if None in (topology, currents, bus, settle, cycles):
+        return None
+    return Sensing(
+        topology=topology,
+        current_channels=currents,
+        bus_voltage_channel=bus,
+        settling_time_s=settle,
+        adc_sample_cycles=cycles,
+    )
+
+
+def read_current_loop(r: Reader, data: Mapping[str, Any], rng: Any) -> CurrentLoop | None:
+    sec = r.section(data, "current_loop")
+    if sec is None:
+        return None
+    r.only_keys(sec, CURRENT_LOOP_KEYS, "current_loop")
+    bandwidth = r.attempt(
+        lambda: r.quantity(sec, "bandwidth", "current_loop", units.FREQUENCY, rng(1.0, 20e3, "Hz"))
+    )
+    return None if bandwidth is None else CurrentLoop(bandwidth_hz=bandwidth)
+
+
+def read_protection(r: Reader, data: Mapping[str, Any], rng: Any) -> Protection | None:
+    sec = r.section(data, "protection")
+    if sec is None:
+        return None
+    r.only_keys(sec, PROTECTION_KEYS, "protection")
+    amps = rng(0.0, 10_000.0, "A", low_inclusive=False)
+    over = r.attempt(lambda: r.quantity(sec, "over_current", "protection", units.CURRENT, amps))
+    polarity = r.attempt(lambda: r.choice(sec, "break_input", "protection", BREAK_POLARITIES))
+    short = r.attempt(
+        lambda: r.quantity(sec, "short_circuit_current_max", "protection", units.CURRENT, amps)
+    )
+    policy = r.attempt(lambda: r.choice(sec, "safe_state", "protection", SAFE_STATES))
+    if None in (over, polarity, short, policy):
+        return None
+    return Protection(
+        over_current_a=over,
+        break_polarity=polarity,
+        short_circuit_current_max_a=short,
+        safe_state=policy,
+    )
+
+
+def read_firmware(r: Reader, data: Mapping[str, Any], rng: Any) -> Firmware | None:
+    sec = r.section(data, "firmware")
+    if sec is None:
+        return None
+    r.only_keys(sec, FIRMWARE_KEYS, "firmware")
+    integration = r.attempt(lambda: r.choice(sec, "integration", "firmware", INTEGRATIONS))
+    hse = r.attempt(
+        lambda: r.quantity(
+            sec, "hse_startup_timeout", "firmware", units.TIME, rng(100e-6, 1.0, "s")
+        )
+    )
+    # The IWDG counts the LSI (30..60 kHz, DS5319 Table 30) through a prescaler of 4..256
+    # into a 12-bit reload: 4 / 60 kHz = 67 us at the shortest, 4096 x 256 / 30 kHz =
+    # 35 s at the longest. The firmware refreshes it once per PWM period at most.
+    wdg = r.attempt(
+        lambda: r.quantity(sec, "watchdog_timeout", "firmware", units.TIME, rng(1e-3, 10.0, "s"))
+    )
+    flash = r.attempt(lambda: r.integer(sec, "flash_budget", "firmware", rng(1024, 65536, "bytes")))
+    ram = r.attempt(lambda: r.integer(sec, "ram_budget", "firmware", rng(128, 20480, "bytes")))
+    load = r.attempt(
+        lambda: r.number(
+            sec, "cpu_load_budget", "firmware", rng(0.0, 100.0, "percent", low_inclusive=False)
+        )
+    )
+    loop = r.attempt(
+        lambda: r.integer(sec, "current_loop_budget", "firmware", rng(40, 100_000, "cycles"))
+    )
+    if None in (integration, hse, wdg, flash, ram, load, loop):
+        return None
+    return Firmware(
+        integration=integration,
+        hse_startup_timeout_s=hse,
+        watchdog_timeout_s=wdg,
+        flash_budget_bytes=flash,
+        ram_budget_bytes=ram,
+        cpu_load_budget_percent=load,
+        current_loop_budget_cycles=loop,
+    )
+
+
+# ------------------------------------------------------------------ physics
+
+
+@dataclass(frozen=True)
+class SenseWindow:
+    """When the injected sequence samples the current, in TIM1 counts, and the largest
+    steady duty that leaves that sample clear of every switching edge.
+
+    Edge-aligned (PWM mode 1: a switch is ON while CNT < D): the period is P counts, OFF
+    from D to P. The trigger (TIM1 OC4REF in PWM mode 2, rising at CNT = CCR4) is placed
+    so that the last current sample ends one count before the next period's turn-on
+    edge; D_max keeps `guard` counts between the turn-off edge and the trigger.
+
+    Centre-aligned (the counter runs 0 -> P -> 0): OFF is centred on the peak, from D
+    counting up to D counting down. The trigger is the peak itself (OC4REF in PWM mode 1
+    with CCR4 = ARR, which rises one count after it); D_max keeps `guard` counts between
+    the turn-off edge and the peak and ends the samples one count before the turn-on
+    edge.
+    """
+
+    alignment: str
+    period_counts: int  # P: duty full scale
+    trigger_counts: int  # CCR4
+    trigger_time_counts: int  # timer counts from the period start to the trigger edge
+    span_counts: int  # trigger to the end of the last current sample (latency included)
+    guard_counts: int  # after a switching edge: dead time + settling time
+    duty_max_counts: int
+    current_samples: int  # current conversions before the bus ones
+    #: each current channel's sampling interval, timer counts from the period start
+    #: (exact: ADC cycles converted to timer counts)
+    windows: tuple[tuple[Fraction, Fraction], ...]
+
+
+def _ceil(x: Fraction) -> int:
+    return -((-x.numerator) // x.denominator)
+
+
+def sense_window(
+    *,
+    alignment: str,
+    period_counts: int,
+    timer_clock_hz: Fraction,
+    dead_time_counts: int,
+    settling_time_s: Fraction,
+    adc_sample_cycles: Fraction,
+    current_samples: int,
+) -> SenseWindow:
+    """The sample point and D_max (see SenseWindow). `dead_time_counts` is the dead time
+    TIM1 is programmed with (the loader passes the requested one rounded up)."""
+    per_adc_cycle = Fraction(timer_clock_hz) / ADC_CLOCK_HZ  # timer counts per ADC cycle
+    conversion = adc_sample_cycles + ADC_CONVERSION_CYCLES
+    windows = []
+    for k in range(current_samples):
+        start = (INJECTED_LATENCY_CYCLES + k * conversion) * per_adc_cycle
+        windows.append((start, start + adc_sample_cycles * per_adc_cycle))
+    span = _ceil(windows[-1][1])
+    guard = dead_time_counts + _ceil(settling_time_s * timer_clock_hz)
+    p = period_counts
+    if alignment == "edge":
+        trigger = p - 1 - span
+        trigger_time = trigger
+        duty_max = trigger - guard
+    else:
+        trigger = p
+        trigger_time = p + 1
+        duty_max = min(p - 1 - span - 1, trigger_time - guard)
+    shifted = tuple((trigger_time + a, trigger_time + b) for a, b in windows)
+    return SenseWindow(
+        alignment=alignment,
+        period_counts=p,
+        trigger_counts=trigger,
+        trigger_time_counts=trigger_time,
+        span_counts=span,
+        guard_counts=guard,
+        duty_max_counts=duty_max,
+        current_samples=current_samples,
+        windows=shifted,
+    )
+
+
+def current_samples(topology: str) -> int:
+    """Current conversions at the head of the injected sequence: the DC-link shunt, or
+    the three phase shunts (A, B, C)."""
+    return 1 if topology == "dc_link_shunt" else 3
+
+
+def emf_at(shape: BackEmfShape, degrees: Fraction) -> Fraction:
+    """e/E of one phase at an electrical angle from its rising zero crossing (the
+    half-wave symmetric extension of the shape: e(theta + 180) = -e(theta))."""
+    angle = Fraction(degrees) % 360
+    sign = 1
+    if angle >= 180:
+        angle -= 180
+        sign = -1
+    points = shape.points
+    for (a0, e0), (a1, e1) in itertools.pairwise(points):
+        if a0 <= angle <= a1:
+            if a1 == a0:
+                return sign * e1
+            return sign * (e0 + (e1 - e0) * (angle - a0) / (a1 - a0))
+    raise ValueError(f"angle {angle} outside the shape")
+
+
+def line_to_line_peak(shape: BackEmfShape) -> Fraction:
+    """lambda: the peak line-to-line EMF e_a - e_b (b lags a by 120 deg) per unit of E,
+    found exactly at the breakpoints of both (the difference is piecewise linear)."""
+    breaks = {Fraction(a) for a, _ in shape.points} | {Fraction(a) + 180 for a, _ in shape.points}
+    angles = breaks | {(b + 120) % 360 for b in breaks}
+    return max(abs(emf_at(shape, a) - emf_at(shape, a - 120)) for a in angles)
+
+
+def rectifying_speed(bus_voltage_v: Fraction, k_e: Fraction, shape: BackEmfShape) -> Fraction:
+    """The speed (rpm) above which the bridge's diodes conduct with every switch off:
+    the peak line-to-line EMF lambda k_e n reaches the bus voltage."""
+    return Fraction(bus_voltage_v) / (line_to_line_peak(shape) * k_e)
+
+
+def emf_harmonic(shape: BackEmfShape, h: int) -> float:
+    """b_h of the per-unit phase EMF (odd h; half-wave symmetry makes the even ones 0):
+    (2/pi) times the integral of e sin(h theta) over the half period, segment by segment
+    in closed form."""
+    total = 0.0
+    points = [(math.radians(float(a)), float(e)) for a, e in shape.points]
+    for (t0, e0), (t1, e1) in itertools.pairwise(points):
+        if t1 == t0:
+            continue
+        slope = (e1 - e0) / (t1 - t0)
+        total += -(e1 * math.cos(h * t1) - e0 * math.cos(h * t0)) / h
+        total += slope * (math.sin(h * t1) - math.sin(h * t0)) / (h * h)
+    return 2.0 / math.pi * total
+
+
+def short_circuit_peak(
+    *,
+    speed_rpm: float,
+    k_e: float,
+    pole_pairs: int,
+    resistance_ohm: float,
+    inductance_h: float,
+    shape: BackEmfShape,
+    current_at_entry_a: float,
+) -> float:
+    """A bound on the peak phase current after every lower switch closes at this speed.
+
+    In steady state each harmonic h of the phase EMF (odd, not a multiple of 3: those
+    are in phase in all three phases and drive no current with the star point open)
+    drives b_h E / |R + j h w L|; their moduli summed bound the peak. Entering the short
+    adds a transient that decays with L/R and starts from the difference between the
+    current at entry and the steady current there: at most the steady peak plus
+    `current_at_entry_a` (the over-current trip). Bound: 2 x steady + entry."""
+    e = k_e * speed_rpm
+    omega = 2 * math.pi * pole_pairs * speed_rpm / 60
+    steady = 0.0
+    for h in range(1, SHORT_CIRCUIT_HARMONICS + 1, 2):
+        if h % 3 == 0:
+            continue
+        b = abs(emf_harmonic(shape, h))
+        steady += b * e / math.hypot(resistance_ohm, h * omega * inductance_h)
+    return 2 * steady + current_at_entry_a
+
+
+# ------------------------------------------------------------------ checks
+
+
+def check_drive(
+    r: Reader,
+    data: Mapping[str, Any],
+    *,
+    motor: Any,
+    inverter: Any,
+    adc: Any,
+    controller: Any,
+    points: Any,
+    sensing: Sensing,
+    current_loop: CurrentLoop,
+    protection: Protection,
+) -> None:
+    """Cross-key physics of the drive sections: exact arithmetic, floats in messages."""
+
+    def raw(path: str) -> object:
+        section, _, key = path.partition(".")
+        return data[section][key]
+
+    # The clock tree the firmware sets up: HSE 8 MHz x 9 = 72 MHz, APB2 / 1 (TIM1),
+    # APB1 / 2 whose timers run at twice it (TIM3): both timers at 72 MHz.
+    if inverter.timer_clock_hz != FIRMWARE_TIMER_CLOCK_HZ:
+        r.report(
+            "inverter.timer_clock",
+            raw("inverter.timer_clock"),
+            "the generated firmware's clock tree (HSE 8 MHz x 9 = 72 MHz, APB2 / 1) runs TIM1"
+            " at 72 MHz",
+            "72 MHz",
+        )
+        return
+    # The current loop: a one-period delay must leave phase margin.
+    f_pwm = inverter.pwm_frequency_hz
+    if current_loop.bandwidth_hz > BANDWIDTH_MAX_PER_PWM * f_pwm:
+        r.report(
+            "current_loop.bandwidth",
+            raw("current_loop.bandwidth"),
+            f"above f_pwm / 10 = {_g(f_pwm / 10)} Hz: the duty computed from one period's"
+            " sample applies in the next, a delay that costs 360 deg x f_c / f_pwm of phase"
+            " margin",
+            f"<= {_g(f_pwm / 10)} Hz",
+        )
+    # The sample window.
+    centre = inverter.pwm_alignment == "center"
+    period = inverter.timer_clock_hz / f_pwm / (2 if centre else 1)
+    window = sense_window(
+        alignment=inverter.pwm_alignment,
+        period_counts=int(period),
+        timer_clock_hz=inverter.timer_clock_hz,
+        dead_time_counts=_ceil(inverter.dead_time_s * inverter.timer_clock_hz),
+        settling_time_s=sensing.settling_time_s,
+        adc_sample_cycles=sensing.adc_sample_cycles,
+        current_samples=current_samples(sensing.topology),
+    )
+    if window.duty_max_counts < int(period) // 4:
+        r.report(
+            "sensing.settling_time",
+            raw("sensing.settling_time"),
+            f"with the dead time and the ADC's {_g(sensing.adc_sample_cycles)}-cycle samples"
+            f" the current sample needs {window.span_counts + window.guard_counts} of the"
+            f" {int(period)} TIM1 counts of a period, leaving a largest braking duty of"
+            f" {window.duty_max_counts} counts",
+            "a sample window that leaves a duty of at least 25 %",
+        )
+    else:
+        d_max = Fraction(window.duty_max_counts, int(period))
+        u_d = inverter.bus_voltage_nominal_v
+        r_ohm = motor.phase_resistance_ohm
+        i_nom = controller.braking_current_nominal_a
+        for index, point in enumerate(points):
+            # Steady braking (averaged over a PWM period): (1 - D) U_d = 2E - 2 R I.
+            needed = (
+                1
+                - (2 * motor.back_emf_constant_v_per_rpm * point.speed_rpm - 2 * r_ohm * i_nom)
+                / u_d
+            )
+            if needed > d_max:
+                r.warn(
+                    "current-sense-window",
+                    f"operating_points[{index}].speed",
+                    data["operating_points"][index]["speed"],
+                    f"holding braking_current_nominal = {_g(i_nom)} A here needs a duty of"
+                    f" {float(needed):.3f}, above the {float(d_max):.3f} the current sample"
+                    " window leaves: the loop saturates there",
+                )
+    # Protection: the comparator must not trip in normal braking.
+    if protection.over_current_a <= controller.braking_current_max_a:
+        r.report(
+            "protection.over_current",
+            raw("protection.over_current"),
+            "at or below controller.braking_current_max: normal braking would trip it",
+            f"> {_g(controller.braking_current_max_a)} A",
+        )
+        return
+    # Safe state: above U_d/(lambda k_e) all-off rectifies, so the short circuit must be
+    # within the bridge's rating wherever that can happen within the speed range (at the
+    # lowest bus voltage it starts lowest).
+    k_e = motor.back_emf_constant_v_per_rpm
+    n_rect = rectifying_speed(inverter.bus_voltage_min_v, k_e, motor.back_emf_shape)
+    if controller.speed_max_rpm >= n_rect:
+        peak = short_circuit_peak(
+            speed_rpm=float(controller.speed_max_rpm),
+            k_e=float(k_e),
+            pole_pairs=motor.pole_pairs,
+            resistance_ohm=float(motor.phase_resistance_ohm),
+            inductance_h=float(motor.phase_inductance_h),
+            shape=motor.back_emf_shape,
+            current_at_entry_a=float(protection.over_current_a),
+        )
+        if peak > protection.short_circuit_current_max_a:
+            r.report(
+                "protection.short_circuit_current_max",
+                raw("protection.short_circuit_current_max"),
+                f"above {float(n_rect):.1f} rpm (U_d/(lambda k_e) at bus_voltage_min) all-off"
+                " rectifies into the bus, so the safe state there is the short circuit, whose"
+                f" peak current at speed_max is up to {peak:.1f} A (2 x the steady peak +"
+                " over_current): no safe state exists at the top of the speed range",
+                f">= {math.ceil(peak)} A, or a lower controller.speed_max",
+            )
