@@ -33,6 +33,7 @@ from verify.check import (
     new_checks,
     tolerances,
 )
+from verify.current_loop import verify_loop
 from verify.host_core import build_host_core, dtype_of
 
 DEFAULT_RANDOM_POINTS = 20_000
@@ -178,6 +179,8 @@ def verify(
             bar.update(inputs.size)
     measured_duty = max(checks["turn_on"].max_error, checks["turn_off"].max_error)
     checks["claims"] = claims_check(core_info["claims"], tol, measured_duty)  # type: ignore[arg-type]
+    # The braking-current PI (oracle/current_loop.py).
+    checks.update(verify_loop(spec, generated, build_dir, manifest, seed))
     result = VerifyResult(
         spec=str(spec_arg),
         motor=spec.name,

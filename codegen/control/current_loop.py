@@ -1,0 +1,488 @@
+"""The braking-current PI: design, fixed point as IR, proof and error bounds.
+
+Plant (PWM-OFF-PWM braking, averaged over a period, the two conducting phases in
+series): ON the phases are shorted through one switch and one diode, OFF the current
+returns through the bus, so 2L dI/dt = 2E - 2RI - (1 - D) U_d, i.e. per phase
+
+    L dI/dt = -R I + (U_d / 2) D + (E - U_d / 2):  I(s)/D(s) = (U_d/2) / (L s + R).
+
+Controller: a PI whose zero cancels the plant's pole, K_i / K_p = R / L, and whose
+open loop K_p (U_d/2) / (L s) crosses over at w_c = 2 pi `current_loop.bandwidth`:
+
+    K_p = 2 L w_c / U_d  (duty per ampere),   K_i = 2 R w_c / U_d  (duty per ampere second)
+
+at the nominal bus voltage. Discretised at the PWM period T (forward Euler, the sample
+of period k sets the duty of period k + 1), in TIM1 counts per current code:
+
+    e[k]   = r - m[k]                                  (codes)
+    v[k]   = k_p e[k] + x[k]                            k_p = K_p P a
+    D[k]   = clamp(v[k], 0, D_max)                      (counts)
+    x[k+1] = x[k]                         if v[k] > D_max and e[k] > 0, or v[k] < 0 and e[k] < 0
+           = clamp(x[k] + k_i e[k], 0, D_max)  otherwise   k_i = K_i T P a
+
+with P the counts of a period, a the amperes of a current code and D_max the largest
+duty whose OFF time holds the current sample (codegen/control/sensing.py). The
+integrator stops where the output is saturated and the error drives it further
+(clamping anti-windup), and never leaves the output range.
+
+Fixed point: x and v in Q`f` counts (int32), the gains rounded to Q`f`, the inputs
+clamped to the ADC range first, so every intermediate is proven for every value of
+every parameter's C type; `f` is the largest that the proof accepts. The reference
+conversion mA -> code is exact (nearest code, ties up) for every mA in the spec's
+braking range: computed in 64 bits with gains rounded up by less than half of the
+smallest distance between a value and a rounding boundary.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import lru_cache
+from math import lcm
+
+from codegen.control.sensing import SenseDesign, sense_design
+from codegen.fixedpoint.scaling import period_counts
+from codegen.ir import c_printer, py_printer
+from codegen.ir.errors import error as ir_error
+from codegen.ir.intervals import ProofError, ProvenRange, full, new_prover, prove_function
+from codegen.ir.nodes import (
+    Function,
+    IConst,
+    ISelect,
+    Param,
+    SLet,
+    SReturn,
+    add,
+    cast,
+    clamp,
+    cmp,
+    land,
+    minimum,
+    mul,
+    round_shr,
+    sub,
+    var,
+)
+from codegen.ir.types import I32, U32, U64
+from codegen.methods.base import FixedPointError
+from codegen.spec_model import Spec
+
+HEADER = "bldc_current_loop.h"
+SOURCE = "bldc_current_loop.c"
+TWIN = "bldc_current_loop.py"
+#: pi to 40 digits: the gains are real numbers; this is exact far beyond any format.
+PI = Fraction("3.141592653589793238462643383279502884197")
+FRACTION_BITS_MAX = 24
+REFERENCE_SHIFT_MAX = 60
+
+
+@dataclass(frozen=True)
+class LoopGains:
+    """The controller in exact rationals (pi to 40 digits), TIM1 counts and ADC codes."""
+
+    kp_counts_per_code: Fraction
+    ki_counts_per_code: Fraction  # per PWM period
+    duty_max_counts: int
+    kp_duty_per_amp: Fraction
+    ki_duty_per_amp_second: Fraction
+    bus_voltage_v: Fraction
+    omega_c: Fraction
+    amps_per_code: Fraction
+    zero_current_code: Fraction
+
+
+@dataclass(frozen=True)
+class LoopDesign:
+    spec: Spec
+    gains: LoopGains
+    sensing: SenseDesign
+    fraction_bits: int
+    kp_q: int
+    ki_q: int
+    state_max: int
+    code_max: int
+    reference_shift: int
+    reference_scale: int
+    reference_offset: int
+    milliamps_min: int
+    milliamps_max: int
+    duty: Function
+    integrate: Function
+    reference: Function
+    ranges: tuple[ProvenRange, ...]
+    #: one step from a given state: |duty - exact| (counts), |x' - exact| (counts)
+    duty_claim: Fraction
+    integrator_claim: Fraction
+
+    @property
+    def constants(self) -> tuple[IConst, ...]:
+        return _constants(self)
+
+
+def gains(spec: Spec) -> LoopGains:
+    m, inv = spec.motor, spec.inverter
+    p = period_counts(spec)
+    full_scale = 2**spec.adc.bits
+    amps = spec.adc.reference_v / (spec.adc.current_gain_v_per_a * full_scale)
+    zero = spec.adc.current_offset_v / spec.adc.reference_v * full_scale
+    u_d = inv.bus_voltage_nominal_v
+    omega = 2 * PI * spec.current_loop.bandwidth_hz
+    kp = 2 * m.phase_inductance_h * omega / u_d
+    ki = 2 * m.phase_resistance_ohm * omega / u_d
+    period_s = 1 / inv.pwm_frequency_hz
+    return LoopGains(
+        kp_counts_per_code=kp * p * amps,
+        ki_counts_per_code=ki * period_s * p * amps,
+        duty_max_counts=sense_design(spec).window.duty_max_counts,
+        kp_duty_per_amp=kp,
+        ki_duty_per_amp_second=ki,
+        bus_voltage_v=u_d,
+        omega_c=omega,
+        amps_per_code=amps,
+        zero_current_code=zero,
+    )
+
+
+def _round(x: Fraction) -> int:
+    return (2 * x.numerator + x.denominator) // (2 * x.denominator)
+
+
+def _ceil(x: Fraction) -> int:
+    return -((-x.numerator) // x.denominator)
+
+
+def _floor(x: Fraction) -> int:
+    return x.numerator // x.denominator
+
+
+def _functions(
+    f: int, kp_q: int, ki_q: int, state_max: int, code_max: int, g: LoopGains
+) -> tuple[Function, Function]:
+    kp = IConst(
+        I32,
+        kp_q,
+        "BLDC_LOOP_KP",
+        exact=g.kp_counts_per_code * 2**f,
+        doc=f"k_p = {float(g.kp_counts_per_code):.6g} counts per code, Q{f}",
+    )
+    ki = IConst(
+        I32,
+        ki_q,
+        "BLDC_LOOP_KI",
+        exact=g.ki_counts_per_code * 2**f,
+        doc=f"k_i = {float(g.ki_counts_per_code):.6g} counts per code per PWM period, Q{f}",
+    )
+    top = IConst(
+        I32, state_max, "BLDC_LOOP_STATE_MAX", doc=f"D_max = {g.duty_max_counts} counts in Q{f}"
+    )
+    codes = IConst(U32, code_max, "BLDC_LOOP_CODE_MAX", doc="ADC full scale: inputs saturate here")
+    zero = IConst(I32, 0)
+    params = (
+        Param("integrator", I32, doc=f"x in Q{f} TIM1 counts (any value: clamped to [0, D_max])"),
+        Param("reference_code", U32, doc="braking-current reference, ADC code"),
+        Param("measured_code", U32, doc="measured braking current I, ADC code"),
+    )
+    common = (
+        SLet("reference", minimum(var("reference_code", U32), codes)),
+        SLet("measured", minimum(var("measured_code", U32), codes)),
+        SLet(
+            "error",
+            sub(cast(var("reference", U32), I32), cast(var("measured", U32), I32)),
+            "codes: reference - measured",
+        ),
+        SLet("state", clamp(var("integrator", I32), zero, top), f"Q{f} counts"),
+        SLet("demand", add(mul(kp, var("error", I32)), var("state", I32)), "k_p e + x"),
+    )
+    duty = Function(
+        "bldc_current_loop_duty",
+        "current_loop_duty",
+        params,
+        (
+            *common,
+            SLet("limited", clamp(var("demand", I32), zero, top)),
+            SReturn(cast(round_shr(var("limited", I32), f), U32)),
+        ),
+        returns=U32,
+        doc="main duty in TIM1 counts, 0..D_max, for this period's sample",
+        inline=True,
+    )
+    driven_up = land(
+        cmp(">", var("demand", I32), top, exact=False), cmp(">", var("error", I32), zero)
+    )
+    driven_down = land(
+        cmp("<", var("demand", I32), zero, exact=False), cmp("<", var("error", I32), zero)
+    )
+    integrate = Function(
+        "bldc_current_loop_integrate",
+        "current_loop_integrate",
+        params,
+        (
+            *common,
+            SLet("total", add(var("state", I32), mul(ki, var("error", I32))), "x + k_i e"),
+            SLet("integrated", clamp(var("total", I32), zero, top)),
+            SReturn(
+                ISelect(
+                    I32,
+                    driven_up,
+                    var("state", I32),
+                    ISelect(I32, driven_down, var("state", I32), var("integrated", I32)),
+                )
+            ),
+        ),
+        returns=I32,
+        doc="the integrator for the next period (clamping anti-windup)",
+        inline=True,
+    )
+    return duty, integrate
+
+
+def _reference_function(spec: Spec, g: LoopGains) -> tuple[Function, int, int, int, int, int]:
+    """mA -> the nearest current code (ties up), clamped to the braking range, exact.
+
+    code = (ma M + O) >> s rounded, M = ceil(2^s g), O = ceil(2^s C0) with g the codes
+    per mA and C0 the zero-current code: the computed value lies in [exact, exact +
+    (ma_max + 1) / 2^s], below the distance 1 / (2 D) between any exact value and a
+    rounding boundary it does not sit on (D the common denominator), so it rounds as
+    the exact one does, ties included."""
+    c = spec.controller
+    per_ma = 1 / (1000 * g.amps_per_code)
+    ma_min = _ceil(c.braking_current_min_a * 1000)
+    ma_max = _floor(c.braking_current_max_a * 1000)
+    denominator = lcm(per_ma.denominator, g.zero_current_code.denominator)
+    for s in range(8, REFERENCE_SHIFT_MAX + 1):
+        if Fraction(ma_max + 1, 2**s) < Fraction(1, 2 * denominator):
+            break
+    else:
+        raise FixedPointError(
+            "no 64-bit format converts milliamperes to current codes exactly",
+            "controller.braking_current_max",
+        )
+    scale = _ceil(per_ma * 2**s)
+    offset = _ceil(g.zero_current_code * 2**s)
+    ma = var("milliamps", U32)
+    top = IConst(U32, ma_max, "BLDC_LOOP_MA_MAX", doc="braking_current_max, mA")
+    # A lower bound of 0 mA is no bound for an unsigned value (and `< 0u` would draw
+    # -Wtype-limits): only the upper clamp then.
+    held = (
+        minimum(ma, top)
+        if ma_min == 0
+        else clamp(ma, IConst(U32, ma_min, "BLDC_LOOP_MA_MIN", doc="braking_current_min, mA"), top)
+    )
+    fn = Function(
+        "bldc_current_reference",
+        "current_reference",
+        (Param("milliamps", U32, doc="braking current, mA"),),
+        (
+            SLet("held", held, "the spec's braking range"),
+            SLet(
+                "scaled",
+                add(
+                    mul(
+                        cast(var("held", U32), U64),
+                        IConst(
+                            U64,
+                            scale,
+                            "BLDC_LOOP_REF_SCALE",
+                            exact=per_ma * 2**s,
+                            doc=f"codes per mA, Q{s}, rounded up",
+                        ),
+                    ),
+                    IConst(
+                        U64,
+                        offset,
+                        "BLDC_LOOP_REF_OFFSET",
+                        exact=g.zero_current_code * 2**s,
+                        doc=f"zero-current code, Q{s}, rounded up",
+                    ),
+                ),
+            ),
+            SReturn(cast(round_shr(var("scaled", U64), s), U32)),
+        ),
+        returns=U32,
+        doc="the nearest ADC code of a braking current in mA, clamped to the spec's braking range",
+    )
+    return fn, s, scale, offset, ma_min, ma_max
+
+
+def _prove(functions: tuple[Function, ...]) -> tuple[ProvenRange, ...]:
+    prover = new_prover(functions)
+    for fn in functions:
+        prove_function(prover, fn)
+    return prover.ranges
+
+
+def _claims(duty: Function, integrate: Function, f: int) -> tuple[Fraction, Fraction]:
+    """One step from a given state (its error 0): the IR error analysis of the duty and
+    of the integrator update where it integrates (an unsaturated step), in counts."""
+    prover = new_prover((duty, integrate))
+    env = {p.name: full(p.ctype) for p in duty.params if p.ctype is not None}
+    errs: dict[str, Fraction] = {}
+    for s in duty.body[:-1]:
+        assert isinstance(s, SLet)
+        errs[s.name] = ir_error(prover, s.expr, env, errs)
+        env[s.name] = prover.ev(s.expr, env)
+    final = duty.body[-1]
+    assert isinstance(final, SReturn) and final.value is not None
+    duty_error = ir_error(prover, final.value, env, errs)
+    for s in integrate.body[len(duty.body) - 2 :]:
+        if isinstance(s, SLet) and s.name in ("total", "integrated"):
+            errs[s.name] = ir_error(prover, s.expr, env, errs)
+            env[s.name] = prover.ev(s.expr, env)
+    integrator_error = errs["integrated"] / 2**f
+    return duty_error, integrator_error
+
+
+@lru_cache(maxsize=16)
+def design(spec: Spec) -> LoopDesign:
+    g = gains(spec)
+    code_max = 2**spec.adc.bits - 1
+    if g.duty_max_counts <= 0:
+        raise FixedPointError("the current sample window leaves no duty", "sensing.settling_time")
+    last: Exception | None = None
+    for f in range(FRACTION_BITS_MAX, 0, -1):
+        kp_q = _round(g.kp_counts_per_code * 2**f)
+        ki_q = _round(g.ki_counts_per_code * 2**f)
+        state_max = g.duty_max_counts << f
+        if kp_q < 1 or state_max > I32.high:
+            continue
+        duty, integrate = _functions(f, kp_q, ki_q, state_max, code_max, g)
+        try:
+            ranges = _prove((duty, integrate))
+        except ProofError as exc:
+            last = exc
+            continue
+        if ki_q < 1:
+            raise FixedPointError(
+                f"k_i = {float(g.ki_counts_per_code):.3g} counts per code per period is below"
+                f" one LSB of the widest format that fits (Q{f})",
+                "current_loop.bandwidth",
+            )
+        reference, shift, scale, offset, ma_min, ma_max = _reference_function(spec, g)
+        ranges += _prove((reference,))
+        duty_claim, integrator_claim = _claims(duty, integrate, f)
+        return LoopDesign(
+            spec=spec,
+            gains=g,
+            sensing=sense_design(spec),
+            fraction_bits=f,
+            kp_q=kp_q,
+            ki_q=ki_q,
+            state_max=state_max,
+            code_max=code_max,
+            reference_shift=shift,
+            reference_scale=scale,
+            reference_offset=offset,
+            milliamps_min=ma_min,
+            milliamps_max=ma_max,
+            duty=duty,
+            integrate=integrate,
+            reference=reference,
+            ranges=ranges,
+            duty_claim=duty_claim,
+            integrator_claim=integrator_claim,
+        )
+    raise FixedPointError(
+        f"no Q format of the braking-current PI fits int32 for every input ({last})",
+        "current_loop.bandwidth",
+    )
+
+
+def _constants(d: LoopDesign) -> tuple[IConst, ...]:
+    from codegen.ir.nodes import Module
+    from codegen.ir.walk import named_constants
+
+    return tuple(named_constants(Module(functions=(d.duty, d.integrate, d.reference))))
+
+
+# ------------------------------------------------------------------ printing
+
+
+def _range_lines(ranges: tuple[ProvenRange, ...]) -> list[str]:
+    out = []
+    for r in ranges:
+        spare = r.headroom_bits
+        spare_text = "inf" if spare == float("inf") else f"{spare:.1f}"
+        out.append(
+            f"{r.function}: {r.name}: {r.c_type} in [{r.low}, {r.high}] ({spare_text} bits spare)"
+        )
+    return out
+
+
+def loop_context(d: LoopDesign) -> dict[str, object]:
+    """Printed C and Python of the loop, for templates/c/bldc_current_loop.* and
+    templates/python/bldc_current_loop.py.j2."""
+    g = d.gains
+    spec = d.spec
+    extra = [
+        IConst(U32, d.fraction_bits, "BLDC_LOOP_FRAC_BITS", doc="fraction bits of x and v"),
+        IConst(
+            U32,
+            g.duty_max_counts,
+            "BLDC_LOOP_DUTY_MAX",
+            doc="D_max, TIM1 counts: the OFF time holds the current sample",
+        ),
+    ]
+    constants = [*d.constants, *extra]
+    ideal = [
+        f"K_p = 2 L w_c / U_d = {float(g.kp_duty_per_amp):.6g} per A"
+        f" (L = {float(spec.motor.phase_inductance_h) * 1e3:g} mH,"
+        f" w_c = 2 pi {float(spec.current_loop.bandwidth_hz):g} Hz,"
+        f" U_d = {float(g.bus_voltage_v):g} V nominal)",
+        f"K_i = 2 R w_c / U_d = {float(g.ki_duty_per_amp_second):.6g} per A s (R ="
+        f" {float(spec.motor.phase_resistance_ohm):g} ohm): zero at R/L, the plant's pole",
+        f"per period T = 1/{float(spec.inverter.pwm_frequency_hz):g} Hz in counts per code"
+        f" (P = {period_counts(spec)}, a = {float(g.amps_per_code) * 1e3:.6g} mA per code):"
+        f" k_p = {float(g.kp_counts_per_code):.6g}, k_i = {float(g.ki_counts_per_code):.6g}",
+        f"Q{d.fraction_bits}: KP = {d.kp_q} ({float(Fraction(d.kp_q, 2**d.fraction_bits) / g.kp_counts_per_code - 1) * 1e6:+.1f} ppm),"
+        f" KI = {d.ki_q} ({float(Fraction(d.ki_q, 2**d.fraction_bits) / g.ki_counts_per_code - 1) * 1e6:+.1f} ppm)",
+        f"claimed, one step from a given state (IR error analysis): duty <= {float(d.duty_claim):.4f}"
+        f" counts, integrator <= {float(d.integrator_claim):.4f} counts",
+        f"reference: code = round((mA x {d.reference_scale} + {d.reference_offset}) / 2^{d.reference_shift}),"
+        f" exact nearest code for every mA in [{d.milliamps_min}, {d.milliamps_max}]",
+    ]
+    functions = (d.duty, d.integrate)
+    return {
+        "fraction_bits": d.fraction_bits,
+        "doc": ideal,
+        "ranges": _range_lines(d.ranges),
+        "defines": [c_printer.define(c) for c in constants],
+        "inline_functions": [c_printer.function_definition(fn) for fn in functions],
+        "prototypes": [
+            f"/* {c_printer.comment_text(d.reference.doc)} */\n{c_printer.prototype(d.reference)}"
+        ],
+        "functions": [c_printer.function_definition(d.reference)],
+        "py_constants": [py_printer.assignment(c) for c in constants],
+        "py_functions": [py_printer.function_definition(fn) for fn in (*functions, d.reference)],
+    }
+
+
+def manifest_entry(d: LoopDesign) -> dict[str, object]:
+    return {
+        "fraction_bits": d.fraction_bits,
+        "duty_max_counts": d.gains.duty_max_counts,
+        "claims": {
+            "duty_counts": float(d.duty_claim),
+            "integrator_counts": float(d.integrator_claim),
+        },
+        "functions": {
+            "duty": d.duty.c_name,
+            "integrate": d.integrate.c_name,
+            "reference": d.reference.c_name,
+        },
+    }
+
+
+def render_loop_files(spec: Spec) -> dict[str, str]:
+    """Output path -> text of the loop's C header, C source and Python twin."""
+    from codegen.render import provenance, render
+
+    context = loop_context(design(spec))
+    files = {
+        f"c/{HEADER}": "c/bldc_current_loop.h.j2",
+        f"c/{SOURCE}": "c/bldc_current_loop.c.j2",
+        f"python/{TWIN}": "python/bldc_current_loop.py.j2",
+    }
+    return {
+        out: render(template, provenance=provenance(f"templates/{template}", spec), **context)
+        for out, template in files.items()
+    }
