@@ -1,6 +1,13 @@
-"""`make firmware`: cross-compile the generated core and port for the Cortex-M3 and
-report flash and RAM by section, for the whole image and for the commutation code
-alone (core + port), which carries the 2 KiB flash / 64 B RAM budget.
+"""`make firmware`: cross-compile the generated firmware for the Cortex-M3, link it, and
+hold it to the spec's budgets.
+
+Builds the core, the current loop, the port, the clock tree, the start-up code and
+main() (and, for `firmware.integration: cube`, the stm32f1xx_it.c a Cube project would
+hold) with arm-none-eabi-gcc -Werror, links `firmware.elf` with a map, and writes
+`firmware.bin` and `firmware.hex`. It reports flash and RAM by section, the worst stack
+depth from the compiler's call graph (-fcallgraph-info, codegen/stack_usage.py) and
+exits non-zero when flash exceeds `firmware.flash_budget` or RAM, stack included,
+`firmware.ram_budget`.
 """
 
 from __future__ import annotations
@@ -10,6 +17,9 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+
+from codegen.port_drive import HANDLERS
+from codegen.stack_usage import StackReport, read_call_graph, stack_report
 
 CFLAGS = [
     "-std=c99",
@@ -24,17 +34,24 @@ CFLAGS = [
     "-ffunction-sections",
     "-fdata-sections",
     "-fno-tree-loop-distribute-patterns",  # start-up loops must not become memcpy calls
+    # At 72 MHz a load from flash waits two cycles (RM0008 3.3.3): constants are built by
+    # MOVW/MOVT in the instruction stream instead of loaded from literal pools.
+    "-mslow-flash-data",
 ]
 SOURCES = {
     "core": "c/bldc_commutation.c",
+    "loop": "c/bldc_current_loop.c",
     "port": "c/stm32f103_port.c",
+    "system": "firmware/system_stm32f103.c",
     "startup": "firmware/startup_stm32f103.c",
     "main": "firmware/main.c",
 }
+CUBE_SOURCE = ("it", "firmware/stm32f1xx_it.c")
 #: .RamFunc holds code and tables that run from SRAM: in flash as the load image, copied
 #: to RAM by the start-up code, so it counts for both.
 FLASH_SECTIONS = (".isr_vector", ".text", ".rodata", ".data", ".RamFunc")
 RAM_SECTIONS = (".data", ".bss", ".RamFunc")
+ELF = "firmware.elf"
 
 
 @dataclass(frozen=True)
@@ -72,21 +89,34 @@ def section_sizes(path: Path) -> Sizes:
     return Sizes(sections)
 
 
+def sources(generated: Path) -> dict[str, str]:
+    """The sources of this generated tree (the Cube-style handlers where present)."""
+    out = dict(SOURCES)
+    if (generated / CUBE_SOURCE[1]).is_file():
+        out[CUBE_SOURCE[0]] = CUBE_SOURCE[1]
+    return out
+
+
 def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> dict[str, Sizes]:
     """Compile and link; `defines` are NAME=VALUE macros for every source (the bench
-    builds the port's alternatives with them). Each object's stack frames are written
-    beside it (-fstack-usage, `<name>.su`)."""
+    builds the port's alternatives with them). Each object's stack frames and call graph
+    are written beside it (-fstack-usage `<name>.su`, -fcallgraph-info `<name>.ci`); the
+    image as ELF, binary, Intel hex and a link map."""
     build_dir.mkdir(parents=True, exist_ok=True)
+    for stale in (*build_dir.glob("*.su"), *build_dir.glob("*.ci")):
+        stale.unlink()
     objects = {}
-    for name, source in SOURCES.items():
+    for name, source in sources(generated).items():
         obj = build_dir / f"{name}.o"
         subprocess.run(
             [
                 "arm-none-eabi-gcc",
                 *CFLAGS,
                 "-fstack-usage",
+                "-fcallgraph-info=su",
                 *(f"-D{d}" for d in defines),
                 f"-I{generated / 'c'}",
+                f"-I{generated / 'firmware'}",
                 "-c",
                 str(generated / source),
                 "-o",
@@ -95,7 +125,7 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
             check=True,
         )
         objects[name] = obj
-    elf = build_dir / "firmware.elf"
+    elf = build_dir / ELF
     subprocess.run(
         [
             "arm-none-eabi-gcc",
@@ -112,26 +142,89 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
         ],
         check=True,
     )
+    for kind, suffix in (("binary", "bin"), ("ihex", "hex")):
+        subprocess.run(
+            ["arm-none-eabi-objcopy", "-O", kind, str(elf), str(build_dir / f"firmware.{suffix}")],
+            check=True,
+        )
     sizes = {name: section_sizes(obj) for name, obj in objects.items()}
-    sizes["firmware.elf"] = section_sizes(elf)
+    sizes[ELF] = section_sizes(elf)
     return sizes
 
 
+#: Functions thread mode calls with interrupts masked (PRIMASK) from start to end: no
+#: handler stacks on them, so they count apart (`make firmware` prints both).
+MASKED = ("bldc_port_init",)
+
+
+def stack(build_dir: Path, cube: bool) -> StackReport:
+    """Worst stack over the preemption levels of the port's NVIC plan (thread mode, the
+    timing handler, the Hall edge's level, the NMI and HardFault)."""
+    wrapped = {role: HANDLERS[role][0] for role in HANDLERS}
+    levels = [
+        ("thread mode (interrupts open)", ["main"]),
+        ("timing (priority 2)", [wrapped["timing"]]),
+        (
+            "Hall edge, current loop, break (priority 1)",
+            [wrapped[r] for r in ("hall", "adc", "brk")],
+        ),
+        ("NMI, HardFault", ["NMI_Handler", "HardFault_Handler"]),
+    ]
+    return stack_report(read_call_graph(build_dir), levels, masked=MASKED)
+
+
+@dataclass(frozen=True)
+class Budget:
+    name: str
+    value: int | None
+    limit: int
+
+    @property
+    def meets(self) -> bool:
+        return self.value is not None and self.value <= self.limit
+
+    def line(self) -> str:
+        shown = "unknown" if self.value is None else f"{self.value} B"
+        return f"{self.name}: {shown} of {self.limit} B {'(meets)' if self.meets else '(EXCEEDED)'}"
+
+
+def budgets(
+    sizes: dict[str, Sizes], report: StackReport, flash_limit: int, ram_limit: int
+) -> list[Budget]:
+    image = sizes[ELF]
+    worst = report.worst
+    return [
+        Budget("flash", image.flash, flash_limit),
+        Budget(
+            "RAM (variables, code run from SRAM, worst stack)",
+            None if worst is None else image.ram + worst,
+            ram_limit,
+        ),
+    ]
+
+
 def main(argv: list[str]) -> int:
-    generated, build_dir = Path(argv[0]), Path(argv[1])
+    """argv: generated folder, build folder, spec path. Exit 1 when a budget is exceeded."""
+    from codegen.spec_loader import load_spec
+
+    generated, build_dir, spec_path = Path(argv[0]), Path(argv[1]), argv[2]
+    spec = load_spec(spec_path)
     sizes = build(generated, build_dir)
-    print(f"firmware: {build_dir / 'firmware.elf'}")
+    report = stack(build_dir, spec.firmware.integration == "cube")
+    print(f"firmware: {build_dir / ELF} (+ .bin, .hex, .map)")
     for name, size in sizes.items():
         detail = ", ".join(f"{k} {v}" for k, v in sorted(size.sections.items()))
         print(f"  {name:13s} flash {size.flash:5d} B  RAM {size.ram:4d} B  ({detail})")
-    code = sizes["core"].flash + sizes["port"].flash
-    state = sizes["core"].ram_state + sizes["port"].ram_state
-    ram_code = sizes["core"].ram_code + sizes["port"].ram_code
-    print(
-        f"  commutation code (core + port): flash {code} B of 2048, RAM {state} B of"
-        f" variables and {ram_code} B of code and tables run from SRAM (.RamFunc)"
+    print("  worst stack, every preemption level stacked (-fcallgraph-info):")
+    for line in report.lines():
+        print(f"    {line}")
+    print(f"    total {report.worst if report.worst is not None else 'unknown'} B")
+    results = budgets(
+        sizes, report, spec.firmware.flash_budget_bytes, spec.firmware.ram_budget_bytes
     )
-    return 0
+    for b in results:
+        print(f"  {b.line()}")
+    return 0 if all(b.meets for b in results) else 1
 
 
 if __name__ == "__main__":

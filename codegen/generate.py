@@ -15,6 +15,7 @@ from pathlib import Path
 
 from codegen import __version__
 from codegen.audit.motor_report import render_derivation
+from codegen.control import current_loop
 from codegen.core.float_model import float_model_context
 from codegen.core.module import Core, build_core, core_context, manifest_entry
 from codegen.derivation import derive
@@ -53,6 +54,7 @@ def render_all(spec_path: str | Path) -> Generated:
         files[out] = render(
             template, provenance=provenance(f"templates/{template}", spec), **context
         )
+    files.update(current_loop.render_loop_files(spec))
     files.update({f"c/{name}": text for name, text in render_port_files(spec).items()})
     files.update(render_firmware_files(spec))
     float_template = "python/bldc_float.py.j2"
@@ -74,6 +76,7 @@ def render_all(spec_path: str | Path) -> Generated:
         "spec": project_relative(spec.source_path),
         "spec_sha256": spec.sha256,
         "core": manifest_entry(core),
+        "current_loop": current_loop.manifest_entry(current_loop.design(spec)),
         "folders": record["folders"],
         "files": record["files"],
     }

@@ -16,9 +16,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
+from codegen.control.sensing import sense_design
 from codegen.core.hall import edge_index, edge_of_hall_pair
+from codegen.dead_time import (  # noqa: F401  (the port's public names)
+    DTG_MAX_TICKS,
+    DeadTime,
+    _freq,
+    _time,
+    dtg_dead_time_ticks,
+    encode_dead_time,
+)
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
+from codegen.port_drive import drive_context
 from codegen.render import provenance, render
 from codegen.spec_model import Spec, uses_main_duty
 from codegen.svd import REGS_HEADER, load_device, render_regs_header
@@ -42,10 +52,6 @@ HALL_FILTER_SAMPLES = 8
 #: computed for before the bus state is recomputed (BLDC_PORT_BUS_HYSTERESIS_CODES): one
 #: code of ADC noise then costs no recomputation.
 BUS_HYSTERESIS_CODES = 1
-
-#: RM0008 TIMx_BDTR.DTG: the largest dead time, in t_DTS, of the last range
-#: (DTG[7:5] = 111: (32 + 31) x 16).
-DTG_MAX_TICKS = 1008
 
 
 @dataclass(frozen=True)
@@ -73,85 +79,6 @@ HALL_PINS: tuple[Pin, ...] = (
 )
 
 
-@dataclass(frozen=True)
-class DeadTime:
-    """A dead time as TIM1 programs it: the BDTR.DTG code and what it really gives."""
-
-    dtg: int
-    dts_ticks: int  # dead time in t_DTS (= t_CK_INT with CKD = 00)
-    requested_s: Fraction
-    programmed_s: Fraction
-
-
-def dtg_dead_time_ticks(dtg: int) -> int:
-    """Dead time of a BDTR.DTG code in t_DTS, RM0008 TIMx_BDTR bits 7:0:
-
-    DTG[7:5] = 0xx: DT = DTG[7:0] x t_DTS              0 .. 127
-    DTG[7:5] = 10x: DT = (64 + DTG[5:0]) x 2 t_DTS   128 .. 254, step 2
-    DTG[7:5] = 110: DT = (32 + DTG[4:0]) x 8 t_DTS   256 .. 504, step 8
-    DTG[7:5] = 111: DT = (32 + DTG[4:0]) x 16 t_DTS  512 .. 1008, step 16
-    """
-    if not 0 <= dtg <= 0xFF:
-        raise ValueError(f"DTG is an 8-bit field, got {dtg}")
-    if dtg >> 7 == 0:
-        return dtg
-    if dtg >> 6 == 0b10:
-        return (64 + (dtg & 0x3F)) * 2
-    if dtg >> 5 == 0b110:
-        return (32 + (dtg & 0x1F)) * 8
-    return (32 + (dtg & 0x1F)) * 16
-
-
-def encode_dead_time(dead_time_s: Fraction, timer_clock_hz: Fraction) -> DeadTime:
-    """The DTG code of the shortest encodable dead time not shorter than requested.
-
-    Rounds up, never down: a shorter dead time than the spec asks for risks
-    shoot-through. t_DTS = t_CK_INT (CR1.CKD = 00), so at 72 MHz the step is 13.9 ns
-    and the longest dead time 1008 t_DTS = 14 us. Raises ValueError past that.
-    """
-    if dead_time_s < 0:
-        raise ValueError(f"dead time must not be negative, got {_time(dead_time_s)}")
-    wanted = Fraction(dead_time_s) * Fraction(timer_clock_hz)
-    if wanted > DTG_MAX_TICKS:
-        longest = Fraction(DTG_MAX_TICKS) / Fraction(timer_clock_hz)
-        raise ValueError(
-            f"dead time {_time(dead_time_s)} is {float(wanted):.1f} TIM1 clocks at"
-            f" {_freq(timer_clock_hz)}: not representable in TIM1_BDTR.DTG, whose longest"
-            f" dead time is {DTG_MAX_TICKS} t_DTS = {_time(longest)} (RM0008 DTG encoding,"
-            " t_DTS = t_CK_INT with CKD = 00); shorten inverter.dead_time or lower"
-            " inverter.timer_clock"
-        )
-    best = min(
-        (code for code in range(256) if dtg_dead_time_ticks(code) >= wanted),
-        key=lambda code: (dtg_dead_time_ticks(code), code),
-    )
-    ticks = dtg_dead_time_ticks(best)
-    return DeadTime(
-        dtg=best,
-        dts_ticks=ticks,
-        requested_s=Fraction(dead_time_s),
-        programmed_s=Fraction(ticks) / Fraction(timer_clock_hz),
-    )
-
-
-def _freq(hz: Fraction) -> str:
-    value = float(hz)
-    for scale, unit in ((1e6, "MHz"), (1e3, "kHz")):
-        if value >= scale:
-            return f"{value / scale:g} {unit}"
-    return f"{value:g} Hz"
-
-
-def _time(seconds: Fraction) -> str:
-    value = float(seconds)
-    if value == 0:
-        return "0 s"
-    for scale, unit in ((1e-9, "ns"), (1e-6, "us"), (1e-3, "ms")):
-        if abs(value) < scale * 1000:
-            return f"{value / scale:.4g} {unit}"
-    return f"{value:.4g} s"
-
-
 def _define(name: str, value: str, comment: str) -> dict[str, str]:
     return {"name": name, "value": value, "comment": comment}
 
@@ -172,13 +99,28 @@ def _pin(p: Pin, code_bit: int | None = None) -> dict[str, str]:
 CCER_BITS_PER_CHANNEL = 4
 CCER_COMPLEMENTARY_OFFSET = 2
 #: The packed edge record of the port's pin-indexed table (see EDGE_RECORD_LAYOUT).
-RECORD_CHANNEL_ON_SHIFT = 11
-RECORD_CHANNEL_OFF_SHIFT = 13
+#: TIM1_CCER.CC4E (bit 12) is set in every pattern the port writes: channel 4 only
+#: triggers the ADC (OC4REF) and its pin PA11 is not an alternate-function output, so
+#: the bit drives nothing, but it makes CCER never 0. An invalid pair's record is the
+#: marker alone, whose partner field is CC4E: the Hall edge's one test of the partner
+#: bits against CCER then refuses it too (no separate test for an invalid pair).
+CCER_CC4E = 1 << 12
+RECORD_CCER_MASK = 0x1FFF
+RECORD_CHANNEL_ON_SHIFT = 13
 RECORD_FORBIDDEN_SHIFT = 16
+RECORD_SENSE_LOW_SHIFT = 27
+RECORD_INVALID = CCER_CC4E << RECORD_FORBIDDEN_SHIFT  # bit 28
+RECORD_CHANNEL_OFF_SHIFT = 29
+RECORD_SENSE_HIGH_SHIFT = 31
 EDGE_RECORD_LAYOUT = (
-    "bits 10:0 CCER during the commutation (turn-on and turn-off switch),"
-    " bits 12:11 and 14:13 the TIM1 channel (0..2 = CCR1..CCR3) of the turn-on and"
-    " turn-off switch, bits 26:16 the CCER bits of their phase partners; 0 = no valid edge"
+    "bits 12:0 CCER during the commutation (turn-on and turn-off switch, and CC4E), bits"
+    " 14:13 and 30:29 the TIM1 channel (0..2 = CCR1..CCR3) of the turn-on and turn-off"
+    " switch, bits 26:16 the CCER bits of their phase partners, bits 31 and 27 the"
+    " injected data register (0..2 = JDR1..JDR3) that holds the braking current once the"
+    " commutation has ended (high and low bit), bit 28 set alone: no valid edge (shifted"
+    " down by 16 it is CC4E, which every pattern has). Shifted down by 16 a valid record's"
+    " bits above the partners land on CCER bits 11 and 13..15 (CC3NP, CC4P, reserved),"
+    " which the port keeps 0"
 )
 
 
@@ -211,14 +153,17 @@ def switch(name: str) -> Switch:
     return Switch(name, index // 2, bool(index % 2))
 
 
-def edge_record(turn_on: Switch, turn_off: Switch) -> int:
+def edge_record(turn_on: Switch, turn_off: Switch, sense_slot: int = 0) -> int:
     """The packed record of one commutation edge (EDGE_RECORD_LAYOUT)."""
     return (
         turn_on.ccer_bit
         | turn_off.ccer_bit
+        | CCER_CC4E
         | turn_on.channel << RECORD_CHANNEL_ON_SHIFT
         | turn_off.channel << RECORD_CHANNEL_OFF_SHIFT
         | (turn_on.partner_bit | turn_off.partner_bit) << RECORD_FORBIDDEN_SHIFT
+        | (sense_slot & 1) << RECORD_SENSE_LOW_SHIFT
+        | (sense_slot >> 1) << RECORD_SENSE_HIGH_SHIFT
     )
 
 
@@ -231,18 +176,20 @@ def edge_records(spec: Spec) -> list[int]:
     """The core's edge of every Hall pin pair, (previous << 3 | now) as the pins read,
     as the packed record of its switches (0 where the pair is not a commutation)."""
     switching = derive().switching
+    slots = {s.edge: s.slot for s in sense_design(spec).signals}
     by_edge: dict[int, int] = {}
     for direction in ("forward", "reverse"):
         for sector in range(6):
             edge = switching.edge_into(sector, direction)
-            by_edge[edge_index(direction, sector)] = edge_record(
-                switch(edge.modulated_on), switch(edge.modulated_off)
+            index = edge_index(direction, sector)
+            by_edge[index] = edge_record(
+                switch(edge.modulated_on), switch(edge.modulated_off), slots[index]
             )
     core_edges = edge_of_hall_pair(spec.hall.sequence)
     records = []
     for index in range(64):
         previous, now = hall_code_of_pins(index >> 3), hall_code_of_pins(index & 7)
-        records.append(by_edge.get(core_edges[(previous << 3) | now], 0))
+        records.append(by_edge.get(core_edges[(previous << 3) | now], RECORD_INVALID))
     return records
 
 
@@ -281,6 +228,10 @@ def _edge_context(spec: Spec) -> dict[str, object]:
         "record_on_shift": RECORD_CHANNEL_ON_SHIFT,
         "record_off_shift": RECORD_CHANNEL_OFF_SHIFT,
         "record_forbidden_shift": RECORD_FORBIDDEN_SHIFT,
+        "record_ccer_mask": f"{RECORD_CCER_MASK:#06x}u",
+        "record_invalid": f"{RECORD_INVALID:#010x}u",
+        "record_sense_low_shift": RECORD_SENSE_LOW_SHIFT,
+        "record_sense_high_shift": RECORD_SENSE_HIGH_SHIFT,
         "pins_expression": f"(({a.port}->IDR >> {a.number}) & 3u) | (({c.port}->IDR >> {c.number} & 1u) << 2)",
         "pins_expression_anchored": f"((PORT_AT(anchor, {a.port}, GPIO_TypeDef)->IDR >> {a.number}) & 3u) |"
         f" ((PORT_AT(anchor, {c.port}, GPIO_TypeDef)->IDR >> {c.number} & 1u) << 2)",
@@ -322,11 +273,11 @@ def _peripheral_region() -> dict[str, str]:
     the SVD): the handlers build their addresses from it (one MOV, a Thumb-2 modified
     immediate) instead of loading each from a literal pool in flash."""
     device = load_device()
-    bases = {device.peripheral(n).base_address for n in ("TIM1", "TIM3", "GPIOA", "GPIOB")}
+    bases = {device.peripheral(n).base_address for n in ("TIM1", "TIM3", "GPIOA", "GPIOB", "ADC1")}
     (start,) = {b - b % PERIPHERAL_REGION_BYTES for b in bases}
     return {
         "peripheral_region": f"{start:#010x}u",
-        "peripheral_region_text": "start of the peripheral region holding TIM1, TIM3, GPIOA"
+        "peripheral_region_text": "start of the peripheral region holding TIM1, TIM3, ADC1, GPIOA"
         " and GPIOB (RM0008 3.3, bases from the SVD)",
     }
 
@@ -441,6 +392,7 @@ def port_context(
     ]
     return {
         **_edge_context(spec),
+        **drive_context(spec),
         "core_header": CORE_HEADER,
         "regs_header": REGS_HEADER,
         "port_header": PORT_HEADER,

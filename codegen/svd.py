@@ -249,6 +249,7 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
             "CCR1",
             "CCR2",
             "CCR3",
+            "CCR4",
             "BDTR",
         ),
     ),
@@ -256,13 +257,44 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
         "RCC_TypeDef",
         layout_from="RCC",
         instances=("RCC",),
-        field_registers=("APB2ENR", "APB1ENR"),
+        field_registers=("CR", "CFGR", "CIR", "APB2ENR", "APB1ENR", "CSR"),
     ),
     CmsisType(
         "GPIO_TypeDef",
         layout_from="GPIOA",
         instances=("GPIOA", "GPIOB"),
         field_registers=("CRL", "CRH", "IDR", "BSRR"),
+    ),
+    CmsisType(
+        "ADC_TypeDef",
+        layout_from="ADC1",
+        instances=("ADC1",),
+        field_registers=(
+            "SR",
+            "CR1",
+            "CR2",
+            "SMPR1",
+            "SMPR2",
+            "HTR",
+            "LTR",
+            "JSQR",
+            "JDR1",
+            "JDR2",
+            "JDR3",
+            "JDR4",
+        ),
+    ),
+    CmsisType(
+        "FLASH_TypeDef",
+        layout_from="FLASH",
+        instances=("FLASH",),
+        field_registers=("ACR",),
+    ),
+    CmsisType(
+        "IWDG_TypeDef",
+        layout_from="IWDG",
+        instances=("IWDG",),
+        field_registers=("KR", "PR", "RLR", "SR"),
     ),
     CmsisType(
         "AFIO_TypeDef",
@@ -274,13 +306,28 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
 )
 
 #: Cube IRQn name (without _IRQn) -> the peripheral whose SVD <interrupt> gives its
-#: number. The SVD describes the XL-density line, where TIM9..11 share TIM1's vectors
-#: (TIM1_UP_TIM10); Cube's stm32f103xb.h calls the same vector TIM1_UP_IRQn.
-CMSIS_IRQS: tuple[tuple[str, str], ...] = (
-    ("TIM1_UP", "TIM1"),
-    ("TIM1_TRG_COM", "TIM1"),
-    ("TIM1_CC", "TIM1"),
-    ("TIM3", "TIM3"),
+#: number, and the SVD's own name where it is not the Cube name or its prefix. The SVD
+#: describes the XL-density line, where TIM9..11 share TIM1's vectors (TIM1_UP_TIM10);
+#: Cube's stm32f103xb.h calls the same vector TIM1_UP_IRQn. ADC1 and ADC2 share one
+#: vector, which the SVD calls ADC and Cube ADC1_2.
+CMSIS_IRQS: tuple[tuple[str, str, str | None], ...] = (
+    ("ADC1_2", "ADC1", "ADC"),
+    ("TIM1_BRK", "TIM1", None),
+    ("TIM1_UP", "TIM1", None),
+    ("TIM1_TRG_COM", "TIM1", None),
+    ("TIM1_CC", "TIM1", None),
+    ("TIM3", "TIM3", None),
+)
+
+#: Core peripherals the vendor SVD does not describe: the Cortex-M3's SysTick timer,
+#: from the ARMv7-M Architecture Reference Manual (B3.3.2: SYST_CSR at 0xE000E010, its
+#: ENABLE, CLKSOURCE and COUNTFLAG bits), the same on every Cortex-M3. The one place
+#: the header's addresses are typed rather than read.
+SYSTICK_BASE = 0xE000E010
+SYSTICK_CSR_BITS: tuple[tuple[str, int, str], ...] = (
+    ("SysTick_CTRL_ENABLE_Msk", 0, "counter enabled"),
+    ("SysTick_CTRL_CLKSOURCE_Msk", 2, "counts the processor clock"),
+    ("SysTick_CTRL_COUNTFLAG_Msk", 16, "wrapped since the last read (the read clears it)"),
 )
 
 #: The SVD's NVIC peripheral gives the core registers the header needs.
@@ -288,6 +335,7 @@ NVIC_PERIPHERAL = "NVIC"
 NVIC_ENABLE_REGISTER = "ISER0"
 NVIC_PENDING_REGISTER = "ISPR0"
 NVIC_PRIORITY_REGISTER = "IPR0"
+NVIC_CLEAR_PENDING_REGISTER = "ICPR0"
 
 _QUALIFIER = {
     "read-only": "__I",
@@ -476,9 +524,14 @@ def _field_macros(group: str, reg: str, fields: list[Field]) -> list[dict[str, s
     return out
 
 
-def _irq(device: Device, cmsis: str, peripheral: str) -> dict[str, str]:
+def _irq(
+    device: Device, cmsis: str, peripheral: str, svd_name: str | None = None
+) -> dict[str, str]:
     p = device.peripheral(peripheral)
-    hits = [i for i in p.interrupts if i.name == cmsis or i.name.startswith(cmsis + "_")]
+    if svd_name is not None:
+        hits = [i for i in p.interrupts if i.name == svd_name]
+    else:
+        hits = [i for i in p.interrupts if i.name == cmsis or i.name.startswith(cmsis + "_")]
     if len(hits) != 1:
         raise ValueError(
             f"SVD: {peripheral} interrupts {[i.name for i in p.interrupts]} give"
@@ -520,6 +573,7 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
     iser = nvic.register(NVIC_ENABLE_REGISTER)
     ispr = nvic.register(NVIC_PENDING_REGISTER)
     ipr = nvic.register(NVIC_PRIORITY_REGISTER)
+    icpr = nvic.register(NVIC_CLEAR_PENDING_REGISTER)
     return {
         "svd_name": dev.name,
         "svd_version": dev.version,
@@ -527,14 +581,22 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
         "svd_sha256": dev.sha256,
         "structs": structs,
         "instances": instances,
-        "irqs": [_irq(dev, c, p) for c, p in CMSIS_IRQS],
+        "irqs": [_irq(dev, c, p, n) for c, p, n in CMSIS_IRQS],
         "nvic_iser_base": f"0x{nvic.base_address + iser.address_offset:08X}UL",
         "nvic_iser_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_ENABLE_REGISTER}: {_comment(iser.description)}",
         "nvic_ispr_base": f"0x{nvic.base_address + ispr.address_offset:08X}UL",
         "nvic_ispr_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_PENDING_REGISTER}: {_comment(ispr.description)}",
         "nvic_ipr_base": f"0x{nvic.base_address + ipr.address_offset:08X}UL",
+        "nvic_icpr_base": f"0x{nvic.base_address + icpr.address_offset:08X}UL",
+        "nvic_icpr_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_CLEAR_PENDING_REGISTER}: {_comment(icpr.description)}",
         "nvic_ipr_comment": f"SVD {NVIC_PERIPHERAL}.{NVIC_PRIORITY_REGISTER}: {_comment(ipr.description)}",
         "field_groups": fields,
+        "systick_base": f"0x{SYSTICK_BASE:08X}UL",
+        "systick_comment": "ARMv7-M ARM B3.3.2 SYST_CSR (not in the vendor SVD)",
+        "systick_bits": [
+            {"name": name, "value": f"(1UL << {bit}U)", "comment": doc}
+            for name, bit, doc in SYSTICK_CSR_BITS
+        ],
     }
 
 

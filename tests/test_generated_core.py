@@ -164,6 +164,7 @@ def test_overflow_proof_should_reject_a_spec_whose_intermediates_overflow(tmp_pa
     # A 2 kHz PWM (36000 counts) makes Eq. 20's product time_numerator i, which is
     # t W 2^f, overflow 32 bits in every format, even Q0: no design is safe.
     text = SPEC.read_text().replace("pwm_frequency: 20 kHz", "pwm_frequency: 2 kHz")
+    text = text.replace("bandwidth: 1 kHz", "bandwidth: 200 Hz")  # a tenth of the PWM
     with pytest.raises(FixedPointError, match=r"no format .* safe"):
         _core_of(tmp_path, text)
 

@@ -39,6 +39,8 @@ STUB_CORE_HEADER = """\
 #define BLDC_EDGE_NONE           0xFFu
 #define BLDC_EDGE_COUNT          12u
 #define BLDC_PERIOD_NEVER        0x10000u
+#define BLDC_FLAG_INPUT_SATURATED 0x04u
+#define BLDC_BUS_CODE_MAX        {bus_max}u
 typedef struct {{
     uint32_t x_numerator;
     uint32_t high_speed_period;
@@ -66,11 +68,22 @@ def spec() -> Spec:
     return load_spec(SPEC)
 
 
-def _write_port(directory: Path, spec: Spec, period: int = 3600) -> None:
+def _write_port(directory: Path, spec: Spec, period: int | None = None) -> None:
+    """The port's files, the real current loop (header and source) and a stub of the
+    core's header (its contract only)."""
+    from codegen.control.current_loop import render_loop_files
+    from codegen.derivation import derive
+    from codegen.fixedpoint.scaling import scaling
+
+    sc = scaling(spec, derive())
     for name, text in port.render_port_files(spec).items():
         (directory / name).write_text(text, encoding="utf-8")
+    for name, text in render_loop_files(spec).items():
+        if name.startswith("c/"):
+            (directory / name[2:]).write_text(text, encoding="utf-8")
+    full_scale = sc.period_counts if period is None else period
     (directory / "bldc_commutation.h").write_text(
-        STUB_CORE_HEADER.format(period=period), encoding="utf-8"
+        STUB_CORE_HEADER.format(period=full_scale, bus_max=sc.bus_code_max), encoding="utf-8"
     )
 
 
@@ -198,17 +211,16 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     assert "__aeabi_" not in dump
     assert not re.search(r"\b[us]div\b", dump)
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
-    # nothing else leaves the object (port_update_bus and port_outputs_off are the port's
-    # own cold paths), and the Hall edge does not call the core
-    assert {"bldc_bus_condition", "bldc_commutation_timing"} <= called
-    assert called <= {
-        "bldc_bus_condition",
-        "bldc_commutation_timing",
-        "port_update_bus",
-        "port_outputs_off",
-    }
+    # nothing else leaves the object but the core and the current loop's reference (the
+    # port's own static functions are its cold paths), and the Hall edge calls neither
+    outside = {c for c in called if not c.startswith("port_")}
+    assert {"bldc_bus_condition", "bldc_commutation_timing"} <= outside
+    assert outside <= {"bldc_bus_condition", "bldc_commutation_timing", "bldc_current_reference"}
     handler = dump[dump.index("<TIM3_IRQHandler>:") :].split("\n\n")[0]
     assert "bldc_" not in handler
+    # the current loop runs inline in its interrupt: no call, no divide
+    adc = dump[dump.index("<ADC1_2_IRQHandler>:") :].split("\n\n")[0]
+    assert "bldc_" not in adc and "div" not in adc
 
 
 def test_port_should_compile_warning_free_on_the_host(tmp_path: Path, spec: Spec) -> None:
@@ -235,30 +247,46 @@ def test_port_should_refuse_a_core_with_another_pwm_full_scale(tmp_path: Path, s
 
 
 # ------------------------------------------------------------------- host behaviour
+#
+# The port compiled for the host against fake register blocks (the generated register
+# header with its instances pointed at plain memory), the real current loop, and a stub
+# core whose timing the harness scripts. A small NVIC model runs what a handler raised:
+# the timing handler after a COM event or a software pend, the break handler after a
+# software break (EGR.BG, which also clears MOE as TIM1 does). Each step prints the
+# registers and the API's answers; the tests below hold them to RM0008 and the design.
 
 HOST_SHIM = """\
 /* Force-included before the port: the generated register header, with the
  * peripheral instances pointing at plain memory instead of the STM32 address map, and
- * the NVIC calls recorded. */
+ * the NVIC calls recorded. The ADC's calibration bit is made to read as done (plain
+ * memory would hold it set) unless the harness tests a calibration that never ends. */
 #include "stm32f103_regs.h"
 extern TIM_TypeDef fake_tim1, fake_tim3;
 extern RCC_TypeDef fake_rcc;
 extern GPIO_TypeDef fake_gpioa, fake_gpiob;
-extern unsigned long fake_nvic_enabled, fake_nvic_pending;
+extern ADC_TypeDef fake_adc1;
+extern unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 extern unsigned fake_nvic_priority[64];
 #undef TIM1
 #undef TIM3
 #undef RCC
 #undef GPIOA
 #undef GPIOB
+#undef ADC1
 #define TIM1 (&fake_tim1)
 #define TIM3 (&fake_tim3)
 #define RCC (&fake_rcc)
 #define GPIOA (&fake_gpioa)
 #define GPIOB (&fake_gpiob)
+#define ADC1 (&fake_adc1)
 #define NVIC_EnableIRQ(n) (fake_nvic_enabled |= 1ul << (n))
 #define NVIC_SetPendingIRQ(n) (fake_nvic_pending |= 1ul << (n))
+#define NVIC_ClearPendingIRQ(n) (fake_nvic_cleared |= 1ul << (n))
 #define NVIC_SetPriority(n, p) (fake_nvic_priority[(n)] = (p))
+#ifndef HARNESS_CALIBRATION_STUCK
+#undef ADC_CR2_CAL
+#define ADC_CR2_CAL 0u
+#endif
 """
 
 HOST_HARNESS = r"""
@@ -268,18 +296,20 @@ HOST_HARNESS = r"""
 TIM_TypeDef fake_tim1, fake_tim3;
 RCC_TypeDef fake_rcc;
 GPIO_TypeDef fake_gpioa, fake_gpiob;
-unsigned long fake_nvic_enabled, fake_nvic_pending;
+ADC_TypeDef fake_adc1;
+unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 unsigned fake_nvic_priority[64];
 
 static bldc_timing_t stub_next = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
-static uint32_t stub_seen[4];
-static unsigned timing_runs;
-static unsigned bus_runs;
-static unsigned long raw_egr, raw_sr; /* TIM1 EGR and TIM3 SR as the Hall edge left them */
+static uint32_t stub_bus_flags;
+static uint32_t seen_bus, seen_period, seen_current, seen_duty;
+static unsigned timing_runs, bus_runs, break_runs;
+static unsigned long raw_egr, raw_sr; /* TIM1 EGR and TIM3 SR as the last TIM3 handler left them */
+static int break_active;
 
 bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
-    bldc_bus_t bus = {0u, 0u, 0, 0u, bus_code, 0u};
+    bldc_bus_t bus = {0u, 0u, 0, 0u, bus_code, stub_bus_flags};
     ++bus_runs;
     return bus;
 }
@@ -287,35 +317,56 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks,
                                       uint32_t current_adc, uint32_t main_duty_counts)
 {
-    stub_seen[0] = bus->bus_code;
-    stub_seen[1] = period_ticks;
-    stub_seen[2] = current_adc;
-    stub_seen[3] = main_duty_counts;
+    seen_bus = bus->bus_code;
+    seen_period = period_ticks;
+    seen_current = current_adc;
+    seen_duty = main_duty_counts;
     ++timing_runs;
     return stub_next;
 }
 
 #define SET(reg, value) (*(volatile uint32_t *)&(reg) = (uint32_t)(value))
 
-/* The NVIC: a COM event with COMIE set, or a software pend, runs the timing handler
- * once the higher-priority TIM3 handler has returned. */
-static void settle_after(int handler_wrote_egr)
+/* The Hall pins and the break input (BKIN, PB12): inactive unless break_active. */
+static void pins(unsigned code)
 {
-    const int com = handler_wrote_egr && (fake_tim1.EGR & TIM_EGR_COMG) != 0u &&
-                    (fake_tim1.DIER & TIM_DIER_COMIE) != 0u;
-    const int pended = (fake_nvic_pending & (1ul << TIM1_TRG_COM_IRQn)) != 0u;
-    fake_nvic_pending = 0u;
-    if (com || pended) {
-        TIM1_TRG_COM_IRQHandler();
+    const unsigned brk = (break_active != 0) == (BLDC_PORT_BREAK_ACTIVE_HIGH != 0u);
+    SET(fake_gpioa.IDR, ((code >> 2) & 1u) << 6 | ((code >> 1) & 1u) << 7);
+    SET(fake_gpiob.IDR, (code & 1u) | (brk << 12));
+}
+static unsigned hall_now = 0u;
+
+/* After a handler at the Hall edge's priority: a software break runs the break
+ * handler (TIM1 clears MOE, sets BIF); a COM event with COMIE, or a software pend, runs
+ * the timing handler. */
+static void settle(void)
+{
+    for (int round = 0; round < 8; ++round) {
+        int ran = 0;
+        if ((fake_tim1.EGR & TIM_EGR_BG) != 0u) {
+            fake_tim1.EGR &= ~TIM_EGR_BG;
+            fake_tim1.BDTR &= ~TIM_BDTR_MOE;
+            fake_tim1.SR |= TIM_SR_BIF;
+            if ((fake_tim1.DIER & TIM_DIER_BIE) != 0u) {
+                ++break_runs;
+                %(brk)s();
+                ran = 1;
+            }
+        }
+        const int com = (fake_tim1.EGR & TIM_EGR_COMG) != 0u && (fake_tim1.DIER & TIM_DIER_COMIE) != 0u;
+        const int pended = (fake_nvic_pending & (1ul << TIM1_TRG_COM_IRQn)) != 0u;
+        fake_tim1.EGR &= ~(TIM_EGR_COMG | TIM_EGR_UG);
+        if (com || pended) {
+            fake_nvic_pending &= ~(1ul << TIM1_TRG_COM_IRQn);
+            %(timing)s();
+            ran = 1;
+        }
+        if (!ran) {
+            break;
+        }
     }
 }
 
-static void settle(void)
-{
-    settle_after(0);
-}
-
-/* The duties and commutation time the next timing computation returns. */
 static void plan(unsigned period_min, unsigned on_cmp, unsigned off_cmp, unsigned ticks)
 {
     stub_next.period_min = period_min;
@@ -326,26 +377,20 @@ static void plan(unsigned period_min, unsigned on_cmp, unsigned off_cmp, unsigne
     settle();
 }
 
-static void hall(unsigned code)
-{
-    SET(fake_gpioa.IDR, ((code >> 2) & 1u) << 6 | ((code >> 1) & 1u) << 7);
-    SET(fake_gpiob.IDR, code & 1u);
-}
-
-/* A Hall edge into `code`: the TIM3 handler, then whatever it raised. */
 static void edge(unsigned code, unsigned status, unsigned captured, unsigned cnt)
 {
-    hall(code);
+    hall_now = code;
+    pins(code);
     fake_tim3.CCR1 = captured;
     fake_tim3.CNT = cnt;
     fake_tim3.EGR = 0u;
     fake_tim1.EGR = 0u;
     fake_tim3.SR = status;
     timing_runs = 0u;
-    TIM3_IRQHandler();
+    %(hall)s();
     raw_egr = fake_tim1.EGR;
     raw_sr = fake_tim3.SR;
-    settle_after(1);
+    settle();
 }
 
 static void end_of_commutation(void)
@@ -353,135 +398,264 @@ static void end_of_commutation(void)
     fake_tim1.EGR = 0u;
     fake_tim3.SR = TIM_SR_CC2IF;
     timing_runs = 0u;
-    TIM3_IRQHandler();
-    settle_after(1);
+    %(hall)s();
+    settle();
+}
+
+/* The injected conversions end: every current channel reads `current`, the bus `bus`. */
+static void adc_with(unsigned bus, unsigned current, unsigned awd, unsigned tim3_sr)
+{
+    SET(fake_adc1.JDR1, current); /* read-only to the firmware (__I) */
+    SET(fake_adc1.JDR2, current);
+    SET(fake_adc1.JDR3, current);
+    SET(fake_adc1.JDR4, bus);
+    fake_adc1.SR = ADC_SR_JEOC | (awd ? ADC_SR_AWD : 0u);
+    fake_tim3.SR = tim3_sr;
+    fake_tim1.EGR = 0u;
+    %(adc)s();
+    settle();
+}
+
+static void adc(unsigned bus, unsigned current, unsigned awd, unsigned overflow)
+{
+    adc_with(bus, current, awd, overflow ? TIM_SR_UIF : 0u);
+}
+
+static void brk(void)
+{
+    break_active = 1;
+    pins(hall_now);
+    fake_tim1.BDTR &= ~TIM_BDTR_MOE; /* TIM1 clears MOE in hardware */
+    fake_tim1.SR = TIM_SR_BIF;
+    %(brk)s();
+    settle();
 }
 
 static void show(const char *step)
 {
-    printf("%s tim1 ccer=%lu ccr1=%lu ccr2=%lu ccr3=%lu egr=%lu tim3 ccr2=%lu egr=%lu "
-           "in bus=%lu period=%lu cur=%lu duty=%lu runs=%u busruns=%u edge egr=%lu sr=%lu\n",
+    printf("%%s tim1 ccer=%%lu ccr1=%%lu ccr2=%%lu ccr3=%%lu ccr4=%%lu egr=%%lu bdtr=%%lu cr2=%%lu "
+           "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
+           "runs=%%u busruns=%%u breaks=%%u edge egr=%%lu sr=%%lu port faults=%%lu safe=%%lu "
+           "current=%%lu status=%%lu nvic cleared=%%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
            (unsigned long)fake_tim1.CCR2, (unsigned long)fake_tim1.CCR3,
-           (unsigned long)fake_tim1.EGR, (unsigned long)fake_tim3.CCR2,
-           (unsigned long)fake_tim3.EGR, (unsigned long)stub_seen[0],
-           (unsigned long)stub_seen[1], (unsigned long)stub_seen[2],
-           (unsigned long)stub_seen[3], timing_runs, bus_runs, raw_egr, raw_sr);
+           (unsigned long)fake_tim1.CCR4, (unsigned long)fake_tim1.EGR,
+           (unsigned long)fake_tim1.BDTR, (unsigned long)fake_tim1.CR2,
+           (unsigned long)fake_tim1.DIER, (unsigned long)fake_tim3.DIER,
+           (unsigned long)fake_tim3.CCR2, (unsigned long)fake_tim3.EGR,
+           (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
+           (unsigned long)seen_duty, timing_runs, bus_runs, break_runs, raw_egr, raw_sr,
+           (unsigned long)bldc_port_faults(), (unsigned long)bldc_port_safe_state(),
+           (unsigned long)bldc_port_current_code(), (unsigned long)bldc_port_status(),
+           fake_nvic_cleared);
+    fake_nvic_cleared = 0u;
 }
 
-int main(void)
+static void clear(const char *step)
 {
+    char name[64];
+    const unsigned long left = bldc_port_clear_faults();
+    snprintf(name, sizeof name, "%%s", step);
+    show(name);
+    printf("%%s_left clear left=%%lu\n", step, left);
+}
+
+int main(int argc, char **argv)
+{
+    const unsigned *seq = SEQUENCE;
+    const unsigned start_faults = (argc > 1) ? 0x100u : 0u; /* argv: start with BLDC_FAULT_CLOCK */
     fake_gpioa.CRL = fake_gpioa.CRH = fake_gpiob.CRL = fake_gpiob.CRH = 0x44444444u; /* reset */
-    hall(5u);
-    bldc_port_init();
-    printf("init tim1 cr1=%lu cr2=%lu ccmr1=%lu ccmr2=%lu ccer=%lu bdtr=%lu psc=%lu arr=%lu "
-           "dier=%lu tim3 cr1=%lu cr2=%lu smcr=%lu ccmr1=%lu ccer=%lu dier=%lu psc=%lu arr=%lu "
-           "cnt=%lu rcc apb2=%lu apb1=%lu gpioa crl=%lu crh=%lu gpiob crl=%lu crh=%lu "
-           "nvic enabled=%lu hall=%u timing=%u\n",
+    fake_rcc.CSR = WATCHDOG_RESET ? RCC_CSR_IWDGRSTF : 0u;
+    pins(seq[0]);
+    hall_now = seq[0];
+    bldc_port_init(start_faults);
+    printf("init tim1 cr1=%%lu cr2=%%lu ccmr1=%%lu ccmr2=%%lu ccer=%%lu bdtr=%%lu psc=%%lu arr=%%lu "
+           "ccr4=%%lu dier=%%lu tim3 cr1=%%lu cr2=%%lu smcr=%%lu ccmr1=%%lu ccer=%%lu dier=%%lu "
+           "psc=%%lu arr=%%lu cnt=%%lu adc cr1=%%lu cr2=%%lu jsqr=%%lu smpr1=%%lu smpr2=%%lu htr=%%lu "
+           "ltr=%%lu rcc apb2=%%lu apb1=%%lu cfgr=%%lu csr=%%lu gpioa crl=%%lu crh=%%lu gpiob "
+           "crl=%%lu crh=%%lu bsrr=%%lu nvic enabled=%%lu hall=%%u adc=%%u brk=%%u timing=%%u port "
+           "faults=%%lu\n",
            (unsigned long)fake_tim1.CR1, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.CCMR1, (unsigned long)fake_tim1.CCMR2,
            (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.BDTR,
            (unsigned long)fake_tim1.PSC, (unsigned long)fake_tim1.ARR,
-           (unsigned long)fake_tim1.DIER,
+           (unsigned long)fake_tim1.CCR4, (unsigned long)fake_tim1.DIER,
            (unsigned long)fake_tim3.CR1, (unsigned long)fake_tim3.CR2,
            (unsigned long)fake_tim3.SMCR, (unsigned long)fake_tim3.CCMR1,
            (unsigned long)fake_tim3.CCER, (unsigned long)fake_tim3.DIER,
            (unsigned long)fake_tim3.PSC, (unsigned long)fake_tim3.ARR,
-           (unsigned long)fake_tim3.CNT,
+           (unsigned long)fake_tim3.CNT, (unsigned long)fake_adc1.CR1,
+           (unsigned long)fake_adc1.CR2, (unsigned long)fake_adc1.JSQR,
+           (unsigned long)fake_adc1.SMPR1, (unsigned long)fake_adc1.SMPR2,
+           (unsigned long)fake_adc1.HTR, (unsigned long)fake_adc1.LTR,
            (unsigned long)fake_rcc.APB2ENR, (unsigned long)fake_rcc.APB1ENR,
+           (unsigned long)fake_rcc.CFGR, (unsigned long)fake_rcc.CSR,
            (unsigned long)fake_gpioa.CRL, (unsigned long)fake_gpioa.CRH,
-           (unsigned long)fake_gpiob.CRL, (unsigned long)fake_gpiob.CRH, fake_nvic_enabled,
-           fake_nvic_priority[TIM3_IRQn], fake_nvic_priority[TIM1_TRG_COM_IRQn]);
-    settle_after(1); /* the COM event of the initial UG | COMG */
+           (unsigned long)fake_gpiob.CRL, (unsigned long)fake_gpiob.CRH,
+           (unsigned long)fake_gpiob.BSRR, fake_nvic_enabled,
+           fake_nvic_priority[TIM3_IRQn], fake_nvic_priority[ADC1_2_IRQn],
+           fake_nvic_priority[TIM1_BRK_IRQn], fake_nvic_priority[TIM1_TRG_COM_IRQn],
+           (unsigned long)bldc_port_faults());
+    settle(); /* the COM event of the initial UG | COMG */
+    if (start_faults != 0u || WATCHDOG_RESET || CALIBRATION_STUCK) {
+        show("start");
+        clear("start_clear");
+        adc(BUS_OK, OFFSET, 0u, 0u);
+        clear("start_clear_again");
+        return 0;
+    }
 
-    /* before any bus voltage: the timing is the safe state */
-    edge(5u, TIM_SR_CC1IF, 5000u, 10u);
+    /* Before any bus sample: the timing is the safe state, the bridge stays off. */
+    edge(seq[1], TIM_SR_CC1IF, 5000u, 10u);
     show("nobus");
-    bldc_port_set_bus_voltage(2000u);
-    settle();
-    bldc_adc_phase_current = 2500u;
+    /* The first sample pends the timing, which computes the bus state once. */
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    show("bus");
+    bus_runs = 0u;
+    adc(BUS_OK + BLDC_PORT_BUS_HYSTERESIS_CODES, OFFSET, 0u, 0u);
+    show("bus_noise");
+    adc(BUS_OK + BLDC_PORT_BUS_HYSTERESIS_CODES + 1u, OFFSET, 0u, 0u);
+    show("bus_step");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+
+    /* Open loop, then forward into the next sector: the first interval after start-up
+     * is unknown (UIF from the counter preset). */
     bldc_port_set_main_duty(1500u);
     settle();
-    show("inputs");
-    /* forward into sector 1 (edge 1): T5 (C upper) on at 2000, T3 (B upper) off at 1000;
-     * the first interval after start-up is unknown (UIF from the counter preset) */
     plan(100u, 2000u, 1000u, 300u);
-    edge(4u, TIM_SR_CC1IF | TIM_SR_UIF, 1234u, 10u);
+    edge(seq[2], TIM_SR_CC1IF | TIM_SR_UIF, 1234u, 10u);
     show("edge1");
+    adc(BUS_OK, OFFSET + 300u, 0u, 0u); /* commutating: no sample of I, no loop */
+    show("commutating");
     end_of_commutation();
     show("end1");
-    timing_runs = 0u;
+    adc(BUS_OK, OFFSET + 300u, 0u, 0u); /* steady: I sampled; open loop leaves the duty */
+    show("steady_open");
     bldc_port_set_main_duty(1700u);
     settle();
     show("duty");
-    bldc_port_set_main_duty(4000u);
+    bldc_port_set_main_duty(60000u);
     settle();
     show("clamp");
-    timing_runs = 0u;
-    bldc_port_set_main_duty(4000u);
+    bldc_port_set_main_duty(1700u);
     settle();
-    show("same");
-    bldc_port_set_main_duty(1500u);
-    settle();
-    /* forward into sector 2 (edge 2): T4 (B lower) on at 500, T2 (A lower) off at 800;
-     * latency past t_com */
-    plan(100u, 500u, 800u, 300u);
-    edge(6u, TIM_SR_CC1IF, 5000u, 400u);
+
+    /* Closed loop from the duty in force (no bump): each period's sample sets the
+     * steady switch's compare value. */
+    bldc_set_braking_current(LOOP_MA);
+    for (unsigned k = 0u; k < LOOP_STEPS; ++k) {
+        char name[32];
+        adc(BUS_OK, loop_measured[k], 0u, 0u);
+        snprintf(name, sizeof name, "loop%%u", k);
+        show(name);
+    }
+    /* The timing after the next COM event uses the loop's duty and the held current. */
+    plan(100u, 900u, 700u, 300u);
+    edge(seq[3], TIM_SR_CC1IF, 5000u, 10u);
     show("edge2");
     end_of_commutation();
     show("end2");
-    /* back into sector 1 (reverse edge 7): T1 (A upper) on, T3 (B upper) off, while T4
-     * (B lower) conducts: phase B would swap switches, refused, all off */
-    plan(100u, 900u, 700u, 300u);
-    edge(4u, TIM_SR_CC1IF, 5000u, 10u);
-    show("swap");
-    end_of_commutation();
-    show("after_swap");
-    /* from all-off anything is safe again */
-    edge(6u, TIM_SR_CC1IF, 5000u, 10u);
-    show("recover");
-    /* over-speed now: an interval below the timing's minimum period */
-    plan(6000u, 900u, 700u, 300u);
-    edge(2u, TIM_SR_CC1IF, 5000u, 10u);
-    show("overspeed");
-    plan(100u, 900u, 700u, 300u);
-    /* invalid Hall: all off, and the pending end is dropped */
-    edge(7u, TIM_SR_CC1IF, 5000u, 10u);
-    show("invalid");
-    end_of_commutation();
-    show("after_invalid");
-    /* Hall timeout since the last edge: the interval reads as the full counter */
-    edge(6u, TIM_SR_CC1IF | TIM_SR_UIF, 17u, 10u);
-    show("timeout");
 
-    /* The bus state is cached: recomputed only for a change beyond the hysteresis. */
-    timing_runs = 0u;
-    bus_runs = 0u;
-    bldc_port_set_bus_voltage(2000u); /* unchanged */
+    /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
+#define STEADY()                                              \
+    do {                                                      \
+        plan(100u, 900u, 700u, 300u);                         \
+        edge(seq[(hall_index + 1u) %% 6u], TIM_SR_CC1IF, 5000u, 10u); \
+        hall_index = (hall_index + 1u) %% 6u;                  \
+        end_of_commutation();                                 \
+    } while (0)
+    unsigned hall_index = 3u;
+
+    adc(BUS_OVER, OFFSET, 1u, 0u);
+    show("over_voltage");
+    clear("over_voltage_held");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("over_voltage_cleared");
+    STEADY();
+
+    adc(0u, OFFSET, 1u, 0u);
+    show("under_voltage");
+    adc(0u, OFFSET, 1u, 0u);
+    clear("under_voltage_held");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("under_voltage_cleared");
+    STEADY();
+
+    adc(BUS_OK, 0u, 0u, 0u);
+    show("current_sensor");
+    clear("current_sensor_held");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("current_sensor_cleared");
+    STEADY();
+    show("steady_again");
+
+    adc(BUS_OK, OFFSET, 0u, 1u);
+    show("hall_timeout");
+    clear("hall_timeout_cleared");
+    STEADY();
+
+    edge(7u, TIM_SR_CC1IF, 5000u, 10u);
+    show("hall_invalid");
+    clear("hall_invalid_held");
+    pins(seq[hall_index]);
+    hall_now = seq[hall_index];
+    clear("hall_invalid_cleared");
+    STEADY();
+
+    edge(seq[(hall_index + 2u) %% 6u], TIM_SR_CC1IF, 5000u, 10u); /* a sector skipped */
+    show("hall_sequence");
+    clear("hall_sequence_cleared");
+    hall_index = (hall_index + 2u) %% 6u;
+    STEADY();
+
+    plan(6000u, 900u, 700u, 300u);
+    edge(seq[(hall_index + 1u) %% 6u], TIM_SR_CC1IF, 5000u, 10u); /* below the minimum period */
+    hall_index = (hall_index + 1u) %% 6u;
+    show("over_speed");
+    clear("over_speed_cleared");
+    STEADY();
+
+    brk();
+    show("over_current");
+    clear("over_current_held");
+    break_active = 0;
+    pins(hall_now);
+    clear("over_current_cleared");
+    STEADY();
+
+    bldc_port_raise_fault(0x800u);
     settle();
-    show("bus_same");
-    bldc_port_set_bus_voltage((uint16_t)(2000u + BLDC_PORT_BUS_HYSTERESIS_CODES)); /* noise */
+    show("external");
+    clear("external_cleared");
+    STEADY();
+
+    /* The core flags the bus out of range (the analog watchdog missed it): the timing
+     * handler asks for a software break, which latches the fault at the break's level. */
+    stub_bus_flags = BLDC_FLAG_INPUT_SATURATED;
+    adc(BUS_OK - 20u, OFFSET, 0u, 0u);
+    show("core_flag");
+    stub_bus_flags = 0u;
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("core_flag_cleared");
+    STEADY();
+
+    bldc_port_clock_failure();
     settle();
-    show("bus_noise");
-    bldc_port_set_bus_voltage((uint16_t)(2001u + BLDC_PORT_BUS_HYSTERESIS_CODES));
-    settle();
-    show("bus_step");
-    timing_runs = 0u;
-    bus_runs = 0u;
-    edge(2u, TIM_SR_CC1IF, 5000u, 10u); /* an edge recomputes the timing, not the bus */
-    show("bus_edge");
-    bldc_port_set_bus_voltage((uint16_t)BLDC_PORT_BUS_CODE_MAX);
-    settle();
-    timing_runs = 0u;
-    bus_runs = 0u;
-    bldc_port_set_bus_voltage((uint16_t)(BLDC_PORT_BUS_CODE_MAX + 1u)); /* over-voltage */
-    settle();
-    show("bus_over");
-    timing_runs = 0u;
-    bus_runs = 0u;
-    bldc_port_set_bus_voltage((uint16_t)BLDC_PORT_BUS_CODE_MAX); /* and back */
-    settle();
-    show("bus_back");
+    show("clock");
+    clear("clock_held");
+
+    /* A Hall edge after a trip finds nothing to apply (TIM3's interrupts are off; one
+     * already pended sees no flag: the trip cleared them). */
+    fake_tim3.SR = 0u;
+    %(hall)s();
+    show("after_trip");
+
+    /* The safe state of the region while faulted: the captured interval sets it. */
+    fake_tim3.CCR1 = FAST_PERIOD;
+    adc_with(BUS_OK, OFFSET, 0u, TIM_SR_CC1IF);
+    show("faulted_fast");
+    adc_with(BUS_OK, OFFSET, 0u, TIM_SR_UIF);
+    show("faulted_stopped");
     return 0;
 }
 """
@@ -499,24 +673,95 @@ def _parse(line: str) -> dict[str, int]:
     return values
 
 
-@pytest.fixture(scope="module")
-def host_run(tmp_path_factory: pytest.TempPathFactory, spec: Spec) -> dict[str, dict[str, int]]:
-    if HOST_CC is None:
-        pytest.skip("no host C compiler")
-    directory = tmp_path_factory.mktemp("host")
+@dataclasses.dataclass(frozen=True)
+class LoopRun:
+    """What the harness's closed-loop steps feed and where the bus sits."""
+
+    milliamps: int
+    measured: tuple[int, ...]
+    bus_ok: int
+    bus_over: int
+    offset: int
+    fast_period: int
+
+
+def _loop_run(spec: Spec) -> LoopRun:
+    from codegen.derivation import derive
+    from codegen.fixedpoint.scaling import scaling
+
+    sc = scaling(spec, derive())
+    nominal = round(float(spec.controller.braking_current_nominal_a / sc.amps_per_current_code))
+    offset = sc.current_offset_code
+    measured = tuple(
+        offset + m for m in (0, nominal // 4, nominal // 2, nominal, nominal + 40, nominal)
+    )
+    # a bus in the range, the nominal voltage's code
+    bus_ok = round(float(spec.inverter.bus_voltage_nominal_v / sc.volts_per_bus_code))
+    # the Hall interval of speed_max at that bus: above U_d / (2 k_e) there? Take a
+    # period well inside the rectifying region: T = K_RECT / B / 2.
+    from codegen.control.safe_state import safe_state_design
+
+    fast = safe_state_design(spec).k_rect // bus_ok // 2
+    return LoopRun(
+        milliamps=int(spec.controller.braking_current_nominal_a * 1000),
+        measured=measured,
+        bus_ok=bus_ok,
+        bus_over=sc.bus_code_max + 1,
+        offset=offset,
+        fast_period=fast,
+    )
+
+
+def _build_harness(
+    directory: Path, spec: Spec, *, watchdog_reset: bool = False, calibration_stuck: bool = False
+) -> Path:
+    from codegen.port_drive import handler_names
+
     _write_port(directory, spec)
+    run = _loop_run(spec)
+    names = handler_names(spec)
+    defines = [
+        f"-DSEQUENCE=((const unsigned[]){{{', '.join(map(str, spec.hall.sequence))}}})",
+        f"-DBUS_OK={run.bus_ok}u",
+        f"-DBUS_OVER={run.bus_over}u",
+        f"-DOFFSET={run.offset}u",
+        f"-DLOOP_MA={run.milliamps}u",
+        f"-DLOOP_STEPS={len(run.measured)}u",
+        f"-DFAST_PERIOD={run.fast_period}u",
+        f"-DWATCHDOG_RESET={int(watchdog_reset)}",
+        f"-DCALIBRATION_STUCK={int(calibration_stuck)}",
+    ]
+    if calibration_stuck:
+        defines.append("-DHARNESS_CALIBRATION_STUCK")
     (directory / "shim.h").write_text(HOST_SHIM, encoding="utf-8")
-    (directory / "harness.c").write_text(HOST_HARNESS, encoding="utf-8")
+    measured = ", ".join(f"{m}u" for m in run.measured)
+    harness = HOST_HARNESS % {
+        "hall": names["hall"],
+        "adc": names["adc"],
+        "brk": names["brk"],
+        "timing": names["timing"],
+    }
+    harness = harness.replace(
+        '#include "stm32f103_port.h"',
+        f'#include "stm32f103_port.h"\nstatic const unsigned loop_measured[] = {{{measured}}};',
+        1,
+    )
+    (directory / "harness.c").write_text(harness, encoding="utf-8")
+    assert HOST_CC is not None, "no host C compiler"
     build = subprocess.run(
         [
             HOST_CC,
             "-std=c99",
             "-O1",
+            "-Wall",
+            "-Werror",
+            *defines,
             "-include",
             "shim.h",
             "-I.",
             "harness.c",
             "stm32f103_port.c",
+            "bldc_current_loop.c",
             "-o",
             "harness",
         ],
@@ -525,172 +770,324 @@ def host_run(tmp_path_factory: pytest.TempPathFactory, spec: Spec) -> dict[str, 
         text=True,
     )
     assert build.returncode == 0, build.stderr
+    return directory / "harness"
+
+
+def _run(binary: Path, *args: str) -> dict[str, dict[str, int]]:
     out = subprocess.run(
-        ["./harness"], cwd=directory, capture_output=True, text=True, check=True
+        [str(binary), *args], cwd=binary.parent, capture_output=True, text=True, check=True
     ).stdout
     return {line.split()[0]: _parse(line) for line in out.splitlines()}
 
 
-def test_init_should_configure_the_timers_per_rm0008(host_run: dict[str, dict[str, int]]) -> None:
+@pytest.fixture(scope="module")
+def host_run(tmp_path_factory: pytest.TempPathFactory, spec: Spec) -> dict[str, dict[str, int]]:
+    return _run(_build_harness(tmp_path_factory.mktemp("host"), spec))
+
+
+def _fault(name: str) -> int:
+    from codegen.port_faults import FAULT
+
+    return FAULT[name]
+
+
+CC4E = 1 << 12
+SAFE_CCER = 0x555 | CC4E  # CC1E, CC1NE, CC2E, CC2NE, CC3E, CC3NE
+MOE = 0x8000
+OIS_SHORT = (1 << 9) | (1 << 11) | (1 << 13)  # OIS1N, OIS2N, OIS3N
+
+
+def test_init_should_configure_the_timers_and_the_adc_per_rm0008(
+    host_run: dict[str, dict[str, int]], spec: Spec
+) -> None:
+    from codegen.control.sensing import sense_design
+
     r = host_run["init"]
-    assert r["tim1.cr2"] == 0x1  # CCPC: enables preloaded until a COM event
+    assert r["tim1.cr2"] & 0x1 and (r["tim1.cr2"] >> 4) & 7 == 7  # CCPC; MMS = 111: TRGO = OC4REF
     assert r["tim1.ccmr1"] == 0x6868  # OC1M = OC2M = 110 (PWM 1), OC1PE, OC2PE
-    assert r["tim1.ccmr2"] == 0x68  # OC3M = 110, OC3PE
-    assert r["tim1.ccer"] == 0  # every output disabled
-    assert r["tim1.bdtr"] == 0x8000 | 0x800 | 0x400 | 0x24  # MOE, OSSR, OSSI, DTG
+    assert r["tim1.ccmr2"] == 0x7868  # OC3M = 110, OC3PE; OC4M = 111 (PWM 2: edge-aligned), OC4PE
+    assert r["tim1.ccr4"] == sense_design(spec).window.trigger_counts
+    assert r["tim1.ccer"] == CC4E  # every switch off; CC4E drives no pin
+    # MOE, OSSR, OSSI, BKE, BKP = 0 (active low), DTG = 36
+    assert r["tim1.bdtr"] == MOE | 0x800 | 0x400 | 0x1000 | 0x24
     assert (r["tim1.psc"], r["tim1.arr"]) == (0, 3599)
     assert r["tim1.cr1"] == 0x81  # ARPE, CEN, edge-aligned
-    assert r["tim1.dier"] == 0x20  # COMIE: every COM event runs the next edge's timing
+    assert r["tim1.dier"] == 0x20 | 0x80  # COMIE, BIE
     assert r["tim3.cr2"] == 0x80  # TI1S: XOR of CH1..CH3
     assert r["tim3.smcr"] == 0x44  # TS = 100 (TI1F_ED), SMS = 100 (reset)
     assert r["tim3.ccmr1"] == 0x33  # CC1S = 11 (TRC), IC1F = 0011; CC2 frozen compare
-    assert r["tim3.ccer"] == 0x1  # CC1 capture on, CC2 output off
-    assert r["tim3.dier"] == 0x6  # CC1IE, CC2IE; UIF is polled by the next edge
-    assert r["tim3.cnt"] == 65535  # preset: the first tick overflows and sets UIF
+    assert r["tim3.ccer"] == 0x1
+    assert r["tim3.dier"] == 0x6  # CC1IE, CC2IE; UIF is polled
+    assert r["tim3.cnt"] == 65535
     assert (r["tim3.psc"], r["tim3.arr"]) == (71, 65535)
-    assert r["tim3.cr1"] == 0x5  # URS, CEN
-    assert r["rcc.apb2"] == (1 << 2) | (1 << 3) | (1 << 11)  # IOPA, IOPB, TIM1
+    # ADC: SCAN, JEOCIE, AWDIE, JAWDEN, AWDSGL, AWDCH = 1 (the bus); injected trigger
+    # TIM1 TRGO, JEXTTRIG, ADON; four conversions IN0, IN1, IN1, IN1; 7.5 cycles
+    assert r["adc.cr1"] == (1 << 8) | (1 << 7) | (1 << 6) | (1 << 22) | (1 << 9) | 1
+    assert r["adc.cr2"] == (1 << 15) | 1
+    assert r["adc.jsqr"] == (3 << 20) | (0 << 0) | (1 << 5) | (1 << 10) | (1 << 15)
+    assert r["adc.smpr2"] == (1 << 0) | (1 << 3)
+    assert r["adc.smpr1"] == 0
+    assert (r["adc.htr"], r["adc.ltr"]) == (3385, 2257)
+    assert r["rcc.apb2"] == (1 << 2) | (1 << 3) | (1 << 9) | (1 << 11)  # IOPA, IOPB, ADC1, TIM1
     assert r["rcc.apb1"] == 1 << 1  # TIM3
+    assert (r["rcc.cfgr"] >> 14) & 3 == 2  # ADCPRE = PCLK2 / 6
+    assert r["rcc.csr"] & (1 << 24)  # RMVF: the reset flags are read and cleared
     assert r["gpioa.crh"] == 0x44444BBB  # PA8..10 AF push-pull 50 MHz
-    assert r["gpiob.crh"] == 0xBBB44444  # PB13..15 AF push-pull 50 MHz
-    assert r["gpioa.crl"] == 0x88444444  # PA6, PA7 input with pull
+    assert r["gpiob.crh"] == 0xBBB84444  # PB13..15 AF push-pull; PB12 (BKIN) input with pull
+    assert r["gpioa.crl"] == 0x88444400  # PA0, PA1 analog; PA6, PA7 input with pull
     assert r["gpiob.crl"] == 0x44444448  # PB0 input with pull
-    assert r["nvic.enabled"] == (1 << 26) | (1 << 29)  # TIM1_TRG_COM, TIM3 (SVD numbers)
-    assert r["nvic.hall"] < r["nvic.timing"]  # the Hall edge preempts the timing
+    # ADC1_2 = 18, TIM1_BRK = 24, TIM1_TRG_COM = 26, TIM3 = 29 (SVD numbers)
+    assert r["nvic.enabled"] == (1 << 18) | (1 << 24) | (1 << 26) | (1 << 29)
+    assert r["nvic.hall"] == r["nvic.adc"] == r["nvic.brk"] < r["nvic.timing"]
+    assert r["port.faults"] == 0
 
 
-def test_hall_edge_should_apply_the_precomputed_pattern_at_one_com_event(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    r = host_run["edge1"]
-    assert r["tim1.ccer"] == 0x110  # CC2E (T3), CC3E (T5)
-    assert (r["tim1.ccr2"], r["tim1.ccr3"]) == (1000, 2000)
-    assert r["edge.egr"] == 0x21  # COMG | UG
-    assert r["tim3.ccr2"] == 300  # counter restarted at the edge: compare = t_com
-    assert r["tim3.egr"] == 0  # still ahead: the hardware match will end it
-    assert r["edge.sr"] == 0xFFFFFFFF & ~0x5  # CC2IF and the timeout's UIF cleared
-
-
-def test_every_hall_edge_should_recompute_the_timing_from_the_interval_just_measured(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    r = host_run["edge1"]
-    assert r["in.runs"] == 1  # the edge's COM event ran the timing once
-    assert r["in.period"] == 65535  # the first interval after start-up is unknown
-    assert (r["in.bus"], r["in.cur"], r["in.duty"]) == (2000, 2500, 1500)
-    assert host_run["edge2"]["in.period"] == 5000
-    assert host_run["timeout"]["in.period"] == 65535  # a wrapped counter reads as its range
-    for step in ("nobus", "swap", "invalid", "overspeed"):
-        assert host_run[step]["in.runs"] == 1  # the safe state is a COM event too
-
-
-def test_new_inputs_should_recompute_the_timing_only_when_they_matter(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    assert host_run["inputs"]["in.bus"] == 2000  # a new bus voltage pends the timing
-    # The improved rule (Eq. 18) does not use the main duty: a new one changes the
-    # steady switch's compare value but pends no recomputation.
-    assert host_run["inputs"]["in.duty"] == 0
-    assert host_run["duty"]["in.runs"] == 0
-    assert host_run["same"]["in.runs"] == 0
-    # A commutation end is a COM event too: the timing is recomputed with the latest
-    # current after it.
-    assert host_run["end1"]["in.runs"] == 1
-
-
-def test_port_should_keep_the_bridge_off_until_it_knows_the_bus_voltage(
+def test_bridge_should_stay_off_until_the_first_bus_sample(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     r = host_run["nobus"]
     assert r["in.bus"] == 0xFFFF  # the start-up bus code is the over-voltage one
-    assert r["tim1.ccer"] == 0
-    assert r["edge.egr"] == 0x21
+    assert r["tim1.ccer"] == CC4E
+    assert r["port.faults"] == 0  # no valid timing yet is not a fault
+    assert host_run["bus"]["in.bus"] == _loop_run_paper().bus_ok
 
 
-def test_commutation_end_should_leave_the_incoming_switch_at_main_duty(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    r = host_run["end1"]
-    assert r["tim1.ccer"] == 0x100  # CC3E only: T3 off
-    assert r["tim1.ccr3"] == 1500
-    assert r["tim1.egr"] == 0x21
-    assert host_run["duty"]["tim1.ccr3"] == 1700
-    assert host_run["clamp"]["tim1.ccr3"] == 3600
-
-
-def test_lower_switch_should_get_its_on_time_as_compare(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    r = host_run["edge2"]
-    # CCxNE alone: OCxN = OCxREF (RM0008 Table 83), so CCR = the ON time, not ARR - it.
-    assert r["tim1.ccer"] == 0x044  # CC1NE (T2), CC2NE (T4)
-    assert (r["tim1.ccr1"], r["tim1.ccr2"]) == (800, 500)
-    assert r["tim3.egr"] == 0x4  # CNT 400 already past 300: CC2G raises the end
-    assert host_run["end2"]["tim1.ccer"] == 0x40
-
-
-def test_a_phase_swapping_switches_should_turn_everything_off(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    assert host_run["swap"]["tim1.ccer"] == 0
-    assert host_run["swap"]["edge.egr"] == 0x21
-    assert host_run["after_swap"]["tim1.ccer"] == 0
-    assert host_run["after_swap"]["tim1.egr"] == 0  # no end was pending
-    assert host_run["recover"]["tim1.ccer"] == 0x044
-
-
-def test_an_interval_below_the_timings_minimum_should_turn_everything_off(
-    host_run: dict[str, dict[str, int]],
-) -> None:
-    r = host_run["overspeed"]
-    assert r["tim1.ccer"] == 0
-    assert r["edge.egr"] == 0x21
-    assert r["edge.sr"] == 0xFFFFFFFF & ~0x5  # no commutation end left to run
-
-
-def test_invalid_hall_should_disable_all_outputs(host_run: dict[str, dict[str, int]]) -> None:
-    assert host_run["invalid"]["tim1.ccer"] == 0
-    assert host_run["after_invalid"]["tim1.ccer"] == 0
-    assert host_run["after_invalid"]["tim1.egr"] == 0
+def _loop_run_paper() -> LoopRun:
+    return _loop_run(load_spec(SPEC))
 
 
 def test_bus_state_should_be_recomputed_only_beyond_the_hysteresis(
     host_run: dict[str, dict[str, int]],
 ) -> None:
-    # the same code and a change within the hysteresis cost nothing
-    for step in ("bus_same", "bus_noise"):
-        assert (host_run[step]["in.runs"], host_run[step]["in.busruns"]) == (0, 0), step
-    # a larger change recomputes the bus state once and the timing with it
+    assert host_run["bus_noise"]["in.busruns"] == 0  # within the hysteresis: nothing
     r = host_run["bus_step"]
-    assert (r["in.runs"], r["in.busruns"]) == (1, 1)
-    assert r["in.bus"] == 2001 + port.BUS_HYSTERESIS_CODES
-    # the Hall edge's own timing run reuses the cached bus state
-    r = host_run["bus_edge"]
-    assert (r["in.runs"], r["in.busruns"]) == (1, 0)
-    assert r["in.bus"] == 2001 + port.BUS_HYSTERESIS_CODES
+    assert r["in.busruns"] == 1
+    assert r["in.bus"] == _loop_run_paper().bus_ok + port.BUS_HYSTERESIS_CODES + 1
 
 
-def test_over_voltage_should_be_recomputed_whatever_the_hysteresis(
+def test_hall_edge_should_apply_the_precomputed_pattern_at_one_com_event(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    # forward into sector 2: T4 (B lower) on at 2000, T2 (A lower) off at 1000
+    r = host_run["edge1"]
+    assert r["tim1.ccer"] == 0x044 | CC4E  # CC1NE (T2), CC2NE (T4)
+    # CCxNE alone: OCxN = OCxREF (RM0008 Table 83), so CCR = the ON time, not ARR - it
+    assert (r["tim1.ccr1"], r["tim1.ccr2"]) == (1000, 2000)
+    assert r["edge.egr"] == 0x21  # COMG | UG
+    assert r["tim3.ccr2"] == 300
+    assert r["tim3.egr"] == 0
+    assert r["edge.sr"] == 0xFFFFFFFF & ~0x5  # CC2IF and the timeout's UIF cleared
+    assert r["in.period"] == 65535  # the first interval after start-up is unknown
+    assert r["in.runs"] == 1
+    assert r["port.safe"] == 0  # slow: all-off is the safe state
+
+
+def test_current_should_be_sampled_only_between_commutations(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    offset = _loop_run_paper().offset
+    assert host_run["commutating"]["port.current"] != offset + 300  # held during it
+    assert host_run["steady_open"]["port.current"] == offset + 300
+    assert host_run["end1"]["tim1.ccer"] == 0x040 | CC4E  # T2 off, T4 at the main duty
+    # open loop: the sample does not touch the duty
+    assert host_run["steady_open"]["tim1.ccr2"] == 1500
+    assert host_run["duty"]["tim1.ccr2"] == 1700
+    assert host_run["clamp"]["tim1.ccr2"] == 3600
+
+
+def test_current_loop_should_set_the_steady_switch_from_each_sample(
     host_run: dict[str, dict[str, int]], spec: Spec
 ) -> None:
-    from codegen.derivation import derive
-    from codegen.fixedpoint.scaling import scaling
+    """The duties the port writes are the generated PI's (its Python twin, from the duty
+    in force: no bump), on the steady switch's compare register (T4: CCR2)."""
+    from codegen.control.current_loop import design, loop_context
+    from codegen.render import render
 
-    bus_max = scaling(spec, derive()).bus_code_max
-    # the port's threshold is the core's
-    assert _defines(port.port_context(spec))["BLDC_PORT_BUS_CODE_MAX"] == f"{bus_max}u"
-    core = (ROOT / "generated" / spec.name / "c" / "bldc_commutation.h").read_text()
-    assert f"#define BLDC_BUS_CODE_MAX {bus_max}u" in core
-    assert port.BUS_HYSTERESIS_CODES >= 1  # so one code is within it
-    over, back = host_run["bus_over"], host_run["bus_back"]
-    assert (over["in.runs"], over["in.busruns"], over["in.bus"]) == (1, 1, bus_max + 1)
-    assert (back["in.runs"], back["in.busruns"], back["in.bus"]) == (1, 1, bus_max)
+    twin_text = render(
+        "python/bldc_current_loop.py.j2", provenance="test", **loop_context(design(spec))
+    )
+    twin: dict[str, object] = {}
+    exec(compile(twin_text, "<loop twin>", "exec"), twin)
+    run = _loop_run(spec)
+    reference = twin["current_reference"](run.milliamps)  # type: ignore[operator]
+    state = 1700 << int(twin["BLDC_LOOP_FRAC_BITS"])  # type: ignore[call-overload]
+    for k, measured in enumerate(run.measured):
+        duty = twin["current_loop_duty"](state, reference, measured)  # type: ignore[operator]
+        state = twin["current_loop_integrate"](state, reference, measured)  # type: ignore[operator]
+        r = host_run[f"loop{k}"]
+        assert r["tim1.ccr2"] == duty, k
+        assert r["port.current"] == measured
+    assert host_run["loop0"]["tim1.ccr2"] > 1700  # below the reference: more braking duty
+    # the next timing takes the loop's latest duty
+    assert host_run["edge2"]["in.duty"] == host_run[f"loop{len(run.measured) - 1}"]["tim1.ccr2"]
+
+
+def _assert_tripped(r: dict[str, int], fault: str) -> None:
+    assert r["port.faults"] & _fault(fault), (fault, r["port.faults"])
+    assert r["tim1.bdtr"] & MOE == 0  # outputs to their idle level
+    assert r["tim1.ccer"] == SAFE_CCER  # every output of every phase held there
+    assert r["tim3.dier"] == 0  # no Hall edge applies a pattern
+
+
+@pytest.mark.parametrize(
+    ("step", "fault"),
+    [
+        ("over_voltage", "OVER_VOLTAGE"),
+        ("under_voltage", "UNDER_VOLTAGE"),
+        ("current_sensor", "CURRENT_SENSOR"),
+        ("hall_timeout", "HALL_TIMEOUT"),
+        ("hall_invalid", "HALL_INVALID"),
+        ("hall_sequence", "HALL_SEQUENCE"),
+        ("over_speed", "OVER_SPEED"),
+        ("over_current", "OVER_CURRENT"),
+        ("external", "EXTERNAL"),
+        ("clock", "CLOCK"),
+    ],
+)
+def test_each_fault_should_reach_the_safe_state_at_once_and_latch(
+    host_run: dict[str, dict[str, int]], step: str, fault: str
+) -> None:
+    _assert_tripped(host_run[step], fault)
+
+
+@pytest.mark.parametrize(
+    "step", ["over_voltage", "under_voltage", "current_sensor", "hall_invalid", "over_current"]
+)
+def test_a_fault_should_not_clear_while_its_cause_is_present(
+    host_run: dict[str, dict[str, int]], step: str
+) -> None:
+    held = host_run[f"{step}_held"]
+    assert host_run[f"{step}_held_left"]["clear.left"] == held["port.faults"] != 0
+    _assert_tripped(
+        held,
+        {
+            "over_voltage": "OVER_VOLTAGE",
+            "under_voltage": "UNDER_VOLTAGE",
+            "current_sensor": "CURRENT_SENSOR",
+            "hall_invalid": "HALL_INVALID",
+            "over_current": "OVER_CURRENT",
+        }[step],
+    )
+
+
+@pytest.mark.parametrize(
+    "step",
+    [
+        "over_voltage",
+        "under_voltage",
+        "current_sensor",
+        "hall_timeout",
+        "hall_invalid",
+        "hall_sequence",
+        "over_speed",
+        "over_current",
+        "external",
+        "core_flag",
+    ],
+)
+def test_an_explicit_clear_should_rearm_the_bridge_once_the_cause_is_gone(
+    host_run: dict[str, dict[str, int]], step: str
+) -> None:
+    r = host_run[f"{step}_cleared"]
+    assert host_run[f"{step}_cleared_left"]["clear.left"] == 0
+    assert r["port.faults"] == 0
+    assert r["tim1.bdtr"] & MOE
+    assert r["tim1.ccer"] == CC4E  # armed, every switch off until the next edge
+    assert r["tim3.dier"] == 0x6
+    assert r["tim1.dier"] & 0x80  # the break interrupt on again
+
+
+def test_the_drive_should_switch_again_after_a_clear(host_run: dict[str, dict[str, int]]) -> None:
+    r = host_run["steady_again"]
+    assert r["port.faults"] == 0 and r["tim1.bdtr"] & MOE
+    assert r["tim1.ccer"] not in (CC4E, SAFE_CCER)
+
+
+def test_the_core_flag_should_trip_through_a_software_break(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["core_flag"]
+    _assert_tripped(r, "UNDER_VOLTAGE")
+    assert r["in.breaks"] >= 1  # latched by the break handler
+
+
+def test_a_clock_failure_should_never_clear(host_run: dict[str, dict[str, int]]) -> None:
+    held = host_run["clock_held"]
+    assert host_run["clock_held_left"]["clear.left"] & _fault("CLOCK")
+    _assert_tripped(held, "CLOCK")
+
+
+def test_a_trip_should_drop_a_pended_hall_edge(host_run: dict[str, dict[str, int]]) -> None:
+    assert host_run["clock"]["nvic.cleared"] & (1 << 29)  # TIM3's pending request cleared
+    r = host_run["after_trip"]
+    assert r["tim1.ccer"] == SAFE_CCER
+
+
+def test_safe_state_should_follow_the_speed_region_while_faulted(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    """Above U_d/(2 k_e) all-off rectifies into the bus: the short circuit (lower
+    switches at their idle level OISxN = 1); when the rotor stops, all-off."""
+    fast = host_run["faulted_fast"]
+    assert fast["tim1.cr2"] & OIS_SHORT == OIS_SHORT
+    assert fast["port.safe"] == 1
+    assert fast["tim1.cr2"] & ((1 << 8) | (1 << 10) | (1 << 12)) == 0  # upper switches off
+    stopped = host_run["faulted_stopped"]
+    assert stopped["tim1.cr2"] & OIS_SHORT == 0
+    assert stopped["port.safe"] == 0
+
+
+@pytest.mark.parametrize("case", ["clock_at_start", "watchdog_reset", "calibration_stuck"])
+def test_start_up_faults_should_latch_before_the_bridge_is_armed(
+    tmp_path: Path, spec: Spec, case: str
+) -> None:
+    binary = _build_harness(
+        tmp_path,
+        spec,
+        watchdog_reset=case == "watchdog_reset",
+        calibration_stuck=case == "calibration_stuck",
+    )
+    run = _run(binary, *(["clock"] if case == "clock_at_start" else []))
+    fault = {"clock_at_start": "CLOCK", "watchdog_reset": "WATCHDOG", "calibration_stuck": "ADC"}[
+        case
+    ]
+    assert run["init"]["port.faults"] & _fault(fault)
+    assert run["init"]["tim1.bdtr"] & MOE == 0  # never armed
+    left = run["start_clear_again_left"]["clear.left"]
+    if fault == "WATCHDOG":
+        assert left == 0  # a report of the past reset: clears
+        assert run["start_clear_again"]["tim1.bdtr"] & MOE
+    else:
+        assert left & _fault(fault)  # only a reset clears it
+
+
+def test_low_side_shunts_should_read_the_sectors_signal(tmp_path: Path) -> None:
+    """With low-side phase shunts the port reads I from the register the sensing design
+    names for the steady switch (codegen/control/sensing.py): a sample is taken from
+    that JDRx only."""
+    from codegen.control.sensing import sense_design
+
+    maxon = load_spec(ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml")
+    table = port.edge_records(maxon)
+    slots = {s.edge: s.slot for s in sense_design(maxon).signals}
+    assert set(slots.values()) == {0, 1, 2}  # every phase's shunt is used somewhere
+    for record in table:
+        if record == port.RECORD_INVALID:
+            continue
+        slot = ((record >> port.RECORD_SENSE_LOW_SHIFT) & 1) | (
+            (record >> port.RECORD_SENSE_HIGH_SHIFT) & 1
+        ) << 1
+        assert slot in (0, 1, 2)
+    # and the harness runs on that spec too, closed loop included
+    run = _run(_build_harness(tmp_path, maxon))
+    assert run["loop0"]["port.current"] == _loop_run(maxon).measured[0]
 
 
 def test_pin_indexed_edge_table_should_give_the_cores_edge_for_every_pair(spec: Spec) -> None:
     """PA6 = Hall A, PA7 = Hall B, PB0 = Hall C, read as PA6 | PA7 << 1 | PB0 << 2; each
     entry is the packed record of the edge's two switches (codegen.port.EDGE_RECORD_LAYOUT),
-    checked here against RM0008's CCER layout written out by hand."""
+    checked here against RM0008's CCER layout written out by hand; an invalid pair's
+    record makes the partner test see CC4E, which every pattern has."""
     from codegen.derivation import derive
 
     def pins(code: int) -> int:
@@ -722,12 +1119,15 @@ def test_pin_indexed_edge_table_should_give_the_cores_edge_for_every_pair(spec: 
             expected[(previous, code)] = (
                 ccer_bit(on)
                 | ccer_bit(off)
-                | channel(on) << 11
-                | channel(off) << 13
+                | CC4E
+                | channel(on) << 13
+                | channel(off) << 29
                 | (ccer_bit(partner(on)) | ccer_bit(partner(off))) << 16
-            )
+            )  # DC-link shunt: the sense slot is 0
     assert len(expected) == 12
     for previous in range(8):
         for code in range(8):
-            want = expected.get((previous, code), 0)
+            want = expected.get((previous, code), CC4E << 16)
             assert table[pins(previous) << 3 | pins(code)] == want, (previous, code)
+            # from any pattern the port writes (all of which hold CC4E) an invalid pair is refused
+            assert ((want >> 16) & CC4E != 0) == ((previous, code) not in expected)

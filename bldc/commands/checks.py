@@ -43,24 +43,38 @@ def _firmware(args: argparse.Namespace) -> int:
     spec = load(args.spec)
     generated = fresh_generated(spec, args.generated)
     build_dir = Path(args.build) if args.build else Path("build") / spec.name
-    _require_tools("arm-none-eabi-gcc", "arm-none-eabi-size")
+    _require_tools("arm-none-eabi-gcc", "arm-none-eabi-size", "arm-none-eabi-objcopy")
     try:
         if not args.json:
-            return build_firmware.main([str(generated), str(build_dir)])
+            code = build_firmware.main([str(generated), str(build_dir), args.spec])
+            return int(ExitCode.CHECK_FAILED) if code else 0
         sizes = build_firmware.build(generated, build_dir)
     except subprocess.CalledProcessError as exc:
         print(f"error: the generated firmware does not build ({exc.cmd[0]})", file=sys.stderr)
         return int(ExitCode.CHECK_FAILED)
+    report = build_firmware.stack(build_dir, spec.firmware.integration == "cube")
+    budgets = build_firmware.budgets(
+        sizes, report, spec.firmware.flash_budget_bytes, spec.firmware.ram_budget_bytes
+    )
     emit_json(
         {
-            "elf": shown(build_dir / "firmware.elf"),
+            "elf": shown(build_dir / build_firmware.ELF),
+            "bin": shown(build_dir / "firmware.bin"),
+            "hex": shown(build_dir / "firmware.hex"),
+            "map": shown(build_dir / "firmware.map"),
             "sizes": {
                 name: {"flash": size.flash, "ram": size.ram, "sections": size.sections}
                 for name, size in sizes.items()
             },
+            "stack_bytes": report.worst,
+            "stack": report.lines(),
+            "budgets": [
+                {"name": b.name, "value": b.value, "limit": b.limit, "meets": b.meets}
+                for b in budgets
+            ],
         }
     )
-    return 0
+    return 0 if all(b.meets for b in budgets) else int(ExitCode.CHECK_FAILED)
 
 
 def _firmware_arguments(parser: argparse.ArgumentParser) -> None:
@@ -73,10 +87,14 @@ def _firmware_arguments(parser: argparse.ArgumentParser) -> None:
 register(
     Command(
         "firmware",
-        "cross-compile the generated firmware for the Cortex-M3; flash and RAM by section",
-        "Build core, port, start-up and main with arm-none-eabi-gcc (-Wall -Wextra"
-        " -Wconversion -Werror) and link them; report flash and RAM by section and for the"
-        " commutation code (core + port) against its 2 KiB / 64 B budget.",
+        "cross-compile the generated firmware; .elf, .bin, .hex, map; flash, RAM and stack"
+        " against the spec's budgets",
+        "Build the core, the current loop, the port, the clock tree, start-up and main (and"
+        " the Cube-style stm32f1xx_it.c for firmware.integration: cube) with arm-none-eabi-gcc"
+        " (-Wall -Wextra -Wconversion -Werror), link firmware.elf with a map and write"
+        " firmware.bin and firmware.hex; report flash and RAM by section and the worst stack"
+        " depth (-fcallgraph-info), and exit 1 when flash exceeds firmware.flash_budget or"
+        " RAM with the stack firmware.ram_budget.",
         _firmware_arguments,
         _firmware,
     )

@@ -1,4 +1,4 @@
-/* Generated from template c/stm32f103_regs.h.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 8b5f5d50b8448d3cbaa1fb633cc60b872c18290557700779debfaeb46d86d548). Do not edit: regenerate with `make`. */
+/* Generated from template c/stm32f103_regs.h.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `make`. */
 #ifndef STM32F103_REGS_H
 #define STM32F103_REGS_H
 
@@ -11,7 +11,8 @@
  * SVD STM32F103xx v1.3
  *   codegen/data/STM32F103xx.svd (ST STM32F103xx.svd v1.3 (Apache-2.0), as shipped in pyocd's svd_data.zip)
  *   sha256 1d92b65aaf397a18a599fb6a840812015ad379cdcc0cc3687f673f63e7445367
- * by codegen/svd.py; none is typed by hand.
+ * by codegen/svd.py; none is typed by hand but the SysTick timer's (a core peripheral
+ * the SVD does not describe: see below).
  *
  * In an STM32Cube project define USE_CMSIS_DEVICE_HEADER (and STM32F103xB or the
  * matching device macro): this file then includes Cube's own "stm32f1xx.h" instead,
@@ -39,6 +40,8 @@
 
 /* Interrupt numbers (position in the vector table after the 16 core exceptions) */
 typedef enum {
+    ADC1_2_IRQn = 18, /* ADC1 global interrupt (SVD ADC) */
+    TIM1_BRK_IRQn = 24, /* TIM1 Break interrupt and TIM9 global interrupt (SVD TIM1_BRK_TIM9) */
     TIM1_UP_IRQn = 25, /* TIM1 Update interrupt and TIM10 global interrupt (SVD TIM1_UP_TIM10) */
     TIM1_TRG_COM_IRQn = 26, /* TIM1 Trigger and Commutation interrupts and TIM11 global interrupt (SVD TIM1_TRG_COM_TIM11) */
     TIM1_CC_IRQn = 27, /* TIM1 Capture Compare interrupt (SVD TIM1_CC) */
@@ -93,6 +96,48 @@ typedef struct {
 } GPIO_TypeDef;
 
 typedef struct {
+    __IO uint32_t SR; /* status register, offset 0x00 */
+    __IO uint32_t CR1; /* control register 1, offset 0x04 */
+    __IO uint32_t CR2; /* control register 2, offset 0x08 */
+    __IO uint32_t SMPR1; /* sample time register 1, offset 0x0c */
+    __IO uint32_t SMPR2; /* sample time register 2, offset 0x10 */
+    __IO uint32_t JOFR1; /* injected channel data offset register x, offset 0x14 */
+    __IO uint32_t JOFR2; /* injected channel data offset register x, offset 0x18 */
+    __IO uint32_t JOFR3; /* injected channel data offset register x, offset 0x1c */
+    __IO uint32_t JOFR4; /* injected channel data offset register x, offset 0x20 */
+    __IO uint32_t HTR; /* watchdog higher threshold register, offset 0x24 */
+    __IO uint32_t LTR; /* watchdog lower threshold register, offset 0x28 */
+    __IO uint32_t SQR1; /* regular sequence register 1, offset 0x2c */
+    __IO uint32_t SQR2; /* regular sequence register 2, offset 0x30 */
+    __IO uint32_t SQR3; /* regular sequence register 3, offset 0x34 */
+    __IO uint32_t JSQR; /* injected sequence register, offset 0x38 */
+    __I uint32_t JDR1; /* injected data register x, offset 0x3c */
+    __I uint32_t JDR2; /* injected data register x, offset 0x40 */
+    __I uint32_t JDR3; /* injected data register x, offset 0x44 */
+    __I uint32_t JDR4; /* injected data register x, offset 0x48 */
+    __I uint32_t DR; /* regular data register, offset 0x4c */
+} ADC_TypeDef;
+
+typedef struct {
+    __IO uint32_t ACR; /* Flash access control register, offset 0x00 */
+    __O uint32_t KEYR; /* Flash key register, offset 0x04 */
+    __O uint32_t OPTKEYR; /* Flash option key register, offset 0x08 */
+    __IO uint32_t SR; /* Status register, offset 0x0c */
+    __IO uint32_t CR; /* Control register, offset 0x10 */
+    __O uint32_t AR; /* Flash address register, offset 0x14 */
+    uint32_t RESERVED0; /* Reserved, 0x18-0x1b */
+    __I uint32_t OBR; /* Option byte register, offset 0x1c */
+    __I uint32_t WRPR; /* Write protection register, offset 0x20 */
+} FLASH_TypeDef;
+
+typedef struct {
+    __O uint32_t KR; /* Key register (IWDG_KR), offset 0x00 */
+    __IO uint32_t PR; /* Prescaler register (IWDG_PR), offset 0x04 */
+    __IO uint32_t RLR; /* Reload register (IWDG_RLR), offset 0x08 */
+    __I uint32_t SR; /* Status register (IWDG_SR), offset 0x0c */
+} IWDG_TypeDef;
+
+typedef struct {
     __IO uint32_t EVCR; /* Event Control Register (AFIO_EVCR), offset 0x00 */
     __IO uint32_t MAPR; /* AF remap and debug I/O configuration register (AFIO_MAPR), offset 0x04 */
     __IO uint32_t EXTICR[4]; /* EXTICR1..EXTICR4, offset 0x08 */
@@ -106,6 +151,9 @@ typedef struct {
 #define RCC_BASE 0x40021000UL /* SVD RCC */
 #define GPIOA_BASE 0x40010800UL /* SVD GPIOA */
 #define GPIOB_BASE 0x40010C00UL /* SVD GPIOB, registers of GPIOA */
+#define ADC1_BASE 0x40012400UL /* SVD ADC1 */
+#define FLASH_BASE 0x40022000UL /* SVD FLASH */
+#define IWDG_BASE 0x40003000UL /* SVD IWDG */
 #define AFIO_BASE 0x40010000UL /* SVD AFIO */
 
 #define TIM1 ((TIM_TypeDef *)TIM1_BASE)
@@ -113,6 +161,9 @@ typedef struct {
 #define RCC ((RCC_TypeDef *)RCC_BASE)
 #define GPIOA ((GPIO_TypeDef *)GPIOA_BASE)
 #define GPIOB ((GPIO_TypeDef *)GPIOB_BASE)
+#define ADC1 ((ADC_TypeDef *)ADC1_BASE)
+#define FLASH ((FLASH_TypeDef *)FLASH_BASE)
+#define IWDG ((IWDG_TypeDef *)IWDG_BASE)
 #define AFIO ((AFIO_TypeDef *)AFIO_BASE)
 
 /* Bit fields of the registers the port uses: <GROUP>_<REGISTER>_<FIELD>_Pos / _Msk */
@@ -545,6 +596,11 @@ typedef struct {
 #define TIM_CCR3_CCR3_Msk (0xffffU << TIM_CCR3_CCR3_Pos) /* 0x0000FFFF */
 #define TIM_CCR3_CCR3 TIM_CCR3_CCR3_Msk /* Capture/Compare value */
 
+/* TIM_CCR4 */
+#define TIM_CCR4_CCR4_Pos (0U)
+#define TIM_CCR4_CCR4_Msk (0xffffU << TIM_CCR4_CCR4_Pos) /* 0x0000FFFF */
+#define TIM_CCR4_CCR4 TIM_CCR4_CCR4_Msk /* Capture/Compare value */
+
 /* TIM_BDTR */
 #define TIM_BDTR_DTG_Pos (0U)
 #define TIM_BDTR_DTG_Msk (0xffU << TIM_BDTR_DTG_Pos) /* 0x000000FF */
@@ -580,6 +636,162 @@ typedef struct {
 #define TIM_BDTR_MOE_Pos (15U)
 #define TIM_BDTR_MOE_Msk (0x1U << TIM_BDTR_MOE_Pos) /* 0x00008000 */
 #define TIM_BDTR_MOE TIM_BDTR_MOE_Msk /* Main output enable */
+
+/* RCC_CR */
+#define RCC_CR_HSION_Pos (0U)
+#define RCC_CR_HSION_Msk (0x1U << RCC_CR_HSION_Pos) /* 0x00000001 */
+#define RCC_CR_HSION RCC_CR_HSION_Msk /* Internal High Speed clock enable */
+#define RCC_CR_HSIRDY_Pos (1U)
+#define RCC_CR_HSIRDY_Msk (0x1U << RCC_CR_HSIRDY_Pos) /* 0x00000002 */
+#define RCC_CR_HSIRDY RCC_CR_HSIRDY_Msk /* Internal High Speed clock ready flag */
+#define RCC_CR_HSITRIM_Pos (3U)
+#define RCC_CR_HSITRIM_Msk (0x1fU << RCC_CR_HSITRIM_Pos) /* 0x000000F8 */
+#define RCC_CR_HSITRIM RCC_CR_HSITRIM_Msk /* Internal High Speed clock trimming */
+#define RCC_CR_HSITRIM_0 (0x1U << RCC_CR_HSITRIM_Pos) /* 0x00000008 */
+#define RCC_CR_HSITRIM_1 (0x2U << RCC_CR_HSITRIM_Pos) /* 0x00000010 */
+#define RCC_CR_HSITRIM_2 (0x4U << RCC_CR_HSITRIM_Pos) /* 0x00000020 */
+#define RCC_CR_HSITRIM_3 (0x8U << RCC_CR_HSITRIM_Pos) /* 0x00000040 */
+#define RCC_CR_HSITRIM_4 (0x10U << RCC_CR_HSITRIM_Pos) /* 0x00000080 */
+#define RCC_CR_HSICAL_Pos (8U)
+#define RCC_CR_HSICAL_Msk (0xffU << RCC_CR_HSICAL_Pos) /* 0x0000FF00 */
+#define RCC_CR_HSICAL RCC_CR_HSICAL_Msk /* Internal High Speed clock Calibration */
+#define RCC_CR_HSICAL_0 (0x1U << RCC_CR_HSICAL_Pos) /* 0x00000100 */
+#define RCC_CR_HSICAL_1 (0x2U << RCC_CR_HSICAL_Pos) /* 0x00000200 */
+#define RCC_CR_HSICAL_2 (0x4U << RCC_CR_HSICAL_Pos) /* 0x00000400 */
+#define RCC_CR_HSICAL_3 (0x8U << RCC_CR_HSICAL_Pos) /* 0x00000800 */
+#define RCC_CR_HSICAL_4 (0x10U << RCC_CR_HSICAL_Pos) /* 0x00001000 */
+#define RCC_CR_HSICAL_5 (0x20U << RCC_CR_HSICAL_Pos) /* 0x00002000 */
+#define RCC_CR_HSICAL_6 (0x40U << RCC_CR_HSICAL_Pos) /* 0x00004000 */
+#define RCC_CR_HSICAL_7 (0x80U << RCC_CR_HSICAL_Pos) /* 0x00008000 */
+#define RCC_CR_HSEON_Pos (16U)
+#define RCC_CR_HSEON_Msk (0x1U << RCC_CR_HSEON_Pos) /* 0x00010000 */
+#define RCC_CR_HSEON RCC_CR_HSEON_Msk /* External High Speed clock enable */
+#define RCC_CR_HSERDY_Pos (17U)
+#define RCC_CR_HSERDY_Msk (0x1U << RCC_CR_HSERDY_Pos) /* 0x00020000 */
+#define RCC_CR_HSERDY RCC_CR_HSERDY_Msk /* External High Speed clock ready flag */
+#define RCC_CR_HSEBYP_Pos (18U)
+#define RCC_CR_HSEBYP_Msk (0x1U << RCC_CR_HSEBYP_Pos) /* 0x00040000 */
+#define RCC_CR_HSEBYP RCC_CR_HSEBYP_Msk /* External High Speed clock Bypass */
+#define RCC_CR_CSSON_Pos (19U)
+#define RCC_CR_CSSON_Msk (0x1U << RCC_CR_CSSON_Pos) /* 0x00080000 */
+#define RCC_CR_CSSON RCC_CR_CSSON_Msk /* Clock Security System enable */
+#define RCC_CR_PLLON_Pos (24U)
+#define RCC_CR_PLLON_Msk (0x1U << RCC_CR_PLLON_Pos) /* 0x01000000 */
+#define RCC_CR_PLLON RCC_CR_PLLON_Msk /* PLL enable */
+#define RCC_CR_PLLRDY_Pos (25U)
+#define RCC_CR_PLLRDY_Msk (0x1U << RCC_CR_PLLRDY_Pos) /* 0x02000000 */
+#define RCC_CR_PLLRDY RCC_CR_PLLRDY_Msk /* PLL clock ready flag */
+
+/* RCC_CFGR */
+#define RCC_CFGR_SW_Pos (0U)
+#define RCC_CFGR_SW_Msk (0x3U << RCC_CFGR_SW_Pos) /* 0x00000003 */
+#define RCC_CFGR_SW RCC_CFGR_SW_Msk /* System clock Switch */
+#define RCC_CFGR_SW_0 (0x1U << RCC_CFGR_SW_Pos) /* 0x00000001 */
+#define RCC_CFGR_SW_1 (0x2U << RCC_CFGR_SW_Pos) /* 0x00000002 */
+#define RCC_CFGR_SWS_Pos (2U)
+#define RCC_CFGR_SWS_Msk (0x3U << RCC_CFGR_SWS_Pos) /* 0x0000000C */
+#define RCC_CFGR_SWS RCC_CFGR_SWS_Msk /* System Clock Switch Status */
+#define RCC_CFGR_SWS_0 (0x1U << RCC_CFGR_SWS_Pos) /* 0x00000004 */
+#define RCC_CFGR_SWS_1 (0x2U << RCC_CFGR_SWS_Pos) /* 0x00000008 */
+#define RCC_CFGR_HPRE_Pos (4U)
+#define RCC_CFGR_HPRE_Msk (0xfU << RCC_CFGR_HPRE_Pos) /* 0x000000F0 */
+#define RCC_CFGR_HPRE RCC_CFGR_HPRE_Msk /* AHB prescaler */
+#define RCC_CFGR_HPRE_0 (0x1U << RCC_CFGR_HPRE_Pos) /* 0x00000010 */
+#define RCC_CFGR_HPRE_1 (0x2U << RCC_CFGR_HPRE_Pos) /* 0x00000020 */
+#define RCC_CFGR_HPRE_2 (0x4U << RCC_CFGR_HPRE_Pos) /* 0x00000040 */
+#define RCC_CFGR_HPRE_3 (0x8U << RCC_CFGR_HPRE_Pos) /* 0x00000080 */
+#define RCC_CFGR_PPRE1_Pos (8U)
+#define RCC_CFGR_PPRE1_Msk (0x7U << RCC_CFGR_PPRE1_Pos) /* 0x00000700 */
+#define RCC_CFGR_PPRE1 RCC_CFGR_PPRE1_Msk /* APB Low speed prescaler (APB1) */
+#define RCC_CFGR_PPRE1_0 (0x1U << RCC_CFGR_PPRE1_Pos) /* 0x00000100 */
+#define RCC_CFGR_PPRE1_1 (0x2U << RCC_CFGR_PPRE1_Pos) /* 0x00000200 */
+#define RCC_CFGR_PPRE1_2 (0x4U << RCC_CFGR_PPRE1_Pos) /* 0x00000400 */
+#define RCC_CFGR_PPRE2_Pos (11U)
+#define RCC_CFGR_PPRE2_Msk (0x7U << RCC_CFGR_PPRE2_Pos) /* 0x00003800 */
+#define RCC_CFGR_PPRE2 RCC_CFGR_PPRE2_Msk /* APB High speed prescaler (APB2) */
+#define RCC_CFGR_PPRE2_0 (0x1U << RCC_CFGR_PPRE2_Pos) /* 0x00000800 */
+#define RCC_CFGR_PPRE2_1 (0x2U << RCC_CFGR_PPRE2_Pos) /* 0x00001000 */
+#define RCC_CFGR_PPRE2_2 (0x4U << RCC_CFGR_PPRE2_Pos) /* 0x00002000 */
+#define RCC_CFGR_ADCPRE_Pos (14U)
+#define RCC_CFGR_ADCPRE_Msk (0x3U << RCC_CFGR_ADCPRE_Pos) /* 0x0000C000 */
+#define RCC_CFGR_ADCPRE RCC_CFGR_ADCPRE_Msk /* ADC prescaler */
+#define RCC_CFGR_ADCPRE_0 (0x1U << RCC_CFGR_ADCPRE_Pos) /* 0x00004000 */
+#define RCC_CFGR_ADCPRE_1 (0x2U << RCC_CFGR_ADCPRE_Pos) /* 0x00008000 */
+#define RCC_CFGR_PLLSRC_Pos (16U)
+#define RCC_CFGR_PLLSRC_Msk (0x1U << RCC_CFGR_PLLSRC_Pos) /* 0x00010000 */
+#define RCC_CFGR_PLLSRC RCC_CFGR_PLLSRC_Msk /* PLL entry clock source */
+#define RCC_CFGR_PLLXTPRE_Pos (17U)
+#define RCC_CFGR_PLLXTPRE_Msk (0x1U << RCC_CFGR_PLLXTPRE_Pos) /* 0x00020000 */
+#define RCC_CFGR_PLLXTPRE RCC_CFGR_PLLXTPRE_Msk /* HSE divider for PLL entry */
+#define RCC_CFGR_PLLMUL_Pos (18U)
+#define RCC_CFGR_PLLMUL_Msk (0xfU << RCC_CFGR_PLLMUL_Pos) /* 0x003C0000 */
+#define RCC_CFGR_PLLMUL RCC_CFGR_PLLMUL_Msk /* PLL Multiplication Factor */
+#define RCC_CFGR_PLLMUL_0 (0x1U << RCC_CFGR_PLLMUL_Pos) /* 0x00040000 */
+#define RCC_CFGR_PLLMUL_1 (0x2U << RCC_CFGR_PLLMUL_Pos) /* 0x00080000 */
+#define RCC_CFGR_PLLMUL_2 (0x4U << RCC_CFGR_PLLMUL_Pos) /* 0x00100000 */
+#define RCC_CFGR_PLLMUL_3 (0x8U << RCC_CFGR_PLLMUL_Pos) /* 0x00200000 */
+#define RCC_CFGR_OTGFSPRE_Pos (22U)
+#define RCC_CFGR_OTGFSPRE_Msk (0x1U << RCC_CFGR_OTGFSPRE_Pos) /* 0x00400000 */
+#define RCC_CFGR_OTGFSPRE RCC_CFGR_OTGFSPRE_Msk /* USB OTG FS prescaler */
+#define RCC_CFGR_MCO_Pos (24U)
+#define RCC_CFGR_MCO_Msk (0x7U << RCC_CFGR_MCO_Pos) /* 0x07000000 */
+#define RCC_CFGR_MCO RCC_CFGR_MCO_Msk /* Microcontroller clock output */
+#define RCC_CFGR_MCO_0 (0x1U << RCC_CFGR_MCO_Pos) /* 0x01000000 */
+#define RCC_CFGR_MCO_1 (0x2U << RCC_CFGR_MCO_Pos) /* 0x02000000 */
+#define RCC_CFGR_MCO_2 (0x4U << RCC_CFGR_MCO_Pos) /* 0x04000000 */
+
+/* RCC_CIR */
+#define RCC_CIR_LSIRDYF_Pos (0U)
+#define RCC_CIR_LSIRDYF_Msk (0x1U << RCC_CIR_LSIRDYF_Pos) /* 0x00000001 */
+#define RCC_CIR_LSIRDYF RCC_CIR_LSIRDYF_Msk /* LSI Ready Interrupt flag */
+#define RCC_CIR_LSERDYF_Pos (1U)
+#define RCC_CIR_LSERDYF_Msk (0x1U << RCC_CIR_LSERDYF_Pos) /* 0x00000002 */
+#define RCC_CIR_LSERDYF RCC_CIR_LSERDYF_Msk /* LSE Ready Interrupt flag */
+#define RCC_CIR_HSIRDYF_Pos (2U)
+#define RCC_CIR_HSIRDYF_Msk (0x1U << RCC_CIR_HSIRDYF_Pos) /* 0x00000004 */
+#define RCC_CIR_HSIRDYF RCC_CIR_HSIRDYF_Msk /* HSI Ready Interrupt flag */
+#define RCC_CIR_HSERDYF_Pos (3U)
+#define RCC_CIR_HSERDYF_Msk (0x1U << RCC_CIR_HSERDYF_Pos) /* 0x00000008 */
+#define RCC_CIR_HSERDYF RCC_CIR_HSERDYF_Msk /* HSE Ready Interrupt flag */
+#define RCC_CIR_PLLRDYF_Pos (4U)
+#define RCC_CIR_PLLRDYF_Msk (0x1U << RCC_CIR_PLLRDYF_Pos) /* 0x00000010 */
+#define RCC_CIR_PLLRDYF RCC_CIR_PLLRDYF_Msk /* PLL Ready Interrupt flag */
+#define RCC_CIR_CSSF_Pos (7U)
+#define RCC_CIR_CSSF_Msk (0x1U << RCC_CIR_CSSF_Pos) /* 0x00000080 */
+#define RCC_CIR_CSSF RCC_CIR_CSSF_Msk /* Clock Security System Interrupt flag */
+#define RCC_CIR_LSIRDYIE_Pos (8U)
+#define RCC_CIR_LSIRDYIE_Msk (0x1U << RCC_CIR_LSIRDYIE_Pos) /* 0x00000100 */
+#define RCC_CIR_LSIRDYIE RCC_CIR_LSIRDYIE_Msk /* LSI Ready Interrupt Enable */
+#define RCC_CIR_LSERDYIE_Pos (9U)
+#define RCC_CIR_LSERDYIE_Msk (0x1U << RCC_CIR_LSERDYIE_Pos) /* 0x00000200 */
+#define RCC_CIR_LSERDYIE RCC_CIR_LSERDYIE_Msk /* LSE Ready Interrupt Enable */
+#define RCC_CIR_HSIRDYIE_Pos (10U)
+#define RCC_CIR_HSIRDYIE_Msk (0x1U << RCC_CIR_HSIRDYIE_Pos) /* 0x00000400 */
+#define RCC_CIR_HSIRDYIE RCC_CIR_HSIRDYIE_Msk /* HSI Ready Interrupt Enable */
+#define RCC_CIR_HSERDYIE_Pos (11U)
+#define RCC_CIR_HSERDYIE_Msk (0x1U << RCC_CIR_HSERDYIE_Pos) /* 0x00000800 */
+#define RCC_CIR_HSERDYIE RCC_CIR_HSERDYIE_Msk /* HSE Ready Interrupt Enable */
+#define RCC_CIR_PLLRDYIE_Pos (12U)
+#define RCC_CIR_PLLRDYIE_Msk (0x1U << RCC_CIR_PLLRDYIE_Pos) /* 0x00001000 */
+#define RCC_CIR_PLLRDYIE RCC_CIR_PLLRDYIE_Msk /* PLL Ready Interrupt Enable */
+#define RCC_CIR_LSIRDYC_Pos (16U)
+#define RCC_CIR_LSIRDYC_Msk (0x1U << RCC_CIR_LSIRDYC_Pos) /* 0x00010000 */
+#define RCC_CIR_LSIRDYC RCC_CIR_LSIRDYC_Msk /* LSI Ready Interrupt Clear */
+#define RCC_CIR_LSERDYC_Pos (17U)
+#define RCC_CIR_LSERDYC_Msk (0x1U << RCC_CIR_LSERDYC_Pos) /* 0x00020000 */
+#define RCC_CIR_LSERDYC RCC_CIR_LSERDYC_Msk /* LSE Ready Interrupt Clear */
+#define RCC_CIR_HSIRDYC_Pos (18U)
+#define RCC_CIR_HSIRDYC_Msk (0x1U << RCC_CIR_HSIRDYC_Pos) /* 0x00040000 */
+#define RCC_CIR_HSIRDYC RCC_CIR_HSIRDYC_Msk /* HSI Ready Interrupt Clear */
+#define RCC_CIR_HSERDYC_Pos (19U)
+#define RCC_CIR_HSERDYC_Msk (0x1U << RCC_CIR_HSERDYC_Pos) /* 0x00080000 */
+#define RCC_CIR_HSERDYC RCC_CIR_HSERDYC_Msk /* HSE Ready Interrupt Clear */
+#define RCC_CIR_PLLRDYC_Pos (20U)
+#define RCC_CIR_PLLRDYC_Msk (0x1U << RCC_CIR_PLLRDYC_Pos) /* 0x00100000 */
+#define RCC_CIR_PLLRDYC RCC_CIR_PLLRDYC_Msk /* PLL Ready Interrupt Clear */
+#define RCC_CIR_CSSC_Pos (23U)
+#define RCC_CIR_CSSC_Msk (0x1U << RCC_CIR_CSSC_Pos) /* 0x00800000 */
+#define RCC_CIR_CSSC RCC_CIR_CSSC_Msk /* Clock security system interrupt clear */
 
 /* RCC_APB2ENR */
 #define RCC_APB2ENR_AFIOEN_Pos (0U)
@@ -707,6 +919,35 @@ typedef struct {
 #define RCC_APB1ENR_DACEN_Pos (29U)
 #define RCC_APB1ENR_DACEN_Msk (0x1U << RCC_APB1ENR_DACEN_Pos) /* 0x20000000 */
 #define RCC_APB1ENR_DACEN RCC_APB1ENR_DACEN_Msk /* DAC interface clock enable */
+
+/* RCC_CSR */
+#define RCC_CSR_LSION_Pos (0U)
+#define RCC_CSR_LSION_Msk (0x1U << RCC_CSR_LSION_Pos) /* 0x00000001 */
+#define RCC_CSR_LSION RCC_CSR_LSION_Msk /* Internal low speed oscillator enable */
+#define RCC_CSR_LSIRDY_Pos (1U)
+#define RCC_CSR_LSIRDY_Msk (0x1U << RCC_CSR_LSIRDY_Pos) /* 0x00000002 */
+#define RCC_CSR_LSIRDY RCC_CSR_LSIRDY_Msk /* Internal low speed oscillator ready */
+#define RCC_CSR_RMVF_Pos (24U)
+#define RCC_CSR_RMVF_Msk (0x1U << RCC_CSR_RMVF_Pos) /* 0x01000000 */
+#define RCC_CSR_RMVF RCC_CSR_RMVF_Msk /* Remove reset flag */
+#define RCC_CSR_PINRSTF_Pos (26U)
+#define RCC_CSR_PINRSTF_Msk (0x1U << RCC_CSR_PINRSTF_Pos) /* 0x04000000 */
+#define RCC_CSR_PINRSTF RCC_CSR_PINRSTF_Msk /* PIN reset flag */
+#define RCC_CSR_PORRSTF_Pos (27U)
+#define RCC_CSR_PORRSTF_Msk (0x1U << RCC_CSR_PORRSTF_Pos) /* 0x08000000 */
+#define RCC_CSR_PORRSTF RCC_CSR_PORRSTF_Msk /* POR/PDR reset flag */
+#define RCC_CSR_SFTRSTF_Pos (28U)
+#define RCC_CSR_SFTRSTF_Msk (0x1U << RCC_CSR_SFTRSTF_Pos) /* 0x10000000 */
+#define RCC_CSR_SFTRSTF RCC_CSR_SFTRSTF_Msk /* Software reset flag */
+#define RCC_CSR_IWDGRSTF_Pos (29U)
+#define RCC_CSR_IWDGRSTF_Msk (0x1U << RCC_CSR_IWDGRSTF_Pos) /* 0x20000000 */
+#define RCC_CSR_IWDGRSTF RCC_CSR_IWDGRSTF_Msk /* Independent watchdog reset flag */
+#define RCC_CSR_WWDGRSTF_Pos (30U)
+#define RCC_CSR_WWDGRSTF_Msk (0x1U << RCC_CSR_WWDGRSTF_Pos) /* 0x40000000 */
+#define RCC_CSR_WWDGRSTF RCC_CSR_WWDGRSTF_Msk /* Window watchdog reset flag */
+#define RCC_CSR_LPWRRSTF_Pos (31U)
+#define RCC_CSR_LPWRRSTF_Msk (0x1U << RCC_CSR_LPWRRSTF_Pos) /* 0x80000000 */
+#define RCC_CSR_LPWRRSTF RCC_CSR_LPWRRSTF_Msk /* Low-power reset flag */
 
 /* GPIO_CRL */
 #define GPIO_CRL_MODE0_Pos (0U)
@@ -1020,6 +1261,347 @@ typedef struct {
 #define GPIO_BSRR_BR15_Msk (0x1U << GPIO_BSRR_BR15_Pos) /* 0x80000000 */
 #define GPIO_BSRR_BR15 GPIO_BSRR_BR15_Msk /* Reset bit 15 */
 
+/* ADC_SR */
+#define ADC_SR_AWD_Pos (0U)
+#define ADC_SR_AWD_Msk (0x1U << ADC_SR_AWD_Pos) /* 0x00000001 */
+#define ADC_SR_AWD ADC_SR_AWD_Msk /* Analog watchdog flag */
+#define ADC_SR_EOC_Pos (1U)
+#define ADC_SR_EOC_Msk (0x1U << ADC_SR_EOC_Pos) /* 0x00000002 */
+#define ADC_SR_EOC ADC_SR_EOC_Msk /* Regular channel end of conversion */
+#define ADC_SR_JEOC_Pos (2U)
+#define ADC_SR_JEOC_Msk (0x1U << ADC_SR_JEOC_Pos) /* 0x00000004 */
+#define ADC_SR_JEOC ADC_SR_JEOC_Msk /* Injected channel end of conversion */
+#define ADC_SR_JSTRT_Pos (3U)
+#define ADC_SR_JSTRT_Msk (0x1U << ADC_SR_JSTRT_Pos) /* 0x00000008 */
+#define ADC_SR_JSTRT ADC_SR_JSTRT_Msk /* Injected channel start flag */
+#define ADC_SR_STRT_Pos (4U)
+#define ADC_SR_STRT_Msk (0x1U << ADC_SR_STRT_Pos) /* 0x00000010 */
+#define ADC_SR_STRT ADC_SR_STRT_Msk /* Regular channel start flag */
+
+/* ADC_CR1 */
+#define ADC_CR1_AWDCH_Pos (0U)
+#define ADC_CR1_AWDCH_Msk (0x1fU << ADC_CR1_AWDCH_Pos) /* 0x0000001F */
+#define ADC_CR1_AWDCH ADC_CR1_AWDCH_Msk /* Analog watchdog channel select bits */
+#define ADC_CR1_AWDCH_0 (0x1U << ADC_CR1_AWDCH_Pos) /* 0x00000001 */
+#define ADC_CR1_AWDCH_1 (0x2U << ADC_CR1_AWDCH_Pos) /* 0x00000002 */
+#define ADC_CR1_AWDCH_2 (0x4U << ADC_CR1_AWDCH_Pos) /* 0x00000004 */
+#define ADC_CR1_AWDCH_3 (0x8U << ADC_CR1_AWDCH_Pos) /* 0x00000008 */
+#define ADC_CR1_AWDCH_4 (0x10U << ADC_CR1_AWDCH_Pos) /* 0x00000010 */
+#define ADC_CR1_EOCIE_Pos (5U)
+#define ADC_CR1_EOCIE_Msk (0x1U << ADC_CR1_EOCIE_Pos) /* 0x00000020 */
+#define ADC_CR1_EOCIE ADC_CR1_EOCIE_Msk /* Interrupt enable for EOC */
+#define ADC_CR1_AWDIE_Pos (6U)
+#define ADC_CR1_AWDIE_Msk (0x1U << ADC_CR1_AWDIE_Pos) /* 0x00000040 */
+#define ADC_CR1_AWDIE ADC_CR1_AWDIE_Msk /* Analog watchdog interrupt enable */
+#define ADC_CR1_JEOCIE_Pos (7U)
+#define ADC_CR1_JEOCIE_Msk (0x1U << ADC_CR1_JEOCIE_Pos) /* 0x00000080 */
+#define ADC_CR1_JEOCIE ADC_CR1_JEOCIE_Msk /* Interrupt enable for injected channels */
+#define ADC_CR1_SCAN_Pos (8U)
+#define ADC_CR1_SCAN_Msk (0x1U << ADC_CR1_SCAN_Pos) /* 0x00000100 */
+#define ADC_CR1_SCAN ADC_CR1_SCAN_Msk /* Scan mode */
+#define ADC_CR1_AWDSGL_Pos (9U)
+#define ADC_CR1_AWDSGL_Msk (0x1U << ADC_CR1_AWDSGL_Pos) /* 0x00000200 */
+#define ADC_CR1_AWDSGL ADC_CR1_AWDSGL_Msk /* Enable the watchdog on a single channel in scan mode */
+#define ADC_CR1_JAUTO_Pos (10U)
+#define ADC_CR1_JAUTO_Msk (0x1U << ADC_CR1_JAUTO_Pos) /* 0x00000400 */
+#define ADC_CR1_JAUTO ADC_CR1_JAUTO_Msk /* Automatic injected group conversion */
+#define ADC_CR1_DISCEN_Pos (11U)
+#define ADC_CR1_DISCEN_Msk (0x1U << ADC_CR1_DISCEN_Pos) /* 0x00000800 */
+#define ADC_CR1_DISCEN ADC_CR1_DISCEN_Msk /* Discontinuous mode on regular channels */
+#define ADC_CR1_JDISCEN_Pos (12U)
+#define ADC_CR1_JDISCEN_Msk (0x1U << ADC_CR1_JDISCEN_Pos) /* 0x00001000 */
+#define ADC_CR1_JDISCEN ADC_CR1_JDISCEN_Msk /* Discontinuous mode on injected channels */
+#define ADC_CR1_DISCNUM_Pos (13U)
+#define ADC_CR1_DISCNUM_Msk (0x7U << ADC_CR1_DISCNUM_Pos) /* 0x0000E000 */
+#define ADC_CR1_DISCNUM ADC_CR1_DISCNUM_Msk /* Discontinuous mode channel count */
+#define ADC_CR1_DISCNUM_0 (0x1U << ADC_CR1_DISCNUM_Pos) /* 0x00002000 */
+#define ADC_CR1_DISCNUM_1 (0x2U << ADC_CR1_DISCNUM_Pos) /* 0x00004000 */
+#define ADC_CR1_DISCNUM_2 (0x4U << ADC_CR1_DISCNUM_Pos) /* 0x00008000 */
+#define ADC_CR1_DUALMOD_Pos (16U)
+#define ADC_CR1_DUALMOD_Msk (0xfU << ADC_CR1_DUALMOD_Pos) /* 0x000F0000 */
+#define ADC_CR1_DUALMOD ADC_CR1_DUALMOD_Msk /* Dual mode selection */
+#define ADC_CR1_DUALMOD_0 (0x1U << ADC_CR1_DUALMOD_Pos) /* 0x00010000 */
+#define ADC_CR1_DUALMOD_1 (0x2U << ADC_CR1_DUALMOD_Pos) /* 0x00020000 */
+#define ADC_CR1_DUALMOD_2 (0x4U << ADC_CR1_DUALMOD_Pos) /* 0x00040000 */
+#define ADC_CR1_DUALMOD_3 (0x8U << ADC_CR1_DUALMOD_Pos) /* 0x00080000 */
+#define ADC_CR1_JAWDEN_Pos (22U)
+#define ADC_CR1_JAWDEN_Msk (0x1U << ADC_CR1_JAWDEN_Pos) /* 0x00400000 */
+#define ADC_CR1_JAWDEN ADC_CR1_JAWDEN_Msk /* Analog watchdog enable on injected channels */
+#define ADC_CR1_AWDEN_Pos (23U)
+#define ADC_CR1_AWDEN_Msk (0x1U << ADC_CR1_AWDEN_Pos) /* 0x00800000 */
+#define ADC_CR1_AWDEN ADC_CR1_AWDEN_Msk /* Analog watchdog enable on regular channels */
+
+/* ADC_CR2 */
+#define ADC_CR2_ADON_Pos (0U)
+#define ADC_CR2_ADON_Msk (0x1U << ADC_CR2_ADON_Pos) /* 0x00000001 */
+#define ADC_CR2_ADON ADC_CR2_ADON_Msk /* A/D converter ON / OFF */
+#define ADC_CR2_CONT_Pos (1U)
+#define ADC_CR2_CONT_Msk (0x1U << ADC_CR2_CONT_Pos) /* 0x00000002 */
+#define ADC_CR2_CONT ADC_CR2_CONT_Msk /* Continuous conversion */
+#define ADC_CR2_CAL_Pos (2U)
+#define ADC_CR2_CAL_Msk (0x1U << ADC_CR2_CAL_Pos) /* 0x00000004 */
+#define ADC_CR2_CAL ADC_CR2_CAL_Msk /* A/D calibration */
+#define ADC_CR2_RSTCAL_Pos (3U)
+#define ADC_CR2_RSTCAL_Msk (0x1U << ADC_CR2_RSTCAL_Pos) /* 0x00000008 */
+#define ADC_CR2_RSTCAL ADC_CR2_RSTCAL_Msk /* Reset calibration */
+#define ADC_CR2_DMA_Pos (8U)
+#define ADC_CR2_DMA_Msk (0x1U << ADC_CR2_DMA_Pos) /* 0x00000100 */
+#define ADC_CR2_DMA ADC_CR2_DMA_Msk /* Direct memory access mode */
+#define ADC_CR2_ALIGN_Pos (11U)
+#define ADC_CR2_ALIGN_Msk (0x1U << ADC_CR2_ALIGN_Pos) /* 0x00000800 */
+#define ADC_CR2_ALIGN ADC_CR2_ALIGN_Msk /* Data alignment */
+#define ADC_CR2_JEXTSEL_Pos (12U)
+#define ADC_CR2_JEXTSEL_Msk (0x7U << ADC_CR2_JEXTSEL_Pos) /* 0x00007000 */
+#define ADC_CR2_JEXTSEL ADC_CR2_JEXTSEL_Msk /* External event select for injected group */
+#define ADC_CR2_JEXTSEL_0 (0x1U << ADC_CR2_JEXTSEL_Pos) /* 0x00001000 */
+#define ADC_CR2_JEXTSEL_1 (0x2U << ADC_CR2_JEXTSEL_Pos) /* 0x00002000 */
+#define ADC_CR2_JEXTSEL_2 (0x4U << ADC_CR2_JEXTSEL_Pos) /* 0x00004000 */
+#define ADC_CR2_JEXTTRIG_Pos (15U)
+#define ADC_CR2_JEXTTRIG_Msk (0x1U << ADC_CR2_JEXTTRIG_Pos) /* 0x00008000 */
+#define ADC_CR2_JEXTTRIG ADC_CR2_JEXTTRIG_Msk /* External trigger conversion mode for injected channels */
+#define ADC_CR2_EXTSEL_Pos (17U)
+#define ADC_CR2_EXTSEL_Msk (0x7U << ADC_CR2_EXTSEL_Pos) /* 0x000E0000 */
+#define ADC_CR2_EXTSEL ADC_CR2_EXTSEL_Msk /* External event select for regular group */
+#define ADC_CR2_EXTSEL_0 (0x1U << ADC_CR2_EXTSEL_Pos) /* 0x00020000 */
+#define ADC_CR2_EXTSEL_1 (0x2U << ADC_CR2_EXTSEL_Pos) /* 0x00040000 */
+#define ADC_CR2_EXTSEL_2 (0x4U << ADC_CR2_EXTSEL_Pos) /* 0x00080000 */
+#define ADC_CR2_EXTTRIG_Pos (20U)
+#define ADC_CR2_EXTTRIG_Msk (0x1U << ADC_CR2_EXTTRIG_Pos) /* 0x00100000 */
+#define ADC_CR2_EXTTRIG ADC_CR2_EXTTRIG_Msk /* External trigger conversion mode for regular channels */
+#define ADC_CR2_JSWSTART_Pos (21U)
+#define ADC_CR2_JSWSTART_Msk (0x1U << ADC_CR2_JSWSTART_Pos) /* 0x00200000 */
+#define ADC_CR2_JSWSTART ADC_CR2_JSWSTART_Msk /* Start conversion of injected channels */
+#define ADC_CR2_SWSTART_Pos (22U)
+#define ADC_CR2_SWSTART_Msk (0x1U << ADC_CR2_SWSTART_Pos) /* 0x00400000 */
+#define ADC_CR2_SWSTART ADC_CR2_SWSTART_Msk /* Start conversion of regular channels */
+#define ADC_CR2_TSVREFE_Pos (23U)
+#define ADC_CR2_TSVREFE_Msk (0x1U << ADC_CR2_TSVREFE_Pos) /* 0x00800000 */
+#define ADC_CR2_TSVREFE ADC_CR2_TSVREFE_Msk /* Temperature sensor and VREFINT enable */
+
+/* ADC_SMPR1 */
+#define ADC_SMPR1_SMP10_Pos (0U)
+#define ADC_SMPR1_SMP10_Msk (0x7U << ADC_SMPR1_SMP10_Pos) /* 0x00000007 */
+#define ADC_SMPR1_SMP10 ADC_SMPR1_SMP10_Msk /* Channel 10 sample time selection */
+#define ADC_SMPR1_SMP10_0 (0x1U << ADC_SMPR1_SMP10_Pos) /* 0x00000001 */
+#define ADC_SMPR1_SMP10_1 (0x2U << ADC_SMPR1_SMP10_Pos) /* 0x00000002 */
+#define ADC_SMPR1_SMP10_2 (0x4U << ADC_SMPR1_SMP10_Pos) /* 0x00000004 */
+#define ADC_SMPR1_SMP11_Pos (3U)
+#define ADC_SMPR1_SMP11_Msk (0x7U << ADC_SMPR1_SMP11_Pos) /* 0x00000038 */
+#define ADC_SMPR1_SMP11 ADC_SMPR1_SMP11_Msk /* Channel 11 sample time selection */
+#define ADC_SMPR1_SMP11_0 (0x1U << ADC_SMPR1_SMP11_Pos) /* 0x00000008 */
+#define ADC_SMPR1_SMP11_1 (0x2U << ADC_SMPR1_SMP11_Pos) /* 0x00000010 */
+#define ADC_SMPR1_SMP11_2 (0x4U << ADC_SMPR1_SMP11_Pos) /* 0x00000020 */
+#define ADC_SMPR1_SMP12_Pos (6U)
+#define ADC_SMPR1_SMP12_Msk (0x7U << ADC_SMPR1_SMP12_Pos) /* 0x000001C0 */
+#define ADC_SMPR1_SMP12 ADC_SMPR1_SMP12_Msk /* Channel 12 sample time selection */
+#define ADC_SMPR1_SMP12_0 (0x1U << ADC_SMPR1_SMP12_Pos) /* 0x00000040 */
+#define ADC_SMPR1_SMP12_1 (0x2U << ADC_SMPR1_SMP12_Pos) /* 0x00000080 */
+#define ADC_SMPR1_SMP12_2 (0x4U << ADC_SMPR1_SMP12_Pos) /* 0x00000100 */
+#define ADC_SMPR1_SMP13_Pos (9U)
+#define ADC_SMPR1_SMP13_Msk (0x7U << ADC_SMPR1_SMP13_Pos) /* 0x00000E00 */
+#define ADC_SMPR1_SMP13 ADC_SMPR1_SMP13_Msk /* Channel 13 sample time selection */
+#define ADC_SMPR1_SMP13_0 (0x1U << ADC_SMPR1_SMP13_Pos) /* 0x00000200 */
+#define ADC_SMPR1_SMP13_1 (0x2U << ADC_SMPR1_SMP13_Pos) /* 0x00000400 */
+#define ADC_SMPR1_SMP13_2 (0x4U << ADC_SMPR1_SMP13_Pos) /* 0x00000800 */
+#define ADC_SMPR1_SMP14_Pos (12U)
+#define ADC_SMPR1_SMP14_Msk (0x7U << ADC_SMPR1_SMP14_Pos) /* 0x00007000 */
+#define ADC_SMPR1_SMP14 ADC_SMPR1_SMP14_Msk /* Channel 14 sample time selection */
+#define ADC_SMPR1_SMP14_0 (0x1U << ADC_SMPR1_SMP14_Pos) /* 0x00001000 */
+#define ADC_SMPR1_SMP14_1 (0x2U << ADC_SMPR1_SMP14_Pos) /* 0x00002000 */
+#define ADC_SMPR1_SMP14_2 (0x4U << ADC_SMPR1_SMP14_Pos) /* 0x00004000 */
+#define ADC_SMPR1_SMP15_Pos (15U)
+#define ADC_SMPR1_SMP15_Msk (0x7U << ADC_SMPR1_SMP15_Pos) /* 0x00038000 */
+#define ADC_SMPR1_SMP15 ADC_SMPR1_SMP15_Msk /* Channel 15 sample time selection */
+#define ADC_SMPR1_SMP15_0 (0x1U << ADC_SMPR1_SMP15_Pos) /* 0x00008000 */
+#define ADC_SMPR1_SMP15_1 (0x2U << ADC_SMPR1_SMP15_Pos) /* 0x00010000 */
+#define ADC_SMPR1_SMP15_2 (0x4U << ADC_SMPR1_SMP15_Pos) /* 0x00020000 */
+#define ADC_SMPR1_SMP16_Pos (18U)
+#define ADC_SMPR1_SMP16_Msk (0x7U << ADC_SMPR1_SMP16_Pos) /* 0x001C0000 */
+#define ADC_SMPR1_SMP16 ADC_SMPR1_SMP16_Msk /* Channel 16 sample time selection */
+#define ADC_SMPR1_SMP16_0 (0x1U << ADC_SMPR1_SMP16_Pos) /* 0x00040000 */
+#define ADC_SMPR1_SMP16_1 (0x2U << ADC_SMPR1_SMP16_Pos) /* 0x00080000 */
+#define ADC_SMPR1_SMP16_2 (0x4U << ADC_SMPR1_SMP16_Pos) /* 0x00100000 */
+#define ADC_SMPR1_SMP17_Pos (21U)
+#define ADC_SMPR1_SMP17_Msk (0x7U << ADC_SMPR1_SMP17_Pos) /* 0x00E00000 */
+#define ADC_SMPR1_SMP17 ADC_SMPR1_SMP17_Msk /* Channel 17 sample time selection */
+#define ADC_SMPR1_SMP17_0 (0x1U << ADC_SMPR1_SMP17_Pos) /* 0x00200000 */
+#define ADC_SMPR1_SMP17_1 (0x2U << ADC_SMPR1_SMP17_Pos) /* 0x00400000 */
+#define ADC_SMPR1_SMP17_2 (0x4U << ADC_SMPR1_SMP17_Pos) /* 0x00800000 */
+
+/* ADC_SMPR2 */
+#define ADC_SMPR2_SMP0_Pos (0U)
+#define ADC_SMPR2_SMP0_Msk (0x7U << ADC_SMPR2_SMP0_Pos) /* 0x00000007 */
+#define ADC_SMPR2_SMP0 ADC_SMPR2_SMP0_Msk /* Channel 0 sample time selection */
+#define ADC_SMPR2_SMP0_0 (0x1U << ADC_SMPR2_SMP0_Pos) /* 0x00000001 */
+#define ADC_SMPR2_SMP0_1 (0x2U << ADC_SMPR2_SMP0_Pos) /* 0x00000002 */
+#define ADC_SMPR2_SMP0_2 (0x4U << ADC_SMPR2_SMP0_Pos) /* 0x00000004 */
+#define ADC_SMPR2_SMP1_Pos (3U)
+#define ADC_SMPR2_SMP1_Msk (0x7U << ADC_SMPR2_SMP1_Pos) /* 0x00000038 */
+#define ADC_SMPR2_SMP1 ADC_SMPR2_SMP1_Msk /* Channel 1 sample time selection */
+#define ADC_SMPR2_SMP1_0 (0x1U << ADC_SMPR2_SMP1_Pos) /* 0x00000008 */
+#define ADC_SMPR2_SMP1_1 (0x2U << ADC_SMPR2_SMP1_Pos) /* 0x00000010 */
+#define ADC_SMPR2_SMP1_2 (0x4U << ADC_SMPR2_SMP1_Pos) /* 0x00000020 */
+#define ADC_SMPR2_SMP2_Pos (6U)
+#define ADC_SMPR2_SMP2_Msk (0x7U << ADC_SMPR2_SMP2_Pos) /* 0x000001C0 */
+#define ADC_SMPR2_SMP2 ADC_SMPR2_SMP2_Msk /* Channel 2 sample time selection */
+#define ADC_SMPR2_SMP2_0 (0x1U << ADC_SMPR2_SMP2_Pos) /* 0x00000040 */
+#define ADC_SMPR2_SMP2_1 (0x2U << ADC_SMPR2_SMP2_Pos) /* 0x00000080 */
+#define ADC_SMPR2_SMP2_2 (0x4U << ADC_SMPR2_SMP2_Pos) /* 0x00000100 */
+#define ADC_SMPR2_SMP3_Pos (9U)
+#define ADC_SMPR2_SMP3_Msk (0x7U << ADC_SMPR2_SMP3_Pos) /* 0x00000E00 */
+#define ADC_SMPR2_SMP3 ADC_SMPR2_SMP3_Msk /* Channel 3 sample time selection */
+#define ADC_SMPR2_SMP3_0 (0x1U << ADC_SMPR2_SMP3_Pos) /* 0x00000200 */
+#define ADC_SMPR2_SMP3_1 (0x2U << ADC_SMPR2_SMP3_Pos) /* 0x00000400 */
+#define ADC_SMPR2_SMP3_2 (0x4U << ADC_SMPR2_SMP3_Pos) /* 0x00000800 */
+#define ADC_SMPR2_SMP4_Pos (12U)
+#define ADC_SMPR2_SMP4_Msk (0x7U << ADC_SMPR2_SMP4_Pos) /* 0x00007000 */
+#define ADC_SMPR2_SMP4 ADC_SMPR2_SMP4_Msk /* Channel 4 sample time selection */
+#define ADC_SMPR2_SMP4_0 (0x1U << ADC_SMPR2_SMP4_Pos) /* 0x00001000 */
+#define ADC_SMPR2_SMP4_1 (0x2U << ADC_SMPR2_SMP4_Pos) /* 0x00002000 */
+#define ADC_SMPR2_SMP4_2 (0x4U << ADC_SMPR2_SMP4_Pos) /* 0x00004000 */
+#define ADC_SMPR2_SMP5_Pos (15U)
+#define ADC_SMPR2_SMP5_Msk (0x7U << ADC_SMPR2_SMP5_Pos) /* 0x00038000 */
+#define ADC_SMPR2_SMP5 ADC_SMPR2_SMP5_Msk /* Channel 5 sample time selection */
+#define ADC_SMPR2_SMP5_0 (0x1U << ADC_SMPR2_SMP5_Pos) /* 0x00008000 */
+#define ADC_SMPR2_SMP5_1 (0x2U << ADC_SMPR2_SMP5_Pos) /* 0x00010000 */
+#define ADC_SMPR2_SMP5_2 (0x4U << ADC_SMPR2_SMP5_Pos) /* 0x00020000 */
+#define ADC_SMPR2_SMP6_Pos (18U)
+#define ADC_SMPR2_SMP6_Msk (0x7U << ADC_SMPR2_SMP6_Pos) /* 0x001C0000 */
+#define ADC_SMPR2_SMP6 ADC_SMPR2_SMP6_Msk /* Channel 6 sample time selection */
+#define ADC_SMPR2_SMP6_0 (0x1U << ADC_SMPR2_SMP6_Pos) /* 0x00040000 */
+#define ADC_SMPR2_SMP6_1 (0x2U << ADC_SMPR2_SMP6_Pos) /* 0x00080000 */
+#define ADC_SMPR2_SMP6_2 (0x4U << ADC_SMPR2_SMP6_Pos) /* 0x00100000 */
+#define ADC_SMPR2_SMP7_Pos (21U)
+#define ADC_SMPR2_SMP7_Msk (0x7U << ADC_SMPR2_SMP7_Pos) /* 0x00E00000 */
+#define ADC_SMPR2_SMP7 ADC_SMPR2_SMP7_Msk /* Channel 7 sample time selection */
+#define ADC_SMPR2_SMP7_0 (0x1U << ADC_SMPR2_SMP7_Pos) /* 0x00200000 */
+#define ADC_SMPR2_SMP7_1 (0x2U << ADC_SMPR2_SMP7_Pos) /* 0x00400000 */
+#define ADC_SMPR2_SMP7_2 (0x4U << ADC_SMPR2_SMP7_Pos) /* 0x00800000 */
+#define ADC_SMPR2_SMP8_Pos (24U)
+#define ADC_SMPR2_SMP8_Msk (0x7U << ADC_SMPR2_SMP8_Pos) /* 0x07000000 */
+#define ADC_SMPR2_SMP8 ADC_SMPR2_SMP8_Msk /* Channel 8 sample time selection */
+#define ADC_SMPR2_SMP8_0 (0x1U << ADC_SMPR2_SMP8_Pos) /* 0x01000000 */
+#define ADC_SMPR2_SMP8_1 (0x2U << ADC_SMPR2_SMP8_Pos) /* 0x02000000 */
+#define ADC_SMPR2_SMP8_2 (0x4U << ADC_SMPR2_SMP8_Pos) /* 0x04000000 */
+#define ADC_SMPR2_SMP9_Pos (27U)
+#define ADC_SMPR2_SMP9_Msk (0x7U << ADC_SMPR2_SMP9_Pos) /* 0x38000000 */
+#define ADC_SMPR2_SMP9 ADC_SMPR2_SMP9_Msk /* Channel 9 sample time selection */
+#define ADC_SMPR2_SMP9_0 (0x1U << ADC_SMPR2_SMP9_Pos) /* 0x08000000 */
+#define ADC_SMPR2_SMP9_1 (0x2U << ADC_SMPR2_SMP9_Pos) /* 0x10000000 */
+#define ADC_SMPR2_SMP9_2 (0x4U << ADC_SMPR2_SMP9_Pos) /* 0x20000000 */
+
+/* ADC_HTR */
+#define ADC_HTR_HT_Pos (0U)
+#define ADC_HTR_HT_Msk (0xfffU << ADC_HTR_HT_Pos) /* 0x00000FFF */
+#define ADC_HTR_HT ADC_HTR_HT_Msk /* Analog watchdog higher threshold */
+
+/* ADC_LTR */
+#define ADC_LTR_LT_Pos (0U)
+#define ADC_LTR_LT_Msk (0xfffU << ADC_LTR_LT_Pos) /* 0x00000FFF */
+#define ADC_LTR_LT ADC_LTR_LT_Msk /* Analog watchdog lower threshold */
+
+/* ADC_JSQR */
+#define ADC_JSQR_JSQ1_Pos (0U)
+#define ADC_JSQR_JSQ1_Msk (0x1fU << ADC_JSQR_JSQ1_Pos) /* 0x0000001F */
+#define ADC_JSQR_JSQ1 ADC_JSQR_JSQ1_Msk /* 1st conversion in injected sequence */
+#define ADC_JSQR_JSQ1_0 (0x1U << ADC_JSQR_JSQ1_Pos) /* 0x00000001 */
+#define ADC_JSQR_JSQ1_1 (0x2U << ADC_JSQR_JSQ1_Pos) /* 0x00000002 */
+#define ADC_JSQR_JSQ1_2 (0x4U << ADC_JSQR_JSQ1_Pos) /* 0x00000004 */
+#define ADC_JSQR_JSQ1_3 (0x8U << ADC_JSQR_JSQ1_Pos) /* 0x00000008 */
+#define ADC_JSQR_JSQ1_4 (0x10U << ADC_JSQR_JSQ1_Pos) /* 0x00000010 */
+#define ADC_JSQR_JSQ2_Pos (5U)
+#define ADC_JSQR_JSQ2_Msk (0x1fU << ADC_JSQR_JSQ2_Pos) /* 0x000003E0 */
+#define ADC_JSQR_JSQ2 ADC_JSQR_JSQ2_Msk /* 2nd conversion in injected sequence */
+#define ADC_JSQR_JSQ2_0 (0x1U << ADC_JSQR_JSQ2_Pos) /* 0x00000020 */
+#define ADC_JSQR_JSQ2_1 (0x2U << ADC_JSQR_JSQ2_Pos) /* 0x00000040 */
+#define ADC_JSQR_JSQ2_2 (0x4U << ADC_JSQR_JSQ2_Pos) /* 0x00000080 */
+#define ADC_JSQR_JSQ2_3 (0x8U << ADC_JSQR_JSQ2_Pos) /* 0x00000100 */
+#define ADC_JSQR_JSQ2_4 (0x10U << ADC_JSQR_JSQ2_Pos) /* 0x00000200 */
+#define ADC_JSQR_JSQ3_Pos (10U)
+#define ADC_JSQR_JSQ3_Msk (0x1fU << ADC_JSQR_JSQ3_Pos) /* 0x00007C00 */
+#define ADC_JSQR_JSQ3 ADC_JSQR_JSQ3_Msk /* 3rd conversion in injected sequence */
+#define ADC_JSQR_JSQ3_0 (0x1U << ADC_JSQR_JSQ3_Pos) /* 0x00000400 */
+#define ADC_JSQR_JSQ3_1 (0x2U << ADC_JSQR_JSQ3_Pos) /* 0x00000800 */
+#define ADC_JSQR_JSQ3_2 (0x4U << ADC_JSQR_JSQ3_Pos) /* 0x00001000 */
+#define ADC_JSQR_JSQ3_3 (0x8U << ADC_JSQR_JSQ3_Pos) /* 0x00002000 */
+#define ADC_JSQR_JSQ3_4 (0x10U << ADC_JSQR_JSQ3_Pos) /* 0x00004000 */
+#define ADC_JSQR_JSQ4_Pos (15U)
+#define ADC_JSQR_JSQ4_Msk (0x1fU << ADC_JSQR_JSQ4_Pos) /* 0x000F8000 */
+#define ADC_JSQR_JSQ4 ADC_JSQR_JSQ4_Msk /* 4th conversion in injected sequence */
+#define ADC_JSQR_JSQ4_0 (0x1U << ADC_JSQR_JSQ4_Pos) /* 0x00008000 */
+#define ADC_JSQR_JSQ4_1 (0x2U << ADC_JSQR_JSQ4_Pos) /* 0x00010000 */
+#define ADC_JSQR_JSQ4_2 (0x4U << ADC_JSQR_JSQ4_Pos) /* 0x00020000 */
+#define ADC_JSQR_JSQ4_3 (0x8U << ADC_JSQR_JSQ4_Pos) /* 0x00040000 */
+#define ADC_JSQR_JSQ4_4 (0x10U << ADC_JSQR_JSQ4_Pos) /* 0x00080000 */
+#define ADC_JSQR_JL_Pos (20U)
+#define ADC_JSQR_JL_Msk (0x3U << ADC_JSQR_JL_Pos) /* 0x00300000 */
+#define ADC_JSQR_JL ADC_JSQR_JL_Msk /* Injected sequence length */
+#define ADC_JSQR_JL_0 (0x1U << ADC_JSQR_JL_Pos) /* 0x00100000 */
+#define ADC_JSQR_JL_1 (0x2U << ADC_JSQR_JL_Pos) /* 0x00200000 */
+
+/* ADC_JDR1 */
+#define ADC_JDR1_JDATA_Pos (0U)
+#define ADC_JDR1_JDATA_Msk (0xffffU << ADC_JDR1_JDATA_Pos) /* 0x0000FFFF */
+#define ADC_JDR1_JDATA ADC_JDR1_JDATA_Msk /* Injected data */
+
+/* ADC_JDR2 */
+#define ADC_JDR2_JDATA_Pos (0U)
+#define ADC_JDR2_JDATA_Msk (0xffffU << ADC_JDR2_JDATA_Pos) /* 0x0000FFFF */
+#define ADC_JDR2_JDATA ADC_JDR2_JDATA_Msk /* Injected data */
+
+/* ADC_JDR3 */
+#define ADC_JDR3_JDATA_Pos (0U)
+#define ADC_JDR3_JDATA_Msk (0xffffU << ADC_JDR3_JDATA_Pos) /* 0x0000FFFF */
+#define ADC_JDR3_JDATA ADC_JDR3_JDATA_Msk /* Injected data */
+
+/* ADC_JDR4 */
+#define ADC_JDR4_JDATA_Pos (0U)
+#define ADC_JDR4_JDATA_Msk (0xffffU << ADC_JDR4_JDATA_Pos) /* 0x0000FFFF */
+#define ADC_JDR4_JDATA ADC_JDR4_JDATA_Msk /* Injected data */
+
+/* FLASH_ACR */
+#define FLASH_ACR_LATENCY_Pos (0U)
+#define FLASH_ACR_LATENCY_Msk (0x7U << FLASH_ACR_LATENCY_Pos) /* 0x00000007 */
+#define FLASH_ACR_LATENCY FLASH_ACR_LATENCY_Msk /* Latency */
+#define FLASH_ACR_LATENCY_0 (0x1U << FLASH_ACR_LATENCY_Pos) /* 0x00000001 */
+#define FLASH_ACR_LATENCY_1 (0x2U << FLASH_ACR_LATENCY_Pos) /* 0x00000002 */
+#define FLASH_ACR_LATENCY_2 (0x4U << FLASH_ACR_LATENCY_Pos) /* 0x00000004 */
+#define FLASH_ACR_HLFCYA_Pos (3U)
+#define FLASH_ACR_HLFCYA_Msk (0x1U << FLASH_ACR_HLFCYA_Pos) /* 0x00000008 */
+#define FLASH_ACR_HLFCYA FLASH_ACR_HLFCYA_Msk /* Flash half cycle access enable */
+#define FLASH_ACR_PRFTBE_Pos (4U)
+#define FLASH_ACR_PRFTBE_Msk (0x1U << FLASH_ACR_PRFTBE_Pos) /* 0x00000010 */
+#define FLASH_ACR_PRFTBE FLASH_ACR_PRFTBE_Msk /* Prefetch buffer enable */
+#define FLASH_ACR_PRFTBS_Pos (5U)
+#define FLASH_ACR_PRFTBS_Msk (0x1U << FLASH_ACR_PRFTBS_Pos) /* 0x00000020 */
+#define FLASH_ACR_PRFTBS FLASH_ACR_PRFTBS_Msk /* Prefetch buffer status */
+
+/* IWDG_KR */
+#define IWDG_KR_KEY_Pos (0U)
+#define IWDG_KR_KEY_Msk (0xffffU << IWDG_KR_KEY_Pos) /* 0x0000FFFF */
+#define IWDG_KR_KEY IWDG_KR_KEY_Msk /* Key value */
+
+/* IWDG_PR */
+#define IWDG_PR_PR_Pos (0U)
+#define IWDG_PR_PR_Msk (0x7U << IWDG_PR_PR_Pos) /* 0x00000007 */
+#define IWDG_PR_PR IWDG_PR_PR_Msk /* Prescaler divider */
+#define IWDG_PR_PR_0 (0x1U << IWDG_PR_PR_Pos) /* 0x00000001 */
+#define IWDG_PR_PR_1 (0x2U << IWDG_PR_PR_Pos) /* 0x00000002 */
+#define IWDG_PR_PR_2 (0x4U << IWDG_PR_PR_Pos) /* 0x00000004 */
+
+/* IWDG_RLR */
+#define IWDG_RLR_RL_Pos (0U)
+#define IWDG_RLR_RL_Msk (0xfffU << IWDG_RLR_RL_Pos) /* 0x00000FFF */
+#define IWDG_RLR_RL IWDG_RLR_RL_Msk /* Watchdog counter reload value */
+
+/* IWDG_SR */
+#define IWDG_SR_PVU_Pos (0U)
+#define IWDG_SR_PVU_Msk (0x1U << IWDG_SR_PVU_Pos) /* 0x00000001 */
+#define IWDG_SR_PVU IWDG_SR_PVU_Msk /* Watchdog prescaler value update */
+#define IWDG_SR_RVU_Pos (1U)
+#define IWDG_SR_RVU_Msk (0x1U << IWDG_SR_RVU_Pos) /* 0x00000002 */
+#define IWDG_SR_RVU IWDG_SR_RVU_Msk /* Watchdog counter reload value update */
+
 /* AFIO_MAPR */
 #define AFIO_MAPR_SPI1_REMAP_Pos (0U)
 #define AFIO_MAPR_SPI1_REMAP_Msk (0x1U << AFIO_MAPR_SPI1_REMAP_Pos) /* 0x00000001 */
@@ -1094,13 +1676,15 @@ typedef struct {
  * priority registers (B3.4.9: NVIC_IPR0..n, one byte per interrupt, byte-accessible). */
 #define NVIC_ISPR_BASE 0xE000E200UL /* SVD NVIC.ISPR0: Interrupt Set-Pending Register */
 #define NVIC_IPR_BASE 0xE000E400UL /* SVD NVIC.IPR0: Interrupt Priority Register */
+/* Interrupt clear-pending registers (B3.4.7: NVIC_ICPR0..n, same layout). */
+#define NVIC_ICPR_BASE 0xE000E280UL /* SVD NVIC.ICPR0: Interrupt Clear-Pending Register */
 
 /* Implemented priority bits: the STM32F10x has 16 levels in the upper nibble of each
  * priority byte (PM0056 4.3.7; Cube's stm32f103xb.h: __NVIC_PRIO_BITS 4). */
 #define __NVIC_PRIO_BITS 4U
 
-/* CMSIS core_cm3.h's NVIC_EnableIRQ, NVIC_SetPendingIRQ and NVIC_SetPriority for
- * device interrupts (IRQn >= 0). */
+/* CMSIS core_cm3.h's NVIC_EnableIRQ, NVIC_SetPendingIRQ, NVIC_ClearPendingIRQ and
+ * NVIC_SetPriority for device interrupts (IRQn >= 0). */
 static inline void NVIC_EnableIRQ(IRQn_Type IRQn)
 {
     volatile uint32_t *const iser = (volatile uint32_t *)NVIC_ISER_BASE;
@@ -1113,11 +1697,32 @@ static inline void NVIC_SetPendingIRQ(IRQn_Type IRQn)
     ispr[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
 }
 
+static inline void NVIC_ClearPendingIRQ(IRQn_Type IRQn)
+{
+    volatile uint32_t *const icpr = (volatile uint32_t *)NVIC_ICPR_BASE;
+    icpr[((uint32_t)IRQn) >> 5U] = (uint32_t)(1U << (((uint32_t)IRQn) & 0x1FU));
+}
+
 static inline void NVIC_SetPriority(IRQn_Type IRQn, uint32_t priority)
 {
     volatile uint8_t *const ipr = (volatile uint8_t *)NVIC_IPR_BASE;
     ipr[(uint32_t)IRQn] = (uint8_t)((priority << (8U - __NVIC_PRIO_BITS)) & 0xFFU);
 }
+
+/* The SysTick timer: a core peripheral the vendor SVD does not describe (codegen/svd.py
+ * CORE_PERIPHERALS, from the ARMv7-M Architecture Reference Manual), with CMSIS
+ * core_cm3.h's names. */
+typedef struct {
+    __IO uint32_t CTRL;  /* SYST_CSR, offset 0x00 */
+    __IO uint32_t LOAD;  /* SYST_RVR, offset 0x04 */
+    __IO uint32_t VAL;   /* SYST_CVR, offset 0x08 */
+    __I uint32_t CALIB;  /* SYST_CALIB, offset 0x0C */
+} SysTick_Type;
+#define SysTick_BASE 0xE000E010UL /* ARMv7-M ARM B3.3.2 SYST_CSR (not in the vendor SVD) */
+#define SysTick ((SysTick_Type *)SysTick_BASE)
+#define SysTick_CTRL_ENABLE_Msk (1UL << 0U) /* counter enabled */
+#define SysTick_CTRL_CLKSOURCE_Msk (1UL << 2U) /* counts the processor clock */
+#define SysTick_CTRL_COUNTFLAG_Msk (1UL << 16U) /* wrapped since the last read (the read clears it) */
 
 /* CMSIS cmsis_gcc.h's PRIMASK intrinsics. A host build (the project's tests) has no
  * interrupts to mask, so there they do nothing. */

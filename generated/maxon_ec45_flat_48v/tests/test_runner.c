@@ -1,4 +1,4 @@
-/* Generated from template templates/unity/test_runner.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 8b5f5d50b8448d3cbaa1fb633cc60b872c18290557700779debfaeb46d86d548). Do not edit: regenerate with `make`. */
+/* Generated from template templates/unity/test_runner.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `make`. */
 /* Generated Unity runner: calls every test of test_bldc_commutation.c in order; the
  * exit status is the number of failed tests. */
 #include "unity.h"

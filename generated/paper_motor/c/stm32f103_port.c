@@ -1,4 +1,4 @@
-/* Generated from template c/stm32f103_port.c.j2 with spec spec/paper_motor.yaml (sha256 353cb73b28c0b827ba0524490cb9ff1397c10b6f2cbe203a67af9ae2661c890c). Do not edit: regenerate with `make`. */
+/* Generated from template c/stm32f103_port.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
 /*
  * STM32F103 port of the braking commutation core (see stm32f103_port.h).
  *
@@ -34,6 +34,9 @@
 #if BLDC_PWM_PERIOD_COUNTS != BLDC_PORT_DUTY_FULL_SCALE
 #error "core and port disagree on the PWM full scale: generate both from the same spec"
 #endif
+#if BLDC_PORT_TIM3_ARR != UINT16_MAX
+#error "the Hall edge reads a wrapped counter as CCR1 | ARR: ARR must be all ones"
+#endif
 
 /* Register codes from RM0008 (sections 14.4, 15.4 and 9.2) */
 #define BLDC_PORT_OC_MODE_PWM1 6u          /* OCxM = 110: PWM mode 1, OCxREF active while CNT < CCRx */
@@ -46,18 +49,45 @@
 #define BLDC_PORT_GPIO_MODE_INPUT 0u       /* MODE = 00: input */
 #define BLDC_PORT_GPIO_CNF_INPUT_PULL 2u   /* CNF = 10 with MODE = 00: input with pull-up/down (ODR picks) */
 
+#define BLDC_PORT_GPIO_MODE_ANALOG 0u      /* MODE = 00 with CNF = 00: analog input */
+#define BLDC_PORT_GPIO_CNF_ANALOG 0u
+#define BLDC_PORT_MMS_OC4REF 7u            /* TIM1 CR2.MMS = 111: TRGO = OC4REF, the ADC's injected trigger */
+#define BLDC_PORT_JEXTSEL_TIM1_TRGO 0u     /* ADC_CR2.JEXTSEL = 000: injected trigger TIM1 TRGO */
+
 #define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG) /* enables and compares together */
+/* TIM1 CR2: enables preloaded until a COM event, TRGO = OC4REF; the idle levels
+ * (OISx, OISxN, used while MOE = 0) are OR-ed in by speed region. */
+#define BLDC_PORT_TIM1_CR2 (TIM_CR2_CCPC | (BLDC_PORT_MMS_OC4REF << TIM_CR2_MMS_Pos))
+#define BLDC_PORT_OIS_SHORT (TIM_CR2_OIS1N | TIM_CR2_OIS2N | TIM_CR2_OIS3N) /* lower switches on */
+/* TIM1 BDTR without MOE: dead time, off-state outputs driven (OSSR, OSSI), the break
+ * input enabled with its polarity; MOE is set only when the bridge is armed. */
+#define BLDC_PORT_TIM1_BDTR                                                                  \
+    ((BLDC_PORT_TIM1_DTG << TIM_BDTR_DTG_Pos) | TIM_BDTR_OSSR | TIM_BDTR_OSSI | TIM_BDTR_BKE | \
+     (BLDC_PORT_BREAK_ACTIVE_HIGH << TIM_BDTR_BKP_Pos))
+/* CC4E is set in every pattern: channel 4 only triggers the ADC (OC4REF) and its pin
+ * PA11 is no alternate-function output, so the bit drives nothing, but CCER is never 0
+ * and the Hall edge's partner test refuses an invalid pair too (codegen/port.py). */
+#define BLDC_PORT_CCER_OFF TIM_CCER_CC4E
+/* The safe state's CCER: every output of every phase enabled, so with MOE = 0 each is
+ * held at its idle level (RM0008 Table 83, MOE = 0, OSSI = 1). */
+#define BLDC_PORT_CCER_SAFE                                                            \
+    (TIM_CCER_CC1E | TIM_CCER_CC1NE | TIM_CCER_CC2E | TIM_CCER_CC2NE | TIM_CCER_CC3E | \
+     TIM_CCER_CC3NE | BLDC_PORT_CCER_OFF)
+#define BLDC_PORT_HALL_INTERRUPTS (TIM_DIER_CC1IE | TIM_DIER_CC2IE)
 
 /* Where the TIM3 handler (Hall edge, commutation end) and its pin table live. At 72 MHz
  * the flash has two wait states (RM0008 3.3.3, FLASH_ACR.LATENCY = 2): every literal or
  * table load from it and every fetch outside its 2 x 64-bit prefetch buffer waits for a
  * 3-cycle read, and the Cortex-M3 fetches the target of each conditional branch at decode
  * whether or not it is taken. From SRAM the code competes with its own data on the
- * System bus instead. `make bench` measures the handler in both places on every run;
- * SRAM is the faster by its model (see emulation/memory.py), so it is the default. The
- * start-up code copies `.RamFunc` with `.data` (STM32Cube linker scripts place
- * `.RamFunc` there too). Define BLDC_PORT_HALL_EDGE_IN_FLASH to 1 to keep it in flash. */
-#if defined(__GNUC__) && !(defined(BLDC_PORT_HALL_EDGE_IN_FLASH) && BLDC_PORT_HALL_EDGE_IN_FLASH)
+ * System bus instead, and costs RAM: the handler and its table take about 450 bytes, and
+ * the firmware's RAM budget (firmware.ram_budget, stack included) has no room for them.
+ * So the default is flash, with the handler written for it (one conditional branch per
+ * decision, constants built by MOVW/MOVT: -mslow-flash-data), and `make bench` measures
+ * it in both places on every run. Define BLDC_PORT_HALL_EDGE_IN_SRAM to 1 to place it in
+ * SRAM (`.RamFunc`, which the start-up code copies with `.data`; STM32Cube linker
+ * scripts place `.RamFunc` there too). */
+#if defined(__GNUC__) && defined(BLDC_PORT_HALL_EDGE_IN_SRAM) && BLDC_PORT_HALL_EDGE_IN_SRAM
 #define BLDC_PORT_FAST_CODE __attribute__((section(".RamFunc")))
 #define BLDC_PORT_FAST_DATA __attribute__((section(".RamFunc.data")))
 #else
@@ -78,21 +108,28 @@
 #if defined(__GNUC__)
 #define BLDC_PORT_RARE(condition) __builtin_expect((condition) != 0, 0)
 #define BLDC_PORT_COLD __attribute__((cold, noinline))
+#define BLDC_PORT_NOINLINE __attribute__((noinline))
+/* Start on a 64-bit flash line: the first fetch brings in four 16-bit instructions. */
+#define BLDC_PORT_LINE_ALIGNED __attribute__((aligned(8)))
 #else
 #define BLDC_PORT_RARE(condition) ((condition) != 0)
 #define BLDC_PORT_COLD
+#define BLDC_PORT_NOINLINE
+#define BLDC_PORT_LINE_ALIGNED
 #endif
 
-volatile uint16_t bldc_adc_phase_current;
-
 /* The packed record of one commutation edge, generated from the switching table
- * (codegen/derivation/switching.py, codegen/port.py): bits 10:0 CCER during the commutation (turn-on and turn-off switch), bits 12:11 and 14:13 the TIM1 channel (0..2 = CCR1..CCR3) of the turn-on and turn-off switch, bits 26:16 the CCER bits of their phase partners; 0 = no valid edge.
+ * (codegen/derivation/switching.py, codegen/port.py): bits 12:0 CCER during the commutation (turn-on and turn-off switch, and CC4E), bits 14:13 and 30:29 the TIM1 channel (0..2 = CCR1..CCR3) of the turn-on and turn-off switch, bits 26:16 the CCER bits of their phase partners, bits 31 and 27 the injected data register (0..2 = JDR1..JDR3) that holds the braking current once the commutation has ended (high and low bit), bit 28 set alone: no valid edge (shifted down by 16 it is CC4E, which every pattern has). Shifted down by 16 a valid record's bits above the partners land on CCER bits 11 and 13..15 (CC3NP, CC4P, reserved), which the port keeps 0.
  * One 32-bit word, so the Hall edge reads all it needs of an edge with a single load
  * from flash (each costs two wait states at 72 MHz). */
-#define PORT_RECORD_CCER_DURING(record) ((record) & 0x7FFu)
-#define PORT_RECORD_ON_CHANNEL(record) (((record) >> 11) & 3u)
-#define PORT_RECORD_OFF_CHANNEL(record) (((record) >> 13) & 3u)
+#define PORT_RECORD_CCER_DURING(record) ((record) & 0x1fffu)
+#define PORT_RECORD_ON_CHANNEL(record) (((record) >> 13) & 3u)
+#define PORT_RECORD_OFF_CHANNEL(record) (((record) >> 29) & 3u)
 #define PORT_RECORD_FORBIDDEN(record) ((record) >> 16)
+#define PORT_RECORD_SENSE_SLOT(record) \
+    ((((record) >> 27) & 1u) | (((record) >> (31 - 1u)) & 2u))
+/* No valid edge for this pin pair (its partner field is CC4E, always set in CCER). */
+#define PORT_RECORD_INVALID 0x10000000u
 /* The incoming switch alone: the turn-off channel's enables cleared (RM0008 TIMx_CCER
  * has four bits per channel). */
 #define PORT_RECORD_CCER_AFTER(record) \
@@ -100,97 +137,104 @@ volatile uint16_t bldc_adc_phase_current;
 
 /* The core's edge of each Hall code pair (bldc_edge_of()) as its packed record, indexed
  * by the pin levels as read, PA6 | PA7 << 1 | PB0 << 2 (previous << 3 | now): the
- * pin decoding, the edge lookup and the register table folded into one table. In SRAM
- * with the handler (256 bytes): from flash the lookup would wait two cycles. */
+ * pin decoding, the edge lookup and the register table folded into one table, placed
+ * with the handler. */
 BLDC_PORT_FAST_DATA static const uint32_t port_edge_of_pins[64] = {
-    0x00000000u, /* pins 000 -> 000: Hall 000 -> 000, invalid */
-    0x00000000u, /* pins 000 -> 001: Hall 000 -> 100, invalid */
-    0x00000000u, /* pins 000 -> 010: Hall 000 -> 010, invalid */
-    0x00000000u, /* pins 000 -> 011: Hall 000 -> 110, invalid */
-    0x00000000u, /* pins 000 -> 100: Hall 000 -> 001, invalid */
-    0x00000000u, /* pins 000 -> 101: Hall 000 -> 101, invalid */
-    0x00000000u, /* pins 000 -> 110: Hall 000 -> 011, invalid */
-    0x00000000u, /* pins 000 -> 111: Hall 000 -> 111, invalid */
-    0x00000000u, /* pins 001 -> 000: Hall 100 -> 000, invalid */
-    0x00000000u, /* pins 001 -> 001: Hall 100 -> 100, invalid */
-    0x00000000u, /* pins 001 -> 010: Hall 100 -> 010, invalid */
-    0x00110844u, /* pins 001 -> 011: Hall 100 -> 110, edge 2, forward into sector 2: T4 on, T2 off */
-    0x00000000u, /* pins 001 -> 100: Hall 100 -> 001, invalid */
-    0x01104c40u, /* pins 001 -> 101: Hall 100 -> 101, edge 6, reverse into sector 0: T4 on, T6 off */
-    0x00000000u, /* pins 001 -> 110: Hall 100 -> 011, invalid */
-    0x00000000u, /* pins 001 -> 111: Hall 100 -> 111, invalid */
-    0x00000000u, /* pins 010 -> 000: Hall 010 -> 000, invalid */
-    0x00000000u, /* pins 010 -> 001: Hall 010 -> 100, invalid */
-    0x00000000u, /* pins 010 -> 010: Hall 010 -> 010, invalid */
-    0x01011404u, /* pins 010 -> 011: Hall 010 -> 110, edge 8, reverse into sector 2: T6 on, T2 off */
-    0x00000000u, /* pins 010 -> 100: Hall 010 -> 001, invalid */
-    0x00000000u, /* pins 010 -> 101: Hall 010 -> 101, invalid */
-    0x01103440u, /* pins 010 -> 110: Hall 010 -> 011, edge 4, forward into sector 4: T6 on, T4 off */
-    0x00000000u, /* pins 010 -> 111: Hall 010 -> 111, invalid */
-    0x00000000u, /* pins 011 -> 000: Hall 110 -> 000, invalid */
-    0x00442011u, /* pins 011 -> 001: Hall 110 -> 100, edge 7, reverse into sector 1: T1 on, T3 off */
-    0x04044101u, /* pins 011 -> 010: Hall 110 -> 010, edge 3, forward into sector 3: T1 on, T5 off */
-    0x00000000u, /* pins 011 -> 011: Hall 110 -> 110, invalid */
-    0x00000000u, /* pins 011 -> 100: Hall 110 -> 001, invalid */
-    0x00000000u, /* pins 011 -> 101: Hall 110 -> 101, invalid */
-    0x00000000u, /* pins 011 -> 110: Hall 110 -> 011, invalid */
-    0x00000000u, /* pins 011 -> 111: Hall 110 -> 111, invalid */
-    0x00000000u, /* pins 100 -> 000: Hall 001 -> 000, invalid */
-    0x00000000u, /* pins 100 -> 001: Hall 001 -> 100, invalid */
-    0x00000000u, /* pins 100 -> 010: Hall 001 -> 010, invalid */
-    0x00000000u, /* pins 100 -> 011: Hall 001 -> 110, invalid */
-    0x00000000u, /* pins 100 -> 100: Hall 001 -> 001, invalid */
-    0x01014404u, /* pins 100 -> 101: Hall 001 -> 101, edge 0, forward into sector 0: T2 on, T6 off */
-    0x00112044u, /* pins 100 -> 110: Hall 001 -> 011, edge 10, reverse into sector 4: T2 on, T4 off */
-    0x00000000u, /* pins 100 -> 111: Hall 001 -> 111, invalid */
-    0x00000000u, /* pins 101 -> 000: Hall 101 -> 000, invalid */
-    0x04403110u, /* pins 101 -> 001: Hall 101 -> 100, edge 1, forward into sector 1: T5 on, T3 off */
-    0x00000000u, /* pins 101 -> 010: Hall 101 -> 010, invalid */
-    0x00000000u, /* pins 101 -> 011: Hall 101 -> 110, invalid */
-    0x04041101u, /* pins 101 -> 100: Hall 101 -> 001, edge 11, reverse into sector 5: T5 on, T1 off */
-    0x00000000u, /* pins 101 -> 101: Hall 101 -> 101, invalid */
-    0x00000000u, /* pins 101 -> 110: Hall 101 -> 011, invalid */
-    0x00000000u, /* pins 101 -> 111: Hall 101 -> 111, invalid */
-    0x00000000u, /* pins 110 -> 000: Hall 011 -> 000, invalid */
-    0x00000000u, /* pins 110 -> 001: Hall 011 -> 100, invalid */
-    0x04404910u, /* pins 110 -> 010: Hall 011 -> 010, edge 9, reverse into sector 3: T3 on, T5 off */
-    0x00000000u, /* pins 110 -> 011: Hall 011 -> 110, invalid */
-    0x00440811u, /* pins 110 -> 100: Hall 011 -> 001, edge 5, forward into sector 5: T3 on, T1 off */
-    0x00000000u, /* pins 110 -> 101: Hall 011 -> 101, invalid */
-    0x00000000u, /* pins 110 -> 110: Hall 011 -> 011, invalid */
-    0x00000000u, /* pins 110 -> 111: Hall 011 -> 111, invalid */
-    0x00000000u, /* pins 111 -> 000: Hall 111 -> 000, invalid */
-    0x00000000u, /* pins 111 -> 001: Hall 111 -> 100, invalid */
-    0x00000000u, /* pins 111 -> 010: Hall 111 -> 010, invalid */
-    0x00000000u, /* pins 111 -> 011: Hall 111 -> 110, invalid */
-    0x00000000u, /* pins 111 -> 100: Hall 111 -> 001, invalid */
-    0x00000000u, /* pins 111 -> 101: Hall 111 -> 101, invalid */
-    0x00000000u, /* pins 111 -> 110: Hall 111 -> 011, invalid */
-    0x00000000u, /* pins 111 -> 111: Hall 111 -> 111, invalid */
+    0x10000000u, /* pins 000 -> 000: Hall 000 -> 000, invalid */
+    0x10000000u, /* pins 000 -> 001: Hall 000 -> 100, invalid */
+    0x10000000u, /* pins 000 -> 010: Hall 000 -> 010, invalid */
+    0x10000000u, /* pins 000 -> 011: Hall 000 -> 110, invalid */
+    0x10000000u, /* pins 000 -> 100: Hall 000 -> 001, invalid */
+    0x10000000u, /* pins 000 -> 101: Hall 000 -> 101, invalid */
+    0x10000000u, /* pins 000 -> 110: Hall 000 -> 011, invalid */
+    0x10000000u, /* pins 000 -> 111: Hall 000 -> 111, invalid */
+    0x10000000u, /* pins 001 -> 000: Hall 100 -> 000, invalid */
+    0x10000000u, /* pins 001 -> 001: Hall 100 -> 100, invalid */
+    0x10000000u, /* pins 001 -> 010: Hall 100 -> 010, invalid */
+    0x00113044u, /* pins 001 -> 011: Hall 100 -> 110, edge 2, forward into sector 2: T4 on, T2 off */
+    0x10000000u, /* pins 001 -> 100: Hall 100 -> 001, invalid */
+    0x41103440u, /* pins 001 -> 101: Hall 100 -> 101, edge 6, reverse into sector 0: T4 on, T6 off */
+    0x10000000u, /* pins 001 -> 110: Hall 100 -> 011, invalid */
+    0x10000000u, /* pins 001 -> 111: Hall 100 -> 111, invalid */
+    0x10000000u, /* pins 010 -> 000: Hall 010 -> 000, invalid */
+    0x10000000u, /* pins 010 -> 001: Hall 010 -> 100, invalid */
+    0x10000000u, /* pins 010 -> 010: Hall 010 -> 010, invalid */
+    0x01015404u, /* pins 010 -> 011: Hall 010 -> 110, edge 8, reverse into sector 2: T6 on, T2 off */
+    0x10000000u, /* pins 010 -> 100: Hall 010 -> 001, invalid */
+    0x10000000u, /* pins 010 -> 101: Hall 010 -> 101, invalid */
+    0x21105440u, /* pins 010 -> 110: Hall 010 -> 011, edge 4, forward into sector 4: T6 on, T4 off */
+    0x10000000u, /* pins 010 -> 111: Hall 010 -> 111, invalid */
+    0x10000000u, /* pins 011 -> 000: Hall 110 -> 000, invalid */
+    0x20441011u, /* pins 011 -> 001: Hall 110 -> 100, edge 7, reverse into sector 1: T1 on, T3 off */
+    0x44041101u, /* pins 011 -> 010: Hall 110 -> 010, edge 3, forward into sector 3: T1 on, T5 off */
+    0x10000000u, /* pins 011 -> 011: Hall 110 -> 110, invalid */
+    0x10000000u, /* pins 011 -> 100: Hall 110 -> 001, invalid */
+    0x10000000u, /* pins 011 -> 101: Hall 110 -> 101, invalid */
+    0x10000000u, /* pins 011 -> 110: Hall 110 -> 011, invalid */
+    0x10000000u, /* pins 011 -> 111: Hall 110 -> 111, invalid */
+    0x10000000u, /* pins 100 -> 000: Hall 001 -> 000, invalid */
+    0x10000000u, /* pins 100 -> 001: Hall 001 -> 100, invalid */
+    0x10000000u, /* pins 100 -> 010: Hall 001 -> 010, invalid */
+    0x10000000u, /* pins 100 -> 011: Hall 001 -> 110, invalid */
+    0x10000000u, /* pins 100 -> 100: Hall 001 -> 001, invalid */
+    0x41011404u, /* pins 100 -> 101: Hall 001 -> 101, edge 0, forward into sector 0: T2 on, T6 off */
+    0x20111044u, /* pins 100 -> 110: Hall 001 -> 011, edge 10, reverse into sector 4: T2 on, T4 off */
+    0x10000000u, /* pins 100 -> 111: Hall 001 -> 111, invalid */
+    0x10000000u, /* pins 101 -> 000: Hall 101 -> 000, invalid */
+    0x24405110u, /* pins 101 -> 001: Hall 101 -> 100, edge 1, forward into sector 1: T5 on, T3 off */
+    0x10000000u, /* pins 101 -> 010: Hall 101 -> 010, invalid */
+    0x10000000u, /* pins 101 -> 011: Hall 101 -> 110, invalid */
+    0x04045101u, /* pins 101 -> 100: Hall 101 -> 001, edge 11, reverse into sector 5: T5 on, T1 off */
+    0x10000000u, /* pins 101 -> 101: Hall 101 -> 101, invalid */
+    0x10000000u, /* pins 101 -> 110: Hall 101 -> 011, invalid */
+    0x10000000u, /* pins 101 -> 111: Hall 101 -> 111, invalid */
+    0x10000000u, /* pins 110 -> 000: Hall 011 -> 000, invalid */
+    0x10000000u, /* pins 110 -> 001: Hall 011 -> 100, invalid */
+    0x44403110u, /* pins 110 -> 010: Hall 011 -> 010, edge 9, reverse into sector 3: T3 on, T5 off */
+    0x10000000u, /* pins 110 -> 011: Hall 011 -> 110, invalid */
+    0x00443011u, /* pins 110 -> 100: Hall 011 -> 001, edge 5, forward into sector 5: T3 on, T1 off */
+    0x10000000u, /* pins 110 -> 101: Hall 011 -> 101, invalid */
+    0x10000000u, /* pins 110 -> 110: Hall 011 -> 011, invalid */
+    0x10000000u, /* pins 110 -> 111: Hall 011 -> 111, invalid */
+    0x10000000u, /* pins 111 -> 000: Hall 111 -> 000, invalid */
+    0x10000000u, /* pins 111 -> 001: Hall 111 -> 100, invalid */
+    0x10000000u, /* pins 111 -> 010: Hall 111 -> 010, invalid */
+    0x10000000u, /* pins 111 -> 011: Hall 111 -> 110, invalid */
+    0x10000000u, /* pins 111 -> 100: Hall 111 -> 001, invalid */
+    0x10000000u, /* pins 111 -> 101: Hall 111 -> 101, invalid */
+    0x10000000u, /* pins 111 -> 110: Hall 111 -> 011, invalid */
+    0x10000000u, /* pins 111 -> 111: Hall 111 -> 111, invalid */
 };
 
-/* State. Written by TIM3_IRQHandler, TIM1_TRG_COM_IRQHandler and the two setters. Every
- * field the handlers share is one aligned word or half-word, so each read and write is
- * atomic; the timing handler never writes the slot the Hall edge may be reading (it
- * fills the other one and then publishes it with one word write), and the duty setter
- * masks interrupts (PRIMASK) for its two lines. */
+/* A bus code no ADC gives: no sample yet (the timing is then the safe state). */
+#define BLDC_PORT_BUS_UNKNOWN UINT16_MAX
+
+/* State. Written by the handlers (the Hall edge, the current loop and the break
+ * interrupt share one priority level, the timing handler runs below them) and by the
+ * API, which masks interrupts (PRIMASK) where it touches what they use. Every field the
+ * handlers share is one aligned word or half-word, so each read and write is atomic;
+ * the timing handler never writes the slot the Hall edge may be reading (it fills the
+ * other one and then publishes it with one word write). */
 static struct {
     const bldc_timing_t *timing;    /* what the next Hall edge applies: one of `slots` */
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
     uint32_t period;                /* last Hall interval in ticks, for the next timing */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
-    uint16_t main_duty;             /* TIM1 counts, already clamped to the full scale */
+    uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
     uint16_t bus_code;              /* the bus code of `bus`, or the newer one to compute it for */
-    uint32_t bus_changed;           /* set by the bus setter: recompute `bus` before the timing */
+    uint32_t bus_low;               /* bus_code - hysteresis (mod 2^32): a sample within the band is no change */
+    uint32_t bus_changed;           /* set by the current loop: recompute `bus` before the timing */
+    uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
+    int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
+    uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation) */
+    uint32_t faults;                /* latched BLDC_FAULT_* */
+    uint32_t requested;             /* faults found below the break interrupt's priority, for it to latch */
+    uint32_t heartbeat;             /* current-loop runs, for the watchdog */
+    uint32_t heartbeat_seen;        /* its value at the last bldc_port_alive() */
     bldc_bus_t bus;                 /* bldc_bus_condition(bus_code), cached */
     bldc_timing_t slots[2];         /* the published timing and the one being computed */
 } port;
-
-static uint32_t port_read_pins(void)
-{
-    return ((GPIOA->IDR >> 6) & 3u) | ((GPIOB->IDR >> 0 & 1u) << 2);
-}
 
 /* TIM1 compare register of channel 0..2 (CCR1..CCR3 are consecutive words). */
 static volatile uint32_t *port_compare(TIM_TypeDef *tim1, uint32_t channel)
@@ -203,7 +247,7 @@ static volatile uint32_t *port_compare(TIM_TypeDef *tim1, uint32_t channel)
  * each such load waits two cycles for the flash (RM0008 3.3.3). The empty asm hides the
  * value of the peripheral region's start (one MOV), so the handlers reach TIM1, TIM3 and
  * the GPIO ports with an ADD or an offset from it instead. */
-#define BLDC_PORT_PERIPHERALS 0x40000000u /* start of the peripheral region holding TIM1, TIM3, GPIOA and GPIOB (RM0008 3.3, bases from the SVD) */
+#define BLDC_PORT_PERIPHERALS 0x40000000u /* start of the peripheral region holding TIM1, TIM3, ADC1, GPIOA and GPIOB (RM0008 3.3, bases from the SVD) */
 static inline uintptr_t port_peripherals(void)
 {
     uintptr_t anchor = BLDC_PORT_PERIPHERALS;
@@ -213,16 +257,58 @@ static inline uintptr_t port_peripherals(void)
 #define PORT_AT(anchor, instance, type) \
     ((type *)((anchor) + ((uintptr_t)(instance) - (uintptr_t)BLDC_PORT_PERIPHERALS)))
 
-/* Every switch off at the next COM event, nothing scheduled. */
-BLDC_PORT_COLD BLDC_PORT_FAST_CODE static void port_outputs_off(uintptr_t anchor)
+/* Every switch off at the next COM event, nothing scheduled: a direction reversal or
+ * no valid timing yet. Not a fault; the next valid edge switches again. */
+BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
 {
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
-    tim1->CCER = 0u; /* preloaded (CCPC = 1) */
+    tim1->CCER = BLDC_PORT_CCER_OFF; /* preloaded (CCPC = 1) */
     tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
     /* No commutation to end; the wrap is read. */
     PORT_AT(anchor, TIM3, TIM_TypeDef)->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
     port.pending = 0u;
     port.steady = 0u;
+}
+
+/* A fault: the safe state now, and latched. MOE = 0 sends every enabled output to its
+ * off state at once and to its idle level (CR2.OISx / OISxN: the short circuit or all
+ * off, as the region in force says) after a dead time; enabling every output of every
+ * phase makes that hold for all three phases. TIM3 stops raising its interrupts (a Hall
+ * edge must not apply a pattern), and one it has already pended finds nothing to do.
+ * Called at the Hall edge's priority or with interrupts masked. */
+BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
+{
+    TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
+    TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
+    tim1->BDTR = BLDC_PORT_TIM1_BDTR; /* MOE = 0 */
+    tim1->CCER = BLDC_PORT_CCER_SAFE;
+    tim1->EGR = TIM_EGR_COMG; /* load it */
+    tim3->DIER = 0u;
+    tim3->SR = ~(TIM_SR_CC2IF | TIM_SR_CC1IF);
+    NVIC_ClearPendingIRQ(TIM3_IRQn);
+    port.pending = 0u;
+    port.steady = 0u;
+    port.faults |= fault;
+}
+
+/* The Hall edge refused to commutate: find out why. The edge stored its record, pins
+ * and interval before calling. */
+BLDC_PORT_COLD static void port_refuse(uintptr_t anchor)
+{
+    const uint32_t pins = port.previous_pins;
+    if (port.pending == PORT_RECORD_INVALID) {
+        /* 000 and 111 read as the same pin levels in any order */
+        port_trip(anchor, ((pins == 0u) || (pins == 7u)) ? BLDC_FAULT_HALL_INVALID
+                                                         : BLDC_FAULT_HALL_SEQUENCE);
+    } else if (port.period < port.timing->period_min) {
+        if (port.timing->period_min == BLDC_PERIOD_NEVER) {
+            port_outputs_off(anchor); /* no valid timing: no bus sample yet, or over-voltage */
+        } else {
+            port_trip(anchor, BLDC_FAULT_OVER_SPEED);
+        }
+    } else {
+        port_outputs_off(anchor); /* a phase would swap switches: off, then the next edge */
+    }
 }
 
 /* Hall edge: TIM3 reset its counter and captured the 60 degree interval in CCR1. The
@@ -234,26 +320,28 @@ static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
     const uint32_t record = port_edge_of_pins[(port.previous_pins << 3) | pins];
-    uint32_t period = tim3->CCR1; /* reading CCR1 clears CC1IF */
-    if ((status & TIM_SR_UIF) != 0u) {
-        /* The counter wrapped since the last edge: the interval is at least the full
-         * counter range, the slowest speed the core can be told. UIF is cleared below,
-         * with CC2IF, on every path. */
-        period = BLDC_PORT_TIM3_ARR;
-    }
+    /* Reading CCR1 clears CC1IF. A wrapped counter (UIF, bit 0) reads as its whole
+     * range, the slowest speed the core can be told: 0 - UIF is all ones then, and
+     * CCR1 | ARR = ARR (CCR1 <= ARR = 2^16 - 1). No branch; UIF is cleared below, with
+     * CC2IF, on every path. */
+    const uint32_t wrapped = 0u - (status & TIM_SR_UIF);
+    const uint32_t period = tim3->CCR1 | (wrapped >> 16);
     const bldc_timing_t *const timing = port.timing;
     port.previous_pins = pins;
     port.period = period;   /* every path below ends in a COM event, which runs the timing */
     port.pending = record;  /* the safe state below clears it again */
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
-    /* Invalid Hall code or sequence; over-speed now, or over-voltage or over-speed when
-     * the timing was computed; or a leg swap: CCER reads back the pattern in force
-     * (every write is followed by its COM event), and a phase whose other switch is on
-     * now would hand over from one switch to the other in one COM event, with no dead
-     * time in single-output mode (a direction reversal). */
-    if ((record == 0u) || (period < timing->period_min) ||
-        ((tim1->CCER & PORT_RECORD_FORBIDDEN(record)) != 0u)) {
-        port_outputs_off(anchor);
+    /* Invalid Hall code or sequence (its record's partner field is CC4E, always set);
+     * over-speed now, or over-voltage or over-speed when the timing was computed; or a
+     * leg swap: CCER reads back the pattern in force (every write is followed by its COM
+     * event), and a phase whose other switch is on now would hand over from one switch
+     * to the other in one COM event, with no dead time in single-output mode (a
+     * direction reversal). One test, one branch: from flash every conditional branch
+     * fetches its target. */
+    const uint32_t refused =
+        (uint32_t)(period < timing->period_min) | (tim1->CCER & PORT_RECORD_FORBIDDEN(record));
+    if (BLDC_PORT_RARE(refused != 0u)) {
+        port_refuse(anchor);
         return;
     }
     /* During the commutation: turn-off switch at D_off, turn-on switch at D_on. */
@@ -271,13 +359,14 @@ static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
     const uint32_t ticks = timing->commutation_ticks;
     tim3->CCR2 = ticks;
     tim3->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
-    if (tim3->CNT >= ticks) {
+    if (BLDC_PORT_RARE(tim3->CNT >= ticks)) {
         tim3->EGR = TIM_EGR_CC2G;
     }
 }
 
-/* Commutation end: outgoing switch off, incoming switch at the main duty. */
-static void port_on_commutation_end(uintptr_t anchor)
+/* Commutation end: outgoing switch off, incoming switch at the main duty. Not inlined
+ * into the TIM3 handler, so the Hall edge's path needs fewer registers. */
+BLDC_PORT_NOINLINE BLDC_PORT_FAST_CODE static void port_on_commutation_end(uintptr_t anchor)
 {
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t record = port.pending;
@@ -296,56 +385,202 @@ static void port_on_commutation_end(uintptr_t anchor)
 /* One vector for all TIM3 events on the STM32F103: a pending commutation end first (it
  * belongs to the previous edge). A Hall edge pending at the same time keeps the TIM3
  * interrupt line asserted, so the NVIC enters again at once (tail-chaining) and takes it
- * then. The overflow (UIF) raises no interrupt; the next edge reads it. */
-BLDC_PORT_FAST_CODE void TIM3_IRQHandler(void)
+ * then. The overflow (UIF) raises no interrupt; the next edge and the current loop read
+ * it. The Hall edge alone is tested with one branch (its path falls through). */
+BLDC_PORT_FAST_CODE BLDC_PORT_LINE_ALIGNED void TIM3_IRQHandler(void)
 {
     const uintptr_t anchor = port_peripherals();
     const uint32_t status = PORT_AT(anchor, TIM3, TIM_TypeDef)->SR;
 
-    if ((status & TIM_SR_CC2IF) != 0u) {
-        port_on_commutation_end(anchor);
-    } else if (!BLDC_PORT_RARE((status & TIM_SR_CC1IF) == 0u)) {
+    if (!BLDC_PORT_RARE((status & (TIM_SR_CC1IF | TIM_SR_CC2IF)) != TIM_SR_CC1IF)) {
         port_on_hall_edge(anchor, status);
+    } else if ((status & TIM_SR_CC2IF) != 0u) {
+        port_on_commutation_end(anchor);
+    }
+}
+
+/* The safe state of this speed region (codegen/control/safe_state.py): the short
+ * circuit where all-off would rectify into the bus (T B at or below the product), and,
+ * if the spec prefers it, wherever it is within the bridge's rating. T and B are at most
+ * 16 bits each: the product fits 32. */
+static uint32_t port_short_circuit(uint32_t period, uint32_t bus_code)
+{
+    const uint32_t rectifying = (period * bus_code) <= BLDC_PORT_RECTIFYING_PRODUCT;
+#if BLDC_PORT_SHORT_WHERE_BOTH && (BLDC_PORT_SHORT_VALID_PERIOD == 0u)
+    (void)rectifying;
+    return 1u; /* the short is within the rating at every speed, and preferred */
+#elif BLDC_PORT_SHORT_WHERE_BOTH
+    return rectifying | (uint32_t)(period >= BLDC_PORT_SHORT_VALID_PERIOD);
+#else
+    return rectifying;
+#endif
+}
+
+/* CR2's idle levels for the region: what MOE = 0 (a fault, the break input) does now. */
+static void port_set_safe_state(uint32_t period, uint32_t bus_code)
+{
+    TIM1->CR2 = BLDC_PORT_TIM1_CR2 |
+                ((port_short_circuit(period, bus_code) != 0u) ? BLDC_PORT_OIS_SHORT : 0u);
+}
+
+/* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
+ * break (EGR.BG) clears MOE at once, in hardware, and the break interrupt, at the Hall
+ * edge's priority, completes the safe state and latches `requested`. */
+static void port_request_trip(uint32_t fault)
+{
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    port.requested |= fault;
+    TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+    TIM1->EGR = TIM_EGR_BG;
+    __set_PRIMASK(primask);
+}
+
+/* The bus voltage changed beyond the hysteresis: its reciprocals, once per change (out
+ * of line, so the bus state's temporaries cost the timing handler's common path no
+ * stack). The flag first: a newer code arriving meanwhile sets it again. The core flags
+ * a bus outside its range: the analog watchdog has tripped already, and this is its
+ * backstop. */
+BLDC_PORT_NOINLINE static void port_update_bus(void)
+{
+    port.bus_changed = 0u;
+    const uint32_t code = port.bus_code;
+    port.bus = bldc_bus_condition(code);
+    if (BLDC_PORT_RARE(((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u) &&
+                       (code != BLDC_PORT_BUS_UNKNOWN))) {
+        port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
+                                                     : BLDC_FAULT_UNDER_VOLTAGE);
     }
 }
 
 /* The next edge's duties and commutation time, at a lower priority than TIM3. Raised
  * by every COM event (DIER.COMIE), which every Hall edge generates, and pended by
- * software when the bus voltage or, for the methods that use it, the main duty changes.
- * A Hall edge that arrives meanwhile preempts it, raises it again, and the NVIC runs it
- * once more afterwards; the extra run after a commutation end recomputes with the latest
- * current. */
+ * the current loop when the bus voltage moved beyond the hysteresis. A Hall edge that
+ * arrives meanwhile preempts it, raises it again, and the NVIC runs it once more
+ * afterwards; the extra run after a commutation end recomputes with the latest current
+ * and main duty. */
 void TIM1_TRG_COM_IRQHandler(void)
 {
     TIM1->SR = ~TIM_SR_COMIF;
     if (BLDC_PORT_RARE(port.bus_changed != 0u)) {
-        /* The bus voltage changed beyond the hysteresis: its reciprocals, once per
-         * change. The flag first: a newer code arriving meanwhile sets it again. */
-        port.bus_changed = 0u;
-        port.bus = bldc_bus_condition(port.bus_code);
+        port_update_bus();
     }
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
      * an edge sees the previous timing or this one, never half of either. */
     bldc_timing_t *const next = (port.timing == &port.slots[0]) ? &port.slots[1] : &port.slots[0];
-    *next = bldc_commutation_timing(&port.bus, port.period, bldc_adc_phase_current, port.main_duty);
+    *next = bldc_commutation_timing(&port.bus, port.period, port.current, port.main_duty);
     port.timing = next;
+    port_set_safe_state(port.period, port.bus_code);
 }
 
-void bldc_port_set_bus_voltage(uint16_t adc_code)
+/* The bus voltage moved beyond the hysteresis: hand it to the timing. */
+BLDC_PORT_COLD static void port_bus_moved(uint32_t bus)
 {
-    /* Recompute only for a change beyond the hysteresis, |code - last| > H, written as
-     * one unsigned comparison (a negative difference wraps above 2H), and always when
-     * the code crosses the over-voltage threshold, so the bridge turns off at once. */
-    const uint32_t code = adc_code;
-    const uint32_t last = port.bus_code;
-    const uint32_t beyond = (code - last + BLDC_PORT_BUS_HYSTERESIS_CODES) >
-                            2u * BLDC_PORT_BUS_HYSTERESIS_CODES;
-    const uint32_t crossed = (code > BLDC_PORT_BUS_CODE_MAX) != (last > BLDC_PORT_BUS_CODE_MAX);
-    if ((beyond | crossed) != 0u) {
-        port.bus_code = adc_code;
-        port.bus_changed = 1u;
-        NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
+    port.bus_code = (uint16_t)bus;
+    port.bus_low = bus - BLDC_PORT_BUS_HYSTERESIS_CODES;
+    port.bus_changed = 1u;
+    NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
+}
+
+/* The analog watchdog: the bus left [LTR, HTR] in this period's conversions. */
+BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
+{
+    const uint32_t bus = PORT_AT(anchor, ADC1, ADC_TypeDef)->JDR4;
+    port_trip(anchor, (bus > BLDC_PORT_ADC_HTR) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
+}
+
+/* While faulted, every PWM period: the Hall interval from the capture TIM3 still makes
+ * (its interrupts are off) and the safe state of the region the rotor is in now, so a
+ * decelerating rotor leaves the short circuit for all-off where that becomes valid. */
+BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
+{
+    TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
+    const uint32_t status = tim3->SR;
+    if ((status & (TIM_SR_CC1IF | TIM_SR_UIF)) == 0u) {
+        return;
     }
+    const uint32_t captured = tim3->CCR1; /* clears CC1IF */
+    tim3->SR = ~TIM_SR_UIF;
+    port.period = ((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured;
+    port_set_safe_state(port.period, port.bus_code);
+}
+
+/* End of the injected conversions (JEOC), once per PWM period, and the analog watchdog
+ * (AWD). In the steady state between commutations: the braking current's sample, its
+ * plausibility, the Hall timeout, and the PI, whose output is the main duty of the
+ * steady switch from the next PWM period (CCRx is preloaded). */
+void ADC1_2_IRQHandler(void)
+{
+    const uintptr_t anchor = port_peripherals();
+    ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
+    const uint32_t status = adc->SR;
+    adc->SR = ~(ADC_SR_JEOC | ADC_SR_JSTRT | ADC_SR_AWD); /* rc_w0: the others stay */
+    if (BLDC_PORT_RARE((status & ADC_SR_AWD) != 0u)) {
+        port_bus_fault(anchor);
+        return;
+    }
+    ++port.heartbeat;
+    const uint32_t bus = adc->JDR4;
+    if (BLDC_PORT_RARE((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES)) {
+        port_bus_moved(bus);
+    }
+    const uint32_t steady = port.steady;
+    if ((steady != 0u) && (port.pending == 0u)) {
+        if (BLDC_PORT_RARE((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u)) {
+            /* The Hall counter wrapped while the bridge switches: no edge for its range. */
+            port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
+            return;
+        }
+        const uint32_t measured = adc->JDR1;
+        if (BLDC_PORT_RARE((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u))) {
+            port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* 0 or full scale */
+            return;
+        }
+        port.current = measured;
+        const uint32_t reference = port.reference;
+        if (reference <= BLDC_PORT_ADC_CODE_MAX) { /* closed loop */
+            const int32_t state = port.integrator;
+            const uint32_t duty = bldc_current_loop_duty(state, reference, measured);
+            port.integrator = bldc_current_loop_integrate(state, reference, measured);
+            port.main_duty = (uint16_t)duty;
+            *port_compare(PORT_AT(anchor, TIM1, TIM_TypeDef), PORT_RECORD_ON_CHANNEL(steady)) = duty;
+        }
+    } else if (BLDC_PORT_RARE(port.faults != 0u)) {
+        port_faulted_tick(anchor);
+    }
+}
+
+/* A break: the input went active (over-current), or software asked for one
+ * (port_request_trip()). TIM1 has already cleared MOE in hardware, so every enabled
+ * output is at its idle level; this completes the safe state for all three phases and
+ * latches the fault. BIF cannot be cleared while the input stays active (RM0008
+ * TIMx_SR), so the break interrupt stays off until the fault is cleared. */
+void TIM1_BRK_IRQHandler(void)
+{
+    const uintptr_t anchor = port_peripherals();
+    TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
+    tim1->DIER = TIM_DIER_COMIE;
+    tim1->SR = ~TIM_SR_BIF;
+    const uint32_t level = (GPIOB->IDR >> 12) & 1u;
+    const uint32_t requested = port.requested;
+    port.requested = 0u;
+    port_trip(anchor, requested |
+                          ((level == BLDC_PORT_BREAK_ACTIVE_HIGH) ? BLDC_FAULT_OVER_CURRENT : 0u));
+}
+
+/* ------------------------------------------------------------------ the API */
+
+void bldc_set_braking_current(uint32_t milliamps)
+{
+    const uint32_t code = bldc_current_reference(milliamps);
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    if (port.reference > BLDC_PORT_ADC_CODE_MAX) {
+        /* From open loop: the integrator takes the duty in force (no bump). */
+        port.integrator = (int32_t)((uint32_t)port.main_duty << BLDC_LOOP_FRAC_BITS);
+    }
+    port.reference = code;
+    __set_PRIMASK(primask);
 }
 
 void bldc_port_set_main_duty(uint16_t duty_counts)
@@ -354,39 +589,152 @@ void bldc_port_set_main_duty(uint16_t duty_counts)
                               ? (uint16_t)BLDC_PORT_DUTY_FULL_SCALE
                               : duty_counts;
     /* A Hall edge between the test and the write would leave this writing the compare
-     * register of a phase that is now commutating: mask interrupts for the two lines. */
-    if (duty == port.main_duty) {
-        return; /* unchanged: nothing to recompute */
-    }
+     * register of a phase that is now commutating: mask interrupts for these lines. */
     const uint32_t primask = __get_PRIMASK();
     __disable_irq();
+    const uint32_t changed = (duty != port.main_duty) || (port.reference != BLDC_PORT_OPEN_LOOP);
+    port.reference = BLDC_PORT_OPEN_LOOP;
     port.main_duty = duty;
     if ((port.pending == 0u) && (port.steady != 0u)) {
         /* CCRx is preloaded: the new duty starts with the next PWM period. */
         *port_compare(TIM1, PORT_RECORD_ON_CHANNEL(port.steady)) = duty;
     }
     __set_PRIMASK(primask);
+    (void)changed; /* the method's commutation duties do not use the main duty */
 }
+
+uint32_t bldc_port_faults(void)
+{
+    return port.faults;
+}
+
+uint32_t bldc_port_safe_state(void)
+{
+    return ((TIM1->CR2 & BLDC_PORT_OIS_SHORT) != 0u) ? BLDC_SAFE_SHORT_CIRCUIT : BLDC_SAFE_ALL_OFF;
+}
+
+uint32_t bldc_port_status(void)
+{
+    return port.timing->flags;
+}
+
+uint32_t bldc_port_current_code(void)
+{
+    return port.current;
+}
+
+uint32_t bldc_port_alive(void)
+{
+    const uint32_t beat = port.heartbeat;
+    const uint32_t alive = beat != port.heartbeat_seen;
+    port.heartbeat_seen = beat;
+    return alive;
+}
+
+/* The Hall code read now from the pins (0..7, any bit order: only 000 and 111 matter). */
+static uint32_t port_read_pins(void)
+{
+    return ((GPIOA->IDR >> 6) & 3u) | ((GPIOB->IDR >> 0 & 1u) << 2);
+}
+
+/* The faults whose cause is still present, of those latched. */
+static uint32_t port_present_causes(uint32_t latched)
+{
+    uint32_t present = latched & BLDC_PORT_FAULTS_PERMANENT;
+    if ((((GPIOB->IDR >> 12) & 1u) == BLDC_PORT_BREAK_ACTIVE_HIGH)) {
+        present |= latched & BLDC_FAULT_OVER_CURRENT;
+    }
+    const uint32_t bus = ADC1->JDR4;
+    if (bus > BLDC_PORT_ADC_HTR) {
+        present |= latched & BLDC_FAULT_OVER_VOLTAGE;
+    }
+    if (bus < BLDC_PORT_ADC_LTR) {
+        present |= latched & BLDC_FAULT_UNDER_VOLTAGE;
+    }
+    if ((ADC1->JDR1 - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
+        present |= latched & BLDC_FAULT_CURRENT_SENSOR;
+    }
+    const uint32_t pins = port_read_pins();
+    if ((pins == 0u) || (pins == 7u)) {
+        present |= latched & BLDC_FAULT_HALL_INVALID;
+    }
+    return present;
+}
+
+/* Arm the bridge: every output off, then MOE; TIM3 measures afresh (the first interval
+ * is unknown) and the current loop starts from zero. Interrupts masked by the caller. */
+static void port_arm(void)
+{
+    TIM1->CCER = BLDC_PORT_CCER_OFF;
+    TIM1->EGR = TIM_EGR_COMG; /* all off before MOE */
+    TIM1->SR = ~TIM_SR_BIF;
+    TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+    port.pending = 0u;
+    port.steady = 0u;
+    port.integrator = 0;
+    port.previous_pins = port_read_pins();
+    TIM3->CNT = BLDC_PORT_TIM3_ARR; /* the next tick wraps: the first interval reads as unknown */
+    TIM3->SR = 0u;
+    TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS;
+    TIM1->BDTR = BLDC_PORT_TIM1_BDTR | TIM_BDTR_MOE;
+}
+
+uint32_t bldc_port_clear_faults(void)
+{
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    const uint32_t latched = port.faults;
+    const uint32_t remaining = port_present_causes(latched);
+    port.faults = remaining;
+    if ((latched != 0u) && (remaining == 0u)) {
+        port_arm();
+    }
+    __set_PRIMASK(primask);
+    return remaining;
+}
+
+void bldc_port_raise_fault(uint32_t fault)
+{
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    port_trip(port_peripherals(), fault);
+    __set_PRIMASK(primask);
+}
+
+void bldc_port_emergency_off(void)
+{
+    TIM1->BDTR = BLDC_PORT_TIM1_BDTR; /* MOE = 0 */
+}
+
+void bldc_port_clock_failure(void)
+{
+    /* The NMI may have interrupted a Hall edge half way: the software break clears MOE
+     * now, and the break interrupt completes the safe state after it. */
+    port_request_trip(BLDC_FAULT_CLOCK);
+}
+
+/* ------------------------------------------------------------------ start-up */
 
 static void port_init_pwm_timer(void)
 {
     TIM1->CR1 = BLDC_PORT_TIM1_CMS << TIM_CR1_CMS_Pos; /* stopped; CMS only while stopped */
-    TIM1->CR2 = TIM_CR2_CCPC; /* CCxE, CCxNE, OCxM preloaded; COM only from EGR.COMG */
+    TIM1->CR2 = BLDC_PORT_TIM1_CR2; /* CCxE, CCxNE, OCxM preloaded; COM only from EGR.COMG; TRGO = OC4REF */
     TIM1->PSC = BLDC_PORT_TIM1_PSC;
     TIM1->ARR = BLDC_PORT_TIM1_ARR;
     TIM1->RCR = 0u;
     TIM1->CCR1 = 0u;
     TIM1->CCR2 = 0u;
     TIM1->CCR3 = 0u;
+    TIM1->CCR4 = BLDC_PORT_TIM1_CCR4;
     TIM1->CCMR1 = (BLDC_PORT_OC_MODE_PWM1 << TIM_CCMR1_OC1M_Pos) | TIM_CCMR1_OC1PE |
                   (BLDC_PORT_OC_MODE_PWM1 << TIM_CCMR1_OC2M_Pos) | TIM_CCMR1_OC2PE;
-    TIM1->CCMR2 = (BLDC_PORT_OC_MODE_PWM1 << TIM_CCMR2_OC3M_Pos) | TIM_CCMR2_OC3PE;
-    TIM1->CCER = 0u; /* every output disabled: the safe state */
-    TIM1->BDTR = (BLDC_PORT_TIM1_DTG << TIM_BDTR_DTG_Pos) | TIM_BDTR_OSSR | TIM_BDTR_OSSI;
+    TIM1->CCMR2 = (BLDC_PORT_OC_MODE_PWM1 << TIM_CCMR2_OC3M_Pos) | TIM_CCMR2_OC3PE |
+                  (BLDC_PORT_OC4_MODE << TIM_CCMR2_OC4M_Pos) | TIM_CCMR2_OC4PE;
+    TIM1->CCER = BLDC_PORT_CCER_OFF; /* every output disabled (CC4E has no pin here) */
+    TIM1->BDTR = BLDC_PORT_TIM1_BDTR; /* MOE stays 0 until the bridge is armed */
     TIM1->EGR = BLDC_PORT_EGR_COMMUTATE; /* load PSC, ARR, CCRx, CCER and OCxM */
-    TIM1->SR = ~TIM_SR_COMIF;
-    TIM1->DIER = TIM_DIER_COMIE; /* each COM event runs the next edge's timing */
-    TIM1->BDTR |= TIM_BDTR_MOE;
+    TIM1->SR = ~(TIM_SR_COMIF | TIM_SR_BIF);
+    TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE; /* each COM event runs the next edge's timing */
     TIM1->CR1 = (BLDC_PORT_TIM1_CMS << TIM_CR1_CMS_Pos) | TIM_CR1_ARPE | TIM_CR1_CEN;
 }
 
@@ -408,8 +756,35 @@ static void port_init_hall_timer(void)
     /* The first edge has no valid interval (the counter ran since start-up): start at
      * the top so the first tick overflows and sets UIF, which that edge reads. */
     TIM3->CNT = BLDC_PORT_TIM3_ARR;
-    TIM3->DIER = TIM_DIER_CC1IE | TIM_DIER_CC2IE; /* UIF is polled by the Hall edge */
+    TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS; /* UIF is polled by the Hall edge and the current loop */
     TIM3->CR1 = TIM_CR1_URS | TIM_CR1_CEN;
+}
+
+/* The ADC (RM0008 11): power up, calibrate, then the injected sequence triggered by
+ * TIM1 TRGO, its end-of-conversion interrupt and the analog watchdog on the bus.
+ * Returns BLDC_FAULT_ADC if the calibration does not finish. */
+static uint32_t port_init_adc(void)
+{
+    RCC->CFGR = (RCC->CFGR & ~RCC_CFGR_ADCPRE_Msk) | (BLDC_PORT_ADC_PRESCALER << RCC_CFGR_ADCPRE_Pos);
+    ADC1->CR2 = ADC_CR2_ADON; /* power up; t_STAB = 1 us before the calibration */
+    for (volatile uint32_t wait = 0u; wait < 100u; ++wait) {
+    }
+    ADC1->CR2 = ADC_CR2_ADON | ADC_CR2_CAL;
+    uint32_t spins = 0u;
+    while (((ADC1->CR2 & ADC_CR2_CAL) != 0u) && (spins < BLDC_PORT_ADC_WAIT_LOOPS)) {
+        ++spins;
+    }
+    const uint32_t fault = ((ADC1->CR2 & ADC_CR2_CAL) != 0u) ? BLDC_FAULT_ADC : 0u;
+    ADC1->SMPR1 = BLDC_PORT_ADC_SMPR1;
+    ADC1->SMPR2 = BLDC_PORT_ADC_SMPR2;
+    ADC1->JSQR = BLDC_PORT_ADC_JSQR;
+    ADC1->HTR = BLDC_PORT_ADC_HTR;
+    ADC1->LTR = BLDC_PORT_ADC_LTR;
+    ADC1->SR = 0u;
+    ADC1->CR1 = ADC_CR1_SCAN | ADC_CR1_JEOCIE | ADC_CR1_AWDIE | ADC_CR1_JAWDEN | ADC_CR1_AWDSGL |
+                (BLDC_PORT_ADC_BUS_CHANNEL << ADC_CR1_AWDCH_Pos);
+    ADC1->CR2 = ADC_CR2_ADON | ADC_CR2_JEXTTRIG | (BLDC_PORT_JEXTSEL_TIM1_TRGO << ADC_CR2_JEXTSEL_Pos);
+    return fault;
 }
 
 /* Inputs with pull-up (ODR = 1 through BSRR); one read-modify-write per CRL/CRH. */
@@ -443,35 +818,83 @@ static void port_init_output_pins(void)
                   (BLDC_PORT_GPIO_MODE_OUTPUT_50MHZ << GPIO_CRH_MODE15_Pos) | (BLDC_PORT_GPIO_CNF_AF_PUSH_PULL << GPIO_CRH_CNF15_Pos);
 }
 
-void bldc_port_init(void)
+/* The break input: input with pull-up (an open-drain comparator output). */
+static void port_init_break_pin(void)
 {
-    RCC->APB2ENR |= RCC_APB2ENR_IOPAEN | RCC_APB2ENR_IOPBEN | RCC_APB2ENR_TIM1EN;
+    GPIOB->BSRR = GPIO_BSRR_BS12;
+    GPIOB->CRH = (GPIOB->CRH & ~(GPIO_CRH_MODE12_Msk | GPIO_CRH_CNF12_Msk)) |
+                  (BLDC_PORT_GPIO_MODE_INPUT << GPIO_CRH_MODE12_Pos) | (BLDC_PORT_GPIO_CNF_INPUT_PULL << GPIO_CRH_CNF12_Pos);
+}
+
+/* Analog inputs (MODE = 00, CNF = 00). */
+static void port_init_analog_pins(void)
+{
+    /* PA0 ADC12_IN0: DC-link shunt current; PA1 ADC12_IN1: bus voltage divider */
+    GPIOA->CRL &= ~(GPIO_CRL_MODE0_Msk | GPIO_CRL_CNF0_Msk | GPIO_CRL_MODE1_Msk | GPIO_CRL_CNF1_Msk);
+}
+
+void bldc_port_init(uint32_t start_faults)
+{
+    /* Interrupts masked throughout: nothing preempts the set-up (and its stack does not
+     * add to the handlers'; codegen/build_firmware.py counts it apart). */
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    RCC->APB2ENR |= RCC_APB2ENR_IOPAEN | RCC_APB2ENR_IOPBEN | RCC_APB2ENR_TIM1EN | RCC_APB2ENR_ADC1EN;
     RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
     (void)RCC->APB1ENR; /* read back: the clocks run before the first register access */
+
+    uint32_t faults = start_faults;
+    if ((RCC->CSR & RCC_CSR_IWDGRSTF) != 0u) {
+        faults |= BLDC_FAULT_WATCHDOG;
+    }
+    RCC->CSR |= RCC_CSR_RMVF; /* the reset flags are read: clear them for the next reset */
 
     port.pending = 0u;
     port.steady = 0u;
     port.main_duty = 0u;
-    /* Until the application reports a bus voltage, every edge is treated as
-     * over-voltage: the bridge stays off. The first timing is the safe state, and the
-     * first timing run computes the bus state of this code (over-voltage). */
-    port.bus_code = UINT16_MAX;
+    port.integrator = 0;
+    port.reference = bldc_current_reference(0u);
+    port.current = 0u;
+    port.faults = 0u;
+    port.requested = 0u;
+    port.heartbeat = 0u;
+    port.heartbeat_seen = 0u;
+    /* Until the first bus sample, every edge is treated as over-voltage: the bridge
+     * stays off. The first timing is the safe state, and the first sample (any code
+     * differs from this one by more than the hysteresis) computes the bus state. */
+    port.bus_code = BLDC_PORT_BUS_UNKNOWN;
+    port.bus_low = BLDC_PORT_BUS_UNKNOWN - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus_changed = 1u;
     port.period = BLDC_PORT_TIM3_ARR;
     port.slots[0] = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
     port.timing = &port.slots[0];
 
     port_init_hall_pins();
-    port_init_pwm_timer();   /* outputs disabled before the pins become timer outputs */
+    port_init_break_pin();
+    port_init_analog_pins();
+    faults |= port_init_adc();
+    port_init_pwm_timer();   /* outputs disabled, MOE = 0, before the pins become timer outputs */
     port_init_output_pins();
 
     /* The first edge's previous code is the sector the rotor is in now. */
     port.previous_pins = port_read_pins();
     port_init_hall_timer();
 
-    /* The Hall edge preempts the timing computation, never the other way round. */
+    /* The Hall edge, the current loop and the break share a level and preempt the
+     * timing computation, never the other way round. */
     NVIC_SetPriority(TIM3_IRQn, BLDC_PORT_HALL_PRIORITY);
+    NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);
+    NVIC_SetPriority(TIM1_BRK_IRQn, BLDC_PORT_FAULT_PRIORITY);
     NVIC_SetPriority(TIM1_TRG_COM_IRQn, BLDC_PORT_TIMING_PRIORITY);
     NVIC_EnableIRQ(TIM1_TRG_COM_IRQn);
+    NVIC_EnableIRQ(TIM1_BRK_IRQn);
+    NVIC_EnableIRQ(ADC1_2_IRQn);
     NVIC_EnableIRQ(TIM3_IRQn);
+
+    if (faults != 0u) {
+        port_trip(port_peripherals(), faults);
+    } else {
+        TIM1->BDTR = BLDC_PORT_TIM1_BDTR | TIM_BDTR_MOE; /* armed: every output off until an edge */
+    }
+    __set_PRIMASK(primask);
 }

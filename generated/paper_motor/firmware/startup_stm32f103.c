@@ -1,18 +1,42 @@
-/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 353cb73b28c0b827ba0524490cb9ff1397c10b6f2cbe203a67af9ae2661c890c). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
 /* Minimal start-up for the project's own firmware build: vector table with the
  * CMSIS handler names, .data copy, .bss clear, then main(). A Cube project uses its
  * own start-up file instead; the port's handlers drop into it by name. */
 #include <stdint.h>
 
+#include "stm32f103_port.h"
+#include "stm32f103_regs.h"
+
 extern uint32_t _estack, _etext, _sdata, _edata, _sbss, _ebss;
 int main(void);
 void Reset_Handler(void);
 void Default_Handler(void);
+void NMI_Handler(void);
+void HardFault_Handler(void);
 void TIM1_TRG_COM_IRQHandler(void);
 void TIM3_IRQHandler(void);
+void ADC1_2_IRQHandler(void);
+void TIM1_BRK_IRQHandler(void);
 
 void Default_Handler(void)
 {
+    for (;;) {
+    }
+}
+
+/* The clock security system reports an HSE failure by the NMI (RM0008 7.2.7). */
+void NMI_Handler(void)
+{
+    if ((RCC->CIR & RCC_CIR_CSSF) != 0u) {
+        RCC->CIR = RCC_CIR_CSSC;
+        bldc_port_clock_failure();
+    }
+}
+
+/* Nothing can go on: the bridge's outputs to their idle level, then the watchdog. */
+void HardFault_Handler(void)
+{
+    bldc_port_emergency_off();
     for (;;) {
     }
 }
@@ -32,7 +56,7 @@ void Reset_Handler(void)
 }
 
 /* 16 system exceptions, then the STM32F103xB's 43 peripheral interrupts (RM0008
- * Table 63); the port's: TIM1_TRG_COM_IRQHandler at IRQ 26 (SVD TIM1_TRG_COM_TIM11), TIM3_IRQHandler at IRQ 29 (SVD TIM3). */
+ * Table 63); the port's: TIM1_TRG_COM_IRQHandler at IRQ 26 (SVD TIM1_TRG_COM_TIM11), TIM3_IRQHandler at IRQ 29 (SVD TIM3), ADC1_2_IRQHandler at IRQ 18 (SVD ADC), TIM1_BRK_IRQHandler at IRQ 24 (SVD TIM1_BRK_TIM9). */
 typedef void (*vector_t)(void);
 typedef union {
     vector_t handler;
@@ -41,6 +65,8 @@ typedef union {
 __attribute__((section(".isr_vector"), used)) static const vector_entry_t vectors[59] = {
     {.stack = &_estack},
     {.handler = Reset_Handler},
+    {.handler = NMI_Handler},
+    {.handler = HardFault_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
@@ -71,15 +97,13 @@ __attribute__((section(".isr_vector"), used)) static const vector_entry_t vector
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
+    {.handler = ADC1_2_IRQHandler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
-    {.handler = Default_Handler},
-    {.handler = Default_Handler},
-    {.handler = Default_Handler},
-    {.handler = Default_Handler},
+    {.handler = TIM1_BRK_IRQHandler},
     {.handler = Default_Handler},
     {.handler = TIM1_TRG_COM_IRQHandler},
     {.handler = Default_Handler},

@@ -1,22 +1,20 @@
-/* Generated from template c/stm32f103_port.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 63a0dc42fff05d0f6f8cb3075865de9694b3e07c2854b399c9fb056dc0d7bc10). Do not edit: regenerate with `make`. */
+/* Generated from template c/stm32f103_port.h.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
 #ifndef STM32F103_PORT_H
 #define STM32F103_PORT_H
 
 /*
- * STM32F103 port of the braking commutation core: reads the Hall timer and the
- * latest ADC values, runs the core and writes TIM1. No floating point, no library
- * division helpers, no dynamic memory.
+ * STM32F103 port of the braking drive: the commutation core (bldc_commutation.h), the
+ * braking-current PI (bldc_current_loop.h), the PWM-synchronised ADC and the
+ * protection. No floating point, no library division helpers, no dynamic memory.
  *
  * Compute ahead. The Hall edge has no time for divides, so it applies duties and a
  * commutation time computed before it: right after each Hall edge, at a lower
- * priority, TIM1_TRG_COM_IRQHandler runs bldc_commutation_timing() on the interval
- * just measured, the latest current and main duty, for the next edge. The speed the
- * next commutation is computed for is therefore one 60 degree interval old; at a
+ * priority, the timing handler runs bldc_commutation_timing() on the interval just
+ * measured, the held braking current and the main duty, for the next edge. The speed
+ * the next commutation is computed for is therefore one 60 degree interval old; at a
  * constant speed (the paper's assumption through a commutation) it is the same, and
  * while braking decelerates the drive the relative error is the relative speed change
- * over one sector. The edge itself still checks, with what it has just measured: the
- * Hall code pair (invalid code or sequence) and the interval (over-speed) put every
- * switch off at once.
+ * over one sector.
  *
  * Resources (default pin mapping, no AFIO remap)
  *   TIM1  20 kHz edge-aligned PWM, complementary outputs, commutation by COM event
@@ -26,35 +24,96 @@
  *         PB13  TIM1_CH1N  T2, phase A lower
  *         PB14  TIM1_CH2N  T4, phase B lower
  *         PB15  TIM1_CH3N  T6, phase C lower
+ *         PB12 TIM1_BKIN  over-current comparator (input, pull-up)
+ *         CH4 (no pin) triggers the ADC: TRGO = OC4REF
  *   TIM3  Hall-sensor interface: CH1..CH3 XOR (CR2.TI1S), 1 MHz ticks,
  *         counter reset and CC1 capture at each Hall edge (the 60 degree interval),
  *         CC2 compare for the end of the commutation (paper Eq. 20)
  *         PA6  TIM3_CH1  Hall A, code bit 2 (input, pull-up)
  *         PA7  TIM3_CH2  Hall B, code bit 1 (input, pull-up)
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
- *   TIM3_IRQHandler: Hall edge (CC1), commutation end (CC2); a Hall timeout (update
- *         flag, no interrupt) is read by the next edge. Priority BLDC_PORT_HALL_PRIORITY.
- *         Runs from SRAM with its pin table: section .RamFunc, which the linker script
- *         must place in .data for the start-up code to copy (STM32Cube's scripts do;
- *         define BLDC_PORT_HALL_EDGE_IN_FLASH to 1 to keep it in flash instead).
- *   TIM1_TRG_COM_IRQHandler: the next edge's duties and commutation time, raised by
- *         every COM event (DIER.COMIE: each Hall edge and each commutation end) and
- *         pended by software (NVIC set-pending) when the bus voltage or main duty changes.
- *         Priority BLDC_PORT_TIMING_PRIORITY, lower than the Hall edge's.
+ *   ADC1  injected sequence of four conversions per PWM period, triggered by TIM1;
+ *         the analog watchdog on the bus channel
+ *         PA0 ADC12_IN0: DC-link shunt current (analog input)
+ *         PA1 ADC12_IN1: bus voltage divider (analog input)
  *
- * The port never drives both switches of one phase: each phase has at most one of
- * CCxE / CCxNE set, and a request that would move a phase from its upper to its lower
- * switch (or back) in one COM event turns every output off instead (no dead time is
- * inserted between the two in single-output mode, RM0008 Table 83).
+ * Current sensing (DC-link shunt). Which signal is the braking current I of
+ * Eqs. 15-20 once each commutation has ended (codegen/control/sensing.py), sampled in
+ * the OFF time of the modulated switch; during a commutation no single signal is I,
+ * so the last steady sample is held and the current loop waits:
+ *   edge  0 (forward into sector 0): T2 modulated, phase B returns: DC-link shunt, OFF time -> JDR1
+ *   edge  1 (forward into sector 1): T5 modulated, phase A returns: DC-link shunt, OFF time -> JDR1
+ *   edge  2 (forward into sector 2): T4 modulated, phase C returns: DC-link shunt, OFF time -> JDR1
+ *   edge  3 (forward into sector 3): T1 modulated, phase B returns: DC-link shunt, OFF time -> JDR1
+ *   edge  4 (forward into sector 4): T6 modulated, phase A returns: DC-link shunt, OFF time -> JDR1
+ *   edge  5 (forward into sector 5): T3 modulated, phase C returns: DC-link shunt, OFF time -> JDR1
+ *   edge  6 (reverse into sector 0): T4 modulated, phase A returns: DC-link shunt, OFF time -> JDR1
+ *   edge  7 (reverse into sector 1): T1 modulated, phase C returns: DC-link shunt, OFF time -> JDR1
+ *   edge  8 (reverse into sector 2): T6 modulated, phase B returns: DC-link shunt, OFF time -> JDR1
+ *   edge  9 (reverse into sector 3): T3 modulated, phase A returns: DC-link shunt, OFF time -> JDR1
+ *   edge 10 (reverse into sector 4): T2 modulated, phase C returns: DC-link shunt, OFF time -> JDR1
+ *   edge 11 (reverse into sector 5): T5 modulated, phase B returns: DC-link shunt, OFF time -> JDR1
+ * The sample point (7.5-cycle samples at 12 MHz, dead time 36 + settling 72 counts) holds for every steady duty up to
+ * D_max = 3428 of 3600 counts (95.2 %), the PI's upper limit; checked at both ends:
+ *   D = 0: sample 0 in [3554.0, 3599.0] counts, 3554.0 after the turn-off edge (>= 36 dead + 72 settling), 1.0 before the turn-on edge
+ *   D = 3428: sample 0 in [3554.0, 3599.0] counts, 126.0 after the turn-off edge (>= 36 dead + 72 settling), 1.0 before the turn-on edge
+ *
+ * Interrupts (NVIC priority, 0 the most urgent):
+ *   TIM1_BRK_IRQHandler (BLDC_PORT_FAULT_PRIORITY): the break input cleared MOE in
+ *         hardware; this completes the safe state and latches OVER_CURRENT.
+ *   TIM3_IRQHandler (BLDC_PORT_HALL_PRIORITY): Hall edge (CC1), commutation end (CC2).
+ *         Runs from flash with its pin table (define BLDC_PORT_HALL_EDGE_IN_SRAM to 1
+ *         to run it from SRAM: faster, but over the RAM budget).
+ *   ADC1_2_IRQHandler (BLDC_PORT_HALL_PRIORITY): end of the injected conversions
+ *         (JEOC), once per PWM period: the braking-current PI, the bus voltage for the
+ *         timing, the current sensor's plausibility and the Hall timeout; the analog
+ *         watchdog (AWD): over- and under-voltage. The same priority as the Hall edge,
+ *         so neither writes TIM1 while the other is half way through.
+ *   TIM1_TRG_COM_IRQHandler (BLDC_PORT_TIMING_PRIORITY): the next edge's duties and
+ *         commutation time, after every COM event and when the bus voltage moved; it
+ *         also sets the safe state of the present speed region (TIM1 CR2.OISxN).
+ *
+ * Faults. Each acts at once, latches its bit and holds the bridge in the safe state
+ * until bldc_port_clear_faults() finds its cause gone:
+ *   BLDC_FAULT_OVER_CURRENT (0x0001u): the external comparator saw a phase current above protection.over_current; by TIM1 BKIN (the hardware clears MOE), then TIM1_BRK; clears: the break input is inactive
+ *   BLDC_FAULT_OVER_VOLTAGE (0x0002u): bus above inverter.bus_voltage_max; by ADC analog watchdog on the bus channel (injected conversions, every PWM period); clears: the last bus sample is within the range
+ *   BLDC_FAULT_UNDER_VOLTAGE (0x0004u): bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would compute with the minimum); by ADC analog watchdog on the bus channel; clears: the last bus sample is within the range
+ *   BLDC_FAULT_CURRENT_SENSOR (0x0008u): a current sample at an ADC rail (0 or full scale): the sensor is open or saturated; by the current-loop interrupt, every PWM period; clears: every current channel's last sample is off the rails
+ *   BLDC_FAULT_HALL_INVALID (0x0010u): Hall code 000 or 111 (a sensor unplugged or shorted); by the Hall edge; clears: the Hall code now is valid
+ *   BLDC_FAULT_HALL_SEQUENCE (0x0020u): a Hall code pair that is not one sector forward or back (a skipped or repeated code); by the Hall edge; clears: always (the next edge checks again)
+ *   BLDC_FAULT_HALL_TIMEOUT (0x0040u): no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged; by the current-loop interrupt (TIM3 overflow while the bridge switches); clears: always (the next edge checks again)
+ *   BLDC_FAULT_OVER_SPEED (0x0080u): a Hall interval shorter than at controller.speed_max; by the Hall edge; clears: always (the next edge checks again)
+ *   BLDC_FAULT_CLOCK (0x0100u): the HSE did not start or failed: the timers do not run at their design clock; by start-up (HSE or PLL timeout) and the clock security system (NMI); clears: never: only a reset
+ *   BLDC_FAULT_WATCHDOG (0x0200u): the last reset was the independent watchdog's; by start-up (RCC_CSR.IWDGRSTF); clears: always (it reports the past reset)
+ *   BLDC_FAULT_ADC (0x0400u): the ADC's calibration did not finish; by start-up; clears: never: only a reset
+ *   BLDC_FAULT_EXTERNAL (0x0800u): raised by the application; by bldc_port_raise_fault(); clears: always
+ *
+ * The safe state (codegen/control/safe_state.py): MOE = 0 with every output of every
+ * phase enabled, so TIM1 holds each at its idle level CR2.OISx / OISxN after a dead
+ * time; the upper switches off, the lower ones on (the active short circuit) where
+ * all-off would rectify into the bus, off otherwise:
+ *   bus_voltage_min 20 V: from 4237 rpm short circuit (all-off rectifies); below 4237 rpm both are valid: all off
+ *   bus_voltage_nominal 24 V: from 5085 rpm short circuit (all-off rectifies); below 5085 rpm both are valid: all off
+ *   bus_voltage_max 30 V: from 6356 rpm short circuit (all-off rectifies); below 6356 rpm both are valid: all off
+ * The region is decided on the last Hall interval T and bus code B (a bus reading low,
+ * or stuck at 0, gives the short, safe at any speed) and written to CR2 after every
+ * commutation and, while faulted, every PWM period; the break input finds it in place.
+ *
+ * The port never drives both switches of one phase in normal operation: each phase
+ * has at most one of CCxE / CCxNE set, and a request that would move a phase from its
+ * upper to its lower switch (or back) in one COM event turns every output off instead
+ * (no dead time is inserted between the two in single-output mode, RM0008 Table 83).
  *
  * Clocks assumed: TIM1 at 72 MHz (APB2 timer clock), TIM3 at
  * 72 MHz (APB1 timer clock, which RM0008 7.2 doubles when APB1 is
- * prescaled). Set up the RCC clock tree before calling bldc_port_init().
+ * prescaled), the ADC at PCLK2 / 6 = 12 MHz (the port sets RCC_CFGR.ADCPRE). Set up the
+ * RCC clock tree before calling bldc_port_init().
  */
 
 #include <stdint.h>
 
 #include "bldc_commutation.h"
+#include "bldc_current_loop.h"
 
 #define BLDC_PORT_TIM1_PSC 0u /* TIM1 counts at the full 72 MHz timer clock */
 #define BLDC_PORT_TIM1_ARR 3599u /* 20 kHz edge-aligned at 72 MHz */
@@ -65,12 +124,51 @@
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
 #define BLDC_PORT_BUS_CODE_MAX 3385u /* the core's over-voltage threshold, 30 V: crossing it always recomputes, whatever the hysteresis */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
+#define BLDC_PORT_TIM1_CCR4 3536u /* the current sample: OC4REF (PWM mode 2) rises at CNT = 3536, 63 counts before the samples end, 1 before the next period */
+#define BLDC_PORT_OC4_MODE 7u /* OC4M: PWM mode 2 (rising at CNT = CCR4) */
+#define BLDC_PORT_ADC_JSQR ((3u << ADC_JSQR_JL_Pos) | (0u << ADC_JSQR_JSQ1_Pos) | (1u << ADC_JSQR_JSQ2_Pos) | (1u << ADC_JSQR_JSQ3_Pos) | (1u << ADC_JSQR_JSQ4_Pos)) /* JL = 3: JSQ1..JSQ4 land in JDR1..JDR4; JSQ1 IN0, JSQ2 IN1, JSQ3 IN1, JSQ4 IN1 */
+#define BLDC_PORT_ADC_SMPR1 (0u) /* 7.5 ADC cycles on channels 10..17 in use */
+#define BLDC_PORT_ADC_SMPR2 ((1u << ADC_SMPR2_SMP0_Pos) | (1u << ADC_SMPR2_SMP1_Pos)) /* 7.5 ADC cycles on the channels in use (SMPx = 1) */
+#define BLDC_PORT_ADC_BUS_CHANNEL 1u /* analog watchdog channel: the bus divider */
+#define BLDC_PORT_ADC_HTR 3385u /* over-voltage: above 30 V (the core's BLDC_BUS_CODE_MAX) */
+#define BLDC_PORT_ADC_LTR 2257u /* under-voltage or a stuck bus ADC: below 20 V (the core's BLDC_BUS_CODE_MIN) */
+#define BLDC_PORT_ADC_CODE_MAX 4095u /* ADC full scale: a current sample at 0 or here is a rail */
+#define BLDC_PORT_ADC_PRESCALER 2u /* RCC_CFGR.ADCPRE: PCLK2 / 6 = 12 MHz (<= 14 MHz) */
+#define BLDC_PORT_ADC_WAIT_LOOPS 1000u /* bound of the start-up waits (ADC power-up, calibration) */
+#define BLDC_PORT_BREAK_ACTIVE_HIGH 0u /* TIM1 BKIN (B12) is active low (BDTR.BKP = 0); the comparator trips at 15 A */
+#define BLDC_PORT_RECTIFYING_PRODUCT 5325928u /* T B at or below it: lambda k_e n >= U_d (lambda = 2), all-off rectifies: the safe state is the short circuit */
+#define BLDC_PORT_SHORT_VALID_PERIOD 0u /* Hall interval at or above it: the short circuit is within protection.short_circuit_current_max = 120 A at every speed */
+#define BLDC_PORT_SHORT_WHERE_BOTH 0u /* protection.safe_state = all_off: the safe state where both are valid */
+#define BLDC_PORT_OPEN_LOOP 0xffffffffu /* current reference in open loop (bldc_port_set_main_duty) */
+#define BLDC_PORT_FAULTS_PERMANENT 0x0500u /* faults only a reset clears */
+
+/* Fault codes: bits of bldc_port_faults(). */
+#define BLDC_FAULT_OVER_CURRENT 0x0001u /* the external comparator saw a phase current above protection.over_current */
+#define BLDC_FAULT_OVER_VOLTAGE 0x0002u /* bus above inverter.bus_voltage_max */
+#define BLDC_FAULT_UNDER_VOLTAGE 0x0004u /* bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would compute with the minimum) */
+#define BLDC_FAULT_CURRENT_SENSOR 0x0008u /* a current sample at an ADC rail (0 or full scale): the sensor is open or saturated */
+#define BLDC_FAULT_HALL_INVALID 0x0010u /* Hall code 000 or 111 (a sensor unplugged or shorted) */
+#define BLDC_FAULT_HALL_SEQUENCE 0x0020u /* a Hall code pair that is not one sector forward or back (a skipped or repeated code) */
+#define BLDC_FAULT_HALL_TIMEOUT 0x0040u /* no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged */
+#define BLDC_FAULT_OVER_SPEED 0x0080u /* a Hall interval shorter than at controller.speed_max */
+#define BLDC_FAULT_CLOCK 0x0100u /* the HSE did not start or failed: the timers do not run at their design clock */
+#define BLDC_FAULT_WATCHDOG 0x0200u /* the last reset was the independent watchdog's */
+#define BLDC_FAULT_ADC 0x0400u /* the ADC's calibration did not finish */
+#define BLDC_FAULT_EXTERNAL 0x0800u /* raised by the application */
+
+/* What a fault does now (bldc_port_safe_state()). */
+#define BLDC_SAFE_ALL_OFF 0u       /* every switch off */
+#define BLDC_SAFE_SHORT_CIRCUIT 1u /* every lower switch on, every upper off */
 
 /* NVIC priorities (0 is the most urgent; the STM32F103 implements 4 bits). Define them
- * before including this header to fit another interrupt plan; the Hall edge must stay
- * more urgent than the timing. */
+ * before including this header to fit another interrupt plan; the Hall edge, the
+ * current loop and the break interrupt share one level so none interrupts another
+ * half way through a TIM1 update, and the timing runs below them. */
 #ifndef BLDC_PORT_HALL_PRIORITY
 #define BLDC_PORT_HALL_PRIORITY 1u
+#endif
+#ifndef BLDC_PORT_FAULT_PRIORITY
+#define BLDC_PORT_FAULT_PRIORITY BLDC_PORT_HALL_PRIORITY
 #endif
 #ifndef BLDC_PORT_TIMING_PRIORITY
 #define BLDC_PORT_TIMING_PRIORITY 2u
@@ -78,54 +176,83 @@
 #if BLDC_PORT_HALL_PRIORITY >= BLDC_PORT_TIMING_PRIORITY
 #error "the Hall edge must preempt the timing computation"
 #endif
+#if BLDC_PORT_FAULT_PRIORITY != BLDC_PORT_HALL_PRIORITY
+#error "the break interrupt must not preempt a Hall edge half way through (nor wait behind the timing)"
+#endif
 
 /* Bus codes a new bus-voltage sample may differ from the code the timing uses before
  * the port recomputes the bus state (bldc_bus_condition(), five divides): the default
  * 1 code = 8.862 mV keeps one code of ADC noise from costing a recomputation.
  * The price: the duties are computed for a bus voltage up to that much off the latest
  * sample, which moves them by up to 3.76 counts at the top speed and
- * the lowest bus voltage (X = 4PE/U_d); define 0 to recompute on every change. Crossing
- * the over-voltage threshold BLDC_PORT_BUS_CODE_MAX recomputes whatever the value. */
+ * the lowest bus voltage (X = 4PE/U_d); define 0 to recompute on every change. The
+ * analog watchdog, not this, guards the range. */
 #ifndef BLDC_PORT_BUS_HYSTERESIS_CODES
 #define BLDC_PORT_BUS_HYSTERESIS_CODES 1u
 #endif
 
 /*
- * Inputs from outside the port.
- *
- * bldc_port_set_bus_voltage(): the latest bus-voltage ADC result in counts. When it
- * differs from the code in use by more than BLDC_PORT_BUS_HYSTERESIS_CODES, or crosses
- * the over-voltage threshold, it stores the code and pends the timing computation, which
- * then saturates it and computes the bus voltage's reciprocals once
- * (bldc_bus_condition()); otherwise it does nothing. Call it whenever the bus voltage
- * is sampled (a few hundred Hz is plenty: the bus changes slowly), from thread mode or
- * any interrupt. Until the first call the bridge stays off (treated as over-voltage);
- * an over-voltage code turns it off from the next edge on.
- *
- * bldc_adc_phase_current: latest ADC result of the commutated phase current I in
- * counts, written by the user's ADC conversion-complete interrupt or as the destination
- * of a circular DMA (16-bit half-word transfers). The timing computation after each
- * Hall edge reads it once.
- *
- * bldc_port_set_main_duty(): output of the braking current controller, in TIM1
- * counts 0..BLDC_PWM_PERIOD_COUNTS (larger values are clamped). It takes effect from the
- * next PWM period when no commutation is running, and at the end of each commutation.
- * Callable from thread mode or any interrupt: it masks interrupts (PRIMASK) for the
- * few instructions that touch the port's state.
+ * Start-up. bldc_port_init() enables the clocks of GPIOA, GPIOB, TIM1, TIM3 and ADC1,
+ * calibrates the ADC, configures TIM1 (PWM, dead time, break input, the ADC trigger),
+ * TIM3 (Hall interface) and the ADC (injected sequence, analog watchdog), sets up the
+ * pins and the NVIC. `start_faults` are latched from the start (e.g.
+ * BLDC_FAULT_CLOCK when the HSE did not start); a watchdog reset (RCC_CSR.IWDGRSTF)
+ * latches BLDC_FAULT_WATCHDOG by itself. Without a fault the bridge is armed (MOE set,
+ * every output off) and switches from the first Hall edge after the first bus sample.
  */
-void bldc_port_set_bus_voltage(uint16_t adc_code);
+void bldc_port_init(uint32_t start_faults);
+
+/* The braking current to hold, in mA: clamped to the spec's braking range and
+ * converted to the nearest ADC code (bldc_current_reference()); closes the current
+ * loop (after bldc_port_set_main_duty(), from the duty in force: no bump). Thread
+ * mode or any interrupt. */
+void bldc_set_braking_current(uint32_t milliamps);
+
+/* Open loop (bring-up, tests): the steady switch runs at this duty in TIM1 counts,
+ * clamped to the full scale, until bldc_set_braking_current() closes the loop again. */
 void bldc_port_set_main_duty(uint16_t duty_counts);
-extern volatile uint16_t bldc_adc_phase_current;
 
-/* Enable the clocks of GPIOA, GPIOB, TIM1 and TIM3, configure TIM1 (PWM, dead time,
- * all outputs off, MOE set) and TIM3 (Hall interface), set up the pins, and set the
- * priorities of and enable TIM3_IRQn and TIM1_TRG_COM_IRQn. The bridge stays off until
- * the first Hall edge after a bus voltage is known. */
-void bldc_port_init(void);
+/* Latched faults, BLDC_FAULT_* bits; 0: none. */
+uint32_t bldc_port_faults(void);
 
-/* Vector table entries (CMSIS/Cube names). A Cube project that already uses the TIM1
- * trigger/commutation interrupt must hand it over to the port. */
-void TIM3_IRQHandler(void);          /* Hall edge, commutation end, Hall timeout */
-void TIM1_TRG_COM_IRQHandler(void);  /* the next edge's duties and commutation time */
+/* Clear the latched faults whose cause is gone and, when none is left, re-arm the
+ * bridge (every output off until the next Hall edge, the current loop from zero).
+ * Returns the faults still latched (0: armed). */
+uint32_t bldc_port_clear_faults(void);
+
+/* Latch a fault (BLDC_FAULT_EXTERNAL, or BLDC_FAULT_CLOCK after start-up) and go to
+ * the safe state now. */
+void bldc_port_raise_fault(uint32_t fault);
+
+/* What a fault does at the present speed and bus (and, while faulted, does):
+ * BLDC_SAFE_ALL_OFF or BLDC_SAFE_SHORT_CIRCUIT. */
+uint32_t bldc_port_safe_state(void);
+
+/* The core's BLDC_FLAG_* of the timing the next Hall edge applies. */
+uint32_t bldc_port_status(void);
+
+/* The braking current I in ADC codes as the current loop last sampled it. */
+uint32_t bldc_port_current_code(void);
+
+/* Nonzero once per call when the current loop has run since the previous call: the
+ * firmware refreshes the independent watchdog only then. */
+uint32_t bldc_port_alive(void);
+
+/* For the NMI handler when the clock security system reports an HSE failure
+ * (RCC_CIR.CSSF): outputs to their idle level at once, BLDC_FAULT_CLOCK, and the safe
+ * state completed by the break interrupt. */
+void bldc_port_clock_failure(void);
+
+/* For a HardFault (or any handler that cannot go on): MOE cleared, outputs to their
+ * idle level. Touches nothing but TIM1 BDTR. */
+void bldc_port_emergency_off(void);
+
+/* Interrupt handlers. The port owns
+ * these vector table entries (spec firmware.integration: vector_table), under their
+ * CMSIS names. */
+void TIM3_IRQHandler(void);   /* Hall edge, commutation end */
+void TIM1_TRG_COM_IRQHandler(void); /* the next edge's duties and commutation time */
+void ADC1_2_IRQHandler(void);    /* current loop (JEOC), bus watchdog (AWD) */
+void TIM1_BRK_IRQHandler(void);    /* break input: over-current */
 
 #endif /* STM32F103_PORT_H */

@@ -1,0 +1,279 @@
+"""Render context of the drive half of the STM32F103 port: the ADC (injected
+conversions triggered by TIM1, the analog watchdog), the current loop's interrupt, the
+break input, the faults and their safe state, and how the handlers are named.
+
+Resources (default mapping, DS5319 Table 5):
+  ADC1   injected sequence JSQ1..JSQ4 triggered by TIM1 TRGO = OC4REF (CR2.MMS = 111):
+         the current channel(s) first, then the bus divider; JEOC and the analog
+         watchdog (bus channel, injected) raise ADC1_2
+  TIM1   CH4 (no pin: OC4REF only) places the trigger; BKIN on PB12
+  ADC12_INx  PA0..PA7 (IN0..IN7), PB0..PB1 (IN8..IN9): analog inputs
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from codegen.control import current_loop
+from codegen.control.safe_state import safe_state_design
+from codegen.control.sensing import PHASES, sense_design
+from codegen.derivation import derive
+from codegen.fixedpoint.scaling import scaling
+from codegen.port_faults import FAULTS, PERMANENT
+from codegen.spec_drive import ADC_PRESCALER, ADC_SAMPLE_CYCLES, INJECTED_CONVERSIONS
+from codegen.spec_model import Spec
+
+LOOP_HEADER = current_loop.HEADER
+
+#: RM0008 TIMx_CCMRx.OCxM: 110 PWM mode 1, 111 PWM mode 2.
+OC_MODE_PWM1 = 6
+OC_MODE_PWM2 = 7
+#: RM0008 TIMx_CR2.MMS = 111: OC4REF is TRGO (the ADC's injected trigger, JEXTSEL = 000).
+MMS_OC4REF = 7
+#: RM0008 ADC_CR2.JEXTSEL = 000: ADC1/2 injected trigger = TIM1 TRGO.
+JEXTSEL_TIM1_TRGO = 0
+#: RM0008 RCC_CFGR.ADCPRE = 10: PCLK2 / 6.
+ADCPRE_DIV6 = 2
+#: TIM1_BKIN on PB12 (DS5319 Table 5, no remap).
+BKIN_PORT, BKIN_PIN = "GPIOB", 12
+#: Open-loop marker of the current reference: above every ADC code.
+OPEN_LOOP = 0xFFFFFFFF
+#: The bound of the wait for the ADC's calibration, in loop iterations: it takes 83 ADC
+#: cycles (RM0008 11.4), 6.9 us = 498 CPU cycles at 72 MHz, and each iteration at least
+#: 3 cycles, so 1000 is 6 times the longest it can need.
+ADC_WAIT_LOOPS = 1000
+
+HANDLERS = {
+    # role: (CMSIS vector name, Cube-callable name)
+    "hall": ("TIM3_IRQHandler", "bldc_port_tim3_irq"),
+    "timing": ("TIM1_TRG_COM_IRQHandler", "bldc_port_tim1_trg_com_irq"),
+    "adc": ("ADC1_2_IRQHandler", "bldc_port_adc_irq"),
+    "brk": ("TIM1_BRK_IRQHandler", "bldc_port_tim1_brk_irq"),
+}
+
+
+def handler_names(spec: Spec) -> dict[str, str]:
+    """The name each of the port's handlers is compiled with: the vector table's (the
+    port owns the entries) or a function the Cube project's stm32f1xx_it.c calls."""
+    cube = spec.firmware.integration == "cube"
+    return {role: names[1] if cube else names[0] for role, names in HANDLERS.items()}
+
+
+def _define(name: str, value: str, comment: str) -> dict[str, str]:
+    return {"name": name, "value": value, "comment": comment}
+
+
+def adc_pin(channel: int) -> tuple[str, int]:
+    """ADC12_INx -> (GPIO port, pin): IN0..IN7 on PA0..PA7, IN8..IN9 on PB0..PB1."""
+    return ("GPIOA", channel) if channel < 8 else ("GPIOB", channel - 8)
+
+
+def _analog_groups(spec: Spec) -> list[dict[str, object]]:
+    channels = [*spec.sensing.current_channels, spec.sensing.bus_voltage_channel]
+    roles = {}
+    if spec.sensing.topology == "dc_link_shunt":
+        roles[spec.sensing.current_channels[0]] = "DC-link shunt current"
+    else:
+        for phase, ch in zip(PHASES, spec.sensing.current_channels, strict=True):
+            roles[ch] = f"phase {phase} low-side shunt current"
+    roles[spec.sensing.bus_voltage_channel] = "bus voltage divider"
+    groups: dict[tuple[str, str], list[tuple[int, int]]] = {}
+    for ch in channels:
+        port, pin = adc_pin(ch)
+        groups.setdefault((port, "CRL" if pin < 8 else "CRH"), []).append((pin, ch))
+    return [
+        {
+            "port": port,
+            "cr": cr,
+            "mask": " | ".join(f"GPIO_{cr}_MODE{p}_Msk | GPIO_{cr}_CNF{p}_Msk" for p, _ in pins),
+            "pins": [f"P{port[-1]}{p} ADC12_IN{ch}: {roles[ch]}" for p, ch in pins],
+        }
+        for (port, cr), pins in groups.items()
+    ]
+
+
+def _sequence_expression(spec: Spec) -> str:
+    d = sense_design(spec)
+    parts = [f"({INJECTED_CONVERSIONS - 1}u << ADC_JSQR_JL_Pos)"]
+    parts += [f"({ch}u << ADC_JSQR_JSQ{k + 1}_Pos)" for k, ch in enumerate(d.sequence)]
+    return " | ".join(parts)
+
+
+def _sample_time_expression(spec: Spec, register: str) -> str:
+    code = ADC_SAMPLE_CYCLES.index(spec.sensing.adc_sample_cycles)
+    channels = sorted({*spec.sensing.current_channels, spec.sensing.bus_voltage_channel})
+    low = register == "SMPR2"
+    parts = [f"({code}u << ADC_{register}_SMP{ch}_Pos)" for ch in channels if (ch < 10) == low]
+    return " | ".join(parts) if parts else "0u"
+
+
+def _sense_lines(spec: Spec) -> list[str]:
+    d = sense_design(spec)
+    lines = []
+    for s in d.signals:
+        lines.append(
+            f"edge {s.edge:2d} ({s.direction} into sector {s.sector}): {s.modulated} modulated,"
+            f" phase {s.returning_phase} returns: {s.signal} -> JDR{s.slot + 1}"
+        )
+    return lines
+
+
+def drive_context(spec: Spec) -> dict[str, object]:
+    sd = sense_design(spec)
+    ss = safe_state_design(spec)
+    loop = current_loop.design(spec)
+    sc = scaling(spec, derive())
+    clk = spec.inverter.timer_clock_hz
+    window = sd.window
+    centre = window.alignment != "edge"
+    p = spec.protection
+    adc_max = 2**spec.adc.bits - 1
+    bkp = p.break_polarity == "active_high"
+    volts = sc.volts_per_bus_code
+    defines = [
+        _define(
+            "BLDC_PORT_TIM1_CCR4",
+            f"{window.trigger_counts}u",
+            (
+                "the current sample: the counter's peak (OC4REF in PWM mode 1 rises one count after it)"
+                if centre
+                else f"the current sample: OC4REF (PWM mode 2) rises at CNT = {window.trigger_counts},"
+                f" {window.span_counts} counts before the samples end, 1 before the next period"
+            ),
+        ),
+        _define(
+            "BLDC_PORT_OC4_MODE",
+            f"{OC_MODE_PWM1 if centre else OC_MODE_PWM2}u",
+            "OC4M: PWM mode 1 (centre-aligned, rising after the peak)"
+            if centre
+            else "OC4M: PWM mode 2 (rising at CNT = CCR4)",
+        ),
+        _define(
+            "BLDC_PORT_ADC_JSQR",
+            f"({_sequence_expression(spec)})",
+            "JL = 3: JSQ1..JSQ4 land in JDR1..JDR4; "
+            + ", ".join(f"JSQ{k + 1} IN{ch}" for k, ch in enumerate(sd.sequence)),
+        ),
+        _define(
+            "BLDC_PORT_ADC_SMPR1",
+            f"({_sample_time_expression(spec, 'SMPR1')})",
+            f"{float(spec.sensing.adc_sample_cycles):g} ADC cycles on channels 10..17 in use",
+        ),
+        _define(
+            "BLDC_PORT_ADC_SMPR2",
+            f"({_sample_time_expression(spec, 'SMPR2')})",
+            f"{float(spec.sensing.adc_sample_cycles):g} ADC cycles on the channels in use (SMPx ="
+            f" {sd.sample_code})",
+        ),
+        _define(
+            "BLDC_PORT_ADC_BUS_CHANNEL",
+            f"{spec.sensing.bus_voltage_channel}u",
+            "analog watchdog channel: the bus divider",
+        ),
+        _define(
+            "BLDC_PORT_ADC_HTR",
+            f"{sc.bus_code_max}u",
+            f"over-voltage: above {float(sc.bus_code_max * volts):.4g} V (the core's BLDC_BUS_CODE_MAX)",
+        ),
+        _define(
+            "BLDC_PORT_ADC_LTR",
+            f"{sc.bus_code_min}u",
+            f"under-voltage or a stuck bus ADC: below {float(sc.bus_code_min * volts):.4g} V (the"
+            " core's BLDC_BUS_CODE_MIN)",
+        ),
+        _define(
+            "BLDC_PORT_ADC_CODE_MAX",
+            f"{adc_max}u",
+            "ADC full scale: a current sample at 0 or here is a rail",
+        ),
+        _define(
+            "BLDC_PORT_ADC_PRESCALER",
+            f"{ADCPRE_DIV6}u",
+            f"RCC_CFGR.ADCPRE: PCLK2 / {ADC_PRESCALER} = 12 MHz (<= 14 MHz)",
+        ),
+        _define(
+            "BLDC_PORT_ADC_WAIT_LOOPS",
+            f"{ADC_WAIT_LOOPS}u",
+            "bound of the start-up waits (ADC power-up, calibration)",
+        ),
+        _define(
+            "BLDC_PORT_BREAK_ACTIVE_HIGH",
+            f"{int(bkp)}u",
+            f"TIM1 BKIN ({BKIN_PORT[-1]}{BKIN_PIN}) is {p.break_polarity.replace('_', ' ')}"
+            f" (BDTR.BKP = {int(bkp)}); the comparator trips at {float(p.over_current_a):g} A",
+        ),
+        _define(
+            "BLDC_PORT_RECTIFYING_PRODUCT",
+            f"{ss.k_rect}u",
+            f"T B at or below it: lambda k_e n >= U_d (lambda = {ss.line_to_line_peak}),"
+            " all-off rectifies: the safe state is the short circuit",
+        ),
+        _define(
+            "BLDC_PORT_SHORT_VALID_PERIOD",
+            f"{min(ss.short_valid_period, 0xFFFFFFFF)}u",
+            "Hall interval at or above it: the short circuit is within"
+            f" protection.short_circuit_current_max = {float(p.short_circuit_current_max_a):g} A"
+            + (
+                f" (up to {ss.short_valid_speed_rpm:.0f} rpm)"
+                if ss.short_valid_speed_rpm is not None
+                else " at every speed"
+            ),
+        ),
+        _define(
+            "BLDC_PORT_SHORT_WHERE_BOTH",
+            f"{int(ss.policy == 'short_circuit')}u",
+            f"protection.safe_state = {ss.policy}: the safe state where both are valid",
+        ),
+        _define(
+            "BLDC_PORT_OPEN_LOOP",
+            f"{OPEN_LOOP:#010x}u",
+            "current reference in open loop (bldc_port_set_main_duty)",
+        ),
+        _define(
+            "BLDC_PORT_FAULTS_PERMANENT",
+            f"{PERMANENT:#06x}u",
+            "faults only a reset clears",
+        ),
+    ]
+    faults = [
+        {
+            "name": f"BLDC_FAULT_{f.name}",
+            "value": f"{f.value:#06x}u",
+            "doc": f.doc,
+            "by": f.detected_by,
+            "clears": f.clears_when,
+        }
+        for f in FAULTS
+    ]
+    names = handler_names(spec)
+    return {
+        "loop_header": LOOP_HEADER,
+        "integration": spec.firmware.integration,
+        "cube": spec.firmware.integration == "cube",
+        "handler": names,
+        "drive_defines": defines,
+        "faults": faults,
+        "low_side": spec.sensing.topology == "low_side_phase_shunts",
+        "topology_text": "DC-link shunt"
+        if spec.sensing.topology == "dc_link_shunt"
+        else "low-side phase shunts",
+        "sense_lines": _sense_lines(spec),
+        "sense_proof": list(sd.proof),
+        "safe_lines": list(ss.regions),
+        "analog_groups": _analog_groups(spec),
+        "bkin": {
+            "port": BKIN_PORT,
+            "n": BKIN_PIN,
+            "cr": "CRH" if BKIN_PIN >= 8 else "CRL",
+            "name": f"P{BKIN_PORT[-1]}{BKIN_PIN}",
+            "pull": "pull-down" if bkp else "pull-up",
+            # ODR through BSRR picks the pull: reset (BR) for down, set (BS) for up
+            "bsrr": f"GPIO_BSRR_{'BR' if bkp else 'BS'}{BKIN_PIN}",
+        },
+        "loop_duty_max": loop.gains.duty_max_counts,
+        "sample_text": f"{float(spec.sensing.adc_sample_cycles):g}-cycle samples at 12 MHz, dead time"
+        f" {sd.dead_time_counts} + settling {window.guard_counts - sd.dead_time_counts} counts",
+        "duty_max_text": f"{window.duty_max_counts} of {window.period_counts} counts"
+        f" ({100 * float(Fraction(window.duty_max_counts, window.period_counts)):.1f} %)",
+        "timer_clock_text": f"{float(clk) / 1e6:g} MHz",
+    }

@@ -1,0 +1,125 @@
+"""The port's fault codes, defined once: the header's BLDC_FAULT_* macros, the manifest
+(from which tests and the firmware-in-the-loop read them) and the README's table.
+
+Each fault latches a bit in the word `bldc_port_faults()` returns; the bridge goes to
+its safe state at once and stays there until `bldc_port_clear_faults()` finds the cause
+gone (a `permanent` fault never clears: only a reset does).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Fault:
+    name: str  # BLDC_FAULT_<name>
+    bit: int
+    detected_by: str
+    doc: str
+    clears_when: str
+    permanent: bool = False
+
+    @property
+    def value(self) -> int:
+        return 1 << self.bit
+
+
+FAULTS: tuple[Fault, ...] = (
+    Fault(
+        "OVER_CURRENT",
+        0,
+        "TIM1 BKIN (the hardware clears MOE), then TIM1_BRK",
+        "the external comparator saw a phase current above protection.over_current",
+        "the break input is inactive",
+    ),
+    Fault(
+        "OVER_VOLTAGE",
+        1,
+        "ADC analog watchdog on the bus channel (injected conversions, every PWM period)",
+        "bus above inverter.bus_voltage_max",
+        "the last bus sample is within the range",
+    ),
+    Fault(
+        "UNDER_VOLTAGE",
+        2,
+        "ADC analog watchdog on the bus channel",
+        "bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would"
+        " compute with the minimum)",
+        "the last bus sample is within the range",
+    ),
+    Fault(
+        "CURRENT_SENSOR",
+        3,
+        "the current-loop interrupt, every PWM period",
+        "a current sample at an ADC rail (0 or full scale): the sensor is open or saturated",
+        "every current channel's last sample is off the rails",
+    ),
+    Fault(
+        "HALL_INVALID",
+        4,
+        "the Hall edge",
+        "Hall code 000 or 111 (a sensor unplugged or shorted)",
+        "the Hall code now is valid",
+    ),
+    Fault(
+        "HALL_SEQUENCE",
+        5,
+        "the Hall edge",
+        "a Hall code pair that is not one sector forward or back (a skipped or repeated code)",
+        "always (the next edge checks again)",
+    ),
+    Fault(
+        "HALL_TIMEOUT",
+        6,
+        "the current-loop interrupt (TIM3 overflow while the bridge switches)",
+        "no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged",
+        "always (the next edge checks again)",
+    ),
+    Fault(
+        "OVER_SPEED",
+        7,
+        "the Hall edge",
+        "a Hall interval shorter than at controller.speed_max",
+        "always (the next edge checks again)",
+    ),
+    Fault(
+        "CLOCK",
+        8,
+        "start-up (HSE or PLL timeout) and the clock security system (NMI)",
+        "the HSE did not start or failed: the timers do not run at their design clock",
+        "never: only a reset",
+        permanent=True,
+    ),
+    Fault(
+        "WATCHDOG",
+        9,
+        "start-up (RCC_CSR.IWDGRSTF)",
+        "the last reset was the independent watchdog's",
+        "always (it reports the past reset)",
+    ),
+    Fault(
+        "ADC",
+        10,
+        "start-up",
+        "the ADC's calibration did not finish",
+        "never: only a reset",
+        permanent=True,
+    ),
+    Fault(
+        "EXTERNAL",
+        11,
+        "bldc_port_raise_fault()",
+        "raised by the application",
+        "always",
+    ),
+)
+FAULT = {f.name: f.value for f in FAULTS}
+PERMANENT = sum(f.value for f in FAULTS if f.permanent)
+
+
+def manifest_entry() -> dict[str, object]:
+    return {
+        "bits": {f.name: f.value for f in FAULTS},
+        "permanent": [f.name for f in FAULTS if f.permanent],
+    }
