@@ -52,11 +52,12 @@ from codegen.ir.nodes import (
     Param,
     SLet,
     SReturn,
+    Stmt,
     add,
     cast,
     clamp,
     cmp,
-    land,
+    lor,
     minimum,
     mul,
     round_shr,
@@ -156,8 +157,17 @@ def _floor(x: Fraction) -> int:
 
 
 def _functions(
-    f: int, kp_q: int, ki_q: int, state_max: int, code_max: int, g: LoopGains
+    f: int,
+    kp_q: int,
+    ki_q: int,
+    state_max: int,
+    code_max: int,
+    g: LoopGains,
+    conditional: bool | None = None,
 ) -> tuple[Function, Function]:
+    """The duty and the integrator update. `conditional` chooses the anti-windup's
+    form: hold-or-integrate (valid only for 0 <= k_i <= k_p) or the general clamp;
+    None takes the first wherever it is valid."""
     kp = IConst(
         I32,
         kp_q,
@@ -206,29 +216,46 @@ def _functions(
         doc="main duty in TIM1 counts, 0..D_max, for this period's sample",
         inline=True,
     )
-    driven_up = land(
-        cmp(">", var("demand", I32), top, exact=False), cmp(">", var("error", I32), zero)
-    )
-    driven_down = land(
-        cmp("<", var("demand", I32), zero, exact=False), cmp("<", var("error", I32), zero)
-    )
+    # Clamping anti-windup: where the output saturates (v > D_max, which needs e > 0 as
+    # x <= D_max, or v < 0, which needs e < 0) the integrator keeps its value; elsewhere
+    # it integrates, clamped to [0, D_max].
+    demand = var("demand", I32)
+    total = SLet("total", add(var("state", I32), mul(ki, var("error", I32))), "x + k_i e")
+    if conditional is None:
+        conditional = 0 <= ki_q <= kp_q
+    if conditional:
+        # With 0 <= k_i <= k_p and x in [0, D_max] the clamp never acts where the output
+        # does not saturate: e > 0 gives x < x + k_i e <= x + k_p e = v <= D_max, e < 0
+        # gives D_max >= x > x + k_i e >= v >= 0. So the step is x + k_i e or x, by one
+        # range test of v (one unsigned compare, no branch, in the interrupt).
+        saturated = lor(cmp(">", demand, top, exact=False), cmp("<", demand, zero, exact=False))
+        body: tuple[Stmt, ...] = (
+            total,
+            SReturn(ISelect(I32, saturated, var("state", I32), var("total", I32))),
+        )
+    else:
+        # Written as a clamp of x + k_i e between bounds that close on x from the side
+        # the error drives it to: [0, x] when v > D_max, [x, D_max] when v < 0, [0, D_max]
+        # otherwise.
+        body = (
+            total,
+            SLet(
+                "upper",
+                ISelect(I32, cmp(">", demand, top, exact=False), var("state", I32), top),
+                "saturated high: no further up",
+            ),
+            SLet(
+                "lower",
+                ISelect(I32, cmp("<", demand, zero, exact=False), var("state", I32), zero),
+                "saturated low: no further down",
+            ),
+            SReturn(clamp(var("total", I32), var("lower", I32), var("upper", I32))),
+        )
     integrate = Function(
         "bldc_current_loop_integrate",
         "current_loop_integrate",
         params,
-        (
-            *common,
-            SLet("total", add(var("state", I32), mul(ki, var("error", I32))), "x + k_i e"),
-            SLet("integrated", clamp(var("total", I32), zero, top)),
-            SReturn(
-                ISelect(
-                    I32,
-                    driven_up,
-                    var("state", I32),
-                    ISelect(I32, driven_down, var("state", I32), var("integrated", I32)),
-                )
-            ),
-        ),
+        (*common, *body),
         returns=I32,
         doc="the integrator for the next period (clamping anti-windup)",
         inline=True,
@@ -311,7 +338,9 @@ def _prove(functions: tuple[Function, ...]) -> tuple[ProvenRange, ...]:
     return prover.ranges
 
 
-def _claims(duty: Function, integrate: Function, f: int) -> tuple[Fraction, Fraction]:
+def _claims(
+    duty: Function, integrate: Function, f: int, state_max: int
+) -> tuple[Fraction, Fraction]:
     """One step from a given state (its error 0): the IR error analysis of the duty and
     of the integrator update where it integrates (an unsaturated step), in counts."""
     prover = new_prover((duty, integrate))
@@ -324,11 +353,12 @@ def _claims(duty: Function, integrate: Function, f: int) -> tuple[Fraction, Frac
     final = duty.body[-1]
     assert isinstance(final, SReturn) and final.value is not None
     duty_error = ir_error(prover, final.value, env, errs)
-    for s in integrate.body[len(duty.body) - 2 :]:
-        if isinstance(s, SLet) and s.name in ("total", "integrated"):
-            errs[s.name] = ir_error(prover, s.expr, env, errs)
-            env[s.name] = prover.ev(s.expr, env)
-    integrator_error = errs["integrated"] / 2**f
+    # Where it integrates (not saturated) the step is clamp(x + k_i e, 0, D_max).
+    total = next(s for s in integrate.body if isinstance(s, SLet) and s.name == "total")
+    errs["total"] = ir_error(prover, total.expr, env, errs)
+    env["total"] = prover.ev(total.expr, env)
+    unsaturated = clamp(var("total", I32), IConst(I32, 0), IConst(I32, state_max))
+    integrator_error = ir_error(prover, unsaturated, env, errs) / 2**f
     return duty_error, integrator_error
 
 
@@ -359,7 +389,7 @@ def design(spec: Spec) -> LoopDesign:
             )
         reference, shift, scale, offset, ma_min, ma_max = _reference_function(spec, g)
         ranges += _prove((reference,))
-        duty_claim, integrator_claim = _claims(duty, integrate, f)
+        duty_claim, integrator_claim = _claims(duty, integrate, f, state_max)
         return LoopDesign(
             spec=spec,
             gains=g,

@@ -1,0 +1,77 @@
+"""The current loop's anti-windup has two printed forms (codegen/control/current_loop.py):
+hold-or-integrate, one range test of the output, used wherever 0 <= k_i <= k_p, and
+the general clamp between bounds that close on x. They must agree step for step wherever
+the cheap one is used; the general one must be what a loop with k_i > k_p gets."""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+from codegen.control import current_loop
+from codegen.ir import py_printer
+from codegen.ir.nodes import Function, SLet
+from codegen.spec_loader import load_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+SPECS = [
+    *sorted((ROOT / "spec").glob("paper_motor*.yaml")),
+    ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
+    *sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml")),
+]
+
+
+def _module(functions: tuple[Function, ...], constants: dict[str, int]) -> ModuleType:
+    module = ModuleType("loop_forms")
+    module.__dict__.update(constants)
+    source = "\n\n".join(py_printer.function_definition(f) for f in functions)
+    exec(compile(source, "loop_forms", "exec"), module.__dict__)
+    return module
+
+
+def _constants(d: current_loop.LoopDesign, state_max: int) -> dict[str, int]:
+    return {
+        "BLDC_LOOP_KP": d.kp_q,
+        "BLDC_LOOP_KI": d.ki_q,
+        "BLDC_LOOP_STATE_MAX": state_max,
+        "BLDC_LOOP_CODE_MAX": d.code_max,
+    }
+
+
+def _lets(fn: Function) -> set[str]:
+    return {s.name for s in fn.body if isinstance(s, SLet)}
+
+
+@pytest.mark.parametrize("spec_path", SPECS, ids=lambda p: p.stem)
+def test_hold_or_integrate_should_equal_the_clamp_form(spec_path: Path) -> None:
+    d = current_loop.design(load_spec(spec_path))
+    state_max = d.state_max
+    args = (d.fraction_bits, d.kp_q, d.ki_q, state_max, d.code_max, d.gains)
+    assert 0 <= d.ki_q <= d.kp_q  # every example motor takes the cheap form
+    _, cheap = current_loop._functions(*args)
+    _, general = current_loop._functions(*args, conditional=False)
+    assert "upper" not in _lets(cheap) and "upper" in _lets(general)
+    constants = _constants(d, state_max)
+    a = _module((cheap,), constants)
+    b = _module((general,), constants)
+    states = sorted({0, 1, state_max // 3, state_max // 2, state_max - 1, state_max, -5, 2**31 - 1})
+    codes = sorted({0, 1, 2, 7, 100, d.code_max // 2, d.code_max - 1, d.code_max, d.code_max + 9})
+    for x, r, m in itertools.product(states, codes, codes):
+        assert a.current_loop_integrate(x, r, m) == b.current_loop_integrate(x, r, m), (x, r, m)
+    # and every error from every state near the saturation boundaries
+    for x in (0, state_max // 2, state_max):
+        for m in range(0, d.code_max + 1, 3):
+            r = d.code_max // 2
+            assert a.current_loop_integrate(x, r, m) == b.current_loop_integrate(x, r, m)
+
+
+def test_a_loop_with_ki_above_kp_should_get_the_clamp_form() -> None:
+    d = current_loop.design(load_spec(ROOT / "spec" / "paper_motor.yaml"))
+    state_max = d.state_max
+    _, integrate = current_loop._functions(
+        d.fraction_bits, d.ki_q, d.kp_q, state_max, d.code_max, d.gains
+    )
+    assert {"upper", "lower"} <= _lets(integrate)
