@@ -36,14 +36,15 @@ FAULTS: tuple[Fault, ...] = (
     Fault(
         "OVER_VOLTAGE",
         1,
-        "ADC analog watchdog on the bus channel (injected conversions, every PWM period)",
+        "ADC analog watchdog on the bus channel (regular conversions, continuously, every"
+        " 20 ADC cycles or so, and the injected ones)",
         "bus above inverter.bus_voltage_max",
         "the last bus sample is within the range",
     ),
     Fault(
         "UNDER_VOLTAGE",
         2,
-        "ADC analog watchdog on the bus channel",
+        "ADC analog watchdog on the bus channel (as OVER_VOLTAGE)",
         "bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would"
         " compute with the minimum)",
         "the last bus sample is within the range",

@@ -277,6 +277,8 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
             "SMPR2",
             "HTR",
             "LTR",
+            "SQR1",
+            "SQR3",
             "JSQR",
             "JDR1",
             "JDR2",

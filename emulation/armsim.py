@@ -302,6 +302,7 @@ class CortexM3Sim:
         self._steps: list[Step] = []
         self._accesses: list[Access] = []  # of the instruction running now
         self._fault: tuple[int, int, int, int] | None = None  # access, address, size, pc
+        self._done_on_read: dict[int, int] = {}  # register -> bits that read as done
         self._uc.hook_add(UC_HOOK_CODE, self._on_instruction)
         self._uc.hook_add(UC_HOOK_MEM_READ | UC_HOOK_MEM_WRITE, self._on_access)
         self._uc.hook_add(UC_HOOK_MEM_INVALID, self._on_invalid_access)
@@ -329,9 +330,19 @@ class CortexM3Sim:
             self._steps.append(Step(address, size, operands))
 
     def _on_access(
-        self, _uc: Uc, access: int, address: int, size: int, _value: int, _data: object
+        self, uc: Uc, access: int, address: int, size: int, _value: int, _data: object
     ) -> None:
         self._accesses.append(Access(address, size, access != UC_MEM_READ))
+        mask = self._done_on_read.get(address) if access == UC_MEM_READ else None
+        if mask:
+            word = int.from_bytes(uc.mem_read(address, 4), "little")
+            uc.mem_write(address, (word & ~mask).to_bytes(4, "little"))
+
+    def finish_on_read(self, address: int, mask: int) -> None:
+        """Bits of a register that read back as 0: an operation the hardware finishes by
+        the time software polls it (such as ADC_CR2.CAL, the calibration), which plain
+        memory would otherwise hold set forever."""
+        self._done_on_read[address] = self._done_on_read.get(address, 0) | mask
 
     def _close_step(self) -> None:
         """Attach the accesses made since the last instruction began to that instruction."""

@@ -5,18 +5,23 @@
 Every SPEC (default spec/paper_motor.yaml) is generated afresh into WORK/<name>/
 (default build/bench/), built for the STM32F103 and measured:
 
-* size: flash of the commutation code (core + port, 2 KiB), its variables in RAM, the
-  code and tables it runs from SRAM (.RamFunc), the whole image;
+* size: the whole image's flash against `firmware.flash_budget` and its RAM with the
+  worst stack (-fcallgraph-info, every preemption level) against `firmware.ram_budget`
+  (issue 12: 8 KiB and 512 B for the paper method), and flash by part;
 * handlers: the port's interrupt handlers in unicorn over all Hall codes, both
   directions and a sweep of speed, bus voltage, current and duty
   (emulation/isr_bench.py), priced by the cycle model of emulation/cycles.py and
   emulation/memory.py (flash wait states, prefetch buffer; its assumptions are
   printed): the Hall edge (120 cycles, entry and exit included), the commutation end,
   the timing handler on the cached bus state (150) and when the bus changed, the core's
-  arithmetic inside it, the CPU load at the top speed with the bus-change path in it,
-  and the stack per handler (static from -fstack-usage, and measured);
-* placement: the Hall edge handler built in flash instead of SRAM: SRAM must be faster,
-  or the port's default is wrong;
+  arithmetic inside it, the current-loop interrupt (`firmware.current_loop_budget`,
+  150), the CPU load at the top speed with every interrupt in it (the Hall edge, the
+  commutation end, three timing runs on the bus-change path and a current-loop run
+  every PWM period: `firmware.cpu_load_budget`, 25 %), the cycles from each fault
+  handler's entry to the store that clears MOE, and the stack per handler (static from
+  -fstack-usage, and measured);
+* placement: the Hall edge handler built in SRAM instead of flash (faster, but its
+  code and table do not fit the RAM budget);
 * peers: the same outputs computed by sympy.ccode in float and double and by plain
   32-bit fixed point, on the same inputs, as cycle ratios, with their errors against
   the exact model (emulation/peers.py);
@@ -42,7 +47,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from codegen.build_firmware import Sizes, build
+from codegen.build_firmware import ELF, Sizes, budgets, build
+from codegen.build_firmware import stack as stack_report
 from codegen.core.module import build_core
 from codegen.derivation import derive
 from codegen.errors import SpecError
@@ -56,6 +62,8 @@ from emulation import peers, progress, rule_bench
 from emulation.armsim import load_elf
 from emulation.figures import Figure, misses
 from emulation.isr_bench import (
+    ADC_HANDLER,
+    CPU_HZ,
     HALL_HANDLER,
     TIMING_HANDLER,
     Stats,
@@ -72,10 +80,6 @@ SECTIONS = ("size", "handlers", "placement", "peers", "rule", "reciprocal", "tim
 DEFAULT_SPEC = "spec/paper_motor.yaml"
 DEFAULT_WORK = Path("build") / "bench"
 
-FLASH_TARGET_BYTES = 2048
-#: The port's and the core's variables: the timing slots and the cached bus state the
-#: timing handler's speed needs, the Hall-edge state. Code run from SRAM is separate.
-RAM_STATE_TARGET_BYTES = 128
 HALL_TARGET_CYCLES = 120
 HALL_TARGET_INSTRUCTIONS = 64
 TIMING_TARGET_CYCLES = 150
@@ -87,8 +91,8 @@ TARGET_REGENERATE_WARM_S = 2.0
 TARGET_VERIFY_S = 10.0
 TARGET_QEMU_S = 60.0
 TARGET_SIMULATE_S = 60.0
-#: Defines that build the Hall edge handler in flash (the placement comparison).
-IN_FLASH = ("BLDC_PORT_HALL_EDGE_IN_FLASH=1",)
+#: Defines that build the Hall edge handler in SRAM (the placement comparison).
+IN_SRAM = ("BLDC_PORT_HALL_EDGE_IN_SRAM=1",)
 
 
 @dataclass
@@ -152,29 +156,30 @@ def prepare(spec_path: Path, work_root: Path, quick: bool) -> Bench:
 
 def section_size(b: Bench, report: Report) -> dict[str, Sizes]:
     sizes = build(b.generated, b.build_dir)
-    core, port, image = sizes["core"], sizes["port"], sizes["firmware.elf"]
+    fw = b.spec.firmware
+    stack = stack_report(b.build_dir, fw.integration == "cube")
+    flash, ram = budgets(sizes, stack, fw.flash_budget_bytes, fw.ram_budget_bytes)
+    image = sizes[ELF]
+    # The link script places .RamFunc inside .data: the objects name it.
+    ram_code = sum(sizes[name].ram_code for name in sizes if name != ELF)
+    parts = ", ".join(f"{name} {sizes[name].flash}" for name in sizes if name != ELF)
     report.add(
+        Figure("image flash", float(flash.value or 0), "B", flash.limit, f"by part: {parts}"),
         Figure(
-            "core + port flash",
-            core.flash + port.flash,
+            "image RAM with the worst stack",
+            float("nan") if ram.value is None else ram.value,
             "B",
-            FLASH_TARGET_BYTES,
-            f"core {core.flash}, port {port.flash} (.RamFunc load image included)",
+            ram.limit,
+            f"variables {image.ram - ram_code}, code and tables run from SRAM {ram_code},"
+            f" stack {stack.worst} ({'; '.join(stack.lines())})",
         ),
+        Figure("core + port flash", sizes["core"].flash + sizes["port"].flash, "B"),
         Figure(
-            "core + port RAM, variables",
-            core.ram_state + port.ram_state,
+            "current loop flash",
+            sizes["loop"].flash,
             "B",
-            RAM_STATE_TARGET_BYTES,
+            detail="bldc_current_reference(); the PI is inline",
         ),
-        Figure(
-            "core + port RAM, code and tables run from SRAM (.RamFunc)",
-            core.ram_code + port.ram_code,
-            "B",
-            detail="copied from flash by the start-up code",
-        ),
-        Figure("whole image flash", image.flash, "B"),
-        Figure("whole image RAM (stack not included)", image.ram, "B"),
     )
     return sizes
 
@@ -188,13 +193,14 @@ def _stack_figures(b: Bench, stats: Stats) -> list[Figure]:
     frames = read_frames(b.build_dir)
     measured = {
         HALL_HANDLER: max(stats.hall.stack_bytes, stats.end.stack_bytes),
+        ADC_HANDLER: stats.current_loop.stack_bytes,
         TIMING_HANDLER: max(
             t.stack_bytes for t in (stats.timing, stats.timing_bus) if t is not None
         ),
     }
     figures = []
-    totals = []
-    for handler in (HALL_HANDLER, TIMING_HANDLER, "main"):
+    totals: dict[str, int] = {}
+    for handler in (HALL_HANDLER, ADC_HANDLER, TIMING_HANDLER, "main"):
         depth = static_depth(image, frames, handler)
         frame = 0 if handler == "main" else EXCEPTION_FRAME_BYTES
         if depth.bytes is None:
@@ -207,7 +213,7 @@ def _stack_figures(b: Bench, stats: Stats) -> list[Figure]:
                 )
             )
             continue
-        totals.append(depth.bytes + frame)
+        totals[handler] = depth.bytes + frame
         detail = f"{' > '.join(depth.path)}"
         if handler != "main":
             detail = (
@@ -215,12 +221,51 @@ def _stack_figures(b: Bench, stats: Stats) -> list[Figure]:
                 f" {measured[handler] + EXCEPTION_FRAME_BYTES} B"
             )
         figures.append(Figure(f"stack {handler} (static)", depth.bytes + frame, "B", detail=detail))
-    if len(totals) == 3:
+    if len(totals) == 4:
+        worst = (
+            totals["main"] + totals[TIMING_HANDLER] + max(totals[HALL_HANDLER], totals[ADC_HANDLER])
+        )
         figures.append(
             Figure(
-                "stack worst case (main, preempted by the timing, preempted by the Hall edge)",
-                sum(totals),
+                "stack worst case (main, preempted by the timing, preempted by the Hall edge or"
+                " the current loop), from the disassembly",
+                worst,
                 "B",
+                detail="the same nesting as make firmware's -fcallgraph-info figure, found from the"
+                " image instead of the compiler's graph (main's start-up included)",
+            )
+        )
+    return figures
+
+
+def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
+    """Each fault path's handler from its entry to the store that clears MOE, and the
+    time from the fault to that store derived from how each is detected."""
+    period_us = 1e6 / float(b.spec.inverter.pwm_frequency_hz)
+    sample = float(b.spec.sensing.adc_sample_cycles)
+    regular_us = (sample + 12.5) / 12.0  # one regular conversion of the bus at 12 MHz
+    injected_us = (3 + 4 * (sample + 12.5)) / 12.0  # trigger to JEOC: four conversions
+    wait = max(stats.hall.cycles_worst, stats.current_loop.cycles_worst)  # same priority
+    figures = []
+    for name, cycles in stats.fault_to_moe.items():
+        if "watchdog" in name:
+            detect, how = 2 * regular_us, f"two regular bus conversions ({2 * regular_us:.1f} us)"
+        elif name.startswith(("current sensor", "Hall timeout")):
+            detect = period_us + injected_us
+            how = f"the next sample: one PWM period + the injected sequence ({detect:.1f} us)"
+        elif name.startswith("over-current"):
+            detect, how = 0.0, "none: BKIN clears MOE in hardware; this completes the third phase"
+        else:
+            detect, how = 0.0, "at the Hall edge itself (after the 8-sample input filter)"
+        total_us = detect + (wait + cycles) / 72.0
+        figures.append(
+            Figure(
+                f"fault {name}: handler entry to MOE cleared",
+                cycles,
+                "cycles",
+                detail=f"detection: {how}; worst to the safe state {total_us:.2f} us with a"
+                f" handler of the same priority ({wait} cycles) ahead of it; the PWM period is"
+                f" {period_us:.1f} us",
             )
         )
     return figures
@@ -240,8 +285,8 @@ def section_handlers(b: Bench, report: Report) -> Stats:
             hall.cycles_worst,
             "cycles",
             HALL_TARGET_CYCLES,
-            f"entry and exit included; mean {hall.cycles_mean:.1f}; {hall.calls} edges;"
-            f" handler in SRAM",
+            f"entry and exit included; mean {hall.cycles_mean:.1f}; {hall.calls} edges that"
+            " commutate; handler in flash",
         ),
         Figure(
             "Hall edge instructions worst",
@@ -255,6 +300,27 @@ def section_handlers(b: Bench, report: Report) -> Stats:
             "cycles",
             detail=f"{end.instructions_worst} instructions",
         ),
+    )
+    if stats.hall_refused is not None:
+        report.add(
+            Figure(
+                "Hall edge refused (a reversal: all off, no fault) worst",
+                stats.hall_refused.cycles_worst,
+                "cycles",
+                detail=f"{stats.hall_refused.calls} edges; rare (the rotor reverses at standstill)",
+            )
+        )
+    loop = stats.current_loop
+    loop_budget = b.spec.firmware.current_loop_budget_cycles
+    report.add(
+        Figure(
+            "current loop (ADC1_2 JEOC) worst",
+            loop.cycles_worst,
+            "cycles",
+            loop_budget,
+            f"entry and exit included; mean {loop.cycles_mean:.1f}; {loop.calls} runs in the"
+            f" closed loop, the bus-moved path included; {loop.instructions_worst} instructions",
+        )
     )
     timing_target = (
         rule_bench.TIMING_TARGET_CYCLES
@@ -292,16 +358,21 @@ def section_handlers(b: Bench, report: Report) -> Stats:
         )
     )
     worst_timing = stats.timing_worst.cycles_worst
-    load = hall.cycles_worst + end.cycles_worst + 3 * worst_timing
+    periods = -(
+        -int(b.spec.inverter.pwm_frequency_hz) * sector // CPU_HZ
+    )  # PWM periods per sector, up
+    commutation = hall.cycles_worst + end.cycles_worst + 3 * worst_timing
+    load = commutation + periods * loop.cycles_worst
     report.add(
         Figure(
-            "CPU load at the top speed",
+            "CPU load at the top speed, every interrupt",
             100.0 * load / sector,
             "%",
+            float(b.spec.firmware.cpu_load_budget_percent),
             detail=f"per shortest sector: Hall edge {hall.cycles_worst} + end"
             f" {end.cycles_worst} + 3 timing runs (after the edge, after the end, one pended"
-            f" by a bus sample) all on the bus-change path {worst_timing} = {load} cycles of"
-            f" {sector}",
+            f" by a bus sample) all on the bus-change path {worst_timing} + {periods} current-loop"
+            f" runs (one per PWM period) at {loop.cycles_worst} = {load} cycles of {sector}",
             decimals=2,
         ),
     )
@@ -309,13 +380,15 @@ def section_handlers(b: Bench, report: Report) -> Stats:
         cached = hall.cycles_worst + end.cycles_worst + 3 * stats.timing.cycles_worst
         report.add(
             Figure(
-                "CPU load at the top speed, bus state cached",
+                "CPU load of the commutation alone, bus state cached",
                 100.0 * cached / sector,
                 "%",
-                detail=f"the same three timing runs on the cached bus state: {cached} cycles",
+                detail=f"the Hall edge, the end and three timing runs on the cached bus state:"
+                f" {cached} cycles",
                 decimals=2,
             )
         )
+    report.add(*_fault_figures(b, stats))
     report.add(*_stack_figures(b, stats))
     report.say(
         "peripheral register accesses per run (APB wait states not priced): Hall edge"
@@ -325,21 +398,24 @@ def section_handlers(b: Bench, report: Report) -> Stats:
     return stats
 
 
-def section_placement(b: Bench, report: Report, in_sram: Stats | None) -> None:
+def section_placement(b: Bench, report: Report, in_flash: Stats | None) -> None:
     inputs = b.inputs()
     if not b.quick:
         inputs = replace(inputs, periods=(inputs.periods[0], inputs.periods[-1]))
-    flash_dir = b.work / "firmware-hall-in-flash"
-    in_flash = bench(b.spec_path, b.generated, flash_dir, inputs, defines=IN_FLASH)
-    sram = in_sram or bench(b.spec_path, b.generated, b.build_dir, inputs)
+    sram_dir = b.work / "firmware-hall-in-sram"
+    in_sram = bench(b.spec_path, b.generated, sram_dir, inputs, defines=IN_SRAM)
+    flash = in_flash or bench(b.spec_path, b.generated, b.build_dir, inputs)
+    sizes = build(b.generated, sram_dir, defines=IN_SRAM)
+    ram_code = sum(sizes[name].ram_code for name in sizes if name != ELF)
     report.add(
         Figure(
-            "Hall edge from SRAM (the port's default) minus from flash",
-            sram.hall.cycles_worst - in_flash.hall.cycles_worst,
+            "Hall edge from flash (the port's default) minus from SRAM",
+            flash.hall.cycles_worst - in_sram.hall.cycles_worst,
             "cycles",
-            0,
-            f"worst {sram.hall.cycles_worst} in SRAM, {in_flash.hall.cycles_worst} in flash;"
-            f" commutation end {sram.end.cycles_worst} vs {in_flash.end.cycles_worst}",
+            detail=f"worst {flash.hall.cycles_worst} in flash, {in_sram.hall.cycles_worst} in"
+            f" SRAM (BLDC_PORT_HALL_EDGE_IN_SRAM=1), which puts {ram_code} B of code"
+            f" and table in RAM; commutation end {flash.end.cycles_worst} vs"
+            f" {in_sram.end.cycles_worst}",
         )
     )
 
@@ -469,7 +545,9 @@ def section_times(b: Bench, report: Report) -> None:
     report.add(
         Figure(
             "verify (exhaustive + random + boundary, host)",
-            _seconds([python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]),
+            _seconds(
+                [python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]
+            ),
             "s",
             TARGET_VERIFY_S,
             decimals=1,

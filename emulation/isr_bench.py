@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import statistics
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,7 +36,7 @@ from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
 from emulation.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
-from emulation.cycles import CycleBreakdown, UdivMode, estimate_cycles, isr_cycles
+from emulation.cycles import CycleBreakdown, UdivMode, entry_cycles, estimate_cycles, isr_cycles
 from emulation.memory import STM32F103_72MHZ, MemoryTiming
 from emulation.progress import progress
 
@@ -46,6 +46,10 @@ TARGET_END_INSTRUCTIONS = 24
 #: TIM1 trigger/COM: IRQ 26 on the STM32F103 (SVD TIM1_TRG_COM_TIM11).
 TIMING_HANDLER = "TIM1_TRG_COM_IRQHandler"
 HALL_HANDLER = "TIM3_IRQHandler"
+#: ADC1_2: the current loop (JEOC) and the bus watchdog (AWD).
+ADC_HANDLER = "ADC1_2_IRQHandler"
+#: TIM1_BRK: the break input (over-current).
+BREAK_HANDLER = "TIM1_BRK_IRQHandler"
 BUS_FUNCTION = "bldc_bus_condition"
 CPU_HZ = 72_000_000
 #: Log-spaced Hall periods from the top speed to the slowest one in `bench`'s sweep.
@@ -156,14 +160,23 @@ def sweep(spec: Spec, sc: Scaling, period_points: int = BENCH_PERIOD_POINTS) -> 
 
 
 class PortRig:
-    """The linked image in unicorn, with the timers and the NVIC played around it."""
+    """The linked image in unicorn, with the timers, the ADC and the NVIC played around
+    it. Peripheral registers are plain memory here, so the rig writes each status
+    register (TIM3 SR, ADC SR) as the hardware would present it before every handler
+    call; the Hall pins and the break input (inactive) are staged before the port's
+    init reads them."""
 
     def __init__(self, spec: Spec, elf: Path, timing: MemoryTiming = STM32F103_72MHZ) -> None:
         self.spec = spec
         self.memory_timing = timing
         self.sim = CortexM3Sim(load_elf(elf))
-        self.sim.call("bldc_port_init")
-        self.pins = port_context(spec)["hall_pins"]
+        context = port_context(spec)
+        self.pins = context["hall_pins"]
+        bkin = context["bkin"]
+        self.break_inactive = (
+            str(bkin["port"]),
+            0 if spec.protection.break_polarity == "active_high" else 1 << int(str(bkin["n"])),
+        )
         self.tim3_sr, self.tim3_ccr1, self.tim3_ccr2, self.tim3_cnt = (
             _register("TIM3", r) for r in ("SR", "CCR1", "CCR2", "CNT")
         )
@@ -172,17 +185,37 @@ class PortRig:
         self.uif = _bit("TIM3", "SR", "UIF")
         self.ispr0 = _register("NVIC", "ISPR0")
         self.tim1_egr, self.tim1_dier = _register("TIM1", "EGR"), _register("TIM1", "DIER")
+        self.tim1_bdtr, self.tim1_sr = _register("TIM1", "BDTR"), _register("TIM1", "SR")
         self.comg, self.comie = _bit("TIM1", "EGR", "COMG"), _bit("TIM1", "DIER", "COMIE")
+        self.bif = _bit("TIM1", "SR", "BIF")
+        self.adc_sr = _register("ADC1", "SR")
+        self.adc_jdr = tuple(_register("ADC1", f"JDR{n}") for n in (1, 2, 3, 4))
+        self.adc_dr = _register("ADC1", "DR")
+        self.jeoc, self.awd = _bit("ADC1", "SR", "JEOC"), _bit("ADC1", "SR", "AWD")
         (self.timing_irq,) = [
             i.value
             for i in load_device().peripheral("TIM1").interrupts
             if i.name.startswith("TIM1_TRG_COM")
         ]
-        self.current_adc = self.sim.image.symbol("bldc_adc_phase_current").address
         self.bus_symbol = self.sim.image.symbol(BUS_FUNCTION)
         self.function_at = {
             s.address: s.name for s in self.sim.image.symbols.values() if s.is_function
         }
+        self.stage_hall(spec.hall.sequence[0])
+        # The ADC's calibration is over by the time the port polls it.
+        self.sim.finish_on_read(_register("ADC1", "CR2"), _bit("ADC1", "CR2", "CAL"))
+        self.sim.call("bldc_port_init", args=(0,))
+        self.sim.write_u32(self.ispr0, 0)
+
+    def prime(self, bus: int, current: int, period: int) -> None:
+        """From init to the steady state: a bus sample (its timing), one Hall edge
+        forward and its commutation end."""
+        self.adc_sample(bus, current)
+        self.timing()
+        self.hall_edge(self.spec.hall.sequence[1], period)
+        self.timing()
+        self.commutation_end()
+        self.timing()
 
     @property
     def image(self) -> ArmImage:
@@ -190,11 +223,13 @@ class PortRig:
 
     def stage_hall(self, code: int) -> None:
         levels = {"GPIOA": 0, "GPIOB": 0}
+        port, inactive = self.break_inactive
+        levels[port] |= inactive
         for pin in self.pins:
             if code & int(str(pin["code_bit"]).rstrip("u"), 16):
                 levels[str(pin["port"])] |= 1 << int(str(pin["n"]))
-        for port, value in levels.items():
-            self.sim.write_u32(_register(port, "IDR"), value)
+        for gpio, value in levels.items():
+            self.sim.write_u32(_register(gpio, "IDR"), value)
 
     def nvic_pending(self) -> bool:
         """Whether TIM1_TRG_COM was pended by software (then cleared)."""
@@ -210,13 +245,24 @@ class PortRig:
         self.sim.write_u32(self.tim1_egr, 0)
         return com
 
+    def adc_sample(self, bus: int, current: int, *, status: int | None = None) -> CallResult:
+        """The injected conversions end (JEOC): every current channel reads `current`,
+        the bus `bus`; no Hall counter overflow pending. The current-loop handler."""
+        for address in self.adc_jdr[:3]:
+            self.sim.write_u32(address, current)
+        self.sim.write_u32(self.adc_jdr[3], bus)
+        self.sim.write_u32(self.adc_dr, bus)  # the regular group's latest, the same bus
+        self.sim.write_u32(self.adc_sr, self.jeoc if status is None else status)
+        self.sim.write_u32(self.tim3_sr, 0)
+        return self.sim.call(ADC_HANDLER)
+
     def set_inputs(self, bus: int, current: int, duty: int) -> CallResult | None:
-        """The application's setters and the current ADC; the timing run a setter pended,
-        if one did."""
-        self.sim.call("bldc_port_set_bus_voltage", args=(bus,))
-        self.sim.write_u16(self.current_adc, current)
+        """The open-loop duty, then a sample of the bus and the current (which the port
+        takes as I in the steady state); the timing run they pended, if any."""
         self.sim.call("bldc_port_set_main_duty", args=(duty,))
-        if self.nvic_pending():
+        pended = self.nvic_pending()
+        self.adc_sample(bus, current)
+        if self.nvic_pending() or pended:
             return self.sim.call(TIMING_HANDLER)
         return None
 
@@ -303,12 +349,16 @@ class Stats:
     used the cached one; `core_*` are the core's functions inside those runs (no entry
     or exit)."""
 
-    hall: HandlerStats
+    hall: HandlerStats  # edges that commutate
+    hall_refused: HandlerStats | None  # edges refused without a fault (a reversal: all off)
     end: HandlerStats
     timing: HandlerStats | None  # runs on the cached bus state
     timing_bus: HandlerStats | None  # runs that called bldc_bus_condition()
     core_bus: HandlerStats | None  # bldc_bus_condition() inside them
     core_timing: HandlerStats  # bldc_commutation_timing() inside every run
+    current_loop: HandlerStats  # the ADC handler in the closed loop (JEOC), every path
+    fault_paths: dict[str, Sample]  # the handler that detects each fault, one run
+    fault_to_moe: dict[str, int]  # cycles from its entry to the store that clears MOE
 
     @property
     def timing_worst(self) -> HandlerStats:
@@ -336,6 +386,7 @@ def bench(
     rig = PortRig(spec, build_dir / "firmware.elf", timing)
     timing_symbol = rig.image.symbol("bldc_commutation_timing")
     hall_edge: list[Sample] = []
+    refused: list[Sample] = []
     cached: list[Sample] = []
     recomputed: list[Sample] = []
     bus_part: list[Sample] = []
@@ -356,6 +407,7 @@ def bench(
             measure_timing(pended)
 
     periods = inputs.periods
+    rig.prime(inputs.buses[0], inputs.currents[0], periods[0])
     runs = [(d, p) for d in (1, -1) for p in periods]
     for direction, period in progress(runs, f"bench {spec.name} handlers"):
         sequence = spec.hall.sequence if direction > 0 else tuple(reversed(spec.hall.sequence))
@@ -366,7 +418,10 @@ def bench(
                     for index, code in enumerate(sequence):
                         # The slowest period also as a Hall timeout (the counter wrapped).
                         edge = rig.hall_edge(code, period, timeout=period == periods[-1])
-                        hall_edge.append(rig.cost(edge))
+                        if "port_refuse" in rig.entries(edge.trace):
+                            refused.append(rig.cost(edge))
+                        else:
+                            hall_edge.append(rig.cost(edge))
                         # The timing depends on the period, bus, current and duty only,
                         # the same for every edge of this loop: after the first edge
                         # (and its commutation end) a rerun would publish the same
@@ -376,18 +431,103 @@ def bench(
                         commutation_end.append(rig.cost(rig.commutation_end()))
                         if rig.com_event() and index == 0:
                             measure_timing(rig.timing())
-    # The safe-state paths: an invalid code (000, 111) from a valid one, and back.
-    for code in (7, spec.hall.sequence[0], 0, spec.hall.sequence[0]):
-        hall_edge.append(rig.cost(rig.hall_edge(code, periods[0])))
-        measure_timing(rig.timing())
+    loop, faults, to_moe = current_loop_runs(rig, inputs)
     return Stats(
         hall=_stats("Hall edge (TIM3 CC1)", hall_edge),
+        hall_refused=_stats("Hall edge refused (all off)", refused) if refused else None,
         end=_stats("commutation end (TIM3 CC2)", commutation_end),
         timing=_stats(f"{TIMING_HANDLER}, bus state cached", cached) if cached else None,
         timing_bus=_stats(f"{TIMING_HANDLER}, bus changed", recomputed) if recomputed else None,
         core_bus=_stats(f"{BUS_FUNCTION}()", bus_part) if bus_part else None,
         core_timing=_stats("bldc_commutation_timing()", timing_part),
+        current_loop=_stats(f"{ADC_HANDLER} (current loop)", loop),
+        fault_paths=faults,
+        fault_to_moe=to_moe,
     )
+
+
+def _cycles_to_store(rig: PortRig, result: CallResult, address: int) -> int:
+    """Cycles from the handler's entry (exception entry included) to the end of the
+    first instruction that stores to `address`."""
+    for k, step in enumerate(result.trace):
+        if any(a.write and a.address == address for a in step.accesses):
+            part = estimate_cycles(
+                result.trace[: k + 1],
+                rig.sim,
+                udiv_mode="worst",
+                timing=rig.memory_timing,
+                after_exception=True,
+            )
+            return entry_cycles(part, result.trace[0].address) + part.cycles
+    raise AssertionError("the handler never cleared MOE")
+
+
+def current_loop_runs(
+    rig: PortRig, inputs: Sweep
+) -> tuple[list[Sample], dict[str, Sample], dict[str, int]]:
+    """The current-loop handler in the closed loop, in the steady state, over the sweep's
+    buses and currents (a moved bus takes its slower path); then each fault path once,
+    from the state the drive is in, with the cycles until MOE is cleared."""
+    spec = rig.spec
+    sc = scaling(spec, derive())
+    milliamps = int(spec.controller.braking_current_nominal_a * 1000)
+    rig.sim.call("bldc_set_braking_current", args=(milliamps,))
+    samples = []
+    for bus in inputs.buses:
+        for current in inputs.currents:
+            samples.append(rig.cost(rig.adc_sample(bus, current)))
+            if rig.nvic_pending():
+                rig.timing()
+            samples.append(rig.cost(rig.adc_sample(bus, current)))
+    faults: dict[str, Sample] = {}
+    to_moe: dict[str, int] = {}
+
+    def fault(name: str, run: Callable[[], CallResult]) -> None:
+        result = run()
+        faults[name] = rig.cost(result)
+        to_moe[name] = _cycles_to_store(rig, result, rig.tim1_bdtr)
+        rig.com_event()
+        rig.nvic_pending()
+        rig.stage_hall(spec.hall.sequence[0])
+        rig.adc_sample(sc.bus_code_min, sc.current_offset_code)
+        left = rig.sim.call("bldc_port_clear_faults").return_value
+        if left != 0:
+            raise AssertionError(f"{name}: the fault did not clear ({left:#x})")
+        rig.prime(sc.bus_code_min, sc.current_offset_code, inputs.periods[0])
+
+    bus_ok, offset = sc.bus_code_min, sc.current_offset_code
+    fault(
+        "over-voltage (analog watchdog)",
+        lambda: rig.adc_sample(sc.bus_code_max + 1, offset, status=rig.jeoc | rig.awd),
+    )
+    fault(
+        "under-voltage (analog watchdog)",
+        lambda: rig.adc_sample(0, offset, status=rig.jeoc | rig.awd),
+    )
+    fault("current sensor at a rail", lambda: rig.adc_sample(bus_ok, 0))
+
+    def timeout() -> CallResult:
+        for address in rig.adc_jdr[:3]:
+            rig.sim.write_u32(address, offset)
+        rig.sim.write_u32(rig.adc_jdr[3], bus_ok)
+        rig.sim.write_u32(rig.adc_dr, bus_ok)
+        rig.sim.write_u32(rig.adc_sr, rig.jeoc)
+        rig.sim.write_u32(rig.tim3_sr, rig.uif)
+        return rig.sim.call(ADC_HANDLER)
+
+    fault("Hall timeout", timeout)
+    fault("invalid Hall code", lambda: rig.hall_edge(7, inputs.periods[0]))
+    fault("over-speed", lambda: rig.hall_edge(spec.hall.sequence[2], sc.period_min_ticks - 1))
+
+    def break_input() -> CallResult:
+        rig.sim.write_u32(rig.tim1_sr, rig.bif)
+        port, inactive = rig.break_inactive
+        active = 0 if inactive else 1 << int(str(port_context(spec)["bkin"]["n"]))
+        rig.sim.write_u32(_register(port, "IDR"), active)
+        return rig.sim.call(BREAK_HANDLER)
+
+    fault("over-current (break input)", break_input)
+    return samples, faults, to_moe
 
 
 @dataclass(frozen=True)
@@ -438,6 +578,7 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
     """The timing handler once per input point: a Hall edge measures `period` and raises
     it, then the next edge (same period) applies its result, read back from the timers."""
     rig = PortRig(spec, elf)
+    rig.prime(inputs.buses[0], inputs.currents[0], inputs.periods[0])
     sequence = spec.hall.sequence
     step = 0
     points = []

@@ -119,6 +119,7 @@ def point_breakdown(spec_path: str | Path, elf: Path, point: TimingPoint) -> dic
     step ran in (the timing is a pure function of the port's inputs, so the run repeats
     the sweep's)."""
     rig = PortRig(load_spec(spec_path), elf)
+    rig.prime(point.bus, point.current, point.period)
     rig.set_inputs(point.bus, point.current, point.duty)
     rig.hall_edge(rig.spec.hall.sequence[0], point.period)
     result = rig.timing()

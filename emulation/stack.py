@@ -59,15 +59,29 @@ class StaticDepth:
         return None if self.bytes is None else self.bytes + EXCEPTION_FRAME_BYTES
 
 
+_CLONE_NUMBER = re.compile(r"^(?P<name>.+\.(?:constprop|isra|part|cold))\.\d+$")
+
+
+def frame_of(frames: dict[str, Frame], symbol: str) -> Frame | None:
+    """The frame of an ELF symbol. GCC's clones (`f.constprop.0`, `f.isra.0`) are
+    named in the `.su` file without their number (`f.constprop`)."""
+    if symbol in frames:
+        return frames[symbol]
+    clone = _CLONE_NUMBER.match(symbol)
+    return frames.get(clone["name"]) if clone else None
+
+
 def static_depth(image: ArmImage, frames: dict[str, Frame], handler: str) -> StaticDepth:
     """The deepest frame sum over the handler's static call paths (no recursion)."""
     graph = call_graph(image, handler)
-    missing = tuple(sorted(f for f in graph.functions if f not in frames or not frames[f].bounded))
+    known = {f: frame_of(frames, f) for f in graph.functions}
+    missing = tuple(sorted(f for f, frame in known.items() if frame is None or not frame.bounded))
 
     def deepest(function: str, above: tuple[str, ...]) -> tuple[int, tuple[str, ...]]:
         if function in above:
             raise ValueError(f"{handler}: recursion through {function}: no static bound")
-        own = frames[function].bytes if function in frames else 0
+        frame = frame_of(frames, function)
+        own = frame.bytes if frame is not None else 0
         below = [deepest(c, (*above, function)) for c in sorted(graph.calls[function])]
         best = max(below, default=(0, ()))
         return own + best[0], (function, *best[1])

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import pytest
 
-from emulation import bench
 from emulation.bench import main, prepare, run_spec
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -26,13 +25,18 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
     report = run_spec(prepare(spec, tmp_path, quick=True), SECTIONS)
     names = [f.name for f in report.figures]
     for expected in (
+        "image flash",
+        "image RAM with the worst stack",
         "core + port flash",
+        "current loop flash",
         "Hall edge (TIM3 CC1) worst",
         "commutation end (TIM3 CC2) worst",
-        "CPU load at the top speed",
+        "current loop (ADC1_2 JEOC) worst",
+        "CPU load at the top speed, every interrupt",
         "stack TIM3_IRQHandler (static)",
+        "stack ADC1_2_IRQHandler (static)",
         "stack TIM1_TRG_COM_IRQHandler (static)",
-        "Hall edge from SRAM (the port's default) minus from flash",
+        "Hall edge from flash (the port's default) minus from SRAM",
         "arithmetic ccode float worst",
         "arithmetic ccode double worst",
         "arithmetic plain fixed point worst",
@@ -42,9 +46,20 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
     ):
         assert expected in names, expected
     assert any(n.startswith("TIM1_TRG_COM_IRQHandler worst") for n in names)
+    # every fault path measured to the store that clears MOE
+    for fault in (
+        "over-voltage",
+        "under-voltage",
+        "current sensor",
+        "Hall timeout",
+        "invalid Hall code",
+        "over-speed",
+        "over-current",
+    ):
+        assert any(n.startswith(f"fault {fault}") for n in names), fault
     for figure in report.figures:
         assert (math.isfinite(figure.value) and figure.value >= 0) or figure.name.startswith(
-            "Hall edge from SRAM"
+            "Hall edge from flash"
         ), figure.line()
         assert figure.line().startswith(figure.name)
     # the generated output went where the bench was told, not into the repository
@@ -52,17 +67,20 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
 
 
 def test_exit_status_should_follow_the_targets(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     spec = str(ROOT / "spec" / "paper_motor.yaml")
     args = [spec, "--quick", "--only", "size", "--work", str(tmp_path)]
     assert main(args) == 0
     assert "every figure meets its target" in capsys.readouterr().out
-    monkeypatch.setattr(bench, "FLASH_TARGET_BYTES", 16)
-    assert main(args) == 1
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    small = tmp_path / "small_flash.yaml"
+    small.write_text(text.replace("flash_budget: 8192", "flash_budget: 1024", 1), encoding="utf-8")
+    small_args = [str(small), "--quick", "--only", "size", "--work", str(tmp_path / "small")]
+    assert main(small_args) == 1
     out = capsys.readouterr().out
-    assert "core + port flash" in out and "MISSES" in out and "MISS their targets" in out
-    assert main([*args, "--report-only"]) == 0
+    assert "image flash" in out and "MISSES" in out and "MISS their targets" in out
+    assert main([*small_args, "--report-only"]) == 0
 
 
 def test_bad_spec_should_exit_2_with_one_line(

@@ -82,8 +82,8 @@
  * Faults. Each acts at once, latches its bit and holds the bridge in the safe state
  * until bldc_port_clear_faults() finds its cause gone:
  *   BLDC_FAULT_OVER_CURRENT (0x0001u): the external comparator saw a phase current above protection.over_current; by TIM1 BKIN (the hardware clears MOE), then TIM1_BRK; clears: the break input is inactive
- *   BLDC_FAULT_OVER_VOLTAGE (0x0002u): bus above inverter.bus_voltage_max; by ADC analog watchdog on the bus channel (injected conversions, every PWM period); clears: the last bus sample is within the range
- *   BLDC_FAULT_UNDER_VOLTAGE (0x0004u): bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would compute with the minimum); by ADC analog watchdog on the bus channel; clears: the last bus sample is within the range
+ *   BLDC_FAULT_OVER_VOLTAGE (0x0002u): bus above inverter.bus_voltage_max; by ADC analog watchdog on the bus channel (regular conversions, continuously, every 20 ADC cycles or so, and the injected ones); clears: the last bus sample is within the range
+ *   BLDC_FAULT_UNDER_VOLTAGE (0x0004u): bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would compute with the minimum); by ADC analog watchdog on the bus channel (as OVER_VOLTAGE); clears: the last bus sample is within the range
  *   BLDC_FAULT_CURRENT_SENSOR (0x0008u): a current sample at an ADC rail (0 or full scale): the sensor is open or saturated; by the current-loop interrupt, every PWM period; clears: every current channel's last sample is off the rails
  *   BLDC_FAULT_HALL_INVALID (0x0010u): Hall code 000 or 111 (a sensor unplugged or shorted); by the Hall edge; clears: the Hall code now is valid
  *   BLDC_FAULT_HALL_SEQUENCE (0x0020u): a Hall code pair that is not one sector forward or back (a skipped or repeated code); by the Hall edge; clears: always (the next edge checks again)

@@ -38,8 +38,7 @@ def current_loop_integrate(integrator: int, reference_code: int, measured_code: 
     state = 0 if integrator < 0 else BLDC_LOOP_STATE_MAX if integrator > BLDC_LOOP_STATE_MAX else integrator  # Q17 counts
     demand = BLDC_LOOP_KP * error + state  # k_p e + x
     total = state + BLDC_LOOP_KI * error  # x + k_i e
-    integrated = 0 if total < 0 else BLDC_LOOP_STATE_MAX if total > BLDC_LOOP_STATE_MAX else total
-    return state if demand > BLDC_LOOP_STATE_MAX and error > 0 else state if demand < 0 and error < 0 else integrated
+    return state if demand > BLDC_LOOP_STATE_MAX or demand < 0 else total
 
 
 def current_reference(milliamps: int) -> int:

@@ -41,7 +41,6 @@
  *   bldc_current_loop_integrate: state: int32_t in [0, 56164352] (5.3 bits spare)
  *   bldc_current_loop_integrate: demand: int32_t in [-1141161840, 1197326192] (0.8 bits spare)
  *   bldc_current_loop_integrate: total: int32_t in [-21396375, 77560727] (4.8 bits spare)
- *   bldc_current_loop_integrate: integrated: int32_t in [0, 56164352] (5.3 bits spare)
  *   bldc_current_reference: held: uint32_t in [0, 10000] (18.7 bits spare)
  *   bldc_current_reference: scaled: uint64_t in [274877906944, 358174246944] (25.6 bits spare)
  */
@@ -79,8 +78,7 @@ static inline int32_t bldc_current_loop_integrate(int32_t integrator, uint32_t r
     const int32_t state = (integrator < 0) ? 0 : (integrator > BLDC_LOOP_STATE_MAX) ? BLDC_LOOP_STATE_MAX : integrator; /* Q14 counts */
     const int32_t demand = BLDC_LOOP_KP * error + state; /* k_p e + x */
     const int32_t total = state + BLDC_LOOP_KI * error; /* x + k_i e */
-    const int32_t integrated = (total < 0) ? 0 : (total > BLDC_LOOP_STATE_MAX) ? BLDC_LOOP_STATE_MAX : total;
-    return (demand > BLDC_LOOP_STATE_MAX && error > 0) ? state : (demand < 0 && error < 0) ? state : integrated;
+    return (demand > BLDC_LOOP_STATE_MAX || demand < 0) ? state : total;
 }
 
 /* the nearest ADC code of a braking current in mA, clamped to the spec's braking range */

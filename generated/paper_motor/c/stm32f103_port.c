@@ -53,6 +53,12 @@
 #define BLDC_PORT_GPIO_CNF_ANALOG 0u
 #define BLDC_PORT_MMS_OC4REF 7u            /* TIM1 CR2.MMS = 111: TRGO = OC4REF, the ADC's injected trigger */
 #define BLDC_PORT_JEXTSEL_TIM1_TRGO 0u     /* ADC_CR2.JEXTSEL = 000: injected trigger TIM1 TRGO */
+#define BLDC_PORT_EXTSEL_SWSTART 7u        /* ADC_CR2.EXTSEL = 111: regular group started by SWSTART */
+/* ADC1 CR1: scan the injected sequence, its end-of-conversion interrupt, the analog
+ * watchdog on the bus channel alone, for the regular and the injected conversions. */
+#define BLDC_PORT_ADC_CR1 (ADC_CR1_SCAN | ADC_CR1_JEOCIE | ADC_CR1_AWDIE | ADC_CR1_JAWDEN | \
+                           ADC_CR1_AWDEN | ADC_CR1_AWDSGL |                                  \
+                           (BLDC_PORT_ADC_BUS_CHANNEL << ADC_CR1_AWDCH_Pos))
 
 #define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG) /* enables and compares together */
 /* TIM1 CR2: enables preloaded until a COM event, TRGO = OC4REF; the idle levels
@@ -444,10 +450,11 @@ static void port_request_trip(uint32_t fault)
 BLDC_PORT_NOINLINE static void port_update_bus(void)
 {
     port.bus_changed = 0u;
-    const uint32_t code = port.bus_code;
+    const uint32_t code = ADC1->JDR4;
+    port.bus_code = (uint16_t)code;
+    port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus = bldc_bus_condition(code);
-    if (BLDC_PORT_RARE(((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u) &&
-                       (code != BLDC_PORT_BUS_UNKNOWN))) {
+    if (BLDC_PORT_RARE((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u)) {
         port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
                                                      : BLDC_FAULT_UNDER_VOLTAGE);
     }
@@ -473,20 +480,26 @@ void TIM1_TRG_COM_IRQHandler(void)
     port_set_safe_state(port.period, port.bus_code);
 }
 
-/* The bus voltage moved beyond the hysteresis: hand it to the timing. */
-BLDC_PORT_COLD static void port_bus_moved(uint32_t bus)
+/* The bus voltage moved beyond the hysteresis: the timing handler takes the new code
+ * (the latest injected sample) and computes the bus state from it. */
+static inline void port_bus_moved(void)
 {
-    port.bus_code = (uint16_t)bus;
-    port.bus_low = bus - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus_changed = 1u;
     NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
 }
 
-/* The analog watchdog: the bus left [LTR, HTR] in this period's conversions. */
+/* The analog watchdog: a conversion of the bus (the regular group's, continuously, or
+ * the injected sequence's) left [LTR, HTR]. Over if either reading is above HTR. The
+ * regular group converts the bus every few microseconds and sets AWD again each time
+ * the bus is still outside: its interrupt goes off until the fault is cleared (else
+ * the ADC interrupt would take the CPU at the Hall edge's priority); the fault is
+ * latched, and bldc_port_clear_faults() reads the bus itself. */
 BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
 {
-    const uint32_t bus = PORT_AT(anchor, ADC1, ADC_TypeDef)->JDR4;
-    port_trip(anchor, (bus > BLDC_PORT_ADC_HTR) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
+    ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
+    adc->CR1 = BLDC_PORT_ADC_CR1 & ~ADC_CR1_AWDIE;
+    const uint32_t over = (adc->DR > BLDC_PORT_ADC_HTR) || (adc->JDR4 > BLDC_PORT_ADC_HTR);
+    port_trip(anchor, over ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
 }
 
 /* While faulted, every PWM period: the Hall interval from the capture TIM3 still makes
@@ -505,49 +518,77 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     port_set_safe_state(port.period, port.bus_code);
 }
 
+/* The current loop proper, in the steady state: the PI's duty for the steady switch
+ * from the next PWM period (CCRx is preloaded). */
+static inline void port_run_loop(uintptr_t anchor, uint32_t steady, uint32_t measured,
+                                 uint32_t reference)
+{
+    const int32_t state = port.integrator;
+    const uint32_t duty = bldc_current_loop_duty(state, reference, measured);
+    port.integrator = bldc_current_loop_integrate(state, reference, measured);
+    port.current = measured;
+    port.main_duty = (uint16_t)duty;
+    *port_compare(PORT_AT(anchor, TIM1, TIM_TypeDef), PORT_RECORD_ON_CHANNEL(steady)) = duty;
+}
+
+/* The interrupt's other paths, out of line: the analog watchdog, a commutation running
+ * (I is not sampled: no single signal is I then), the bridge idle or faulted, the open
+ * loop, and the faults this interrupt finds (the Hall counter wrapped while the bridge
+ * switches, a current sample at a rail). */
+BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uint32_t bus,
+                                          uint32_t measured)
+{
+    if ((status & ADC_SR_AWD) != 0u) {
+        port_bus_fault(anchor); /* tripped: the faulted tick below runs */
+    }
+    if ((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES) {
+        port_bus_moved();
+    }
+    const uint32_t steady = port.steady;
+    if ((steady != 0u) && (port.pending == 0u)) {
+        if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
+            /* The Hall counter wrapped while the bridge switches: no edge for its range. */
+            port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
+        } else if ((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
+            port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* 0 or full scale */
+        } else if (port.reference <= BLDC_PORT_ADC_CODE_MAX) {
+            port_run_loop(anchor, steady, measured, port.reference);
+        } else {
+            port.current = measured; /* open loop: I for the timing, the duty stays */
+        }
+    } else if (port.faults != 0u) {
+        port_faulted_tick(anchor);
+    }
+}
+
 /* End of the injected conversions (JEOC), once per PWM period, and the analog watchdog
- * (AWD). In the steady state between commutations: the braking current's sample, its
- * plausibility, the Hall timeout, and the PI, whose output is the main duty of the
- * steady switch from the next PWM period (CCRx is preloaded). */
+ * (AWD). In the steady state between commutations, closed loop and nothing amiss, the
+ * braking current's sample goes straight to the PI; every condition that leads
+ * elsewhere is tested at once, with one branch (from flash each conditional branch
+ * fetches its target). */
 void ADC1_2_IRQHandler(void)
 {
     const uintptr_t anchor = port_peripherals();
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
     const uint32_t status = adc->SR;
     adc->SR = ~(ADC_SR_JEOC | ADC_SR_JSTRT | ADC_SR_AWD); /* rc_w0: the others stay */
-    if (BLDC_PORT_RARE((status & ADC_SR_AWD) != 0u)) {
-        port_bus_fault(anchor);
-        return;
-    }
     ++port.heartbeat;
     const uint32_t bus = adc->JDR4;
-    if (BLDC_PORT_RARE((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES)) {
-        port_bus_moved(bus);
-    }
     const uint32_t steady = port.steady;
-    if ((steady != 0u) && (port.pending == 0u)) {
-        if (BLDC_PORT_RARE((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u)) {
-            /* The Hall counter wrapped while the bridge switches: no edge for its range. */
-            port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
-            return;
-        }
-        const uint32_t measured = adc->JDR1;
-        if (BLDC_PORT_RARE((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u))) {
-            port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* 0 or full scale */
-            return;
-        }
-        port.current = measured;
-        const uint32_t reference = port.reference;
-        if (reference <= BLDC_PORT_ADC_CODE_MAX) { /* closed loop */
-            const int32_t state = port.integrator;
-            const uint32_t duty = bldc_current_loop_duty(state, reference, measured);
-            port.integrator = bldc_current_loop_integrate(state, reference, measured);
-            port.main_duty = (uint16_t)duty;
-            *port_compare(PORT_AT(anchor, TIM1, TIM_TypeDef), PORT_RECORD_ON_CHANNEL(steady)) = duty;
-        }
-    } else if (BLDC_PORT_RARE(port.faults != 0u)) {
-        port_faulted_tick(anchor);
+    const uint32_t measured = adc->JDR1;
+    const uint32_t reference = port.reference;
+    const uint32_t other = (status & ADC_SR_AWD) | (uint32_t)(steady == 0u) | port.pending |
+                           (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) |
+                           (uint32_t)((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) |
+                           (uint32_t)(reference > BLDC_PORT_ADC_CODE_MAX);
+    if (BLDC_PORT_RARE(other != 0u)) {
+        port_adc_other(anchor, status, bus, measured);
+        return;
     }
+    if (BLDC_PORT_RARE((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES)) {
+        port_bus_moved();
+    }
+    port_run_loop(anchor, steady, measured, reference);
 }
 
 /* A break: the input went active (over-current), or software asked for one
@@ -644,11 +685,13 @@ static uint32_t port_present_causes(uint32_t latched)
     if ((((GPIOB->IDR >> 12) & 1u) == BLDC_PORT_BREAK_ACTIVE_HIGH)) {
         present |= latched & BLDC_FAULT_OVER_CURRENT;
     }
+    /* the bus: the last injected sample and the regular group's latest */
     const uint32_t bus = ADC1->JDR4;
-    if (bus > BLDC_PORT_ADC_HTR) {
+    const uint32_t now = ADC1->DR;
+    if ((bus > BLDC_PORT_ADC_HTR) || (now > BLDC_PORT_ADC_HTR)) {
         present |= latched & BLDC_FAULT_OVER_VOLTAGE;
     }
-    if (bus < BLDC_PORT_ADC_LTR) {
+    if ((bus < BLDC_PORT_ADC_LTR) || (now < BLDC_PORT_ADC_LTR)) {
         present |= latched & BLDC_FAULT_UNDER_VOLTAGE;
     }
     if ((ADC1->JDR1 - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
@@ -669,6 +712,8 @@ static void port_arm(void)
     TIM1->EGR = TIM_EGR_COMG; /* all off before MOE */
     TIM1->SR = ~TIM_SR_BIF;
     TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+    ADC1->SR = ~ADC_SR_AWD;
+    ADC1->CR1 = BLDC_PORT_ADC_CR1; /* the bus watchdog's interrupt again */
     port.pending = 0u;
     port.steady = 0u;
     port.integrator = 0;
@@ -761,8 +806,12 @@ static void port_init_hall_timer(void)
 }
 
 /* The ADC (RM0008 11): power up, calibrate, then the injected sequence triggered by
- * TIM1 TRGO, its end-of-conversion interrupt and the analog watchdog on the bus.
- * Returns BLDC_FAULT_ADC if the calibration does not finish. */
+ * TIM1 TRGO and its end-of-conversion interrupt, and the analog watchdog on the bus.
+ * Between the injected sequences the regular group converts the bus channel over and
+ * over (continuous mode, one conversion of the channel's sample time + 12.5 cycles; an
+ * injected trigger interrupts it and it resumes, RM0008 11.3.9), so the watchdog sees
+ * every bus reading within microseconds, not once per PWM period. Returns
+ * BLDC_FAULT_ADC if the calibration does not finish. */
 static uint32_t port_init_adc(void)
 {
     RCC->CFGR = (RCC->CFGR & ~RCC_CFGR_ADCPRE_Msk) | (BLDC_PORT_ADC_PRESCALER << RCC_CFGR_ADCPRE_Pos);
@@ -778,12 +827,16 @@ static uint32_t port_init_adc(void)
     ADC1->SMPR1 = BLDC_PORT_ADC_SMPR1;
     ADC1->SMPR2 = BLDC_PORT_ADC_SMPR2;
     ADC1->JSQR = BLDC_PORT_ADC_JSQR;
+    ADC1->SQR1 = 0u; /* L = 0: one regular conversion */
+    ADC1->SQR3 = BLDC_PORT_ADC_BUS_CHANNEL << ADC_SQR3_SQ1_Pos;
     ADC1->HTR = BLDC_PORT_ADC_HTR;
     ADC1->LTR = BLDC_PORT_ADC_LTR;
     ADC1->SR = 0u;
-    ADC1->CR1 = ADC_CR1_SCAN | ADC_CR1_JEOCIE | ADC_CR1_AWDIE | ADC_CR1_JAWDEN | ADC_CR1_AWDSGL |
-                (BLDC_PORT_ADC_BUS_CHANNEL << ADC_CR1_AWDCH_Pos);
-    ADC1->CR2 = ADC_CR2_ADON | ADC_CR2_JEXTTRIG | (BLDC_PORT_JEXTSEL_TIM1_TRGO << ADC_CR2_JEXTSEL_Pos);
+    ADC1->CR1 = BLDC_PORT_ADC_CR1;
+    ADC1->CR2 = ADC_CR2_ADON | ADC_CR2_CONT | ADC_CR2_EXTTRIG |
+                (BLDC_PORT_EXTSEL_SWSTART << ADC_CR2_EXTSEL_Pos) | ADC_CR2_JEXTTRIG |
+                (BLDC_PORT_JEXTSEL_TIM1_TRGO << ADC_CR2_JEXTSEL_Pos);
+    ADC1->CR2 |= ADC_CR2_SWSTART; /* the regular group runs from now on */
     return fault;
 }
 
@@ -860,11 +913,14 @@ void bldc_port_init(uint32_t start_faults)
     port.heartbeat = 0u;
     port.heartbeat_seen = 0u;
     /* Until the first bus sample, every edge is treated as over-voltage: the bridge
-     * stays off. The first timing is the safe state, and the first sample (any code
-     * differs from this one by more than the hysteresis) computes the bus state. */
+     * stays off. The bus state of a code no ADC gives is saturated, so the first timing
+     * is the safe state (not a fault: JDR4 holds no sample yet and is not read); the
+     * first sample (any code differs from this one by more than the hysteresis) pends
+     * the timing, which computes the bus state from it. */
     port.bus_code = BLDC_PORT_BUS_UNKNOWN;
     port.bus_low = BLDC_PORT_BUS_UNKNOWN - BLDC_PORT_BUS_HYSTERESIS_CODES;
-    port.bus_changed = 1u;
+    port.bus = bldc_bus_condition(BLDC_PORT_BUS_UNKNOWN);
+    port.bus_changed = 0u;
     port.period = BLDC_PORT_TIM3_ARR;
     port.slots[0] = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
     port.timing = &port.slots[0];

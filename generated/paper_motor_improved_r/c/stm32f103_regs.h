@@ -1500,6 +1500,97 @@ typedef struct {
 #define ADC_LTR_LT_Msk (0xfffU << ADC_LTR_LT_Pos) /* 0x00000FFF */
 #define ADC_LTR_LT ADC_LTR_LT_Msk /* Analog watchdog lower threshold */
 
+/* ADC_SQR1 */
+#define ADC_SQR1_SQ13_Pos (0U)
+#define ADC_SQR1_SQ13_Msk (0x1fU << ADC_SQR1_SQ13_Pos) /* 0x0000001F */
+#define ADC_SQR1_SQ13 ADC_SQR1_SQ13_Msk /* 13th conversion in regular sequence */
+#define ADC_SQR1_SQ13_0 (0x1U << ADC_SQR1_SQ13_Pos) /* 0x00000001 */
+#define ADC_SQR1_SQ13_1 (0x2U << ADC_SQR1_SQ13_Pos) /* 0x00000002 */
+#define ADC_SQR1_SQ13_2 (0x4U << ADC_SQR1_SQ13_Pos) /* 0x00000004 */
+#define ADC_SQR1_SQ13_3 (0x8U << ADC_SQR1_SQ13_Pos) /* 0x00000008 */
+#define ADC_SQR1_SQ13_4 (0x10U << ADC_SQR1_SQ13_Pos) /* 0x00000010 */
+#define ADC_SQR1_SQ14_Pos (5U)
+#define ADC_SQR1_SQ14_Msk (0x1fU << ADC_SQR1_SQ14_Pos) /* 0x000003E0 */
+#define ADC_SQR1_SQ14 ADC_SQR1_SQ14_Msk /* 14th conversion in regular sequence */
+#define ADC_SQR1_SQ14_0 (0x1U << ADC_SQR1_SQ14_Pos) /* 0x00000020 */
+#define ADC_SQR1_SQ14_1 (0x2U << ADC_SQR1_SQ14_Pos) /* 0x00000040 */
+#define ADC_SQR1_SQ14_2 (0x4U << ADC_SQR1_SQ14_Pos) /* 0x00000080 */
+#define ADC_SQR1_SQ14_3 (0x8U << ADC_SQR1_SQ14_Pos) /* 0x00000100 */
+#define ADC_SQR1_SQ14_4 (0x10U << ADC_SQR1_SQ14_Pos) /* 0x00000200 */
+#define ADC_SQR1_SQ15_Pos (10U)
+#define ADC_SQR1_SQ15_Msk (0x1fU << ADC_SQR1_SQ15_Pos) /* 0x00007C00 */
+#define ADC_SQR1_SQ15 ADC_SQR1_SQ15_Msk /* 15th conversion in regular sequence */
+#define ADC_SQR1_SQ15_0 (0x1U << ADC_SQR1_SQ15_Pos) /* 0x00000400 */
+#define ADC_SQR1_SQ15_1 (0x2U << ADC_SQR1_SQ15_Pos) /* 0x00000800 */
+#define ADC_SQR1_SQ15_2 (0x4U << ADC_SQR1_SQ15_Pos) /* 0x00001000 */
+#define ADC_SQR1_SQ15_3 (0x8U << ADC_SQR1_SQ15_Pos) /* 0x00002000 */
+#define ADC_SQR1_SQ15_4 (0x10U << ADC_SQR1_SQ15_Pos) /* 0x00004000 */
+#define ADC_SQR1_SQ16_Pos (15U)
+#define ADC_SQR1_SQ16_Msk (0x1fU << ADC_SQR1_SQ16_Pos) /* 0x000F8000 */
+#define ADC_SQR1_SQ16 ADC_SQR1_SQ16_Msk /* 16th conversion in regular sequence */
+#define ADC_SQR1_SQ16_0 (0x1U << ADC_SQR1_SQ16_Pos) /* 0x00008000 */
+#define ADC_SQR1_SQ16_1 (0x2U << ADC_SQR1_SQ16_Pos) /* 0x00010000 */
+#define ADC_SQR1_SQ16_2 (0x4U << ADC_SQR1_SQ16_Pos) /* 0x00020000 */
+#define ADC_SQR1_SQ16_3 (0x8U << ADC_SQR1_SQ16_Pos) /* 0x00040000 */
+#define ADC_SQR1_SQ16_4 (0x10U << ADC_SQR1_SQ16_Pos) /* 0x00080000 */
+#define ADC_SQR1_L_Pos (20U)
+#define ADC_SQR1_L_Msk (0xfU << ADC_SQR1_L_Pos) /* 0x00F00000 */
+#define ADC_SQR1_L ADC_SQR1_L_Msk /* Regular channel sequence length */
+#define ADC_SQR1_L_0 (0x1U << ADC_SQR1_L_Pos) /* 0x00100000 */
+#define ADC_SQR1_L_1 (0x2U << ADC_SQR1_L_Pos) /* 0x00200000 */
+#define ADC_SQR1_L_2 (0x4U << ADC_SQR1_L_Pos) /* 0x00400000 */
+#define ADC_SQR1_L_3 (0x8U << ADC_SQR1_L_Pos) /* 0x00800000 */
+
+/* ADC_SQR3 */
+#define ADC_SQR3_SQ1_Pos (0U)
+#define ADC_SQR3_SQ1_Msk (0x1fU << ADC_SQR3_SQ1_Pos) /* 0x0000001F */
+#define ADC_SQR3_SQ1 ADC_SQR3_SQ1_Msk /* 1st conversion in regular sequence */
+#define ADC_SQR3_SQ1_0 (0x1U << ADC_SQR3_SQ1_Pos) /* 0x00000001 */
+#define ADC_SQR3_SQ1_1 (0x2U << ADC_SQR3_SQ1_Pos) /* 0x00000002 */
+#define ADC_SQR3_SQ1_2 (0x4U << ADC_SQR3_SQ1_Pos) /* 0x00000004 */
+#define ADC_SQR3_SQ1_3 (0x8U << ADC_SQR3_SQ1_Pos) /* 0x00000008 */
+#define ADC_SQR3_SQ1_4 (0x10U << ADC_SQR3_SQ1_Pos) /* 0x00000010 */
+#define ADC_SQR3_SQ2_Pos (5U)
+#define ADC_SQR3_SQ2_Msk (0x1fU << ADC_SQR3_SQ2_Pos) /* 0x000003E0 */
+#define ADC_SQR3_SQ2 ADC_SQR3_SQ2_Msk /* 2nd conversion in regular sequence */
+#define ADC_SQR3_SQ2_0 (0x1U << ADC_SQR3_SQ2_Pos) /* 0x00000020 */
+#define ADC_SQR3_SQ2_1 (0x2U << ADC_SQR3_SQ2_Pos) /* 0x00000040 */
+#define ADC_SQR3_SQ2_2 (0x4U << ADC_SQR3_SQ2_Pos) /* 0x00000080 */
+#define ADC_SQR3_SQ2_3 (0x8U << ADC_SQR3_SQ2_Pos) /* 0x00000100 */
+#define ADC_SQR3_SQ2_4 (0x10U << ADC_SQR3_SQ2_Pos) /* 0x00000200 */
+#define ADC_SQR3_SQ3_Pos (10U)
+#define ADC_SQR3_SQ3_Msk (0x1fU << ADC_SQR3_SQ3_Pos) /* 0x00007C00 */
+#define ADC_SQR3_SQ3 ADC_SQR3_SQ3_Msk /* 3rd conversion in regular sequence */
+#define ADC_SQR3_SQ3_0 (0x1U << ADC_SQR3_SQ3_Pos) /* 0x00000400 */
+#define ADC_SQR3_SQ3_1 (0x2U << ADC_SQR3_SQ3_Pos) /* 0x00000800 */
+#define ADC_SQR3_SQ3_2 (0x4U << ADC_SQR3_SQ3_Pos) /* 0x00001000 */
+#define ADC_SQR3_SQ3_3 (0x8U << ADC_SQR3_SQ3_Pos) /* 0x00002000 */
+#define ADC_SQR3_SQ3_4 (0x10U << ADC_SQR3_SQ3_Pos) /* 0x00004000 */
+#define ADC_SQR3_SQ4_Pos (15U)
+#define ADC_SQR3_SQ4_Msk (0x1fU << ADC_SQR3_SQ4_Pos) /* 0x000F8000 */
+#define ADC_SQR3_SQ4 ADC_SQR3_SQ4_Msk /* 4th conversion in regular sequence */
+#define ADC_SQR3_SQ4_0 (0x1U << ADC_SQR3_SQ4_Pos) /* 0x00008000 */
+#define ADC_SQR3_SQ4_1 (0x2U << ADC_SQR3_SQ4_Pos) /* 0x00010000 */
+#define ADC_SQR3_SQ4_2 (0x4U << ADC_SQR3_SQ4_Pos) /* 0x00020000 */
+#define ADC_SQR3_SQ4_3 (0x8U << ADC_SQR3_SQ4_Pos) /* 0x00040000 */
+#define ADC_SQR3_SQ4_4 (0x10U << ADC_SQR3_SQ4_Pos) /* 0x00080000 */
+#define ADC_SQR3_SQ5_Pos (20U)
+#define ADC_SQR3_SQ5_Msk (0x1fU << ADC_SQR3_SQ5_Pos) /* 0x01F00000 */
+#define ADC_SQR3_SQ5 ADC_SQR3_SQ5_Msk /* 5th conversion in regular sequence */
+#define ADC_SQR3_SQ5_0 (0x1U << ADC_SQR3_SQ5_Pos) /* 0x00100000 */
+#define ADC_SQR3_SQ5_1 (0x2U << ADC_SQR3_SQ5_Pos) /* 0x00200000 */
+#define ADC_SQR3_SQ5_2 (0x4U << ADC_SQR3_SQ5_Pos) /* 0x00400000 */
+#define ADC_SQR3_SQ5_3 (0x8U << ADC_SQR3_SQ5_Pos) /* 0x00800000 */
+#define ADC_SQR3_SQ5_4 (0x10U << ADC_SQR3_SQ5_Pos) /* 0x01000000 */
+#define ADC_SQR3_SQ6_Pos (25U)
+#define ADC_SQR3_SQ6_Msk (0x1fU << ADC_SQR3_SQ6_Pos) /* 0x3E000000 */
+#define ADC_SQR3_SQ6 ADC_SQR3_SQ6_Msk /* 6th conversion in regular sequence */
+#define ADC_SQR3_SQ6_0 (0x1U << ADC_SQR3_SQ6_Pos) /* 0x02000000 */
+#define ADC_SQR3_SQ6_1 (0x2U << ADC_SQR3_SQ6_Pos) /* 0x04000000 */
+#define ADC_SQR3_SQ6_2 (0x4U << ADC_SQR3_SQ6_Pos) /* 0x08000000 */
+#define ADC_SQR3_SQ6_3 (0x8U << ADC_SQR3_SQ6_Pos) /* 0x10000000 */
+#define ADC_SQR3_SQ6_4 (0x10U << ADC_SQR3_SQ6_Pos) /* 0x20000000 */
+
 /* ADC_JSQR */
 #define ADC_JSQR_JSQ1_Pos (0U)
 #define ADC_JSQR_JSQ1_Msk (0x1fU << ADC_JSQR_JSQ1_Pos) /* 0x0000001F */
