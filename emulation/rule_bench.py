@@ -81,12 +81,14 @@ def rule_sweep(
 ) -> tuple[Sweep, Sweep]:
     """The timing handler's sweep within the spec (periods over the whole speed range
     and up to the Hall counter's full range, bus min/middle/max, current 0/nominal/max,
-    duty 0/half/full), and the same periods with the current ADC at full scale."""
+    duty 0/half/full), and the same periods with the current ADC at the top of its
+    range: one code below full scale, the highest the port hands the timing (a sample
+    at either rail is a current-sensor fault, and trips the bridge)."""
     spec = load_spec(spec_path)
     sc = scaling(spec, derive())
     base = sweep(spec, sc, period_points)
     within = replace(base, periods=(*base.periods, sc.period_cap_ticks))
-    return within, replace(within, currents=(sc.adc_full_scale - 1,))
+    return within, replace(within, currents=(sc.adc_full_scale - 2,))
 
 
 def undefined_symbols(obj: Path) -> frozenset[str]:

@@ -133,7 +133,7 @@ def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
     assert (within.buses[0], within.buses[-1]) == (sc.bus_code_min, sc.bus_code_max)
     offset = sc.current_offset_code
     assert within.currents == (offset, offset + 310, offset + sc.current_code_max)  # 0, 5, 10 A
-    assert saturated.currents == (sc.adc_full_scale - 1,)
+    assert saturated.currents == (sc.adc_full_scale - 2,)  # full scale is a sensor fault
 
     formats = json.loads((generated / "manifest.json").read_text())["core"]["formats"]
     steps = int(formats["bisection_steps"])
