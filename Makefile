@@ -127,8 +127,9 @@ check-generated: setup
 	fi; \
 	echo "check-generated: generated/ is up to date"
 
+# Every test, on every core (pytest-xdist).
 test: setup lint check-generated
-	$(PY) -m pytest
+	$(PY) -m pytest -n auto
 
 # Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the
 # driver (python -m emulation --help): BENCH_FLAGS=--report-only, --only handlers,peers.
