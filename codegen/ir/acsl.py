@@ -25,12 +25,18 @@ from dataclasses import dataclass
 
 from codegen.ir.nodes import (
     Expr,
+    IAnd,
     IBin,
     ICast,
+    ICmp,
     IConst,
     IDiv,
     IField,
     ILongDiv,
+    IMod,
+    INot,
+    IOr,
+    ISelect,
     IShl,
     IShr,
     IStep,
@@ -156,6 +162,18 @@ def term(e: Expr, names: dict[str, str], macros: frozenset[str] = frozenset()) -
     if isinstance(e, ILongDiv):
         d = term(e.divisor, names, macros)
         return f"((2 * {e.numerator.value} + {d}) / (2 * {d}))"  # round half up, N, d > 0
+    if isinstance(e, IMod):
+        return f"({term(e.a, names, macros)} % {term(e.b, names, macros)})"
+    if isinstance(e, ICmp):
+        return f"({term(e.a, names, macros)} {e.op} {term(e.b, names, macros)})"
+    if isinstance(e, IAnd | IOr):
+        op = "&&" if isinstance(e, IAnd) else "||"
+        return f"({term(e.a, names, macros)} {op} {term(e.b, names, macros)})"
+    if isinstance(e, INot):
+        return f"!{term(e.a, names, macros)}"
+    if isinstance(e, ISelect):
+        cond, a, b = (term(x, names, macros) for x in (e.cond, e.a, e.b))
+        return f"({cond} ? {a} : {b})"
     raise TypeError(f"no ACSL term for {type(e).__name__}")
 
 

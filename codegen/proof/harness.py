@@ -18,7 +18,10 @@ The partitioning comes from the design, not from the spec by hand:
   saturation range (plus one below and one above it), and splits the period at each bus
   field the timing compares it with: within a partition those fields are single values,
   and the decision carries over to the arithmetic. When the proven ranges already meet
-  the contract, one partition is enough.
+  the contract, one partition is enough. `bldc_bus_condition()` is always analysed code
+  by code (it is cheap), so that EVA checks its exact postcondition for every code.
+* `bldc_commutate()` is analysed over every input at once: EVA rules out run-time
+  errors there, and WP carries its callees' contracts to its own.
 * A parameter that indexes a table through a small guard (the Hall codes of
   `bldc_edge_of`, guarded by `<= 7`): one partition per value of the guarded domain,
   one for the rest, so every entry is checked against the contract on its own.
@@ -115,16 +118,18 @@ def _sources(fn: Function, e: Expr, seen: frozenset[str] = frozenset()) -> set[s
 
 
 def bus_code_bounds(bus_condition: Function) -> tuple[IConst, IConst]:
-    """The saturation range of the bus code: the constants its IR compares it with."""
+    """The saturation range of the bus code: the constants its IR saturates it to."""
     code = bus_condition.params[0].name
-    consts: dict[int, IConst] = {}
-    for e in all_exprs(bus_condition.body):
-        if (
-            isinstance(e, ICmp)
-            and isinstance(e.b, IConst)
-            and _sources(bus_condition, e.a) == {code}
-        ):
-            consts[e.b.value] = e.b
+    saturated = {
+        s.name
+        for s in all_statements(bus_condition.body)
+        if isinstance(s, SVar) and isinstance(s.init, IVar) and s.init.name == code
+    }
+    consts = {
+        s.expr.value: s.expr
+        for s in all_statements(bus_condition.body)
+        if isinstance(s, SAssign) and s.name in saturated and isinstance(s.expr, IConst)
+    }
     if len(consts) != 2:
         raise ValueError(f"{bus_condition.c_name}: expected a saturation range, got {consts}")
     low, high = sorted(consts)
