@@ -340,12 +340,15 @@ def current_remains_function(
     wide_y = widths["y_psi1"]
     body += [
         SLet("y_psi1", mul(cast(y, wide_y), cast(psi1, wide_y), wide_y)),
+        # a local of its own, so that a non-relational analysis (Frama-C's EVA) narrows
+        # it in the clamp below as the IR's proof does
+        SLet("one_minus_e", round_shr(var("y_psi1", wide_y), e_shift), f"1 - e^-y in Q{fu}"),
         SLet(
             "e",
             cast(
                 sub(
                     cast(k.unit_q, wide_y),
-                    minimum(round_shr(var("y_psi1", wide_y), e_shift), cast(k.unit_q, wide_y)),
+                    minimum(var("one_minus_e", wide_y), cast(k.unit_q, wide_y)),
                 ),
                 I32,
             ),
@@ -544,11 +547,8 @@ def timing_function(
         ),
         SLet("on", cast(clamp(total, const(0, I32), k.period_q), U32)),
         SLet("off", cast(clamp(sub(total, k.period_q), const(0, I32), k.period_q), U32)),
-        SLet(
-            "ticks",
-            minimum(round_shr(mul(fraction, period), steps + 1), measured),
-            "x_c T, at most the measured period",
-        ),
+        SLet("scaled", round_shr(mul(fraction, period), steps + 1), "x_c T"),
+        SLet("ticks", minimum(var("scaled", U32), measured), "at most the measured period"),
         SStruct(
             "timing",
             TIMING,

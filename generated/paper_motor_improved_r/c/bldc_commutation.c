@@ -509,6 +509,8 @@ static const uint16_t bldc_psi_complement[385][2] = {
 };
 
 /* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
+/*@ assigns \nothing;
+*/
 static uint32_t bldc_divide_long(uint32_t high, uint32_t low, uint32_t shift, uint32_t divisor)
 {
     const uint32_t q_high = high / divisor;
@@ -541,20 +543,27 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 }
 
 /* Sign of 2 g(x): the turn-off current after x sectors (Q K) under the pair held at S(x), g = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2. 1 while the current has not yet reached zero */
+/*@ requires readable_st: \valid_read(st);
+    assigns \nothing;
+*/
 static uint32_t bldc_current_remains(const bldc_rule_edge_t *st, uint32_t x)
 {
     const uint64_t rho_x = (uint64_t)st->rho * (uint64_t)x;
     const uint32_t y = (uint32_t)(rho_x >> 17u); /* y = rho x in Q24 */
     const uint32_t whole = y >> 24u;
     const uint32_t octave = (whole == 0u) ? 0u : (32u - (uint32_t)__builtin_clz(whole)); /* table segment: 0 for y < 1, else 32 - CLZ(integer part) */
+    /*@ split octave; */ /*@ ghost ; */
     const uint32_t shift = (octave == 0u) ? 18u : 17u + octave; /* fraction bits of y within its row */
     const uint32_t row = (octave << 6u) + ((y >> shift) & 63u);
     const uint32_t r = y & ((1u << shift) - 1u);
     const uint32_t half = 1u << (shift - 1u);
+    /*@ split row; */ /*@ ghost ; */
     const uint32_t psi1 = 65536u - ((uint32_t)bldc_psi_complement[row][0] + ((((uint32_t)bldc_psi_complement[row + 1u][0] - bldc_psi_complement[row][0]) * r + half) >> shift)); /* psi1(y) in Q16, linear interpolation */
     const uint32_t psi2 = 65536u - ((uint32_t)bldc_psi_complement[row][1] + ((((uint32_t)bldc_psi_complement[row + 1u][1] - bldc_psi_complement[row][1]) * r + half) >> shift)); /* psi2(y) in Q16, linear interpolation */
+    /*@ merge row; */ /*@ ghost ; */
     const uint64_t y_psi1 = (uint64_t)y * (uint64_t)psi1;
-    const int32_t e = (int32_t)((uint64_t)UNIT_Q - (((y_psi1 + 512ull) >> 10u > (uint64_t)UNIT_Q) ? (uint64_t)UNIT_Q : (y_psi1 + 512ull) >> 10u)); /* e^-y = 1 - y psi1 in Q30, kept >= 0 against the table's error */
+    const uint64_t one_minus_e = (y_psi1 + 512ull) >> 10u; /* 1 - e^-y in Q30 */
+    const int32_t e = (int32_t)((uint64_t)UNIT_Q - ((one_minus_e > (uint64_t)UNIT_Q) ? (uint64_t)UNIT_Q : one_minus_e)); /* e^-y = 1 - y psi1 in Q30, kept >= 0 against the table's error */
     const int32_t u1 = (int32_t)(x * psi1); /* x psi1 */
     const uint64_t x_x_psi2 = (uint64_t)x * (uint64_t)(x * psi2);
     const int32_t v2 = (int32_t)((x_x_psi2 + 8192ull) >> 14u); /* x^2 psi2 */
@@ -607,6 +616,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     };
     uint32_t lo = 0u;
     uint32_t hi = 16384u;
+    /*@ loop invariant 0 <= step <= 14; loop invariant 0 <= lo <= 16384; loop invariant 0 <= hi <= 16384; loop assigns lo, hi, step; loop variant 14 - step; */
     for (uint32_t step = 0u; step < 14u; ++step) { /* t_com: bisection over x in (0, 1] sectors; g(0) = A >= 0 changes sign once */
         const uint32_t mid = (lo + hi) >> 1u;
         if (bldc_current_remains(&st, mid) != 0u) {
@@ -630,7 +640,8 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     }
     const uint32_t on = (uint32_t)((total < 0) ? 0 : (total > PERIOD_Q) ? PERIOD_Q : total);
     const uint32_t off = (uint32_t)((total - PERIOD_Q < 0) ? 0 : (total - PERIOD_Q > PERIOD_Q) ? PERIOD_Q : total - PERIOD_Q);
-    const uint32_t ticks = ((fraction * period + 16384u) >> 15u > measured) ? measured : (fraction * period + 16384u) >> 15u; /* x_c T, at most the measured period */
+    const uint32_t scaled = (fraction * period + 16384u) >> 15u; /* x_c T */
+    const uint32_t ticks = (scaled > measured) ? measured : scaled; /* at most the measured period */
     const bldc_timing_t timing = {
         .period_min = bus->period_min,
         .turn_on_compare = (uint16_t)((on + 64u) >> 7u),

@@ -633,7 +633,8 @@ def current_remains(st: RuleEdge, x: int) -> int:
     psi1 = 65536 - (BLDC_PSI_COMPLEMENT[row][0] + ((BLDC_PSI_COMPLEMENT[row + 1][0] - BLDC_PSI_COMPLEMENT[row][0]) * r + half >> shift))  # psi1(y) in Q16, linear interpolation
     psi2 = 65536 - (BLDC_PSI_COMPLEMENT[row][1] + ((BLDC_PSI_COMPLEMENT[row + 1][1] - BLDC_PSI_COMPLEMENT[row][1]) * r + half >> shift))  # psi2(y) in Q16, linear interpolation
     y_psi1 = y * psi1
-    e = UNIT_Q - (UNIT_Q if (y_psi1 + 512) >> 10 > UNIT_Q else (y_psi1 + 512) >> 10)  # e^-y = 1 - y psi1 in Q30, kept >= 0 against the table's error
+    one_minus_e = (y_psi1 + 512) >> 10  # 1 - e^-y in Q30
+    e = UNIT_Q - (UNIT_Q if one_minus_e > UNIT_Q else one_minus_e)  # e^-y = 1 - y psi1 in Q30, kept >= 0 against the table's error
     u1 = x * psi1  # x psi1
     x_x_psi2 = x * (x * psi2)
     v2 = (x_x_psi2 + 8192) >> 14  # x^2 psi2
@@ -687,7 +688,8 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
         flags |= BLDC_FLAG_HIGH_SPEED
     on = 0 if total < 0 else PERIOD_Q if total > PERIOD_Q else total
     off = 0 if total - PERIOD_Q < 0 else PERIOD_Q if total - PERIOD_Q > PERIOD_Q else total - PERIOD_Q
-    ticks = measured if (fraction * period + 16384) >> 15 > measured else (fraction * period + 16384) >> 15  # x_c T, at most the measured period
+    scaled = (fraction * period + 16384) >> 15  # x_c T
+    ticks = measured if scaled > measured else scaled  # at most the measured period
     timing = Timing(bus.period_min, (on + 64) >> 7, (off + 64) >> 7, ticks, flags)
     return timing
 
