@@ -154,7 +154,7 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
 
 #: Functions thread mode calls with interrupts masked (PRIMASK) from start to end: no
 #: handler stacks on them, so they count apart (`make firmware` prints both).
-MASKED = ("bldc_port_init",)
+MASKED = ("bldc_port_init", "port_clear_masked")
 
 
 def stack(build_dir: Path, cube: bool) -> StackReport:

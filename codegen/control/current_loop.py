@@ -23,7 +23,9 @@ of period k sets the duty of period k + 1), in TIM1 counts per current code:
 with P the counts of a period, a the amperes of a current code and D_max the largest
 duty whose OFF time holds the current sample (codegen/control/sensing.py). The
 integrator stops where the output is saturated and the error drives it further
-(clamping anti-windup), and never leaves the output range.
+(clamping anti-windup), and never leaves the output range. Where 0 <= k_i <= k_p (every
+example motor) the clamp never acts unless the output saturates, and the update is
+printed as x + k_i e, or x where v is outside [0, D_max]: one range test, no branch.
 
 Fixed point: x and v in Q`f` counts (int32), the gains rounded to Q`f`, the inputs
 clamped to the ADC range first, so every intermediate is proven for every value of

@@ -724,16 +724,25 @@ static void port_arm(void)
     TIM1->BDTR = BLDC_PORT_TIM1_BDTR | TIM_BDTR_MOE;
 }
 
-uint32_t bldc_port_clear_faults(void)
+/* The clear proper. Its only caller masks interrupts around it, so no handler stacks
+ * on its frame (out of line: the stack report counts it apart, with thread mode alone,
+ * codegen/build_firmware.py MASKED). */
+BLDC_PORT_NOINLINE static uint32_t port_clear_masked(void)
 {
-    const uint32_t primask = __get_PRIMASK();
-    __disable_irq();
     const uint32_t latched = port.faults;
     const uint32_t remaining = port_present_causes(latched);
     port.faults = remaining;
     if ((latched != 0u) && (remaining == 0u)) {
         port_arm();
     }
+    return remaining;
+}
+
+uint32_t bldc_port_clear_faults(void)
+{
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    const uint32_t remaining = port_clear_masked();
     __set_PRIMASK(primask);
     return remaining;
 }

@@ -33,7 +33,8 @@
  *         PA7  TIM3_CH2  Hall B, code bit 1 (input, pull-up)
  *         PB0  TIM3_CH3  Hall C, code bit 0 (input, pull-up)
  *   ADC1  injected sequence of four conversions per PWM period, triggered by TIM1;
- *         the analog watchdog on the bus channel
+ *         between them the regular group converts the bus channel continuously,
+ *         and the analog watchdog watches the bus in both
  *         PA0 ADC12_IN0: DC-link shunt current (analog input)
  *         PA1 ADC12_IN1: bus voltage divider (analog input)
  *
@@ -194,8 +195,8 @@
 /*
  * Start-up. bldc_port_init() enables the clocks of GPIOA, GPIOB, TIM1, TIM3 and ADC1,
  * calibrates the ADC, configures TIM1 (PWM, dead time, break input, the ADC trigger),
- * TIM3 (Hall interface) and the ADC (injected sequence, analog watchdog), sets up the
- * pins and the NVIC. `start_faults` are latched from the start (e.g.
+ * TIM3 (Hall interface) and the ADC (injected sequence, the bus in the regular group,
+ * analog watchdog), sets up the pins and the NVIC. `start_faults` are latched from the start (e.g.
  * BLDC_FAULT_CLOCK when the HSE did not start); a watchdog reset (RCC_CSR.IWDGRSTF)
  * latches BLDC_FAULT_WATCHDOG by itself. Without a fault the bridge is armed (MOE set,
  * every output off) and switches from the first Hall edge after the first bus sample.
