@@ -24,7 +24,7 @@ SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_max
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware verify prove unity simulate robustness test lint format check-generated bench clean
+.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware flash verify prove unity simulate robustness test lint format check-generated bench clean
 
 all: setup derive audit generate
 
@@ -77,6 +77,15 @@ generate: setup
 # Cross-compile the generated output of the spec for the Cortex-M3; sizes by section.
 firmware: setup
 	$(CLI) firmware $(ONE_SPEC)
+
+# Flash the firmware of SPEC (or the default spec) through an ST-Link or CMSIS-DAP probe
+# with pyocd (README, Firmware). Not run by the tests: there is no probe here. The part
+# is pyocd's target name; the link script assumes 64 KiB flash and 20 KiB RAM (C8/CB).
+PYOCD_TARGET ?= stm32f103c8
+flash: firmware
+	@command -v pyocd >/dev/null 2>&1 || { echo "flash: pyocd not found: install it (pipx install pyocd), then 'pyocd pack install $(PYOCD_TARGET)'" >&2; exit 5; }
+	name=$$(sed -n 's/^name: *//p' $(ONE_SPEC) | head -n 1); \
+	pyocd load --target $(PYOCD_TARGET) build/$$name/firmware.hex
 
 # The generated core against the exact symbolic model (exhaustive, random, boundary);
 # report.json and error_vs_speed.png into generated/<name>/verify/.
