@@ -281,6 +281,8 @@ extern unsigned fake_nvic_priority[64];
 #define ADC1 (&fake_adc1)
 #define NVIC_EnableIRQ(n) (fake_nvic_enabled |= 1ul << (n))
 #define NVIC_SetPendingIRQ(n) (fake_nvic_pending |= 1ul << (n))
+#define BLDC_PORT_PEND_TIMING_WHEN(moved) \
+    (fake_nvic_pending |= (unsigned long)((moved) != 0) << TIM1_TRG_COM_IRQn)
 #define NVIC_ClearPendingIRQ(n) (fake_nvic_cleared |= 1ul << (n))
 #define NVIC_SetPriority(n, p) (fake_nvic_priority[(n)] = (p))
 #ifndef HARNESS_CALIBRATION_STUCK

@@ -225,12 +225,12 @@ static struct {
     const bldc_timing_t *timing;    /* what the next Hall edge applies: one of `slots` */
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
+    volatile uint32_t *steady_compare; /* its compare register (CCRx), set with `steady` */
     uint32_t period;                /* last Hall interval in ticks, for the next timing */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
     uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
-    uint16_t bus_code;              /* the bus code of `bus`, or the newer one to compute it for */
+    uint16_t bus_code;              /* the bus code of `bus` */
     uint32_t bus_low;               /* bus_code - hysteresis (mod 2^32): a sample within the band is no change */
-    uint32_t bus_changed;           /* set by the current loop: recompute `bus` before the timing */
     uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
     int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
     uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation) */
@@ -381,9 +381,12 @@ BLDC_PORT_NOINLINE BLDC_PORT_FAST_CODE static void port_on_commutation_end(uintp
         return; /* a compare match outside a commutation: nothing scheduled */
     }
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
-    *port_compare(tim1, PORT_RECORD_ON_CHANNEL(record)) = port.main_duty;
+    volatile uint32_t *const compare = port_compare(tim1, PORT_RECORD_ON_CHANNEL(record));
+    *compare = port.main_duty;
     tim1->CCER = PORT_RECORD_CCER_AFTER(record); /* a subset of the pattern in force: safe */
     tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    /* What the current loop needs of this record, found once here, not every period. */
+    port.steady_compare = compare;
     port.steady = record;
     port.pending = 0u;
 }
@@ -444,13 +447,10 @@ static void port_request_trip(uint32_t fault)
 
 /* The bus voltage changed beyond the hysteresis: its reciprocals, once per change (out
  * of line, so the bus state's temporaries cost the timing handler's common path no
- * stack). The flag first: a newer code arriving meanwhile sets it again. The core flags
- * a bus outside its range: the analog watchdog has tripped already, and this is its
- * backstop. */
-BLDC_PORT_NOINLINE static void port_update_bus(void)
+ * stack). The core flags a bus outside its range: the analog watchdog has tripped
+ * already, and this is its backstop. */
+BLDC_PORT_NOINLINE static void port_update_bus(uint32_t code)
 {
-    port.bus_changed = 0u;
-    const uint32_t code = ADC1->JDR4;
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus = bldc_bus_condition(code);
@@ -469,8 +469,11 @@ BLDC_PORT_NOINLINE static void port_update_bus(void)
 void TIM1_TRG_COM_IRQHandler(void)
 {
     TIM1->SR = ~TIM_SR_COMIF;
-    if (BLDC_PORT_RARE(port.bus_changed != 0u)) {
-        port_update_bus();
+    /* The latest injected bus sample; the current loop pended this run when it left the
+     * band around the code in use. */
+    const uint32_t bus = ADC1->JDR4;
+    if (BLDC_PORT_RARE((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES)) {
+        port_update_bus(bus);
     }
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
      * an edge sees the previous timing or this one, never half of either. */
@@ -480,12 +483,17 @@ void TIM1_TRG_COM_IRQHandler(void)
     port_set_safe_state(port.period, port.bus_code);
 }
 
-/* The bus voltage moved beyond the hysteresis: the timing handler takes the new code
- * (the latest injected sample) and computes the bus state from it. */
-static inline void port_bus_moved(void)
+/* Pend the timing handler when `moved` is 1, nothing when 0, without a branch: a 0
+ * written to an NVIC set-pending bit has no effect (PM0056 4.3.4). The timing handler
+ * takes the new code (the latest injected sample) and computes the bus state from it. */
+#ifndef BLDC_PORT_PEND_TIMING_WHEN
+#define BLDC_PORT_PEND_TIMING_WHEN(moved)                                          \
+    (((volatile uint32_t *)NVIC_ISPR_BASE)[(uint32_t)TIM1_TRG_COM_IRQn >> 5u] =  \
+         (uint32_t)(moved) << ((uint32_t)TIM1_TRG_COM_IRQn & 31u))
+#endif
+static inline void port_pend_if_bus_moved(uint32_t bus)
 {
-    port.bus_changed = 1u;
-    NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
+    BLDC_PORT_PEND_TIMING_WHEN((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES);
 }
 
 /* The analog watchdog: a conversion of the bus (the regular group's, continuously, or
@@ -520,15 +528,14 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
 
 /* The current loop proper, in the steady state: the PI's duty for the steady switch
  * from the next PWM period (CCRx is preloaded). */
-static inline void port_run_loop(uintptr_t anchor, uint32_t steady, uint32_t measured,
-                                 uint32_t reference)
+static inline void port_run_loop(uint32_t measured, uint32_t reference)
 {
     const int32_t state = port.integrator;
     const uint32_t duty = bldc_current_loop_duty(state, reference, measured);
     port.integrator = bldc_current_loop_integrate(state, reference, measured);
     port.current = measured;
     port.main_duty = (uint16_t)duty;
-    *port_compare(PORT_AT(anchor, TIM1, TIM_TypeDef), PORT_RECORD_ON_CHANNEL(steady)) = duty;
+    *port.steady_compare = duty; /* the steady switch's CCRx */
 }
 
 /* The interrupt's other paths, out of line: the analog watchdog, a commutation running
@@ -541,9 +548,7 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
     if ((status & ADC_SR_AWD) != 0u) {
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
     }
-    if ((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES) {
-        port_bus_moved();
-    }
+    port_pend_if_bus_moved(bus);
     const uint32_t steady = port.steady;
     if ((steady != 0u) && (port.pending == 0u)) {
         if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
@@ -552,7 +557,7 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
         } else if ((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
             port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* 0 or full scale */
         } else if (port.reference <= BLDC_PORT_ADC_CODE_MAX) {
-            port_run_loop(anchor, steady, measured, port.reference);
+            port_run_loop(measured, port.reference);
         } else {
             port.current = measured; /* open loop: I for the timing, the duty stays */
         }
@@ -585,10 +590,8 @@ void ADC1_2_IRQHandler(void)
         port_adc_other(anchor, status, bus, measured);
         return;
     }
-    if (BLDC_PORT_RARE((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES)) {
-        port_bus_moved();
-    }
-    port_run_loop(anchor, steady, measured, reference);
+    port_pend_if_bus_moved(bus);
+    port_run_loop(measured, reference);
 }
 
 /* A break: the input went active (over-current), or software asked for one
@@ -913,6 +916,7 @@ void bldc_port_init(uint32_t start_faults)
 
     port.pending = 0u;
     port.steady = 0u;
+    port.steady_compare = &TIM1->CCR1; /* any valid register until the first commutation end */
     port.main_duty = 0u;
     port.integrator = 0;
     port.reference = bldc_current_reference(0u);
@@ -923,13 +927,13 @@ void bldc_port_init(uint32_t start_faults)
     port.heartbeat_seen = 0u;
     /* Until the first bus sample, every edge is treated as over-voltage: the bridge
      * stays off. The bus state of a code no ADC gives is saturated, so the first timing
-     * is the safe state (not a fault: JDR4 holds no sample yet and is not read); the
-     * first sample (any code differs from this one by more than the hysteresis) pends
-     * the timing, which computes the bus state from it. */
+     * is the safe state (not a fault). The band starts around 0, what JDR4 reads before
+     * any conversion: the first sample above it pends the timing, which computes the
+     * bus state from it; a bus that reads 0 keeps the bridge off (and the analog
+     * watchdog trips under-voltage). */
     port.bus_code = BLDC_PORT_BUS_UNKNOWN;
-    port.bus_low = BLDC_PORT_BUS_UNKNOWN - BLDC_PORT_BUS_HYSTERESIS_CODES;
+    port.bus_low = 0u - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus = bldc_bus_condition(BLDC_PORT_BUS_UNKNOWN);
-    port.bus_changed = 0u;
     port.period = BLDC_PORT_TIM3_ARR;
     port.slots[0] = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
     port.timing = &port.slots[0];
