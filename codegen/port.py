@@ -380,8 +380,8 @@ def port_context(
         _define(
             "BLDC_PORT_BUS_CODE_MAX",
             f"{sc.bus_code_max}u",
-            f"the core's over-voltage threshold, {float(sc.bus_code_max * volts):.4g} V: crossing it"
-            " always recomputes, whatever the hysteresis",
+            f"the core's over-voltage threshold, {float(sc.bus_code_max * volts):.4g} V: the analog"
+            " watchdog's HTR trips over-voltage above it, whatever the hysteresis",
         ),
         _define(
             "BLDC_PORT_TIM3_IC1F",

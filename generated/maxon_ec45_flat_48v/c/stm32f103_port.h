@@ -129,7 +129,7 @@
 #define BLDC_PORT_TIM1_DTG 0x24u /* dead time 500 ns requested, 36 t_DTS = 500 ns programmed (t_DTS = 1 / 72 MHz) */
 #define BLDC_PORT_TIM3_PSC 71u /* Hall timer ticks at 1 MHz from 72 MHz */
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
-#define BLDC_PORT_BUS_CODE_MAX 3546u /* the core's over-voltage threshold, 59.99 V: crossing it always recomputes, whatever the hysteresis */
+#define BLDC_PORT_BUS_CODE_MAX 3546u /* the core's over-voltage threshold, 59.99 V: the analog watchdog's HTR trips over-voltage above it, whatever the hysteresis */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
 #define BLDC_PORT_TIM1_CCR4 3296u /* the current sample: OC4REF (PWM mode 2) rises at CNT = 3296, 303 counts before the samples end, 1 before the next period */
 #define BLDC_PORT_OC4_MODE 7u /* OC4M: PWM mode 2 (rising at CNT = CCR4) */
