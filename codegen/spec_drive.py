@@ -204,6 +204,8 @@ def read_sensing(r: Reader, data: Mapping[str, Any], rng: Any) -> Sensing | None
         value = exact if exact is not None else raw
         if isinstance(raw, bool) or not isinstance(raw, int | float):
             raise r.error("sensing.adc_sample_time", raw, "must be a plain number", allowed)
+        if isinstance(value, float) and not math.isfinite(value):
+            raise r.error("sensing.adc_sample_time", raw, "must be a finite number", allowed)
         if Fraction(value) not in ADC_SAMPLE_CYCLES:
             raise r.error(
                 "sensing.adc_sample_time",
