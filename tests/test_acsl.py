@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from codegen.control.current_loop import design, loop_context
 from codegen.core.contracts import PUBLIC, valid_hall_pair
 from codegen.core.module import build_core, core_context
 from codegen.spec_loader import load_spec
@@ -56,3 +57,23 @@ def test_every_public_function_should_carry_its_contract(spec: Path) -> None:
         assert any(line.startswith("/*@") for line in lines[:signature]), name
         found.add(name)
     assert found == set(PUBLIC)
+
+
+@pytest.mark.parametrize("spec", SPECS, ids=lambda p: Path(p).stem)
+def test_every_current_loop_function_should_carry_its_contract(spec: Path) -> None:
+    context = loop_context(design(load_spec(spec)))
+    entries = [*context["inline_functions"], *context["prototypes"]]  # type: ignore[misc]
+    found = set()
+    for entry in entries:
+        lines = entry.splitlines()
+        signature = next(
+            k for k, line in enumerate(lines) if not line.startswith(("/*", " ", "*/"))
+        )
+        name = re.search(r"(\w+)\(", lines[signature]).group(1)  # type: ignore[union-attr]
+        assert any(line.startswith("/*@") for line in lines[:signature]), name
+        found.add(name)
+    assert found == {
+        "bldc_current_loop_duty",
+        "bldc_current_loop_integrate",
+        "bldc_current_reference",
+    }

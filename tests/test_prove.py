@@ -22,7 +22,7 @@ from pathlib import Path
 import pytest
 
 from codegen.core.module import build_core
-from codegen.proof.harness import INTERVAL, clz_model, proof_plan
+from codegen.proof.harness import INTERVAL, SIGNED_INTERVAL, clz_model, proof_plan
 from codegen.spec_loader import load_spec
 from verify.frama_c import Tools, find_tools, run_eva
 from verify.prove import establish, main, target_at
@@ -106,6 +106,23 @@ PROOF_MUTANTS = [
         "bldc_edge_of",
         "no_edge",
     ),
+    (
+        "paper_motor",
+        "anti_windup_dropped",
+        "? state : total;",
+        "? total : total;",
+        "bldc_current_loop_integrate",
+        "holds_where_saturated",
+    ),
+    (
+        "maxon_ec45_flat_48v",
+        "loop_duty_unclamped_above",
+        "const int32_t limited = (demand < 0) ? 0 : (demand > BLDC_LOOP_STATE_MAX)"
+        " ? BLDC_LOOP_STATE_MAX : demand;",
+        "const int32_t limited = (demand < 0) ? 0 : demand;",
+        "bldc_current_loop_duty",
+        "within_d_max",
+    ),
 ]
 
 
@@ -121,7 +138,11 @@ def _copy(name: str, where: Path) -> Path:
 
 
 def _plant(root: Path, original: str, replacement: str) -> None:
-    for path in (root / "c" / "bldc_commutation.c", root / "c" / "bldc_commutation.h"):
+    for path in (
+        root / "c" / "bldc_commutation.c",
+        root / "c" / "bldc_commutation.h",
+        root / "c" / "bldc_current_loop.h",
+    ):
         text = path.read_text(encoding="utf-8")
         if original in text:
             assert text.count(original) == 1, f"{original!r} is not unique in {path.name}"
@@ -228,6 +249,13 @@ def test_harness_should_give_every_input_every_value_of_its_type(spec: Path) -> 
             low, high = call.split(")")[0].split(", ")
             assert low == "0u"
             assert high == f"{ctype.high}u", call
+    for ctype, builtin in SIGNED_INTERVAL.items():
+        for call in text.split(f"{builtin}(")[1:]:
+            low, high = call.split(")")[0].split(", ")
+            assert (low, high) == (f"{ctype.low + 1} - 1", str(ctype.high)), call
+    # the current loop's functions are driven too, each over its whole input space
+    for name in ("bldc_current_loop_duty", "bldc_current_loop_integrate", "bldc_current_reference"):
+        assert f"void prove_{name}(void)" in text
     for banned in ("assume", "requires", "assert", "admit", "Frama_C_interval("):
         assert banned not in text
     annotations = [line.strip() for line in text.splitlines() if "@" in line]

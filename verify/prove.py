@@ -39,6 +39,7 @@ from codegen.spec_loader import load_spec
 from verify.frama_c import (
     EVA_POLICY,
     MACHDEP,
+    SHIPPED_FILES,
     WP_PROVEN,
     WP_PROVERS,
     WP_SECOND_PASS,
@@ -138,11 +139,10 @@ def _provers(wp: list[WpResult], function: str, name: str) -> str:
 
 def _wp_valid(wp: list[WpResult]) -> dict[tuple[str, str, str, int, str], list[bool]]:
     """Per clause, per copy and pass: proven by WP."""
-    core_files = {"bldc_commutation.h", "bldc_commutation.c"}
     out: dict[tuple[str, str, str, int, str], dict[str, bool]] = {}
     for run in wp:
         for p in run.properties:
-            if p.file in core_files and p.kind in CONTRACT_KINDS:
+            if p.file in SHIPPED_FILES and p.kind in CONTRACT_KINDS:
                 copies = out.setdefault(_key(p), {})
                 copies[p.function] = copies.get(p.function, False) or p.status in WP_PROVEN
     return {k: list(v.values()) for k, v in out.items()}

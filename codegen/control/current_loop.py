@@ -44,7 +44,7 @@ from math import lcm
 
 from codegen.control.sensing import SenseDesign, sense_design
 from codegen.fixedpoint.scaling import period_counts
-from codegen.ir import c_printer, py_printer
+from codegen.ir import acsl, c_printer, py_printer
 from codegen.ir.errors import error as ir_error
 from codegen.ir.intervals import ProofError, ProvenRange, full, new_prover, prove_function
 from codegen.ir.nodes import (
@@ -440,6 +440,48 @@ def _range_lines(ranges: tuple[ProvenRange, ...]) -> list[str]:
     return out
 
 
+def _clamped(name: str, high: str, low: str | None = None) -> str:
+    """An ACSL term: `name` clamped to [low, high] (to high alone without low)."""
+    upper = f"({name} > {high} ? {high} : {name})"
+    return upper if low is None else f"({name} < {low} ? {low} : {upper})"
+
+
+def contracts(d: LoopDesign) -> dict[str, acsl.Contract]:
+    """What the loop's functions promise, as ACSL (`make prove` proves each clause with
+    WP or checks it with EVA over every input). The yardsticks are the design's limits
+    and the anti-windup rule of the module's docstring, restated over mathematical
+    integers from the parameters, not from the printed body."""
+    e = (
+        f"\\let r = {_clamped('reference_code', 'BLDC_LOOP_CODE_MAX')};"
+        f" \\let m = {_clamped('measured_code', 'BLDC_LOOP_CODE_MAX')};"
+        f" \\let x = {_clamped('integrator', 'BLDC_LOOP_STATE_MAX', '0')};"
+        " \\let e = r - m; \\let v = BLDC_LOOP_KP * e + x;"
+    )
+    saturated = "((v > BLDC_LOOP_STATE_MAX && e > 0) || (v < 0 && e < 0))"
+    return {
+        d.duty.c_name: acsl.Contract(
+            ensures=(acsl.Clause("ensures", "within_d_max", "\\result <= BLDC_LOOP_DUTY_MAX"),),
+        ),
+        d.integrate.c_name: acsl.Contract(
+            ensures=(
+                acsl.Clause("ensures", "in_range", "0 <= \\result <= BLDC_LOOP_STATE_MAX"),
+                acsl.Clause(
+                    "ensures", "holds_where_saturated", f"{e} {saturated} ==> \\result == x"
+                ),
+                acsl.Clause(
+                    "ensures",
+                    "integrates_elsewhere",
+                    f"{e} !{saturated} ==> \\result =="
+                    f" {_clamped('(x + BLDC_LOOP_KI * e)', 'BLDC_LOOP_STATE_MAX', '0')}",
+                ),
+            ),
+        ),
+        d.reference.c_name: acsl.Contract(
+            ensures=(acsl.Clause("ensures", "an_adc_code", "\\result <= BLDC_LOOP_CODE_MAX"),),
+        ),
+    }
+
+
 def loop_context(d: LoopDesign) -> dict[str, object]:
     """Printed C and Python of the loop, for templates/c/bldc_current_loop.* and
     templates/python/bldc_current_loop.py.j2."""
@@ -473,14 +515,18 @@ def loop_context(d: LoopDesign) -> dict[str, object]:
         f" exact nearest code for every mA in [{d.milliamps_min}, {d.milliamps_max}]",
     ]
     functions = (d.duty, d.integrate)
+    promised = {name: acsl.contract(c) for name, c in contracts(d).items()}
     return {
         "fraction_bits": d.fraction_bits,
         "doc": ideal,
         "ranges": _range_lines(d.ranges),
         "defines": [c_printer.define(c) for c in constants],
-        "inline_functions": [c_printer.function_definition(fn) for fn in functions],
+        "inline_functions": [
+            c_printer.function_definition(fn, promised[fn.c_name]) for fn in functions
+        ],
         "prototypes": [
-            f"/* {c_printer.comment_text(d.reference.doc)} */\n{c_printer.prototype(d.reference)}"
+            f"/* {c_printer.comment_text(d.reference.doc)} */\n{promised[d.reference.c_name]}\n"
+            f"{c_printer.prototype(d.reference)}"
         ],
         "functions": [c_printer.function_definition(d.reference)],
         "py_constants": [py_printer.assignment(c) for c in constants],

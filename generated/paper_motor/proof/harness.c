@@ -1,6 +1,7 @@
 /* Generated from template templates/proof/harness.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
 /*
- * Frama-C EVA harness of this core (`make prove`; codegen/proof/harness.py explains it).
+ * Frama-C EVA harness of this core and the current loop (`make prove`;
+ * codegen/proof/harness.py explains it).
  * Each prove_<function>() gives every parameter, or every field of an input struct,
  * every value of its C type: nothing is assumed away. The `split` annotations only
  * partition that input space so EVA keeps the partitions apart; they cover it whole.
@@ -11,6 +12,7 @@
 
 #include "__fc_builtin.h"
 #include "bldc_commutation.h"
+#include "bldc_current_loop.h"
 
 /* bldc_bus_condition() for every uint32_t bus code, code by code */
 void prove_bldc_bus_condition(void)
@@ -81,4 +83,32 @@ void prove_bldc_commutate(void)
     inputs.main_duty_counts = Frama_C_unsigned_short_interval(0u, 65535u);
     bldc_outputs_t out;
     bldc_commutate(&inputs, &out);
+}
+
+/* bldc_current_loop_duty() for every value of its arguments */
+void prove_bldc_current_loop_duty(void)
+{
+    int32_t integrator = Frama_C_int_interval(-2147483647 - 1, 2147483647);
+    uint32_t reference_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    uint32_t measured_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    const uint32_t result = bldc_current_loop_duty(integrator, reference_code, measured_code);
+    (void)result;
+}
+
+/* bldc_current_loop_integrate() for every value of its arguments */
+void prove_bldc_current_loop_integrate(void)
+{
+    int32_t integrator = Frama_C_int_interval(-2147483647 - 1, 2147483647);
+    uint32_t reference_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    uint32_t measured_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    const int32_t result = bldc_current_loop_integrate(integrator, reference_code, measured_code);
+    (void)result;
+}
+
+/* bldc_current_reference() for every value of its arguments */
+void prove_bldc_current_reference(void)
+{
+    uint32_t milliamps = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    const uint32_t result = bldc_current_reference(milliamps);
+    (void)result;
 }

@@ -58,6 +58,9 @@
 #define BLDC_LOOP_DUTY_MAX 3428u /* D_max, TIM1 counts: the OFF time holds the current sample */
 
 /* main duty in TIM1 counts, 0..D_max, for this period's sample */
+/*@ assigns \nothing;
+    ensures within_d_max: \result <= BLDC_LOOP_DUTY_MAX;
+*/
 static inline uint32_t bldc_current_loop_duty(int32_t integrator, uint32_t reference_code, uint32_t measured_code)
 {
     const uint32_t reference = (reference_code > BLDC_LOOP_CODE_MAX) ? BLDC_LOOP_CODE_MAX : reference_code;
@@ -70,6 +73,11 @@ static inline uint32_t bldc_current_loop_duty(int32_t integrator, uint32_t refer
 }
 
 /* the integrator for the next period (clamping anti-windup) */
+/*@ assigns \nothing;
+    ensures in_range: 0 <= \result <= BLDC_LOOP_STATE_MAX;
+    ensures holds_where_saturated: \let r = (reference_code > BLDC_LOOP_CODE_MAX ? BLDC_LOOP_CODE_MAX : reference_code); \let m = (measured_code > BLDC_LOOP_CODE_MAX ? BLDC_LOOP_CODE_MAX : measured_code); \let x = (integrator < 0 ? 0 : (integrator > BLDC_LOOP_STATE_MAX ? BLDC_LOOP_STATE_MAX : integrator)); \let e = r - m; \let v = BLDC_LOOP_KP * e + x; ((v > BLDC_LOOP_STATE_MAX && e > 0) || (v < 0 && e < 0)) ==> \result == x;
+    ensures integrates_elsewhere: \let r = (reference_code > BLDC_LOOP_CODE_MAX ? BLDC_LOOP_CODE_MAX : reference_code); \let m = (measured_code > BLDC_LOOP_CODE_MAX ? BLDC_LOOP_CODE_MAX : measured_code); \let x = (integrator < 0 ? 0 : (integrator > BLDC_LOOP_STATE_MAX ? BLDC_LOOP_STATE_MAX : integrator)); \let e = r - m; \let v = BLDC_LOOP_KP * e + x; !((v > BLDC_LOOP_STATE_MAX && e > 0) || (v < 0 && e < 0)) ==> \result == ((x + BLDC_LOOP_KI * e) < 0 ? 0 : ((x + BLDC_LOOP_KI * e) > BLDC_LOOP_STATE_MAX ? BLDC_LOOP_STATE_MAX : (x + BLDC_LOOP_KI * e)));
+*/
 static inline int32_t bldc_current_loop_integrate(int32_t integrator, uint32_t reference_code, uint32_t measured_code)
 {
     const uint32_t reference = (reference_code > BLDC_LOOP_CODE_MAX) ? BLDC_LOOP_CODE_MAX : reference_code;
@@ -82,6 +90,9 @@ static inline int32_t bldc_current_loop_integrate(int32_t integrator, uint32_t r
 }
 
 /* the nearest ADC code of a braking current in mA, clamped to the spec's braking range */
+/*@ assigns \nothing;
+    ensures an_adc_code: \result <= BLDC_LOOP_CODE_MAX;
+*/
 uint32_t bldc_current_reference(uint32_t milliamps);
 
 #endif /* BLDC_CURRENT_LOOP_H */
