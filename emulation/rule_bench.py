@@ -12,8 +12,8 @@ default), and measured with the machinery of emulation/isr_bench.py:
   current with table lookups whose branches depend on the octave of rho x), once per
   point of a denser sweep of the Hall period over the whole speed range plus the
   counter's full range, bus min/middle/max and braking current 0/nominal/max; and
-  again with the current ADC at full scale (beyond the spec's maximum, saturated), the
-  input that can make the bisection's last check run;
+  again with the current ADC one code below full scale (beyond the spec's maximum; a
+  rail is a sensor fault), the input that can make the bisection's last check run;
 * which functions the timing handler can reach in the linked image (no library divide,
   64-bit or float helper) and which symbols the core object leaves undefined.
 """
@@ -143,7 +143,7 @@ class RuleBench:
     sizes: dict[str, Sizes]
     handlers: Stats  # `bench` on the image
     within: TimingSweep  # inputs within the spec
-    saturated: TimingSweep  # current ADC at full scale
+    saturated: TimingSweep  # current ADC one code below full scale
     breakdown: dict[str, Sample]  # the worst point of `within`, by function
     reached: frozenset[str]  # from the timing handler, static call graph
     indirect: bool
@@ -211,7 +211,7 @@ class RuleBench:
         )
         lines.append(f"{METHOD}   worst call by function (no entry/exit): {parts}")
         lines += self._sweep_lines(
-            self.saturated, "current ADC at full scale, beyond the spec's max"
+            self.saturated, "current ADC one code below full scale, beyond the spec's max"
         )
         return lines
 
