@@ -73,7 +73,8 @@ FAULTS: tuple[Fault, ...] = (
     Fault(
         "HALL_TIMEOUT",
         6,
-        "the current-loop interrupt (TIM3 overflow while the bridge switches)",
+        "TIM3's update interrupt at the counter's wrap while the bridge switches (and the"
+        " current-loop interrupt, which reads the wrap too)",
         "no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged",
         "always (the next edge checks again)",
     ),

@@ -250,9 +250,11 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
     for name, cycles in stats.fault_to_moe.items():
         if "watchdog" in name:
             detect, how = 2 * regular_us, f"two regular bus conversions ({2 * regular_us:.1f} us)"
-        elif name.startswith(("current sensor", "Hall timeout")):
+        elif name.startswith("current sensor"):
             detect = period_us + injected_us
             how = f"the next sample: one PWM period + the injected sequence ({detect:.1f} us)"
+        elif name.startswith("Hall timeout"):
+            detect, how = 0.0, "at the wrap itself (TIM3's update interrupt)"
         elif name.startswith("over-current"):
             detect, how = 0.0, "none: BKIN clears MOE in hardware; this completes the third phase"
         else:

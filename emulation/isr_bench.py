@@ -507,15 +507,11 @@ def current_loop_runs(
     fault("current sensor at a rail", lambda: rig.adc_sample(bus_ok, 0))
 
     def timeout() -> CallResult:
-        for address in rig.adc_jdr[:3]:
-            rig.sim.write_u32(address, offset)
-        rig.sim.write_u32(rig.adc_jdr[3], bus_ok)
-        rig.sim.write_u32(rig.adc_dr, bus_ok)
-        rig.sim.write_u32(rig.adc_sr, rig.jeoc)
+        # the Hall counter wraps while the bridge switches: TIM3's update interrupt
         rig.sim.write_u32(rig.tim3_sr, rig.uif)
-        return rig.sim.call(ADC_HANDLER)
+        return rig.sim.call(HALL_HANDLER)
 
-    fault("Hall timeout", timeout)
+    fault("Hall timeout (TIM3 wrap)", timeout)
     fault("invalid Hall code", lambda: rig.hall_edge(7, inputs.periods[0]))
     fault("over-speed", lambda: rig.hall_edge(spec.hall.sequence[2], sc.period_min_ticks - 1))
 

@@ -436,6 +436,16 @@ static void adc_regular(unsigned bus)
     settle();
 }
 
+/* TIM3 wraps: no Hall edge for the counter's whole range (UIF, with UIE as the port
+ * left it). */
+static void wrap(void)
+{
+    fake_tim1.EGR = 0u;
+    fake_tim3.SR = TIM_SR_UIF;
+    %(hall)s();
+    settle();
+}
+
 static void brk(void)
 {
     break_active = 1;
@@ -449,7 +459,7 @@ static void brk(void)
 static void show(const char *step)
 {
     printf("%%s tim1 ccer=%%lu ccr1=%%lu ccr2=%%lu ccr3=%%lu ccr4=%%lu egr=%%lu bdtr=%%lu cr2=%%lu "
-           "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu adc cr1=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
+           "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu sr=%%lu adc cr1=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
            "runs=%%u busruns=%%u breaks=%%u edge egr=%%lu sr=%%lu port faults=%%lu safe=%%lu "
            "current=%%lu status=%%lu nvic cleared=%%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
@@ -458,7 +468,7 @@ static void show(const char *step)
            (unsigned long)fake_tim1.BDTR, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.DIER, (unsigned long)fake_tim3.DIER,
            (unsigned long)fake_tim3.CCR2, (unsigned long)fake_tim3.EGR,
-           (unsigned long)fake_adc1.CR1, (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
+           (unsigned long)fake_tim3.SR, (unsigned long)fake_adc1.CR1, (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
            (unsigned long)seen_duty, timing_runs, bus_runs, break_runs, raw_egr, raw_sr,
            (unsigned long)bldc_port_faults(), (unsigned long)bldc_port_safe_state(),
            (unsigned long)bldc_port_current_code(), (unsigned long)bldc_port_status(),
@@ -615,6 +625,19 @@ int main(int argc, char **argv)
     adc(BUS_OK, OFFSET, 0u, 1u);
     show("hall_timeout");
     clear("hall_timeout_cleared");
+    STEADY();
+
+    wrap(); /* the counter wraps while the bridge switches: the Hall timeout at once */
+    show("hall_timeout_wrap");
+    clear("hall_timeout_wrap_cleared");
+    STEADY();
+    show("steady_wrap_armed");
+    /* A reversal turns every output off (no fault); a wrap then is no timeout: the
+     * interrupt goes off and UIF stays for the next edge to read. */
+    hall_index = (hall_index + 5u) %% 6u;
+    edge(seq[hall_index], TIM_SR_CC1IF, 5000u, 10u);
+    wrap();
+    show("wrap_idle");
     STEADY();
 
     edge(7u, TIM_SR_CC1IF, 5000u, 10u);
@@ -964,6 +987,7 @@ def _assert_tripped(r: dict[str, int], fault: str) -> None:
         ("under_voltage", "UNDER_VOLTAGE"),
         ("current_sensor", "CURRENT_SENSOR"),
         ("hall_timeout", "HALL_TIMEOUT"),
+        ("hall_timeout_wrap", "HALL_TIMEOUT"),
         ("hall_invalid", "HALL_INVALID"),
         ("hall_sequence", "HALL_SEQUENCE"),
         ("over_speed", "OVER_SPEED"),
@@ -1015,6 +1039,7 @@ def test_a_fault_should_not_clear_while_its_cause_is_present(
         "under_voltage",
         "current_sensor",
         "hall_timeout",
+        "hall_timeout_wrap",
         "hall_invalid",
         "hall_sequence",
         "over_speed",
@@ -1046,6 +1071,20 @@ def test_a_bus_fault_should_silence_the_watchdog_interrupt_until_the_clear(
     assert host_run[step]["adc.cr1"] == host_run["init"]["adc.cr1"] & ~AWDIE
     assert host_run[f"{step}_held"]["adc.cr1"] & AWDIE == 0
     assert host_run[f"{step}_cleared"]["adc.cr1"] == host_run["init"]["adc.cr1"]
+
+
+def test_a_wrap_should_be_the_hall_timeout_only_while_the_bridge_switches(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    # the commutation end turns the wrap's interrupt on: CC1IE, CC2IE, UIE
+    assert host_run["steady_wrap_armed"]["tim3.dier"] == 0x7
+    assert host_run["steady_wrap_armed"]["port.faults"] == 0
+    # bridge off after a reversal: no fault, the interrupt off, UIF left for the next edge
+    r = host_run["wrap_idle"]
+    assert r["port.faults"] == 0
+    assert r["tim3.dier"] == 0x6
+    assert r["tim3.sr"] & 1  # UIF
+    assert r["tim1.bdtr"] & MOE
 
 
 def test_the_drive_should_switch_again_after_a_clear(host_run: dict[str, dict[str, int]]) -> None:

@@ -371,6 +371,19 @@ static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
     }
 }
 
+/* TIM3 wrapped (UIF, its interrupt on since the last commutation end): no Hall edge for
+ * the counter's whole range. While the bridge switches that is the Hall timeout, acted
+ * on now; otherwise the interrupt goes off and UIF stays set for the next edge, which
+ * reads the interval as the whole range. */
+BLDC_PORT_COLD static void port_on_wrap(uintptr_t anchor)
+{
+    if ((port.steady != 0u) && (port.pending == 0u)) {
+        port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
+    } else {
+        PORT_AT(anchor, TIM3, TIM_TypeDef)->DIER = BLDC_PORT_HALL_INTERRUPTS;
+    }
+}
+
 /* Commutation end: outgoing switch off, incoming switch at the main duty. Not inlined
  * into the TIM3 handler, so the Hall edge's path needs fewer registers. */
 BLDC_PORT_NOINLINE BLDC_PORT_FAST_CODE static void port_on_commutation_end(uintptr_t anchor)
@@ -391,6 +404,9 @@ BLDC_PORT_NOINLINE BLDC_PORT_FAST_CODE static void port_on_commutation_end(uintp
     port.steady_sense = &PORT_AT(anchor, ADC1, ADC_TypeDef)->JDR1 + PORT_RECORD_SENSE_SLOT(record);
     port.steady = record;
     port.pending = 0u;
+    /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the
+     * Hall timeout (port_on_wrap). */
+    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE;
 }
 
 /* One vector for all TIM3 events on the STM32F103: a pending commutation end first (it
@@ -407,6 +423,8 @@ BLDC_PORT_FAST_CODE BLDC_PORT_LINE_ALIGNED void TIM3_IRQHandler(void)
         port_on_hall_edge(anchor, status);
     } else if ((status & TIM_SR_CC2IF) != 0u) {
         port_on_commutation_end(anchor);
+    } else if ((status & TIM_SR_UIF) != 0u) {
+        port_on_wrap(anchor);
     }
 }
 
@@ -818,7 +836,7 @@ static void port_init_hall_timer(void)
     /* The first edge has no valid interval (the counter ran since start-up): start at
      * the top so the first tick overflows and sets UIF, which that edge reads. */
     TIM3->CNT = BLDC_PORT_TIM3_ARR;
-    TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS; /* UIF is polled by the Hall edge and the current loop */
+    TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS; /* the wrap's interrupt from the first commutation end */
     TIM3->CR1 = TIM_CR1_URS | TIM_CR1_CEN;
 }
 

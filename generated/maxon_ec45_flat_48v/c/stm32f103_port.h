@@ -88,7 +88,7 @@
  *   BLDC_FAULT_CURRENT_SENSOR (0x0008u): a current sample at an ADC rail (0 or full scale): the sensor is open or saturated; by the current-loop interrupt, every PWM period; clears: every current channel's last sample is off the rails
  *   BLDC_FAULT_HALL_INVALID (0x0010u): Hall code 000 or 111 (a sensor unplugged or shorted); by the Hall edge; clears: the Hall code now is valid
  *   BLDC_FAULT_HALL_SEQUENCE (0x0020u): a Hall code pair that is not one sector forward or back (a skipped or repeated code); by the Hall edge; clears: always (the next edge checks again)
- *   BLDC_FAULT_HALL_TIMEOUT (0x0040u): no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged; by the current-loop interrupt (TIM3 overflow while the bridge switches); clears: always (the next edge checks again)
+ *   BLDC_FAULT_HALL_TIMEOUT (0x0040u): no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged; by TIM3's update interrupt at the counter's wrap while the bridge switches (and the current-loop interrupt, which reads the wrap too); clears: always (the next edge checks again)
  *   BLDC_FAULT_OVER_SPEED (0x0080u): a Hall interval shorter than at controller.speed_max; by the Hall edge; clears: always (the next edge checks again)
  *   BLDC_FAULT_CLOCK (0x0100u): the HSE did not start or failed: the timers do not run at their design clock; by start-up (HSE or PLL timeout) and the clock security system (NMI); clears: never: only a reset
  *   BLDC_FAULT_WATCHDOG (0x0200u): the last reset was the independent watchdog's; by start-up (RCC_CSR.IWDGRSTF); clears: always (it reports the past reset)
