@@ -68,7 +68,8 @@
  * Interrupts (NVIC priority, 0 the most urgent):
  *   TIM1_BRK_IRQHandler (BLDC_PORT_FAULT_PRIORITY): the break input cleared MOE in
  *         hardware; this completes the safe state and latches OVER_CURRENT.
- *   TIM3_IRQHandler (BLDC_PORT_HALL_PRIORITY): Hall edge (CC1), commutation end (CC2).
+ *   TIM3_IRQHandler (BLDC_PORT_HALL_PRIORITY): Hall edge (CC1), commutation end (CC2),
+ *         the counter's wrap while the bridge switches (UIF: the Hall timeout).
  *         Runs from flash with its pin table (define BLDC_PORT_HALL_EDGE_IN_SRAM to 1
  *         to run it from SRAM: faster, but over the RAM budget).
  *   ADC1_2_IRQHandler (BLDC_PORT_HALL_PRIORITY): end of the injected conversions
@@ -257,7 +258,7 @@ void bldc_port_emergency_off(void);
 /* Interrupt handlers. The port owns
  * these vector table entries (spec firmware.integration: vector_table), under their
  * CMSIS names. */
-void TIM3_IRQHandler(void);   /* Hall edge, commutation end */
+void TIM3_IRQHandler(void);   /* Hall edge, commutation end, Hall timeout */
 void TIM1_TRG_COM_IRQHandler(void); /* the next edge's duties and commutation time */
 void ADC1_2_IRQHandler(void);    /* current loop (JEOC), bus watchdog (AWD) */
 void TIM1_BRK_IRQHandler(void);    /* break input: over-current */
