@@ -23,7 +23,7 @@ EXIT_SIL = 4
 REPORT_NAME = "SIMULATION.md"
 
 
-def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
+def simulate_spec(spec_path: str, output: str | None, progress: bool, quick: bool = False) -> int:
     from sim.figures import all_figures
     from sim.limits import limits
     from sim.report import TARGET_HIGH_RPM, TARGET_LOW_RPM, TARGET_PCT, render_report
@@ -32,7 +32,7 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool) -> int:
     start = time.perf_counter()
     spec = load_spec(spec_path)
     out = Path(output) if output else Path("generated") / spec.name / "simulation"
-    results = run_all(spec, progress=progress)
+    results = run_all(spec, progress=progress, quick=quick)
     bounds = limits(results.drive)
     figure_start = time.perf_counter()
     target = (TARGET_LOW_RPM, TARGET_HIGH_RPM, TARGET_PCT)
@@ -62,11 +62,18 @@ def main(argv: Sequence[str] | None = None) -> int:
         "-o", "--output", help="output folder (default generated/<spec name>/simulation)"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="every study at a few speeds (a first look; the report says so)",
+    )
     args = parser.parse_args(argv)
     from sim.sil import SilError
 
     try:
-        return simulate_spec(args.spec, args.output, progress=not args.no_progress)
+        return simulate_spec(
+            args.spec, args.output, progress=not args.no_progress, quick=args.quick
+        )
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_SPEC

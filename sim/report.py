@@ -772,6 +772,7 @@ def render_report(results: Results, limits: Limits, figure_names: dict[str, str]
         "spec_path": project_relative(spec.source_path),
         "spec_sha256": spec.sha256,
         "spec_name": spec.name,
+        "quick": results.quick,
         "template": f"sim/templates/{TEMPLATE}",
         "drive": {
             "resistance": f"{drive.resistance_ohm:g}",

@@ -42,6 +42,9 @@ DEFAULT_SHAPE: EmfShape = "spec"
 SWEEP_POINTS = 19
 #: Optimum rows: this many speeds spread over the sweep.
 OPTIMUM_POINTS = 10
+#: `--quick` (the end-to-end test, a first look at a new motor): this many sweep points,
+#: optimum speeds and study speeds, instead of the report's full density.
+QUICK_POINTS = 3
 STEADY = "steady"
 #: The resistance-aware rule's target range on the paper's motor (rpm); the EMF-shape
 #: study runs over it (clipped to the spec's range).
@@ -116,6 +119,7 @@ class Results:
     regions: Regions
     studies: Studies
     seconds: dict[str, float] = field(default_factory=dict)
+    quick: bool = False  # QUICK_POINTS speeds per study, not the report's density
 
     def rows(self, **match: object) -> list[SweepRow]:
         return [r for r in self.sweep if all(getattr(r, k) == v for k, v in match.items())]
@@ -129,11 +133,13 @@ def nice_step(span: float, points: int) -> float:
     return float(min(candidates, key=lambda step: abs(np.log(step / raw))))
 
 
-def sweep_speeds(drive: Drive, extra: Iterable[float]) -> tuple[float, ...]:
+def sweep_speeds(
+    drive: Drive, extra: Iterable[float], points: int = SWEEP_POINTS
+) -> tuple[float, ...]:
     """The spec's whole speed range: its ends, the multiples of a round step between
     them, and the `extra` speeds (operating points) inside it."""
     low, high = drive.speed_min_rpm, drive.speed_max_rpm
-    step = nice_step(high - low, SWEEP_POINTS - 1)
+    step = nice_step(high - low, points - 1)
     first = np.ceil(low / step) * step
     grid = {round(low, 6), round(high, 6)}
     grid |= {round(float(v), 6) for v in np.arange(first, high - 1e-9, step) if v > low + 1e-9}
@@ -141,9 +147,9 @@ def sweep_speeds(drive: Drive, extra: Iterable[float]) -> tuple[float, ...]:
     return tuple(sorted(grid))
 
 
-def optimum_speeds(speeds: tuple[float, ...]) -> tuple[float, ...]:
-    """About OPTIMUM_POINTS speeds of the sweep, spread evenly, both ends included."""
-    picks = np.linspace(0, len(speeds) - 1, min(OPTIMUM_POINTS, len(speeds)))
+def optimum_speeds(speeds: tuple[float, ...], points: int = OPTIMUM_POINTS) -> tuple[float, ...]:
+    """About `points` speeds of the sweep, spread evenly, both ends included."""
+    picks = np.linspace(0, len(speeds) - 1, min(points, len(speeds)))
     return tuple(sorted({speeds[int(np.rint(k))] for k in picks}))
 
 
@@ -304,8 +310,9 @@ def optimum_shapes(drive: Drive) -> tuple[EmfShape, ...]:
     return (DEFAULT_SHAPE, "flat") if trapezoid else ("flat",)
 
 
-def run_all(spec: Spec, progress: bool = True) -> Results:
-    """The whole simulation of one spec (the `python -m sim` workload)."""
+def run_all(spec: Spec, progress: bool = True, quick: bool = False) -> Results:
+    """The whole simulation of one spec (the `python -m sim` workload). `quick` runs
+    every study at QUICK_POINTS speeds (the report says so)."""
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
     drive = Drive.from_spec(spec)
@@ -314,13 +321,15 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     seconds["cores"] = time.perf_counter() - clock
 
     operating_speeds = [float(p.speed_rpm) for p in spec.operating_points]
-    speeds = sweep_speeds(drive, operating_speeds)
+    speeds = sweep_speeds(drive, operating_speeds, QUICK_POINTS if quick else SWEEP_POINTS)
     top_a = float(cores.scaling.amps_per_current_code) * (
         2**spec.adc.bits - 1 - cores.scaling.current_offset_code
     )
     jobs = _jobs(drive, speeds, _point_duties(spec), controller.period_counts, top_a)
     optimum_jobs = [
-        (speed, shape) for shape in optimum_shapes(drive) for speed in optimum_speeds(speeds)
+        (speed, shape)
+        for shape in optimum_shapes(drive)
+        for speed in optimum_speeds(speeds, QUICK_POINTS if quick else OPTIMUM_POINTS)
     ]
     total = len(jobs) + len(spec.operating_points) + len(optimum_jobs)
     bar = tqdm(total=total, desc=f"sim {spec.name}", unit="run", disable=not progress)
@@ -364,6 +373,8 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
     found = regions(drive)
     target_low, target_high = TARGET_RANGE_RPM
     shape_speeds = study_speeds(drive, target_low, target_high)
+    if quick:
+        shape_speeds = optimum_speeds(shape_speeds, QUICK_POINTS)
     shapes = timed("EMF shapes", lambda: shape_study(controller, drive, shape_speeds))
     short = timed("short commutations", lambda: short_study(controller, drive, found))
     bar.close()
@@ -380,4 +391,5 @@ def run_all(spec: Spec, progress: bool = True) -> Results:
         regions=found,
         studies=Studies(shapes, shape_speeds, short),  # type: ignore[arg-type]
         seconds=seconds,
+        quick=quick,
     )

@@ -229,8 +229,9 @@ def test_a_new_users_motor_goes_through_every_step_outside_the_repo(
     datasheet: list[str],
     edit: tuple[str, str],
 ) -> None:
-    """init, edit, generate, firmware, unity, verify from an empty folder outside the
-    repo (simulate and bench are the owning modules' to make robust; run by hand)."""
+    """init, edit, generate, firmware, unity, verify, simulate and bench from an empty
+    folder outside the repo (simulate and bench in their quick forms: every study at a
+    few speeds, the bench's size and handler sections)."""
     monkeypatch.chdir(tmp_path)
     assert cli.main(["init", name, *datasheet]) == 0
     spec = Path("spec") / f"{name}.yaml"
@@ -244,6 +245,12 @@ def test_a_new_users_motor_goes_through_every_step_outside_the_repo(
         assert (tmp_path / "generated" / name / "verify" / "report.json").is_file()
         assert cli.main(["generate", str(spec)]) == 0  # the report survives a regenerate
         assert (tmp_path / "generated" / name / "verify" / "report.json").is_file()
+    assert cli.main(["simulate", str(spec), "--quick", "--no-progress"]) == 0
+    report = tmp_path / "generated" / name / "simulation" / "SIMULATION.md"
+    assert "quick run" in report.read_text()
+    bench = ["bench", str(spec), "--quick", "--report-only", "--only", "size,handlers"]
+    assert cli.main(bench) == 0
+    assert (tmp_path / "build" / "bench" / name).is_dir()
 
 
 def test_the_module_entry_points_stay_and_unity_run_has_help() -> None:
@@ -296,3 +303,14 @@ def test_a_bad_spec_is_reported_without_loading_the_derivation(tmp_path: Path) -
         [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
     )
     assert result.stdout.split() == [str(int(ExitCode.SPEC)), "False"], result.stderr
+
+
+def test_bench_help_names_every_section_the_bench_has() -> None:
+    import bldc.commands  # noqa: F401  (registers the commands)
+    from emulation.bench import SECTIONS
+
+    parser = argparse.ArgumentParser()
+    cli.COMMANDS["bench"].arguments(parser)
+    only = next(a for a in parser._actions if a.dest == "only")
+    assert only.help is not None
+    assert only.help.rsplit(": ", 1)[1].split(", ") == list(SECTIONS)

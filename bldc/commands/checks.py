@@ -201,6 +201,7 @@ def _simulate(args: argparse.Namespace) -> int:
     spec = load(args.spec)
     out = Path(args.output) if args.output else Path("generated") / spec.name / "simulation"
     argv = [args.spec, "-o", str(out)] + (["--no-progress"] if args.no_progress else [])
+    argv += ["--quick"] if getattr(args, "quick", False) else []
     code = sim_main(argv)
     # sim.cli: 2 bad spec (already refused above), 3 derivation, 4 software in the loop.
     return {0: 0, 2: int(ExitCode.SPEC), 3: int(ExitCode.INTERNAL)}.get(
@@ -215,6 +216,11 @@ def _simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "--output",
         metavar="DIR",
         help="report folder (default: generated/<spec name>/simulation in the current folder)",
+    )
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="every study at a few speeds: a first look at a new motor (the report says so)",
     )
     add_progress(parser)
 
@@ -241,6 +247,7 @@ def _bench(args: argparse.Namespace) -> int:
     load(args.spec)  # one line for a bad spec, before the heavy imports
     flags = ["--report-only"] if args.report_only else []
     flags += ["--quick"] if args.quick else []
+    flags += ["--only", args.only] if args.only else []
     return bench_main([args.spec, *flags])
 
 
@@ -252,6 +259,12 @@ def _bench_arguments(parser: argparse.ArgumentParser) -> None:
         help="print the figures; do not fail on a missed target",
     )
     parser.add_argument("--quick", action="store_true", help="small sweeps (what the tests run)")
+    parser.add_argument(
+        "--only",
+        metavar="SECTIONS",
+        help="comma-separated sections to run (default: all; an unknown one is refused with"
+        " the list): size, handlers, placement, peers, rule, reciprocal, times",
+    )
 
 
 register(
