@@ -19,7 +19,7 @@ from sim.improved_r_pp import METHOD as IMPROVED_R_PP
 from sim.improved_r_pp import improved_r_pp_command
 from sim.metrics import CommutationMetrics, commutation_end, measure
 from sim.scenario import Case, PlantModel, run_case
-from sim.sil import CoreSet, core_command
+from sim.sil import CoreLibrary, CoreSet, core_command
 from sim.trace import Trace
 
 #: The resistance-aware rule beyond the paper (`controller.method: improved_r`).
@@ -70,10 +70,18 @@ class Controller:
                 self.period_counts,
                 float(self.cores.scaling.hall_clock_hz),
             )
-        core = self.cores.cores[method]
+        core = self.core_for(method, case)
         return core_command(
             core, self.spec, self.cores.scaling, case, self.measured_current(case), main_duty
         )
+
+    def core_for(self, method: str, case: Case) -> CoreLibrary:
+        """The method's core; for improved_r on a frozen (flat) EMF the one generated for
+        that shape, when the spec's own shape is another."""
+        frozen = case.emf_shape == "flat" or case.drive.emf_frozen
+        if frozen and method == IMPROVED_R and "flat" in self.cores.shaped:
+            return self.cores.shaped["flat"]
+        return self.cores.cores[method]
 
     def flag_names(self, command: Command) -> tuple[str, ...]:
         any_core = next(iter(self.cores.cores.values()))
