@@ -469,7 +469,9 @@ def section_times(b: Bench, report: Report) -> None:
     report.add(
         Figure(
             "verify (exhaustive + random + boundary, host)",
-            _seconds([python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]),
+            _seconds(
+                [python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]
+            ),
             "s",
             TARGET_VERIFY_S,
             decimals=1,
