@@ -67,13 +67,11 @@ def bounds(rule: FixedRule, ref: ReferenceBatch) -> Bounds:
     per_tick = x / t * 2 ** (fc + PER_TICK_BITS)
     rel_w = eps_x / np.maximum(x, lsb) + 0.5 / np.maximum(per_tick, 1.0)
     q = float(c.ramp_per_x) * x / ref.rho
-    eps_q = q * (rel_w + (0.5 / rule.qc if rule.qc else 0.0)) + 0.5 * 2.0 ** -(
-        fc + rule.ramp_frac_bits
-    )
+    eps_q = q * (rel_w + (0.5 / rule.qc if rule.qc else 0.0)) + 2.0 ** -(fc + rule.ramp_frac_bits)
     growth = float(c.hold_slope * c.carrier_ticks) * x / t
-    eps_growth = growth * (rel_w + (0.5 / rule.hs if rule.hs else 0.0)) + 0.5 * 2.0 ** -(
+    eps_growth = growth * (rel_w + (0.5 / rule.hs if rule.hs else 0.0)) + 2.0 ** -(
         fc + rule.growth_frac_bits
-    )
+    )  # floored
     m = ref.end.astype(np.float64)
     sum0, force0 = float(c.shape.sum0), float(c.shape.force0)
     eps_sigma = eps_y + sum0 / 4 * eps_x + m * eps_growth + lsb  # the growth is floored

@@ -184,14 +184,17 @@ def rule_consts(rule: FixedRule) -> RuleConsts:
 
 
 def decay_table(rule: FixedRule) -> Table:
+    """Rows in the search's order, k = K-1 down to 0: (D^(2^k) in Q32, 2^k)."""
     c = rule.constants
+    steps = len(rule.decay)
+    rows = tuple((rule.decay[k], 1 << k) for k in range(steps - 1, -1, -1))
     return Table(
         "bldc_decay",
         U32,
-        tuple((d,) for d in rule.decay),
-        tuple(f"D^{2**k}" for k in range(len(rule.decay))),
-        f"D^(2^k) in Q32, D = e^-y_1, y_1 = R tau / (L f_hall) = {float(c.step_decay):.6e}: "
-        "the turn-off current's decay over 2^k PWM periods",
+        rows,
+        tuple(f"D^{2**k}, {2**k} PWM periods" for k in range(steps - 1, -1, -1)),
+        f"(D^(2^k) in Q32, 2^k) for k = {steps - 1} .. 0, D = e^-y_1, y_1 = R tau / (L f_hall) ="
+        f" {float(c.step_decay):.6e}: the turn-off current's decay over 2^k PWM periods",
     )
 
 
@@ -261,28 +264,40 @@ def bus_condition_function(rule: FixedRule, limits: CoreLimits, k: RuleConsts) -
 
 def _grid_current(
     rule: FixedRule, k: RuleConsts, m: Expr, em: Expr, tag: str, comment: str
-) -> tuple[list[Stmt], Expr, Expr]:
-    """Statements defining, at grid point m with decay em (Q31): the held sum, the pair
-    and H = 2^(32+fc) rho g. Returns (statements, H, total)."""
+) -> tuple[list[Stmt], Expr]:
+    """Statements defining, at grid point m with decay em (Q31), the held sum's forcing
+    and H = 2^(32+fc) rho g. Returns (statements, H)."""
     fs = rule.growth_frac_bits
+    pq = k.period_q
     stmts: list[Stmt] = []
-    total: Expr
     if rule.hs:
-        grow = mul(var("growth", U32), m)
-        stmts.append(
+        stmts += [
             SLet(
                 f"{tag}total",
-                add(var("sigma0", I32), cast(shr(grow, fs), I32)),
+                add(var("sigma0", I32), cast(shr(mul(var("growth", U32), m), fs), I32)),
                 f"Sigma at {comment}: the held duty sum",
-            )
-        )
-        total = var(f"{tag}total", I32)
-        stmts += _split(k, tag, total)
+            ),
+            SLet(
+                f"{tag}held",
+                clamp(var(f"{tag}total", I32), const(0, I32), mul(const(2, I32), pq)),
+                "the duties' range: C_on + C_off in [0, 2P]",
+            ),
+            SLet(
+                f"{tag}fd",
+                sub(
+                    sub(
+                        mul(const(3, I32), maximum(sub(var(f"{tag}held", I32), pq), const(0, I32))),
+                        var(f"{tag}held", I32),
+                    ),
+                    pq,
+                ),
+                "F_d = 2 C_off - C_on - P = 3 C_off - (C_on + C_off) - P of the split",
+            ),
+        ]
         fd = var(f"{tag}fd", I32)
         c2 = sub(var("ca2", I32), mul(const(2, I32), fd))
         r = add(fd, var("cb", I32))
     else:
-        total = var("sigma0", I32)
         c2 = var("ca2_held", I32)
         r = var("cb_held", I32)
     term = add(
@@ -290,13 +305,12 @@ def _grid_current(
         mul(cast(r, I64), const(1 << 32, I64)),
     )
     if rule.qc:
-        stmts.append(SLet(f"{tag}ym", mul(k.y1, m), "rho x at this grid point"))
         term = sub(
             term,
-            cast(mul(cast(var("q", U32), U64), cast(var(f"{tag}ym", U32), U64)), I64),
+            cast(mul(cast(var("q", U32), U64), cast(mul(k.y1, m), U64)), I64),
         )
     stmts.append(SLet(f"{tag}h", term, f"2^(32+fc) rho g at {comment}"))
-    return stmts, var(f"{tag}h", I64), total
+    return stmts, var(f"{tag}h", I64)
 
 
 def _split(k: RuleConsts, tag: str, total: Expr) -> list[Stmt]:
@@ -413,9 +427,7 @@ def timing_function(
             SLet(
                 "q",
                 cast(
-                    round_shr(
-                        mul(cast(var("per_tick", U32), U64), cast(k.qc, U64), U64), rule.qc_shift
-                    ),
+                    shr(mul(cast(var("per_tick", U32), U64), cast(k.qc, U64), U64), rule.qc_shift),
                     U32,
                 ),
                 f"q = (-phi_1/4) X / rho: the EMF ramp's forcing, Q{fc + rule.ramp_frac_bits}",
@@ -429,9 +441,7 @@ def timing_function(
             SLet(
                 "growth",
                 cast(
-                    round_shr(
-                        mul(cast(var("per_tick", U32), U64), cast(k.hs, U64), U64), rule.hs_shift
-                    ),
+                    shr(mul(cast(var("per_tick", U32), U64), cast(k.hs, U64), U64), rule.hs_shift),
                     U32,
                 ),
                 f"the held sum's growth per PWM period, Q{fc + rule.growth_frac_bits}",
@@ -467,13 +477,13 @@ def timing_function(
 
     m = var("m", U32)
     em = var("em", U32)
-    step_stmts, h, _ = _grid_current(rule, k, m, em, "", "m")
-    index = sub(const(steps - 1), var("step", U32))
+    step_stmts, h = _grid_current(rule, k, m, em, "", "m")
+    index = var("step", U32)
     loop = SFor(
         "step",
         steps,
         (
-            SLet("m", add(n, IShl(U32, const(1), index)), "the next candidate: n + 2^k"),
+            SLet("m", add(n, ILookup(U32, table, index, 1)), "the next candidate: n + 2^k"),
             SIf(
                 cmp("<=", m, var("periods", U32)),
                 (
@@ -521,16 +531,22 @@ def timing_function(
     if rule.hs:
         tail += [
             SLet(
-                "total",
+                "end_total",
                 add(
                     var("sigma0", I32),
                     cast(shr(mul(var("growth", U32), end), rule.growth_frac_bits), I32),
                 ),
                 "Sigma at the end: the held duty sum",
             ),
-            *_split(k, "end_", var("total", I32))[:2],
+            SLet(
+                "end_held",
+                clamp(var("end_total", I32), const(0, I32), mul(const(2, I32), pq)),
+                "C_on + C_off in [0, 2P]",
+            ),
+            SLet("end_on", minimum(var("end_held", I32), pq)),
+            SLet("end_off", maximum(sub(var("end_held", I32), pq), const(0, I32))),
         ]
-        total: Expr = var("total", I32)
+        total: Expr = var("end_total", I32)
         end_on, end_off = var("end_on", I32), var("end_off", I32)
     else:
         total = var("sigma0", I32)
