@@ -92,7 +92,7 @@ class ImprovedR:
             "ramp_frac_bits": r.ramp_frac_bits,
             "growth_frac_bits": r.growth_frac_bits,
             "decay_table_rows": len(r.decay),
-            "decay_table_bytes": 4 * len(r.decay),
+            "decay_table_bytes": 2 * 4 * len(r.decay),  # (D^(2^k), 2^k) as two uint32_t
             "carrier_ticks": str(Fraction(int(tau.p), int(tau.q))),
             "emf_shape": shape.description,
             "current_scale": m,
