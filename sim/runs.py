@@ -4,7 +4,8 @@ The controller sees what the firmware sees: the measured current is the pre-edge
 period average (what a PWM-centred ADC sample gives) rounded to ADC codes, the main
 duty is rounded to TIM1 counts. Every method of `METHODS` is the generated C core:
 the paper's three and the resistance-aware `improved_r` (one constant duty pair per
-commutation, t_com by bisection on the turn-off current). `improved_r_pp`
+commutation, ended on the first PWM carrier boundary at which the turn-off current has
+reached zero). `improved_r_pp`
 (`sim.improved_r_pp`) is no firmware: the same rule re-solved every PWM period along the
 EMF ramp in Python, the per-period ideal the constant pair is compared with.
 """

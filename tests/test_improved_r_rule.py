@@ -215,3 +215,28 @@ def test_commutation_should_end_on_a_carrier_boundary_with_the_current_eased_to_
         moved = (2 * off - on) - (2 * ref.off_held[0] - ref.on_held[0])
         g_end = float(ref.h_end[0]) / float(ref.rho[0]) + slope * moved / 3
         assert abs(g_end) <= slope * 1.0, (inputs, g_end)
+
+
+def test_design_summary_should_describe_the_shipped_core() -> None:
+    """`python -m codegen.methods.improved_r SPEC` prints the shipped core's search and
+    table, and its measured boundaries differ from the reference's only where the design
+    leaves the end undecided."""
+    import json
+    import re
+
+    from codegen.methods.improved_r.summary import summary_lines
+
+    spec = ROOT / "spec" / "paper_motor_improved_r.yaml"
+    text = "\n".join(summary_lines(str(spec)))
+    manifest = json.loads(
+        (ROOT / "generated" / "paper_motor_improved_r" / "manifest.json").read_text()
+    )
+    formats = manifest["core"]["formats"]
+    assert f"{formats['search_steps']} steps of binary lifting" in text
+    assert f"({formats['decay_table_bytes']} bytes)" in text
+    assert formats["emf_shape"] in text
+    grid = re.search(r"where the end is decided \((\d+) of (\d+) points\)", text)
+    measured = re.search(r"differs from the reference's at (\d+),", text)
+    assert grid is not None and measured is not None
+    undecided = int(grid.group(2)) - int(grid.group(1))
+    assert int(measured.group(1)) <= undecided
