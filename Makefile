@@ -16,14 +16,15 @@ ONE_SPEC = $(or $(SPEC),$(DEFAULT_SPEC))
 
 # Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
 # chromium renders the HTML audit in its browser test; fonts-lmodern gives it a math font.
-APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm chromium fonts-lmodern
+# frama-c-base (EVA, WP), why3 and the SMT solvers z3 and cvc4 run `make prove`.
+APT_PACKAGES ?= python3-venv gcc make gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm chromium fonts-lmodern frama-c-base why3 z3 cvc4
 # Specs whose output is checked in under generated/: the paper's motor, the same motor
 # with the resistance-aware rule (method improved_r), and a second motor.
 SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_maxon_ec45_flat_48v.yaml
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware verify unity simulate robustness test lint format check-generated bench clean
+.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware verify prove unity simulate robustness test lint format check-generated bench clean
 
 all: setup derive audit generate
 
@@ -82,6 +83,14 @@ firmware: setup
 verify: setup
 	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) verify $$spec || exit $$?; done
 
+# Frama-C on the shipped C: EVA (0 alarms over every input) and WP (the ACSL contracts)
+# on every public function of every checked-in spec, or SPEC=... only (a spec without
+# current generated/ output is generated into build/prove/ first). Writes
+# generated/<spec>/PROOF.md; fails on any alarm, unproven contract or missing tool.
+PROVE_SPECS = $(if $(filter command line environment,$(origin SPEC)),$(SPEC),$(SPECS))
+prove: setup
+	$(PY) -m verify.prove $(PROVE_SPECS) --jobs 2
+
 # Commutation simulation (the generated core in the loop): figures and SIMULATION.md
 # into generated/<name>/simulation/, for every checked-in motor, or SPEC=... only.
 simulate: setup
@@ -118,7 +127,7 @@ check-generated: setup
 	for spec in $(SPECS); do \
 	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
 	  $(PY) -m codegen generate $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
-	  if ! diff -ru -x verify -x simulation -x robustness generated/$$name "$$tmp/$$name"; then \
+	  if ! diff -ru -x verify -x simulation -x robustness -x PROOF.md generated/$$name "$$tmp/$$name"; then \
 	    echo "generated/$$name is stale: run 'make generate SPEC=$$spec' and commit it"; exit 1; \
 	  fi; \
 	done; \
@@ -127,8 +136,9 @@ check-generated: setup
 	fi; \
 	echo "check-generated: generated/ is up to date"
 
-test: setup lint check-generated
-	$(PY) -m pytest
+# Every test, on every core (pytest-xdist), and the Frama-C proof.
+test: setup lint check-generated prove
+	$(PY) -m pytest -n auto
 
 # Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the
 # driver (python -m emulation --help): BENCH_FLAGS=--report-only, --only handlers,peers.

@@ -128,3 +128,32 @@ def manifest_entry() -> dict[str, object]:
         "values": {n: v for n, v, _ in VALUES},
         "structs": {s.c_name: struct_layout(s) for s in PUBLIC_STRUCTS},
     }
+
+
+_CTYPES = {
+    "uint8_t": "c_uint8",
+    "uint16_t": "c_uint16",
+    "uint32_t": "c_uint32",
+    "int32_t": "c_int32",
+}
+
+
+def ctypes_struct(struct: StructType) -> type:
+    """The struct as a ctypes.Structure (C layout), for calling the core from Python."""
+    import ctypes
+
+    fields = [(f.name, getattr(ctypes, _CTYPES[f.ctype.name])) for f in struct.fields]
+    return type(struct.py_name, (ctypes.Structure,), {"_fields_": fields})
+
+
+def numpy_dtype(struct: StructType) -> object:
+    """The struct as an aligned numpy structured dtype (C layout), for batches."""
+    import numpy as np
+
+    return np.dtype(
+        [
+            (f.name, np.dtype(f"{'i' if f.ctype.signed else 'u'}{f.ctype.bits // 8}"))
+            for f in struct.fields
+        ],
+        align=True,
+    )

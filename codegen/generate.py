@@ -20,6 +20,7 @@ from codegen.core.module import Core, build_core, core_context, manifest_entry
 from codegen.derivation import derive
 from codegen.firmware import render_firmware_files
 from codegen.port import render_port_files
+from codegen.proof.harness import render_proof_files
 from codegen.publish import MANIFEST, PublishResult, manifest_record, publish
 from codegen.render import project_relative, provenance, render
 from codegen.spec_loader import load_spec
@@ -53,6 +54,7 @@ def render_all(spec_path: str | Path) -> Generated:
         files[out] = render(
             template, provenance=provenance(f"templates/{template}", spec), **context
         )
+    files.update(render_proof_files(core))
     files.update({f"c/{name}": text for name, text in render_port_files(spec).items()})
     files.update(render_firmware_files(spec))
     float_template = "python/bldc_float.py.j2"

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+from codegen.abi import INPUTS, OUTPUTS, ctypes_struct
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.render import PROJECT_ROOT
@@ -48,27 +49,9 @@ class SilError(RuntimeError):
     """The core could not be generated, compiled or loaded."""
 
 
-class CoreInputs(ctypes.Structure):
-    _fields_ = [
-        ("hall_code", ctypes.c_uint8),
-        ("previous_hall_code", ctypes.c_uint8),
-        ("hall_period_ticks", ctypes.c_uint16),
-        ("bus_voltage_adc", ctypes.c_uint16),
-        ("phase_current_adc", ctypes.c_uint16),
-        ("main_duty_counts", ctypes.c_uint16),
-    ]
-
-
-class CoreOutputs(ctypes.Structure):
-    _fields_ = [
-        ("turn_on_compare", ctypes.c_uint16),
-        ("turn_off_compare", ctypes.c_uint16),
-        ("commutation_ticks", ctypes.c_uint16),
-        ("turn_on_switch", ctypes.c_uint8),
-        ("turn_off_switch", ctypes.c_uint8),
-        ("sector", ctypes.c_uint8),
-        ("flags", ctypes.c_uint8),
-    ]
+#: bldc_inputs_t and bldc_outputs_t, from the ABI's one definition (codegen.abi)
+CoreInputs = ctypes_struct(INPUTS)
+CoreOutputs = ctypes_struct(OUTPUTS)
 
 
 def _fields(structure: ctypes.Structure) -> dict[str, int]:

@@ -2,8 +2,8 @@
 
 One ctypes call per point would cost more than the core itself, so a small shim in the
 library loops over arrays of the core's input and output structs. The structs are
-mirrored as numpy structured dtypes with the C layout (aligned), checked against
-sizeof() at load time.
+mirrored as numpy structured dtypes with the C layout (aligned), built from the
+manifest's ABI (`dtype_of`) and checked against sizeof() at load time.
 """
 
 from __future__ import annotations
@@ -15,31 +15,6 @@ from pathlib import Path
 
 import numpy as np
 import numpy.typing as npt
-
-INPUT_DTYPE = np.dtype(
-    [
-        ("hall_code", np.uint8),
-        ("previous_hall_code", np.uint8),
-        ("hall_period_ticks", np.uint16),
-        ("bus_voltage_adc", np.uint16),
-        ("phase_current_adc", np.uint16),
-        ("main_duty_counts", np.uint16),
-    ],
-    align=True,
-)
-OUTPUT_DTYPE = np.dtype(
-    [
-        ("turn_on_compare", np.uint16),
-        ("turn_off_compare", np.uint16),
-        ("commutation_ticks", np.uint16),
-        ("turn_on_switch", np.uint8),
-        ("turn_off_switch", np.uint8),
-        ("sector", np.uint8),
-        ("flags", np.uint8),
-    ],
-    align=True,
-)
-OUTPUT_FIELDS: tuple[str, ...] = tuple(OUTPUT_DTYPE.names or ())
 
 SHIM = """\
 /* Batch entry for the verifier: not part of the firmware. */
@@ -71,8 +46,8 @@ def dtype_of(layout: list[dict[str, object]]) -> np.dtype:
 class HostCore:
     library: ctypes.CDLL
     path: Path
-    input_dtype: np.dtype = INPUT_DTYPE
-    output_dtype: np.dtype = OUTPUT_DTYPE
+    input_dtype: np.dtype
+    output_dtype: np.dtype
 
     def run(self, inputs: npt.NDArray[np.void]) -> npt.NDArray[np.void]:
         inputs = np.ascontiguousarray(inputs, dtype=self.input_dtype)
@@ -88,8 +63,8 @@ class HostCore:
 def build_host_core(
     c_dir: Path,
     build_dir: Path,
-    input_dtype: np.dtype = INPUT_DTYPE,
-    output_dtype: np.dtype = OUTPUT_DTYPE,
+    input_dtype: np.dtype,
+    output_dtype: np.dtype,
 ) -> HostCore:
     """Compile c_dir/bldc_commutation.c with the batch shim; fail on any warning."""
     build_dir.mkdir(parents=True, exist_ok=True)

@@ -13,10 +13,11 @@ from functools import lru_cache
 
 from codegen import abi
 from codegen.core.conditioning import CoreLimits, core_limits
+from codegen.core.contracts import api_contracts
 from codegen.core.hall import commutate_function, edge_of_function, hall_tables
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
-from codegen.ir import c_printer, py_printer
+from codegen.ir import acsl, c_printer, py_printer
 from codegen.ir.intervals import ProvenRange, full, new_prover, prove_function
 from codegen.ir.longdiv import DIVIDE_LONG
 from codegen.ir.nodes import Function, IConst, Module, SStruct, StructType
@@ -129,6 +130,11 @@ def core_context(core: Core) -> dict[str, object]:
     struct_defs = [c_printer.struct_typedef(s) for s in module.structs]
     private_structs = [s for s in used_structs(functions) if s not in module.structs]
     design = core.design
+    contracts = api_contracts(core.spec, functions, design.bus_condition, core.ranges)
+
+    def contract(fn: Function) -> str:
+        return acsl.contract(contracts.functions[fn.c_name])
+
     return {
         "method": design.method,
         "doc": list(design.doc),
@@ -136,16 +142,23 @@ def core_context(core: Core) -> dict[str, object]:
         "h_defines": _abi_defines() + [c_printer.define(c) for c in public],
         "h_structs": struct_defs,
         "h_tables": [c_printer.table_declaration(t) for t in public_tables],
+        "h_acsl": [acsl.predicate(p) for p in contracts.predicates],
         "h_prototypes": [
-            f"/* {c_printer.comment_text(fn.doc)} */\n{c_printer.prototype(fn)}"
+            f"/* {c_printer.comment_text(fn.doc)} */\n{contract(fn)}\n{c_printer.prototype(fn)}"
             for fn in module.functions
             if not fn.inline and not fn.static
         ],
-        "h_inline": [c_printer.function_definition(fn) for fn in module.functions if fn.inline],
+        "h_inline": [
+            c_printer.function_definition(fn, contract(fn)) for fn in module.functions if fn.inline
+        ],
         "c_defines": [c_printer.define(c) for c in private],
         "c_structs": [c_printer.struct_typedef(s) for s in private_structs],
         "c_tables": [c_printer.table_definition(t) for t in table_list],
-        "c_functions": [c_printer.function_definition(fn) for fn in functions if not fn.inline],
+        "c_functions": [
+            c_printer.function_definition(fn, contract(fn) if fn.static else "")
+            for fn in functions
+            if not fn.inline
+        ],
         "py_constants": [py_printer.assignment(c) for c in constants]
         + [py_printer.assignment(c) for c in public if c.name not in {k.name for k in constants}]
         + [f"{n} = {v}" for n, v, _ in abi.VALUES if f"BLDC_{n}" not in {c.name for c in constants}]

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from sympy.printing.c import C99CodePrinter
 
+from codegen.ir import acsl
 from codegen.ir.longdiv import DIVIDE_LONG
 from codegen.ir.nodes import (
     Expr,
@@ -216,8 +217,11 @@ class IRCPrinter(C99CodePrinter):  # type: ignore[misc]
 
     def block(self, stmts: tuple[Stmt, ...], depth: int) -> list[str]:
         out: list[str] = []
-        for s in stmts:
+        pad = INDENT * depth
+        for s, (before, after) in zip(stmts, acsl.block_hints(stmts), strict=True):
+            out.extend(pad + hint for hint in before)  # ACSL proof hints (codegen/ir/acsl.py)
             out.extend(self.statement(s, depth))
+            out.extend(pad + hint for hint in after)
         return out
 
     @staticmethod
@@ -305,11 +309,14 @@ def signature(fn: Function) -> str:
     return f"{storage}{ret} {fn.c_name}({', '.join(params) or 'void'})"
 
 
-def function_definition(fn: Function) -> str:
+def function_definition(fn: Function, contract: str = "") -> str:
+    """fn's definition, its ACSL contract (if any) between its comment and signature."""
     printer = IRCPrinter(frozenset(p.name for p in fn.params if p.is_pointer))
     lines = []
     if fn.doc:
         lines.append(f"/* {comment_text(fn.doc)} */")
+    if contract:
+        lines.append(contract)
     lines.append(signature(fn))
     lines.append("{")
     used = referenced_names(fn)

@@ -6,7 +6,7 @@ to [0, 1]. Where the clamp acts (the control fail area, decided exactly) the fla
 from __future__ import annotations
 
 from codegen.core.conditioning import flag_if
-from codegen.ir.nodes import SAssign, Stmt, cast, clamp, const, mul, sub, var
+from codegen.ir.nodes import SAssign, SLet, Stmt, cast, clamp, const, mul, sub, var
 from codegen.ir.types import I32, U32
 from codegen.methods.paper_core import (
     DutyContext,
@@ -24,11 +24,10 @@ def _duties(ctx: DutyContext) -> tuple[Stmt, ...]:
         *saturated_main_duty(ctx),
         flag_if(fail_area_condition(ctx), "FAIL_AREA_CLAMPED", "Eq. 16 outside [0, 1], exactly"),
         SAssign("on", cast(var("main_duty", U32), I32), "D_on = the main duty"),
-        SAssign(
-            "off",
-            clamp(sub(sub(mul(const(2, I32), p), ctx.x_c), on), const(0, I32), p),
-            "Eq. 16: D_off = 2 - 4E/U_d - D_on",
-        ),
+        # a local of its own, so that a non-relational analysis (Frama-C's EVA) narrows
+        # it in the clamp as the IR's proof does
+        SLet("eq16_off", sub(sub(mul(const(2, I32), p), ctx.x_c), on), "Eq. 16: 2P - X - C_on"),
+        SAssign("off", clamp(var("eq16_off", I32), const(0, I32), p), "D_off clamped to [0, 1]"),
     )
 
 

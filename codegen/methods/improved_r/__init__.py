@@ -116,7 +116,7 @@ class ImprovedR:
             formats=formats,
             summary=(
                 f"improved_r, counts in Q{r.counts_frac_bits}, {r.steps}-step carrier-grid search,"
-                f" decay table {len(r.decay)} rows ({4 * len(r.decay)} B), EMF {shape.description};"
+                f" decay table {len(r.decay)} rows ({8 * len(r.decay)} B), EMF {shape.description};"
                 f" bounds over the design grid: duties {round_up_f(design.duty_bound)} counts,"
                 f" t_com {round_up_f(design.ticks_bound)} ticks"
             ),

@@ -607,15 +607,19 @@ def timing_function(
             ),
             f"the easing in Q{fc}, at most the room",
         ),
+        # the eased values are locals of their own, so that a non-relational analysis
+        # (Frama-C's EVA) narrows them in the clamps below as the IR's proof does
+        SLet("eased_on", sub(end_on, var("delta", I32)), "C_on - delta"),
+        SLet("eased_off", add(end_off, var("delta", I32)), "C_off + delta"),
         SLet(
             "on",
-            cast(maximum(sub(end_on, var("delta", I32)), const(0, I32)), U32),
-            "C_on - delta (delta <= the room: never below 0)",
+            cast(maximum(var("eased_on", I32), const(0, I32)), U32),
+            "delta <= the room: never below 0",
         ),
         SLet(
             "off",
-            cast(minimum(add(end_off, var("delta", I32)), pq), U32),
-            "C_off + delta (never above P)",
+            cast(minimum(var("eased_off", I32), pq), U32),
+            "never above P",
         ),
         flag_if(unfinished, "TIME_CLAMPED", "the current remains at every carrier boundary"),
         flag_if(

@@ -107,6 +107,8 @@ const uint8_t bldc_edge_switch[12][2] = {
 };
 
 /* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
+/*@ assigns \nothing;
+*/
 static uint32_t bldc_divide_long(uint32_t high, uint32_t low, uint32_t shift, uint32_t divisor)
 {
     const uint32_t q_high = high / divisor;

@@ -165,16 +165,82 @@ extern const uint8_t bldc_sector_of_hall[8];
 extern const uint8_t bldc_edge_of_hall_pair[64];
 extern const uint8_t bldc_edge_switch[12][2];
 
+/* The contracts below are ACSL, Frama-C's specification language (compilers see
+ * comments). `make prove` proves each with Frama-C's WP or checks it with EVA over
+ * every input, and writes which into generated/<spec>/PROOF.md; the `split`, `merge`
+ * and `loop` annotations in the .c file are hints of the same proof. */
+
+/* a Hall edge of the spec's sequence (hall.sequence), forward or reverse */
+/*@ predicate bldc_valid_hall_pair(integer previous, integer code) =
+       (previous == 5 && code == 4)
+    || (previous == 4 && code == 6)
+    || (previous == 6 && code == 2)
+    || (previous == 2 && code == 3)
+    || (previous == 3 && code == 1)
+    || (previous == 1 && code == 5)
+    || (previous == 4 && code == 5)
+    || (previous == 6 && code == 4)
+    || (previous == 2 && code == 6)
+    || (previous == 3 && code == 2)
+    || (previous == 1 && code == 3)
+    || (previous == 5 && code == 1);
+*/
+
+/* a bus state bldc_bus_condition() returns: its precondition for bldc_commutation_timing(), restated from its IR over mathematical integers */
+/*@ predicate bldc_bus_conditioned(bldc_bus_t b) =
+       BLDC_BUS_CODE_MIN <= b.bus_code <= BLDC_BUS_CODE_MAX
+    && b.x_numerator == ((2 * 4499344290909 + b.bus_code) / (2 * b.bus_code))
+    && b.high_speed_period == ((1220526 + b.bus_code - 1) / b.bus_code)
+    && b.time_numerator == ((2 * 2277668571 + b.bus_code) / (2 * b.bus_code))
+    && (b.period_min == BLDC_PERIOD_MIN_TICKS || b.period_min == BLDC_PERIOD_NEVER)
+    && (b.flags == 0 || b.flags == BLDC_FLAG_INPUT_SATURATED);
+*/
+
 /* Saturate a bus code and precompute its reciprocals (pure, reentrant) */
+/*@ assigns \nothing;
+    ensures conditioned: bldc_bus_conditioned(\result);
+    ensures over_voltage_never_applies: bus_code > BLDC_BUS_CODE_MAX ==> \result.period_min == BLDC_PERIOD_NEVER;
+*/
 bldc_bus_t bldc_bus_condition(uint32_t bus_code);
 
 /* Duties and commutation time (pure, reentrant): period in Hall ticks, current as its ADC code, main duty in TIM1 counts; any uint32_t value of each is allowed */
+/*@ requires readable: \valid_read(bus);
+    requires conditioned: bldc_bus_conditioned(*bus);
+    assigns \nothing;
+    ensures turn_on_compare_in_period: \result.turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
+    ensures turn_off_compare_in_period: \result.turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
+    ensures commutation_within_period: \result.commutation_ticks <= period_ticks;
+    ensures applies_at_most_from_bus_minimum: \result.period_min >= bus->period_min;
+*/
 bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts);
 
 /* Commutation decision on plain inputs: bldc_edge_of(), bldc_bus_condition() and bldc_commutation_timing() for the same inputs (pure, reentrant) */
+/*@ requires readable: \valid_read(inputs);
+    requires writable: \valid(out);
+    requires separated: \separated(inputs, out);
+    assigns *out;
+    ensures turn_on_compare_in_period: out->turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
+    ensures turn_off_compare_in_period: out->turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
+    ensures commutation_within_period: out->commutation_ticks <= \old(inputs->hall_period_ticks);
+    ensures over_speed_or_voltage_no_switch: \old(inputs->hall_period_ticks) < BLDC_PERIOD_MIN_TICKS || \old(inputs->bus_voltage_adc) > BLDC_BUS_CODE_MAX ==> out->turn_on_switch == BLDC_NO_SWITCH && out->turn_off_switch == BLDC_NO_SWITCH;
+    behavior invalid_hall:
+      assumes !bldc_valid_hall_pair(inputs->previous_hall_code, inputs->hall_code);
+      ensures no_switch: out->turn_on_switch == BLDC_NO_SWITCH && out->turn_off_switch == BLDC_NO_SWITCH;
+      ensures invalid_flag: (out->flags & BLDC_FLAG_INVALID_HALL) != 0;
+*/
 void bldc_commutate(const bldc_inputs_t *inputs, bldc_outputs_t *out);
 
 /* The commutation of a Hall edge (pure): 0..11 (see bldc_edge_switch), or BLDC_EDGE_NONE for 000, 111, a code above 7 or a jump that is not one sector */
+/*@ assigns \nothing;
+    behavior invalid_pair:
+      assumes !bldc_valid_hall_pair(previous_hall_code, hall_code);
+      ensures no_edge: \result == BLDC_EDGE_NONE;
+    behavior valid_pair:
+      assumes bldc_valid_hall_pair(previous_hall_code, hall_code);
+      ensures an_edge: \result < BLDC_EDGE_COUNT;
+    complete behaviors;
+    disjoint behaviors;
+*/
 static inline uint32_t bldc_edge_of(uint32_t previous_hall_code, uint32_t hall_code)
 {
     return (previous_hall_code > 7u || hall_code > 7u) ? BLDC_EDGE_NONE : (uint32_t)bldc_edge_of_hall_pair[((previous_hall_code << 3u) | hall_code)];

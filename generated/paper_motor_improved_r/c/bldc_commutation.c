@@ -126,6 +126,8 @@ static const uint32_t bldc_decay[10][2] = {
 };
 
 /* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
+/*@ assigns \nothing;
+*/
 static uint32_t bldc_divide_long(uint32_t high, uint32_t low, uint32_t shift, uint32_t divisor)
 {
     const uint32_t q_high = high / divisor;
@@ -199,6 +201,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     uint32_t e = 2147483648u;
     int64_t end_h = (-1ll);
     uint32_t end_e = 0u;
+    /*@ loop invariant 0 <= step <= 10; loop invariant 0 <= n <= 1000; loop invariant 0 <= e <= 2147483648; loop invariant -9223372036854775807 <= end_h <= -1; loop invariant 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
     for (uint32_t step = 0u; step < 10u; ++step) { /* binary lifting: n = the last carrier boundary at which the current remains */
         const uint32_t m = n + bldc_decay[step][1]; /* the next candidate: n + 2^k */
         if (m <= periods) {
@@ -226,8 +229,10 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     const uint32_t eased = bldc_divide_long((uint32_t)(overshoot >> 19u), (uint32_t)((overshoot >> 11u) & 255ull), 8u, shortfall); /* delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary */
     const int32_t room = (end_on > PERIOD_Q - end_off) ? PERIOD_Q - end_off : end_on; /* what the split can give: C_on down to 0, C_off up to P */
     const int32_t delta = (((int32_t)((eased > 1073741823u) ? 1073741823u : eased) > room >> 1u) ? room >> 1u : (int32_t)((eased > 1073741823u) ? 1073741823u : eased)) << 1u; /* the easing in Q7, at most the room */
-    const uint32_t on = (uint32_t)((end_on - delta < 0) ? 0 : end_on - delta); /* C_on - delta (delta <= the room: never below 0) */
-    const uint32_t off = (uint32_t)((end_off + delta > PERIOD_Q) ? PERIOD_Q : end_off + delta); /* C_off + delta (never above P) */
+    const int32_t eased_on = end_on - delta; /* C_on - delta */
+    const int32_t eased_off = end_off + delta; /* C_off + delta */
+    const uint32_t on = (uint32_t)((eased_on < 0) ? 0 : eased_on); /* delta <= the room: never below 0 */
+    const uint32_t off = (uint32_t)((eased_off > PERIOD_Q) ? PERIOD_Q : eased_off); /* never above P */
     if (n >= periods) { /* the current remains at every carrier boundary */
         flags |= BLDC_FLAG_TIME_CLAMPED;
     }

@@ -291,8 +291,10 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     eased = divide_long(overshoot >> 19, overshoot >> 11 & 255, 8, shortfall)  # delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary
     room = PERIOD_Q - end_off if end_on > PERIOD_Q - end_off else end_on  # what the split can give: C_on down to 0, C_off up to P
     delta = (room >> 1 if (1073741823 if eased > 1073741823 else eased) > room >> 1 else 1073741823 if eased > 1073741823 else eased) << 1  # the easing in Q7, at most the room
-    on = 0 if end_on - delta < 0 else end_on - delta  # C_on - delta (delta <= the room: never below 0)
-    off = PERIOD_Q if end_off + delta > PERIOD_Q else end_off + delta  # C_off + delta (never above P)
+    eased_on = end_on - delta  # C_on - delta
+    eased_off = end_off + delta  # C_off + delta
+    on = 0 if eased_on < 0 else eased_on  # delta <= the room: never below 0
+    off = PERIOD_Q if eased_off > PERIOD_Q else eased_off  # never above P
     if n >= periods:  # the current remains at every carrier boundary
         flags |= BLDC_FLAG_TIME_CLAMPED
     if end_total > 2 * PERIOD_Q or end_total < 0:  # no duty pair in [0, 1] holds the current

@@ -1,0 +1,277 @@
+"""`make prove`: Frama-C proves the shipped C, and goes red on a planted fault.
+
+A green proof says nothing unless it turns red when the C is wrong, so each mutant in
+the table below plants one fault in a copy of a generated core (a narrowed
+intermediate type, a dropped clamp, a widened input range, a wrong table entry) and
+the proof must catch it: an EVA alarm in the function's own analysis over every input,
+or a contract clause that neither WP nor EVA can establish any more. Each check runs
+on the unmutated copy first, so it cannot pass vacuously. Frama-C missing fails these
+tests (tests/conftest.py turns skips into failures).
+
+`make prove` (part of `make test`) proves the checked-in specs; this module proves the
+unusual motors in tests/fixtures/specs/.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from functools import cache
+from pathlib import Path
+
+import pytest
+
+from codegen.core.module import build_core
+from codegen.proof.harness import INTERVAL, clz_model, proof_plan
+from codegen.spec_loader import load_spec
+from verify.frama_c import Tools, find_tools, run_eva
+from verify.prove import establish, main, target_at
+
+ROOT = Path(__file__).resolve().parents[1]
+SPECS = {
+    "paper_motor": ROOT / "spec" / "paper_motor.yaml",
+    "paper_motor_improved_r": ROOT / "spec" / "paper_motor_improved_r.yaml",
+    "maxon_ec45_flat_48v": ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
+}
+FIXTURES = sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml"))
+
+#: (spec, mutant, original text, replacement, function whose proof must catch it,
+#:  "alarm" or the contract clause that must no longer be established)
+PROOF_MUTANTS = [
+    (
+        "paper_motor",
+        "narrowed_intermediate",
+        "const int32_t w_q = ",
+        "const int16_t w_q = ",
+        "bldc_commutate",
+        "alarm",
+    ),
+    (
+        "paper_motor_improved_r",
+        "narrowed_wide_product",
+        "(((uint64_t)e * (uint64_t)bldc_decay[step][0]) >> 32u)",
+        "((uint64_t)(e * bldc_decay[step][0]) >> 32u)",
+        "bldc_commutation_timing",
+        "alarm",
+    ),
+    (
+        "paper_motor",
+        "dropped_duty_clamp",
+        "on = (2 * (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c < 0) ? 0 : "
+        "2 * (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c;",
+        "on = 2 * (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c;",
+        "bldc_commutate",
+        "alarm",
+    ),
+    (
+        "paper_motor",
+        "dropped_time_clamp",
+        "        if (ticks > period) {\n            ticks = period;\n"
+        "            flags |= BLDC_FLAG_TIME_CLAMPED;\n        }\n",
+        "",
+        "bldc_commutate",
+        "alarm",
+    ),
+    (
+        "paper_motor_improved_r",
+        "unclamped_late_time",
+        ".commutation_ticks = (uint16_t)((ticks > measured) ? measured : ticks),",
+        ".commutation_ticks = (uint16_t)(ticks + CARRIER_NUM),",
+        "bldc_commutation_timing",
+        "commutation_within_period",
+    ),
+    (
+        # the issue's overflow: Eq. 20's product for current codes of 5492 and above
+        "paper_motor",
+        "widened_current_range",
+        "const uint32_t current_code = (current_adc > BLDC_ADC_CODE_MAX) ? "
+        "BLDC_ADC_CODE_MAX : current_adc;",
+        "const uint32_t current_code = current_adc;",
+        "bldc_commutate",
+        "alarm",
+    ),
+    (
+        "paper_motor",
+        "widened_period_range",
+        "#define BLDC_PERIOD_CAP_TICKS 65535u",
+        "#define BLDC_PERIOD_CAP_TICKS 4294967295u",
+        "bldc_commutation_timing",
+        "alarm",
+    ),
+    (
+        "paper_motor",
+        "invalid_hall_pair_made_valid",
+        "255u, /* 000 -> 001: invalid: every switch off */",
+        "0u, /* 000 -> 001: invalid: every switch off */",
+        "bldc_edge_of",
+        "no_edge",
+    ),
+]
+
+
+@pytest.fixture(scope="module")
+def tools(tmp_path_factory: pytest.TempPathFactory) -> Tools:
+    return find_tools(tmp_path_factory.mktemp("why3"))
+
+
+def _copy(name: str, where: Path) -> Path:
+    root = where / name
+    shutil.copytree(ROOT / "generated" / name, root, ignore=shutil.ignore_patterns("PROOF.md"))
+    return root
+
+
+def _plant(root: Path, original: str, replacement: str) -> None:
+    for path in (root / "c" / "bldc_commutation.c", root / "c" / "bldc_commutation.h"):
+        text = path.read_text(encoding="utf-8")
+        if original in text:
+            assert text.count(original) == 1, f"{original!r} is not unique in {path.name}"
+            path.write_text(text.replace(original, replacement), encoding="utf-8")
+            return
+    raise AssertionError(f"{original!r}: the pattern no longer matches the printed C")
+
+
+@cache
+def _baseline(name: str, function: str, clause: str, work: str, tools: Tools) -> tuple[int, str]:
+    """The unmutated core: 0 alarms and the clause established (else a test is vacuous)."""
+    target = target_at(_copy(name, Path(work)), name, name)
+    if clause == "alarm":
+        analysis = next(a for a in target.plan["analyses"] if a["function"] == function)  # type: ignore[attr-defined]
+        result = run_eva(tools, target.root, target.plan, analysis, Path(work) / "baseline")
+        return result.alarm_count, ""
+    eva, methods = establish(tools, target, function, [clause], Path(work) / "baseline")
+    return eva.alarm_count, methods[clause]
+
+
+@pytest.mark.parametrize(
+    ("spec", "mutant", "original", "replacement", "function", "caught_by"),
+    PROOF_MUTANTS,
+    ids=[f"{m[0]}-{m[1]}" for m in PROOF_MUTANTS],
+)
+def test_prove_should_catch_every_mutant(
+    tmp_path_factory: pytest.TempPathFactory,
+    tools: Tools,
+    spec: str,
+    mutant: str,
+    original: str,
+    replacement: str,
+    function: str,
+    caught_by: str,
+) -> None:
+    base = tmp_path_factory.getbasetemp() / f"baseline-{spec}-{function}-{caught_by}"
+    if not base.exists():
+        base.mkdir()
+    alarms, method = _baseline(spec, function, caught_by, str(base), tools)
+    assert alarms == 0, f"the unmutated {spec} has {alarms} alarms in {function}"
+    assert method != "NOT PROVEN", f"the unmutated {spec} does not establish {caught_by}"
+
+    work = tmp_path_factory.mktemp(mutant)
+    root = _copy(spec, work)
+    _plant(root, original, replacement)
+    target = target_at(root, spec, spec)
+    if caught_by == "alarm":
+        analysis = next(a for a in target.plan["analyses"] if a["function"] == function)  # type: ignore[attr-defined]
+        result = run_eva(tools, target.root, target.plan, analysis, work / "frama-c")
+        assert result.alarm_count > 0, f"{mutant}: EVA found no alarm in {function}"
+        if mutant == "widened_current_range":
+            assert any("signed overflow" in a and "time_numerator" in a for a in result.alarms), (
+                result.alarms
+            )
+    else:
+        _, methods = establish(tools, target, function, [caught_by], work / "frama-c")
+        assert methods[caught_by] == "NOT PROVEN", f"{mutant}: {caught_by} still {methods}"
+
+
+def test_prove_should_establish_every_fixture_motor(tmp_path: Path) -> None:
+    """The unusual motors: generated into a work folder and proven, 0 alarms."""
+    status = main([*(str(s) for s in FIXTURES), "--build", str(tmp_path), "--jobs", "2"])
+    assert status == 0
+    for spec in FIXTURES:
+        text = (tmp_path / load_spec(spec).name / "PROOF.md").read_text(encoding="utf-8")
+        assert text.startswith(f"# Proof of the `{load_spec(spec).name}` core: PROVEN")
+        assert "NOT PROVEN" not in text
+        assert "| 0 |" in text
+
+
+def test_prove_should_exit_with_one_line_on_a_bad_spec(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = tmp_path / "bad.yaml"
+    text = SPECS["paper_motor"].read_text(encoding="utf-8")
+    assert "\n  poles: 2\n" in text
+    bad.write_text(text.replace("\n  poles: 2\n", "\n  poles: 3\n"), encoding="utf-8")
+    assert main([str(bad), "--build", str(tmp_path / "build")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "poles" in err[0]
+
+
+def test_prove_should_fail_when_frama_c_is_missing(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("PATH", str(tmp_path))  # no frama-c, no why3
+    assert main([str(SPECS["paper_motor"]), "--build", str(tmp_path / "build")]) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "frama-c" in err[0] and "make sysdeps" in err[0]
+
+
+# ------------------------------------------------------------------ the harness
+
+
+@pytest.mark.parametrize("spec", [*SPECS.values(), *FIXTURES], ids=lambda p: Path(p).stem)
+def test_harness_should_give_every_input_every_value_of_its_type(spec: Path) -> None:
+    """Nothing assumed away: each input is drawn over its whole C type, and the only
+    annotations are partitions (split) of that space."""
+    core = build_core(load_spec(spec))
+    plan = proof_plan(core)
+    text = "\n".join(plan.harness_functions)
+    for ctype, builtin in INTERVAL.items():
+        for call in text.split(f"{builtin}(")[1:]:
+            low, high = call.split(")")[0].split(", ")
+            assert low == "0u"
+            assert high == f"{ctype.high}u", call
+    for banned in ("assume", "requires", "assert", "admit", "Frama_C_interval("):
+        assert banned not in text
+    annotations = [line.strip() for line in text.splitlines() if "@" in line]
+    assert all(a.startswith(("//@ split", "/*@ split")) for a in annotations), annotations
+
+
+@pytest.mark.parametrize(
+    ("spec", "per_code"),
+    [
+        ("paper_motor", True),  # improved: D_on = 2P - X, relational
+        ("maxon_ec45_flat_48v", True),
+        ("paper_motor_improved_r", False),  # both duties clamped to [0, P]
+    ],
+)
+def test_partitioning_should_follow_the_interval_proof(spec: str, per_code: bool) -> None:
+    """One partition per bus code exactly when the IR's proven range of a compare value
+    exceeds the PWM period, which no interval analysis can then bring back within it."""
+    core = build_core(load_spec(SPECS[spec]))
+    plan = proof_plan(core)
+    assert plan.per_code is per_code
+    timing = "\n".join(f for f in plan.harness_functions if "prove_bldc_commutation_timing" in f)
+    assert ("/*@ split bus_code; */" in timing) is per_code
+    assert ("//@ split period_ticks < bus.high_speed_period;" in timing) is per_code
+
+
+def test_clz_model_should_count_leading_zeros_as_the_compiler_does(tmp_path: Path) -> None:
+    """The harness's __builtin_clz against GCC's, at every power of two and around it."""
+    model = clz_model().replace(
+        "int __builtin_clz(unsigned int x)", "int model_clz(unsigned int x)"
+    )
+    driver = tmp_path / "clz.c"
+    driver.write_text(
+        "#include <stdio.h>\n" + model + "\nint main(void)\n{\n    unsigned long bad = 0;\n"
+        "    for (unsigned k = 0; k < 32; ++k) {\n"
+        "        unsigned p = 1u << k;\n"
+        "        unsigned xs[] = {p, p - 1u, p + 1u, p | (p >> 1), p | 1u};\n"
+        "        for (unsigned j = 0; j < 5; ++j) {\n"
+        "            if (xs[j] != 0u && model_clz(xs[j]) != __builtin_clz(xs[j])) {\n"
+        '                printf("%u\\n", xs[j]);\n                ++bad;\n'
+        "            }\n        }\n    }\n"
+        "    if (model_clz(0xFFFFFFFFu) != 0) { ++bad; }\n"
+        "    return bad != 0;\n}\n",
+        encoding="utf-8",
+    )
+    exe = tmp_path / "clz"
+    subprocess.run(["gcc", "-std=c99", "-O1", "-o", str(exe), str(driver)], check=True)
+    assert subprocess.run([str(exe)], check=False).returncode == 0

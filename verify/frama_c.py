@@ -1,0 +1,324 @@
+"""Run Frama-C (EVA and WP) on a generated core and read back what it established.
+
+Only the tools' own reports are trusted: EVA's alarm count and the property statuses
+Frama-C's report plugin writes (`-report-csv`), WP's per-goal verdicts from its log.
+A missing tool is an error, never a skipped proof.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+#: the analysis policy (not the partitioning, which the generated plan gives)
+MACHDEP = "gcc_x86_32"  # int, long and pointers of 32 bits, as on the Cortex-M3 (ILP32)
+EVA_POLICY = (
+    "-eva",
+    "-eva-no-show-progress",
+    "-eva-msg-key=-initial-state,-final-states",
+    # C defines unsigned wrap-around and leaves narrowing conversions to the compiler;
+    # the core's arithmetic is designed never to wrap or narrow a value (the IR's proof
+    # requires every value to fit its type), so both are alarms here
+    "-warn-unsigned-overflow",
+    "-warn-unsigned-downcast",
+    "-warn-signed-downcast",
+)
+#: through Why3, after Qed (WP's own simplifier); the first pass uses Z3, which proves
+#: every goal CVC4 proves here in a fraction of the time; the second pass tries both
+WP_PROVERS = ("z3",)
+WP_SECOND_PROVERS = ("z3", "cvc4")
+WP_TIMEOUT_S = 5  # a goal Z3 proves takes at most 1.5 s here: margin for a loaded machine
+#: kernel messages that are expected: the harness defines __builtin_clz with a contract,
+#: which Frama-C merges with the one its library declares
+EXPECTED_WARNINGS = (re.compile(r"found two contracts \(old location: FRAMAC_SHARE/libc/"),)
+
+
+class ToolError(RuntimeError):
+    """A tool the proof needs is missing or broken."""
+
+
+@dataclass(frozen=True)
+class Tools:
+    frama_c: str
+    version: str
+    why3_config: Path
+    provers: tuple[str, ...]  # "Z3 4.8.12", ...
+
+
+def find_tools(work: Path) -> Tools:
+    """Frama-C and the SMT provers WP reaches through Why3 (configured in `work`, so a
+    fresh machine needs no ~/.why3.conf)."""
+    frama_c = shutil.which("frama-c")
+    why3 = shutil.which("why3")
+    missing = [n for n, p in (("frama-c", frama_c), ("why3", why3)) if p is None]
+    if missing:
+        raise ToolError(f"{', '.join(missing)} not found: install them with `make sysdeps`")
+    assert frama_c is not None and why3 is not None
+    work.mkdir(parents=True, exist_ok=True)
+    version = _run([frama_c, "-version"], work).stdout.strip()
+    config = work / "why3.conf"
+    detected = _run([why3, "-C", str(config), "config", "detect"], work)
+    found = re.finditer(
+        r"Found prover (\S+) version (\S+), OK\.", detected.stdout + detected.stderr
+    )
+    provers = tuple(sorted({f"{m.group(1)} {m.group(2)}" for m in found}))
+    wanted = {p.lower() for p in WP_PROVERS}
+    if not any(p.split()[0].lower() in wanted for p in provers):
+        raise ToolError(
+            f"no SMT prover for WP among {', '.join(WP_PROVERS)} (Why3 found "
+            f"{', '.join(provers) or 'none'}): install them with `make sysdeps`"
+        )
+    return Tools(frama_c, version, config, provers)
+
+
+def _run(
+    cmd: list[str], cwd: Path, env: dict[str, str] | None = None
+) -> subprocess.CompletedProcess[str]:
+    try:
+        return subprocess.run(
+            cmd, cwd=cwd, env=env, capture_output=True, text=True, check=False, timeout=1800
+        )
+    except OSError as exc:
+        raise ToolError(f"{cmd[0]}: {exc}") from exc
+
+
+# ------------------------------------------------------------------ statuses
+
+
+@dataclass(frozen=True)
+class Property:
+    """One row of Frama-C's property report."""
+
+    file: str
+    line: int
+    function: str
+    kind: str  # postcondition, assigns clause, precondition of f, loop invariant, ...
+    status: str  # Valid, Unknown, Invalid, Considered valid, Dead, ...
+    text: str
+
+    @property
+    def name(self) -> str:
+        """The ACSL label (`ensures name: ...`), or the kind for unnamed clauses."""
+        m = re.match(r"([A-Za-z_]\w*): ", self.text)
+        return m.group(1) if m else self.kind
+
+    @property
+    def owner(self) -> str:
+        """The function, with the copy Frama-C makes of an inline function per
+        translation unit (f_0, f_1) folded into f."""
+        return re.sub(r"_\d+$", "", self.function)
+
+
+def read_report(path: Path) -> list[Property]:
+    """The rows of `-report-csv` (tab-separated; a property spanning lines continues on
+    lines of its own), without Frama-C's own library."""
+    records: list[list[str]] = []
+    lines = path.read_text(encoding="utf-8").splitlines()
+    header = lines[0].split("\t")
+    for line in lines[1:]:
+        cells = line.split("\t")
+        if len(cells) == len(header):
+            records.append(cells)
+        elif records:
+            records[-1][-1] += " " + line
+    rows = []
+    for cells in records:
+        row = dict(zip(header, cells, strict=True))
+        if row["directory"].startswith("FRAMAC_SHARE"):
+            continue
+        rows.append(
+            Property(
+                row["file"],
+                int(row["line"] or 0),
+                row["function"],
+                row["property kind"],
+                row["status"],
+                " ".join(row["property"].split()),
+            )
+        )
+    return rows
+
+
+# ------------------------------------------------------------------ EVA
+
+
+@dataclass(frozen=True)
+class EvaResult:
+    function: str
+    main: str
+    seconds: float
+    alarms: tuple[str, ...]  # each alarm as EVA states it, with its location
+    alarm_count: int
+    reached: str  # "119 statements reached (out of 121)"
+    warnings: tuple[str, ...]  # unexpected kernel or EVA warnings (not alarms)
+    properties: tuple[Property, ...]
+    log: str = field(repr=False)
+
+    @property
+    def invalid(self) -> tuple[Property, ...]:
+        """Properties of the core EVA found false for some input."""
+        return tuple(
+            p
+            for p in self.properties
+            if p.status.startswith("Invalid") and p.file.startswith("bldc_commutation.")
+        )
+
+    @property
+    def clean(self) -> bool:
+        return self.alarm_count == 0 and not self.warnings and not self.invalid
+
+
+def _frama_c(tools: Tools) -> list[str]:
+    return [tools.frama_c, "-machdep", MACHDEP]
+
+
+def _sources(root: Path, sources: list[str], include: str) -> list[str]:
+    return [f"-cpp-extra-args=-I{root / include}", *(str(root / s) for s in sources)]
+
+
+_ALARM = re.compile(r"^\[eva:alarm\] (\S+): Warning: *\n((?:  .*\n?)+)", re.M)
+_WARNING = re.compile(r"^\[(kernel|eva)[^\]]*\] (\S+): Warning: *\n?((?:  .*\n?)*)", re.M)
+
+
+def run_eva(
+    tools: Tools, root: Path, plan: dict[str, object], analysis: dict[str, object], work: Path
+) -> EvaResult:
+    """One EVA analysis of the plan: `main` over every input, with its partitioning."""
+    work.mkdir(parents=True, exist_ok=True)
+    main = str(analysis["main"])
+    report = work / f"eva_{main}.csv"
+    cmd = [
+        *_frama_c(tools),
+        *_sources(root, list(plan["sources"]), str(plan["include"])),  # type: ignore[call-overload]
+        *EVA_POLICY,
+        "-main",
+        main,
+        *analysis["eva_options"],  # type: ignore[misc]
+        "-then",
+        "-report-csv",
+        str(report),
+    ]
+    start = time.monotonic()
+    done = _run(cmd, work)
+    seconds = time.monotonic() - start
+    log = done.stdout + done.stderr
+    (work / f"eva_{main}.log").write_text(log, encoding="utf-8")
+    count = re.search(r"(\d+) alarms? generated by the analysis", log)
+    if done.returncode != 0 or count is None or not report.is_file():
+        raise ToolError(f"EVA failed on {main} (exit {done.returncode}): {log[-2000:]}")
+    alarms = []
+    warnings = []
+    for m in _WARNING.finditer(log):
+        category, where, text = m.group(1), m.group(2), " ".join(m.group(3).split())
+        if m.group(0).startswith("[eva:alarm]"):
+            # property statuses are read from the report; RTE alarms are counted here
+            if "assert" in text and "postcondition" not in text and "precondition" not in text:
+                alarms.append(f"{where}: {text}")
+            continue
+        if any(p.search(text) for p in EXPECTED_WARNINGS):
+            continue
+        warnings.append(f"[{category}] {where}: {text}")
+    reached = re.search(r"(\d+ statements reached \(out of \d+\))", log)
+    return EvaResult(
+        str(analysis["function"]),
+        main,
+        seconds,
+        tuple(alarms),
+        int(count.group(1)),
+        reached.group(1) if reached else "",
+        tuple(warnings),
+        tuple(read_report(report)),
+        log,
+    )
+
+
+# ------------------------------------------------------------------ WP
+
+
+@dataclass(frozen=True)
+class WpResult:
+    functions: tuple[str, ...]
+    second_pass: bool
+    seconds: float
+    goals: dict[str, str]  # goal -> "Qed", "Z3 4.8.12", ... or "" when not proven
+    properties: tuple[Property, ...]
+    log: str = field(repr=False)
+
+
+_GOAL = re.compile(r"^\[wp\] \[([^\]]+)\] Goal (\S+) : (\w+)", re.M)
+_FAILED = re.compile(r"^\[wp\] \[(?:Failed|Unknown|Timeout)\] Goal (\S+)", re.M)
+
+
+#: WP's second pass, on what the first left: without variable elimination, Qed keeps a
+#: local that holds a shifted value as one term instead of rewriting one occurrence of
+#: the shift into a division and not the other (which no prover then relates)
+WP_SECOND_PASS = ("-wp-no-let",)
+#: statuses that count as proven by WP: "Partially proven" is a proof that rests on
+#: other clauses of the session (a loop invariant, a callee's contract), each of which
+#: must itself be established for the verdict
+WP_PROVEN = ("Valid", "Partially proven")
+
+
+def run_wp(
+    tools: Tools,
+    root: Path,
+    plan: dict[str, object],
+    functions: list[str],
+    work: Path,
+    properties: list[str] | None = None,
+    options: tuple[str, ...] = (),
+    tag: str = "wp",
+    provers: tuple[str, ...] = WP_PROVERS,
+    skip: tuple[str, ...] = (),
+) -> WpResult:
+    """WP on the contracts of `functions` (the core's and the harness's), or only on the
+    named `properties` of them."""
+    work.mkdir(parents=True, exist_ok=True)
+    report = work / f"{tag}.csv"
+    selection = ["-wp-prop", ",".join(properties)] if properties else []
+    cmd = [
+        *_frama_c(tools),
+        *_sources(root, list(plan["sources"]), str(plan["include"])),  # type: ignore[call-overload]
+        "-wp",
+        "-wp-fct",
+        ",".join(functions),
+        *selection,
+        *options,
+        *(["-wp-skip-fct", ",".join(skip)] if skip else []),
+        "-wp-prover",
+        ",".join(provers),
+        "-wp-timeout",
+        str(WP_TIMEOUT_S),
+        "-wp-par",
+        "1",
+        "-wp-out",
+        str(work / tag),
+        "-then",
+        "-report-csv",
+        str(report),
+    ]
+    env = dict(os.environ, WHY3CONFIG=str(tools.why3_config))
+    start = time.monotonic()
+    done = _run(cmd, work, env)
+    seconds = time.monotonic() - start
+    log = done.stdout + done.stderr
+    (work / f"{tag}.log").write_text(log, encoding="utf-8")
+    if not report.is_file() or "Proved goals" not in log:
+        raise ToolError(f"WP failed (exit {done.returncode}): {log[-2000:]}")
+    goals: dict[str, str] = {}
+    for m in _GOAL.finditer(log):
+        prover, goal, verdict = m.groups()
+        if verdict == "Valid":
+            goals[goal] = prover
+        else:
+            goals.setdefault(goal, "")
+    for m in _FAILED.finditer(log):
+        goals.setdefault(m.group(1), "")
+    return WpResult(
+        tuple(functions), bool(options), seconds, goals, tuple(read_report(report)), log
+    )
