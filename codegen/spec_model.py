@@ -45,11 +45,15 @@ class BackEmfShape:
     is the negative (e(theta + 180) = -e(theta)). The Hall edge at which a phase
     starts its rise lies 30 deg before that zero crossing (Hall sensors placed for
     120 deg conduction). `flat_top_deg` is the width it was given as, or None for a
-    measured table.
+    measured table. `frozen` is the paper's idealisation instead (section 3.2,
+    `back_emf_shape: flat`): every EMF keeps its value at the Hall edge (+E, -E, -E)
+    through the commutation, the shape the paper's Eqs. 14-20 assume; `points` then
+    holds the 120 deg trapezoid whose values at the edge those are.
     """
 
     points: tuple[tuple[Fraction, Fraction], ...] = TRAPEZOID_120
     flat_top_deg: Fraction | None = Fraction(120)
+    frozen: bool = False
 
     @staticmethod
     def trapezoid(flat_top_deg: Fraction) -> BackEmfShape:
@@ -58,7 +62,14 @@ class BackEmfShape:
         points += ((180 - rise, Fraction(1)), (Fraction(180), Fraction(0)))
         return BackEmfShape(points, flat_top_deg)
 
+    @staticmethod
+    def flat() -> BackEmfShape:
+        """The paper's frozen EMFs (section 3.2: e_a = E, e_b = e_c = -E)."""
+        return BackEmfShape(TRAPEZOID_120, None, frozen=True)
+
     def describe(self) -> str:
+        if self.frozen:
+            return "flat (the paper's EMFs frozen at the edge)"
         if self.flat_top_deg is not None:
             return f"trapezoid, {float(self.flat_top_deg):g} deg flat top"
         return f"measured table, {len(self.points)} points"

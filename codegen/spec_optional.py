@@ -1,6 +1,8 @@
 """The spec's two optional entries, parsed and checked (called by `spec_loader`).
 
-* `motor.back_emf_shape`: the phase back-EMF waveform. Either a flat-top width,
+* `motor.back_emf_shape`: the phase back-EMF waveform. Either `flat`, the paper's
+  idealisation (section 3.2: the EMFs keep their edge values +E, -E, -E through the
+  commutation), or a flat-top width,
   `"<w> deg"` in electrical degrees with 0 < w < 180 (120 deg is the paper's ideal
   trapezoid, the default), or a measured table: a list of `[angle_deg, e_per_unit]`
   pairs over the half period from the phase's rising zero crossing, angles rising
@@ -30,7 +32,9 @@ EMF_SHAPE_KEY = "back_emf_shape"
 TOLERANCES_KEY = "tolerances"
 TOLERANCE_KEYS = ("phase_resistance", "phase_inductance", "back_emf_constant", "bus_voltage")
 _WIDTH = re.compile(r"^\s*(?P<number>[-+]?(?:\d+\.?\d*|\.\d+))\s*(?:deg|°)\s*$")
-_WIDTH_ALLOWED = "'<w> deg' with 0 < w < 180 electrical degrees, or a table of [angle_deg, e/E]"
+_WIDTH_ALLOWED = (
+    "'flat', '<w> deg' with 0 < w < 180 electrical degrees, or a table of [angle_deg, e/E]"
+)
 _TABLE_ALLOWED = "[[0, 0], ..., [180, 0]]: angles rising from 0 to 180 deg, |e/E| <= 2"
 _PERCENT_LOW, _PERCENT_HIGH = -90.0, 400.0
 
@@ -51,6 +55,8 @@ def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
     """`motor.back_emf_shape` (raw YAML value) -> the checked waveform."""
     path = f"motor.{EMF_SHAPE_KEY}"
     if isinstance(raw, str):
+        if raw.strip() == "flat":
+            return BackEmfShape.flat()
         match = _WIDTH.match(raw)
         if match is None:
             raise r.error(path, raw, "not a flat-top width in electrical degrees", _WIDTH_ALLOWED)

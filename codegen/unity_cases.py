@@ -4,7 +4,9 @@ A case is a set of core inputs and what the independent oracle (`oracle/`) expec
 them, with tolerances from the spec's `accuracy:` section alone (never the design's own
 bounds): a duty within accuracy.duty_counts of the exact one, the commutation time within
 the time target of the exact value at any duty pair the core may emit (or, where the
-spec declares the time ill-conditioned, of its window). Switches and sector must match
+spec declares the time ill-conditioned, of its window); for improved_r, any carrier
+boundary that a time within that target of the turn-off current's zero gives, with
+the eased pair there. Switches and sector must match
 exactly, and so must every flag the oracle decides; a flag that depends on a value
 within its tolerance of a threshold is masked out of the comparison.
 """
@@ -165,38 +167,39 @@ class _CaseMaker:
         return (round(on[0]), duty_tol), (round(off[0]), duty_tol), ticks, flags, mask
 
     def _rule(self, period, bus, current, measured):  # type: ignore[no-untyped-def]
+        """The rule ends on a carrier boundary after the zero of the turn-off current:
+        every boundary a time within the target of that zero (or of the declared
+        window) gives is allowed, and the duties are the eased pair at any of them."""
         o = self.o
         com = o.rule(period, bus, current)
-        x0, unf0 = com.zero()
+        x0, _ = com.zero()
         probe = max(self.counts or 0.0, 0.01)
-        xm, unfm = com.zero(-probe)
-        xp, unfp = com.zero(+probe)
+        xm, _ = com.zero(-probe)
+        xp, _ = com.zero(+probe)
         t_used = float(period[0])
         sens = t_used * abs(float(xp[0] - xm[0])) / (2 * probe)
         t0 = float(x0[0]) * t_used
         edges = (min(float(xm[0]), float(xp[0])) * t_used, max(float(xm[0]), float(xp[0])) * t_used)
         lo, hi = self._time_window(t0, sens, edges)
+        first = int(com.end_after(np.array([max(lo, 0.0)]))[0])
+        last = int(com.end_after(np.array([hi]))[0])
+        periods = int(com.periods[0])
+        tau = float(o.u.carrier_ticks)
         limit = float(measured)
-        low, high = max(min(lo, limit), 0.0), min(hi, limit)
-        ticks = _mid_range(low, high)
-        # duties at any time the core may give: S(x) over that window
-        x_lo, x_hi = max(low / t_used, 0.0), min(high / t_used, 1.0)
-        totals = [float(com.duty_sum(np.array([x]))[0]) for x in (x_lo, x_hi)]
+        ends = list(range(first, last + 1))
+        times = [limit if m > periods else min(round(m * tau), limit) for m in ends]
+        ticks = _mid_range(min(times), max(times))
+        pairs = com.pair_at(np.array(ends, dtype=np.int64))
         p = o.u.pwm_counts
-        on_range = [min(max(s, 0.0), p) for s in totals]
-        off_range = [min(max(s - p, 0.0), p) for s in totals]
-        on = _mid_range(min(on_range) - self.duty, max(on_range) + self.duty)
-        off = _mid_range(min(off_range) - self.duty, max(off_range) + self.duty)
-        s_min, s_max = min(totals) - self.duty, max(totals) + self.duty
+        on = _mid_range(float(pairs.on.min()) - self.duty, float(pairs.on.max()) + self.duty)
+        off = _mid_range(float(pairs.off.min()) - self.duty, float(pairs.off.max()) + self.duty)
+        s_min = float(pairs.total.min()) - self.duty
+        s_max = float(pairs.total.max()) + self.duty
         flags, mask = 0, 0xFF
         for bit, must, must_not in (
             (FLAG["HIGH_SPEED"], s_max < p, s_min > p),
             (FLAG["FAIL_AREA_CLAMPED"], s_min > 2 * p or s_max < 0, s_max < 2 * p and s_min > 0),
-            (
-                FLAG["TIME_CLAMPED"],
-                bool(unf0[0] and unfm[0] and unfp[0]),
-                not (unf0[0] or unfm[0] or unfp[0]),
-            ),
+            (FLAG["TIME_CLAMPED"], first > periods, last <= periods),
         ):
             if must:
                 flags |= bit

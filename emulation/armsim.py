@@ -15,6 +15,13 @@ Each executed instruction is recorded with the data accesses it made (address, s
 read or write), because what they cost depends on where they go: a load from flash
 waits for the flash, one from SRAM does not (`emulation.cycles`). The lowest stack
 address a call wrote is its measured stack depth.
+
+One defect of unicorn 2.1 is worked around: the IT state of an IT block can outlive the
+block when its last instructions are conditional stores seen by the memory hooks, so the
+instructions after it ran as if still inside the block, some of them skipped
+(unicorn-engine/unicorn#2309; GCC gives the improved_r search such a block). The
+emulator knows every IT block of the image and clears stale IT bits of the CPSR at the
+first instruction that runs outside the block.
 """
 
 from __future__ import annotations
@@ -244,6 +251,40 @@ def _divide_sites(segments: Sequence[Segment]) -> dict[int, tuple[int, int]]:
     return sites
 
 
+#: The IT state in the CPSR: IT[7:2] in bits 15:10, IT[1:0] in bits 26:25.
+_CPSR_IT_BITS = (0x3F << 10) | (0x3 << 25)
+
+
+def _thumb_size(halfword: int) -> int:
+    """Bytes of the Thumb instruction whose first halfword is `halfword`."""
+    return 4 if halfword >> 11 in (0b11101, 0b11110, 0b11111) else 2
+
+
+def _it_blocks(segments: Sequence[Segment]) -> dict[int, int]:
+    """Address of every IT instruction (0xBF00 | firstcond << 4 | mask, mask != 0) in
+    executable code -> the address just past the last instruction of its block. A match
+    in a literal pool or in the second half of a 32-bit instruction is harmless: only
+    executed instruction addresses are ever looked up."""
+    blocks: dict[int, int] = {}
+    for segment in segments:
+        if not segment.executable:
+            continue
+        code = segment.data
+        for offset in range(0, len(code) - 1, 2):
+            halfword = int.from_bytes(code[offset : offset + 2], "little")
+            mask = halfword & 0xF
+            if halfword & 0xFF00 != 0xBF00 or mask == 0:
+                continue
+            length = 4 - ((mask & -mask).bit_length() - 1)  # the lowest set bit ends it
+            end = offset + 2
+            for _ in range(length):
+                if end + 2 > len(code):
+                    break
+                end += _thumb_size(int.from_bytes(code[end : end + 2], "little"))
+            blocks[segment.address + offset] = segment.address + end
+    return blocks
+
+
 def _page_permissions(image: ArmImage, ram_base: int, ram_size: int) -> dict[int, int]:
     """Page number -> unicorn protection, the union over everything that page holds."""
     pages: dict[int, int] = {}
@@ -299,6 +340,8 @@ class CortexM3Sim:
         for segment in image.segments:
             self._uc.mem_write(segment.address, segment.data)
         self._divides = _divide_sites(image.segments)
+        self._it_blocks = _it_blocks(image.segments)
+        self._it_span: tuple[int, int] | None = None  # the IT block running now
         self._steps: list[Step] = []
         self._accesses: list[Access] = []  # of the instruction running now
         self._fault: tuple[int, int, int, int] | None = None  # access, address, size, pc
@@ -322,6 +365,16 @@ class CortexM3Sim:
 
     def _on_instruction(self, uc: Uc, address: int, size: int, _data: object) -> None:
         self._close_step()
+        span = self._it_span
+        if span is not None and not span[0] <= address < span[1]:
+            # the first instruction outside the block: no IT state may remain (#2309)
+            self._it_span = None
+            cpsr = uc.reg_read(uc_arm.UC_ARM_REG_CPSR)
+            if cpsr & _CPSR_IT_BITS:
+                uc.reg_write(uc_arm.UC_ARM_REG_CPSR, cpsr & ~_CPSR_IT_BITS)
+        end = self._it_blocks.get(address)
+        if end is not None:
+            self._it_span = (address, end)
         registers = self._divides.get(address)
         if registers is None:
             self._steps.append(Step(address, size))
@@ -407,6 +460,7 @@ class CortexM3Sim:
         self._steps = []
         self._accesses = []
         self._fault = None
+        self._it_span = None
         try:
             uc.emu_start(entry | 1, RETURN_ADDRESS, count=max_instructions)
         except UcError as error:

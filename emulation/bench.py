@@ -497,8 +497,16 @@ def section_reciprocal(b: Bench, report: Report, sizes: dict[str, Sizes], stats:
     if bus is None:
         report.say("bus reciprocal: no bldc_bus_condition run measured")
         return
+    core = build_core(b.spec)
+    needed = ("x_frac_bits", "n_x", "n_g", "time_bound_min_w_counts")
+    if any(key not in core.design.formats for key in needed):
+        report.say(
+            f"bus reciprocal: no table option for method {core.design.method}"
+            " (only the paper's methods' X and Eq. 20 numerators are tabulated)"
+        )
+        return
     choice = ReciprocalChoice(
-        table=table_option(b.spec, build_core(b.spec)),
+        table=table_option(b.spec, core),
         divide_instructions=bus.instructions_worst,
         divide_cycles=bus.cycles_worst,
         flash_in_use=sizes["core"].flash + sizes["port"].flash,

@@ -8,12 +8,12 @@ default), and measured with the machinery of emulation/isr_bench.py:
   psi table of the rule);
 * the three handlers in their order over `bench`'s sweep (the Hall edge must stay at
   its targets: it does no arithmetic);
-* TIM1_TRG_COM_IRQHandler, which runs the rule (a K-step bisection on the turn-off
-  current with table lookups whose branches depend on the octave of rho x), once per
-  point of a denser sweep of the Hall period over the whole speed range plus the
-  counter's full range, bus min/middle/max and braking current 0/nominal/max; and
+* TIM1_TRG_COM_IRQHandler, which runs the rule (a binary search over the PWM carrier
+  boundaries of the sector, whose number of active steps grows with the Hall period),
+  once per point of a denser sweep of the Hall period over the whole speed range plus
+  the counter's full range, bus min/middle/max and braking current 0/nominal/max; and
   again with the current ADC one code below full scale (beyond the spec's maximum; a
-  rail is a sensor fault), the input that can make the bisection's last check run;
+  rail is a sensor fault), saturated;
 * which functions the timing handler can reach in the linked image (no library divide,
   64-bit or float helper) and which symbols the core object leaves undefined.
 """
@@ -118,18 +118,20 @@ def largest_table(sizes: Sizes) -> tuple[str, int]:
 
 def point_breakdown(spec_path: str | Path, elf: Path, point: TimingPoint) -> dict[str, Sample]:
     """The timing handler at one sweep point again, its cost split by the function each
-    step ran in (the timing is a pure function of the port's inputs, so the run repeats
-    the sweep's)."""
+    step ran in. The core's functions are pure functions of the port's inputs, so their
+    part repeats the sweep's; the port's own part may differ by a few instructions with
+    the timing slot it fills (which depends on the edges before)."""
     rig = PortRig(load_spec(spec_path), elf)
     rig.prime(point.bus, point.current, point.period)
     rig.set_inputs(point.bus, point.current, point.duty)
-    rig.hall_edge(rig.spec.hall.sequence[0], point.period)
+    sequence = rig.spec.hall.sequence
+    # an edge before it, as in the sweep: the Hall edge measured must follow a valid one
+    rig.hall_edge(sequence[-1], point.period)
+    rig.timing()
+    rig.commutation_end()
+    rig.hall_edge(sequence[0], point.period)
     result = rig.timing()
-    if result.instructions != point.cost.instructions:
-        # The handler fills the timing slot the Hall edge is not reading, alternately the
-        # one and the other: the same inputs once more run the other slot's path.
-        result = rig.timing()
-    if result.instructions != point.cost.instructions:
+    if rig.entries(result.trace) != point.entries:
         raise AssertionError("the timing handler did not repeat its sweep run")
     functions = sorted((rig.image.symbol(name) for name in point.entries), key=lambda s: -s.size)
     return {s.name: rig.part(result, s) for s in functions}

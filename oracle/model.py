@@ -26,6 +26,7 @@ import numpy.typing as npt
 
 from codegen.spec_model import Spec
 from oracle import paper, rule, switching
+from oracle.emf_shape import EdgeEmf, edge_emf
 from oracle.units import Limits, Units, limits, units
 
 Ints = npt.NDArray[np.int64]
@@ -57,6 +58,7 @@ class Oracle:
     motor: paper.Motor
     method: str
     edges: dict[tuple[int, int], tuple[int, int]]
+    emf: EdgeEmf  # the spec's EMF around the paper's edge (the rule's shape)
 
     @property
     def uses_main_duty(self) -> bool:
@@ -149,6 +151,9 @@ class Oracle:
             period.astype(np.float64) / float(self.u.hall_hz),
             float(self.spec.motor.phase_resistance_ohm),
             float(self.motor.inductance),
+            self.emf,
+            float(self.u.hall_hz),
+            float(self.u.carrier_ticks),
         )
 
 
@@ -164,4 +169,5 @@ def oracle(spec: Spec) -> Oracle:
         ),
         method=spec.controller.method,
         edges=switching.switches(tuple(spec.hall.sequence)),
+        emf=edge_emf(spec.motor.back_emf_shape),
     )

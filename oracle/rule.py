@@ -1,21 +1,27 @@
 """The resistance-aware rule (method improved_r) in real arithmetic, written from its
 definition (README, "The resistance-aware core"), not from the generator.
 
-For one commutation, with T_s the sector time, E = k_e n, U_d, I >= 0, R, L, and P the
-PWM period in counts:
+For one commutation, with T_s the sector time, E = k_e n, U_d, I >= 0, R, L, P the PWM
+period in counts, and the spec's EMF per unit E along the sector x = t / T_s as
+sigma(x) = (2 e_a - e_b - e_c)/E and phi(x) = (e_a - 2 e_b + e_c)/E (`oracle.emf_shape`):
 
   X = 4 P E / U_d,  Y = 3 P R I / U_d,  A = 3 P L I / (U_d T_s),  rho = R T_s / L
-  S(x) = 2P + Y - X + theta X x / 2           theta = sqrt(2) - 1, x in sectors
-  C_on = clamp(S, 0, P), C_off = clamp(S - P, 0, P), F = 2 C_off - C_on - P + X/2
-  g(x) = A e^{-rho x} + F x psi1(rho x) - X x^2/2 psi2(rho x)
+  Sigma(x) = 2P + Y - (X/4) mu(x)        mu(x): the minimax constant of sigma over [0, x]
+  C_on = clamp(Sigma, 0, P), C_off = clamp(Sigma - P, 0, P)
+  g(x) = A e^{-rho x} + (2 C_off - C_on - P) x psi1(rho x) + (X/4) int_0^x phi(s) e^{-rho (x - s)} ds
   psi1(y) = (1 - e^{-y})/y,  psi2(y) = 2 (y - 1 + e^{-y})/y^2
 
-g is the turn-off phase's current (in counts) under the pair held at S(x); the
-commutation time is its zero x_c in (0, 1] (g(0) = A >= 0 and g falls through zero
-once), or the whole sector when g(1) > 0. `shift` adds a number of counts to g (the
-change a duty error of that many counts held over one sector makes): the verifier asks
-which commutation times an error of that size would give, and how far one count
-moves the zero (the conditioning of t_com).
+g is the turn-off phase's current (in counts) after x sectors under the pair held at
+Sigma(x). Its zero z (g(0) = A >= 0, one sign change) is where the current reaches zero.
+The commutation ends on a carrier boundary x_m = m tau / T_s (tau = one PWM period,
+where the port restarts the carrier): the first one after z, m = floor(z T_s / tau) + 1,
+if m <= N = floor(T_s / tau); there the pair is eased so the current ends exactly on
+it, C_on - delta, C_off + delta with delta = -g(x_m) / (3 x_m psi1(rho x_m)) clamped
+to [0, min(C_on, P - C_off)]. If the current remains at x_N the commutation does not
+end within the sector: the pair at Sigma(x_N), uneased, for the whole sector.
+
+`shift` adds a number of counts to g (the change a duty error of that many counts held
+over one sector makes): the verifier asks which ends an error of that size would give.
 """
 
 from __future__ import annotations
@@ -26,7 +32,11 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from oracle.emf_shape import EdgeEmf
+
 Floats = npt.NDArray[np.float64]
+Ints = npt.NDArray[np.int64]
+Bools = npt.NDArray[np.bool_]
 
 THETA = math.sqrt(2.0) - 1.0
 BISECTION_STEPS = 56
@@ -46,30 +56,54 @@ def psi(y: Floats) -> tuple[Floats, Floats]:
 
 
 @dataclass(frozen=True)
+class Pair:
+    """A commutation's outcome at a given end: the held sum, the pair before and after
+    the easing, and the current there."""
+
+    total: Floats
+    on_held: Floats
+    off_held: Floats
+    on: Floats
+    off: Floats
+    current: Floats  # g at the end, counts
+
+
+@dataclass(frozen=True)
 class Commutation:
     """The rule's quantities at each point (counts, sectors)."""
 
     x: Floats  # X
-    base: Floats  # 2P + Y - X
+    y: Floats  # Y
     a: Floats  # A
     rho: Floats
     p: int
+    emf: EdgeEmf
+    sector_ticks: Floats  # T_s in Hall ticks
+    carrier_ticks: float  # tau
 
     def duty_sum(self, fraction: Floats) -> Floats:
-        return self.base + THETA * self.x * fraction / 2
+        return 2 * self.p + self.y - self.x / 4 * self.emf.hold(fraction)
 
     def split(self, total: Floats) -> tuple[Floats, Floats]:
         return np.clip(total, 0, self.p), np.clip(total - self.p, 0, self.p)
 
-    def current(self, fraction: Floats, shift: float = 0.0) -> Floats:
-        on, off = self.split(self.duty_sum(fraction))
-        forcing = 2 * off - on - self.p + self.x / 2
+    def current(self, fraction: Floats, shift: float = 0.0, total: Floats | None = None) -> Floats:
+        """g at x = fraction under the pair held at Sigma(fraction) (or at `total`)."""
+        on, off = self.split(self.duty_sum(fraction) if total is None else total)
+        f0, slope, corners = self.emf.forcing_terms()
         y = self.rho * fraction
         p1, p2 = psi(y)
-        return self.a * np.exp(-y) + forcing * fraction * p1 - self.x * fraction**2 / 2 * p2 + shift
+        ramp = f0 * fraction * p1 + slope * fraction**2 / 2 * p2
+        for at, change in corners:
+            late = np.maximum(fraction - at, 0.0)
+            _, q2 = psi(self.rho * late)
+            ramp = ramp + change * late**2 / 2 * q2
+        driven = (2 * off - on - self.p) * fraction * p1
+        return self.a * np.exp(-y) + driven + self.x / 4 * ramp + shift
 
-    def zero(self, shift: float = 0.0) -> tuple[Floats, npt.NDArray[np.bool_]]:
-        """x_c (1 where the current does not reach zero) and that flag."""
+    def zero(self, shift: float = 0.0) -> tuple[Floats, Bools]:
+        """z, the zero of g in (0, 1] (1 where the current does not reach zero), and
+        that flag."""
         ones = np.ones_like(self.x)
         unfinished = self.current(ones, shift) > 0
         lo, hi = np.zeros_like(self.x), ones
@@ -79,18 +113,49 @@ class Commutation:
             lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
         return np.where(unfinished, 1.0, 0.5 * (lo + hi)), unfinished
 
+    @property
+    def periods(self) -> Ints:
+        """N: whole carrier periods in the sector."""
+        return np.floor(self.sector_ticks / self.carrier_ticks + 1e-9).astype(np.int64)
+
+    def end_after(self, ticks: Floats) -> Ints:
+        """The carrier boundary m that ends a commutation whose current reaches zero at
+        `ticks`: the first one after it (N + 1: none within the sector)."""
+        m = np.floor(ticks / self.carrier_ticks).astype(np.int64) + 1
+        return np.minimum(np.maximum(m, 1), self.periods + 1)
+
+    def pair_at(self, end: Ints) -> Pair:
+        """The outcome when the commutation ends at boundary `end` (N + 1: it does not
+        end within the sector; the pair at x_N, uneased)."""
+        n = self.periods
+        finished = end <= n
+        m = np.minimum(end, n).astype(np.float64)
+        fraction = m * self.carrier_ticks / self.sector_ticks
+        total = self.duty_sum(fraction)
+        on0, off0 = self.split(total)
+        g = self.current(fraction, total=total)
+        p1, _ = psi(self.rho * fraction)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            eased = np.where(fraction > 0, -g / (3 * fraction * p1), 0.0)
+        room = np.minimum(on0, self.p - off0)
+        delta = np.where(finished, np.clip(eased, 0.0, room), 0.0)
+        return Pair(total, on0, off0, on0 - delta, off0 + delta, g)
+
 
 def commutation(
     p: int,
-    emf: Floats,
+    emf_volts: Floats,
     u_d: Floats,
     amps: Floats,
     sector_s: Floats,
     resistance: float,
     inductance: float,
+    shape: EdgeEmf,
+    hall_hz: float,
+    carrier_ticks: float,
 ) -> Commutation:
-    x = 4 * p * emf / u_d
+    x = 4 * p * emf_volts / u_d
     y = 3 * p * resistance * amps / u_d
     a = 3 * p * inductance * amps / (u_d * sector_s)
     rho = resistance * sector_s / inductance
-    return Commutation(x, 2 * p + y - x, a, rho, p)
+    return Commutation(x, y, a, rho, p, shape, sector_s * hall_hz, carrier_ticks)

@@ -9,6 +9,7 @@ Every conversion is one line of physics, in exact rationals:
                         (the code of zero current; often not a whole code)
   TIM1 counts -> duty   D = counts / P, P = f_timer / f_pwm (halved when centre-aligned:
                         the counter runs up and down)
+  carrier period        tau = f_hall / f_pwm Hall ticks (one PWM period, up and down)
 
 and every limit is the exact set of codes whose physical value lies in the spec's range.
 Nothing here is imported from the generator: tests compare these with values worked
@@ -41,6 +42,7 @@ class Units:
     zero_current_code: Fraction  # C0
     adc_max: int  # the ADC's full-scale code
     hall_counter_max: int  # the Hall timer's largest count
+    carrier_ticks: Fraction  # Hall ticks per PWM period: f_hall / f_pwm
 
     # ------------------------------------------------------------ conversions
 
@@ -96,6 +98,7 @@ def units(spec: Spec) -> Units:
         zero_current_code=spec.adc.current_offset_v / spec.adc.reference_v * full,
         adc_max=full - 1,
         hall_counter_max=2**spec.hall.counter_bits - 1,
+        carrier_ticks=Fraction(spec.hall.timer_clock_hz) / spec.inverter.pwm_frequency_hz,
     )
 
 

@@ -2,7 +2,8 @@
 
 The core sets `BLDC_FLAG_TIME_CLAMPED` when its commutation time does not fit in the
 60 deg interval: for `improved` when Eq. 20 exceeds the Hall period, for `improved_r`
-when the bisection finds the turn-off current still positive at the end of the sector.
+when its search finds the turn-off current still positive at the sector's last whole
+PWM period.
 It then commands the whole sector (`commutation_ticks` = the Hall period). Neither
 method reads the main duty for its timing, so the scan holds the edge, the bus and the
 current and calls the compiled core at every Hall period (in ticks) of the spec's speed

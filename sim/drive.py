@@ -31,6 +31,9 @@ class Drive:
     emf_points: tuple[tuple[float, float], ...] = TRAPEZOID_120
     #: How the spec gave it ("trapezoid, 120 deg flat top" or "measured table, ...").
     emf_description: str = "trapezoid, 120 deg flat top"
+    #: The spec's `back_emf_shape: flat`: the paper's EMFs, frozen at their edge values
+    #: through the commutation (the plant's "spec" shape is then the "flat" one).
+    emf_frozen: bool = False
 
     @staticmethod
     def from_spec(spec: Spec) -> Drive:
@@ -48,6 +51,7 @@ class Drive:
             speed_max_rpm=float(spec.controller.speed_max_rpm),
             emf_points=tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points),
             emf_description=spec.motor.back_emf_shape.describe(),
+            emf_frozen=spec.motor.back_emf_shape.frozen,
         )
 
     def with_pwm_frequency(self, frequency_hz: float) -> Drive:
@@ -58,7 +62,19 @@ class Drive:
         rise = (180.0 - width_deg) / 2.0
         points = ((0.0, 0.0), (rise, 1.0), (180.0 - rise, 1.0), (180.0, 0.0))
         return replace(
-            self, emf_points=points, emf_description=f"trapezoid, {width_deg:g} deg flat top"
+            self,
+            emf_points=points,
+            emf_description=f"trapezoid, {width_deg:g} deg flat top",
+            emf_frozen=False,
+        )
+
+    def with_frozen_emf(self) -> Drive:
+        """The same drive with the paper's frozen (flat) EMF as its own shape."""
+        return replace(
+            self,
+            emf_points=TRAPEZOID_120,
+            emf_description="flat (the paper's EMFs frozen at the edge)",
+            emf_frozen=True,
         )
 
     @property

@@ -472,6 +472,7 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         worst(IMPROVED_R, "flat"),
         worst(IMPROVED_R, model="averaged"),
     )
+    flat_averaged = worst(IMPROVED_R, "flat", "averaged")
     restart = [
         s
         for s in in_target
@@ -503,8 +504,13 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         "paper_speed": f"{paper.speed_rpm:g}",
         "ideal_worst": pct(ideal.metrics.deviation_worst_pct),
         "ideal_speed": f"{ideal.speed_rpm:g}",
+        "flat_averaged_worst": pct(flat_averaged.metrics.deviation_worst_pct),
+        "flat_averaged_speed": f"{flat_averaged.speed_rpm:g}",
+        "spec_shape": results.drive.emf_description,
         "met": abs(averaged.metrics.deviation_worst_pct) <= TARGET_PCT,
         "switched_met": abs(main.metrics.deviation_worst_pct) <= TARGET_PCT,
+        "flat_met": abs(flat_averaged.metrics.deviation_worst_pct) <= TARGET_PCT,
+        "flat_switched_met": abs(flat.metrics.deviation_worst_pct) <= TARGET_PCT,
         "restart_only": ", ".join(f"{s:g}" for s in restart),
         "outside": ", ".join(
             f"{s:g}"

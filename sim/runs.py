@@ -4,7 +4,8 @@ The controller sees what the firmware sees: the measured current is the pre-edge
 period average (what a PWM-centred ADC sample gives) rounded to ADC codes, the main
 duty is rounded to TIM1 counts. Every method of `METHODS` is the generated C core:
 the paper's three and the resistance-aware `improved_r` (one constant duty pair per
-commutation, t_com by bisection on the turn-off current). `improved_r_pp`
+commutation, ended on the first PWM carrier boundary at which the turn-off current has
+reached zero). `improved_r_pp`
 (`sim.improved_r_pp`) is no firmware: the same rule re-solved every PWM period along the
 EMF ramp in Python, the per-period ideal the constant pair is compared with.
 """
@@ -19,7 +20,7 @@ from sim.improved_r_pp import METHOD as IMPROVED_R_PP
 from sim.improved_r_pp import improved_r_pp_command
 from sim.metrics import CommutationMetrics, commutation_end, measure
 from sim.scenario import Case, PlantModel, run_case
-from sim.sil import CoreSet, core_command
+from sim.sil import CoreLibrary, CoreSet, core_command
 from sim.trace import Trace
 
 #: The resistance-aware rule beyond the paper (`controller.method: improved_r`).
@@ -70,10 +71,18 @@ class Controller:
                 self.period_counts,
                 float(self.cores.scaling.hall_clock_hz),
             )
-        core = self.cores.cores[method]
+        core = self.core_for(method, case)
         return core_command(
             core, self.spec, self.cores.scaling, case, self.measured_current(case), main_duty
         )
+
+    def core_for(self, method: str, case: Case) -> CoreLibrary:
+        """The method's core; for improved_r on a frozen (flat) EMF the one generated for
+        that shape, when the spec's own shape is another."""
+        frozen = case.emf_shape == "flat" or case.drive.emf_frozen
+        if frozen and method == IMPROVED_R and "flat" in self.cores.shaped:
+            return self.cores.shaped["flat"]
+        return self.cores.cores[method]
 
     def flag_names(self, command: Command) -> tuple[str, ...]:
         any_core = next(iter(self.cores.cores.values()))

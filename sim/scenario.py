@@ -73,8 +73,9 @@ class Case:
     def emf(self) -> BackEmf:
         # BackEmf negates the forward trapezoid itself for reverse rotation (paper 2.2),
         # so it takes the forward sectors in both directions.
+        frozen = self.emf_shape == "flat" or self.drive.emf_frozen
         return BackEmf(
-            self.emf_shape,
+            "flat" if frozen else "spec",
             self.edge,
             switching_table().sectors("forward"),
             self.drive.emf_v(self.speed_rpm),

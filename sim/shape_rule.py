@@ -8,7 +8,8 @@ finds t_com as the zero of the turn-off current under that ramp. On another shap
 both steps are wrong: on the paper's flat EMF S never ramps, and a 100 deg flat top
 has the turn-on phase still ramping at the edge. This rule takes the shape as data
 (the spec's `motor.back_emf_shape`, or the paper's frozen flat EMF) and generalises
-the two steps, keeping the firmware's structure (one constant pair, t_com by bisection):
+the two steps, keeping the firmware's structure (one constant pair, t_com at the zero
+of the turn-off current):
 
 1. hold: S(t) = duty_sum(e_nc(t), e_off(t), e_on(t)) along the shape (affine in the
    EMFs, so S(t) - S(0) = (E / U_d) s(t / T_s) with s a function of the shape alone).
@@ -20,14 +21,15 @@ the two steps, keeping the firmware's structure (one constant pair, t_com by bis
    p = sqrt((x0 + x_c)^2 + (x_c - x0)^2) - (x0 + x_c) (x_c > x0, in sectors).
 2. time: the turn-off current under that pair with the shape's EMFs, each affine
    piece integrated exactly (di_b/dt = alpha + beta t - (R/L) i_b per piece); t_c is
-   the zero of i_b(t_c; pair(t_c)), found by bisection as the firmware does.
+   the zero of i_b(t_c; pair(t_c)), found by bisection (the firmware instead takes the
+   first PWM carrier boundary past it, as `improved_r_aligned` does).
 
-The firmware form (for the lead): in counts, Sigma(x) = 2P + Y - X + X m(x) / 4 with
-m a generated table of the shape over x = t / T_s in (0, 1] (m(x) = 2 theta x for the
-120 deg trapezoid, 0 for flat), and the ramp term of g(x) becomes a sum over the
-shape's slope changes inside the sector, sum_j X_j (x - x_j)+^2 / 2 psi2(rho (x - x_j)),
-with the same psi2 table (one term at x = 0 for 120 deg, none for flat, two for a
-wider flat top).
+The firmware (codegen/methods/improved_r/) implements the shapes whose EMFs are affine
+over the commutation sector, flat and the 120 deg trapezoid, in the aligned form: the
+end on the carrier grid, where the decay is a constant to the power m (a table of
+D^(2^k) and a binary search over m, no exponential). A trapezoid of another width has
+a slope change inside the sector (a second (x - x_j)+ term in g); the generator refuses
+it for improved_r, and these prototypes remain its model.
 """
 
 from __future__ import annotations

@@ -10,6 +10,12 @@ arithmetic is re-implemented here, so a change in the C changes the simulation.
 The checked-in core implements the spec's `controller.method` only. For the other
 methods the spec is copied with the method changed and `python -m codegen generate`
 renders that variant into build/sim/; variants and libraries are cached by content.
+
+The resistance-aware core is generated for an EMF shape (`motor.back_emf_shape`): the
+one of the spec, and the paper's frozen (flat) EMF, so that a commutation on the flat
+plant is decided by the firmware an engineer would generate for that motor. A shape
+the firmware cannot take (a corner inside the commutation sector) gets the 120 deg
+trapezoid's core instead, reported as such.
 """
 
 from __future__ import annotations
@@ -20,7 +26,7 @@ import re
 import shutil
 import subprocess
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
@@ -132,56 +138,151 @@ def _toolchain_digest() -> str:
     return digest.hexdigest()
 
 
+#: The resistance-aware method, generated per EMF shape.
+SHAPED_METHOD = "improved_r"
+#: `back_emf_shape` values of the extra improved_r variants; the fallback for a shape
+#: the firmware cannot take.
+FLAT_SHAPE = "flat"
+FALLBACK_SHAPE = "120 deg"
+
+
 @dataclass(frozen=True)
 class CoreSet:
-    """One compiled core per method for one spec."""
+    """One compiled core per method for one spec; the resistance-aware one also for the
+    flat EMF (`shaped["flat"]`) when the spec's own shape is another."""
 
     spec: Spec
     cores: dict[str, CoreLibrary]
+    shaped: dict[str, CoreLibrary] = field(default_factory=dict)
+    #: the shape the spec's improved_r core was generated for, when not the spec's own
+    shape_fallback: str | None = None
 
     @cached_property
     def scaling(self) -> Scaling:
         return scaling(self.spec, derive())
 
 
+def spec_with_emf_shape(spec_text: str, shape: str) -> str:
+    """The spec YAML with motor.back_emf_shape set to `shape` (a scalar or a flow list):
+    the entry replaced (with any block-list lines under it), or added under `motor:`."""
+    lines = spec_text.splitlines(keepends=True)
+    out: list[str] = []
+    skip_indent: int | None = None
+    placed = False
+    for line in lines:
+        indent = len(line) - len(line.lstrip(" "))
+        if skip_indent is not None:
+            if line.strip() and indent > skip_indent:
+                continue
+            skip_indent = None
+        match = re.match(r"^(\s+)back_emf_shape:", line)
+        if match:
+            out.append(f"{match.group(1)}back_emf_shape: {shape}\n")
+            skip_indent = len(match.group(1))
+            placed = True
+            continue
+        out.append(line)
+        if not placed and re.match(r"^motor:\s*(#.*)?$", line):
+            out.append(f"  back_emf_shape: {shape}\n")
+            placed = True
+    if not placed:
+        raise SilError("the spec has no motor: section to put back_emf_shape in")
+    return "".join(out)
+
+
+def _shape_refused(output: str) -> bool:
+    return "motor.back_emf_shape" in output
+
+
 def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_ROOT) -> CoreSet:
     """Compile the checked-in core and generate + compile the other methods' variants.
 
     Variant generation runs `python -m codegen generate` in parallel subprocesses (one
-    per missing method): the same command a user runs, so the variant is exactly what
-    the toolchain emits for that method.
+    per missing variant): the same command a user runs, so the variant is exactly what
+    the toolchain emits for that method (and, for improved_r, EMF shape).
     """
     spec_path = Path(spec.source_path)
     checked_in = PROJECT_ROOT / "generated" / spec.name / "c"
     toolchain = _toolchain_digest()
-    pending: list[tuple[str, Path, subprocess.Popen[str]]] = []
-    c_dirs: dict[str, Path] = {}
+    text = spec_path.read_text(encoding="utf-8")
+    variants: dict[tuple[str, str | None], str] = {}
     for method in methods:
         if method == spec.controller.method and (checked_in / CORE_SOURCE).exists():
-            c_dirs[method] = checked_in
             continue
-        text = spec_with_method(spec_path.read_text(encoding="utf-8"), method)
-        key = hashlib.sha256((text + toolchain).encode()).hexdigest()[:12]
-        out = build_dir / f"{spec.name}-{method}-{key}"
-        c_dirs[method] = out / "c"
-        if (out / "c" / CORE_SOURCE).exists():
+        variants[(method, None)] = spec_with_method(text, method)
+    if SHAPED_METHOD in methods and not spec.motor.back_emf_shape.frozen:
+        variants[(SHAPED_METHOD, FLAT_SHAPE)] = spec_with_emf_shape(
+            spec_with_method(text, SHAPED_METHOD), FLAT_SHAPE
+        )
+    outputs = _generate_all(spec, variants, toolchain, build_dir)
+    fallback = None
+    if (SHAPED_METHOD, None) in outputs and isinstance(outputs[(SHAPED_METHOD, None)], str):
+        if not _shape_refused(str(outputs[(SHAPED_METHOD, None)])):
+            raise SilError(
+                f"generating the {SHAPED_METHOD!r} core failed:\n{outputs[(SHAPED_METHOD, None)]}"
+            )
+        fallback = FALLBACK_SHAPE
+        retry = {
+            (SHAPED_METHOD, None): spec_with_emf_shape(variants[(SHAPED_METHOD, None)], fallback)
+        }
+        outputs.update(_generate_all(spec, retry, toolchain, build_dir))
+    for key, result in outputs.items():
+        if isinstance(result, str):
+            raise SilError(f"generating the {key[0]!r} core failed:\n{result}")
+    cores = {}
+    for method in methods:
+        c_dir = outputs.get((method, None), checked_in)
+        assert isinstance(c_dir, Path)
+        cores[method] = load_core(c_dir, method, build_dir)
+    shaped = {}
+    if (SHAPED_METHOD, FLAT_SHAPE) in outputs:
+        flat_dir = outputs[(SHAPED_METHOD, FLAT_SHAPE)]
+        assert isinstance(flat_dir, Path)
+        shaped[FLAT_SHAPE] = load_core(flat_dir, SHAPED_METHOD, build_dir)
+    return CoreSet(spec, cores, shaped, fallback)
+
+
+def _generate_all(
+    spec: Spec,
+    variants: dict[tuple[str, str | None], str],
+    toolchain: str,
+    build_dir: Path,
+) -> dict[tuple[str, str | None], Path | str]:
+    """Generate each variant text (cached by content); its c/ folder, or the output of
+    a failed generation."""
+    pending: list[tuple[tuple[str, str | None], Path, subprocess.Popen[str]]] = []
+    out: dict[tuple[str, str | None], Path | str] = {}
+    for key, text in variants.items():
+        method, shape = key
+        tag = method if shape is None else f"{method}-{shape.replace(' ', '')}"
+        digest = hashlib.sha256((text + toolchain).encode()).hexdigest()[:12]
+        folder = build_dir / f"{spec.name}-{tag}-{digest}"
+        out[key] = folder / "c"
+        if (folder / "c" / CORE_SOURCE).exists():
             continue
-        for stale in build_dir.glob(f"{spec.name}-{method}-*"):
+        for stale in build_dir.glob(f"{spec.name}-{tag}-*"):
             shutil.rmtree(stale, ignore_errors=True)  # variants of an older toolchain
-        variant_spec = build_dir / "specs" / f"{spec.name}-{method}.yaml"
+        variant_spec = build_dir / "specs" / f"{spec.name}-{tag}.yaml"
         variant_spec.parent.mkdir(parents=True, exist_ok=True)
         variant_spec.write_text(text, encoding="utf-8")
-        command = [sys.executable, "-m", "codegen", "generate", str(variant_spec), "-o", str(out)]
+        command = [
+            sys.executable,
+            "-m",
+            "codegen",
+            "generate",
+            str(variant_spec),
+            "-o",
+            str(folder),
+        ]
         process = subprocess.Popen(
             command, cwd=PROJECT_ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
         )
-        pending.append((method, out, process))
-    for method, _out, process in pending:
+        pending.append((key, folder, process))
+    for key, _folder, process in pending:
         output, _ = process.communicate()
         if process.returncode != 0:
-            raise SilError(f"generating the {method!r} core failed:\n{output}")
-    cores = {method: load_core(c_dirs[method], method, build_dir) for method in methods}
-    return CoreSet(spec, cores)
+            out[key] = output
+    return out
 
 
 def core_inputs(

@@ -31,7 +31,7 @@ from sim.emf import TRAPEZOID_120, EmfShape
 from sim.metrics import CommutationMetrics
 from sim.optimise import Optimum, optimise
 from sim.regions import Regions, regions
-from sim.runs import IDEAL_METHODS, METHODS, Controller, Run, simulate
+from sim.runs import IDEAL_METHODS, IMPROVED_R, METHODS, Controller, Run, simulate
 from sim.scenario import Case, PlantModel, paper_edge
 from sim.sil import prepare_cores
 from sim.studies import Studies, shape_study, short_study, study_speeds
@@ -182,18 +182,20 @@ def _jobs(
                         speed, method, model, shape, STEADY, loop.duty, loop.current_a, loop.limited
                     )
                 )
-            jobs.append(
-                _Job(
-                    speed,
-                    method,
-                    "switched",
-                    "flat",
-                    STEADY,
-                    loop.duty,
-                    loop.current_a,
-                    loop.limited,
+            flat_models = ("switched", "averaged") if method == IMPROVED_R else ("switched",)
+            for model in flat_models:
+                jobs.append(
+                    _Job(
+                        speed,
+                        method,
+                        model,
+                        "flat",
+                        STEADY,
+                        loop.duty,
+                        loop.current_a,
+                        loop.limited,
+                    )
                 )
-            )
         for duty in duties:
             current = held_current(drive, speed, duty)
             if 0.0 < current <= top_a:

@@ -49,8 +49,8 @@ PROOF_MUTANTS = [
     (
         "paper_motor_improved_r",
         "narrowed_wide_product",
-        "const uint64_t y_psi1 = ",
-        "const uint32_t y_psi1 = ",
+        "(((uint64_t)e * (uint64_t)bldc_decay[step][0]) >> 32u)",
+        "((uint64_t)(e * bldc_decay[step][0]) >> 32u)",
         "bldc_commutation_timing",
         "alarm",
     ),
@@ -74,9 +74,9 @@ PROOF_MUTANTS = [
     ),
     (
         "paper_motor_improved_r",
-        "dropped_time_clamp",
-        "const uint32_t ticks = (scaled > measured) ? measured : scaled;",
-        "const uint32_t ticks = scaled;",
+        "unclamped_late_time",
+        ".commutation_ticks = (uint16_t)((ticks > measured) ? measured : ticks),",
+        ".commutation_ticks = (uint16_t)(ticks + CARRIER_NUM),",
         "bldc_commutation_timing",
         "commutation_within_period",
     ),

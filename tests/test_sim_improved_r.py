@@ -51,20 +51,26 @@ def test_boundary_should_move_up_with_resistance(spec: Spec) -> None:
     assert bounds.paper_time_fits_below_rpm == pytest.approx(4800.0, abs=0.5)
 
 
+@pytest.mark.parametrize("shape", ["spec", "flat"])
 def test_improved_r_should_hold_the_current_within_3_percent(
-    spec: Spec, controller: Controller
+    spec: Spec, controller: Controller, shape: str
 ) -> None:
-    """The C core, the spec's 120 deg trapezoid: the target holds on the averaged plant;
-    on the switched plant the port's carrier restart at the commutation end (COM with
-    an update) adds at most half the PWM ripple on top."""
+    """The C core generated for the EMF (the spec's 120 deg trapezoid, and the paper's
+    flat EMF through `back_emf_shape: flat`), on the switched plant with the port's
+    carrier restarts and on the averaged one: within 3 % from 500 to 4600 rpm, and the
+    commutation ends on a carrier boundary."""
     drive = Drive.from_spec(spec)
     assert drive.resistance_ohm == 0.21 and drive.pwm_frequency_hz == 20e3
     assert {500.0, 1500.0, 3000.0, 4600.0} <= {float(s) for s in TARGET_SPEEDS}
     counts = controller.period_counts
     hall = float(controller.cores.scaling.hall_clock_hz)
+    carrier = round(hall / drive.pwm_frequency_hz)
+    expected_core = controller.cores.shaped["flat"] if shape == "flat" else None
     worst = {}
     for speed in TARGET_SPEEDS:
-        case = Case(drive, paper_edge(), float(speed), drive.braking_current_a, "spec")
+        case = Case(drive, paper_edge(), float(speed), drive.braking_current_a, shape)
+        if expected_core is not None:
+            assert controller.core_for("improved_r", case) is expected_core
         command = controller.command("improved_r", case, case.pre_edge_duty)
         raw = command.core_outputs
         # The gate command is the core's integers, nothing else.
@@ -73,16 +79,16 @@ def test_improved_r_should_hold_the_current_within_3_percent(
         assert command.off_duties == (raw["turn_off_compare"] / counts,)
         assert command.commutation_time_s == raw["commutation_ticks"] / hall
         assert raw["in.hall_period_ticks"] == round(case.sector_time_s * hall)
+        assert raw["commutation_ticks"] % carrier == 0  # a whole number of PWM periods
         assert controller.flag_names(command) in ((), ("HIGH_SPEED",))
         averaged = simulate(case, command, "averaged").metrics
         switched = simulate(case, command, "switched").metrics
         assert averaged.finished and switched.finished
-        worst[float(speed)] = averaged.deviation_worst_pct
-        restart = 3.0 + switched.pre_edge_ripple_pct / 2.0
-        assert abs(switched.deviation_worst_pct) <= restart, (speed, switched)
-    assert max(abs(v) for v in worst.values()) <= 3.0, worst
+        worst[float(speed)] = (switched.deviation_worst_pct, averaged.deviation_worst_pct)
+    assert max(abs(v) for pair in worst.values() for v in pair) <= 3.0, worst
     # Not a flat line: the rule's residual sags and swells are there.
-    assert min(worst.values()) < -1.0 and max(worst.values()) - min(worst.values()) > 1.0, worst
+    switched_values = [v[0] for v in worst.values()]
+    assert max(switched_values) - min(switched_values) > 1.0, worst
 
 
 def test_improved_r_should_be_whatever_core_is_loaded(spec: Spec, controller: Controller) -> None:
@@ -126,17 +132,20 @@ def test_improved_r_core_should_never_clamp_the_time_where_eq_20_does(
 def test_improved_r_core_should_sit_near_the_constant_ipopt_optimum(
     spec: Spec, controller: Controller
 ) -> None:
-    """With the trapezoidal EMF the C core's one pair is within a hundredth of the best
-    constant pair Ipopt finds on the averaged plant."""
+    """With the trapezoidal EMF the C core's held sum is within a hundredth of the best
+    constant pair's Ipopt finds on the averaged plant (the split differs: the core
+    eases it so the commutation ends on a carrier boundary, at most one PWM period after
+    the optimum's)."""
     drive = Drive.from_spec(spec)
     for speed in (1500.0, 4000.0):
         case = Case(drive, paper_edge(), speed, drive.braking_current_a, "spec")
         rule = controller.command("improved_r", case, case.pre_edge_duty)
         best = optimise(case, rule.on_duty(0), rule.off_duty(0), rule.commutation_time_s)
         assert best.finishes
-        assert best.on_duty == pytest.approx(rule.on_duty(0), abs=0.01)
-        assert best.off_duty == pytest.approx(rule.off_duty(0), abs=0.01)
-        assert best.commutation_time_s == pytest.approx(rule.commutation_time_s, rel=0.02)
+        assert best.on_duty + best.off_duty == pytest.approx(
+            rule.on_duty(0) + rule.off_duty(0), abs=0.01
+        )
+        assert 0.0 <= rule.commutation_time_s - best.commutation_time_s <= 1.05 * drive.pwm_period_s
 
 
 def test_paper_rule_should_miss_the_target_at_high_speed(

@@ -79,7 +79,8 @@ def test_report_should_present_improved_r_as_the_c_core(
     )
     text = render_report(results, bounds, names)
     assert "| `improved_r` | generated C core |" in text
-    assert "The rule holds ±3 % on the averaged plant" in text
+    assert "The rule holds ±3 % on both EMF shapes, on the averaged plant" in text
+    assert "It holds on the switched plant too" in text
     # The sweep spans the spec's range, ends included.
     swept = sorted({r.speed_rpm for r in results.sweep})
     assert swept[0] == 200.0 and swept[-1] == 5000.0

@@ -75,6 +75,25 @@ def test_flat_top_width_should_shape_the_plants_emf(tmp_path: Path) -> None:
     assert case.emf.corners(0.0, sector) == pytest.approx([0.25 * sector, 0.75 * sector])
 
 
+def test_flat_should_freeze_the_plants_emf_at_the_edge(tmp_path: Path) -> None:
+    """`flat`: the paper's idealisation (section 3.2): the EMFs keep their edge values
+    through the commutation, in the plant as in the rule."""
+    spec = load_spec(_with_shape(tmp_path, "flat"))
+    shape = spec.motor.back_emf_shape
+    assert shape.frozen and shape == BackEmfShape.flat()
+    assert shape.describe().startswith("flat")
+    drive = Drive.from_spec(spec)
+    assert drive.emf_frozen
+    case = Case(drive, paper_edge(), 1000.0, 5.0, "spec")
+    e = drive.emf_v(1000.0)
+    for t in (0.0, 0.4 * case.sector_time_s, 0.9 * case.sector_time_s):
+        values = case.emf.values(t)
+        assert values[case.edge.non_commutating] == pytest.approx(e)
+        assert values[case.edge.turn_off] == pytest.approx(-e)
+        assert values[case.edge.turn_on] == pytest.approx(-e)
+    assert case.emf.corners(0.0, case.sector_time_s) == []
+
+
 def test_measured_table_should_be_interpolated(tmp_path: Path) -> None:
     table = "[[0, 0], [60, 0.9], [90, 1.05], [120, 0.9], [180, 0]]"
     spec = load_spec(_with_shape(tmp_path, table))
@@ -92,6 +111,7 @@ def test_measured_table_should_be_interpolated(tmp_path: Path) -> None:
     [
         ("180 deg", ("motor.back_emf_shape", "0 < w < 180 deg")),
         ("120", ("motor.back_emf_shape", "'<w> deg'")),
+        ("flats", ("motor.back_emf_shape", "'flat'")),
         ("[[0, 0], [90, 1], [170, 0]]", ("motor.back_emf_shape", "from 0 deg to 180 deg")),
         ("[[0, 0], [90, 1], [80, 1], [180, 0]]", ("motor.back_emf_shape[2]", "not above")),
         ("[[0, 0.1], [90, 1], [180, 0]]", ("motor.back_emf_shape", "0 at 0 deg and 180 deg")),

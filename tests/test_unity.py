@@ -239,13 +239,16 @@ def test_improved_r_unity_tests_should_pass_on_the_checked_in_core(
 def test_improved_r_unity_tests_should_fail_without_resistance_in_the_decay(
     tmp_path: Path,
 ) -> None:
-    """The same vectors reject a core whose current decay leaves R out."""
+    """The same vectors reject a core whose turn-off current leaves R out of its ramp term
+    (rho x over one PWM period set to 0)."""
     generated = tmp_path / "paper_motor_improved_r"
     shutil.copytree(IMPROVED_R, generated)
     source = generated / "c" / "bldc_commutation.c"
     text = source.read_text(encoding="utf-8")
-    assert text.count("#define K_RHO_Q 50332u") == 1
-    source.write_text(text.replace("#define K_RHO_Q 50332u", "#define K_RHO_Q 0u"), "utf-8")
+    assert text.count("#define STEP_DECAY_Q 2516582u") == 1
+    source.write_text(
+        text.replace("#define STEP_DECAY_Q 2516582u", "#define STEP_DECAY_Q 0u"), "utf-8"
+    )
     run = run_host(generated, tmp_path / "build")
     failed = {r.name for r in run.results if r.status == "FAIL"}
     assert not run.passed and any("sector" in name for name in failed), failed

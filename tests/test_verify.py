@@ -102,26 +102,26 @@ MUTANTS = [
 RULE_MUTANTS = [
     (
         "flipped_sign_of_the_resistive_drop",
-        ".s0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x,",
-        ".s0 = 2 * PERIOD_Q - (int32_t)y - (int32_t)x,",
+        "const int32_t sigma0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x;",
+        "const int32_t sigma0 = 2 * PERIOD_Q - (int32_t)y - (int32_t)x;",
         "turn_off",
     ),
     (
         "resistance_left_out_of_the_decay",
-        "#define K_RHO_Q 50332u",
-        "#define K_RHO_Q 0u",
+        "#define STEP_DECAY_Q 2516582u",
+        "#define STEP_DECAY_Q 0u",
         "commutation_time",
     ),
     (
         "inductive_current_ten_percent_low",
-        "#define KAPPA_Q 615816u",
-        "#define KAPPA_Q 554234u",
+        "#define KAR_Q 1891788u",
+        "#define KAR_Q 1702609u",
         "commutation_time",
     ),
     (
-        "ramp_weight_doubled",
-        "#define THETA_HALF_Q 217167u",
-        "#define THETA_HALF_Q 434334u",
+        "ramp_weight_halved",
+        "#define RAMP_Q 2796202667u",
+        "#define RAMP_Q 1398101334u",
         "turn_off",
     ),
 ]

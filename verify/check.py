@@ -21,7 +21,7 @@ where it happened, the bound, and a verdict; a point outside its bound is a fail
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
@@ -29,7 +29,7 @@ import numpy.typing as npt
 
 from codegen.spec_model import Spec
 from oracle.model import Oracle
-from oracle.rule import THETA, Commutation
+from oracle.rule import Commutation
 from verify.points import FIELDS
 
 Floats = npt.NDArray[np.float64]
@@ -297,6 +297,12 @@ class _ActiveSet:
     # ------------------------------------------------------------ improved_r
 
     def _rule(self) -> _Result:
+        """The rule ends on a carrier boundary: the first one after the zero of the
+        turn-off current (N + 1 when the current remains at the sector's last whole
+        period). The time check asks which boundaries a time within the target of that
+        zero (or, where declared, within the relaxation's window) would give; the
+        duties are checked at the boundary the core chose, eased as the rule eases them
+        there."""
         o, tol, f = self.o, self.tol, self.f
         # one evaluation per distinct (T, B, C): the 12 edges of a point share it
         current = np.minimum(self.current, o.u.adc_max)
@@ -307,60 +313,90 @@ class _ActiveSet:
         com = o.rule(uniq[:, 0], uniq[:, 1], uniq[:, 2])
         d = tol.ill_conditioned_counts if tol.relaxed else 0.0
         probe = max(d or 0.0, 0.01)
-        x0, unf0 = com.zero()
-        x_minus, unf_minus = com.zero(-probe)
-        x_plus, unf_plus = com.zero(+probe)
+        x0, _ = com.zero()
+        x_minus, _ = com.zero(-probe)
+        x_plus, _ = com.zero(+probe)
         t_used = uniq[:, 0].astype(np.float64)
         sensitivity = t_used * np.abs(x_plus - x_minus) / (2 * probe)
-        t0 = (x0 * t_used)[inverse]
-        limit = self.measured.astype(np.float64)
-        forward = np.abs(self.ticks_c - np.minimum(t0, limit))
-        relaxed = np.zeros(t0.size, dtype=bool)
+        t0 = x0 * t_used
         lo, hi = t0 - tol.time_ticks, t0 + tol.time_ticks
-        use = np.zeros(t0.size)
+        relaxed_u = np.zeros(t0.size, dtype=bool)
         if tol.relaxed:
             assert tol.ill_conditioned_above is not None
-            relaxed = sensitivity[inverse] > tol.ill_conditioned_above
-            edge_lo = (np.minimum(x_minus, x_plus) * t_used)[inverse]
-            edge_hi = (np.maximum(x_minus, x_plus) * t_used)[inverse]
-            lo = np.where(relaxed, np.minimum(edge_lo, t0) - tol.time_ticks, lo)
-            hi = np.where(relaxed, np.maximum(edge_hi, t0) + tol.time_ticks, hi)
-            use = _window_use(
-                self.ticks_c, np.minimum(t0, limit), np.minimum(lo, limit), np.minimum(hi, limit)
-            )
-        # duties at the core's own time: S(x_C) with x_C = ticks / T (+-1/2 tick)
-        t_rows = t_used[inverse]
-        x_c = self.ticks_c / t_rows
-        half = 0.5 / t_rows
-        s_lo = _duty_sum(com, inverse, np.clip(x_c - half, 0, 1))
-        s_hi = _duty_sum(com, inverse, np.clip(x_c + half, 0, 1))
-        on_lo, off_lo = com.split(s_lo)
-        on_hi, off_hi = com.split(s_hi)
-        on_err = _distance(self.on_c, np.minimum(on_lo, on_hi), np.maximum(on_lo, on_hi))
-        off_err = _distance(self.off_c, np.minimum(off_lo, off_hi), np.maximum(off_lo, off_hi))
+            relaxed_u = sensitivity > tol.ill_conditioned_above
+            edge_lo = np.minimum(x_minus, x_plus) * t_used
+            edge_hi = np.maximum(x_minus, x_plus) * t_used
+            lo = np.where(relaxed_u, np.minimum(edge_lo, t0) - tol.time_ticks, lo)
+            hi = np.where(relaxed_u, np.maximum(edge_hi, t0) + tol.time_ticks, hi)
+        exact_end = com.end_after(t0)
+        end_lo, end_hi = com.end_after(np.maximum(lo, 0.0)), com.end_after(hi)
+        periods = com.periods
+        tau = float(o.u.carrier_ticks)
+        # the core's end: a carrier boundary, or the whole sector (TIME_CLAMPED)
+        flag = self.flags_c
+        clamped = (flag & f["TIME_CLAMPED"]) != 0
+        rows = inverse
+        n_rows = periods[rows]
+        core_end = np.where(clamped, n_rows + 1, np.rint(self.ticks_c / tau).astype(np.int64))
+        on_grid = np.abs(self.ticks_c - core_end * tau) <= 0.5 + SLACK
+        limit = self.measured.astype(np.float64)
+        core_time = np.where(clamped, limit, self.ticks_c)
+        expected_time = np.where(
+            exact_end[rows] > n_rows, limit, np.minimum(exact_end[rows] * tau, limit)
+        )
+        allowed = (core_end >= end_lo[rows]) & (core_end <= end_hi[rows])
+        relaxed = relaxed_u[rows]
+        forward = np.abs(core_time - expected_time)
+        # a boundary outside the allowed ones, or a time that is no boundary, fails
+        bad_end = ~allowed | (~clamped & ~on_grid) | (clamped & (self.ticks_c != limit))
+        forward = np.where(bad_end, np.maximum(forward, tol.time_ticks + 1.0), 0.0)
+        # relaxed points: the share of the allowed boundaries the core's end uses
+        ex = exact_end[rows]
+        above = core_end >= ex
+        span = np.where(above, end_hi[rows] - ex, ex - end_lo[rows]).astype(np.float64)
+        gap = np.abs(core_end - ex).astype(np.float64)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            use = np.where(gap == 0, 0.0, np.where(span > 0, gap / span, np.inf))
+        use = np.where(bad_end, np.maximum(use, 1.0 + 2 * SLACK), use)
+        # duties at the core's own end (N + 1: the pair at x_N, uneased): evaluated once
+        # per distinct (point, end)
+        row_key = rows.astype(np.int64) * (1 << 20) + np.clip(core_end, 0, (1 << 20) - 1)
+        row_uniq, row_inv = np.unique(row_key, return_inverse=True)
+        row_inv = row_inv.ravel()
+        point = (row_uniq >> 20).astype(np.int64)
+        end = (row_uniq & ((1 << 20) - 1)).astype(np.int64)
+        sub = _subset(com, point)
+        at = sub.pair_at(np.maximum(end, 1))
+        on_exp, off_exp = at.on[row_inv], at.off[row_inv]
+        on_err = np.abs(self.on_c - on_exp)
+        off_err = np.abs(self.off_c - off_exp)
         margin = tol.duty_counts
         p = o.u.pwm_counts
-        s_min, s_max = np.minimum(s_lo, s_hi), np.maximum(s_lo, s_hi)
-        flag = self.flags_c
+        total = at.total[row_inv]
         high_set = (flag & f["HIGH_SPEED"]) != 0
         fail_set = (flag & f["FAIL_AREA_CLAMPED"]) != 0
-        clamped = (flag & f["TIME_CLAMPED"]) != 0
-        all_unfinished = (unf0 & unf_minus & unf_plus)[inverse]
-        all_finished = (~unf0 & ~unf_minus & ~unf_plus)[inverse]
         wrong = ((flag & f["INPUT_SATURATED"]) != 0) != self.saturated
-        wrong |= (s_max < p - margin) & ~high_set
-        wrong |= (s_min > p + margin) & high_set
-        outside = (s_min > 2 * p + margin) | (s_max < -margin)
-        inside = (s_max < 2 * p - margin) & (s_min > margin)
+        wrong |= (total < p - margin) & ~high_set
+        wrong |= (total > p + margin) & high_set
+        outside = (total > 2 * p + margin) | (total < -margin)
+        inside = (total < 2 * p - margin) & (total > margin)
         wrong |= (outside & ~fail_set) | (inside & fail_set)
-        wrong |= (all_unfinished & ~clamped) | (all_finished & clamped & (hi < limit))
+        # TIME_CLAMPED: where every allowed end is past the sector, or none is
+        wrong |= ((end_lo[rows] > n_rows) & ~clamped) | ((end_hi[rows] <= n_rows) & clamped)
         forward = np.where(relaxed, 0.0, forward)
         return _Result(on_err, off_err, forward, use, relaxed, wrong)
 
 
-def _duty_sum(com: Commutation, inverse: Ints, fraction: Floats) -> Floats:
-    """S(x) of the rule at each point (quantities of the unique points, spread)."""
-    return com.base[inverse] + THETA * com.x[inverse] * fraction / 2
+def _subset(com: Commutation, index: Ints) -> Commutation:
+    """The commutation quantities of a subset of its points (repeated as indexed)."""
+    return replace(
+        com,
+        x=com.x[index],
+        y=com.y[index],
+        a=com.a[index],
+        rho=com.rho[index],
+        sector_ticks=com.sector_ticks[index],
+    )
 
 
 def _distance(value: Floats, lo: Floats, hi: Floats) -> Floats:

@@ -123,9 +123,11 @@ def _time_model(o: Oracle):  # type: ignore[no-untyped-def]
         return t
 
     def rule(period: np.ndarray, bus: np.ndarray, current: np.ndarray) -> np.ndarray:
+        # the end the rule gives: the carrier boundary after the zero, beyond the
+        # period exactly when the sector's last whole PWM period comes first
         com = o.rule(period, bus, current)
         x, _ = com.zero()
-        return x * period
+        return com.end_after(x * period) * float(o.u.carrier_ticks)
 
     return rule if o.method == "improved_r" else paper
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from codegen.ir.acsl import Behavior, Clause, Contract, Predicate, term
 from codegen.ir.intervals import ProvenRange
-from codegen.ir.nodes import Expr, Function, IConst, IVar, SAssign, SReturn, SStruct, SVar
+from codegen.ir.nodes import Expr, Function, IConst, IVar, SAssign, SLet, SReturn, SStruct, SVar
 from codegen.ir.walk import all_statements, expressions
 from codegen.spec_model import Spec
 
@@ -96,6 +96,13 @@ def bus_conditioned(fn: Function, ranges: tuple[ProvenRange, ...]) -> Predicate:
 
     body = [f"{bound(span.low)} <= b.{key_field} <= {bound(span.high)}"]
     names = {key_var: f"b.{key_field}"}
+    # a local computed from the saturated input alone (a reciprocal shared by fields)
+    # is restated in place wherever a field uses it
+    for s in all_statements(fn.body):
+        if isinstance(s, SLet) and all(
+            e.name in names for e in expressions(s.expr) if isinstance(e, IVar)
+        ):
+            names[s.name] = term(s.expr, names)
     for field, value in built.values:
         if field == key_field:
             continue
@@ -109,7 +116,7 @@ def bus_conditioned(fn: Function, ranges: tuple[ProvenRange, ...]) -> Predicate:
             body.append("(" + " || ".join(choices) + ")")
             continue
         for e in expressions(value):
-            if isinstance(e, IVar) and e.name != key_var:
+            if isinstance(e, IVar) and e.name not in names:
                 raise ValueError(f"{fn.c_name}: field {field} depends on {e.name}")
         body.append(f"b.{field} == {term(value, names)}")
     return Predicate(

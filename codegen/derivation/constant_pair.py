@@ -216,3 +216,119 @@ def derive_firmware_rule() -> FirmwareRule:
         psi1_second_derivative_max=second_1,
         psi2_second_derivative_max=second_2,
     )
+
+
+# --------------------------------------------------------------------------- any EMF shape
+
+#: Coefficients of sigma(x) = (2 e_a - e_b - e_c)/E and phi(x) = (e_a - 2 e_b + e_c)/E
+#: over the sector, for an EMF affine in x (`codegen.derivation.shape_terms`).
+sigma0, sigma1, phi0, phi1 = sp.symbols("sigma_0 sigma_1 phi_0 phi_1", real=True)
+#: The easing of the split (counts): D_on - delta, D_off + delta, the sum unchanged.
+delta = sp.Symbol("delta", real=True)
+#: e^{-rho x}, the decay over the commutation.
+decay_factor = sp.Symbol("e", positive=True)
+
+
+@dataclass(frozen=True)
+class AlignedRule:
+    """The rule for an EMF affine over the sector, ending on a carrier boundary.
+
+    All in duty counts, with the EMFs per unit E as sigma(x), phi(x) (coefficients
+    sigma_0, sigma_1, phi_0, phi_1):
+
+    * hold: Sigma(x) = 2P + Y - (X/4) mu(x), mu(x) = sigma_0 + sigma_1 theta x (the
+      minimax constant of an affine sigma over [0, x], theta = sqrt(2) - 1);
+    * turn-off current: g(x) = A e^-rho x + F_0 x psi1(rho x) + (X/4) phi_1 x^2 psi2(rho x)/2,
+      F_0 = 2 C_off - C_on - P + (X/4) phi_0, the exact solution under a constant pair;
+    * on the carrier grid the firmware searches h = rho g = A rho e + F_0 E_1 + (X/4)(phi_1/rho) E_2,
+      e = e^-y, E_1 = 1 - e, E_2 = y - 1 + e, y = rho x: no psi, and e on the grid
+      x_m = m tau/T is e^-(K_rho tau) m, a constant to the power m;
+    * easing: C_on - delta, C_off + delta moves F_0 by 3 delta and g by 3 delta x psi1,
+      so the pair that ends the commutation exactly at x is delta = -g(x)/(3 x psi1(rho x))
+      = -h / (3 E_1).
+    """
+
+    duty_sum_counts: sp.Expr  # Sigma(x)
+    forcing_counts: sp.Expr  # F_0 in D_on, D_off, X
+    off_current_counts: sp.Expr  # g(x)
+    grid_current: sp.Expr  # h in e, y
+    easing: sp.Expr  # delta that zeroes g at x
+
+
+@lru_cache(maxsize=1)
+def derive_aligned_rule() -> AlignedRule:
+    firmware = derive_firmware_rule()
+    rule = derive_resistance_rule()
+    a0, a1, b0, b1, c0, c1 = sp.symbols("a_0 a_1 b_0 b_1 c_0 c_1", real=True)
+    emfs = {s.e_a: s.E * (a0 + a1 * x), s.e_b: s.E * (b0 + b1 * x), s.e_c: s.E * (c0 + c1 * x)}
+    sigma_x = 2 * (a0 + a1 * x) - (b0 + b1 * x) - (c0 + c1 * x)
+    phi_x = (a0 + a1 * x) - 2 * (b0 + b1 * x) + (c0 + c1 * x)
+    counts = firmware.counts
+    # the hold condition along the shape, in counts
+    sum_along = P * rule.duty_sum.subs(emfs)
+    _check(
+        (sum_along - (2 * P + Y_c - X_c / 4 * sigma_x)).subs(counts),
+        "P S is not 2P + Y - (X/4) sigma along the shape",
+    )
+    # the forcing on the turn-off current (i_b = 0), in counts
+    scale = 3 * P * s.L / s.U_d
+    forcing = scale * rule.off_slope.subs(s.i_b, 0).subs(emfs)
+    _check(
+        (forcing - (P * (2 * s.D_off - s.D_on - 1) + X_c / 4 * phi_x)).subs(counts),
+        "the turn-off forcing is not P (2 D_off - D_on - 1) + (X/4) phi",
+    )
+    mu = sigma0 + sigma1 * firmware.ramp_weight_minimax * x
+    duty_sum_counts = 2 * P + Y_c - X_c / 4 * mu
+    forcing_counts = P * (2 * s.D_off - s.D_on - 1) + X_c / 4 * phi0
+    g = (
+        A_c * sp.exp(-rho * x)
+        + F_c * x * psi1.subs(y, rho * x)
+        + X_c / 4 * phi1 * x**2 / 2 * psi2.subs(y, rho * x)
+    )
+    # exact: L di_b/dt = alpha + beta t - R i_b with the forcing at t = 0 and its slope
+    t_phys = s.t
+    alpha_counts = forcing.subs(x, 0)
+    beta_counts = sp.diff(forcing, x)
+    solution = rule.current_solution.subs(
+        {
+            alpha: alpha_counts / scale,
+            beta: beta_counts / (scale * T_s),
+            decay: s.R / s.L,
+            i0: s.I,
+            t_phys: T_s * x,
+        }
+    )
+    physical = g.subs({F_c: alpha_counts, phi1: beta_counts / (X_c / 4)}).subs(counts)
+    physical = physical.subs(rho, s.R * T_s / s.L)
+    _check(physical - scale / T_s * solution, "g(x) is not the turn-off current for any shape")
+    # the 120 deg trapezoid is the firmware rule of the paper's ramp
+    trapezoid = {sigma0: 4, sigma1: -2, phi0: 2, phi1: -4}
+    _check(
+        duty_sum_counts.subs(trapezoid)
+        - firmware.duty_sum_counts.subs(theta, firmware.ramp_weight_minimax),
+        "the 120 deg hold is not the firmware rule's",
+    )
+    _check(
+        g.subs(trapezoid) - firmware.off_current_counts,
+        "the 120 deg turn-off current is not the firmware rule's",
+    )
+    # the grid form
+    e_sym, yy = decay_factor, sp.Symbol("y_g", positive=True)
+    h = A_c * rho * e_sym + F_c * (1 - e_sym) + X_c / 4 * phi1 / rho * (yy - 1 + e_sym)
+    _check(
+        (rho * g).subs(x, yy / rho).rewrite(sp.exp).subs(sp.exp(-yy), e_sym) - h,
+        "rho g is not the grid form",
+    )
+    # easing
+    eased = g.subs(
+        F_c, forcing_counts.subs({s.D_on: s.D_on - delta / P, s.D_off: s.D_off + delta / P})
+    )
+    _check(sp.diff(eased, delta) - 3 * x * psi1.subs(y, rho * x), "dg/d delta is not 3 x psi1")
+    (solved,) = sp.solve(sp.Eq(eased.subs(F_c, forcing_counts), 0), delta) or (None,)
+    easing = -g / (3 * x * psi1.subs(y, rho * x))
+    if solved is not None:
+        _check(
+            solved - easing.subs(F_c, forcing_counts),
+            "the easing is not -g / (3 x psi1)",
+        )
+    return AlignedRule(duty_sum_counts, forcing_counts, g, h, easing)

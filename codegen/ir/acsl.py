@@ -150,6 +150,9 @@ def term(e: Expr, names: dict[str, str], macros: frozenset[str] = frozenset()) -
         return f"({term(e.a, names, macros)} {e.op} {term(e.b, names, macros)})"
     if isinstance(e, IShr) and isinstance(e.shift, int) and e.rounding == "floor":
         return f"({term(e.a, names, macros)} / {1 << e.shift})"
+    if isinstance(e, IShr) and isinstance(e.shift, int) and e.rounding == "nearest":
+        half = 1 << (e.shift - 1) if e.shift > 0 else 0  # round half up (a >= 0)
+        return f"(({term(e.a, names, macros)} + {half}) / {1 << e.shift})"
     if isinstance(e, IShl) and isinstance(e.shift, int):
         return f"({term(e.a, names, macros)} * {1 << e.shift})"
     if isinstance(e, IDiv):

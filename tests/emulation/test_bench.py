@@ -96,3 +96,20 @@ def test_bad_spec_should_exit_2_with_one_line(
     with pytest.raises(SystemExit) as usage:
         main([str(bad), "--only", "speed"])
     assert usage.value.code == 2
+
+
+@pytest.mark.parametrize(
+    ("spec", "tabulated"),
+    [("paper_motor.yaml", True), ("paper_motor_improved_r.yaml", False)],
+)
+def test_reciprocal_section_should_run_on_every_method(
+    spec: str, tabulated: bool, tmp_path: Path
+) -> None:
+    """The bus-reciprocal table option is the paper's methods'; for improved_r the
+    section says so instead of failing."""
+    report = run_spec(
+        prepare(ROOT / "spec" / spec, tmp_path, quick=True), ["size", "handlers", "reciprocal"]
+    )
+    said = [line for line in report.lines if line.startswith("bus reciprocal")]
+    assert said, report.lines
+    assert ("no table option" in said[0]) is not tabulated, said

@@ -4,8 +4,9 @@ helper check it reports and the sweep it measures the rule's handler over.
 Figures (instructions, cycles) are measured by `make bench`, never asserted here. What
 is asserted: the variant is the paper's improved_r spec; the timing handler and the
 core reach no library helper, and the check does find one where there is; the sweep
-covers the speed, bus and current ranges and every point of it runs the whole bisection
-and applies exactly what the generated Python twin computes.
+covers the speed, bus and current ranges, the search's shallow and deep ends (sectors of
+few and of many PWM periods), and every point of it applies exactly what the generated
+Python twin computes.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import shutil
 import subprocess
 from collections.abc import Iterator
 from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -40,8 +42,8 @@ from verify.run import load_twin
 ROOT = Path(__file__).resolve().parents[2]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 PAPER_IMPROVED_R = ROOT / "spec" / "paper_motor_improved_r.yaml"
-#: The rule's bisection in the generated core (one call per step).
-BISECTION_STEP = "bldc_current_remains"
+#: The rule's table of the turn-off current's decay over 2^k PWM periods.
+DECAY_TABLE = "bldc_decay"
 
 pytestmark = pytest.mark.skipif(
     shutil.which("arm-none-eabi-gcc") is None, reason="arm-none-eabi-gcc missing"
@@ -78,9 +80,8 @@ def test_timing_handler_and_core_should_reach_no_library_helper(
     _, generated, build_dir = variant
     image = load_elf(build_dir / "firmware.elf")
     reached, indirect = reached_functions(image, TIMING_HANDLER)
-    # the walk really follows the calls into the core, down to the bisection step
+    # the walk really follows the calls into the core
     assert {"bldc_bus_condition", "bldc_commutation_timing", TIMING_HANDLER} <= reached
-    assert BISECTION_STEP in reached or BISECTION_STEP not in image.symbols
     assert not indirect
     assert helper_names(reached) == frozenset()
     functions = {s.name for s in image.symbols.values() if s.is_function}
@@ -90,9 +91,9 @@ def test_timing_handler_and_core_should_reach_no_library_helper(
     # the Hall edge does no arithmetic: it reaches no core function
     hall, _ = reached_functions(image, HALL_HANDLER)
     assert not any(name.startswith("bldc_") for name in hall)
-    # the C really is the bisection with 64-bit products the check must see through
+    # the C really is the search with 64-bit products the check must see through
     source = (generated / "c" / "bldc_commutation.c").read_text()
-    assert "int64_t" in source and "bldc_psi_complement" in source
+    assert "int64_t" in source and f"{DECAY_TABLE}[step]" in source
 
 
 def test_helper_check_should_find_helpers_where_there_are(tmp_path: Path) -> None:
@@ -118,7 +119,7 @@ def test_helper_check_should_find_helpers_where_there_are(tmp_path: Path) -> Non
     assert {"__aeabi_uldivmod", "__aeabi_fmul"} <= helper_names(undefined_symbols(tmp_path / "s.o"))
 
 
-def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
+def test_rule_sweep_should_cover_the_ranges_and_both_ends_of_the_search(
     variant: tuple[Path, Path, Path],
 ) -> None:
     spec_path, generated, build_dir = variant
@@ -136,25 +137,19 @@ def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
     assert saturated.currents == (sc.adc_full_scale - 2,)  # full scale is a sensor fault
 
     formats = json.loads((generated / "manifest.json").read_text())["core"]["formats"]
-    steps = int(formats["bisection_steps"])
+    steps = int(formats["search_steps"])
+    carrier = Fraction(formats["carrier_ticks"])
     twin = load_twin(generated)
-    octaves: set[int] = set()
-    remains = twin.current_remains
-
-    def watched_remains(st: object, x: int) -> int:
-        y = (st.rho * x) >> int(formats["y_shift"])  # type: ignore[attr-defined]
-        octaves.add((y >> int(formats["y_frac_bits"])).bit_length())
-        return int(remains(st, x))
-
-    twin.current_remains = watched_remains
+    # the search's depth: the sweep has sectors shorter than its largest step (the step is
+    # skipped) and sectors in which every step of the table can be taken
+    carriers = [int(p / carrier) for p in within.periods if p <= sc.period_max_ticks]
+    assert min(carriers) < 2 ** (steps - 1) <= max(carriers)
     # the rule does not read the main duty: one of the sweep's duties keeps the test short
+    ends: set[int] = set()
     for inputs in (replace(within, duties=within.duties[1:2]), saturated):
         result = timing_sweep(spec, build_dir / "firmware.elf", inputs)
         assert len(result.points) == len(inputs)
-        image = load_elf(build_dir / "firmware.elf")
         for point in result.points:
-            if BISECTION_STEP in image.symbols:
-                assert point.entries[BISECTION_STEP] in (steps, steps + 1)
             expected = twin.commutation_timing(
                 twin.bus_condition(point.bus), point.period, point.current, point.duty
             )
@@ -162,8 +157,9 @@ def test_rule_sweep_should_cover_the_ranges_and_run_the_whole_bisection(
                 expected.commutation_ticks,
                 tuple(sorted((expected.turn_on_compare, expected.turn_off_compare))),
             ), point
+            ends.add(int(expected.commutation_ticks / carrier))
         ticks = {p.applied[0] for p in result.points if p.applied is not None}
         # t_com varies over the sweep; within the spec with bus and current too
         assert len(ticks) > (len(inputs.periods) if inputs is not saturated else 1)
-    # the bisection's table lookups run through the octaves of rho x, fast to slow
-    assert {0, 1, 2, 3, 4} <= octaves
+    # the end lands on carrier boundaries from the first few to beyond the largest step
+    assert min(ends) < 8 and max(ends) >= 2 ** (steps - 1)

@@ -1,211 +1,120 @@
 """Pointwise error bounds of the integer rule against the real-arithmetic reference.
 
-For one input (T, B, C), every integer quantity is within a known distance of its exact
-value (roundings of the constants, of the divides and shifts, the table's error):
-delta X, delta Y, delta A, delta S, and at each x the error of psi1, psi2, e^{-y}, u1,
-v2. Together they bound |2 g_int(x) - 2 g(x)| <= eps(x) (counts). The bisection keeps
-hi with 2 g_int(hi) <= 0 and lo with 2 g_int(lo) > 0, so hi can be no earlier than the
-first x where 2g <= eps and lo no later than the last x where 2g > -eps: the result
-lies in [h_min - 2^-(K+1), l_max + 2^-(K+1)]. Time and duty bounds follow:
+For one input (T, B, C) every integer quantity is within a known distance of its exact
+value (roundings of the constants, of the divides and shifts, and of the decay table's
+products): X, Y, A rho, q, the held sum's growth, e^-y_1 m. Together they bound
+|h_int - rho g| <= eps_h (counts) at any grid point of the commutation. The binary
+lifting keeps every m with h_int >= 0, so it finds the reference's end exactly where
+the current is clearly on either side of zero at the two boundaries around it:
 
-    |ticks - x_c T| <= T max(x_c - h_min, l_max - x_c) + T 2^-(K+1) + 1/2
-    |C_on - C_on(x_c)| <= 1/2 + delta S + S1 |x - x_c|       (and C_off likewise)
+    rho g(end - 1) > eps_h  and  rho g(end) < -eps_h       (the end is decided)
 
-No linearisation: where g is flat around its zero (a commutation that barely ends, a
-current near zero) the bound grows as the real error can.
+Elsewhere the core may end one PWM period earlier or later (there the current is
+within eps_h / rho counts of zero at a boundary: the time is ill-conditioned and the
+verifier's declared relaxation applies). Where the end is decided, the time is
+round(end tau) exactly, and the duties are within
 
-There the commutation time is ill-conditioned in the physics too: half a count of the
-emitted duty (its own rounding) moves the true zero of the turn-off current by
+    |C - C_exact| <= 1/2 + eps_Sigma + eps_delta,
+    eps_delta = eps_h / (3 (1 - e)) + |delta| eps_rel(1 - e) + 2^-4 (the easing's format)
 
-    t_half = T x_c psi1(rho x_c) |dF/dS| / (2 |F(x_c) - X x_c|)
-
-(dF/dS = 2 in the low segment, 1 in the high one), so the time target is asked of the
-integer rule only as max(target, t_half): no rule that emits whole counts can be more
-precise than that.
+(1/2 the final rounding; the clamps move a duty by no more than their operand).
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 
-from codegen.methods.improved_r.fixed import THETA_FRAC_BITS, FixedRule
-from codegen.methods.improved_r.reference import (
-    FLAG_NOT_FINISHED,
-    FloatArray,
-    ReferenceBatch,
-    ReferenceResult,
-    RuleInputs,
-    clamp_inputs,
-    psi_arrays,
-    psi_values,
-    reference,
+from codegen.methods.improved_r.fixed import (
+    DELTA_FRAC_BITS,
+    E1_SHIFT,
+    PER_TICK_BITS,
+    FixedRule,
 )
-from codegen.methods.improved_r.table import error_at
+from codegen.methods.improved_r.reference import FLAG_NOT_FINISHED, ReferenceBatch
 
-#: The sign scan of g -/+ eps: g is unimodal in x (rises, then falls through its one
-#: zero), so a coarse scan finds the crossing and bisection refines it.
-_SCAN = 32
-_REFINE = 40
+FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
-class PointBound:
-    fraction_error: float  # |x_int - x_c| bound, sectors
-    ticks: float  # |ticks_int - x_c T| bound
-    duty_counts: float  # |C_int - C(x_c)| bound
-    half_count_ticks: float  # t_half: the time shift of half a duty count (physics)
+class Bounds:
+    """Per point: the bound on |h_int - rho g| (counts), whether the end is decided,
+    and the duty and time bounds there."""
 
-    def time_allowance(self, target_ticks: float) -> float:
-        return max(target_ticks, self.half_count_ticks)
-
-
-def _input_errors(
-    rule: FixedRule, ref: ReferenceResult, t: int, b: int, i: int
-) -> dict[str, float]:
-    fc = 2.0**-rule.counts_frac_bits
-    x_err = fc * (0.5 + (0.5 + 0.5 / b) / t)
-    y_err = fc * (0.5 + (0.5 + 0.5 / b) * i / 2**rule.y_guard_bits)
-    kappa = float(rule.constants.kappa)
-    a_err = fc * 0.5 + x_err * kappa * i + ref.x * i * 0.5 / 2**rule.kappa_frac_bits
-    theta = float(rule.constants.ramp_weight)
-    s1_err = fc * 0.5 + theta / 2 * x_err + ref.x * 2.0 ** -(THETA_FRAC_BITS + 1)
-    rho_err = t * 2.0 ** -(rule.rho_frac_bits + 1)
-    return {"x": x_err, "y": y_err, "a": a_err, "s1": s1_err, "rho": rho_err, "fc": fc}
+    eps_h: FloatArray
+    decided: npt.NDArray[np.bool_]
+    duty_counts: FloatArray
+    ticks: FloatArray
 
 
-def _g_and_error(
-    rule: FixedRule, ref: ReferenceResult, err: dict[str, float]
-) -> Callable[[float], tuple[float, float]]:
-    """x -> (2 g(x), eps(x)) at this input."""
+def bounds(rule: FixedRule, ref: ReferenceBatch) -> Bounds:
     c = rule.constants
-    p = c.period_counts
-    theta = float(c.ramp_weight)
-    fy = rule.table.y_frac_bits
-    half_unit = 2.0 ** -(rule.unit_frac_bits + 1)
-    base = 2 * p + ref.y - ref.x
-    ramp = theta * ref.x / 2
-
-    def at(frac: float) -> tuple[float, float]:
-        y_value = ref.rho * frac
-        dy = 2.0**-fy + frac * err["rho"]
-        q1, q2 = psi_values(y_value)
-        t1 = max(error_at(rule.table, max(y_value - dy, 0.0)), error_at(rule.table, y_value + dy))
-        d1 = t1[0] + dy / 2
-        d2 = t1[1] + dy / 3
-        e = math.exp(-y_value)
-        de = y_value * d1 + q1 * dy + dy * d1 + half_unit
-        u1, du1 = frac * q1, frac * d1 + half_unit
-        v2 = frac * frac * q2
-        dv2 = frac * frac * d2 + half_unit
-        total = base + ramp * frac
-        on = min(max(total, 0.0), p)
-        off = min(max(total - p, 0.0), p)
-        f2 = 4 * off - 2 * on - 2 * p + ref.x
-        d_total = err["y"] + err["x"] + err["s1"] * frac + err["fc"] / 2
-        df2 = 4 * d_total + err["x"]
-        g2 = 2 * ref.a * e + f2 * u1 - ref.x * v2
-        eps = (
-            2 * (err["a"] * (e + de) + ref.a * de)
-            + df2 * (u1 + du1)
-            + abs(f2) * du1
-            + err["x"] * (v2 + dv2)
-            + ref.x * dv2
-        )
-        return g2, 1.001 * eps
-
-    return at
-
-
-def _first(pred: Callable[[float], bool], lo: float, hi: float) -> float:
-    """Smallest x in [lo, hi] with pred true (scan, then bisection; pred(hi) is true)."""
-    previous = lo
-    for m in range(_SCAN + 1):
-        x = lo + (hi - lo) * m / _SCAN
-        if pred(x):
-            if m == 0:
-                return lo
-            a, b = previous, x
-            for _ in range(_REFINE):
-                mid = 0.5 * (a + b)
-                a, b = (a, mid) if pred(mid) else (mid, b)
-            return a
-        previous = x
-    return hi
-
-
-def point_bound(
-    rule: FixedRule, inputs: RuleInputs, ref: ReferenceResult | None = None
-) -> PointBound:
-    c = rule.constants
-    ref = ref or reference(c, inputs)
-    clamped = clamp_inputs(c, inputs)
-    t, b, i = clamped.period, clamped.bus, clamped.current
-    err = _input_errors(rule, ref, t, b, i)
-    at = _g_and_error(rule, ref, err)
-    x_c = ref.fraction
-    h_min = _first(lambda x: at(x)[0] <= at(x)[1], 0.0, 1.0)
-    # last x with 2g > -eps: first x (from the right) where it holds, scanning leftwards
-    l_max = 1.0 - _first(lambda u: at(1.0 - u)[0] > -at(1.0 - u)[1], 0.0, 1.0)
-    half_step = 2.0 ** -(rule.steps + 1)
-    spread = max(x_c - h_min, l_max - x_c, 0.0) + half_step
-    theta = float(c.ramp_weight)
-    d_total = err["y"] + err["x"] + err["s1"] + err["fc"] / 2
-    return PointBound(
-        fraction_error=spread,
-        ticks=t * spread + 0.5,
-        duty_counts=0.5 + d_total + theta * ref.x / 2 * spread,
-        half_count_ticks=half_count_ticks(rule, ref, t),
+    fc = rule.counts_frac_bits
+    lsb = 2.0**-fc
+    t = ref.period.astype(np.float64)
+    i = ref.current
+    xn = float(c.k_x) * 2**fc / ref.bus
+    x = ref.x
+    # X = round(xn / T), xn = round(N_X / B): 1/2 + (1 LSB of xn) / T
+    eps_x = lsb * (0.5 + 1.0 / t)
+    rel_xn = 1.0 / xn
+    eps_y = ref.y * (rel_xn + 0.5 / max(rule.kyx, 1)) + lsb * (0.5 + 0.5 * i / 2**rule.y_guard_bits)
+    eps_a = ref.a_rho * (rel_xn + 0.5 / max(rule.kar, 1)) + lsb * (
+        0.5 + 0.5 * i / 2**rule.a_guard_bits
     )
-
-
-def half_count_ticks_array(
-    period_counts: int,
-    on: FloatArray,
-    off: FloatArray,
-    x: FloatArray,
-    fraction: FloatArray,
-    rho: FloatArray,
-    period: npt.ArrayLike,
-    flags: npt.ArrayLike,
-) -> FloatArray:
-    """t_half (see the module docstring) elementwise; 0 where the commutation does not
-    finish or the duty pair is clamped (no count of duty moves it there)."""
-    p = period_counts
-    total = on + off
-    gain = np.where(total > p, 2.0, 1.0)
-    slope = np.abs(2 * off - on - p + x / 2 - x * fraction)
-    psi1, _ = psi_arrays(rho * fraction)
+    per_tick = x / t * 2 ** (fc + PER_TICK_BITS)
+    rel_w = eps_x / np.maximum(x, lsb) + 0.5 / np.maximum(per_tick, 1.0)
+    q = float(c.ramp_per_x) * x / ref.rho
+    eps_q = q * (rel_w + (0.5 / rule.qc if rule.qc else 0.0)) + 2.0 ** -(fc + rule.ramp_frac_bits)
+    growth = float(c.hold_slope * c.carrier_ticks) * x / t
+    eps_growth = growth * (rel_w + (0.5 / rule.hs if rule.hs else 0.0)) + 2.0 ** -(
+        fc + rule.growth_frac_bits
+    )  # floored
+    m = ref.end.astype(np.float64)
+    sum0, force0 = float(c.shape.sum0), float(c.shape.force0)
+    eps_sigma = eps_y + sum0 / 4 * eps_x + m * eps_growth + lsb  # the growth is floored
+    eps_fd = 2 * eps_sigma
+    eps_force0 = force0 / 4 * eps_x + 0.5 * lsb
+    eps_q_counts = eps_q + 0.5 * lsb  # q rounded to counts in the coefficients
+    steps = rule.steps
+    eps_e = steps * 1.25 * 2.0**-31
+    y1 = float(c.step_decay)
+    ym = y1 * m
+    eps_ym = m * 0.5 * 2.0 ** -(32 - rule.ramp_frac_bits)
+    e = np.exp(-ym)
+    # h = A rho e + (F_d + (phi_0/4) X + q)(1 - e) - q y_1 m: the integer coefficients
+    # 2 (A rho - q - F_0) and F_0 + q share F_d, phi_0 X/4 and q, so their errors enter
+    # multiplied by 1 - e; |A rho - q - F_0| multiplies the decay's error
+    c_abs = ref.a_rho + q + force0 / 4 * x + 2 * c.period_counts
+    eps_h = (
+        eps_a * e
+        + (eps_fd + eps_force0 + eps_q_counts) * (1 - e)
+        + c_abs * eps_e
+        + eps_q * ym
+        + q * eps_ym
+    )
+    eps_h = 1.001 * eps_h + 2.0 ** -(32 + fc)  # the sign test's unit
+    finished = (ref.flags & FLAG_NOT_FINISHED) == 0
+    decided = np.where(
+        finished,
+        (ref.h_before > eps_h) & (ref.h_end < -eps_h),
+        ref.h_end > eps_h,  # not finished: the current clearly remains at the last boundary
+    )
+    shortfall = ref.shortfall
+    e1 = shortfall / 3
     with np.errstate(divide="ignore", invalid="ignore"):
-        value = np.where(
-            slope > 0, np.asarray(period) * fraction * psi1 * gain / (2 * slope), np.inf
+        rel_shortfall = (2.0 ** (E1_SHIFT - 31) + eps_e) / np.maximum(e1, 1e-300)
+        eps_delta = np.where(
+            finished,
+            eps_h / np.maximum(shortfall, 1e-300)
+            + np.abs(ref.delta) * rel_shortfall
+            + 2.0**-DELTA_FRAC_BITS,
+            0.0,
         )
-    decided = ((np.asarray(flags) & FLAG_NOT_FINISHED) == 0) & (total > 0) & (total < 2 * p)
-    return np.where(decided, value, 0.0)
-
-
-def half_count_ticks_batch(period_counts: int, batch: ReferenceBatch) -> FloatArray:
-    return half_count_ticks_array(
-        period_counts,
-        batch.on_exact,
-        batch.off_exact,
-        batch.x,
-        batch.fraction,
-        batch.rho,
-        batch.period,
-        batch.flags,
-    )
-
-
-def half_count_ticks(rule: FixedRule, ref: ReferenceResult, period: int) -> float:
-    values = half_count_ticks_array(
-        rule.constants.period_counts,
-        *(np.array([v]) for v in (ref.on_exact, ref.off_exact, ref.x, ref.fraction, ref.rho)),
-        np.array([period]),
-        np.array([ref.outputs.flags]),
-    )
-    return float(values[0])
+    duty = 0.5 + eps_sigma + eps_delta
+    tau = c.carrier_ticks
+    rounding = 0.0 if tau.q == 1 else 0.5
+    ticks = np.where(finished, rounding, 0.0)
+    return Bounds(eps_h, decided, duty, ticks)

@@ -1,15 +1,20 @@
 """The rule's spec constants, exact, and the input box the firmware is proven over.
 
 The firmware sees the Hall period T (ticks), the bus code B and the offset-removed
-current i (in 1/m codes, `codegen.core.conditioning.CurrentFormat`). The rule's quantities in duty counts (`derive_firmware_rule().counts`)
-are, with E = k_e n, n = 10 f_hall/(p T) (Eq. 3) and U_d = B v, I = i a:
+current i (in 1/m codes, `codegen.core.conditioning.CurrentFormat`). The rule's
+quantities in duty counts (`derive_firmware_rule().counts`) are, with E = k_e n,
+n = 10 f_hall/(p T) (Eq. 3) and U_d = B v, I = i a:
 
-    X   = 4 P E / U_d             = K_X / (T B)
-    Y   = 3 P R I / U_d           = K_Y i / B
-    A   = 3 P L I / (U_d T_s)     = kappa i X   (E T_s = 10 k_e / p: no T, no B)
-    rho = R T_s / L               = K_rho T
+    X     = 4 P E / U_d             = K_X / (T B)
+    Y     = 3 P R I / U_d           = K_Y i / B
+    A     = 3 P L I / (U_d T_s)     = kappa i X   (E T_s = 10 k_e / p: no T, no B)
+    rho   = R T_s / L               = K_rho T
+    A rho = kappa K_rho K_X i / B   (no T)
 
-so the edge needs one divide (X, as the paper's core already does) and products.
+The commutation ends on a carrier boundary: tau = f_hall / f_pwm ticks per PWM period,
+the grid x_m = m tau / T, on which rho x_m = y_1 m with y_1 = K_rho tau and the decay
+e^-rho x_m = D^m, D = e^-y_1: constants. The EMF shape enters through sigma(x) and phi(x)
+(`codegen.derivation.shape_terms`), affine over the sector.
 """
 
 from __future__ import annotations
@@ -19,8 +24,10 @@ from dataclasses import dataclass
 import sympy as sp
 
 from codegen.core.conditioning import CurrentFormat, current_formats
+from codegen.derivation import derive
 from codegen.derivation import symbols as s
 from codegen.derivation.constant_pair import A_c, P, T_s, X_c, Y_c, derive_firmware_rule
+from codegen.derivation.shape_terms import ShapeTerms, affine_terms
 from codegen.errors import DerivationError
 from codegen.fixedpoint.scaling import Scaling
 from codegen.spec_model import Spec
@@ -53,10 +60,31 @@ class RuleConstants:
     adc_max: int  # the ADC's full-scale code
     time_target_ticks: sp.Rational
     duty_target_counts: sp.Rational
+    carrier_ticks: sp.Rational  # tau = f_hall / f_pwm: Hall ticks per PWM period
+    shape: ShapeTerms  # sigma(x), phi(x) of the spec's EMF over the sector
 
     @property
     def rho_max(self) -> sp.Rational:
         return self.k_rho * self.period_high
+
+    @property
+    def step_decay(self) -> sp.Rational:
+        """y_1 = K_rho tau: rho x over one carrier period (the grid's decay exponent)."""
+        return self.k_rho * self.carrier_ticks
+
+    @property
+    def hold_slope(self) -> sp.Expr:
+        """Sigma(x) - Sigma(0) per X per sector: -(sigma_1 / 4) theta."""
+        return -sp.Rational(self.shape.sum1) / 4 * self.ramp_weight
+
+    @property
+    def ramp_per_x(self) -> sp.Rational:
+        """q rho / X = -phi_1 / 4: the EMF ramp's forcing per X per sector."""
+        return -sp.Rational(self.shape.force1) / 4
+
+    def periods(self, period_ticks: int) -> int:
+        """N: the whole carrier periods in a sector of `period_ticks`."""
+        return int(sp.floor(period_ticks / self.carrier_ticks))
 
 
 def rule_current_format(sc: Scaling) -> CurrentFormat:
@@ -109,4 +137,6 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
         adc_max=sc.adc_full_scale - 1,
         time_target_ticks=_q(spec.accuracy.commutation_time_ticks),
         duty_target_counts=_q(spec.accuracy.duty_counts),
+        carrier_ticks=sc.hall_clock_hz / _q(spec.inverter.pwm_frequency_hz),
+        shape=affine_terms(spec.motor.back_emf_shape, derive().switching),
     )

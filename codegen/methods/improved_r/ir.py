@@ -1,31 +1,13 @@
 """The resistance-aware rule's integer arithmetic, as IR (printed to C and Python, proven).
 
-Formats (Qf: value = integer / 2^f), with fc the counts' fraction bits, K the bisection
-steps, fu = min(K + 16, 30) the unit functions' fraction bits:
-
-  bus rate, B saturated:
-    x_numerator = round(N_X / B)        N_X = round(K_X 2^fc)           long division
-    y_numerator = round(N_Y / B)        N_Y = round(K_Y 2^(fc+gy) / m)  long division
-  edge, T saturated to the speed range, i = m C - OFFSET_M clamped at 0:
-    X   = round(x_numerator / T)        Q fc   one UDIV
-    Y   = round(y_numerator i / 2^gy)   Q fc
-    A   = round(X (KAPPA i) / 2^fk)     Q fc   KAPPA = round(kappa 2^fk / m)
-    RHO = K_RHO T                       Q frho rho = R T_s / L
-    S0  = 2P 2^fc + Y - X, S1 = round(X THETA / 2^20), THETA = round(theta/2 2^20)
-  bisection over x in Q K on the sign of 2 g(x):
-    y = RHO x >> (frho + K - fy)                      Q fy
-    psi1, psi2 = 2^16 - interpolated complements      Q16 (octave table, one CLZ)
-    e  = 2^fu - min(round(y psi1 / 2^(fy+16-fu)), 2^fu)   e^{-y} = 1 - y psi1
-    u1 = round(x psi1 / 2^(K+16-fu)), v2 = round(x (x psi2) / 2^(2K+16-fu))
-    S  = S0 + round(S1 x / 2^K); C_on = clamp(S, 0, P 2^fc), C_off = clamp(S - P 2^fc, 0, P 2^fc)
-    F2 = 4 C_off - 2 C_on - 2 P 2^fc + X
-    2g = 2A e + F2 u1 - X v2                          int64
-  result: x_c = the middle of the last bracket (or 1, flagged, when the current does not
-  reach zero in the sector); C_on, C_off at S(x_c) rounded to counts; ticks = round(x_c T).
-
-The products whose width depends on the spec (`WIDE_PRODUCTS`) are named locals; the
-design proves them once in 64 bits and then prints each in the narrowest type its
-proven range allows, so a Cortex-M3 multiplies in 32 bits wherever it can.
+The rule (`codegen.derivation.constant_pair.AlignedRule`): one duty pair per
+commutation, held at the minimax duty sum of the spec's EMF over the commutation; the
+commutation ends on the first carrier boundary m tau (m whole PWM periods after the
+edge, where the port restarts the carrier) at which the turn-off current under that
+pair has reached zero; and the split is eased (C_on - delta, C_off + delta, the sum
+unchanged) so that the current reaches zero exactly there. Formats and constants are
+in `fixed.py`; the search is a binary lifting over m with the decay e^-y_1 m taken
+from a table of D^(2^k): no exponential, table of psi or divide inside the loop.
 """
 
 from __future__ import annotations
@@ -37,24 +19,21 @@ import sympy as sp
 
 from codegen.abi import TIMING, flag_const
 from codegen.core.conditioning import CoreLimits, CurrentFormat, current_statements, flag_if
+from codegen.ir.longdiv import DIVIDE_LONG
 from codegen.ir.nodes import (
     Expr,
     Function,
-    IAddr,
     IBin,
-    IBitLength,
     ICall,
     IConst,
     ILongDiv,
     ILookup,
     IShl,
-    IStep,
     Param,
     SAssign,
     SFor,
     SIf,
     SLet,
-    SOrAssign,
     SReturn,
     SStruct,
     Stmt,
@@ -69,39 +48,32 @@ from codegen.ir.nodes import (
     const,
     div,
     fld,
-    land,
     lor,
     maximum,
     minimum,
     mul,
     round_shr,
     select,
-    shl,
     shr,
     sub,
     var,
 )
-from codegen.ir.types import I32, I64, U16, U32, U64, CType
-from codegen.methods.improved_r.fixed import THETA_FRAC_BITS, FixedRule
-from codegen.methods.improved_r.table import ONE_Q16, grid_point
-
-#: product local -> its signedness; the design picks each one's width from its range
-WIDE_PRODUCTS: dict[str, bool] = {
-    "x_kappa_i": False,
-    "x_theta": False,
-    "rho_x": False,
-    "y_psi1": False,
-    "x_x_psi2": False,
-    "s1_x": False,
-}
-ALL_WIDE: dict[str, CType] = dict.fromkeys(WIDE_PRODUCTS, U64)
+from codegen.ir.types import I32, I64, U16, U32, U64
+from codegen.methods.improved_r.fixed import (
+    DELTA_FRAC_BITS,
+    DELTA_LONG_SHIFT,
+    E1_SHIFT,
+    PER_TICK_BITS,
+    FixedRule,
+)
 
 BUS = StructType(
     "bldc_bus_t",
     "Bus",
     (
         StructField("x_numerator", U32, "round(N_X / B): X = x_numerator / T in Q(fc) counts"),
-        StructField("y_numerator", U32, "round(N_Y / B): Y = y_numerator i / 2^gy"),
+        StructField("y_numerator", U32, "Y per unit of current, Q(fc + gy): Y = 3 P R I / U_d"),
+        StructField("a_numerator", U32, "A rho per unit of current, Q(fc + ga)"),
         StructField(
             "period_min", U32, "BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage"
         ),
@@ -111,45 +83,44 @@ BUS = StructType(
     "What the timing step needs of the bus voltage (see the formats above)",
 )
 
-EDGE = StructType(
-    "bldc_rule_edge_t",
-    "RuleEdge",
-    (
-        StructField("x", I32, "X = 4 P E / U_d, Q(fc) counts"),
-        StructField("a2", I32, "2 A, A = 3 P L I / (U_d T_s): the turn-off current at the edge"),
-        StructField("rho", U32, "rho = R T_s / L, Q(frho)"),
-        StructField("s0", I32, "2P + Y - X: the held duty sum at the edge's EMFs"),
-        StructField("s1", I32, "theta X / 2: its growth per sector of commutation"),
-    ),
-    "Per-edge quantities of the rule (Q(fc) duty counts unless noted)",
-)
+ONE_Q31 = 1 << 31
+
+
+def _exact(value: sp.Expr, digits: int = 60) -> Fraction:
+    """An exact rational, or a 60-digit one for an irrational (theta)."""
+    if isinstance(value, sp.Rational):
+        return Fraction(int(value.p), int(value.q))
+    if isinstance(value, Fraction):
+        return value
+    return Fraction(str(sp.N(value, digits)))
 
 
 @dataclass(frozen=True)
 class RuleConsts:
     n_x: IConst
-    n_y: IConst
-    kappa: IConst
-    k_rho: IConst
-    theta_half: IConst
+    kyx: IConst
+    kar: IConst
+    qc: IConst
+    hs: IConst
+    y1: IConst
     period_q: IConst
-    unit_q: IConst
-    current_high: IConst
+    sum0_q: IConst  # sigma_0: Sigma(0) = 2P + Y - round(X sigma_0 / 4)
+    force0_q: IConst  # phi_0: F_0 = F_d + round(X phi_0 / 4)
+    periods_num: IConst
+    periods_den: IConst
 
 
-def _exact(value: sp.Expr, digits: int = 60) -> Fraction:
-    """An exact rational, or a 60-digit one for an irrational (theta)."""
-    r = sp.nsimplify(value) if not isinstance(value, sp.Rational) else value
-    if isinstance(r, sp.Rational):
-        return Fraction(int(r.p), int(r.q))
-    return Fraction(str(sp.N(value, digits)))
+def _quarter(value: Fraction, name: str, what: str) -> IConst:
+    if value.denominator != 1 or value < 0:
+        # sigma_0 = 4, phi_0 = 2 for the affine shapes (the frozen EMF, 120 deg)
+        raise ValueError(f"{what} = {value} is not a whole non-negative number")
+    return IConst(U32, int(value), name, doc=f"{what} of the spec's EMF at the edge (X {what}/4)")
 
 
-def rule_consts(rule: FixedRule, current: CurrentFormat) -> RuleConsts:
+def rule_consts(rule: FixedRule) -> RuleConsts:
     c = rule.constants
     fc = rule.counts_frac_bits
-    m = current.scale
-    i_high = c.current_high
+    fw = PER_TICK_BITS
     return RuleConsts(
         n_x=IConst(
             U64,
@@ -158,66 +129,78 @@ def rule_consts(rule: FixedRule, current: CurrentFormat) -> RuleConsts:
             exact=_exact(c.k_x) * 2**fc,
             doc=f"round(K_X 2^{fc}), K_X = {float(c.k_x):.6e}",
         ),
-        n_y=IConst(
-            U64,
-            rule.n_y.numerator,
-            "N_Y",
-            exact=_exact(c.k_y) * 2 ** (fc + rule.y_guard_bits) / m,
-            doc=f"round(K_Y 2^{fc + rule.y_guard_bits} / {m}), K_Y = {float(c.k_y):.6e}",
-        ),
-        kappa=IConst(
+        kyx=IConst(
             U32,
-            rule.kappa_q,
-            "KAPPA_Q",
-            exact=_exact(c.kappa) * 2**rule.kappa_frac_bits / m,
-            doc=f"kappa = {float(c.kappa):.6e} in Q{rule.kappa_frac_bits} / {m}: A = kappa i X",
+            rule.kyx,
+            "KYX_Q",
+            exact=_exact(c.k_y / c.k_x) * 2 ** (rule.y_guard_bits + rule.kyx_shift),
+            doc=f"K_Y / K_X in Q{rule.y_guard_bits + rule.kyx_shift}: Y per unit = x_numerator K_Y/K_X",
         ),
-        k_rho=IConst(
+        kar=IConst(
             U32,
-            rule.k_rho_q,
-            "K_RHO_Q",
-            exact=_exact(c.k_rho) * 2**rule.rho_frac_bits,
-            doc=f"K_rho = R/(L f_hall) = {float(c.k_rho):.6e} in Q{rule.rho_frac_bits}: rho = K_rho T",
+            rule.kar,
+            "KAR_Q",
+            exact=_exact(c.kappa * c.k_rho) * 2 ** (rule.a_guard_bits + rule.kar_shift),
+            doc=f"kappa K_rho in Q{rule.a_guard_bits + rule.kar_shift}: A rho per unit = "
+            "x_numerator kappa K_rho",
         ),
-        theta_half=IConst(
+        qc=IConst(
             U32,
-            rule.theta_half_q,
-            "THETA_HALF_Q",
-            exact=_exact(c.ramp_weight) / 2 * 2**THETA_FRAC_BITS,
-            doc=f"theta/2 in Q{THETA_FRAC_BITS}, theta = sqrt(2) - 1 = {float(c.ramp_weight):.9f}",
+            rule.qc,
+            "RAMP_Q",
+            exact=_exact(c.ramp_per_x / c.k_rho) * 2 ** (rule.ramp_frac_bits - fw + rule.qc_shift),
+            doc="(-phi_1/4) / K_rho: the EMF ramp's forcing over rho, per X per tick",
+        ),
+        hs=IConst(
+            U32,
+            rule.hs,
+            "GROWTH_Q",
+            exact=_exact(c.hold_slope * c.carrier_ticks)
+            * 2 ** (rule.growth_frac_bits - fw + rule.hs_shift),
+            doc="hold slope x tau: the held duty sum's growth per carrier period, per X per tick",
+        ),
+        y1=IConst(
+            U32,
+            rule.y1,
+            "STEP_DECAY_Q",
+            exact=_exact(c.step_decay) * 2 ** (32 - rule.ramp_frac_bits),
+            doc=f"y_1 = K_rho tau = {float(c.step_decay):.6e} in Q{32 - rule.ramp_frac_bits}: "
+            "rho x over one PWM period",
         ),
         period_q=IConst(I32, rule.period_q, "PERIOD_Q", doc=f"P in Q{fc} counts"),
-        unit_q=IConst(
-            U32, 1 << rule.unit_frac_bits, "UNIT_Q", doc=f"1 in Q{rule.unit_frac_bits} (e, u1, v2)"
+        sum0_q=_quarter(Fraction(c.shape.sum0), "SIGMA0", "sigma_0"),
+        force0_q=_quarter(Fraction(c.shape.force0), "PHI0", "phi_0"),
+        periods_num=IConst(
+            U32, rule.periods_num, "CARRIER_DEN", doc="N = floor(T CARRIER_DEN / CARRIER_NUM)"
         ),
-        current_high=IConst(
-            I32, i_high, "CURRENT_HIGH", doc=f"largest current in 1/{m} codes (ADC full scale)"
+        periods_den=IConst(
+            U32,
+            rule.periods_den,
+            "CARRIER_NUM",
+            doc=f"tau = CARRIER_NUM / CARRIER_DEN = {float(c.carrier_ticks):g} Hall ticks per "
+            "PWM period",
         ),
     )
 
 
-def psi_table(rule: FixedRule) -> Table:
-    t = rule.table
-    per = 1 << t.segment_bits
-    comments = tuple(
-        f"y = {float(grid_point(k, t.segment_bits)):.6g}"
-        + (f", octave {k // per}" if k % per == 0 else "")
-        for k in range(t.entries)
-    )
+def decay_table(rule: FixedRule) -> Table:
+    """Rows in the search's order, k = K-1 down to 0: (D^(2^k) in Q32, 2^k)."""
+    c = rule.constants
+    steps = len(rule.decay)
+    rows = tuple((rule.decay[k], 1 << k) for k in range(steps - 1, -1, -1))
     return Table(
-        "bldc_psi_complement",
-        U16,
-        tuple(zip(t.complement1, t.complement2, strict=True)),
-        comments,
-        f"Complements round((1 - psi) 2^16) of psi1(y) = (1 - e^-y)/y and psi2(y) = 2(y - 1 + "
-        f"e^-y)/y^2 on octave segments: rows 0..{per - 1} cover [0, 1) in steps of 2^-{t.segment_bits}, "
-        f"octave j >= 1 covers [2^(j-1), 2^j) in steps of 2^(j-1-{t.segment_bits}); one closing row. "
-        f"Linear interpolation error <= {t.error1:.2e} (psi1), {t.error2:.2e} (psi2). {t.flash_bytes} bytes.",
+        "bldc_decay",
+        U32,
+        rows,
+        tuple(f"D^{2**k}, {2**k} PWM periods" for k in range(steps - 1, -1, -1)),
+        f"(D^(2^k) in Q32, 2^k) for k = {steps - 1} .. 0, D = e^-y_1, y_1 = R tau / (L f_hall) ="
+        f" {float(c.step_decay):.6e}: the turn-off current's decay over 2^k PWM periods",
     )
 
 
-def bus_condition_function(limits: CoreLimits, k: RuleConsts) -> Function:
+def bus_condition_function(rule: FixedRule, limits: CoreLimits, k: RuleConsts) -> Function:
     code = var("code", U32)
+    xn = var("xn", U32)
     return Function(
         c_name="bldc_bus_condition",
         py_name="bus_condition",
@@ -249,12 +232,26 @@ def bus_condition_function(limits: CoreLimits, k: RuleConsts) -> Function:
                     ),
                 ),
             ),
+            SLet("xn", ILongDiv(U32, k.n_x, code), "round(N_X / B)"),
             SStruct(
                 "bus",
                 BUS,
                 (
-                    ("x_numerator", ILongDiv(U32, k.n_x, code)),
-                    ("y_numerator", ILongDiv(U32, k.n_y, code)),
+                    ("x_numerator", xn),
+                    (
+                        "y_numerator",
+                        cast(
+                            round_shr(mul(cast(xn, U64), cast(k.kyx, U64), U64), rule.kyx_shift),
+                            U32,
+                        ),
+                    ),
+                    (
+                        "a_numerator",
+                        cast(
+                            round_shr(mul(cast(xn, U64), cast(k.kar, U64), U64), rule.kar_shift),
+                            U32,
+                        ),
+                    ),
                     ("period_min", var("period_min", U32)),
                     ("bus_code", code),
                     ("flags", var("flags", U32)),
@@ -265,147 +262,67 @@ def bus_condition_function(limits: CoreLimits, k: RuleConsts) -> Function:
     )
 
 
-def _rule_sum(x: Expr, frac_bits: int, width: CType, comment: str) -> tuple[Stmt, Stmt]:
-    """total = S0 + round(S1 x / 2^frac_bits): the held duty sum for x (Q frac_bits)."""
-    s1 = cast(cast(fld("st", "s1", I32), U32), width)
-    return (
-        SLet("s1_x", mul(s1, cast(x, width), width)),
-        SLet(
-            "total",
-            add(fld("st", "s0", I32), cast(round_shr(var("s1_x", width), frac_bits), I32)),
-            comment,
-        ),
-    )
-
-
-def current_remains_function(
-    rule: FixedRule, k: RuleConsts, table: Table, widths: dict[str, CType]
-) -> Function:
-    t = rule.table
-    fy, n = t.y_frac_bits, t.segment_bits
-    ku, fu = rule.steps, rule.unit_frac_bits
-    base_shift = fy - n
-    x = var("x", U32)
-    y = var("y", U32)
-    octave, shift, row, r = var("octave", U32), var("shift", U32), var("row", U32), var("r", U32)
-    mask = const((1 << n) - 1)
-    psi = []
-    body: list[Stmt] = [
-        SLet(
-            "rho_x",
-            mul(
-                cast(fld("st", "rho", U32), widths["rho_x"]),
-                cast(x, widths["rho_x"]),
-                widths["rho_x"],
-            ),
-        ),
-        SLet(
-            "y", cast(shr(var("rho_x", widths["rho_x"]), rule.y_shift), U32), f"y = rho x in Q{fy}"
-        ),
-        SLet("whole", shr(y, fy)),
-        SLet(
-            "octave",
-            select(
-                cmp("==", var("whole", U32), const(0)), const(0), IBitLength(U32, var("whole", U32))
-            ),
-            "table segment: 0 for y < 1, else 32 - CLZ(integer part)",
-            split=True,
-        ),
-        SLet(
-            "shift",
-            select(
-                cmp("==", octave, const(0)), const(base_shift), add(const(base_shift - 1), octave)
-            ),
-            "fraction bits of y within its row",
-        ),
-        SLet("row", add(IShl(U32, octave, n), IBin(U32, "&", shr(y, shift), mask))),
-        SLet("r", IBin(U32, "&", y, sub(IShl(U32, const(1), shift), const(1)))),
-        SLet("half", IShl(U32, const(1), sub(shift, const(1)))),
-    ]
-    for column in (0, 1):
-        name = f"psi{column + 1}"
-        step = mul(IStep(U32, table, row, column), r)
-        interpolated = shr(add(step, var("half", U32)), shift)
-        low = cast(ILookup(U16, table, row, column), U32)
-        body.append(
+def _grid_current(
+    rule: FixedRule, k: RuleConsts, m: Expr, em: Expr, tag: str, comment: str
+) -> tuple[list[Stmt], Expr]:
+    """Statements defining, at grid point m with decay em (Q31), the held sum's forcing
+    and H = 2^(32+fc) rho g. Returns (statements, H)."""
+    fs = rule.growth_frac_bits
+    pq = k.period_q
+    stmts: list[Stmt] = []
+    if rule.hs:
+        stmts += [
             SLet(
-                name,
-                sub(const(ONE_Q16), add(low, interpolated)),
-                f"psi{column + 1}(y) in Q16, linear interpolation",
-            )
-        )
-        psi.append(var(name, U32))
-    psi1, psi2 = psi
-    e_shift = fy + 16 - fu
-    wide_y = widths["y_psi1"]
-    body += [
-        SLet("y_psi1", mul(cast(y, wide_y), cast(psi1, wide_y), wide_y)),
-        # a local of its own, so that a non-relational analysis (Frama-C's EVA) narrows
-        # it in the clamp below as the IR's proof does
-        SLet("one_minus_e", round_shr(var("y_psi1", wide_y), e_shift), f"1 - e^-y in Q{fu}"),
-        SLet(
-            "e",
-            cast(
+                f"{tag}total",
+                add(var("sigma0", I32), cast(shr(mul(var("growth", U32), m), fs), I32)),
+                f"Sigma at {comment}: the held duty sum",
+            ),
+            SLet(
+                f"{tag}held",
+                clamp(var(f"{tag}total", I32), const(0, I32), mul(const(2, I32), pq)),
+                "the duties' range: C_on + C_off in [0, 2P]",
+            ),
+            SLet(
+                f"{tag}fd",
                 sub(
-                    cast(k.unit_q, wide_y),
-                    minimum(var("one_minus_e", wide_y), cast(k.unit_q, wide_y)),
+                    sub(
+                        mul(const(3, I32), maximum(sub(var(f"{tag}held", I32), pq), const(0, I32))),
+                        var(f"{tag}held", I32),
+                    ),
+                    pq,
                 ),
-                I32,
+                "F_d = 2 C_off - C_on - P = 3 C_off - (C_on + C_off) - P of the split",
             ),
-            f"e^-y = 1 - y psi1 in Q{fu}, kept >= 0 against the table's error",
-        ),
-        SLet("u1", cast(round_shr(mul(x, psi1), ku + 16 - fu), I32), "x psi1"),
-        SLet(
-            "x_x_psi2",
-            mul(
-                cast(x, widths["x_x_psi2"]),
-                cast(mul(x, psi2), widths["x_x_psi2"]),
-                widths["x_x_psi2"],
-            ),
-        ),
-        SLet(
-            "v2",
-            cast(round_shr(var("x_x_psi2", widths["x_x_psi2"]), 2 * ku + 16 - fu), I32),
-            "x^2 psi2",
-        ),
-        *_rule_sum(x, ku, widths["s1_x"], "S(x)"),
-        SLet("on", clamp(var("total", I32), const(0, I32), k.period_q)),
-        SLet("off", clamp(sub(var("total", I32), k.period_q), const(0, I32), k.period_q)),
-        SLet(
-            "f2",
-            add(
-                sub(
-                    sub(mul(const(4, I32), var("off", I32)), mul(const(2, I32), var("on", I32))),
-                    mul(const(2, I32), k.period_q),
-                ),
-                fld("st", "x", I32),
-            ),
-            "2F",
-        ),
-        SLet(
-            "twice_g",
-            sub(
-                add(
-                    mul(cast(fld("st", "a2", I32), I64), cast(var("e", I32), I64)),
-                    mul(cast(var("f2", I32), I64), cast(var("u1", I32), I64)),
-                ),
-                mul(cast(fld("st", "x", I32), I64), cast(var("v2", I32), I64)),
-            ),
-            "2 g(x)",
-        ),
-        SReturn(select(cmp(">", var("twice_g", I64), const(0, I64)), const(1), const(0))),
-    ]
-    return Function(
-        c_name="bldc_current_remains",
-        py_name="current_remains",
-        params=(Param("st", struct=EDGE, const=True), Param("x", U32)),
-        returns=U32,
-        static=True,
-        doc="Sign of 2 g(x): the turn-off current after x sectors (Q K) under the pair held at "
-        "S(x), g = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2. "
-        "1 while the current has not yet reached zero",
-        body=tuple(body),
+        ]
+        fd = var(f"{tag}fd", I32)
+        c2 = sub(var("ca2", I32), mul(const(2, I32), fd))
+        r = add(fd, var("cb", I32))
+    else:
+        c2 = var("ca2_held", I32)
+        r = var("cb_held", I32)
+    term = add(
+        mul(cast(c2, I64), cast(cast(em, I32), I64)),
+        mul(cast(r, I64), const(1 << 32, I64)),
     )
+    if rule.qc:
+        term = sub(
+            term,
+            cast(mul(cast(var("q", U32), U64), cast(mul(k.y1, m), U64)), I64),
+        )
+    stmts.append(SLet(f"{tag}h", term, f"2^(32+fc) rho g at {comment}"))
+    return stmts, var(f"{tag}h", I64)
+
+
+def _split(k: RuleConsts, tag: str, total: Expr) -> list[Stmt]:
+    return [
+        SLet(f"{tag}on", clamp(total, const(0, I32), k.period_q)),
+        SLet(f"{tag}off", clamp(sub(total, k.period_q), const(0, I32), k.period_q)),
+        SLet(
+            f"{tag}fd",
+            sub(sub(mul(const(2, I32), var(f"{tag}off", I32)), var(f"{tag}on", I32)), k.period_q),
+            "F_d = 2 C_off - C_on - P",
+        ),
+    ]
 
 
 def _safe_state(limits: CoreLimits) -> tuple[Stmt, ...]:
@@ -429,29 +346,26 @@ def _safe_state(limits: CoreLimits) -> tuple[Stmt, ...]:
 
 
 def timing_function(
-    rule: FixedRule,
-    limits: CoreLimits,
-    current: CurrentFormat,
-    k: RuleConsts,
-    remains: Function,
-    widths: dict[str, CType],
+    rule: FixedRule, limits: CoreLimits, current: CurrentFormat, k: RuleConsts, table: Table
 ) -> Function:
-    steps = rule.steps
     fc = rule.counts_frac_bits
+    fw = PER_TICK_BITS
+    steps = rule.steps
     measured, period = var("measured", U32), var("period", U32)
     x = var("x", U32)
     i = var("i", U32)
-    lo, hi = var("lo", U32), var("hi", U32)
-    full = const(1 << steps)
-    fraction = var("fraction", U32)
-    total = var("total", I32)
-    wide_a = widths["x_kappa_i"]
-    wide_t = widths["x_theta"]
+    n, e = var("n", U32), var("e", U32)
+    pq = k.period_q
 
-    def remains_at(point: Expr) -> Expr:
-        return cmp("!=", ICall(U32, remains, (IAddr(U32, "st"), point)), const(0))
+    def quarter(value: Expr, q: IConst) -> Expr:
+        """round(X q / 4), q = sigma_0 or phi_0 (a whole number >= 0)."""
+        if q.value == 0:
+            return const(0, I32)
+        if q.value == 4:
+            return cast(value, I32)
+        return cast(round_shr(mul(value, q), 2), I32)
 
-    body: tuple[Stmt, ...] = (
+    prologue: list[Stmt] = [
         SVar("flags", U32, fld("bus", "flags", U32)),
         SLet(
             "measured",
@@ -469,7 +383,7 @@ def timing_function(
         SLet(
             "period",
             minimum(measured, limits.period_max),
-            "the table covers rho up to the slowest speed",
+            "the rule's constants cover the speed range",
         ),
         *current_statements(limits, current, var("current_adc", U32)),
         SLet(
@@ -483,72 +397,250 @@ def timing_function(
             round_shr(mul(fld("bus", "y_numerator", U32), i), rule.y_guard_bits),
             f"Y = 3 P R I / U_d, Q{fc}",
         ),
-        SLet("x_kappa_i", mul(cast(x, wide_a), cast(mul(k.kappa, i), wide_a), wide_a)),
         SLet(
-            "a",
-            cast(round_shr(var("x_kappa_i", wide_a), rule.kappa_frac_bits), U32),
-            "A = kappa i X",
+            "a_rho",
+            round_shr(mul(fld("bus", "a_numerator", U32), i), rule.a_guard_bits),
+            f"A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q{fc}",
         ),
-        SLet("x_theta", mul(cast(x, wide_t), cast(k.theta_half, wide_t), wide_t)),
-        SStruct(
-            "st",
-            EDGE,
-            (
-                ("x", cast(x, I32)),
-                ("a2", mul(const(2, I32), cast(var("a", U32), I32))),
-                ("rho", mul(k.k_rho, period)),
-                (
-                    "s0",
+        SLet(
+            "periods",
+            div(mul(period, k.periods_num), k.periods_den),
+            "N: whole PWM periods in the sector",
+        ),
+        SLet(
+            "sigma0",
+            sub(add(mul(const(2, I32), pq), cast(var("y", U32), I32)), quarter(x, k.sum0_q)),
+            "Sigma(0) = 2P + Y - (sigma_0/4) X: the held duty sum at the edge's EMFs",
+        ),
+    ]
+    if rule.qc or rule.hs:
+        prologue.append(
+            SLet(
+                "per_tick",
+                ICall(U32, DIVIDE_LONG, (x, const(0), const(fw), period)),
+                f"X / T in Q{fc + fw}",
+            )
+        )
+    force0 = quarter(x, k.force0_q)
+    if rule.qc:
+        prologue.append(
+            SLet(
+                "q",
+                cast(
+                    shr(mul(cast(var("per_tick", U32), U64), cast(k.qc, U64), U64), rule.qc_shift),
+                    U32,
+                ),
+                f"q = (-phi_1/4) X / rho: the EMF ramp's forcing, Q{fc + rule.ramp_frac_bits}",
+            )
+        )
+        q_counts = cast(round_shr(var("q", U32), rule.ramp_frac_bits), I32)
+    else:
+        q_counts = const(0, I32)
+    if rule.hs:
+        prologue.append(
+            SLet(
+                "growth",
+                cast(
+                    shr(mul(cast(var("per_tick", U32), U64), cast(k.hs, U64), U64), rule.hs_shift),
+                    U32,
+                ),
+                f"the held sum's growth per PWM period, Q{fc + rule.growth_frac_bits}",
+            )
+        )
+        prologue += [
+            SLet(
+                "ca2",
+                mul(
+                    const(2, I32),
+                    sub(sub(cast(var("a_rho", U32), I32), q_counts), force0),
+                ),
+                "2 (A rho - q - (phi_0/4) X)",
+            ),
+            SLet("cb", add(force0, q_counts), "(phi_0/4) X + q"),
+        ]
+    else:
+        prologue += [
+            *_split(k, "held_", var("sigma0", I32)),
+            SLet(
+                "ca2_held",
+                mul(
+                    const(2, I32),
                     sub(
-                        add(mul(const(2, I32), k.period_q), cast(var("y", U32), I32)), cast(x, I32)
+                        sub(sub(cast(var("a_rho", U32), I32), q_counts), force0),
+                        var("held_fd", I32),
                     ),
                 ),
-                ("s1", cast(round_shr(var("x_theta", wide_t), THETA_FRAC_BITS), I32)),
+                "2 (A rho - q - F_0): the held pair does not move",
             ),
-        ),
-        SVar("lo", U32, const(0)),
-        SVar("hi", U32, full),
-        SFor(
-            "step",
-            steps,
-            (
-                SLet("mid", shr(add(lo, hi), 1)),
-                SIf(
-                    remains_at(var("mid", U32)),
-                    (SAssign("lo", var("mid", U32)),),
-                    (SAssign("hi", var("mid", U32)),),
+            SLet("cb_held", add(add(force0, q_counts), var("held_fd", I32)), "F_0 + q"),
+        ]
+
+    m = var("m", U32)
+    em = var("em", U32)
+    step_stmts, h = _grid_current(rule, k, m, em, "", "m")
+    index = var("step", U32)
+    loop = SFor(
+        "step",
+        steps,
+        (
+            SLet("m", add(n, ILookup(U32, table, index, 1)), "the next candidate: n + 2^k"),
+            SIf(
+                cmp("<=", m, var("periods", U32)),
+                (
+                    SLet(
+                        "em",
+                        cast(
+                            shr(mul(cast(e, U64), cast(ILookup(U32, table, index), U64), U64), 32),
+                            U32,
+                        ),
+                        "e^-rho x_m in Q31",
+                    ),
+                    *step_stmts,
+                    SIf(
+                        cmp(">=", h, const(0, I64)),
+                        (SAssign("n", m), SAssign("e", em)),
+                        (SAssign("end_h", h), SAssign("end_e", em)),
+                        comment="the turn-off current has not reached zero at m (else: the "
+                        "last candidate refused is n + 1, the end)",
+                    ),
                 ),
             ),
-            invariants=(("lo", 0, 1 << steps), ("hi", 0, 1 << steps)),
-            comment="t_com: bisection over x in (0, 1] sectors; g(0) = A >= 0 changes sign once",
         ),
-        SVar("fraction", U32, add(lo, hi), f"Q{steps + 1}: the middle of the last bracket"),
-        SIf(
-            land(cmp("==", hi, full), remains_at(hi)),
-            (
-                SAssign(
-                    "fraction",
-                    shl(const(2), steps),
-                    "does not finish within the sector: the whole sector",
+        invariants=(
+            ("n", 0, rule.periods_max),
+            ("e", 0, ONE_Q31),
+            ("end_h", I64.low + 1, -1),
+            ("end_e", 0, (ONE_Q31 * max(rule.decay)) >> 32),
+        ),
+        comment="binary lifting: n = the last carrier boundary at which the current remains",
+    )
+    # the end: m = n + 1 (its current and decay were kept when it was refused); when the
+    # current remains at every boundary (n = N) the pair is held at the last one, uneased
+    # (end_h = -1 and end_e = 0 give delta = 0), over the whole sector
+    end = var("end", U32)
+    end_h = var("end_h", I64)
+    end_e = var("end_e", U32)
+    unfinished = cmp(">=", n, var("periods", U32))
+    tail: list[Stmt] = [
+        SLet(
+            "end",
+            minimum(add(n, const(1)), var("periods", U32)),
+            "the first carrier boundary with the current at zero (or the sector's last)",
+        ),
+    ]
+    if rule.hs:
+        tail += [
+            SLet(
+                "end_total",
+                add(
+                    var("sigma0", I32),
+                    cast(shr(mul(var("growth", U32), end), rule.growth_frac_bits), I32),
                 ),
-                SOrAssign("flags", flag_const("TIME_CLAMPED")),
+                "Sigma at the end: the held duty sum",
             ),
+            SLet(
+                "end_held",
+                clamp(var("end_total", I32), const(0, I32), mul(const(2, I32), pq)),
+                "C_on + C_off in [0, 2P]",
+            ),
+            SLet("end_on", minimum(var("end_held", I32), pq)),
+            SLet("end_off", maximum(sub(var("end_held", I32), pq), const(0, I32))),
+        ]
+        total: Expr = var("end_total", I32)
+        end_on, end_off = var("end_on", I32), var("end_off", I32)
+    else:
+        total = var("sigma0", I32)
+        end_on, end_off = var("held_on", I32), var("held_off", I32)
+    ld = DELTA_LONG_SHIFT
+    numerator_shift = 32 + fc - DELTA_FRAC_BITS - 31 + E1_SHIFT
+    shift_down = fc - DELTA_FRAC_BITS
+    tail += [
+        SLet(
+            "overshoot",
+            minimum(
+                cast(sub(const(0, I64), end_h), U64),
+                const(((1 << (32 + ld)) - 1) << numerator_shift, U64),
+            ),
+            "-2^(32+fc) rho g at the end, > 0 (bounded for the division)",
         ),
-        *_rule_sum(fraction, steps + 1, widths["s1_x"], "S(x_c)"),
+        SLet(
+            "shortfall",
+            mul(const(3), shr(sub(const(ONE_Q31), end_e), E1_SHIFT)),
+            f"3 (1 - e) in Q{31 - E1_SHIFT}",
+        ),
+        SLet(
+            "eased",
+            ICall(
+                U32,
+                DIVIDE_LONG,
+                (
+                    cast(shr(var("overshoot", U64), numerator_shift + ld), U32),
+                    cast(
+                        IBin(
+                            U64,
+                            "&",
+                            shr(var("overshoot", U64), numerator_shift),
+                            const((1 << ld) - 1, U64),
+                        ),
+                        U32,
+                    ),
+                    const(ld),
+                    var("shortfall", U32),
+                ),
+            ),
+            f"delta = -rho g / (3 (1 - e)) in Q{DELTA_FRAC_BITS}: ends the current at the boundary",
+        ),
+        SLet(
+            "room",
+            minimum(end_on, sub(pq, end_off)),
+            "what the split can give: C_on down to 0, C_off up to P",
+        ),
+        SLet(
+            "delta",
+            IShl(
+                I32,
+                minimum(
+                    cast(minimum(var("eased", U32), const((1 << (31 - shift_down)) - 1)), I32),
+                    shr(var("room", I32), shift_down),
+                ),
+                shift_down,
+            ),
+            f"the easing in Q{fc}, at most the room",
+        ),
+        # the eased values are locals of their own, so that a non-relational analysis
+        # (Frama-C's EVA) narrows them in the clamps below as the IR's proof does
+        SLet("eased_on", sub(end_on, var("delta", I32)), "C_on - delta"),
+        SLet("eased_off", add(end_off, var("delta", I32)), "C_off + delta"),
+        SLet(
+            "on",
+            cast(maximum(var("eased_on", I32), const(0, I32)), U32),
+            "delta <= the room: never below 0",
+        ),
+        SLet(
+            "off",
+            cast(minimum(var("eased_off", I32), pq), U32),
+            "never above P",
+        ),
+        flag_if(unfinished, "TIME_CLAMPED", "the current remains at every carrier boundary"),
         flag_if(
-            lor(cmp(">", total, mul(const(2, I32), k.period_q)), cmp("<", total, const(0, I32))),
+            lor(cmp(">", total, mul(const(2, I32), pq)), cmp("<", total, const(0, I32))),
             "FAIL_AREA_CLAMPED",
             "no duty pair in [0, 1] holds the current",
         ),
         flag_if(
-            cmp("<", total, k.period_q),
+            cmp("<", total, pq),
             "HIGH_SPEED",
-            "the turn-off phase off, the turn-on one modulated",
+            "the upper segment: the turn-off phase at most eased, the turn-on one modulated",
         ),
-        SLet("on", cast(clamp(total, const(0, I32), k.period_q), U32)),
-        SLet("off", cast(clamp(sub(total, k.period_q), const(0, I32), k.period_q), U32)),
-        SLet("scaled", round_shr(mul(fraction, period), steps + 1), "x_c T"),
-        SLet("ticks", minimum(var("scaled", U32), measured), "at most the measured period"),
+        SLet(
+            "ticks",
+            select(
+                unfinished,
+                measured,
+                div(add(mul(end, k.periods_den), const(rule.periods_num // 2)), k.periods_num),
+            ),
+            "round(end tau), a carrier boundary; the whole sector when the current remains",
+        ),
         SStruct(
             "timing",
             TIMING,
@@ -556,12 +648,22 @@ def timing_function(
                 ("period_min", fld("bus", "period_min", U32)),
                 ("turn_on_compare", cast(round_shr(var("on", U32), fc), U16)),
                 ("turn_off_compare", cast(round_shr(var("off", U32), fc), U16)),
-                ("commutation_ticks", cast(var("ticks", U32), U16)),
+                ("commutation_ticks", cast(minimum(var("ticks", U32), measured), U16)),
                 ("flags", cast(var("flags", U32), U16)),
             ),
         ),
+    ]
+    body: list[Stmt] = [
+        *prologue,
+        SVar("n", U32, const(0)),
+        SVar("e", U32, const(ONE_Q31)),
+        SVar("end_h", I64, const(-1, I64)),
+        SVar("end_e", U32, const(0)),
+        loop,
+        *tail,
         SReturn(var("timing", U32)),
-    )
+    ]
+    del e, i
     return Function(
         c_name="bldc_commutation_timing",
         py_name="commutation_timing",
@@ -575,18 +677,17 @@ def timing_function(
         doc="Duties and commutation time of the resistance-aware rule (pure, reentrant); any "
         "uint32_t value of each parameter is allowed. The rule holds the current by itself: "
         "the main duty is not used",
-        body=body,
+        body=tuple(body),
     )
 
 
 def functions(
-    rule: FixedRule, limits: CoreLimits, current: CurrentFormat, widths: dict[str, CType]
+    rule: FixedRule, limits: CoreLimits, current: CurrentFormat
 ) -> tuple[Function, Function, Table]:
-    k = rule_consts(rule, current)
-    table = psi_table(rule)
-    remains = current_remains_function(rule, k, table, widths)
+    k = rule_consts(rule)
+    table = decay_table(rule)
     return (
-        bus_condition_function(limits, k),
-        timing_function(rule, limits, current, k, remains, widths),
+        bus_condition_function(rule, limits, k),
+        timing_function(rule, limits, current, k, table),
         table,
     )

@@ -1,20 +1,23 @@
-"""The firmware rule in real arithmetic: what the integer prototype approximates.
+"""The firmware rule in real arithmetic: what the integer rule approximates.
 
 From the integer inputs (Hall period T, bus code B, current code C) and the exact spec
 constants, in duty counts and fractions x of the sector:
 
 1. clamp T to the speed range and B to the bus range (flagged), i = C - offset
    clamped to [0, ADC full scale];
-2. X = K_X/(T B), Y = K_Y i/B, A = kappa i X, rho = K_rho T;
-3. the held duty sum for a commutation of x sectors, Sigma(x) = 2P + Y - X + theta X x/2
-   (S at the EMFs of time theta t_com), split as the paper does:
-   C_on = clamp(Sigma, 0, P), C_off = clamp(Sigma - P, 0, P);
-4. the turn-off current in counts under that pair and the ramping EMF,
-   g(x) = A e^{-rho x} + F x psi1(rho x) - X x^2/2 psi2(rho x),
-   F = 2 C_off - C_on - P + X/2; x_c is its zero in (0, 1] (bisection: g(0) = A >= 0,
-   and g changes sign once), or 1 when g(1) > 0 (the commutation does not finish
-   within the sector: flagged, the time clamped to the sector);
-5. outputs: round(C_on(x_c)), round(C_off(x_c)), round(x_c T) ticks.
+2. X = K_X/(T B), Y = K_Y i/B, A = kappa i X, rho = K_rho T; the carrier grid
+   x_m = m tau / T, m = 0..N, N = floor(T / tau);
+3. the held duty sum for a commutation of x sectors, Sigma(x) = 2P + Y - (X/4) mu(x),
+   mu(x) = sigma_0 + sigma_1 theta x (the minimax constant of the EMF's sigma over
+   [0, x]); split as the paper does: C_on = clamp(Sigma, 0, P), C_off = clamp(Sigma - P, 0, P);
+4. the turn-off current in counts under that pair and the spec's EMF,
+   g(x) = A e^{-rho x} + F_0 x psi1(rho x) + (X/4) phi_1 x^2/2 psi2(rho x),
+   F_0 = 2 C_off - C_on - P + (X/4) phi_0;
+5. the end: the first grid point m >= 1 with g(x_m) < 0 (the current has reached zero),
+   or none by m = N (flagged; the pair held at x_N, uneased, the time the whole sector);
+6. the easing delta = -g / (3 x psi1(rho x)) at the end, at most min(C_on, P - C_off):
+   C_on - delta, C_off + delta end the current exactly on the boundary;
+7. outputs: the eased pair rounded to counts, round(m tau) ticks.
 """
 
 from __future__ import annotations
@@ -22,18 +25,15 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 import numpy.typing as npt
-import sympy as sp
 
-from codegen.derivation.constant_pair import psi1, psi2, y
 from codegen.methods.improved_r.constants import RuleConstants
 
 FLAG_SPEED_CLAMPED = 0x01  # T outside the spec's speed range: the rule used the nearest end
 FLAG_BUS_CLAMPED = 0x02  # B outside the spec's bus range
-FLAG_NOT_FINISHED = 0x04  # the turn-off current does not reach zero within the sector
+FLAG_NOT_FINISHED = 0x04  # the current does not reach zero by the sector's last whole period
 FLAG_CANNOT_HOLD = 0x08  # Sigma > 2P: even D_on = D_off = 1 lets the current sag
 FLAG_ABOVE_BUS = 0x10  # Sigma < 0: even D_on = 0 lets the current swell (E near U_d/2)
 FLAG_NAMES = {
@@ -43,9 +43,11 @@ FLAG_NAMES = {
     FLAG_CANNOT_HOLD: "cannot_hold",
     FLAG_ABOVE_BUS: "above_bus",
 }
-#: Below this y the psi functions are summed from their series (no cancellation).
-SERIES_BELOW = 0.02
-SERIES_TERMS = 10
+#: Below this y the psi-free forms are summed from their series (no cancellation).
+SERIES_BELOW = 1e-3
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
 
 
 @dataclass(frozen=True)
@@ -64,171 +66,156 @@ class RuleOutputs:
 
 
 @dataclass(frozen=True)
-class Clamped:
-    period: int
-    bus: int
-    current: float  # offset removed, >= 0, in 1/m codes
-    flags: int
-
-
-@dataclass(frozen=True)
-class ReferenceResult:
-    outputs: RuleOutputs
-    fraction: float  # x_c
-    on_exact: float  # C_on(x_c) before rounding
-    off_exact: float
-    ticks_exact: float  # x_c T'
-    x: float
-    y: float
-    a: float
-    rho: float
-
-
-FloatArray = npt.NDArray[np.float64]
-IntArray = npt.NDArray[np.int64]
-
-
-@dataclass(frozen=True)
 class ReferenceBatch:
-    """`reference` over arrays of inputs (one element per input point)."""
+    """The rule over arrays of inputs (one element per input point)."""
 
     period: IntArray  # T after clamping
     bus: IntArray
     current: FloatArray  # offset removed, clamped, 1/m codes
-    fraction: FloatArray
-    total: FloatArray  # Sigma(x_c), counts
-    on_exact: FloatArray
+    periods: IntArray  # N
+    end: IntArray  # m of the end (N when not finished)
+    total: FloatArray  # Sigma at the end (at x_N when the current remains)
+    on_held: FloatArray  # the split of Sigma before the easing
+    off_held: FloatArray
+    delta: FloatArray  # the easing (0 when not finished)
+    on_exact: FloatArray  # the eased pair, counts
     off_exact: FloatArray
-    ticks_exact: FloatArray
+    ticks_exact: FloatArray  # end tau (the sector when not finished)
     flags: IntArray
+    #: rho g at the end and one carrier period before it (how clearly the end is decided)
+    h_end: FloatArray
+    h_before: FloatArray
+    shortfall: FloatArray  # 3 (1 - e^-rho x) at the end: delta = -h_end / shortfall
     x: FloatArray
     y: FloatArray
-    a: FloatArray
+    a_rho: FloatArray
     rho: FloatArray
 
-    def result(self, k: int, measured_period: int) -> ReferenceResult:
-        outputs = RuleOutputs(
+    def outputs(self, k: int, measured_period: int) -> RuleOutputs:
+        return RuleOutputs(
             on_counts=round(float(self.on_exact[k])),
             off_counts=round(float(self.off_exact[k])),
             commutation_ticks=min(round(float(self.ticks_exact[k])), measured_period),
             flags=int(self.flags[k]),
         )
-        return ReferenceResult(
-            outputs,
-            float(self.fraction[k]),
-            float(self.on_exact[k]),
-            float(self.off_exact[k]),
-            float(self.ticks_exact[k]),
-            float(self.x[k]),
-            float(self.y[k]),
-            float(self.a[k]),
-            float(self.rho[k]),
-        )
 
 
-def clamp_inputs(c: RuleConstants, inputs: RuleInputs) -> Clamped:
-    flags = 0
-    period = min(max(inputs.period_ticks, c.period_low), c.period_high)
-    if period != inputs.period_ticks:
-        flags |= FLAG_SPEED_CLAMPED
-    bus = min(max(inputs.bus_code, c.bus_low), c.bus_high)
-    if bus != inputs.bus_code:
-        flags |= FLAG_BUS_CLAMPED
-    exact = c.current.scale * (min(inputs.current_code, c.adc_max) - c.current.offset_exact)
-    current = min(max(float(exact), 0.0), float(c.current_high))
-    return Clamped(period, bus, current, flags)
+def _split(p: int, total: FloatArray) -> tuple[FloatArray, FloatArray]:
+    return np.clip(total, 0.0, p), np.clip(total - p, 0.0, p)
 
 
-@lru_cache(maxsize=1)
-def _series() -> tuple[tuple[float, ...], tuple[float, ...]]:
-    """Taylor coefficients of psi1 and psi2 at y = 0, from their definitions."""
-    out = []
-    for psi in (psi1, psi2):
-        poly = sp.series(psi, y, 0, SERIES_TERMS).removeO()
-        out.append(tuple(float(poly.coeff(y, k)) for k in range(SERIES_TERMS)))
-    return out[0], out[1]
+def decay_terms(y: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """(e^-y, 1 - e^-y, y - 1 + e^-y) without cancellation at small y."""
+    e1 = -np.expm1(-y)
+    small = y < SERIES_BELOW
+    e2 = np.where(small, y * y / 2 - y**3 / 6 + y**4 / 24, y - e1)
+    return 1.0 - e1, e1, e2
 
 
-def psi_arrays(value: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """(psi1, psi2) at y >= 0, elementwise in double precision: the series near 0
-    (no cancellation), the closed forms elsewhere."""
-    c1, c2 = _series()
-    small = value < SERIES_BELOW
-    safe = np.where(small, 1.0, value)
-    closed1 = -np.expm1(-safe) / safe
-    closed2 = 2.0 * (safe - 1.0 + np.exp(-safe)) / safe**2
-    return (
-        np.where(small, np.polynomial.polynomial.polyval(value, c1), closed1),
-        np.where(small, np.polynomial.polynomial.polyval(value, c2), closed2),
-    )
+@dataclass(frozen=True)
+class _Edge:
+    c: RuleConstants
+    x: FloatArray
+    y: FloatArray
+    a_rho: FloatArray
+    rho: FloatArray
+    period: IntArray
 
+    def total(self, fraction: FloatArray) -> FloatArray:
+        c = self.c
+        mu = float(c.shape.sum0) + float(c.shape.sum1) * float(c.ramp_weight) * fraction
+        return 2 * c.period_counts + self.y - self.x / 4 * mu
 
-def psi_values(value: float) -> tuple[float, float]:
-    """(psi1, psi2) at one y >= 0: `psi_arrays` in scalar arithmetic (the error bounds
-    evaluate it point by point, where array overhead would dominate)."""
-    if value < SERIES_BELOW:
-        c1, c2 = _series()
-        return (
-            sum(c * value**k for k, c in enumerate(c1)),
-            sum(c * value**k for k, c in enumerate(c2)),
-        )
-    return -math.expm1(-value) / value, 2.0 * (value - 1.0 + math.exp(-value)) / value**2
-
-
-def _duties(period_counts: int, total: FloatArray) -> tuple[FloatArray, FloatArray]:
-    return np.clip(total, 0.0, period_counts), np.clip(total - period_counts, 0.0, period_counts)
+    def current(self, m: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(rho g, the held sum, 3 (1 - e)) at grid point m (whole PWM periods)."""
+        c = self.c
+        yy = float(c.step_decay) * m
+        e, e1, e2 = decay_terms(yy)
+        total = self.total(m * float(c.carrier_ticks) / self.period)
+        on, off = _split(c.period_counts, total)
+        f0 = 2 * off - on - c.period_counts + self.x / 4 * float(c.shape.force0)
+        ramp = self.x / 4 * float(c.shape.force1) / self.rho
+        return self.a_rho * e + f0 * e1 + ramp * e2, total, 3 * e1
 
 
 def reference_batch(
     c: RuleConstants, periods: npt.ArrayLike, buses: npt.ArrayLike, current_codes: npt.ArrayLike
 ) -> ReferenceBatch:
-    """The rule at every (T, B, C) given (broadcast), clamped as `clamp_inputs` does."""
+    """The rule at every (T, B, C) given (broadcast), clamped as the core does."""
     t_in, b_in, c_in = np.broadcast_arrays(
         *(np.atleast_1d(np.asarray(v, dtype=np.int64)) for v in (periods, buses, current_codes))
     )
     t = np.clip(t_in, c.period_low, c.period_high)
     b = np.clip(b_in, c.bus_low, c.bus_high)
-    m, offset = c.current.scale, float(c.current.offset_exact)
-    i = np.clip(m * (np.minimum(c_in, c.adc_max) - offset), 0.0, float(c.current_high))
+    m_scale, offset = c.current.scale, float(c.current.offset_exact)
+    i = np.clip(m_scale * (np.minimum(c_in, c.adc_max) - offset), 0.0, float(c.current_high))
     flags = np.where(t != t_in, FLAG_SPEED_CLAMPED, 0) | np.where(b != b_in, FLAG_BUS_CLAMPED, 0)
     p = c.period_counts
-    x_counts = float(c.k_x) / (t.astype(np.float64) * b)
-    y_counts = float(c.k_y) * i / b
-    a = float(c.kappa) * i * x_counts
+    x = float(c.k_x) / (t.astype(np.float64) * b)
+    y = float(c.k_y) * i / b
+    a_rho = float(c.kappa) * float(c.k_rho) * float(c.k_x) * i / b
     rho = float(c.k_rho) * t
-    base = 2 * p + y_counts - x_counts
-    ramp = float(c.ramp_weight) * x_counts / 2
-
-    def g(frac: FloatArray) -> FloatArray:
-        on, off = _duties(p, base + ramp * frac)
-        forcing = 2 * off - on - p + x_counts / 2
-        q1, q2 = psi_arrays(rho * frac)
-        return a * np.exp(-rho * frac) + forcing * frac * q1 - x_counts * frac**2 / 2 * q2
-
-    unfinished = g(np.ones_like(x_counts)) > 0.0
-    lo, hi = np.zeros_like(x_counts), np.ones_like(x_counts)
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        above = g(mid) > 0.0
-        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
-    frac = np.where(unfinished, 1.0, 0.5 * (lo + hi))
-    flags |= np.where(unfinished, FLAG_NOT_FINISHED, 0)
-    total = base + ramp * frac
+    edge = _Edge(c, x, y, a_rho, rho, t)
+    tau = c.carrier_ticks
+    periods = np.floor(t * int(tau.q) / int(tau.p)).astype(np.int64)
+    # binary lifting over the grid: n = the last m with rho g >= 0
+    n = np.zeros_like(periods)
+    steps = int(periods.max()).bit_length()
+    for k in range(steps - 1, -1, -1):
+        m = n + (1 << k)
+        ok = m <= periods
+        h, _, _ = edge.current(np.minimum(m, periods).astype(np.float64))
+        n = np.where(ok & (h >= 0), m, n)
+    finished = n < periods
+    end = np.where(finished, n + 1, periods)
+    h_end, total_end, shortfall = edge.current(end.astype(np.float64))
+    h_before, _, _ = edge.current(np.maximum(end - 1, 0).astype(np.float64))
+    total = total_end
+    on0, off0 = _split(p, total)
+    room = np.minimum(on0, p - off0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eased = np.where(shortfall > 0, -h_end / shortfall, 0.0)
+    delta = np.where(finished, np.clip(eased, 0.0, room), 0.0)
+    ticks = np.where(finished, end * float(tau), t.astype(np.float64))
+    flags |= np.where(finished, 0, FLAG_NOT_FINISHED)
     flags |= np.where(total > 2 * p, FLAG_CANNOT_HOLD, 0) | np.where(total < 0, FLAG_ABOVE_BUS, 0)
-    on, off = _duties(p, total)
     return ReferenceBatch(
-        t, b, i, frac, total, on, off, frac * t, flags, x_counts, y_counts, a, rho
+        period=t,
+        bus=b,
+        current=i,
+        periods=periods,
+        end=end,
+        total=total,
+        on_held=on0,
+        off_held=off0,
+        delta=delta,
+        on_exact=on0 - delta,
+        off_exact=off0 + delta,
+        ticks_exact=ticks,
+        flags=flags,
+        h_end=h_end,
+        h_before=h_before,
+        shortfall=shortfall,
+        x=x,
+        y=y,
+        a_rho=a_rho,
+        rho=rho,
     )
 
 
-def reference_points(c: RuleConstants, points: Sequence[RuleInputs]) -> list[ReferenceResult]:
-    """`reference` at many points, evaluated as one batch."""
-    periods = [q.period_ticks for q in points]
-    batch = reference_batch(
-        c, periods, [q.bus_code for q in points], [q.current_code for q in points]
+def reference_points(c: RuleConstants, points: Sequence[RuleInputs]) -> ReferenceBatch:
+    return reference_batch(
+        c,
+        [q.period_ticks for q in points],
+        [q.bus_code for q in points],
+        [q.current_code for q in points],
     )
-    return [batch.result(k, period) for k, period in enumerate(periods)]
 
 
-def reference(c: RuleConstants, inputs: RuleInputs) -> ReferenceResult:
-    return reference_points(c, [inputs])[0]
+def reference(c: RuleConstants, inputs: RuleInputs) -> RuleOutputs:
+    batch = reference_points(c, [inputs])
+    return batch.outputs(0, min(inputs.period_ticks, 2**31))
+
+
+def decay(c: RuleConstants, periods: int) -> float:
+    return math.exp(-float(c.step_decay) * periods)

@@ -20,30 +20,33 @@
  *                              tests and the verifier.
  *
  * Method "improved_r": the resistance-aware rule (codegen/methods/improved_r).
- * One constant duty pair per commutation, held at the EMFs of time theta t_com
- * (theta = sqrt(2) - 1), and t_com the zero of the turn-off current with R and the
- * trapezoidal EMF's ramp:
- *   S(x) = 2P + Y - X + theta X x / 2, C_on = clamp(S, 0, P), C_off = clamp(S - P, 0, P)
- *   g(x) = A e^-rho x + F x psi1(rho x) - X x^2/2 psi2(rho x), F = 2 C_off - C_on - P + X/2
- *   x_c: g(x_c) = 0 in (0, 1] sectors; t_com = x_c T
+ * EMF: trapezoid, 120 deg flat top; per unit E over the sector after the edge,
+ * sigma = (2e_a - e_b - e_c)/E = 4 + -2 x, phi = (e_a - 2e_b + e_c)/E = 2 + -4 x.
+ * One constant duty pair per commutation, held at the minimax duty sum over it, and
+ * the end on a carrier boundary (the port restarts the PWM carrier there):
+ *   Sigma(x) = 2P + Y - (X/4)(sigma_0 + sigma_1 theta x), theta = sqrt(2) - 1,
+ *   C_on = clamp(Sigma, 0, P), C_off = clamp(Sigma - P, 0, P), F_d = 2 C_off - C_on - P,
+ *   g(x) = A e^-rho x + (F_d + (X/4) phi_0) x psi1(rho x) + (X/4) phi_1 x^2/2 psi2(rho x):
+ *   the turn-off current under that pair (psi1 = (1 - e^-y)/y, psi2 = 2(y - 1 + e^-y)/y^2);
+ *   the end: the first x_m = m tau / T (tau = 50 ticks, m >= 1) with g(x_m) < 0;
+ *   the pair eased there: C_on - delta, C_off + delta, delta = -g / (3 x psi1), at most
+ *   min(C_on, P - C_off), so the current reaches zero exactly on the boundary.
  * with, in duty counts, X = 4 P E / U_d = K_X / (T B), K_X = 3.834668e+10;
  * Y = 3 P R I / U_d = K_Y i / B, K_Y = 4.123636e+03; A = kappa i X, kappa = 2.867618e-04;
  * rho = R T_s / L = K_rho T, K_rho = 3.750000e-04; i in 1/1 codes.
  *
  * Formats (codegen/methods/improved_r/design.py chose them; the IR proof checked them):
- *   counts in Q7; 14-step bisection, x in Q14; e^-y, x psi1, x^2 psi2 in Q30;
- *   y = rho x in Q24; psi from a 385-row octave table (1540 bytes, linear
- *   interpolation, one CLZ per lookup); x_c = the middle of the last bracket, or 1
- *   (flagged) when the current does not reach zero in the sector.
- *   Period clamped to [BLDC_PERIOD_MIN_TICKS, BLDC_PERIOD_MAX_TICKS] (the table covers rho up
- *   to the slowest speed; t_com stays within the measured period); current clamped at 0.
- * Claimed bounds over the design grid (1170 points): duties <= 0.658
- *   counts; t_com <= 4.622 ticks where t_half <= the target, and everywhere
- *   at most 0.645 of max(target, t_half) (t_half: the shift of the true zero
- *   that half a count of duty causes, where t_com is ill-conditioned in the physics too).
- * Flags: HIGH_SPEED when C_off = 0 (S < P); FAIL_AREA_CLAMPED when no pair in [0, 1]
- * holds the current (S > 2P or S < 0); TIME_CLAMPED when the turn-off current does not
- * reach zero within the sector. The main duty is not used.
+ *   counts in Q7; on the grid rho x_m = y_1 m, e^-rho x_m = D^m from a
+ *   10-entry table of D^(2^k) (Q32): a 10-step binary lifting over m,
+ *   each step one table product and the sign of 2^(32+fc) rho g in int64; the easing
+ *   by two 32-bit divides. No exponential, no psi table, no divide in the loop.
+ *   Period clamped to [BLDC_PERIOD_MIN_TICKS, BLDC_PERIOD_MAX_TICKS]; current clamped at 0.
+ * Claimed bounds over the design grid (1760 points, the end decided at 1638):
+ *   duties <= 0.641 counts, t_com <= 0.0 ticks of the rule's carrier boundary.
+ * Flags: HIGH_SPEED when Sigma < P; FAIL_AREA_CLAMPED when no pair in [0, 1] holds the
+ * current (Sigma > 2P or Sigma < 0); TIME_CLAMPED when the turn-off current does not
+ * reach zero by the sector's last whole PWM period (then the pair is held over the
+ * whole sector, uneased, and the time is the sector). The main duty is not used.
  *
  * Safety
  *   Hall code 000 or 111, a code above 7, or a jump that is not one sector forward or
@@ -59,10 +62,12 @@
  *   bldc_bus_condition: code: uint32_t in [0, 4294967295] (-0.0 bits spare)
  *   bldc_bus_condition: period_min: uint32_t in [2000, 65536] (16.0 bits spare)
  *   bldc_bus_condition: flags: uint32_t in [0, 4] (30.0 bits spare)
- *   bldc_divide_long: q_high: uint32_t in [319346, 1061882] (12.0 bits spare)
- *   bldc_divide_long: remainder: uint32_t in [0, 6931651] (9.3 bits spare)
+ *   bldc_divide_long: q_high: uint32_t in [0, 1061882] (12.0 bits spare)
+ *   bldc_divide_long: remainder: uint32_t in [0, 3221225471] (0.4 bits spare)
+ *   bldc_bus_condition: xn: uint32_t in [1450037102, 2174734422] (1.0 bits spare)
  *   bldc_bus_condition: bus.x_numerator: uint32_t in [1450037102, 2174734422] (1.0 bits spare)
- *   bldc_bus_condition: bus.y_numerator: uint32_t in [319346, 478948] (13.1 bits spare)
+ *   bldc_bus_condition: bus.y_numerator: uint32_t in [1277385, 1915794] (11.1 bits spare)
+ *   bldc_bus_condition: bus.a_numerator: uint32_t in [1277385, 1915794] (11.1 bits spare)
  *   bldc_bus_condition: bus.period_min: uint32_t in [2000, 65536] (16.0 bits spare)
  *   bldc_bus_condition: bus.bus_code: uint32_t in [2257, 3385] (20.3 bits spare)
  *   bldc_bus_condition: bus.flags: uint32_t in [0, 4] (30.0 bits spare)
@@ -78,51 +83,44 @@
  *   bldc_commutation_timing: current: int32_t in [-2048, 2047] (20.0 bits spare)
  *   bldc_commutation_timing: i: uint32_t in [0, 2047] (21.0 bits spare)
  *   bldc_commutation_timing: x: uint32_t in [29000, 1087379] (11.9 bits spare)
- *   bldc_commutation_timing: y: uint32_t in [0, 478714] (13.1 bits spare)
- *   bldc_commutation_timing: x_kappa_i: uint64_t in [0, 1370723165682408] (13.7 bits spare)
- *   bldc_commutation_timing: a: uint32_t in [0, 638293] (12.7 bits spare)
- *   bldc_commutation_timing: x_theta: uint64_t in [6297843000, 236142835293] (26.2 bits spare)
- *   bldc_commutation_timing: st.x: int32_t in [29000, 1087379] (10.9 bits spare)
- *   bldc_commutation_timing: st.a2: int32_t in [0, 1276586] (10.7 bits spare)
- *   bldc_commutation_timing: st.rho: uint32_t in [100664000, 2516600000] (0.8 bits spare)
- *   bldc_commutation_timing: st.s0: int32_t in [-165779, 1371314] (10.6 bits spare)
- *   bldc_commutation_timing: st.s1: int32_t in [6006, 225203] (13.2 bits spare)
- *   bldc_commutation_timing: lo: uint32_t in [0, 16384] (18.0 bits spare)
- *   bldc_commutation_timing: hi: uint32_t in [0, 16384] (18.0 bits spare)
- *   bldc_commutation_timing: mid: uint32_t in [0, 16384] (18.0 bits spare)
- *   bldc_current_remains: rho_x: uint64_t in [0, 41231974400000] (18.8 bits spare)
- *   bldc_current_remains: y: uint32_t in [0, 314575000] (3.8 bits spare)
- *   bldc_current_remains: whole: uint32_t in [0, 18] (27.8 bits spare)
- *   bldc_current_remains: octave: uint32_t in [0, 5] (29.7 bits spare)
- *   bldc_current_remains: shift: uint32_t in [18, 22] (27.5 bits spare)
- *   bldc_current_remains: row: uint32_t in [0, 383] (23.4 bits spare)
- *   bldc_current_remains: r: uint32_t in [0, 4194303] (10.0 bits spare)
- *   bldc_current_remains: half: uint32_t in [131072, 2097152] (11.0 bits spare)
- *   bldc_current_remains: psi1: uint32_t in [2001, 65536] (16.0 bits spare)
- *   bldc_current_remains: psi2: uint32_t in [3888, 65536] (16.0 bits spare)
- *   bldc_current_remains: y_psi1: uint64_t in [0, 20615987200000] (19.8 bits spare)
- *   bldc_current_remains: one_minus_e: uint64_t in [0, 20132800000] (29.8 bits spare)
- *   bldc_current_remains: e: int32_t in [0, 1073741824] (1.0 bits spare)
- *   bldc_current_remains: u1: int32_t in [0, 1073741824] (1.0 bits spare)
- *   bldc_current_remains: x_x_psi2: uint64_t in [0, 17592186044416] (20.0 bits spare)
- *   bldc_current_remains: v2: int32_t in [0, 1073741824] (1.0 bits spare)
- *   bldc_current_remains: s1_x: uint64_t in [0, 3689725952] (32.2 bits spare)
- *   bldc_current_remains: total: int32_t in [-165779, 1596517] (10.4 bits spare)
- *   bldc_current_remains: on: int32_t in [0, 460800] (12.2 bits spare)
- *   bldc_current_remains: off: int32_t in [0, 460800] (12.2 bits spare)
- *   bldc_current_remains: f2: int32_t in [-1814200, 2008979] (10.1 bits spare)
- *   bldc_current_remains: twice_g: int64_t in [-3115546727940096, 3527848555970560] (11.4 bits spare)
- *   bldc_commutation_timing: fraction: uint32_t in [0, 32768] (17.0 bits spare)
- *   bldc_commutation_timing: s1_x: uint64_t in [0, 7379451904] (31.2 bits spare)
- *   bldc_commutation_timing: total: int32_t in [-165779, 1596517] (10.4 bits spare)
+ *   bldc_commutation_timing: y: uint32_t in [0, 478715] (13.1 bits spare)
+ *   bldc_commutation_timing: a_rho: uint32_t in [0, 478715] (13.1 bits spare)
+ *   bldc_commutation_timing: periods: uint32_t in [40, 1000] (22.0 bits spare)
+ *   bldc_commutation_timing: sigma0: int32_t in [-165779, 1371315] (10.6 bits spare)
+ *   bldc_commutation_timing: per_tick: uint32_t in [0, 18612220] (7.9 bits spare)
+ *   bldc_commutation_timing: q: uint32_t in [0, 48469322] (6.5 bits spare)
+ *   bldc_commutation_timing: growth: uint32_t in [0, 3011497] (10.5 bits spare)
+ *   bldc_commutation_timing: ca2: int32_t in [-4116712, 928430] (9.0 bits spare)
+ *   bldc_commutation_timing: cb: int32_t in [14500, 2058356] (10.0 bits spare)
+ *   bldc_commutation_timing: n: uint32_t in [0, 1000] (22.0 bits spare)
+ *   bldc_commutation_timing: e: uint32_t in [0, 2147483648] (1.0 bits spare)
+ *   bldc_commutation_timing: end_h: int64_t in [-140413180662657216, -1] (6.0 bits spare)
+ *   bldc_commutation_timing: end_e: uint32_t in [0, 2107593468] (1.0 bits spare)
+ *   bldc_commutation_timing: m: uint32_t in [1, 1512] (21.4 bits spare)
+ *   bldc_commutation_timing: em: uint32_t in [0, 2107593468] (1.0 bits spare)
+ *   bldc_commutation_timing: total: int32_t in [-165779, 7253145] (8.2 bits spare)
+ *   bldc_commutation_timing: held: int32_t in [0, 921600] (11.2 bits spare)
+ *   bldc_commutation_timing: fd: int32_t in [-1382400, 921600] (10.6 bits spare)
+ *   bldc_commutation_timing: h: int64_t in [-140413180662657216, 20582640987340616] (6.0 bits spare)
+ *   bldc_commutation_timing: end: uint32_t in [1, 1000] (22.0 bits spare)
+ *   bldc_commutation_timing: end_total: int32_t in [-165779, 7253145] (8.2 bits spare)
+ *   bldc_commutation_timing: end_held: int32_t in [0, 921600] (11.2 bits spare)
+ *   bldc_commutation_timing: end_on: int32_t in [0, 460800] (12.2 bits spare)
+ *   bldc_commutation_timing: end_off: int32_t in [0, 460800] (12.2 bits spare)
+ *   bldc_commutation_timing: overshoot: uint64_t in [1, 2251799813683200] (13.0 bits spare)
+ *   bldc_commutation_timing: shortfall: uint32_t in [233730, 12582912] (8.4 bits spare)
+ *   bldc_commutation_timing: eased: uint32_t in [0, 4717808] (9.8 bits spare)
+ *   bldc_commutation_timing: room: int32_t in [0, 460800] (12.2 bits spare)
+ *   bldc_commutation_timing: delta: int32_t in [0, 460800] (12.2 bits spare)
+ *   bldc_commutation_timing: eased_on: int32_t in [-460800, 460800] (12.2 bits spare)
+ *   bldc_commutation_timing: eased_off: int32_t in [0, 921600] (11.2 bits spare)
  *   bldc_commutation_timing: on: uint32_t in [0, 460800] (13.2 bits spare)
  *   bldc_commutation_timing: off: uint32_t in [0, 460800] (13.2 bits spare)
- *   bldc_commutation_timing: scaled: uint32_t in [0, 50000] (16.4 bits spare)
- *   bldc_commutation_timing: ticks: uint32_t in [0, 50000] (16.4 bits spare)
+ *   bldc_commutation_timing: ticks: uint32_t in [50, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.period_min: uint32_t in [2000, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 3600] (4.2 bits spare)
  *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3600] (4.2 bits spare)
- *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 50000] (0.4 bits spare)
+ *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [50, 65535] (-0.0 bits spare)
  *   bldc_commutation_timing: timing.flags: uint16_t in [0, 31] (11.0 bits spare)
  *   bldc_commutate: hall_code: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: previous_hall_code: uint32_t in [0, 255] (24.0 bits spare)
@@ -131,7 +129,7 @@
  *   bldc_commutate: sector: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: out.turn_on_compare: uint16_t in [0, 3600] (4.2 bits spare)
  *   bldc_commutate: out.turn_off_compare: uint16_t in [0, 3600] (4.2 bits spare)
- *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 50000] (0.4 bits spare)
+ *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 65535] (-0.0 bits spare)
  *   bldc_commutate: out.turn_on_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.turn_off_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.sector: uint8_t in [0, 255] (-0.0 bits spare)
@@ -196,7 +194,8 @@ typedef struct {
 /* What the timing step needs of the bus voltage (see the formats above) */
 typedef struct {
     uint32_t x_numerator; /* round(N_X / B): X = x_numerator / T in Q(fc) counts */
-    uint32_t y_numerator; /* round(N_Y / B): Y = y_numerator i / 2^gy */
+    uint32_t y_numerator; /* Y per unit of current, Q(fc + gy): Y = 3 P R I / U_d */
+    uint32_t a_numerator; /* A rho per unit of current, Q(fc + ga) */
     uint32_t period_min;  /* BLDC_PERIOD_MIN_TICKS, or BLDC_PERIOD_NEVER when over-voltage */
     uint32_t bus_code;    /* the saturated bus code B */
     uint32_t flags;       /* BLDC_FLAG_INPUT_SATURATED when the code was saturated */
@@ -231,7 +230,8 @@ extern const uint8_t bldc_edge_switch[12][2];
 /*@ predicate bldc_bus_conditioned(bldc_bus_t b) =
        BLDC_BUS_CODE_MIN <= b.bus_code <= BLDC_BUS_CODE_MAX
     && b.x_numerator == ((2 * 4908375590083 + b.bus_code) / (2 * b.bus_code))
-    && b.y_numerator == ((2 * 1080986531 + b.bus_code) / (2 * b.bus_code))
+    && b.y_numerator == (((((2 * 4908375590083 + b.bus_code) / (2 * b.bus_code)) * 1891788) + 1073741824) / 2147483648)
+    && b.a_numerator == (((((2 * 4908375590083 + b.bus_code) / (2 * b.bus_code)) * 1891788) + 1073741824) / 2147483648)
     && (b.period_min == BLDC_PERIOD_MIN_TICKS || b.period_min == BLDC_PERIOD_NEVER)
     && (b.flags == 0 || b.flags == BLDC_FLAG_INPUT_SATURATED);
 */

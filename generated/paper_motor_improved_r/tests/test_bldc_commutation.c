@@ -40,9 +40,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_0_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_on_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_off_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.sector);
@@ -72,9 +72,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_1_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -104,9 +104,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_2_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_on_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_off_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.sector);
@@ -136,9 +136,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_3_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_on_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_off_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.sector);
@@ -168,9 +168,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_4_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_on_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_off_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.sector);
@@ -200,9 +200,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_5_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_on_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_off_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.sector);
@@ -232,9 +232,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_0_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_on_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_off_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.sector);
@@ -264,9 +264,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_1_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_on_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -296,9 +296,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_2_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_on_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_off_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.sector);
@@ -328,9 +328,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_3_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_on_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_off_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.sector);
@@ -360,9 +360,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_4_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_on_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_off_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.sector);
@@ -392,9 +392,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_5_at_1500_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 1981u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 506u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(34u, 3566u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(35u, 2016u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(25u, 525u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_off_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.sector);
@@ -424,9 +424,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_0_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_on_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_off_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.sector);
@@ -456,9 +456,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_1_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -488,9 +488,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_2_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_on_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_off_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.sector);
@@ -520,9 +520,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_3_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_on_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_off_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.sector);
@@ -552,9 +552,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_4_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_on_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_off_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.sector);
@@ -584,9 +584,9 @@ void test_bldc_commutate_should_commutate_forward_into_sector_5_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_on_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_off_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.sector);
@@ -616,9 +616,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_0_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_on_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_off_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.sector);
@@ -648,9 +648,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_1_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_on_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -680,9 +680,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_2_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.turn_on_switch); /* T6 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_off_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.sector);
@@ -712,9 +712,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_3_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_on_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_off_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.sector);
@@ -744,9 +744,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_4_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.turn_on_switch); /* T2 */
     TEST_ASSERT_EQUAL_HEX8(0x03u, out.turn_off_switch); /* T4 */
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.sector);
@@ -776,9 +776,9 @@ void test_bldc_commutate_should_commutate_reverse_into_sector_5_at_4600_rpm(void
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(5u, 1445u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(0u, 0u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(8u, 461u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 1370u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 98u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 500u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x00u, out.turn_off_switch); /* T1 */
     TEST_ASSERT_EQUAL_HEX8(0x05u, out.sector);
@@ -808,9 +808,9 @@ void test_bldc_commutate_should_saturate_a_low_bus(void)
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 3590u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(73u, 14962u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 3599u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(1u, 3591u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(75u, 14975u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -906,7 +906,7 @@ void test_bldc_commutate_should_flag_a_speed_below_the_minimum(void)
 
     TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
     TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(339u, 27668u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(350u, 27700u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -936,9 +936,9 @@ void test_bldc_commutate_should_give_no_commutation_time_without_current(void)
 
     bldc_commutate(&in, &out);
 
-    TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
-    TEST_ASSERT_UINT16_WITHIN(1u, 3055u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(4u, 4u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(1u, 3327u, out.turn_on_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 3328u, out.turn_off_compare);
+    TEST_ASSERT_UINT16_WITHIN(0u, 50u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -970,7 +970,7 @@ void test_bldc_commutate_should_flag_a_current_above_the_range(void)
 
     TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
     TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(53u, 15747u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(75u, 15775u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
@@ -1002,7 +1002,7 @@ void test_bldc_commutate_should_saturate_a_current_above_the_adc(void)
 
     TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_on_compare);
     TEST_ASSERT_UINT16_WITHIN(0u, 3600u, out.turn_off_compare);
-    TEST_ASSERT_UINT16_WITHIN(49u, 15997u, out.commutation_ticks);
+    TEST_ASSERT_UINT16_WITHIN(50u, 16000u, out.commutation_ticks);
     TEST_ASSERT_EQUAL_HEX8(0x04u, out.turn_on_switch); /* T5 */
     TEST_ASSERT_EQUAL_HEX8(0x02u, out.turn_off_switch); /* T3 */
     TEST_ASSERT_EQUAL_HEX8(0x01u, out.sector);
