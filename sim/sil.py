@@ -33,6 +33,7 @@ from pathlib import Path
 from codegen.abi import INPUTS, OUTPUTS, ctypes_struct
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
+from codegen.freshness import StaleOutputError, check_fresh
 from codegen.render import PROJECT_ROOT
 from codegen.spec_model import Spec
 from codegen.spec_variant import spec_with_method
@@ -194,6 +195,14 @@ def _shape_refused(output: str) -> bool:
     return "motor.back_emf_shape" in output
 
 
+def _is_output_of(spec: Spec, generated: Path) -> bool:
+    try:
+        check_fresh(spec, generated)
+    except StaleOutputError:
+        return False
+    return True
+
+
 def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_ROOT) -> CoreSet:
     """Compile the checked-in core and generate + compile the other methods' variants.
 
@@ -203,11 +212,14 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
     """
     spec_path = Path(spec.source_path)
     checked_in = PROJECT_ROOT / "generated" / spec.name / "c"
+    # The checked-in core only where it is this spec's output (a user's motor may share
+    # a name with a checked-in one, or the spec may have been edited since).
+    use_checked_in = _is_output_of(spec, checked_in.parent)
     toolchain = _toolchain_digest()
     text = spec_path.read_text(encoding="utf-8")
     variants: dict[tuple[str, str | None], str] = {}
     for method in methods:
-        if method == spec.controller.method and (checked_in / CORE_SOURCE).exists():
+        if method == spec.controller.method and use_checked_in:
             continue
         variants[(method, None)] = spec_with_method(text, method)
     if SHAPED_METHOD in methods and not spec.motor.back_emf_shape.frozen:

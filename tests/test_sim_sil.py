@@ -155,3 +155,20 @@ def test_all_twelve_edges_should_brake_alike_through_the_c_core(spec: Spec, core
     assert -20.0 < reference < -5.0  # the paper's rule with R: a sag, not a collapse
     for key, value in worst.items():
         assert value == pytest.approx(reference, abs=0.05), key
+
+
+def test_checked_in_core_should_serve_only_its_own_spec(tmp_path: Path) -> None:
+    """A user's motor named like a checked-in one (or an edited spec) gets its own core."""
+    from codegen.render import PROJECT_ROOT
+    from sim.sil import _is_output_of
+
+    generated = PROJECT_ROOT / "generated" / "paper_motor"
+    assert _is_output_of(load_spec(SPEC), generated)
+    mine = tmp_path / "paper_motor.yaml"
+    text = SPEC.read_text(encoding="utf-8")
+    mine.write_text(
+        text.replace("phase_resistance: 0.21 ohm", "phase_resistance: 0.23 ohm", 1),
+        encoding="utf-8",
+    )
+    assert mine.read_text(encoding="utf-8") != text
+    assert not _is_output_of(load_spec(mine), generated)
