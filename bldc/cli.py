@@ -8,6 +8,7 @@
     bldc-codegen verify SPEC          the generated C against the exact symbolic model
     bldc-codegen unity SPEC           the Unity tests on the host and under qemu
     bldc-codegen simulate SPEC        the commutation simulation and its report
+    bldc-codegen robustness SPEC      the deviation under parameter tolerances (Dask)
     bldc-codegen bench SPEC           speed, size and interrupt-cost figures
     bldc-codegen all SPEC             generate, firmware, verify, unity, simulate
 

@@ -14,7 +14,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from codegen.errors import DerivationError, SpecError
-from codegen.render import project_relative, write_atomically
+from codegen.render import write_atomically
+from codegen.shown import shown
 from codegen.spec_loader import load_spec
 
 EXIT_SPEC = 2
@@ -41,9 +42,7 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool, quick: boo
     results.seconds["figures and report"] = time.perf_counter() - figure_start
     total = time.perf_counter() - start
     timing = ", ".join(f"{k} {v:.1f} s" for k, v in results.seconds.items() if k != "total")
-    print(
-        f"sim: {len(names)} figures + {REPORT_NAME} -> {project_relative(out)} [{total:.1f} s: {timing}]"
-    )
+    print(f"sim: {len(names)} figures + {REPORT_NAME} -> {shown(out)} [{total:.1f} s: {timing}]")
     for point in results.operating:
         cells = []
         for (method, model, policy), metrics in sorted(point.metrics.items()):

@@ -36,7 +36,8 @@ from pathlib import Path
 import numpy as np
 
 from codegen.errors import SpecError
-from codegen.render import PROJECT_ROOT, project_relative
+from codegen.render import PROJECT_ROOT
+from codegen.shown import shown
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec, Tolerances
 from sim.drive import Drive
@@ -341,7 +342,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(
         f"robustness: {runs} runs ({args.samples} samples x {len(campaign.speeds_rpm)} speeds x"
         f" {len(methods)} methods, {args.plant} plant) on {result.workers} workers in"
-        f" {result.seconds:.1f} s -> {project_relative(out)}: {', '.join(names)}"
+        f" {result.seconds:.1f} s -> {shown(out)}: {', '.join(names)}"
     )
     return 0
 

@@ -15,11 +15,12 @@ import pytest
 from bldc import cli
 from codegen import __version__
 from codegen.errors import ExitCode
+from codegen.spec_loader import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
 SPEC = ROOT / "spec" / "paper_motor.yaml"
 EXPECTED = ["init", "derive", "audit", "generate", "firmware", "verify", "unity", "simulate"]
-EXPECTED += ["bench", "all"]
+EXPECTED += ["robustness", "bench", "all"]
 
 
 def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
@@ -314,3 +315,24 @@ def test_bench_help_names_every_section_the_bench_has() -> None:
     only = next(a for a in parser._actions if a.dest == "only")
     assert only.help is not None
     assert only.help.rsplit(": ", 1)[1].split(", ") == list(SECTIONS)
+
+
+def test_robustness_runs_from_the_cli_outside_the_repo(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`bldc-codegen robustness`: the campaign on a local Dask cluster, its report where
+    the user is, the path shown as the user would type it."""
+    monkeypatch.chdir(tmp_path)
+    spec = tmp_path / "motor.yaml"
+    shutil.copy(ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml", spec)
+    argv = ["robustness", "motor.yaml", "--samples", "4", "--speeds", "2"]
+    argv += ["--methods", "improved", "--workers", "1", "--chunk", "2", "--no-progress"]
+    assert cli.main(argv) == 0
+    name = load_spec(spec).name
+    report = tmp_path / "generated" / name / "robustness" / "ROBUSTNESS.md"
+    assert report.is_file() and "improved" in report.read_text()
+    assert f"-> generated/{name}/robustness:" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as caught:
+        cli.main([*argv[:2], "--samples", "0"])
+    assert caught.value.code == ExitCode.USAGE
+    assert "argument --samples: 0: at least 1" in capsys.readouterr().err

@@ -72,13 +72,5 @@ def fresh_generated(spec: Spec, override: str | None) -> Path:
     return generated
 
 
-def shown(path: Path) -> str:
-    """A path as the user should see it: relative to the current folder when inside it."""
-    try:
-        return path.resolve().relative_to(Path.cwd().resolve()).as_posix() or "."
-    except ValueError:
-        return str(path.resolve())
-
-
 def emit_json(payload: object) -> None:
     print(json.dumps(payload, indent=2, sort_keys=True, default=str))

@@ -15,11 +15,11 @@ from bldc.commands.common import (
     emit_json,
     load,
     output_dir,
-    shown,
 )
 from codegen.errors import ExitCode
 from codegen.publish import check_target
 from codegen.render import PROJECT_ROOT, write_atomically
+from codegen.shown import shown
 
 
 def _init(args: argparse.Namespace) -> int:

@@ -1,0 +1,16 @@
+"""How a path is shown on the console: as the user would type it from here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def shown(path: str | Path) -> str:
+    """Relative to the current folder when inside it, else absolute. (Generated files
+    use `codegen.render.project_relative` instead: their text must not depend on where
+    the tool ran.)"""
+    resolved = Path(path).resolve()
+    try:
+        return resolved.relative_to(Path.cwd().resolve()).as_posix() or "."
+    except ValueError:
+        return str(resolved)
