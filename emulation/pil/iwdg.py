@@ -39,7 +39,7 @@ class Iwdg(Peripheral):
         self.rlr_pending: tuple[int, int] | None = None
         self.expires_at: int | None = None
         self.last_reload: int | None = None
-        self.refreshes = 0
+        self.refresh_log: list[int] = []  # ticks of every reload (start included)
         self.readers = {"SR": self._read_sr, "PR": lambda: self.pr, "RLR": lambda: self.rlr}
         self.writers = {"KR": self._write_kr, "PR": self._write_pr, "RLR": self._write_rlr}
 
@@ -65,7 +65,7 @@ class Iwdg(Peripheral):
         self._settle()
         self.expires_at = self.machine.now + self.timeout_ticks()
         self.last_reload = self.machine.now
-        self.refreshes += 1
+        self.refresh_log.append(self.machine.now)
 
     def _write_kr(self, value: int) -> None:
         key = value & 0xFFFF

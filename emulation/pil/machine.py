@@ -195,6 +195,8 @@ class Machine:
         self.sleep_pc: int | None = None
         self.exceptions_taken = 0
         self.handler_entries: dict[int, int] = {}
+        #: (tick, exception number) of every exception entry, tail-chained ones included
+        self.entry_log: list[tuple[int, int]] = []
         self._deadline = 0
         self._block_end = 0
         self._block_cost: dict[tuple[int, int], int] = {}
@@ -441,6 +443,7 @@ class Machine:
         self.nvic.activate(exception)
         self.exceptions_taken += 1
         self.handler_entries[exception] = self.handler_entries.get(exception, 0) + 1
+        self.entry_log.append((self.now, exception))
         vector = self.read_u32(self.scb.vtor + 4 * exception)
         if not vector & 1:
             raise PilError(
