@@ -49,7 +49,7 @@ class PilError(RuntimeError):
     something that would fail on the chip (a hard fault, a watchdog reset)."""
 
 
-class UnmodelledAccess(PilError):
+class UnmodelledAccessError(PilError):
     """A register or peripheral access that no model implements."""
 
 
@@ -148,17 +148,17 @@ class Peripheral:
         name = self.register_at.get(word)
         what = "write to" if write else "read of"
         if name is None:
-            raise UnmodelledAccess(
+            raise UnmodelledAccessError(
                 f"{what} {describe_address(self.base + offset)}: no {self.svd_name} register there"
             )
         table = self.writers if write else self.readers
         if name not in table:
-            raise UnmodelledAccess(
+            raise UnmodelledAccessError(
                 f"{what} {describe_address(self.base + offset)}: {self.svd_name}.{name} is not modelled"
                 f" for {'writes' if write else 'reads'} (emulation/pil models only what it cites from RM0008)"
             )
         if (size != 4 or offset != word) and name not in self.byte_access:
-            raise UnmodelledAccess(
+            raise UnmodelledAccessError(
                 f"{size}-byte {what} {describe_address(self.base + offset)}: {self.svd_name}.{name}"
                 " is modelled for 32-bit accesses only"
             )
@@ -179,7 +179,7 @@ class Peripheral:
 
     def write_part(self, name: str, byte: int, size: int, value: int) -> None:
         """A sub-word write to a register listed in `byte_access`."""
-        raise UnmodelledAccess(f"{self.svd_name}.{name}: sub-word write not modelled")
+        raise UnmodelledAccessError(f"{self.svd_name}.{name}: sub-word write not modelled")
 
     def next_event(self) -> int | None:
         return None

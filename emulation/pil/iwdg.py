@@ -23,7 +23,7 @@ KEY_START, KEY_RELOAD, KEY_UNLOCK = 0xCCCC, 0xAAAA, 0x5555
 UPDATE_LSI_CYCLES = 5
 
 
-class WatchdogReset(PilError):
+class WatchdogResetErrorError(PilError):
     """The IWDG counted down to 0: on the chip, a reset."""
 
 
@@ -74,9 +74,8 @@ class Iwdg(Peripheral):
             self.running = True
             self.machine.rcc.csr |= 0b11  # LSION, LSIRDY: the IWDG forces the LSI on
             self._reload()
-        elif key == KEY_RELOAD:
-            if self.running:
-                self._reload()
+        elif key == KEY_RELOAD and self.running:
+            self._reload()
 
     def _write_pr(self, value: int) -> None:
         if self.unlocked:
@@ -96,7 +95,7 @@ class Iwdg(Peripheral):
         last = (
             "never" if self.last_reload is None else f"at {self.last_reload / TICK_HZ * 1e3:.3f} ms"
         )
-        raise WatchdogReset(
+        raise WatchdogResetError(
             f"IWDG reset at {now / TICK_HZ * 1e3:.3f} ms: the watchdog was starved (last refresh"
             f" {last}, timeout {self.timeout_ticks() / TICK_HZ * 1e3:.2f} ms at LSI {self.lsi_hz} Hz)"
         )

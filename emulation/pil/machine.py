@@ -54,7 +54,7 @@ from unicorn import (
 )
 from unicorn import arm_const as uc_arm
 
-from emulation.cycles import decode, thumb_instruction_size
+from emulation.cycles import decode, disassemble, thumb_instruction_size
 from emulation.memory import (
     STM32F103_72MHZ,
     MemoryTiming,
@@ -201,6 +201,7 @@ class Machine:
         self._block_end = 0
         self._block_cost: dict[tuple[int, int], int] = {}
         self._returning = False
+        self._after_store = False
         self._fault: str | None = None
 
         self.rcc = Rcc(
@@ -328,7 +329,7 @@ class Machine:
         try:
             peripheral, register = self._peripheral_at(base + offset)
             return peripheral.read(register, size)
-        except Exception as error:  # noqa: BLE001 - handed to the run loop, re-raised there
+        except Exception as error:
             self._stop_with(error)
             return 0
 
@@ -338,7 +339,12 @@ class Machine:
         try:
             peripheral, register = self._peripheral_at(base + offset)
             peripheral.write(register, size, value)
-        except Exception as error:  # noqa: BLE001 - handed to the run loop, re-raised there
+            if self.nvic.pending and self._preemption_due():
+                # Take it after this store, not at the end of the block: stopping here
+                # leaves the PC on the store, which `_execute` then steps over.
+                self._after_store = True
+                uc.emu_stop()
+        except Exception as error:
             self._stop_with(error)
 
     def _stop_with(self, error: BaseException) -> None:
@@ -549,7 +555,7 @@ class Machine:
         except UcError as error:
             if self.error is None and self._fault is None:
                 pc = self.uc.reg_read(uc_arm.UC_ARM_REG_PC)
-                self._fault = f"unicorn stopped at pc 0x{pc:08x}: {error}"
+                self._fault = f"unicorn stopped at pc 0x{pc:08x}: {error}: a HardFault on the chip"
         self.now = max(self.now, self._block_end)
         self._raise_error()
         if self._returning:
@@ -559,3 +565,62 @@ class Machine:
         if self.sleep_pc is not None:
             return
         self.pc = self.uc.reg_read(uc_arm.UC_ARM_REG_PC)
+        if self._after_store:
+            self._after_store = False
+            self._step_over_store()
+
+    def _step_over_store(self) -> None:
+        """The PC is on a store whose peripheral write has happened (unicorn stops a
+        memory callback before the instruction retires): retire it by hand. Only a
+        single store without writeback can be retired so; inside an IT block the IT
+        state advances as ITAdvance() does (ARMv7-M A7.3.2)."""
+        code = bytes(self.uc.mem_read(self.pc, 4))
+        size = thumb_instruction_size(code[:2])
+        text = disassemble(code[:size], self.pc)
+        mnemonic, _, operands = text.partition(" ")
+        if (
+            mnemonic.split(".")[0] not in ("str", "strh", "strb")
+            or "!" in operands
+            or "], " in operands
+        ):
+            raise PilError(
+                f"an interrupt pended by `{text}` at 0x{self.pc:08x}: preemption right after"
+                " a store with writeback or of several registers is not modelled"
+            )
+        xpsr = self.uc.reg_read(uc_arm.UC_ARM_REG_XPSR)
+        it = ((xpsr >> 25) & 3) | (((xpsr >> 10) & 0x3F) << 2)
+        if it:
+            it = 0 if it & 7 == 0 else (it & 0xE0) | ((it << 1) & 0x1F)
+            it = 0 if it & 0xF == 0 else it
+            xpsr = (xpsr & ~((3 << 25) | (0x3F << 10))) | ((it & 3) << 25) | ((it >> 2) << 10)
+            self.uc.reg_write(uc_arm.UC_ARM_REG_XPSR, xpsr)
+        self.pc += size
+
+
+def bare_image(
+    code: bytes = b"\xfe\xe7", *, handlers: dict[int, bytes] | None = None, stack: int = 0x2000_5000
+) -> FirmwareImage:
+    """A flash image with no ELF behind it, for model tests: a 64-entry vector table,
+    `code` at the reset vector (default `b .`), and per exception number a handler's code.
+    WFI instructions in `code` and the handlers are found as in an ELF's Thumb code."""
+    table_words = 64
+    blobs = [code, *(handlers or {}).values()]
+    addresses = []
+    cursor = FLASH_BASE + 4 * table_words
+    for blob in blobs:
+        addresses.append(cursor)
+        cursor += (len(blob) + 7) // 8 * 8
+    vectors = [0] * table_words
+    vectors[0] = stack
+    vectors[1] = addresses[0] | 1
+    for (exception, _), address in zip((handlers or {}).items(), addresses[1:], strict=True):
+        vectors[exception] = address | 1
+    image = bytearray(b"".join(v.to_bytes(4, "little") for v in vectors))
+    for blob, address in zip(blobs, addresses, strict=True):
+        image.extend(b"\x00" * (address - FLASH_BASE - len(image)))
+        image.extend(blob)
+    chunks = [(FLASH_BASE, bytes(image))]
+    marks = [(FLASH_BASE, "d"), *((a, "t") for a in addresses)]
+    return FirmwareImage(
+        Path("<bare image>"), tuple(chunks), {}, _find_wfi(chunks, marks), SRAM_BASE
+    )

@@ -67,11 +67,16 @@ class DriveBoard:
     def set_current(self, amps: float | Callable[[int], float]) -> None:
         offset = float(self.spec.adc.current_offset_v)
         gain = float(self.spec.adc.current_gain_v_per_a)
-        for channel in self.spec.sensing.current_channels:
-            if callable(amps):
-                source = amps
-                self.machine.adc1.set_input(channel, lambda tick: offset + gain * source(tick))
-            else:
+        if callable(amps):
+            source = amps
+
+            def volts(tick: int) -> float:
+                return offset + gain * source(tick)
+
+            for channel in self.spec.sensing.current_channels:
+                self.machine.adc1.set_input(channel, volts)
+        else:
+            for channel in self.spec.sensing.current_channels:
                 self.machine.adc1.set_input(channel, offset + gain * amps)
 
     # ------------------------------------------------------------------ running

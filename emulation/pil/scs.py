@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from emulation.pil.bus import Peripheral, PilError, UnmodelledAccess, bits
+from emulation.pil.bus import Peripheral, PilError, UnmodelledAccessError, bits
 
 if TYPE_CHECKING:
     from emulation.pil.machine import Machine
@@ -269,7 +269,7 @@ class Scb(Peripheral):
             elif register == 3 and slot == 3:
                 nvic.system_priority[SYSTICK] = level
             elif level:
-                raise UnmodelledAccess(f"SCB.SHPR{register} byte {slot}: not modelled")
+                raise UnmodelledAccessError(f"SCB.SHPR{register} byte {slot}: not modelled")
         self.machine.interrupts_changed()
 
     def write_part(self, name: str, byte: int, size: int, value: int) -> None:

@@ -211,10 +211,7 @@ class AdvancedTimer(Timer):
         base = (pos // cycle) * cycle
         candidates = []
         for start in (base - cycle, base):
-            if self.centre_aligned:
-                offsets = (value, 2 * self.arr - value, 0)
-            else:
-                offsets = (value, 0)
+            offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
             candidates.extend(start + offset for offset in offsets)
         for candidate in sorted((c for c in candidates if c <= pos), reverse=True):
             before = self._ref_at_position(channel, candidate - 1)

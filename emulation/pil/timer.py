@@ -344,10 +344,7 @@ class Timer(Peripheral):
         return {1: not up, 2: up, 3: True}[self.centre_aligned]
 
     def _next_update_position(self, after: int) -> int:
-        if self.centre_aligned:
-            step = self.arr
-        else:
-            step = self.arr + 1
+        step = self.arr if self.centre_aligned else self.arr + 1
         return (after // step + 1) * step
 
     def next_event(self) -> int | None:
