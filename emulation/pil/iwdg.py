@@ -23,7 +23,7 @@ KEY_START, KEY_RELOAD, KEY_UNLOCK = 0xCCCC, 0xAAAA, 0x5555
 UPDATE_LSI_CYCLES = 5
 
 
-class WatchdogResetErrorError(PilError):
+class WatchdogResetError(PilError):
     """The IWDG counted down to 0: on the chip, a reset."""
 
 
