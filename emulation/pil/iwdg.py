@@ -40,7 +40,7 @@ class Iwdg(Peripheral):
         self.expires_at: int | None = None
         self.last_reload: int | None = None
         self.refresh_log: list[int] = []  # ticks of every reload (start included)
-        self.readers = {"SR": self._read_sr, "PR": lambda: self.pr, "RLR": lambda: self.rlr}
+        self.readers = {"SR": self._read_sr, "PR": self._read_pr, "RLR": self._read_rlr}
         self.writers = {"KR": self._write_kr, "PR": self._write_pr, "RLR": self._write_rlr}
 
     def _lsi_ticks(self, cycles: int) -> int:
@@ -56,6 +56,14 @@ class Iwdg(Peripheral):
     def _read_sr(self) -> int:
         self._settle()
         return (self.pr_pending is not None) | ((self.rlr_pending is not None) << 1)
+
+    def _read_pr(self) -> int:
+        self._settle()
+        return self.pr
+
+    def _read_rlr(self) -> int:
+        self._settle()
+        return self.rlr
 
     def timeout_ticks(self) -> int:
         divider = min(4 << self.pr, 256)
