@@ -207,8 +207,11 @@ class Adc(Peripheral):
         if value & CR2_JSWSTART and value & CR2_JEXTTRIG and bits(value, 12, 3) == 7:
             self._start_injected()
 
-    def _adc_tick(self) -> int:
-        return self.machine.rcc.ticks_of(self.machine.rcc.adc_hz, "ADCCLK")
+    def _after(self, half_cycles: int) -> int:
+        """The tick `half_cycles` ADC half-cycles from now, rounded up (ADCCLK need not
+        divide the 72 MHz time base: 8 MHz HSI / 6 does not)."""
+        hz = self.machine.rcc.adc_hz
+        return self.machine.now + -(-half_cycles * TICK_HZ // (2 * hz))
 
     def _check_ready(self, what: str) -> None:
         if self.powered_at is None:
@@ -218,7 +221,7 @@ class Adc(Peripheral):
 
     def _start_calibration(self) -> None:
         self._check_ready("calibration")
-        self.calibration_end = self.machine.now + CALIBRATION_CYCLES * self._adc_tick()
+        self.calibration_end = self._after(2 * CALIBRATION_CYCLES)
 
     # ------------------------------------------------------------- conversions
     def _sample_half_cycles(self, channel: int) -> int:
@@ -226,15 +229,21 @@ class Adc(Peripheral):
         return SAMPLE_HALF_CYCLES[bits(self.smpr[register], 3 * index, 3)]
 
     def _schedule(self, channels: list[tuple[int, int]], injected: bool) -> None:
-        half = self._adc_tick()  # ticks of one ADC cycle; half cycles below
-        t = 2 * self.machine.now
+        elapsed = 0  # half ADC cycles
         conversions = []
         for index, (slot, channel) in enumerate(channels):
             sample = self._sample_half_cycles(channel)
-            sampled = (t + sample * half) // 2
-            t += (sample + CONVERSION_HALF_CYCLES) * half
+            sampled = self._after(elapsed + sample)
+            elapsed += sample + CONVERSION_HALF_CYCLES
             conversions.append(
-                Conversion(-(-t // 2), sampled, channel, injected, slot, index == len(channels) - 1)
+                Conversion(
+                    self._after(elapsed),
+                    sampled,
+                    channel,
+                    injected,
+                    slot,
+                    index == len(channels) - 1,
+                )
             )
         self.queue.extend(conversions)
         self.queue.sort(key=lambda c: c.end)
