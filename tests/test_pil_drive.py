@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
@@ -81,7 +82,7 @@ def test_the_current_loop_should_run_once_per_pwm_period(elf: Path, spec: Spec) 
     start = board.machine.now
     board.run_seconds(0.01)
     entries = [t for t in board.entries_of("ADC1", "ADC") if t >= start]
-    gaps = {b - a for a, b in zip(entries, entries[1:], strict=False)}
+    gaps = {b - a for a, b in pairwise(entries)}
     assert gaps == {board.pwm_period_ticks()}
     assert len(entries) == pytest.approx(0.01 * float(spec.inverter.pwm_frequency_hz), abs=1)
 
@@ -160,7 +161,7 @@ def test_the_watchdog_should_never_starve(elf: Path, spec: Spec) -> None:
     start = machine.now
     board.run_seconds(1000 / float(spec.inverter.pwm_frequency_hz))
     refreshes = [t for t in machine.iwdg.refresh_log if t >= start]
-    gaps = [b - a for a, b in zip(refreshes, refreshes[1:], strict=False)]
+    gaps = [b - a for a, b in pairwise(refreshes)]
     assert len(refreshes) >= 999
     assert max(gaps) < machine.iwdg.timeout_ticks() / 4
 
