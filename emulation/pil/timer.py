@@ -77,6 +77,9 @@ class Timer(Peripheral):
         self.trgo = False
         self.trgo_listeners: list[Callable[[int], None]] = []
         self.update_count = 0
+        self._tpc: int | None = None  # ticks per count, cached until PSC or a clock changes
+        self._next: int | None = None  # counter_event(), cached until the state changes
+        self._next_valid = False
         self.readers = {
             "CR1": self._read_cr1,
             "CR2": lambda: self.cr2,
@@ -149,8 +152,14 @@ class Timer(Peripheral):
         return bool(bits(self.ccmr[(channel - 1) // 2], 8 * ((channel - 1) % 2) + 3))
 
     def ticks_per_count(self) -> int:
-        rcc = self.machine.rcc
-        return rcc.ticks_of(rcc.timer_hz(self.APB), f"{self.svd_name}CLK") * (self.psc + 1)
+        if self._tpc is None:
+            rcc = self.machine.rcc
+            self._tpc = rcc.ticks_of(rcc.timer_hz(self.APB), f"{self.svd_name}CLK") * (self.psc + 1)
+        return self._tpc
+
+    def write(self, offset: int, size: int, value: int) -> None:
+        self._next_valid = False
+        super().write(offset, size, value)
 
     def cycle_counts(self) -> int:
         """Counts from one UEV of the same kind to the next: a PWM period."""
@@ -180,6 +189,7 @@ class Timer(Peripheral):
         return (self.cr1 & ~CR1_DIR) | (CR1_DIR if down else 0)
 
     def reanchor(self, pos: int | None = None) -> None:
+        self._next_valid = False
         now = self.machine.now
         self.anchor_pos = self.position(now) if pos is None else pos
         self.anchor_time = now
@@ -295,7 +305,10 @@ class Timer(Peripheral):
 
     def update_event(self, *, from_counter: bool) -> None:
         """UEV: transfer the preloads (14.3.1); UIF unless URS filters it."""
-        self.psc = self.psc_preload
+        self._next_valid = False
+        if self.psc != self.psc_preload:
+            self.psc = self.psc_preload
+            self._tpc = None
         self.arr = self.arr_preload
         for channel in range(1, 5):
             if not self.is_input(channel):
@@ -352,6 +365,12 @@ class Timer(Peripheral):
 
     def counter_event(self) -> int | None:
         """The next compare match or UEV of the counter."""
+        if not self._next_valid:
+            self._next = self._counter_event()
+            self._next_valid = True
+        return self._next
+
+    def _counter_event(self) -> int | None:
         if not self.running:
             return None
         done = self.position(self.processed_until)
@@ -366,6 +385,7 @@ class Timer(Peripheral):
         try:
             while (at := self.counter_event()) is not None and at <= now:
                 self.machine.now = at
+                self._next_valid = False
                 done = self.position(self.processed_until)
                 update = self._next_update_position(done)
                 target = self.position(at)
@@ -426,3 +446,5 @@ class Timer(Peripheral):
     def clock_changed(self, now: int) -> None:
         if self.running:
             self.reanchor()
+        self._tpc = None
+        self._next_valid = False
