@@ -197,6 +197,9 @@ class Machine:
         self.handler_entries: dict[int, int] = {}
         #: (tick, exception number) of every exception entry, tail-chained ones included
         self.entry_log: list[tuple[int, int]] = []
+        #: ticks spent out of thread mode (entry, handlers, exit): the CPU load's numerator
+        self.handler_ticks = 0
+        self._busy_since = 0
         self._deadline = 0
         self._block_end = 0
         self._block_cost: dict[tuple[int, int], int] = {}
@@ -427,6 +430,8 @@ class Machine:
         tail-chains into `exception` with the frame already on the stack."""
         uc = self.uc
         if exc_return is None:
+            if not self.nvic.active:
+                self._busy_since = self.now
             sp = uc.reg_read(uc_arm.UC_ARM_REG_SP)
             xpsr = uc.reg_read(uc_arm.UC_ARM_REG_XPSR) | (1 << 24)
             frame_sp = sp - 32
@@ -483,6 +488,8 @@ class Machine:
         uc.reg_write(uc_arm.UC_ARM_REG_SP, frame_sp + 32 + (4 if xpsr & (1 << 9) else 0))
         self.pc = words[6] & ~1
         self.now += exception_exit_cycles(self.timing) * self.cycle_ticks
+        if exc_return == EXC_RETURN_THREAD_MSP:
+            self.handler_ticks += self.now - self._busy_since
 
     def _take_exception(self) -> bool:
         if not self.nvic.pending:
