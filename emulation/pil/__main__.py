@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     print(f"exception entries by number: {dict(sorted(entries.items()))}")
     print(
-        f"CPU load (handlers, entry and exit, TRM cycles without flash stalls): {100 * load:.1f} %"
+        f"CPU load (handlers, entry and exit; TRM cycles plus estimated flash waits): {100 * load:.1f} %"
     )
     print(f"app_faults = 0x{board.symbol('app_faults'):04x}, MOE = {int(machine.tim1.moe)}")
     return 0

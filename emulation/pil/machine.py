@@ -23,9 +23,10 @@ exception model, the peripherals and time are this module's:
   peripheral event until an interrupt that would preempt (PRIMASK ignored) is pending.
 * Time: ticks of 1/72 MHz. The CPU runs in slices up to the next peripheral event; each
   translation block costs its instructions' TRM cycles (`emulation.cycles.decode`, a
-  taken branch's refill at its end; flash wait states are not added per instruction)
-  times the ticks of one HCLK cycle; an exception entry and return cost
-  `emulation.memory`'s figures at the FLASH_ACR latency in force.
+  taken branch's refill at its end) plus FLASH_ACR.LATENCY wait cycles for its first
+  flash line and for each literal load (an estimate: the bench's `emulation.memory`
+  prices the prefetch buffer exactly on traces), times the ticks of one HCLK cycle; an
+  exception entry and return cost `emulation.memory`'s figures at the latency in force.
 
 Anything the chip would not survive (a hard fault, a fetch from nowhere, a write to
 flash, the watchdog's reset) and anything not modelled raises `PilError`.
@@ -190,7 +191,6 @@ class Machine:
         self.options = options or MachineOptions()
         self.now = 0
         self.cycle_ticks = TICK_HZ // 8_000_000  # the HSI out of reset
-        self.timing: MemoryTiming = STM32F103_72MHZ
         self.error: BaseException | None = None
         self.sleep_pc: int | None = None
         self.exceptions_taken = 0
@@ -365,22 +365,31 @@ class Machine:
         cost = self._block_cost.get((address, size))
         if cost is None:
             cost = self._cost_of_block(address, size)
-        self._block_end = start + cost * self.cycle_ticks
+        cycles = cost[0] + self.flash.latency * cost[1]
+        self._block_end = start + cycles * self.cycle_ticks
 
-    def _cost_of_block(self, address: int, size: int) -> int:
+    def _cost_of_block(self, address: int, size: int) -> tuple[int, int]:
+        """(TRM cycles, flash reads that wait): a block entered from elsewhere waits
+        for its first flash line, and each literal load reads the flash over D-Code
+        (RM0008 3.3.3; `emulation.memory` models this in full for the bench)."""
         code = bytes(self.uc.mem_read(address, size))
         cycles = 0
+        literal_loads = 0
         offset = 0
         last = None
         while offset < size:
             length = thumb_instruction_size(code[offset : offset + 2])
-            last = decode(code[offset : offset + length])
+            instruction = code[offset : offset + length]
+            last = decode(instruction)
             cycles += last.cycles
+            if "[pc" in disassemble(instruction, address + offset):
+                literal_loads += 1
             offset += length
         if last is not None and last.refill != "never":
             cycles += _TAKEN_REFILL
-        self._block_cost[(address, size)] = cycles
-        return cycles
+        waits = (1 + literal_loads) if address < SRAM_BASE else 0
+        self._block_cost[(address, size)] = (cycles, waits)
+        return cycles, waits
 
     def _on_wfi(self, uc: Uc, address: int, _size: int, _data: object) -> None:
         self.sleep_pc = address
@@ -418,10 +427,14 @@ class Machine:
     def interrupts_changed(self) -> None:
         """A pending, enable or priority change: the block hook looks at the next block."""
 
+    def _memory_timing(self) -> MemoryTiming:
+        latency = self.flash.latency
+        if latency == STM32F103_72MHZ.flash_wait_states:
+            return STM32F103_72MHZ
+        return MemoryTiming(f"FLASH_ACR.LATENCY = {latency}", latency)
+
     def clocks_changed(self) -> None:
         self.cycle_ticks = self.rcc.ticks_of(self.rcc.hclk_hz, "HCLK")
-        wait_states = self.flash.latency
-        self.timing = MemoryTiming(f"FLASH_ACR.LATENCY = {wait_states}", wait_states)
         for p in self.peripherals:
             p.clock_changed(self.now)
 
@@ -429,6 +442,7 @@ class Machine:
         """Exception entry (ARMv7-M B1.5.6); `exc_return` None pushes a new frame, else
         tail-chains into `exception` with the frame already on the stack."""
         uc = self.uc
+        frame_pushed = exc_return is None
         if exc_return is None:
             if not self.nvic.active:
                 self._busy_since = self.now
@@ -448,14 +462,13 @@ class Machine:
             uc.mem_write(frame_sp, b"".join((v & 0xFFFFFFFF).to_bytes(4, "little") for v in values))
             uc.reg_write(uc_arm.UC_ARM_REG_SP, frame_sp)
             exc_return = EXC_RETURN_HANDLER if self.nvic.active else EXC_RETURN_THREAD_MSP
-            entry = exception_entry_cycles(self.timing, return_address)
-        else:
-            entry = 6  # tail-chaining (Cortex-M3 TRM 5.5.2)
         self.nvic.activate(exception)
         self.exceptions_taken += 1
         self.handler_entries[exception] = self.handler_entries.get(exception, 0) + 1
         self.entry_log.append((self.now, exception))
         vector = self.read_u32(self.scb.vtor + 4 * exception)
+        # a tail-chain takes 6 cycles (Cortex-M3 TRM 5.5.2)
+        entry = exception_entry_cycles(self._memory_timing(), vector & ~1) if frame_pushed else 6
         if not vector & 1:
             raise PilError(
                 f"vector {exception} is 0x{vector:08x} without the Thumb bit: a HardFault (INVSTATE)"
@@ -487,7 +500,7 @@ class Machine:
         uc.reg_write(uc_arm.UC_ARM_REG_XPSR, xpsr & ~(1 << 9))
         uc.reg_write(uc_arm.UC_ARM_REG_SP, frame_sp + 32 + (4 if xpsr & (1 << 9) else 0))
         self.pc = words[6] & ~1
-        self.now += exception_exit_cycles(self.timing) * self.cycle_ticks
+        self.now += exception_exit_cycles(self._memory_timing()) * self.cycle_ticks
         if exc_return == EXC_RETURN_THREAD_MSP:
             self.handler_ticks += self.now - self._busy_since
 
