@@ -234,3 +234,42 @@ def test_wfi_should_sleep_until_the_next_event(tmp_path: Path) -> None:
     assert machine.sleep_pc is not None
     # Asleep between ticks: a few hundred cycles of code, not 80000 per millisecond.
     assert len(machine._block_cost) < 20
+
+
+def test_preemption_inside_an_it_block_should_resume_the_block(tmp_path: Path) -> None:
+    """The store that pends the interrupt is retired by hand, the IT state advanced
+    (ARMv7-M A7.3.2 ITAdvance): the rest of the block runs with its conditions."""
+    main = assemble(
+        """
+        movs r3, #0
+        ldr r0, =0xE000E200
+        movs r1, #2
+        movs r2, #1
+        cmp r2, #1
+        itte eq
+        streq r1, [r0]
+        moveq r3, #5
+        movne r3, #9
+        loop: b loop
+        """,
+        tmp_path,
+    )
+    handler = assemble("movs r4, #1\nmovs r3, #7\nbx lr", tmp_path, "h")
+    machine = Machine(bare_image(main, handlers={IRQ_BASE + 1: handler}))
+    _enable(machine, 1, 0x10)
+    machine.run_for(2000)
+    assert [e for _, e in machine.entry_log] == [IRQ_BASE + 1]
+    assert reg(machine, "R4") == 1 and reg(machine, "R3") == 5
+
+
+def test_wfi_with_primask_set_should_wake_without_taking_the_interrupt(tmp_path: Path) -> None:
+    """ARMv7-M B1.5.19: a pending interrupt that would preempt but for PRIMASK wakes WFI."""
+    main = assemble("cpsid i\nwfi\nmovs r5, #3\nloop: b loop", tmp_path)
+    handler = assemble("b .", tmp_path, "h")
+    machine = Machine(bare_image(main, handlers={IRQ_BASE + 1: handler}))
+    _enable(machine, 1, 0x10)
+    machine.run_for(1000)
+    assert machine.sleep_pc is not None
+    machine.nvic.pend(IRQ_BASE + 1)
+    machine.run_for(1000)
+    assert reg(machine, "R5") == 3 and machine.nvic.active == []

@@ -38,6 +38,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+import capstone  # type: ignore[import-untyped]
+from capstone import arm_const as cs_arm
 from elftools.elf.elffile import ELFFile
 from unicorn import (
     UC_ARCH_ARM,
@@ -95,6 +97,17 @@ _FRAME = (
     uc_arm.UC_ARM_REG_PC,
     uc_arm.UC_ARM_REG_XPSR,
 )
+
+
+_STORES = capstone.Cs(capstone.CS_ARCH_ARM, capstone.CS_MODE_THUMB | capstone.CS_MODE_MCLASS)
+_STORES.detail = True
+#: capstone register id -> unicorn register id (r0-r12, sp, lr, pc)
+_REGISTER = {
+    **{getattr(cs_arm, f"ARM_REG_R{n}"): getattr(uc_arm, f"UC_ARM_REG_R{n}") for n in range(13)},
+    cs_arm.ARM_REG_SP: uc_arm.UC_ARM_REG_SP,
+    cs_arm.ARM_REG_LR: uc_arm.UC_ARM_REG_LR,
+    cs_arm.ARM_REG_PC: uc_arm.UC_ARM_REG_PC,
+}
 
 
 @dataclass(frozen=True)
@@ -204,7 +217,7 @@ class Machine:
         self._block_end = 0
         self._block_cost: dict[tuple[int, int], int] = {}
         self._returning = False
-        self._after_store = False
+        self._after_store: tuple[int, int] | None = None  # (address, value) of that store
         self._fault: str | None = None
 
         self.rcc = Rcc(
@@ -343,9 +356,9 @@ class Machine:
             peripheral, register = self._peripheral_at(base + offset)
             peripheral.write(register, size, value)
             if self.nvic.pending and self._preemption_due():
-                # Take it after this store, not at the end of the block: stopping here
-                # leaves the PC on the store, which `_execute` then steps over.
-                self._after_store = True
+                # Take it after this store, not at the end of the block (see
+                # `_step_over_store`).
+                self._after_store = (base + offset, value & ((1 << (8 * size)) - 1))
                 uc.emu_stop()
         except Exception as error:
             self._stop_with(error)
@@ -585,27 +598,41 @@ class Machine:
         if self.sleep_pc is not None:
             return
         self.pc = self.uc.reg_read(uc_arm.UC_ARM_REG_PC)
-        if self._after_store:
-            self._after_store = False
-            self._step_over_store()
+        if self._after_store is not None:
+            store, self._after_store = self._after_store, None
+            self._step_over_store(*store)
 
-    def _step_over_store(self) -> None:
-        """The PC is on a store whose peripheral write has happened (unicorn stops a
-        memory callback before the instruction retires): retire it by hand. Only a
-        single store without writeback can be retired so; inside an IT block the IT
-        state advances as ITAdvance() does (ARMv7-M A7.3.2)."""
+    def _step_over_store(self, address: int, value: int) -> None:
+        """A stop asked for in a peripheral write callback lands in one of two places
+        (as unicorn 2.1 behaves): on the store itself, whose write has happened but
+        which has not retired (resuming there would write again), or, for a store in
+        an IT block, after the end of the IT block. The first case is told by the
+        instruction at the PC: a store of `value` to `address`. It is retired here;
+        only a single store without writeback can be; inside an IT block the IT state
+        advances as ITAdvance() does (ARMv7-M A7.3.2)."""
         code = bytes(self.uc.mem_read(self.pc, 4))
         size = thumb_instruction_size(code[:2])
-        text = disassemble(code[:size], self.pc)
-        mnemonic, _, operands = text.partition(" ")
-        if (
-            mnemonic.split(".")[0] not in ("str", "strh", "strb")
-            or "!" in operands
-            or "], " in operands
+        instruction = next(_STORES.disasm(code[:size], self.pc), None)
+        if instruction is None or instruction.mnemonic.split(".")[0] not in (
+            "str",
+            "strh",
+            "strb",
         ):
+            return  # not on a store: the block went on to the end of its IT block
+        source, target = instruction.operands
+        memory = target.mem
+        register = self.uc.reg_read
+        target_address = register(_REGISTER[memory.base]) + memory.disp
+        if memory.index:
+            target_address += register(_REGISTER[memory.index]) << memory.lshift
+        width = {"str": 32, "strh": 16, "strb": 8}[instruction.mnemonic.split(".")[0]]
+        stored = register(_REGISTER[source.reg]) & ((1 << width) - 1)
+        if (target_address & 0xFFFFFFFF, stored) != (address, value):
+            return  # a later store, not the one that wrote
+        if instruction.writeback or len(instruction.operands) != 2:
             raise PilError(
-                f"an interrupt pended by `{text}` at 0x{self.pc:08x}: preemption right after"
-                " a store with writeback or of several registers is not modelled"
+                f"an interrupt pended by `{instruction.mnemonic} {instruction.op_str}` at"
+                f" 0x{self.pc:08x}: preemption right after a store with writeback is not modelled"
             )
         xpsr = self.uc.reg_read(uc_arm.UC_ARM_REG_XPSR)
         it = ((xpsr >> 25) & 3) | (((xpsr >> 10) & 0x3F) << 2)
