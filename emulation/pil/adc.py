@@ -25,7 +25,8 @@ Behaviours, with their RM0008 sections:
   sequence, EOC at the end of the regular one; ADC1_2 interrupt on EOC/JEOC/AWD with
   their enables.
 Not modelled (an error if set): continuous, discontinuous and dual modes, JAUTO, DMA,
-left alignment, the temperature sensor.
+left alignment, the temperature sensor. A conversion under way when ADCCLK changes
+ends as first scheduled.
 Inputs are voltages set per channel (`set_input`, a number or a function of the tick),
 converted as an ideal 12-bit ADC: floor(V / VREF x 4096), clamped to 0..4095.
 """
@@ -337,5 +338,5 @@ class Adc(Peripheral):
         self.machine.nvic.set_line(self.irq, bool(request))
 
     def clock_changed(self, now: int) -> None:
-        if self.queue:
-            raise PilError("a clock changed during an ADC conversion: not modelled")
+        """A conversion under way when ADCCLK changes (the CSS falling back to the HSI)
+        keeps the end it was given: the emulated sequence is not stretched."""

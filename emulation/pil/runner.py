@@ -93,6 +93,19 @@ class DriveBoard:
     def run_seconds(self, seconds: float) -> None:
         self.machine.run_for(round(seconds * TICK_HZ))
 
+    def turn(self, rpm: float, sectors: int, start_sector: int = 0) -> int:
+        """Step the Hall code through `sectors` 60-degree sectors forward (hall.sequence)
+        at a constant `rpm`, one pin changing per edge; returns the sector reached (the
+        code is held for a whole sector after each step)."""
+        pole_pairs = self.spec.motor.poles // 2
+        sector_ticks = round(TICK_HZ * 60 / (rpm * pole_pairs * 6))
+        sector = start_sector
+        for _ in range(sectors):
+            sector = (sector + 1) % 6
+            self.set_hall(self.spec.hall.sequence[sector])
+            self.machine.run_for(sector_ticks)
+        return sector
+
     def pwm_period_ticks(self) -> int:
         return round(TICK_HZ / self.spec.inverter.pwm_frequency_hz)
 
