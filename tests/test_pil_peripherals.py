@@ -11,7 +11,7 @@ from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scs import IRQ_BASE, NMI, SYSTICK
-from emulation.pil.tim1 import dead_time_counts
+from emulation.pil.tim1 import dead_time_counts, gate_violations
 
 WFI_LOOP = b"\x30\xbf\xfd\xe7"  # loop: wfi; b loop
 US = TICK_HZ // 1_000_000
@@ -275,6 +275,34 @@ def test_tim1_complementary_outputs_should_keep_the_dead_time() -> None:
     assert [t for t in range(200) if levels[t][0]] == list(range(10, 100))
     assert [t for t in range(200) if levels[t][1]] == list(range(110, 200))
     assert not any(a and b for a, b in levels)
+
+
+def test_tim1_gate_record_should_log_each_edge_and_check_the_dead_time() -> None:
+    """The outputs' edges as they happen (`record_gates`), and the bridge invariants."""
+    for dtg, expected in ((10, []), (0, ["phase A"])):
+        m = machine()
+        tim1_pwm(m, arr=199, dtg=dtg)
+        write(m.tim1, "CCR1", 100)
+        write(m.tim1, "CCER", 0b0101)
+        write(m.tim1, "BDTR", read(m.tim1, "BDTR") | 1 << 15)
+        write(m.tim1, "EGR", 1)
+        start = m.now
+        m.tim1.record_gates()
+        at(m, start + 3 * 200)
+        log = m.tim1.gate_log
+        assert log is not None
+        edges = [(t - start, g[:2]) for t, g in log[1:]]
+        if dtg:
+            assert edges[:4] == [
+                (10, (True, False)),
+                (100, (False, False)),
+                (110, (False, True)),
+                (200, (False, False)),
+            ]
+        violations = gate_violations(log, 10)
+        assert all(any(e in v for e in expected) for v in violations) and bool(violations) == bool(
+            expected
+        )
 
 
 def test_tim1_single_output_should_follow_ocxref_and_ossr_should_hold_the_other() -> None:

@@ -86,6 +86,9 @@ class AdvancedTimer(Timer):
         self.moe_cleared_at: int | None = None
         self.breaks = 0
         self.com_events = 0
+        #: (tick, gates) at every change of the six outputs, once `record_gates()` ran
+        self.gate_log: list[tuple[int, tuple[bool | None, ...]]] | None = None
+        self._flushed = 0
         self.readers |= {"BDTR": lambda: self.bdtr, "RCR": lambda: self.rcr}
         self.writers |= {"BDTR": self._write_bdtr, "RCR": self._write_rcr}
         for index, pin in enumerate(CHANNEL_PINS):
@@ -172,6 +175,7 @@ class AdvancedTimer(Timer):
             self._break(software=False)
 
     def _break(self, *, software: bool) -> None:
+        self._flush(self.machine.now)
         if self.moe:
             self.moe_cleared_at = self.machine.now
         self.bdtr &= ~BDTR_MOE
@@ -179,6 +183,7 @@ class AdvancedTimer(Timer):
             self.breaks += 1
         self.sr |= SR_BIF
         self.update_lines()
+        self._mark(self.machine.now)
 
     def clock_failure(self) -> None:
         """7.2.7: the CSS sends the clock failure event to the break input."""
@@ -262,3 +267,100 @@ class AdvancedTimer(Timer):
             for channel in (1, 2, 3)
             for complementary in (False, True)
         )
+
+    # ------------------------------------------------------------- the gate record
+    def record_gates(self) -> None:
+        """Start recording every change of the six outputs (`gate_log`)."""
+        now = self.machine.now
+        self.gate_log = [(now, self.gates(now))]
+        self._flushed = now
+
+    def _candidates(self, start: int, end: int) -> list[int]:
+        """Ticks in (start, end] where an output may change with the state in force:
+        each OCxREF edge (a compare match, an update) and a dead time after it."""
+        ticks: set[int] = set()
+        if self.moe_cleared_at is not None:
+            ticks.add(self.moe_cleared_at + self.dead_time_ticks())
+        if self.running:
+            dead = self.dead_time_ticks()
+            cycle = self.cycle_counts()
+            first = (self.position(start) // cycle - 1) * cycle
+            last = self.position(end) + cycle
+            for base in range(first, last + 1, cycle):
+                positions = {base, base + self.arr} if self.centre_aligned else {base}
+                for channel in (1, 2, 3):
+                    value = self.ccr[channel]
+                    positions.add(base + value)
+                    if self.centre_aligned:
+                        positions.add(base + 2 * self.arr - value)
+                for position in positions:
+                    tick = self.time_of_position(position)
+                    ticks.update((tick, tick + dead))
+        return sorted(t for t in ticks if start < t <= end)
+
+    def _flush(self, until: int) -> None:
+        """Log the changes up to `until` that the state in force makes by itself."""
+        log = self.gate_log
+        if log is None or until <= self._flushed:
+            return
+        for tick in self._candidates(self._flushed, until):
+            gates = self.gates(tick)
+            if gates != log[-1][1]:
+                log.append((tick, gates))
+        self._flushed = until
+
+    def _mark(self, tick: int) -> None:
+        """Log the outputs right after a state change at `tick`."""
+        log = self.gate_log
+        if log is None:
+            return
+        gates = self.gates(tick)
+        if gates != log[-1][1]:
+            log.append((tick, gates))
+        self._flushed = max(self._flushed, tick)
+
+    def write(self, offset: int, size: int, value: int) -> None:
+        now = self.machine.now
+        self._flush(now)
+        super().write(offset, size, value)
+        self._mark(now)
+
+    def on_event(self, now: int) -> None:
+        while (at := self.counter_event()) is not None and at <= now:
+            self._flush(at)
+            super().on_event(at)
+            self._mark(at)
+        self._flush(now)
+
+
+def gate_violations(
+    log: list[tuple[int, tuple[bool | None, ...]]], dead_time_ticks: int
+) -> list[str]:
+    """The bridge invariants on a gate record: both switches of a phase never on at
+    once, and a switch turns on no sooner than `dead_time_ticks` after the other switch
+    of its phase turned off. An undriven output (None) counts as off."""
+    violations: list[str] = []
+    if not log:
+        return violations
+    off_since: list[list[int | None]] = [[None, None] for _ in range(3)]
+    previous = log[0][1]
+    for tick, gates in log[1:]:
+        for phase in range(3):
+            upper, lower = gates[2 * phase] is True, gates[2 * phase + 1] is True
+            if upper and lower:
+                violations.append(f"tick {tick}: phase {'ABC'[phase]} has both switches on")
+            for switch in (0, 1):
+                was = previous[2 * phase + switch] is True
+                now = gates[2 * phase + switch] is True
+                if was and not now:
+                    off_since[phase][switch] = tick
+                if now and not was:
+                    other = off_since[phase][1 - switch]
+                    if other is not None and tick - other < dead_time_ticks:
+                        violations.append(
+                            f"tick {tick}: phase {'ABC'[phase]} {('upper', 'lower')[switch]}"
+                            f" switch on {tick - other} ticks after its partner turned off"
+                            f" (dead time {dead_time_ticks})"
+                        )
+        previous = gates
+    return violations
