@@ -1,4 +1,4 @@
-"""`python -m emulation.pil SPEC [--elf ELF] [--ms N] [--rpm R] [--amps I]`: boot the
+"""`python -m emulation.pil SPEC [--elf ELF] [--ms N] [--rpm R] [--amps I] [--gates]`: boot the
 drive firmware on the emulated STM32F103, run it with the Hall code stepping at a
 constant speed and a constant measured current, and print what it did and how fast
 the emulation ran (emulated ms per wall-clock second). A measurement, not a test."""
@@ -13,6 +13,7 @@ from pathlib import Path
 from codegen.spec_loader import load_spec
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
+from emulation.pil.tim1 import gate_violations
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -22,6 +23,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ms", type=float, default=100.0, help="emulated time after boot")
     parser.add_argument("--rpm", type=float, default=4600.0, help="0: the rotor stands still")
     parser.add_argument("--amps", type=float, default=5.0, help="the DC-link current read")
+    parser.add_argument(
+        "--gates", action="store_true", help="record every gate edge and check the bridge"
+    )
     args = parser.parse_args(argv)
     spec = load_spec(args.spec)
     elf = Path(args.elf) if args.elf else Path("build") / spec.name / "firmware.elf"
@@ -33,6 +37,8 @@ def main(argv: list[str] | None = None) -> int:
     boot_wall = time.perf_counter() - wall
     pole_pairs = spec.motor.poles // 2
     sector_ticks = round(TICK_HZ * 60 / (args.rpm * pole_pairs * 6)) if args.rpm > 0 else None
+    if args.gates:
+        machine.tim1.record_gates()
     start, handler_start = machine.now, machine.handler_ticks
     end = start + round(args.ms * TICK_HZ / 1000)
     sector = 0
@@ -57,6 +63,13 @@ def main(argv: list[str] | None = None) -> int:
         f"CPU load (handlers, entry and exit; TRM cycles plus estimated flash waits): {100 * load:.1f} %"
     )
     print(f"app_faults = 0x{board.symbol('app_faults'):04x}, MOE = {int(machine.tim1.moe)}")
+    log = machine.tim1.gate_log
+    if log is not None:
+        dead = round(spec.inverter.dead_time_s * TICK_HZ)
+        violations = gate_violations(log, dead)
+        print(f"gate edges: {len(log) - 1}; bridge invariant violations: {len(violations)}")
+        for line in violations[:10]:
+            print(f"  {line}")
     return 0
 
 
