@@ -16,6 +16,7 @@ import pytest
 from codegen.port_faults import FAULTS
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
+from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import MachineOptions
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
@@ -225,3 +226,21 @@ def test_the_bridge_should_never_shoot_through_nor_cut_the_dead_time(elf: Path, 
     dead = round(spec.inverter.dead_time_s * TICK_HZ)
     assert gate_violations(log, dead) == []
     assert not machine.tim1.moe
+
+
+@pytest.mark.xfail(
+    strict=True,
+    raises=WatchdogResetError,
+    reason="port bug: while the bus stays out of [LTR, HTR] the analog watchdog flags every"
+    " sequence and ADC1_2_IRQHandler returns before ++port.heartbeat, so main stops"
+    " refreshing the IWDG and the chip resets one watchdog timeout later (and again after"
+    " each restart): the safe state (the short circuit above the rectifying speed) is lost"
+    " in every reset",
+)
+def test_a_lasting_over_voltage_should_not_starve_the_watchdog(elf: Path, spec: Spec) -> None:
+    board = booted(elf, spec, lsi_hz=60_000)
+    board.set_current(float(spec.controller.braking_current_nominal_a) / 2)
+    board.turn(3000, 6)
+    board.set_bus_voltage(1.1 * float(spec.inverter.bus_voltage_max_v))
+    board.run_seconds(3 * float(spec.firmware.watchdog_timeout_s))
+    assert board.symbol("app_faults") & FAULT["OVER_VOLTAGE"]
