@@ -238,8 +238,11 @@ def test_tim1_ccer_should_be_preloaded_until_a_com_event() -> None:
     write(m.tim1, "CCER", 0b0101)
     assert m.tim1.ccer == 0 and read(m.tim1, "CCER") == 0b0101
     write(m.tim1, "DIER", 1 << 5)
+    write(m.tim1, "CCMR1", (4 << 4) | (1 << 3) | (6 << 12) | (1 << 11))  # OC1M: force inactive
+    assert m.tim1.oc_mode(1) == 6 and m.tim1.oc_preload(1)  # OC1M preloaded, OC1PE not
     write(m.tim1, "EGR", 1 << 5)
     assert m.tim1.ccer == 0b0101 and read(m.tim1, "SR") & (1 << 5)
+    assert m.tim1.oc_mode(1) == 4
     assert IRQ_BASE + TIM1_COM in m.nvic.pending
 
 

@@ -193,7 +193,7 @@ class Adc(Peripheral):
         self.cr2 = value & 0xFEF0F & ~(CR2_JSWSTART | CR2_SWSTART)
         if not value & CR2_ADON:
             self.powered_at = None
-            self.queue = [c for c in self.queue if False]
+            self.queue = []
             self.cr2 &= ~CR2_CAL
             return
         if not old & CR2_ADON:

@@ -220,8 +220,6 @@ class Timer(Peripheral):
         if self.running and not was_running:
             self.anchor_time = self.machine.now
             self.processed_until = self.machine.now
-        if not self.running and was_running:
-            pass  # position frozen at anchor_pos by position()
         self.refresh_refs()
 
     def _write_cr2(self, value: int) -> None:
