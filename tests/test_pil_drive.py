@@ -16,7 +16,6 @@ import pytest
 from codegen.port_faults import FAULTS
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
-from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import MachineOptions
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
@@ -139,20 +138,19 @@ def test_an_over_voltage_should_reach_the_safe_state_within_a_pwm_period(
     assert board.symbol("app_faults") & FAULT["OVER_VOLTAGE"]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="port bug: the AWD interrupt comes at the end of the first bus conversion"
-    " (JSQ2), before JDR4 of the same sequence is written; port_bus_fault() classifies"
-    " by the previous period's JDR4 and latches UNDER_VOLTAGE for an over-voltage",
-)
 def test_an_over_voltage_should_latch_over_voltage_alone(elf: Path, spec: Spec) -> None:
+    """Once a port bug: the bus steps at the period start, where TIM1 also triggers the
+    injected sequence, which resets the regular conversion (RM0008 11.3.9); the
+    watchdog flags the first injected bus conversion (JSQ2) before JDR4 is written, and
+    the classification read DR and JDR4 only, both from before the step: UNDER_VOLTAGE
+    was latched for an over-voltage. It now reads every JDRx of the bus."""
     board = booted(elf, spec)
     machine = board.machine
     board.run_seconds(0.001)
     _over_voltage_step(board, spec)
     while machine.tim1.moe:
         machine.run_for(10)
-    machine.run_for(3 * TICK_HZ // 1_000_000)  # main's loop refreshes app_faults
+    machine.run_for(20 * TICK_HZ // 1_000_000)  # the handler ends, main refreshes app_faults
     assert board.symbol("app_faults") == FAULT["OVER_VOLTAGE"]
 
 
@@ -192,14 +190,11 @@ def test_an_invalid_hall_code_on_one_edge_should_reach_the_safe_state(
     assert board.machine.tim1.moe_cleared_at - unplugged <= board.pwm_period_ticks()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="port bug: TIM3 sees the Hall lines only through TI1 = CH1 xor CH2 xor CH3; two"
-    " lines changing within the input filter (an unplugged connector pulling two lines up)"
-    " make no TI1 edge, and nothing reads the pins between edges, so code 7 goes unseen"
-    " until HALL_TIMEOUT, 65 ms later",
-)
 def test_two_hall_lines_rising_together_should_reach_the_safe_state(elf: Path, spec: Spec) -> None:
+    """Once a port bug: TIM3 sees the Hall lines only through TI1 = CH1 xor CH2 xor CH3;
+    two lines changing within the input filter (an unplugged connector pulling two
+    lines up) make no TI1 edge, so code 7 went unseen until HALL_TIMEOUT. The current
+    loop's interrupt now tests the pins for 0 and 7 every PWM period."""
     board = booted(elf, spec)
     sector = board.turn(3000, 7)
     while bin(spec.hall.sequence[sector]).count("1") != 1:
@@ -228,16 +223,10 @@ def test_the_bridge_should_never_shoot_through_nor_cut_the_dead_time(elf: Path, 
     assert not machine.tim1.moe
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=WatchdogResetError,
-    reason="port bug: while the bus stays out of [LTR, HTR] the analog watchdog flags every"
-    " sequence and ADC1_2_IRQHandler returns before ++port.heartbeat, so main stops"
-    " refreshing the IWDG and the chip resets one watchdog timeout later (and again after"
-    " each restart): the safe state (the short circuit above the rectifying speed) is lost"
-    " in every reset",
-)
 def test_a_lasting_over_voltage_should_not_starve_the_watchdog(elf: Path, spec: Spec) -> None:
+    """Once a port bug (the ADC interrupt returned before ++heartbeat on the watchdog
+    path, so main stopped refreshing the IWDG): the final port counts first, and turns
+    the analog watchdog's interrupt off from the trip until the fault is cleared."""
     board = booted(elf, spec, lsi_hz=60_000)
     board.set_current(float(spec.controller.braking_current_nominal_a) / 2)
     board.turn(3000, 6)

@@ -609,8 +609,117 @@ def test_adc_regular_conversion_should_start_on_adon_rewrite() -> None:
 def test_adc_unmodelled_modes_should_be_errors() -> None:
     m = machine()
     adc_ready(m)
-    with pytest.raises(PilError, match="continuous"):
-        write(m.adc1, "CR2", 1 | 2)
+    with pytest.raises(PilError, match="RSTCAL"):
+        write(m.adc1, "CR2", 1 | 8)
+    with pytest.raises(PilError, match="discontinuous"):
+        write(m.adc1, "CR1", 1 << 11)
+
+
+def continuous_bus(m: Machine, channel: int, cr1: int) -> None:
+    """The drive's regular group: one channel, IN0..IN3 at 7.5 cycles (20 ADC cycles = 120 ticks
+    per conversion at 12 MHz), continuous, started by SWSTART (EXTSEL = 111)."""
+    write(m.adc1, "SMPR2", 0o1111)  # IN0..IN3
+    write(m.adc1, "SQR3", channel)
+    write(m.adc1, "CR1", cr1)
+    cr2 = 1 | 2 | (1 << 20) | (7 << 17) | (1 << 15) | (7 << 12)  # ADON CONT EXTTRIG JEXTTRIG
+    write(m.adc1, "CR2", cr2)
+    write(m.adc1, "CR2", cr2 | (1 << 22))  # SWSTART
+
+
+def test_adc_continuous_mode_should_convert_the_regular_group_back_to_back() -> None:
+    """RM0008 11.3.5: with CONT the regular sequence starts again as soon as it ends;
+    DR holds the latest result, taken at the end of its sampling window."""
+    m = machine(vref=3.3)
+    adc_ready(m)
+    start_input = m.now
+    m.adc1.set_input(3, lambda tick: 1.0 if tick < start_input + 1000 else 2.0)
+    continuous_bus(m, 3, 0)
+    start = m.now
+    at(m, start + 119)
+    assert read(m.adc1, "SR") & 2 == 0 and m.adc1.regular_conversions == 0
+    at(m, start + 120)
+    assert read(m.adc1, "DR") == 1241 and m.adc1.regular_conversions == 1
+    at(m, start + 10 * 120)
+    # the 9th conversion sampled at start + 8 x 120 + 45 (7.5 cycles) > 1000 ticks
+    assert read(m.adc1, "DR") == 2482 and m.adc1.regular_conversions == 10
+    m.adc1.set_input(3, 0.5)  # a constant input: whole sequences at once
+    at(m, start + 1_000_000 * 120)
+    assert read(m.adc1, "DR") == 620 and m.adc1.regular_conversions == 1_000_000
+
+
+def test_adc_an_injected_trigger_should_reset_and_then_resume_the_regular_conversion() -> None:
+    """RM0008 11.3.9: the regular conversion under way is reset, the injected sequence
+    converted, then the regular sequence resumes with the interrupted conversion."""
+    m = machine(vref=3.3)
+    adc_ready(m)
+    m.adc1.set_input(3, 1.0)
+    m.adc1.set_input(0, 2.0)
+    write(m.adc1, "JSQR", 0)  # JL = 0: JSQ4 = IN0
+    continuous_bus(m, 3, 1 << 8)
+    m.adc1.keep_sample_log = True
+    start = m.now
+    at(m, start + 60)  # half-way through the first regular conversion
+    write(m.adc1, "CR2", read(m.adc1, "CR2") | (7 << 12) | (1 << 21))  # JSWSTART
+    at(m, start + 60 + 119)
+    assert not read(m.adc1, "SR") & 4 and m.adc1.regular_conversions == 0
+    at(m, start + 60 + 120)
+    assert read(m.adc1, "SR") & 4 and read(m.adc1, "JDR4") == 2482
+    assert m.adc1.regular_conversions == 0  # the interrupted one was lost
+    at(m, start + 60 + 240)
+    assert read(m.adc1, "SR") & 2 and m.adc1.regular_conversions == 1 and read(m.adc1, "DR") == 1241
+    ticks = [tick for tick, _channel, _raw in m.adc1.sample_log]
+    assert ticks == [start + 60 + 45, start + 180 + 45]  # injected, then the regular again
+
+
+def test_adc_a_regular_start_during_an_injected_sequence_should_wait_for_its_end() -> None:
+    """RM0008 11.3.9: a regular event during an injected conversion does not interrupt it."""
+    m = machine(vref=3.3)
+    adc_ready(m)
+    m.adc1.set_input(3, 1.0)
+    m.adc1.set_input(0, 2.0)
+    write(m.adc1, "SMPR2", (1 << 9) | 1)
+    write(m.adc1, "JSQR", 0)
+    write(m.adc1, "SQR3", 3)
+    cr2 = 1 | 2 | (1 << 20) | (7 << 17) | (1 << 15) | (7 << 12)
+    write(m.adc1, "CR2", cr2)
+    write(m.adc1, "CR2", cr2 | (1 << 21))  # JSWSTART
+    start = m.now
+    at(m, start + 30)
+    write(m.adc1, "CR2", cr2 | (1 << 22))  # SWSTART
+    at(m, start + 120 + 119)
+    assert not read(m.adc1, "SR") & 2 and m.adc1.regular_conversions == 0
+    at(m, start + 240)
+    assert read(m.adc1, "SR") & 2 and m.adc1.regular_conversions == 1
+
+
+def test_adc_regular_analog_watchdog_should_interrupt_at_the_first_conversion_outside() -> None:
+    """RM0008 11.3.7: AWDEN with AWDSGL on AWDCH guards the regular conversions: AWD and
+    its interrupt at the end of the first regular conversion above HTR; none with
+    AWDEN clear (JAWDEN alone guards the injected ones only)."""
+    m = machine(vref=3.3)
+    adc_ready(m)
+    step = m.now + 5000
+    m.adc1.set_input(3, lambda tick: 3.0 if tick >= step else 1.0)
+    write(m.adc1, "HTR", 3000)
+    write(m.adc1, "LTR", 100)
+    m.nvic.active.append(2)
+    continuous_bus(m, 3, (1 << 23) | (1 << 9) | (1 << 6) | 3)  # AWDEN AWDSGL AWDIE CH3
+    start = m.now
+    at(m, step)
+    assert not read(m.adc1, "SR") & 1
+    first = start + 120 * ((step - start - 45) // 120 + 1)  # first sampled at or after step
+    first += 120 if first - 120 + 45 < step else 0
+    at(m, first - 1)
+    assert IRQ_BASE + ADC_IRQ not in m.nvic.pending
+    at(m, first)
+    assert IRQ_BASE + ADC_IRQ in m.nvic.pending and read(m.adc1, "SR") & 1
+    m2 = machine(vref=3.3)
+    adc_ready(m2)
+    m2.adc1.set_input(3, 3.0)
+    write(m2.adc1, "HTR", 3000)
+    continuous_bus(m2, 3, (1 << 22) | (1 << 9) | (1 << 6) | 3)  # JAWDEN only
+    at(m2, m2.now + 10_000)
+    assert not read(m2.adc1, "SR") & 1
 
 
 # ---------------------------------------------------------------------- NVIC, SCB, SysTick, IWDG

@@ -21,19 +21,36 @@ Behaviours, with their RM0008 sections:
   the end of that conversion (interrupt with AWDIE).
 * 11.5 / 11.12.13 data: JDRx = raw - JOFRx, a signed 16-bit right-aligned value
   (ALIGN = 1 is not modelled); DR the last regular result, read clears EOC.
+* 11.3.5 continuous conversion (CR2.CONT = 1): the regular sequence starts again as
+  soon as it ends, from the first rank, until CONT or ADON is cleared.
+* 11.3.9 triggered injection: an injected trigger during a regular conversion resets
+  that conversion (its result is lost), the injected sequence is converted, and the
+  regular sequence resumes with the interrupted rank converted again from the start;
+  a regular start during an injected sequence waits for its end. (The datasheet's
+  injection latency of a few ADC cycles is not modelled: the injected sampling starts
+  at the trigger.)
+* 11.3.7 the analog watchdog on regular conversions (AWDEN) as on injected ones
+  (JAWDEN): AWD is set at the end of each regular conversion of the guarded channel
+  whose result is outside [LTR, HTR].
 * 11.12.1 SR flags AWD, EOC, JEOC, JSTRT, STRT (rc_w0); JEOC at the end of the injected
   sequence, EOC at the end of the regular one; ADC1_2 interrupt on EOC/JEOC/AWD with
   their enables.
-Not modelled (an error if set): continuous, discontinuous and dual modes, JAUTO, DMA,
-left alignment, the temperature sensor. A conversion under way when ADCCLK changes
-ends as first scheduled.
+Regular conversions run continuously, every couple of microseconds, so they are worked
+out when something could see them (a read of SR or DR, an injected trigger), not one
+event each: the machine gets an event only for a regular conversion that changes the
+interrupt line (AWD with AWDIE, EOC with EOCIE), found by looking ahead at the inputs.
+Inputs that are functions of the tick must not depend on state the caller changes
+meanwhile without calling `set_input` again.
+Not modelled (an error if set): discontinuous and dual modes, JAUTO, DMA, RSTCAL, left
+alignment, the temperature sensor; SWSTART while the regular group already converts.
+A conversion under way when ADCCLK changes ends as first scheduled.
 Inputs are voltages set per channel (`set_input`, a number or a function of the tick),
 converted as an ideal 12-bit ADC: floor(V / VREF x 4096), clamped to 0..4095.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -80,6 +97,21 @@ class Conversion:
     last: bool
 
 
+@dataclass
+class RegularRun:
+    """The regular sequence under way: the conversion of `rank` (1-based) started at
+    `start`; `paused` while an injected sequence runs (RM0008 11.3.9)."""
+
+    channels: list[tuple[int, int]]  # (rank, channel)
+    rank: int
+    start: int
+    paused: bool = False
+
+
+#: Regular conversions looked at ahead of time for an AWD alarm before a checkpoint event
+LOOKAHEAD = 64
+
+
 class Adc(Peripheral):
     def __init__(self, machine: Machine, *, vref: float) -> None:
         super().__init__(machine, "ADC1")
@@ -99,13 +131,18 @@ class Adc(Peripheral):
         self.powered_at: int | None = None
         self.calibration_end: int | None = None
         self.queue: list[Conversion] = []
+        self.regular: RegularRun | None = None
+        self.regular_requested = False  # a regular start during an injected sequence
+        self.regular_conversions = 0
+        self._alarm: int | None = None
+        self._alarm_known = False
         self.inputs: dict[int, float | Callable[[int], float]] = {}
         self.injected_sequences = 0
         self.ignored_triggers = 0
         self.sample_log: list[tuple[int, int, int]] = []  # (tick sampled, channel, raw)
         self.keep_sample_log = False
         self.readers = {
-            "SR": lambda: self.sr,
+            "SR": self._read_sr,
             "CR1": lambda: self.cr1,
             "CR2": lambda: self.cr2,
             "SMPR1": lambda: self.smpr[0],
@@ -124,8 +161,8 @@ class Adc(Peripheral):
             "CR2": self._write_cr2,
             "SMPR1": lambda v: self._set_smpr(0, v),
             "SMPR2": lambda v: self._set_smpr(1, v),
-            "HTR": lambda v: setattr(self, "htr", v & 0xFFF),
-            "LTR": lambda v: setattr(self, "ltr", v & 0xFFF),
+            "HTR": lambda v: self._set_threshold("htr", v),
+            "LTR": lambda v: self._set_threshold("ltr", v),
             "SQR1": lambda v: self._set_sqr(0, v),
             "SQR2": lambda v: self._set_sqr(1, v),
             "SQR3": lambda v: self._set_sqr(2, v),
@@ -139,7 +176,9 @@ class Adc(Peripheral):
 
     # ------------------------------------------------------------- inputs
     def set_input(self, channel: int, volts: float | Callable[[int], float]) -> None:
+        self._catch_up(self.machine.now)  # what was converted so far saw the old input
         self.inputs[channel] = volts
+        self._alarm_known = False
 
     def raw(self, channel: int, at: int) -> int:
         if channel not in self.inputs:
@@ -163,11 +202,24 @@ class Adc(Peripheral):
             raise PilError("ADC1.JSQR written during an injected sequence (RM0008 11.12.12)")
         self.jsqr = value & 0x3FFFFF
 
+    def _set_threshold(self, name: str, value: int) -> None:
+        self._catch_up(self.machine.now)
+        setattr(self, name, value & 0xFFF)
+        self._alarm_known = False
+
+    def _read_sr(self) -> int:
+        self._catch_up(self.machine.now)
+        self._update_line()
+        return self.sr
+
     def _write_sr(self, value: int) -> None:
+        self._catch_up(self.machine.now)
         self.sr &= value | ~0x1F
+        self._alarm_known = False
         self._update_line()
 
     def _read_dr(self) -> int:
+        self._catch_up(self.machine.now)
         self.sr &= ~SR_EOC
         self._update_line()
         return self.dr
@@ -178,22 +230,28 @@ class Adc(Peripheral):
             raise PilError(
                 f"ADC1.CR1 = 0x{value:08x}: JAUTO, discontinuous and dual modes are not modelled"
             )
+        self._catch_up(self.machine.now)
         self.cr1 = value & 0xCFFFFF
+        self._alarm_known = False
         self._update_line()
 
     def _write_cr2(self, value: int) -> None:
-        unsupported = value & (CR2_CONT | CR2_RSTCAL | CR2_DMA | CR2_ALIGN | CR2_TSVREFE)
+        unsupported = value & (CR2_RSTCAL | CR2_DMA | CR2_ALIGN | CR2_TSVREFE)
         if unsupported:
             raise PilError(
-                f"ADC1.CR2 = 0x{value:08x}: continuous mode, RSTCAL, DMA, left alignment and"
+                f"ADC1.CR2 = 0x{value:08x}: RSTCAL, DMA, left alignment and"
                 " the temperature sensor are not modelled"
             )
         now = self.machine.now
+        self._catch_up(now)
+        self._alarm_known = False
         old = self.cr2
-        self.cr2 = value & 0xFEF0F & ~(CR2_JSWSTART | CR2_SWSTART)
+        self.cr2 = value & 0xFEF90F & ~(CR2_JSWSTART | CR2_SWSTART)  # RM0008 11.12.3
         if not value & CR2_ADON:
             self.powered_at = None
             self.queue = []
+            self.regular = None
+            self.regular_requested = False
             self.cr2 &= ~CR2_CAL
             return
         if not old & CR2_ADON:
@@ -263,16 +321,17 @@ class Adc(Peripheral):
         if any(c.injected for c in self.queue):
             self.ignored_triggers += 1
             return
-        if any(not c.injected for c in self.queue):
-            raise PilError("ADC1: an injected trigger during a regular conversion is not modelled")
+        self._catch_up(self.machine.now)
+        if self.regular is not None:
+            # 11.3.9: the regular conversion under way is reset; its rank is converted
+            # again once the injected sequence has ended
+            self.regular.paused = True
+            self._alarm_known = False
         self.sr |= SR_JSTRT
         self.injected_sequences += 1
         self._schedule(self.injected_channels(), injected=True)
 
-    def _start_regular(self) -> None:
-        self._check_ready("regular conversion")
-        if self.queue:
-            raise PilError("ADC1: a regular conversion while another runs is not modelled")
+    def regular_channels(self) -> list[tuple[int, int]]:
         length = bits(self.sqr[0], 20, 4) + 1
         if not self.cr1 & CR1_SCAN:
             length = 1
@@ -280,8 +339,110 @@ class Adc(Peripheral):
         for rank in range(1, length + 1):
             register = 2 - (rank - 1) // 6
             channels.append((rank, bits(self.sqr[register], 5 * ((rank - 1) % 6), 5)))
+        return channels
+
+    def _start_regular(self) -> None:
+        self._check_ready("regular conversion")
+        if self.regular is not None:
+            raise PilError("ADC1: a regular start while the regular group converts is not modelled")
         self.sr |= SR_STRT
-        self._schedule(channels, injected=False)
+        self._alarm_known = False
+        if any(c.injected for c in self.queue):
+            self.regular_requested = True  # 11.3.9: after the injected sequence
+            return
+        self.regular = RegularRun(self.regular_channels(), 1, self.machine.now)
+
+    def _ticks(self, half_cycles: int) -> int:
+        hz = self.machine.rcc.adc_hz
+        return -(-half_cycles * TICK_HZ // (2 * hz))
+
+    def _regular_steps(self, run: RegularRun) -> Iterator[tuple[int, int, int, int, bool]]:
+        """The regular conversions from `run`'s state on, without changing it:
+        (end, sampled, rank, channel, last of the sequence)."""
+        channels, rank, start = run.channels, run.rank, run.start
+        while True:
+            channel = channels[rank - 1][1]
+            sample = self._sample_half_cycles(channel)
+            end = start + self._ticks(sample + CONVERSION_HALF_CYCLES)
+            last = rank == len(channels)
+            yield end, start + self._ticks(sample), rank, channel, last
+            if last and not self.cr2 & CR2_CONT:
+                return
+            rank = 1 if last else rank + 1
+            start = end
+
+    def _constant_inputs(self, run: RegularRun) -> bool:
+        return not self.keep_sample_log and not any(
+            callable(self.inputs.get(channel)) for _, channel in run.channels
+        )
+
+    def _catch_up(self, until: int) -> None:
+        """Complete the regular conversions that ended by `until` (11.3.5)."""
+        run = self.regular
+        if run is None or run.paused:
+            return
+        if self._constant_inputs(run) and self.cr2 & CR2_CONT and run.rank == 1:
+            cycle = sum(
+                self._ticks(self._sample_half_cycles(c) + CONVERSION_HALF_CYCLES)
+                for _, c in run.channels
+            )
+            whole = (until - run.start) // cycle - 1
+            if whole > 0:  # identical sequences: the last one stands for them all
+                run.start += whole * cycle
+                self.regular_conversions += whole * len(run.channels)
+        for end, sampled, rank, channel, last in self._regular_steps(run):
+            if end > until:
+                run.rank, run.start = (
+                    rank,
+                    end - self._ticks(self._sample_half_cycles(channel) + CONVERSION_HALF_CYCLES),
+                )
+                return
+            self._finish_regular(channel, sampled, last)
+        self.regular = None  # single mode: the sequence has ended
+        self._alarm_known = False
+
+    def _finish_regular(self, channel: int, sampled: int, last: bool) -> None:
+        raw = self.raw(channel, sampled)
+        self.regular_conversions += 1
+        if self.keep_sample_log:
+            self.sample_log.append((sampled, channel, raw))
+        self.dr = raw
+        if last:
+            self.sr |= SR_EOC
+        if self._watched(channel, injected=False) and not self.ltr <= raw <= self.htr:
+            self.sr |= SR_AWD
+
+    def _regular_alarm(self) -> int | None:
+        """The end of the next regular conversion that changes the interrupt line, or a
+        checkpoint LOOKAHEAD conversions ahead; None if none ever will."""
+        if self._alarm_known:
+            return self._alarm
+        self._alarm_known = True
+        self._alarm = None
+        run = self.regular
+        if run is None or run.paused:
+            return None
+        eoc = bool(self.cr1 & CR1_EOCIE) and not self.sr & SR_EOC
+        awd = (
+            bool(self.cr1 & CR1_AWDIE)
+            and not self.sr & SR_AWD
+            and any(self._watched(c, injected=False) for _, c in run.channels)
+        )
+        if not eoc and not awd:
+            return None
+        constant = self._constant_inputs(run)
+        for count, (end, sampled, _rank, channel, last) in enumerate(self._regular_steps(run)):
+            if (eoc and last) or (
+                awd
+                and self._watched(channel, injected=False)
+                and not self.ltr <= self.raw(channel, sampled) <= self.htr
+            ):
+                self._alarm = end
+                return end
+            if count >= LOOKAHEAD or (constant and count >= len(run.channels)):
+                self._alarm = None if constant else end
+                return self._alarm
+        return None
 
     def _tim1_trgo(self, at: int) -> None:
         if self.cr2 & CR2_JEXTTRIG and bits(self.cr2, 12, 3) == 0 and self.cr2 & CR2_ADON:
@@ -294,6 +455,9 @@ class Adc(Peripheral):
 
     def next_event(self) -> int | None:
         times = [c.end for c in self.queue[:1]]
+        alarm = self._regular_alarm()
+        if alarm is not None:
+            times.append(alarm)
         if self.calibration_end is not None:
             times.append(self.calibration_end)
         return min(times) if times else None
@@ -304,6 +468,8 @@ class Adc(Peripheral):
             self.cr2 &= ~CR2_CAL
         while self.queue and self.queue[0].end <= now:
             self._finish(self.queue.pop(0))
+        self._catch_up(now)
+        self._alarm_known = False
         self._update_line()
 
     def _watched(self, channel: int, injected: bool) -> bool:
@@ -320,10 +486,13 @@ class Adc(Peripheral):
             self.jdr[conversion.slot - 1] = (raw - self.jofr[conversion.slot - 1]) & 0xFFFF
             if conversion.last:
                 self.sr |= SR_JEOC
-        else:
-            self.dr = raw
-            if conversion.last:
-                self.sr |= SR_EOC
+                self._alarm_known = False
+                if self.regular is not None:  # 11.3.9: the regular sequence resumes
+                    self.regular.paused = False
+                    self.regular.start = conversion.end
+                elif self.regular_requested:
+                    self.regular_requested = False
+                    self.regular = RegularRun(self.regular_channels(), 1, conversion.end)
         if self._watched(conversion.channel, conversion.injected) and not (
             self.ltr <= raw <= self.htr
         ):
@@ -340,3 +509,4 @@ class Adc(Peripheral):
     def clock_changed(self, now: int) -> None:
         """A conversion under way when ADCCLK changes (the CSS falling back to the HSI)
         keeps the end it was given: the emulated sequence is not stretched."""
+        self._alarm_known = False
