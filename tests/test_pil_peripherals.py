@@ -473,6 +473,25 @@ def test_tim3_overflow_should_set_uif_and_capture_overrun_cc1of() -> None:
     assert read(m.tim3, "SR") & (1 << 9)
 
 
+def test_tim3_update_interrupt_should_come_at_the_wrap_and_not_at_a_hall_reset() -> None:
+    """RM0008 15.4.4 DIER.UIE: the TIM3 interrupt at the overflow (UIF); with URS = 1 the
+    slave-mode reset of a Hall edge sets no UIF (15.4.1), so it raises none."""
+    m = machine()
+    tim3_hall(m)
+    write(m.tim3, "DIER", 1)  # UIE
+    m.nvic.active.append(2)  # hold the interrupt pending: the WFI loop has no handler
+    start = m.now
+    at(m, start + 30_000 * US)
+    m.gpioa.drive(6, True)  # a Hall edge resets the counter: no update interrupt
+    at(m, m.now + 10 * US)
+    assert IRQ_BASE + TIM3_IRQ not in m.nvic.pending
+    reset = m.now - 10 * US
+    at(m, reset + 65_535 * US)
+    assert IRQ_BASE + TIM3_IRQ not in m.nvic.pending
+    at(m, reset + 65_537 * US)
+    assert IRQ_BASE + TIM3_IRQ in m.nvic.pending and read(m.tim3, "SR") & 1
+
+
 def test_tim3_cc2_compare_should_flag_at_the_match_and_by_software() -> None:
     """RM0008 15.3.8 output compare (frozen): CC2IF at CNT = CCR2; 15.4.6 CC2G."""
     m = machine()
