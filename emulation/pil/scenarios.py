@@ -41,6 +41,22 @@ FAULT = {f.name: f.value for f in FAULTS}
 LSI_FASTEST_HZ = 60_000
 #: Sectors turned before the cause: the loop and the commutations are running
 SETTLE_SECTORS = 8
+#: PWM periods main's loop gets to publish a latched fault in app_faults
+MAIN_WAIT_PERIODS = 10
+#: ADCCLK = PCLK2 / 6 (RM0008 7.3.2 ADCPRE; at most 14 MHz, datasheet) and the injected
+#: sequence's four conversions (JL = 3)
+ADC_HZ = 12_000_000
+INJECTED_CONVERSIONS = 4
+
+
+def sampled_limit(spec: Spec) -> int:
+    """The latency allowed a fault seen only by the current loop's interrupt (README,
+    Faults): one PWM period, the injected conversions, and two handlers at the current
+    loop's cycle budget (one of the same priority ahead of it, then its own)."""
+    period = TICK_HZ / float(spec.inverter.pwm_frequency_hz)
+    conversions = INJECTED_CONVERSIONS * (float(spec.sensing.adc_sample_cycles) + 12.5)
+    handlers = 2 * spec.firmware.current_loop_budget_cycles * TICK_HZ / 72_000_000
+    return round(period + conversions * TICK_HZ / ADC_HZ + handlers)
 
 
 @dataclass(frozen=True)
@@ -59,6 +75,7 @@ class Outcome:
     emulated_s: float
     wall_s: float
     note: str
+    published_ticks: int | None = None  # MOE cleared to app_faults set by main
 
     @property
     def fault_names(self) -> list[str]:
@@ -106,6 +123,7 @@ class Run:
         self.machine.tim1.record_gates()
         self.sector = 0
         self.rpm = default_rpm(spec)
+        self.published_after: int | None = None
 
     def _check_duties(self, machine: object) -> None:
         tim1 = self.machine.tim1
@@ -137,6 +155,14 @@ class Run:
         while self.machine.tim1.moe and self.machine.now < end:
             self.machine.run_for(TICK_HZ // 1_000_000)
         self.machine.run_for(2 * self.board.pwm_period_ticks())
+        # main's loop publishes app_faults; it runs below every handler, so give it up
+        # to MAIN_WAIT_PERIODS periods (the time it took is reported)
+        tripped = self.machine.tim1.moe_cleared_at
+        for _ in range(MAIN_WAIT_PERIODS):
+            if self.board.symbol("app_faults") or tripped is None:
+                break
+            self.machine.run_for(self.board.pwm_period_ticks())
+        self.published_after = None if tripped is None else self.machine.now - tripped
 
     def outcome(
         self, name: str, expected: str | None, cause: int | None, limit: int | None, note: str
@@ -165,6 +191,7 @@ class Run:
             emulated_s=(machine.now - self.start) / TICK_HZ,
             wall_s=time.perf_counter() - self.wall,
             note=note,
+            published_ticks=self.published_after,
         )
 
 
@@ -223,8 +250,10 @@ def _hall_unplugged(run: Run) -> Outcome:
         "Hall unplugged (code 7)",
         "HALL_INVALID",
         cause,
-        run.board.pwm_period_ticks(),
-        "two Hall lines rise together (pull-ups of an unplugged connector)",
+        sampled_limit(run.spec),
+        "two Hall lines rise together (pull-ups of an unplugged connector): no TIM3 edge;"
+        " the current loop's interrupt reads the pins, so the limit is one PWM period, the"
+        " injected conversions and two handlers at the current loop's budget",
     )
 
 
@@ -239,8 +268,13 @@ def _hall_glitch(run: Run) -> Outcome:
     # that the current loop's interrupt happens to read trips HALL_INVALID: its pin read
     # has no filter)
     flipped = next(code ^ (1 << b) for b in range(3) if (code ^ (1 << b)) not in (0, 7))
+    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
+        run.machine.run_for(1)
+    began = run.machine.now
     run.board.set_hall(flipped)
     run.machine.run_for(width)
+    if run.machine.now - began >= tim3._filter_ticks():
+        run.violations.append(f"the glitch lasted {run.machine.now - began} ticks, not {width}")
     run.board.set_hall(code)
     run.machine.run_for(run.board.pwm_period_ticks())
     if tim3.captures != captures:
