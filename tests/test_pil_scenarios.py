@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from codegen.spec_loader import load_spec
-from emulation.pil.build import build_firmware
+from emulation.pil.build import build_firmware, checked_in
 from emulation.pil.scenarios import SCENARIOS, Outcome, Scenario, run_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,7 +24,8 @@ SPECS = {
 def built(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> tuple:
     """The spec generated and linked into a temporary folder."""
     path = SPECS[request.param]
-    elf = build_firmware(path, tmp_path_factory.mktemp(f"firmware_{request.param}"))
+    folder = tmp_path_factory.mktemp(f"firmware_{request.param}")
+    elf = build_firmware(path, folder, checked_in(path))
     return elf, load_spec(str(path))
 
 

@@ -8,6 +8,13 @@ over the whole run:
 * every compare value in force within the PWM period, checked at every step of the
   machine: CCRx <= ARR + 1 edge-aligned (ARR + 1: active all period, RM0008 14.3.10),
   CCRx <= ARR centre-aligned;
+* the compare values in force change only at an update event (CCRx preloaded, OCxPE,
+  RM0008 14.3.9: a duty written mid-period waits for the next period);
+* the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3) or the current
+  loop (ADC1_2): it is never active while a later-entered one of those is below it
+  (the port's priority plan: the Hall edge and the current loop preempt the timing);
+* every Hall edge of the turning rotor commutates: the enables in force (TIM1 CCER)
+  change within the sector that follows it, while the bridge is armed;
 * no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
   `WatchdogResetError`), the longest gap between refreshes reported against the
   watchdog's time-out at the fastest LSI (60 kHz, where it is shortest).
@@ -29,11 +36,12 @@ from pathlib import Path
 
 from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
-from emulation.pil.bus import PilError
+from emulation.pil.bus import PilError, svd_interrupt
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import MachineOptions
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
+from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import gate_violations
 
 FAULT = {f.name: f.value for f in FAULTS}
@@ -115,6 +123,12 @@ class Run:
         self.machine = self.board.machine
         self.violations: list[str] = []
         self.machine.listeners.append(self._check_duties)
+        self.machine.listeners.append(self._check_preload)
+        self.machine.listeners.append(self._check_nesting)
+        self._compares: tuple[int, ...] = ()
+        self._updates = -1
+        for channel in (1, 2, 3):
+            self._watch_compare_writes(channel)
         self.wall = time.perf_counter()
         self.board.boot()
         self.start = self.machine.now
@@ -124,6 +138,12 @@ class Run:
         self.sector = 0
         self.rpm = default_rpm(spec)
         self.published_after: int | None = None
+        self._armed_edges = 0  # the first edge after boot only arms the measurement
+        self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
+        self._urgent = {
+            IRQ_BASE + svd_interrupt("TIM3", "TIM3"),
+            IRQ_BASE + svd_interrupt("ADC1", "ADC"),
+        }
 
     def _check_duties(self, machine: object) -> None:
         tim1 = self.machine.tim1
@@ -135,8 +155,71 @@ class Run:
                     f" {self.machine.now}"
                 )
 
+    def _note(self, text: str) -> None:
+        if len(self.violations) < 20:
+            self.violations.append(text)
+
+    def _watch_compare_writes(self, channel: int) -> None:
+        """A CCRx write must not change the compare value in force (OCxPE: it waits for
+        the update event); the commutation's EGR.UG that follows is that event."""
+        tim1 = self.machine.tim1
+        write = tim1.writers[f"CCR{channel}"]
+
+        def checked(value: int) -> None:
+            before = tim1.ccr[channel]
+            write(value)
+            if tim1.ccr[channel] != before and tim1.moe:
+                self._note(
+                    f"CCR{channel} write took effect at once ({before} -> {tim1.ccr[channel]})"
+                    f" at {self.machine.now}: no preload"
+                )
+
+        tim1.writers[f"CCR{channel}"] = checked
+
+    def _check_preload(self, _machine: object) -> None:
+        tim1 = self.machine.tim1
+        compares = tuple(tim1.ccr[1:4])
+        if compares != self._compares and tim1.update_count == self._updates:
+            self._note(
+                f"CCR {self._compares} -> {compares} with no update event at {self.machine.now}"
+            )
+        self._compares, self._updates = compares, tim1.update_count
+
+    def _check_nesting(self, _machine: object) -> None:
+        active = self.machine.nvic.active
+        if len(active) < 2:
+            return
+        for below, above in pairwise(active):
+            if above == self._timing and below in self._urgent:
+                self._note(f"the timing handler preempted exception {below} at {self.machine.now}")
+
+    def turn_until(self, reached: Callable[[], bool], sectors: int) -> bool:
+        """Turn up to `sectors` sectors, stopping at the first 0.5 us step where
+        `reached()` holds; whether it did."""
+        for _ in range(sectors):
+            self.sector = (self.sector + 1) % 6
+            self.board.set_hall(self.spec.hall.sequence[self.sector])
+            end = self.machine.now + self.sector_ticks()
+            while self.machine.now < end:
+                if reached():
+                    return True
+                self.machine.run_for(TICK_HZ // 2_000_000)
+        return False
+
     def turn(self, sectors: int) -> None:
-        self.sector = self.board.turn(self.rpm, sectors, self.sector)
+        """`sectors` Hall steps at `rpm`; each must change the enables in force."""
+        pole_pairs = self.spec.motor.poles // 2
+        sector_ticks = round(TICK_HZ * 60 / (self.rpm * pole_pairs * 6))
+        for _ in range(sectors):
+            before = self.machine.tim1.ccer
+            self.sector = (self.sector + 1) % 6
+            self.board.set_hall(self.spec.hall.sequence[self.sector])
+            self.machine.run_for(sector_ticks)
+            if self.machine.tim1.moe and self.machine.tim1.ccer == before and self._armed_edges:
+                self._note(
+                    f"a Hall edge to code {self.spec.hall.sequence[self.sector]} did not commutate"
+                )
+            self._armed_edges += 1
 
     def sector_ticks(self) -> int:
         pole_pairs = self.spec.motor.poles // 2
@@ -219,6 +302,11 @@ def _over_voltage(run: Run) -> Outcome:
 def _break_input(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.machine.run_for(run.sector_ticks() // 3)
+    # the break while an upper switch conducts, if one does within the sector: the hand-
+    # over to the lower switches (the short circuit) then needs the dead time
+    tim1 = run.machine.tim1
+    if not run.turn_until(lambda: any(tim1.gates()[0::2]), 6):
+        run.machine.run_for(run.sector_ticks() // 3)  # no upper switch conducts: mid-sector
     cause = run.machine.now
     run.board.set_break(True)
     run.run_until_tripped(run.board.pwm_period_ticks())
