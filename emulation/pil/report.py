@@ -69,9 +69,11 @@ def render(spec_path: str, name: str, outcomes: list[Outcome], pwm_hz: float) ->
     lines += [
         "",
         "Invariants checked at every step: no shoot-through and no dead time shorter than"
-        " the spec's (every gate edge), CCR1..CCR3 within the PWM period, no hard fault,"
-        " no watchdog reset. CPU load: time in handlers (entry and exit included, the"
-        " emulator's cycle model) over emulated time, from boot's end.",
+        " the spec's (every gate edge), CCR1..CCR3 within the PWM period and changed only"
+        " at an update event (preload), the timing handler never above the Hall edge or"
+        " the current loop, every Hall edge commutating, no hard fault, no watchdog"
+        " reset. CPU load: time in handlers (entry and exit included, the emulator's"
+        " cycle model) over emulated time, from boot's end.",
         "",
         f"Emulation: {emulated * 1e3:.1f} ms emulated in {wall:.1f} s wall"
         f" ({emulated * 1e3 / wall:.1f} emulated ms per second, boot and build excluded).",
