@@ -24,7 +24,7 @@ SPECS ?= spec/paper_motor.yaml spec/paper_motor_improved_r.yaml spec/example_max
 # The simulation runs every method on a motor, so it needs each motor once.
 SIM_SPECS ?= spec/paper_motor.yaml spec/example_maxon_ec45_flat_48v.yaml
 
-.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware flash verify prove unity simulate robustness test lint format check-generated bench clean
+.PHONY: all setup sysdeps lock derive audit audit-screenshot generate firmware flash verify prove unity simulate robustness pil test lint format check-generated bench clean
 
 all: setup derive audit generate
 
@@ -136,7 +136,7 @@ check-generated: setup
 	for spec in $(SPECS); do \
 	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
 	  $(PY) -m codegen generate $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
-	  if ! diff -ru -x verify -x simulation -x robustness -x PROOF.md generated/$$name "$$tmp/$$name"; then \
+	  if ! diff -ru -x verify -x simulation -x robustness -x pil -x PROOF.md generated/$$name "$$tmp/$$name"; then \
 	    echo "generated/$$name is stale: run 'make generate SPEC=$$spec' and commit it"; exit 1; \
 	  fi; \
 	done; \
@@ -152,6 +152,11 @@ test: setup lint check-generated prove
 # Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the
 # driver (python -m emulation --help): BENCH_FLAGS=--report-only, --only handlers,peers.
 BENCH_FLAGS ?=
+# Firmware in the loop: build each spec's firmware (SPEC, or every checked-in spec), run
+# the fault scenarios on the emulated STM32F103 and write generated/<name>/pil/PIL.md.
+pil: setup
+	$(PY) -m emulation.pil.report $(or $(SPEC),$(SPECS))
+
 bench: setup
 	$(PY) -m emulation $(ONE_SPEC) $(BENCH_FLAGS)
 

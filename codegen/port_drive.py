@@ -258,6 +258,11 @@ def drive_context(spec: Spec) -> dict[str, object]:
         if spec.sensing.topology == "dc_link_shunt"
         else "low-side phase shunts",
         "sense_lines": _sense_lines(spec),
+        # the JDRx that hold a bus sample: the analog watchdog may flag the first of them
+        # before the later ones of the same sequence are written
+        "bus_jdr_slots": [
+            k + 1 for k, ch in enumerate(sd.sequence) if ch == spec.sensing.bus_voltage_channel
+        ],
         "sense_proof": list(sd.proof),
         "safe_lines": list(ss.regions),
         "analog_groups": _analog_groups(spec),

@@ -436,6 +436,22 @@ static void adc_regular(unsigned bus)
     settle();
 }
 
+/* The watchdog flags the first injected bus conversion (JSQ2 of the DC-link shunt's
+ * sequence) at its end: JDR2 holds the new sample, JDR3, JDR4 and DR (the regular
+ * conversion the injected sequence reset, RM0008 11.3.9) the bus before the step. */
+static void adc_first_bus(unsigned bus, unsigned before)
+{
+    SET(fake_adc1.JDR2, bus);
+    SET(fake_adc1.JDR3, before);
+    SET(fake_adc1.JDR4, before);
+    SET(fake_adc1.DR, before);
+    fake_adc1.SR = ADC_SR_AWD;
+    fake_tim3.SR = 0u;
+    fake_tim1.EGR = 0u;
+    %(adc)s();
+    settle();
+}
+
 /* TIM3 wraps: no Hall edge for the counter's whole range (UIF, with UIE as the port
  * left it). */
 static void wrap(void)
@@ -606,6 +622,12 @@ int main(int argc, char **argv)
     clear("over_voltage_regular_cleared");
     STEADY();
 
+    adc_first_bus(BUS_OVER, BUS_OK);
+    show("over_voltage_first_bus");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("over_voltage_first_bus_cleared");
+    STEADY();
+
     adc(0u, OFFSET, 1u, 0u);
     show("under_voltage");
     adc(0u, OFFSET, 1u, 0u);
@@ -647,6 +669,22 @@ int main(int argc, char **argv)
     hall_now = seq[hall_index];
     clear("hall_invalid_cleared");
     STEADY();
+
+    /* Two lines change within TIM3's input filter: no edge, the pins read 7, then 0. */
+    pins(7u);
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    show("hall_alike_7");
+    clear("hall_alike_7_held");
+    pins(seq[hall_index]);
+    clear("hall_alike_7_cleared");
+    STEADY();
+    pins(0u);
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    show("hall_alike_0");
+    pins(seq[hall_index]);
+    clear("hall_alike_0_cleared");
+    STEADY();
+    show("hall_alike_steady");
 
     edge(seq[(hall_index + 2u) %% 6u], TIM_SR_CC1IF, 5000u, 10u); /* a sector skipped */
     show("hall_sequence");
@@ -1071,6 +1109,31 @@ def test_a_bus_fault_should_silence_the_watchdog_interrupt_until_the_clear(
     assert host_run[step]["adc.cr1"] == host_run["init"]["adc.cr1"] & ~AWDIE
     assert host_run[f"{step}_held"]["adc.cr1"] & AWDIE == 0
     assert host_run[f"{step}_cleared"]["adc.cr1"] == host_run["init"]["adc.cr1"]
+
+
+def test_an_over_voltage_seen_first_in_jdr2_should_latch_over_voltage(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    # the analog watchdog's interrupt at the end of JSQ2, before JDR4 and with DR from
+    # before the step: every bus JDRx is read (was UNDER_VOLTAGE, found by the PIL)
+    _assert_tripped(host_run["over_voltage_first_bus"], "OVER_VOLTAGE")
+    assert host_run["over_voltage_first_bus"]["port.faults"] == _fault("OVER_VOLTAGE")
+    assert host_run["over_voltage_first_bus_cleared"]["port.faults"] == 0
+
+
+@pytest.mark.parametrize("code", [7, 0])
+def test_hall_lines_all_alike_without_an_edge_should_trip_in_the_current_loop(
+    host_run: dict[str, dict[str, int]], code: int
+) -> None:
+    # two lines changing within TIM3's filter make no TI1 edge: the current loop's
+    # interrupt reads the pins each PWM period (found by the PIL)
+    r = host_run[f"hall_alike_{code}"]
+    _assert_tripped(r, "HALL_INVALID")
+    assert r["port.faults"] == _fault("HALL_INVALID")
+    if code == 7:
+        assert host_run["hall_alike_7_held"]["port.faults"] == _fault("HALL_INVALID")
+    assert host_run[f"hall_alike_{code}_cleared"]["port.faults"] == 0
+    assert host_run["hall_alike_steady"]["port.faults"] == 0
 
 
 def test_a_wrap_should_be_the_hall_timeout_only_while_the_bridge_switches(

@@ -515,7 +515,11 @@ static inline void port_pend_if_bus_moved(uint32_t bus)
 }
 
 /* The analog watchdog: a conversion of the bus (the regular group's, continuously, or
- * the injected sequence's) left [LTR, HTR]. Over if either reading is above HTR. The
+ * the injected sequence's) left [LTR, HTR]. Over if any reading is above HTR: DR and
+ * every JDRx of the bus, since the watchdog flags the first injected bus conversion at
+ * its end, before the later ones of the sequence are written, and the regular group,
+ * interrupted by the injected sequence (RM0008 11.3.9), may not have converted since
+ * the bus stepped. The
  * regular group converts the bus every few microseconds and sets AWD again each time
  * the bus is still outside: its interrupt goes off until the fault is cleared (else
  * the ADC interrupt would take the CPU at the Hall edge's priority); the fault is
@@ -524,7 +528,10 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
 {
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
     adc->CR1 = BLDC_PORT_ADC_CR1 & ~ADC_CR1_AWDIE;
-    const uint32_t over = (adc->DR > BLDC_PORT_ADC_HTR) || (adc->JDR4 > BLDC_PORT_ADC_HTR);
+    const uint32_t over = (adc->DR > BLDC_PORT_ADC_HTR) ||
+                          (adc->JDR2 > BLDC_PORT_ADC_HTR) ||
+                          (adc->JDR3 > BLDC_PORT_ADC_HTR) ||
+                          (adc->JDR4 > BLDC_PORT_ADC_HTR);
     port_trip(anchor, over ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
 }
 
@@ -559,7 +566,7 @@ static inline void port_run_loop(uint32_t measured, uint32_t reference)
 /* The interrupt's other paths, out of line: the analog watchdog, a commutation running
  * (I is not sampled: no single signal is I then), the bridge idle or faulted, the open
  * loop, and the faults this interrupt finds (the Hall counter wrapped while the bridge
- * switches, a current sample at a rail). */
+ * switches, a current sample at a rail, the Hall code 0 or 7). */
 BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uint32_t bus,
                                           uint32_t measured)
 {
@@ -567,6 +574,12 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
     }
     port_pend_if_bus_moved(bus);
+    const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
+    if (((pins - 1u) > 5u) && ((port.faults & BLDC_FAULT_HALL_INVALID) == 0u)) {
+        /* Hall code 0 or 7 with no edge: two lines changed within TIM3's input filter
+         * (an unplugged connector), so TI1 = CH1 xor CH2 xor CH3 did not change. */
+        port_trip(anchor, BLDC_FAULT_HALL_INVALID);
+    }
     const uint32_t steady = port.steady;
     if ((steady != 0u) && (port.pending == 0u)) {
         if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
@@ -600,10 +613,17 @@ void ADC1_2_IRQHandler(void)
     const uint32_t steady = port.steady;
     const uint32_t measured = adc->JDR1;
     const uint32_t reference = port.reference;
+    /* Hall code 0 or 7 (every line alike), which makes no TIM3 edge if two lines change
+     * within its input filter: seen here within a PWM period. Bit 6 of
+     * (ab ^ ab >> 1) is A xor B, of (ab ^ c << 6u) A xor C. */
+    const uint32_t hall_ab = PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR;
+    const uint32_t hall_c = PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR;
+    const uint32_t hall_alike =
+        (~((hall_ab ^ (hall_ab >> 1u)) | (hall_ab ^ (hall_c << 6u))) >> 6u) & 1u;
     const uint32_t other = (status & ADC_SR_AWD) | (uint32_t)(steady == 0u) | port.pending |
                            (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) |
                            (uint32_t)((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) |
-                           (uint32_t)(reference > BLDC_PORT_ADC_CODE_MAX);
+                           hall_alike | (uint32_t)(reference > BLDC_PORT_ADC_CODE_MAX);
     if (BLDC_PORT_RARE(other != 0u)) {
         port_adc_other(anchor, status, bus, measured);
         return;

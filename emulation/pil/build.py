@@ -1,0 +1,61 @@
+"""The firmware of any spec for the emulated chip: `bldc-codegen generate` into a
+folder of its own, then `bldc-codegen firmware` (the `make firmware` command) from it,
+so a spec with no checked-in generated/ output (a test fixture) builds too. A port
+mutant is linked from an edited copy of a generated folder (`link_mutant`)."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+from codegen.build_firmware import build as build_sources
+from codegen.spec_loader import load_spec
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _codegen(*args: str) -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "codegen", *args], cwd=ROOT, capture_output=True, text=True
+    )
+    if done.returncode != 0:
+        raise RuntimeError(f"bldc-codegen {args[0]} {args[1]}: {done.stderr.strip()}")
+
+
+def generate(spec: Path, generated: Path) -> Path:
+    """`bldc-codegen generate spec -o generated`; the folder."""
+    _codegen("generate", str(spec), "-o", str(generated))
+    return generated
+
+
+def checked_in(spec: Path) -> Path | None:
+    """The spec's checked-in generated folder (kept fresh by `make check-generated`),
+    if it has one."""
+    folder = ROOT / "generated" / load_spec(str(spec)).name
+    return folder if (folder / "manifest.json").is_file() else None
+
+
+def build_firmware(spec: Path, folder: Path, generated: Path | None = None) -> Path:
+    """Link `spec` under `folder` from `generated`, or from its own generation there;
+    the ELF's path. Raises RuntimeError with the tool's own message when a step fails
+    (`firmware` refuses a generated folder that is not this spec's, fresh)."""
+    generated = generated or generate(spec, folder / "generated")
+    build = folder / "build"
+    _codegen("firmware", str(spec), "--generated", str(generated), "--build", str(build))
+    return build / "firmware.elf"
+
+
+def link_mutant(generated: Path, folder: Path, mutate: Callable[[Path], None]) -> Path:
+    """Copy `generated` into `folder`, let `mutate` edit the copy, link it (`firmware`
+    refuses an edited generated folder, so the sources are linked directly); the ELF."""
+    copy, build = folder / "generated", folder / "build"
+    shutil.copytree(generated, copy)
+    mutate(copy)
+    try:
+        build_sources(copy, build)
+    except subprocess.CalledProcessError as error:
+        raise RuntimeError(f"the mutant does not build: {error.stderr or error}") from error
+    return build / "firmware.elf"

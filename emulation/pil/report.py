@@ -1,0 +1,125 @@
+"""`make pil` (`python -m emulation.pil.report SPEC...`): build each spec's firmware,
+run every fault scenario (emulation/pil/scenarios.py) on the emulated chip and write
+generated/<name>/pil/PIL.md: per scenario the fault latched, the latency from the cause
+to MOE cleared against its limit, the invariants, the CPU load from emulated cycles and
+the emulation's speed. Exit 1 if any scenario breaks its requirement.
+
+PIL.md is published atomically (written beside, then renamed); it states the spec and
+its hash, no timestamps or absolute paths."""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from codegen.spec_loader import load_spec
+from emulation.pil.build import ROOT, build_firmware
+from emulation.pil.rcc import TICK_HZ
+from emulation.pil.scenarios import SCENARIOS, Outcome, run_scenario
+
+
+def _us(ticks: int | None) -> str:
+    return "-" if ticks is None else f"{ticks * 1e6 / TICK_HZ:.2f} us"
+
+
+def render(spec_path: str, name: str, outcomes: list[Outcome], pwm_hz: float) -> str:
+    digest = hashlib.sha256(Path(spec_path).read_bytes()).hexdigest()[:16]
+    shown = Path(spec_path).resolve()
+    shown = shown.relative_to(ROOT) if shown.is_relative_to(ROOT) else Path(shown.name)
+    emulated = sum(o.emulated_s for o in outcomes)
+    wall = sum(o.wall_s for o in outcomes)
+    lines = [
+        f"# PIL: {name}",
+        "",
+        f"Spec `{shown.as_posix()}` (sha256 {digest}); written by"
+        " `emulation/pil/report.py` (`make pil`). The drive firmware on the emulated"
+        " STM32F103 (emulation/pil), the inputs set by each scenario; no motor model yet.",
+        "",
+        f"PWM period {1e6 / pwm_hz:.2f} us. Latency: the cause to TIM1's MOE cleared (the"
+        " bridge in its safe state), limit one PWM period unless stated.",
+        "",
+        "| scenario | fault latched | latency | limit | invariants | CPU load | result |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for o in outcomes:
+        problems = o.problems
+        lines.append(
+            f"| {o.name} | {', '.join(o.fault_names) or 'none'} | {_us(o.latency_ticks)} |"
+            f" {_us(o.limit_ticks)} | {'kept' if not o.violations else len(o.violations)} |"
+            f" {100 * o.cpu_load:.2f} % | {'PASS' if not problems else 'FAIL: ' + '; '.join(problems)} |"
+        )
+    lines += ["", "Scenarios:", ""]
+    for o in outcomes:
+        gap = o.refresh_gap_ticks * 1e3 / TICK_HZ
+        limit = o.watchdog_ticks * 1e3 / TICK_HZ
+        lines.append(
+            f"* **{o.name}**: {o.note}. Longest gap between watchdog refreshes {gap:.2f} ms"
+            f" (time-out {limit:.1f} ms at the fastest LSI)."
+            + (
+                f" app_faults published by main within {_us(o.published_ticks)} of MOE cleared"
+                " (looked at two periods after, then once a period)."
+                if o.published_ticks is not None
+                else ""
+            )
+        )
+    lines += [
+        "",
+        "Invariants checked at every step: no shoot-through and no dead time shorter than"
+        " the spec's (every gate edge), CCR1..CCR3 within the PWM period and changed only"
+        " at an update event (preload), the timing handler never above the Hall edge or"
+        " the current loop, every Hall edge commutating, no hard fault, no watchdog"
+        " reset. CPU load: time in handlers (entry and exit included, the emulator's"
+        " cycle model) over emulated time, from boot's end.",
+        "",
+        f"Emulation: {emulated * 1e3:.1f} ms emulated in {wall:.1f} s wall"
+        f" ({emulated * 1e3 / wall:.1f} emulated ms per second, boot and build excluded).",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def publish(text: str, target: Path) -> None:
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile(
+        "w", dir=target.parent, prefix=".PIL.", suffix=".md", delete=False, encoding="utf-8"
+    ) as handle:
+        handle.write(text)
+    os.replace(handle.name, target)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m emulation.pil.report", description=__doc__)
+    parser.add_argument("specs", nargs="+")
+    args = parser.parse_args(argv)
+    failed = False
+    for spec_path in args.specs:
+        spec = load_spec(spec_path)
+        with tempfile.TemporaryDirectory() as folder:
+            try:
+                elf = build_firmware(Path(spec_path).resolve(), Path(folder))
+            except RuntimeError as error:
+                print(f"error: {error}", file=sys.stderr)
+                return 1
+            outcomes = [run_scenario(elf, spec, s) for s in SCENARIOS]
+        target = ROOT / "generated" / spec.name / "pil" / "PIL.md"
+        publish(
+            render(spec_path, spec.name, outcomes, float(spec.inverter.pwm_frequency_hz)), target
+        )
+        bad = [o for o in outcomes if o.problems]
+        failed |= bool(bad)
+        print(
+            f"pil: {spec.name}: {len(outcomes) - len(bad)}/{len(outcomes)} scenarios pass -> {target.relative_to(ROOT)}"
+        )
+        for o in outcomes:
+            print(
+                f"pil:   {o.name}: latency {_us(o.latency_ticks)} (limit {_us(o.limit_ticks)}); {'; '.join(o.problems) or 'pass'}"
+            )
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,113 @@
+"""The drive firmware on the emulated chip, with the board's inputs set by the caller.
+
+`DriveBoard` wires what the spec says the board has to the emulated pins and ADC
+channels: the Hall sensors on TIM3's CH1..CH3 pins (PA6, PA7, PB0 carry Hall A, B, C,
+code bits 2, 1, 0: the port's pin table, codegen/port.py), the over-current comparator
+on BKIN (PB12) with the spec's polarity, the DC-link current and the bus voltage on the
+spec's ADC channels through its sensing chain (adc.current_offset + current_gain x I;
+U / bus_voltage_divider). The plant coupling (gate signals into the motor model,
+rotor angle into the Hall pins) is a later layer; here the caller sets each input.
+
+The machine records the tick of every handler entry (`Machine.entry_log`) and of every
+watchdog refresh (`Iwdg.refresh_log`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from fractions import Fraction
+from pathlib import Path
+
+from codegen.spec_model import Spec
+from emulation.pil.bus import svd_interrupt
+from emulation.pil.machine import Machine, MachineOptions, load_firmware
+from emulation.pil.rcc import TICK_HZ
+from emulation.pil.scs import IRQ_BASE
+
+HALL_PINS = (("gpioa", 6, 2), ("gpioa", 7, 1), ("gpiob", 0, 0))  # port, pin, code bit
+BREAK_PIN = ("gpiob", 12)
+BOOT_LIMIT_S = Fraction(1, 10)
+
+
+class DriveBoard:
+    def __init__(self, elf: str | Path, spec: Spec, options: MachineOptions | None = None) -> None:
+        self.spec = spec
+        self.options = options or MachineOptions(vref=float(spec.adc.reference_v))
+        self.machine = Machine(load_firmware(elf), self.options)
+        self.set_hall(spec.hall.sequence[0])
+        self.set_break(False)
+        self.set_bus_voltage(float(spec.inverter.bus_voltage_nominal_v))
+        self.set_current(0.0)
+
+    def entries_of(self, peripheral: str, interrupt: str) -> list[int]:
+        """Ticks at which the handler of an SVD interrupt was entered."""
+        exception = IRQ_BASE + svd_interrupt(peripheral, interrupt)
+        return [tick for tick, e in self.machine.entry_log if e == exception]
+
+    # ------------------------------------------------------------------ inputs
+    def set_hall(self, code: int) -> None:
+        for port, pin, bit in HALL_PINS:
+            getattr(self.machine, port).drive(pin, bool(code >> bit & 1))
+
+    def set_break(self, over_current: bool) -> None:
+        """The comparator's output: active (over-current) or idle, at the spec's polarity."""
+        active_level = self.spec.protection.break_polarity == "active_high"
+        port, pin = BREAK_PIN
+        getattr(self.machine, port).drive(pin, active_level if over_current else not active_level)
+
+    def set_bus_voltage(self, volts: float | Callable[[int], float]) -> None:
+        divider = float(self.spec.adc.bus_voltage_divider)
+        channel = self.spec.sensing.bus_voltage_channel
+        if callable(volts):
+            source = volts
+            self.machine.adc1.set_input(channel, lambda tick: source(tick) / divider)
+        else:
+            self.machine.adc1.set_input(channel, volts / divider)
+
+    def set_current(self, amps: float | Callable[[int], float]) -> None:
+        offset = float(self.spec.adc.current_offset_v)
+        gain = float(self.spec.adc.current_gain_v_per_a)
+        if callable(amps):
+            source = amps
+
+            def volts(tick: int) -> float:
+                return offset + gain * source(tick)
+
+            for channel in self.spec.sensing.current_channels:
+                self.machine.adc1.set_input(channel, volts)
+        else:
+            for channel in self.spec.sensing.current_channels:
+                self.machine.adc1.set_input(channel, offset + gain * amps)
+
+    # ------------------------------------------------------------------ running
+    def boot(self) -> int:
+        """Run from reset until main's loop first sleeps (WFI); the tick it did."""
+        limit = self.machine.now + int(BOOT_LIMIT_S * TICK_HZ)
+        step = TICK_HZ // 10_000
+        while self.machine.sleep_pc is None:
+            if self.machine.now >= limit:
+                raise TimeoutError(f"the firmware did not reach its WFI within {BOOT_LIMIT_S} s")
+            self.machine.run_for(step)
+        return self.machine.now
+
+    def run_seconds(self, seconds: float) -> None:
+        self.machine.run_for(round(seconds * TICK_HZ))
+
+    def turn(self, rpm: float, sectors: int, start_sector: int = 0) -> int:
+        """Step the Hall code through `sectors` 60-degree sectors forward (hall.sequence)
+        at a constant `rpm`, one pin changing per edge; returns the sector reached (the
+        code is held for a whole sector after each step)."""
+        pole_pairs = self.spec.motor.poles // 2
+        sector_ticks = round(TICK_HZ * 60 / (rpm * pole_pairs * 6))
+        sector = start_sector
+        for _ in range(sectors):
+            sector = (sector + 1) % 6
+            self.set_hall(self.spec.hall.sequence[sector])
+            self.machine.run_for(sector_ticks)
+        return sector
+
+    def pwm_period_ticks(self) -> int:
+        return round(TICK_HZ / self.spec.inverter.pwm_frequency_hz)
+
+    def symbol(self, name: str) -> int:
+        return self.machine.read_symbol_u32(name)

@@ -1,0 +1,458 @@
+"""Fault scenarios on the emulated drive: each boots the firmware, brakes with the Hall
+code stepping at a constant speed, applies one cause at a known tick and measures the
+fault latency (the cause to TIM1's MOE cleared), with the bridge's invariants checked
+over the whole run:
+
+* no shoot-through and no dead time shorter than the spec's (`tim1.gate_violations`
+  on every gate edge);
+* every compare value in force within the PWM period, checked at every step of the
+  machine: CCRx <= ARR + 1 edge-aligned (ARR + 1: active all period, RM0008 14.3.10),
+  CCRx <= ARR centre-aligned;
+* the compare values in force change only at an update event (CCRx preloaded, OCxPE,
+  RM0008 14.3.9: a duty written mid-period waits for the next period);
+* the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3) or the current
+  loop (ADC1_2): it is never active while a later-entered one of those is below it
+  (the port's priority plan: the Hall edge and the current loop preempt the timing);
+* every Hall edge of the turning rotor commutates: the enables in force (TIM1 CCER)
+  change within the sector that follows it, while the bridge is armed;
+* no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
+  `WatchdogResetError`), the longest gap between refreshes reported against the
+  watchdog's time-out at the fastest LSI (60 kHz, where it is shortest).
+
+The inputs are set by the scenario (Hall code, comparator, bus and current through the
+spec's sensing chain, `runner.DriveBoard`), not yet by a motor model: the current read
+is a constant half the nominal braking current, so the loop keeps the bridge switching.
+The yardsticks are the spec's (PWM period, dead time, the fault API's codes), never the
+firmware's constants.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from itertools import pairwise
+from pathlib import Path
+
+from codegen.port_faults import FAULTS
+from codegen.spec_model import Spec
+from emulation.pil.bus import PilError, svd_interrupt
+from emulation.pil.iwdg import WatchdogResetError
+from emulation.pil.machine import MachineOptions
+from emulation.pil.rcc import TICK_HZ
+from emulation.pil.runner import DriveBoard
+from emulation.pil.scs import IRQ_BASE
+from emulation.pil.tim1 import gate_violations
+
+FAULT = {f.name: f.value for f in FAULTS}
+#: The fastest LSI of the datasheet's range: the watchdog's time-out is shortest there
+LSI_FASTEST_HZ = 60_000
+#: Sectors turned before the cause: the loop and the commutations are running
+SETTLE_SECTORS = 8
+#: PWM periods main's loop gets to publish a latched fault in app_faults
+MAIN_WAIT_PERIODS = 10
+#: ADCCLK = PCLK2 / 6 (RM0008 7.3.2 ADCPRE; at most 14 MHz, datasheet) and the injected
+#: sequence's four conversions (JL = 3)
+ADC_HZ = 12_000_000
+INJECTED_CONVERSIONS = 4
+
+
+def sampled_limit(spec: Spec) -> int:
+    """The latency allowed a fault seen only by the current loop's interrupt (README,
+    Faults): one PWM period, the injected conversions, and two handlers at the current
+    loop's cycle budget (one of the same priority ahead of it, then its own)."""
+    period = TICK_HZ / float(spec.inverter.pwm_frequency_hz)
+    conversions = INJECTED_CONVERSIONS * (float(spec.sensing.adc_sample_cycles) + 12.5)
+    handlers = 2 * spec.firmware.current_loop_budget_cycles * TICK_HZ / 72_000_000
+    return round(period + conversions * TICK_HZ / ADC_HZ + handlers)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What one scenario measured on one spec."""
+
+    name: str
+    expected: str | None  # the fault the cause must latch alone; None: no fault at all
+    faults: int  # app_faults at the end
+    latency_ticks: int | None  # cause to MOE cleared; None where MOE stayed set
+    limit_ticks: int | None  # the latency allowed; None: MOE must stay set (or never set)
+    violations: tuple[str, ...]
+    refresh_gap_ticks: int  # longest gap between watchdog refreshes
+    watchdog_ticks: int  # the watchdog's time-out at the fastest LSI
+    cpu_load: float  # handler time / emulated time, over the whole run after boot
+    emulated_s: float
+    wall_s: float
+    note: str
+    published_ticks: int | None = None  # MOE cleared to app_faults set by main
+
+    @property
+    def fault_names(self) -> list[str]:
+        return [name for name, value in FAULT.items() if self.faults & value]
+
+    @property
+    def problems(self) -> list[str]:
+        """Every way this outcome breaks its scenario's requirement (empty: it passes)."""
+        out = list(self.violations)
+        wanted = FAULT.get(self.expected, -1) if self.expected else 0
+        if self.faults != wanted:
+            out.append(f"faults {self.fault_names or ['none']}, expected {self.expected or 'none'}")
+        if self.limit_ticks is not None:
+            if self.latency_ticks is None:
+                out.append("MOE was never cleared")
+            elif not 0 <= self.latency_ticks <= self.limit_ticks:
+                out.append(f"latency {self.latency_ticks} ticks > {self.limit_ticks}")
+        elif self.latency_ticks is not None and self.expected is None:
+            out.append("MOE cleared with no fault expected")
+        if self.refresh_gap_ticks >= self.watchdog_ticks:
+            out.append("the watchdog starved")
+        return out
+
+
+class Run:
+    """A booted board braking at `rpm`, with the invariants watched at every step."""
+
+    def __init__(self, elf: Path, spec: Spec, *, hse_fails: bool = False) -> None:
+        self.spec = spec
+        self.board = DriveBoard(
+            elf,
+            spec,
+            MachineOptions(
+                vref=float(spec.adc.reference_v), lsi_hz=LSI_FASTEST_HZ, hse_fails=hse_fails
+            ),
+        )
+        self.machine = self.board.machine
+        self.violations: list[str] = []
+        self.machine.listeners.append(self._check_duties)
+        self.machine.listeners.append(self._check_preload)
+        self.machine.listeners.append(self._check_nesting)
+        self._compares: tuple[int, ...] = ()
+        self._updates = -1
+        for channel in (1, 2, 3):
+            self._watch_compare_writes(channel)
+        self.wall = time.perf_counter()
+        self.board.boot()
+        self.start = self.machine.now
+        self.handler_start = self.machine.handler_ticks
+        self.board.set_current(float(spec.controller.braking_current_nominal_a) / 2)
+        self.machine.tim1.record_gates()
+        self.sector = 0
+        self.rpm = default_rpm(spec)
+        self.published_after: int | None = None
+        self._armed_edges = 0  # the first edge after boot only arms the measurement
+        self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
+        self._urgent = {
+            IRQ_BASE + svd_interrupt("TIM3", "TIM3"),
+            IRQ_BASE + svd_interrupt("ADC1", "ADC"),
+        }
+
+    def _check_duties(self, machine: object) -> None:
+        tim1 = self.machine.tim1
+        top = tim1.arr if tim1.centre_aligned else tim1.arr + 1
+        for channel in (1, 2, 3):
+            if tim1.ccr[channel] > top and len(self.violations) < 10:
+                self.violations.append(
+                    f"CCR{channel} = {tim1.ccr[channel]} > {top} (ARR = {tim1.arr}) at tick"
+                    f" {self.machine.now}"
+                )
+
+    def _note(self, text: str) -> None:
+        if len(self.violations) < 20:
+            self.violations.append(text)
+
+    def _watch_compare_writes(self, channel: int) -> None:
+        """A CCRx write must not change the compare value in force (OCxPE: it waits for
+        the update event); the commutation's EGR.UG that follows is that event."""
+        tim1 = self.machine.tim1
+        write = tim1.writers[f"CCR{channel}"]
+
+        def checked(value: int) -> None:
+            before = tim1.ccr[channel]
+            write(value)
+            if tim1.ccr[channel] != before and tim1.moe:
+                self._note(
+                    f"CCR{channel} write took effect at once ({before} -> {tim1.ccr[channel]})"
+                    f" at {self.machine.now}: no preload"
+                )
+
+        tim1.writers[f"CCR{channel}"] = checked
+
+    def _check_preload(self, _machine: object) -> None:
+        tim1 = self.machine.tim1
+        compares = tuple(tim1.ccr[1:4])
+        if compares != self._compares and tim1.update_count == self._updates:
+            self._note(
+                f"CCR {self._compares} -> {compares} with no update event at {self.machine.now}"
+            )
+        self._compares, self._updates = compares, tim1.update_count
+
+    def _check_nesting(self, _machine: object) -> None:
+        active = self.machine.nvic.active
+        if len(active) < 2:
+            return
+        for below, above in pairwise(active):
+            if above == self._timing and below in self._urgent:
+                self._note(f"the timing handler preempted exception {below} at {self.machine.now}")
+
+    def turn_until(self, reached: Callable[[], bool], sectors: int) -> bool:
+        """Turn up to `sectors` sectors, stopping at the first 0.5 us step where
+        `reached()` holds; whether it did."""
+        for _ in range(sectors):
+            self.sector = (self.sector + 1) % 6
+            self.board.set_hall(self.spec.hall.sequence[self.sector])
+            end = self.machine.now + self.sector_ticks()
+            while self.machine.now < end:
+                if reached():
+                    return True
+                self.machine.run_for(TICK_HZ // 2_000_000)
+        return False
+
+    def turn(self, sectors: int) -> None:
+        """`sectors` Hall steps at `rpm`; each must change the enables in force."""
+        pole_pairs = self.spec.motor.poles // 2
+        sector_ticks = round(TICK_HZ * 60 / (self.rpm * pole_pairs * 6))
+        for _ in range(sectors):
+            before = self.machine.tim1.ccer
+            self.sector = (self.sector + 1) % 6
+            self.board.set_hall(self.spec.hall.sequence[self.sector])
+            self.machine.run_for(sector_ticks)
+            if self.machine.tim1.moe and self.machine.tim1.ccer == before and self._armed_edges:
+                self._note(
+                    f"a Hall edge to code {self.spec.hall.sequence[self.sector]} did not commutate"
+                )
+            self._armed_edges += 1
+
+    def sector_ticks(self) -> int:
+        pole_pairs = self.spec.motor.poles // 2
+        return round(TICK_HZ * 60 / (self.rpm * pole_pairs * 6))
+
+    def next_update(self) -> int:
+        tim1 = self.machine.tim1
+        counts = tim1.cycle_counts() - tim1.position(self.machine.now) % tim1.cycle_counts()
+        return self.machine.now + counts * tim1.ticks_per_count()
+
+    def run_until_tripped(self, limit: int) -> None:
+        """Run until MOE clears or `limit` ticks pass, then two PWM periods more: main
+        refreshes app_faults after an interrupt, and one that came while main was past
+        that line but before its WFI waits for the next period's."""
+        end = self.machine.now + limit
+        while self.machine.tim1.moe and self.machine.now < end:
+            self.machine.run_for(TICK_HZ // 1_000_000)
+        self.machine.run_for(2 * self.board.pwm_period_ticks())
+        # main's loop publishes app_faults; it runs below every handler, so give it up
+        # to MAIN_WAIT_PERIODS periods (the time it took is reported)
+        tripped = self.machine.tim1.moe_cleared_at
+        for _ in range(MAIN_WAIT_PERIODS):
+            if self.board.symbol("app_faults") or tripped is None:
+                break
+            self.machine.run_for(self.board.pwm_period_ticks())
+        self.published_after = None if tripped is None else self.machine.now - tripped
+
+    def outcome(
+        self, name: str, expected: str | None, cause: int | None, limit: int | None, note: str
+    ) -> Outcome:
+        machine = self.machine
+        dead = round(self.spec.inverter.dead_time_s * TICK_HZ)
+        log = machine.tim1.gate_log or []
+        violations = self.violations + [str(v) for v in gate_violations(log, dead)[:10]]
+        cleared = machine.tim1.moe_cleared_at
+        latency = None
+        if cleared is not None and cause is not None and cleared >= cause:
+            latency = cleared - cause
+        refreshes = [t for t in machine.iwdg.refresh_log if t >= self.start] + [machine.now]
+        gap = max((b - a for a, b in pairwise(refreshes)), default=0)
+        return Outcome(
+            name=name,
+            expected=expected,
+            faults=self.board.symbol("app_faults"),
+            latency_ticks=latency,
+            limit_ticks=limit,
+            violations=tuple(violations),
+            refresh_gap_ticks=gap,
+            watchdog_ticks=machine.iwdg.timeout_ticks(),
+            cpu_load=(machine.handler_ticks - self.handler_start)
+            / max(1, machine.now - self.start),
+            emulated_s=(machine.now - self.start) / TICK_HZ,
+            wall_s=time.perf_counter() - self.wall,
+            note=note,
+            published_ticks=self.published_after,
+        )
+
+
+def default_rpm(spec: Spec) -> float:
+    """Braking half-way between the controller's lowest and highest speed."""
+    return float(spec.controller.speed_min_rpm + spec.controller.speed_max_rpm) / 2
+
+
+def _over_voltage(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    step = run.next_update()
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    high = 1.1 * float(run.spec.inverter.bus_voltage_max_v)
+    run.board.set_bus_voltage(lambda tick: high if tick >= step else nominal)
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    return run.outcome(
+        "over-voltage step",
+        "OVER_VOLTAGE",
+        step,
+        run.board.pwm_period_ticks(),
+        "bus 10 % above inverter.bus_voltage_max at a PWM period start (the injected trigger)",
+    )
+
+
+def _break_input(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 3)
+    # the break while an upper switch conducts, if one does within the sector: the hand-
+    # over to the lower switches (the short circuit) then needs the dead time
+    tim1 = run.machine.tim1
+    if not run.turn_until(lambda: any(tim1.gates()[0::2]), 6):
+        run.machine.run_for(run.sector_ticks() // 3)  # no upper switch conducts: mid-sector
+    cause = run.machine.now
+    run.board.set_break(True)
+    run.run_until_tripped(run.board.pwm_period_ticks())
+    tim1 = run.machine.tim1
+    # the safe state after the dead time: every switch off, or the three lower switches
+    # on (the short circuit, where all-off would rectify into the bus); gates are
+    # (CH1, CH1N, CH2, CH2N, CH3, CH3N), the upper switches on CHx
+    after = tim1.gates(cause + tim1.dead_time_ticks())
+    if after not in ((False,) * 6, (False, True) * 3):
+        run.violations.append(f"gates {after} after the dead time: no safe state")
+    return run.outcome(
+        "BKIN over-current",
+        "OVER_CURRENT",
+        cause,
+        run.board.pwm_period_ticks(),
+        "the comparator on BKIN goes active mid-sector; MOE clears in hardware",
+    )
+
+
+def _hall_unplugged(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    while bin(run.spec.hall.sequence[run.sector]).count("1") != 1:
+        run.turn(1)
+    run.machine.run_for(run.sector_ticks() // 3)
+    cause = run.machine.now
+    run.board.set_hall(7)  # the two low lines pulled up at once: no TI1 edge
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    return run.outcome(
+        "Hall unplugged (code 7)",
+        "HALL_INVALID",
+        cause,
+        sampled_limit(run.spec),
+        "two Hall lines rise together (pull-ups of an unplugged connector): no TIM3 edge;"
+        " the current loop's interrupt reads the pins, so the limit is one PWM period, the"
+        " injected conversions and two handlers at the current loop's budget",
+    )
+
+
+def _hall_glitch(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 3)
+    tim3 = run.machine.tim3
+    captures = tim3.captures
+    code = run.spec.hall.sequence[run.sector]
+    width = max(1, tim3._filter_ticks() // 2)
+    # one line flips for half the input filter's time, to a valid code (a flip to 0 or 7
+    # that the current loop's interrupt happens to read trips HALL_INVALID: its pin read
+    # has no filter)
+    flipped = next(code ^ (1 << b) for b in range(3) if (code ^ (1 << b)) not in (0, 7))
+    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
+        run.machine.run_for(1)
+    began = run.machine.now
+    run.board.set_hall(flipped)
+    run.machine.run_for(width)
+    if run.machine.now - began >= tim3._filter_ticks():
+        run.violations.append(f"the glitch lasted {run.machine.now - began} ticks, not {width}")
+    run.board.set_hall(code)
+    run.machine.run_for(run.board.pwm_period_ticks())
+    if tim3.captures != captures:
+        run.violations.append("the glitch passed TIM3's input filter")
+    run.turn(4)
+    if not run.machine.tim1.moe:
+        run.violations.append("the bridge stopped after the glitch")
+    return run.outcome(
+        "Hall glitch",
+        None,
+        None,
+        None,
+        f"one Hall line flips for {width} ticks, half TIM3's input filter: no edge, no fault",
+    )
+
+
+def _rotor_stops(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    last_edge = run.machine.now - run.sector_ticks()
+    tim3 = run.machine.tim3
+    wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()  # TIM3 wraps: the time-out
+    run.run_until_tripped(wrap - run.machine.now + 2 * run.board.pwm_period_ticks())
+    return run.outcome(
+        "rotor stops",
+        "HALL_TIMEOUT",
+        wrap,
+        run.board.pwm_period_ticks(),
+        "the Hall code stops changing while the bridge switches; latency from TIM3's wrap"
+        " (the Hall time-out, its counter's range after the last edge)",
+    )
+
+
+def _bus_stuck_at_zero(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 3)
+    cause = run.machine.now
+    run.board.set_bus_voltage(0.0)
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    return run.outcome(
+        "bus ADC stuck at 0",
+        "UNDER_VOLTAGE",
+        cause,
+        run.board.pwm_period_ticks(),
+        "the bus divider's ADC input reads 0 V from mid-sector on",
+    )
+
+
+def _hse_fails(run: Run) -> Outcome:
+    run.machine.run_for(run.board.pwm_period_ticks() * 20)
+    if run.machine.tim1.moe or run.machine.tim1.moe_cleared_at is not None:
+        run.violations.append("the bridge was armed on the HSI")
+    return run.outcome(
+        "HSE fails to start",
+        "CLOCK",
+        None,
+        None,
+        "the crystal never starts: the bridge is never armed (no latency: MOE never set)",
+    )
+
+
+@dataclass(frozen=True)
+class Scenario:
+    key: str
+    run: Callable[[Run], Outcome]
+    hse_fails: bool = False
+
+
+SCENARIOS = (
+    Scenario("over_voltage", _over_voltage),
+    Scenario("break_input", _break_input),
+    Scenario("hall_unplugged", _hall_unplugged),
+    Scenario("hall_glitch", _hall_glitch),
+    Scenario("rotor_stops", _rotor_stops),
+    Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
+    Scenario("hse_fails", _hse_fails, hse_fails=True),
+)
+
+
+def run_scenario(elf: Path, spec: Spec, scenario: Scenario) -> Outcome:
+    """One scenario; a hard fault or a watchdog reset is an outcome, not an exception."""
+    try:
+        run = Run(elf, spec, hse_fails=scenario.hse_fails)
+    except (PilError, WatchdogResetError, TimeoutError) as error:
+        return _broken(scenario, spec, f"boot: {error}")
+    try:
+        return scenario.run(run)
+    except (PilError, WatchdogResetError) as error:
+        run.violations.append(f"{type(error).__name__}: {error}")
+        return run.outcome(scenario.key, "never", None, None, "aborted")
+
+
+def _broken(scenario: Scenario, spec: Spec, why: str) -> Outcome:
+    return Outcome(scenario.key, "never", 0, None, None, (why,), 0, 1, 0.0, 0.0, 0.0, "aborted")

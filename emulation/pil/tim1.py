@@ -1,0 +1,366 @@
+"""TIM1, the advanced-control timer (RM0008 section 14), on top of `timer.Timer`.
+
+Behaviours beyond the shared time base, with their RM0008 sections:
+* 14.4.2 CR2.CCPC = 1: CCxE, CCxNE (CCER) and OCxM (CCMRx) of the channels with a
+  complementary output (1..3) are preloaded; a COM event (EGR.COMG, 14.4.6) transfers
+  them and sets COMIF (14.3.16). CR2.CCUS (COM on TRGI) is not modelled. CCER reads back
+  what was written.
+* 14.4.18 BDTR: DTG (dead time), OSSI, OSSR, BKE, BKP, AOE, MOE; LOCK must stay 0.
+* 14.3.11 dead time: with CCxE = CCxNE = 1 each output's rising edge is delayed by
+  DT = DTG decoded (14.4.18: 0xx: DTG x t_DTS; 10x: (64 + DTG[5:0]) x 2 t_DTS; 110:
+  (32 + DTG[4:0]) x 8 t_DTS; 111: (32 + DTG[4:0]) x 16 t_DTS) with t_DTS = 1 / CK_INT
+  (CR1.CKD = 00); a pulse shorter than DT never shows.
+* 14.4.9 Table 83, the output states, for channels 1..3 (`outputs`):
+  MOE = 1: CCxE/CCxNE 00: not driven; 10: OCx = OCxREF xor CCxP, OCxN = CCxNP (OSSR = 1)
+  or not driven (OSSR = 0); 01: the mirror image; 11: complementary with dead time.
+  MOE = 0: OSSI = 0 or both enables 0: not driven; OSSI = 1: OCx = CCxP and OCxN =
+  CCxNP at once, then OCx = OISx and OCxN = OISxN (CR2) after a dead time.
+* 14.3.12 break: the break input (BKIN, PB12, RM0008 9.3.7 with no remap) active at level
+  BKP with BKE = 1, the CSS clock failure event (7.2.7), or EGR.BG: MOE is cleared at
+  once, BIF is set (interrupt with BIE). The input acts on its level: while it is
+  active MOE cannot be set and BIF cannot be cleared. With AOE = 1 MOE is set again at
+  the next UEV once the break is gone.
+* Interrupt vectors: TIM1_BRK (BIF), TIM1_UP (UIF), TIM1_TRG_COM (COMIF, TIF), TIM1_CC
+  (CC1IF..CC4IF), numbers from the SVD.
+The outputs are a function of time computed from the register state in force: the last
+OCxREF edge is found from the counter, assuming the compare values and mode in force now
+also held through the previous PWM period.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from emulation.pil.bus import PilError, bits, svd_interrupt
+from emulation.pil.timer import SR_BIF, SR_COMIF, SR_TIF, SR_UIF, Timer
+
+if TYPE_CHECKING:
+    from emulation.pil.machine import Machine
+
+BDTR_OSSI, BDTR_OSSR, BDTR_BKE, BDTR_BKP, BDTR_AOE, BDTR_MOE = (
+    1 << 10,
+    1 << 11,
+    1 << 12,
+    1 << 13,
+    1 << 14,
+    1 << 15,
+)
+CR2_CCPC, CR2_CCUS = 1, 4
+EGR_COMG, EGR_BG = 1 << 5, 1 << 7
+#: pins of CH1, CH2, CH3 (GPIOA) and CH1N, CH2N, CH3N (GPIOB), and BKIN (GPIOB), no remap
+CHANNEL_PINS = (8, 9, 10)
+COMPLEMENTARY_PINS = (13, 14, 15)
+BREAK_PIN = 12
+#: CCMRx bits of OCxM for channels 1..3 (the preloaded part with CCPC)
+_OCM_MASK = (0x0070 | 0x7000, 0x0070)
+#: CCER bits preloaded with CCPC: CCxE, CCxNE of channels 1..3
+_CCER_PRELOADED = 0b0101_0101_0101
+
+
+def dead_time_counts(dtg: int) -> int:
+    """RM0008 14.4.18 DTG[7:0] -> dead time in t_DTS."""
+    if dtg >> 7 == 0:
+        return dtg
+    if dtg >> 6 == 0b10:
+        return (64 + (dtg & 0x3F)) * 2
+    if dtg >> 5 == 0b110:
+        return (32 + (dtg & 0x1F)) * 8
+    return (32 + (dtg & 0x1F)) * 16
+
+
+class AdvancedTimer(Timer):
+    APB = 2
+
+    def __init__(self, machine: Machine) -> None:
+        super().__init__(machine, "TIM1")
+        self.VECTORS = (
+            (SR_BIF, svd_interrupt("TIM1", "TIM1_BRK_TIM9")),
+            (SR_UIF, svd_interrupt("TIM1", "TIM1_UP_TIM10")),
+            (SR_COMIF | SR_TIF, svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")),
+            (0b11110, svd_interrupt("TIM1", "TIM1_CC")),
+        )
+        self.bdtr = 0
+        self.rcr = 0
+        self.ccer_written = 0
+        self.ccmr_written = [0, 0]
+        self.moe_cleared_at: int | None = None
+        self.breaks = 0
+        self.com_events = 0
+        #: (tick, gates) at every change of the six outputs, once `record_gates()` ran
+        self.gate_log: list[tuple[int, tuple[bool | None, ...]]] | None = None
+        self._flushed = 0
+        self.readers |= {"BDTR": lambda: self.bdtr, "RCR": lambda: self.rcr}
+        self.writers |= {"BDTR": self._write_bdtr, "RCR": self._write_rcr}
+        for index, pin in enumerate(CHANNEL_PINS):
+            machine.gpioa.alternate[pin] = lambda c=index + 1: self.output(c, False)
+        for index, pin in enumerate(COMPLEMENTARY_PINS):
+            machine.gpiob.alternate[pin] = lambda c=index + 1: self.output(c, True)
+        machine.gpiob.watch(BREAK_PIN, lambda _level, _at: self._check_break_input())
+
+    # ------------------------------------------------------------- preloaded control bits
+    def ccmr_register(self, index: int) -> int:
+        return self.ccmr_written[index]
+
+    def ccer_register(self) -> int:
+        return self.ccer_written
+
+    def _preloading(self) -> bool:
+        return bool(self.cr2 & CR2_CCPC)
+
+    def write_ccmr(self, index: int, value: int) -> None:
+        self.ccmr_written[index] = value & 0xFFFF
+        if self._preloading():
+            kept = self.ccmr[index] & _OCM_MASK[index]
+            value = (value & ~_OCM_MASK[index]) | kept
+        super().write_ccmr(index, value)
+
+    def write_ccer(self, value: int) -> None:
+        self.ccer_written = value & 0xFFFF
+        if self._preloading():
+            value = (value & ~_CCER_PRELOADED) | (self.ccer & _CCER_PRELOADED)
+        super().write_ccer(value)
+
+    def commutate(self) -> None:
+        """COM event (14.3.16): the preloaded enables and modes take effect, COMIF."""
+        for index in range(2):
+            self.ccmr[index] = (self.ccmr[index] & ~_OCM_MASK[index]) | (
+                self.ccmr_written[index] & _OCM_MASK[index]
+            )
+        self.ccer = (self.ccer & ~_CCER_PRELOADED) | (self.ccer_written & _CCER_PRELOADED)
+        self.sr |= SR_COMIF
+        self.com_events += 1
+        self.refresh_refs()
+
+    def _write_cr2(self, value: int) -> None:
+        if value & CR2_CCUS:
+            raise PilError("TIM1.CR2.CCUS = 1 (COM on TRGI) is not modelled")
+        super()._write_cr2(value)
+
+    def _write_rcr(self, value: int) -> None:
+        if value & 0xFF:
+            raise PilError("TIM1.RCR != 0: the repetition counter is not modelled")
+        self.rcr = 0
+
+    def write_egr(self, value: int) -> None:
+        if value & EGR_COMG:
+            self.commutate()
+        if value & EGR_BG:
+            self._break(software=True)
+        super().write_egr(value & ~(EGR_COMG | EGR_BG))
+
+    # ------------------------------------------------------------- BDTR and the break
+    def _write_bdtr(self, value: int) -> None:
+        if bits(value, 8, 2):
+            raise PilError("TIM1.BDTR.LOCK != 0 is not modelled")
+        was_on = self.moe
+        self.bdtr = value & 0xFFFF
+        if self.moe and self.break_input_active():
+            self.bdtr &= ~BDTR_MOE  # 14.3.12: MOE cannot be set while the break is active
+        if was_on and not self.moe:
+            self.moe_cleared_at = self.machine.now
+        self._check_break_input()
+
+    @property
+    def moe(self) -> bool:
+        return bool(self.bdtr & BDTR_MOE)
+
+    def break_input_active(self) -> bool:
+        if not self.bdtr & BDTR_BKE:
+            return False
+        level = self.machine.gpiob.input_level(BREAK_PIN)
+        return level == bool(self.bdtr & BDTR_BKP)
+
+    def _check_break_input(self) -> None:
+        if self.break_input_active():
+            self._break(software=False)
+
+    def _break(self, *, software: bool) -> None:
+        self._flush(self.machine.now)
+        if self.moe:
+            self.moe_cleared_at = self.machine.now
+        self.bdtr &= ~BDTR_MOE
+        if not self.sr & SR_BIF:
+            self.breaks += 1
+        self.sr |= SR_BIF
+        self.update_lines()
+        self._mark(self.machine.now)
+
+    def clock_failure(self) -> None:
+        """7.2.7: the CSS sends the clock failure event to the break input."""
+        if self.bdtr & BDTR_BKE:
+            self._break(software=False)
+
+    def keep_flags(self) -> None:
+        if self.break_input_active():
+            self.sr |= SR_BIF  # 14.3.12: BIF cannot be cleared while the input is active
+
+    def on_update(self) -> None:
+        if self.bdtr & BDTR_AOE and not self.moe and not self.break_input_active():
+            self.bdtr |= BDTR_MOE
+
+    # ------------------------------------------------------------- outputs
+    def dead_time_ticks(self) -> int:
+        rcc = self.machine.rcc
+        t_dts = rcc.ticks_of(rcc.timer_hz(self.APB), "TIM1CLK")
+        return dead_time_counts(self.bdtr & 0xFF) * t_dts
+
+    def _ref_edges(self, channel: int, now: int) -> tuple[bool, int]:
+        """OCxREF at `now` and the tick it took that level (register state in force)."""
+        level = self.ref_level(channel, now)
+        if not self.running or self.oc_mode(channel) not in (6, 7):
+            return level, -(10**12)
+        tpc = self.ticks_per_count()
+        pos = self.position(now)
+        value = self.ccr[channel]
+        cycle = self.cycle_counts()
+        base = (pos // cycle) * cycle
+        candidates = []
+        for start in (base - cycle, base):
+            offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
+            candidates.extend(start + offset for offset in offsets)
+        for candidate in sorted((c for c in candidates if c <= pos), reverse=True):
+            before = self._ref_at_position(channel, candidate - 1)
+            after = self._ref_at_position(channel, candidate)
+            if before != after and after == level:
+                return level, self.time_of_position(candidate)
+        return level, now - 2 * cycle * tpc
+
+    def _ref_at_position(self, channel: int, pos: int) -> bool:
+        active = self.cnt_of_position(pos) < self.ccr[channel]
+        return active if self.oc_mode(channel) == 6 else not active
+
+    def output(self, channel: int, complementary: bool, now: int | None = None) -> bool | None:
+        """Level of OCx (or OCxN) at `now` (default: the machine's time); None where
+        the timer does not drive the pin (Table 83 "output disabled")."""
+        now = self.machine.now if now is None else now
+        shift = 4 * (channel - 1)
+        enabled = bool(self.ccer >> shift & 1)
+        enabled_n = bool(self.ccer >> (shift + 2) & 1)
+        polarity = bool(self.ccer >> (shift + 1) & 1)
+        polarity_n = bool(self.ccer >> (shift + 3) & 1)
+        own_polarity = polarity_n if complementary else polarity
+        if not enabled and not enabled_n:
+            return None
+        dead = self.dead_time_ticks()
+        if not self.moe:
+            if not self.bdtr & BDTR_OSSI:
+                return None
+            cleared = self.moe_cleared_at if self.moe_cleared_at is not None else -(10**12)
+            if now - cleared < dead:
+                return own_polarity
+            idle_bit = 8 + 2 * (channel - 1) + (1 if complementary else 0)
+            return bool(self.cr2 >> idle_bit & 1)
+        own = enabled_n if complementary else enabled
+        if not own:
+            return own_polarity if self.bdtr & BDTR_OSSR else None
+        level, since = self._ref_edges(channel, now)
+        if complementary:
+            level = not level
+        if enabled and enabled_n:
+            level = level and now - since >= dead
+        return level != own_polarity
+
+    def gates(self, now: int | None = None) -> tuple[bool | None, ...]:
+        """(CH1, CH1N, CH2, CH2N, CH3, CH3N) at `now`."""
+        return tuple(
+            self.output(channel, complementary, now)
+            for channel in (1, 2, 3)
+            for complementary in (False, True)
+        )
+
+    # ------------------------------------------------------------- the gate record
+    def record_gates(self) -> None:
+        """Start recording every change of the six outputs (`gate_log`)."""
+        now = self.machine.now
+        self.gate_log = [(now, self.gates(now))]
+        self._flushed = now
+
+    def _candidates(self, start: int, end: int) -> list[int]:
+        """Ticks in (start, end] where an output may change with the state in force:
+        each OCxREF edge (a compare match, an update) and a dead time after it."""
+        ticks: set[int] = set()
+        if self.moe_cleared_at is not None:
+            ticks.add(self.moe_cleared_at + self.dead_time_ticks())
+        if self.running:
+            dead = self.dead_time_ticks()
+            cycle = self.cycle_counts()
+            first = (self.position(start) // cycle - 1) * cycle
+            last = self.position(end) + cycle
+            for base in range(first, last + 1, cycle):
+                positions = {base, base + self.arr} if self.centre_aligned else {base}
+                for channel in (1, 2, 3):
+                    value = self.ccr[channel]
+                    positions.add(base + value)
+                    if self.centre_aligned:
+                        positions.add(base + 2 * self.arr - value)
+                for position in positions:
+                    tick = self.time_of_position(position)
+                    ticks.update((tick, tick + dead))
+        return sorted(t for t in ticks if start < t <= end)
+
+    def _flush(self, until: int) -> None:
+        """Log the changes up to `until` that the state in force makes by itself."""
+        log = self.gate_log
+        if log is None or until <= self._flushed:
+            return
+        for tick in self._candidates(self._flushed, until):
+            gates = self.gates(tick)
+            if gates != log[-1][1]:
+                log.append((tick, gates))
+        self._flushed = until
+
+    def _mark(self, tick: int) -> None:
+        """Log the outputs right after a state change at `tick`."""
+        log = self.gate_log
+        if log is None:
+            return
+        gates = self.gates(tick)
+        if gates != log[-1][1]:
+            log.append((tick, gates))
+        self._flushed = max(self._flushed, tick)
+
+    def write(self, offset: int, size: int, value: int) -> None:
+        now = self.machine.now
+        self._flush(now)
+        super().write(offset, size, value)
+        self._mark(now)
+
+    def on_event(self, now: int) -> None:
+        while (at := self.counter_event()) is not None and at <= now:
+            self._flush(at)
+            super().on_event(at)
+            self._mark(at)
+        self._flush(now)
+
+
+def gate_violations(
+    log: list[tuple[int, tuple[bool | None, ...]]], dead_time_ticks: int
+) -> list[str]:
+    """The bridge invariants on a gate record: both switches of a phase never on at
+    once, and a switch turns on no sooner than `dead_time_ticks` after the other switch
+    of its phase turned off. An undriven output (None) counts as off."""
+    violations: list[str] = []
+    if not log:
+        return violations
+    off_since: list[list[int | None]] = [[None, None] for _ in range(3)]
+    previous = log[0][1]
+    for tick, gates in log[1:]:
+        for phase in range(3):
+            upper, lower = gates[2 * phase] is True, gates[2 * phase + 1] is True
+            if upper and lower:
+                violations.append(f"tick {tick}: phase {'ABC'[phase]} has both switches on")
+            for switch in (0, 1):
+                was = previous[2 * phase + switch] is True
+                now = gates[2 * phase + switch] is True
+                if was and not now:
+                    off_since[phase][switch] = tick
+                if now and not was:
+                    other = off_since[phase][1 - switch]
+                    if other is not None and tick - other < dead_time_ticks:
+                        violations.append(
+                            f"tick {tick}: phase {'ABC'[phase]} {('upper', 'lower')[switch]}"
+                            f" switch on {tick - other} ticks after its partner turned off"
+                            f" (dead time {dead_time_ticks})"
+                        )
+        previous = gates
+    return violations

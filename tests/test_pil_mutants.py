@@ -1,0 +1,128 @@
+"""Port mutants on the emulated drive: each plants one fault in a copy of the generated
+port (the generator's output edited, then linked), and a PIL scenario or invariant of
+emulation/pil/scenarios.py must notice it. The unmutated port passes the same scenarios
+(tests/test_pil_scenarios.py)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from codegen.spec_loader import load_spec
+from emulation.pil.build import checked_in, generate, link_mutant
+from emulation.pil.scenarios import SCENARIOS, run_scenario
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "spec" / "paper_motor.yaml"
+HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
+PORT = "c/stm32f103_port.c"
+HEADER = "c/stm32f103_port.h"
+
+
+@dataclass(frozen=True)
+class Mutant:
+    name: str
+    file: str
+    old: str
+    new: str
+    spec: Path
+    scenario: str  # the scenario that must report a problem
+    caught_by: str  # the problem's text, as the scenario words it
+
+
+MUTANTS = (
+    Mutant(
+        "invalid-Hall safe state dropped (code 0/7 without an edge)",
+        PORT,
+        "port_trip(anchor, BLDC_FAULT_HALL_INVALID);",
+        "(void)0;",
+        PAPER,
+        "hall_unplugged",
+        "faults",
+    ),
+    Mutant(
+        "wrong CCER bits: phase 2's enables left out of the safe state's CCER",
+        PORT,
+        "TIM_CCER_CC2E | TIM_CCER_CC2NE |",
+        "",
+        HUB,
+        "break_input",
+        "no safe state",
+    ),
+    Mutant(
+        "EGR bit changed: UG without COMG at each commutation",
+        PORT,
+        "#define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG)",
+        "#define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_UG)",
+        PAPER,
+        "over_voltage",
+        "did not commutate",
+    ),
+    Mutant(
+        "preload disabled: OC1PE cleared",
+        PORT,
+        "TIM_CCMR1_OC1PE |",
+        "",
+        PAPER,
+        "over_voltage",
+        "no preload",
+    ),
+    Mutant(
+        "interrupt priorities swapped: Hall edge and timing handler",
+        PORT,
+        "NVIC_SetPriority(TIM1_TRG_COM_IRQn, BLDC_PORT_TIMING_PRIORITY);",
+        "NVIC_SetPriority(TIM1_TRG_COM_IRQn, BLDC_PORT_HALL_PRIORITY);\n"
+        "    NVIC_SetPriority(TIM3_IRQn, BLDC_PORT_TIMING_PRIORITY);",
+        PAPER,
+        "over_voltage",
+        "preempted",
+    ),
+    Mutant(
+        "dead time zeroed",
+        HEADER,
+        "#define BLDC_PORT_TIM1_DTG ",
+        "#define BLDC_PORT_TIM1_DTG 0x00u /* mutant */",
+        HUB,
+        "break_input",
+        "dead time",
+    ),
+)
+
+
+def _mutate(mutant: Mutant) -> Callable[[Path], None]:
+    def edit(generated: Path) -> None:
+        path = generated / mutant.file
+        text = path.read_text(encoding="utf-8")
+        assert text.count(mutant.old) >= 1, f"{mutant.name}: {mutant.old!r} not in {mutant.file}"
+        if mutant.old.endswith(" "):  # a #define: the whole line
+            lines = text.splitlines(keepends=True)
+            lines = [mutant.new + "\n" if ln.startswith(mutant.old) else ln for ln in lines]
+            text = "".join(lines)
+        else:
+            text = text.replace(mutant.old, mutant.new, 1)
+        path.write_text(text, encoding="utf-8")
+
+    return edit
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory: pytest.TempPathFactory) -> dict[Path, Path]:
+    """Each spec generated once; every mutant edits a copy."""
+    return {
+        spec: checked_in(spec) or generate(spec, tmp_path_factory.mktemp(spec.stem) / "g")
+        for spec in (PAPER, HUB)
+    }
+
+
+@pytest.mark.parametrize("mutant", MUTANTS, ids=[m.name.split(":")[0] for m in MUTANTS])
+def test_each_port_mutant_should_be_caught_by_a_scenario(
+    mutant: Mutant, generated: dict[Path, Path], tmp_path: Path
+) -> None:
+    elf = link_mutant(generated[mutant.spec], tmp_path / "mutant", _mutate(mutant))
+    spec = load_spec(str(mutant.spec))
+    scenario = next(s for s in SCENARIOS if s.key == mutant.scenario)
+    problems = run_scenario(elf, spec, scenario).problems
+    assert any(mutant.caught_by in p for p in problems), problems
