@@ -41,6 +41,7 @@ from codegen.shown import shown
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec, Tolerances
 from sim.drive import Drive
+from sim.robustness_args import add_campaign_arguments
 
 EXIT_SPEC = 2
 EXIT_SIL = 4
@@ -282,30 +283,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         prog="python -m sim.robustness", description=__doc__.splitlines()[0]
     )
     parser.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
-    parser.add_argument("--samples", type=int, default=1000, help="Latin-hypercube samples (1000)")
-    parser.add_argument("--speeds", type=int, default=10, help="speeds over the spec's range (10)")
-    parser.add_argument(
-        "--methods",
-        default="none,conventional,improved,improved_r",
-        help="comma-separated methods (the generated C cores; default all four)",
-    )
-    parser.add_argument(
-        "--plant",
-        choices=("averaged", "switched"),
-        default="averaged",
-        help="averaged (default) or switched plant; switched also samples the carrier phase",
-    )
-    parser.add_argument("--seed", type=int, default=1, help="sampling seed (1)")
-    parser.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (2)")
-    parser.add_argument(
-        "--scheduler", help="address of an existing Dask scheduler instead of a LocalCluster"
-    )
-    parser.add_argument("--chunk", type=int, default=25, help="samples per Dask task (25)")
+    add_campaign_arguments(parser)
     parser.add_argument(
         "-o", "--output", help="output folder (default generated/<spec name>/robustness)"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    args = parser.parse_args(argv)
+    return run(parser.parse_args(argv))
+
+
+def run(args: argparse.Namespace) -> int:
+    """The campaign for parsed arguments (`add_campaign_arguments` plus spec, output
+    and no_progress), its report written; the exit status."""
     from sim.robustness_report import write_report
     from sim.runs import METHODS
     from sim.sil import SilError
@@ -314,13 +302,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     bad = [m for m in methods if m not in METHODS]
     if bad or not methods:
         print(f"error: --methods {args.methods!r}: allowed {', '.join(METHODS)}", file=sys.stderr)
-        return EXIT_SPEC
-    for name, value, low in (("--samples", args.samples, 2), ("--speeds", args.speeds, 1)):
-        if value < low:
-            print(f"error: {name} = {value}: at least {low}", file=sys.stderr)
-            return EXIT_SPEC
-    if args.workers < 1 or args.chunk < 1:
-        print("error: --workers and --chunk must be at least 1", file=sys.stderr)
         return EXIT_SPEC
     try:
         spec = load_spec(args.spec)

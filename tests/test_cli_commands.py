@@ -335,4 +335,4 @@ def test_robustness_runs_from_the_cli_outside_the_repo(
     with pytest.raises(SystemExit) as caught:
         cli.main([*argv[:2], "--samples", "0"])
     assert caught.value.code == ExitCode.USAGE
-    assert "argument --samples: 0: at least 1" in capsys.readouterr().err
+    assert "argument --samples: 0: at least 2" in capsys.readouterr().err

@@ -61,4 +61,7 @@ def test_robustness_should_refuse_bad_arguments_with_one_line(
 ) -> None:
     assert main([str(SPEC), "--methods", "improved,bogus"]) == 2
     assert "--methods" in capsys.readouterr().err
-    assert main([str(SPEC), "--samples", "1"]) == 2
+    with pytest.raises(SystemExit) as caught:  # argparse: usage, then the one error line
+        main([str(SPEC), "--samples", "1"])
+    assert caught.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1].endswith("argument --samples: 1: at least 2")

@@ -24,6 +24,7 @@ from bldc.commands.common import (
 )
 from codegen.errors import ExitCode
 from codegen.shown import shown
+from sim.robustness_args import add_campaign_arguments
 
 
 def _require_tools(*tools: str) -> None:
@@ -241,60 +242,20 @@ register(
 # --------------------------------------------------------------------- robustness
 
 
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value}: at least 1")
-    return value
-
-
 def _robustness(args: argparse.Namespace) -> int:
-    from sim.robustness import main as robustness_main
+    from sim.robustness import run as robustness_run
 
     spec = load(args.spec)  # one line for a bad spec, before Dask starts
-    out = Path(args.output) if args.output else Path("generated") / spec.name / "robustness"
-    argv = [args.spec, "-o", str(out), "--samples", str(args.samples)]
-    argv += ["--speeds", str(args.speeds), "--methods", args.methods, "--plant", args.plant]
-    argv += ["--seed", str(args.seed), "--workers", str(args.workers), "--chunk", str(args.chunk)]
-    argv += ["--scheduler", args.scheduler] if args.scheduler else []
-    argv += ["--no-progress"] if args.no_progress else []
-    code = robustness_main(argv)
+    if not args.output:
+        args.output = str(Path("generated") / spec.name / "robustness")
+    code = robustness_run(args)
     # sim.robustness: 2 a bad argument (the spec loaded above), 4 software in the loop.
     return {0: 0, 2: int(ExitCode.USAGE)}.get(code, int(ExitCode.ENVIRONMENT))
 
 
 def _robustness_arguments(parser: argparse.ArgumentParser) -> None:
     add_spec(parser)
-    parser.add_argument(
-        "--samples", type=_positive, default=1000, help="Latin-hypercube samples (1000)"
-    )
-    parser.add_argument(
-        "--speeds", type=_positive, default=10, help="speeds over the spec's range (10)"
-    )
-    parser.add_argument(
-        "--methods",
-        default="none,conventional,improved,improved_r",
-        help="comma-separated methods, each run as its generated C core (default: all four)",
-    )
-    parser.add_argument(
-        "--plant",
-        choices=("averaged", "switched"),
-        default="averaged",
-        help="averaged (default) or switched plant; switched also samples the carrier phase",
-    )
-    parser.add_argument("--seed", type=int, default=1, help="sampling seed (1)")
-    parser.add_argument(
-        "--workers", type=_positive, default=2, help="Dask LocalCluster worker processes (2)"
-    )
-    parser.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        help="an existing Dask scheduler (e.g. tcp://host:8786) instead of a local cluster",
-    )
-    parser.add_argument("--chunk", type=_positive, default=25, help="samples per Dask task (25)")
+    add_campaign_arguments(parser)
     parser.add_argument(
         "-o",
         "--output",
