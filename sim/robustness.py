@@ -36,7 +36,6 @@ from pathlib import Path
 import numpy as np
 
 from codegen.errors import SpecError
-from codegen.render import PROJECT_ROOT
 from codegen.shown import shown
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec, Tolerances
@@ -285,7 +284,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("spec", help="motor spec YAML, e.g. spec/paper_motor.yaml")
     add_campaign_arguments(parser)
     parser.add_argument(
-        "-o", "--output", help="output folder (default generated/<spec name>/robustness)"
+        "-o",
+        "--output",
+        help="output folder (default: generated/<spec name>/robustness in the current folder)",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     return run(parser.parse_args(argv))
@@ -315,9 +316,7 @@ def run(args: argparse.Namespace) -> int:
     except SilError as exc:
         print(f"software in the loop failed: {exc}", file=sys.stderr)
         return EXIT_SIL
-    out = (
-        Path(args.output) if args.output else PROJECT_ROOT / "generated" / spec.name / "robustness"
-    )
+    out = Path(args.output) if args.output else Path("generated") / spec.name / "robustness"
     names = write_report(spec, result, out)
     runs = result.values.shape[0] * result.values.shape[1] * result.values.shape[2]
     print(
