@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import ctypes
 import importlib.util
-import subprocess
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -43,6 +42,7 @@ import numpy.typing as npt
 from codegen.spec_model import Spec
 from oracle.current_loop import LoopModel, loop_model
 from verify.check import SLACK, OutputCheck
+from verify.host_core import compile_with_shim
 
 SHIM = """\
 /* Batch entry for the verifier: not part of the firmware. */
@@ -75,7 +75,6 @@ void loop_reference(const uint32_t *ma, uint32_t *code, size_t n)
     }
 }
 """
-CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wconversion", "-Werror", "-fPIC", "-shared"]
 RANDOM_POINTS = 200_000
 STATES_PER_ERROR = 41
 TWIN_SAMPLE = 4_000
@@ -126,25 +125,7 @@ class HostLoop:
 
 
 def build_host_loop(c_dir: Path, build_dir: Path, fraction_bits: int) -> HostLoop:
-    build_dir.mkdir(parents=True, exist_ok=True)
-    shim = build_dir / "verify_loop.c"
-    shim.write_text(SHIM, encoding="utf-8")
-    library = build_dir / "libbldc_loop.so"
-    subprocess.run(
-        [
-            "gcc",
-            *CFLAGS,
-            f"-I{c_dir}",
-            str(c_dir / "bldc_current_loop.c"),
-            str(shim),
-            "-o",
-            str(library),
-        ],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    dll = ctypes.CDLL(str(library))
+    dll, _ = compile_with_shim(c_dir / "bldc_current_loop.c", SHIM, build_dir, "verify_loop")
     for name in ("loop_batch", "loop_run", "loop_reference"):
         getattr(dll, name).restype = None
     return HostLoop(dll, fraction_bits)

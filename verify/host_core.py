@@ -60,6 +60,25 @@ class HostCore:
         return outputs
 
 
+def compile_with_shim(
+    source: Path, shim_text: str, build_dir: Path, name: str
+) -> tuple[ctypes.CDLL, Path]:
+    """gcc `source` (with its folder on the include path) and the shim `name`.c into
+    lib`name`.so under CFLAGS (-Werror: any warning fails); the loaded library and its
+    path."""
+    build_dir.mkdir(parents=True, exist_ok=True)
+    shim = build_dir / f"{name}.c"
+    shim.write_text(shim_text, encoding="utf-8")
+    library = build_dir / f"lib{name}.so"
+    subprocess.run(
+        ["gcc", *CFLAGS, f"-I{source.parent}", str(source), str(shim), "-o", str(library)],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    return ctypes.CDLL(str(library)), library
+
+
 def build_host_core(
     c_dir: Path,
     build_dir: Path,
@@ -67,25 +86,7 @@ def build_host_core(
     output_dtype: np.dtype,
 ) -> HostCore:
     """Compile c_dir/bldc_commutation.c with the batch shim; fail on any warning."""
-    build_dir.mkdir(parents=True, exist_ok=True)
-    shim = build_dir / "verify_batch.c"
-    shim.write_text(SHIM, encoding="utf-8")
-    library = build_dir / "libbldc_verify.so"
-    subprocess.run(
-        [
-            "gcc",
-            *CFLAGS,
-            f"-I{c_dir}",
-            str(c_dir / "bldc_commutation.c"),
-            str(shim),
-            "-o",
-            str(library),
-        ],
-        check=True,
-        capture_output=True,
-        text=True,
-    )
-    dll = ctypes.CDLL(str(library))
+    dll, library = compile_with_shim(c_dir / "bldc_commutation.c", SHIM, build_dir, "verify_batch")
     dll.verify_batch.restype = None
     dll.verify_batch.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t]
     for name, dtype in (("inputs", input_dtype), ("outputs", output_dtype)):
