@@ -40,6 +40,7 @@ from verify.frama_c import (
     EVA_POLICY,
     MACHDEP,
     SHIPPED_FILES,
+    WP_FIRST_PASS,
     WP_PROVEN,
     WP_PROVERS,
     WP_SECOND_PASS,
@@ -342,6 +343,7 @@ def report(o: Outcome, tools: Tools) -> tuple[bool, str]:
         wp_second_provers=", ".join(WP_SECOND_PROVERS),
         wp_timeout=WP_TIMEOUT_S,
         wp_second=" ".join(WP_SECOND_PASS),
+        wp_first=" ".join(WP_FIRST_PASS),
         partitioning=target.plan["partitioning"],
         analyses=[
             {
