@@ -263,7 +263,10 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
                 f" ({detect:.1f} us)"
             )
         elif "EXTI" in name:
-            detect, how = 0.0, "at the line's edge (the EXTI); the handler waits out the confirmation"
+            detect, how = (
+                0.0,
+                "at the line's edge (the EXTI); the handler waits out the confirmation",
+            )
         elif name.startswith("Hall timeout"):
             detect, how = 0.0, "at the wrap itself (TIM3's update interrupt)"
         elif name.startswith("over-current"):
@@ -402,7 +405,10 @@ def section_handlers(b: Bench, report: Report) -> Stats:
     )
     if stats.timing is not None:
         cached = (
-            hall.cycles_worst + lines.cycles_worst + end.cycles_worst + 3 * stats.timing.cycles_worst
+            hall.cycles_worst
+            + lines.cycles_worst
+            + end.cycles_worst
+            + 3 * stats.timing.cycles_worst
         )
         report.add(
             Figure(

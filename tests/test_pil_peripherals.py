@@ -963,7 +963,7 @@ def test_exti_software_interrupt_should_pend_an_unmasked_line() -> None:
 
 def test_exti_lines_16_to_18_and_events_should_not_be_modelled() -> None:
     m = machine()
-    with pytest.raises(PilError, match="lines 16..18"):
+    with pytest.raises(PilError, match=r"lines 16\.\.18"):
         write(m.exti, "IMR", 1 << 16)
     with pytest.raises(UnmodelledAccessError, match="EMR"):
         write(m.exti, "EMR", 1)

@@ -682,7 +682,9 @@ int main(int argc, char **argv)
 
     adc(0u, OFFSET, 1u, 0u);
     show("under_voltage");
-    adc(0u, OFFSET, 1u, 0u);
+    timing_runs = 0u;
+    adc(0u, OFFSET, 1u, 0u); /* the regular conversions keep setting AWD */
+    show("under_voltage_again");
     clear("under_voltage_held");
     adc(BUS_OK, OFFSET, 0u, 0u);
     clear("under_voltage_cleared");
@@ -698,6 +700,9 @@ int main(int argc, char **argv)
 
     adc2_rail(0u); /* ADC2's watchdog: the current at a rail between two samples */
     show("current_rail_low");
+    timing_runs = 0u;
+    adc2_rail(0u); /* ADC2 keeps setting AWD at every conversion */
+    show("current_rail_low_again");
     clear("current_rail_low_held");
     adc(BUS_OK, OFFSET, 0u, 0u);
     clear("current_rail_low_cleared");
@@ -1002,9 +1007,7 @@ def test_init_should_configure_the_timers_and_the_adc_per_rm0008(
     assert r["gpioa.crl"] == 0x88444400  # PA0, PA1 analog; PA6, PA7 input with pull
     assert r["gpiob.crl"] == 0x44444448  # PB0 input with pull
     # EXTI0 = 6, ADC1_2 = 18, EXTI9_5 = 23, TIM1_BRK = 24, TIM1_TRG_COM = 26, TIM3 = 29
-    assert r["nvic.enabled"] == (1 << 6) | (1 << 18) | (1 << 23) | (1 << 24) | (1 << 26) | (
-        1 << 29
-    )
+    assert r["nvic.enabled"] == (1 << 6) | (1 << 18) | (1 << 23) | (1 << 24) | (1 << 26) | (1 << 29)
     assert r["nvic.hall"] == r["nvic.adc"] == r["nvic.brk"] < r["nvic.timing"]
     assert r["port.faults"] == 0
 
@@ -1216,6 +1219,18 @@ def test_hall_lines_all_alike_without_an_edge_should_trip_in_the_exti(
         assert host_run["hall_alike_7_held"]["port.faults"] == _fault("HALL_INVALID")
     assert host_run[f"hall_alike_{code}_cleared"]["port.faults"] == 0
     assert host_run["hall_alike_steady"]["port.faults"] == 0
+
+
+@pytest.mark.parametrize("step", ["under_voltage_again", "current_rail_low_again"])
+def test_a_watchdog_that_has_tripped_should_not_trip_again_each_period(
+    host_run: dict[str, dict[str, int]], step: str
+) -> None:
+    # AWD is set again by every conversion outside the window: acting on it again would
+    # raise a COM event, and a timing run, every PWM period while the fault is latched
+    r = host_run[step]
+    assert r["in.runs"] == 0
+    assert r["in.breaks"] == host_run[step.replace("_again", "")]["in.breaks"]
+    assert not r["tim1.bdtr"] & MOE
 
 
 def test_a_valid_code_on_a_hall_line_edge_should_only_clear_the_lines(

@@ -424,12 +424,29 @@ def _rotor_stops(run: Run) -> Outcome:
     )
 
 
+#: PWM periods watched after a latched fault with its cause still present
+QUIET_PERIODS = 10
+
+
+def _check_quiet_while_faulted(run: Run) -> None:
+    """With the fault latched and its cause present, nothing re-trips: the timing handler
+    (raised by each trip's COM event) stays idle over QUIET_PERIODS PWM periods."""
+    before = len(run.board.entries_of("TIM1", "TIM1_TRG_COM_TIM11"))
+    run.machine.run_for(QUIET_PERIODS * run.board.pwm_period_ticks())
+    runs = len(run.board.entries_of("TIM1", "TIM1_TRG_COM_TIM11")) - before
+    if runs:
+        run.violations.append(
+            f"the timing handler ran {runs} times in {QUIET_PERIODS} PWM periods while faulted"
+        )
+
+
 def _bus_stuck_at_zero(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.machine.run_for(run.sector_ticks() // 3)
     cause = run.machine.now
     run.board.set_bus_voltage(0.0)
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    _check_quiet_while_faulted(run)
     return run.outcome(
         "bus ADC stuck at 0",
         "UNDER_VOLTAGE",
@@ -456,6 +473,7 @@ def _current_sensor(run: Run, rail_v: float, which: str) -> Outcome:
     channel = run.spec.sensing.current_channels[0]
     run.machine.adc1.set_input(channel, rail_v)  # ADC1 and ADC2 share the pin
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    _check_quiet_while_faulted(run)
     return run.outcome(
         f"current sensor at {which}",
         "CURRENT_SENSOR",

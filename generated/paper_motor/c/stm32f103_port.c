@@ -592,10 +592,16 @@ static inline void port_run_loop(uint32_t measured, uint32_t reference)
 BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uint32_t bus,
                                           uint32_t measured)
 {
-    if ((status & ADC_SR_AWD) != 0u) {
+    /* A watchdog acts while its interrupt is on, i.e. until it has tripped: the regular
+     * conversions set AWD again at every conversion outside the window (RM0008 11.3.7,
+     * whatever AWDIE), and a trip each PWM period would raise a COM event, and so a
+     * timing run, each period while the fault is latched. */
+    ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
+    if (((status & ADC_SR_AWD) != 0u) && ((adc1->CR1 & ADC_CR1_AWDIE) != 0u)) {
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
     }
-    if ((PORT_AT(anchor, ADC2, ADC_TypeDef)->SR & ADC_SR_AWD) != 0u) {
+    ADC_TypeDef *const adc2 = PORT_AT(anchor, ADC2, ADC_TypeDef);
+    if (((adc2->SR & ADC_SR_AWD) != 0u) && ((adc2->CR1 & ADC_CR1_AWDIE) != 0u)) {
         port_current_rail(anchor); /* tripped: the faulted tick below runs */
     }
     port_pend_if_bus_moved(bus);
