@@ -234,6 +234,11 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "ADC full scale: a current sample at 0 or here is a rail",
         ),
         _define(
+            "BLDC_PORT_ADC_BITS",
+            f"{spec.adc.bits}u",
+            "ADC resolution: a value with a bit at or above this is no ADC code",
+        ),
+        _define(
             "BLDC_PORT_CURRENT_LTR",
             f"{watch.ltr}u",
             "ADC2's analog watchdog: a current conversion below it is at the low rail"
@@ -355,5 +360,8 @@ def drive_context(spec: Spec) -> dict[str, object]:
         f" ({100 * float(Fraction(window.duty_max_counts, window.period_counts)):.1f} %)",
         "timer_clock_text": f"{float(clk) / 1e6:g} MHz",
         "current_watch_rails": watch.rails,
+        "current_watch_both": watch.ltr > 0 and watch.htr < adc_max,
+        "current_watch_low": watch.ltr > 0,
+        "current_watch_high": watch.htr < adc_max,
         "current_watch_us": f"{watch.conversion_us:.2f} us",
     }

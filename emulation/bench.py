@@ -245,7 +245,13 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
     sample = float(b.spec.sensing.adc_sample_cycles)
     regular_us = (sample + 12.5) / 12.0  # one regular conversion of the bus at 12 MHz
     injected_us = (3 + 4 * (sample + 12.5)) / 12.0  # trigger to JEOC: four conversions
-    wait = max(stats.hall.cycles_worst, stats.current_loop.cycles_worst)  # same priority
+    # a handler of the same priority ahead: the Hall edge, the current loop, or the Hall
+    # lines' EXTI waiting out its confirmation (rare: a glitch or an unplug)
+    wait = max(
+        stats.hall.cycles_worst,
+        stats.current_loop.cycles_worst,
+        *(s.cycles_worst for n, s in stats.fault_paths.items() if "EXTI" in n),
+    )
     figures = []
     for name, cycles in stats.fault_to_moe.items():
         if "watchdog" in name and "ADC2" not in name:

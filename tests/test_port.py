@@ -423,7 +423,13 @@ static void adc_with(unsigned bus, unsigned current, unsigned awd, unsigned tim3
     SET(fake_adc1.JDR4, bus);
     SET(fake_adc1.DR, bus); /* the regular group converts the bus continuously */
     SET(fake_adc2.DR, current); /* ADC2 converts the current continuously */
-    fake_adc2.SR = ADC_SR_EOC | ADC_SR_STRT; /* converting, within its watchdog's window */
+    /* converting; its watchdog (RM0008 11.3.7, every regular channel with AWDEN) flags
+     * a result outside [LTR, HTR], as the port set them */
+    fake_adc2.SR = ADC_SR_EOC | ADC_SR_STRT |
+                   ((((fake_adc2.CR1 & ADC_CR1_AWDEN) != 0u) &&
+                     ((current < fake_adc2.LTR) || (current > fake_adc2.HTR)))
+                        ? ADC_SR_AWD
+                        : 0u);
     fake_adc1.SR = ADC_SR_JEOC | (awd ? ADC_SR_AWD : 0u);
     fake_tim3.SR = tim3_sr;
     fake_tim1.EGR = 0u;
@@ -1428,3 +1434,36 @@ def test_pin_indexed_edge_table_should_give_the_cores_edge_for_every_pair(spec: 
             assert table[pins(previous) << 3 | pins(code)] == want, (previous, code)
             # from any pattern the port writes (all of which hold CC4E) an invalid pair is refused
             assert ((want >> 16) & CC4E != 0) == ((previous, code) not in expected)
+
+
+@pytest.mark.parametrize(
+    ("offset_v", "watched", "ltr", "htr"),
+    [("0", "full scale", 0, 4094), ("3.3", "0", 1, 4095), ("1.65", "0 and full scale", 1, 4094)],
+)
+def test_adc2_should_watch_every_rail_zero_current_does_not_sit_on(
+    tmp_path: Path, spec: Spec, offset_v: str, watched: str, ltr: int, htr: int
+) -> None:
+    """A current-sense offset at a rail reads zero current there: that rail is left out of
+    ADC2's watch, and the current loop's sample checks the rails itself (in its hot path)
+    instead; with both rails watched, it does not."""
+    from codegen.port_drive import current_watch
+
+    variant = dataclasses.replace(
+        spec, adc=dataclasses.replace(spec.adc, current_offset_v=Fraction(offset_v))
+    )
+    watch = current_watch(variant)
+    assert (watch.ltr, watch.htr, watch.rails) == (ltr, htr, watched)
+    ctx = port.port_context(variant)
+    defines = {d["name"]: d["value"] for d in ctx["drive_defines"]}  # type: ignore[attr-defined]
+    assert (defines["BLDC_PORT_CURRENT_LTR"], defines["BLDC_PORT_CURRENT_HTR"]) == (
+        f"{ltr}u",
+        f"{htr}u",
+    )
+    _write_port(tmp_path, variant)
+    source = (tmp_path / "stm32f103_port.c").read_text(encoding="utf-8")
+    handler = source[source.index("void ADC1_2_IRQHandler(void)") :]
+    handler = handler[: handler.index("\n}\n")]
+    sampled = "(measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)" in handler
+    assert sampled == (watched != "0 and full scale")
+    run = _compile_arm(tmp_path)
+    assert run.returncode == 0, run.stderr

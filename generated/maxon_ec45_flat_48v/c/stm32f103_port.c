@@ -571,6 +571,19 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     port_set_safe_state(port.period, port.bus_code);
 }
 
+/* 1 if `value` is 0, else 0, in two instructions and no branch: CLZ gives 32 for 0 alone
+ * (ARMv7-M A7.7.24, defined for every input, unlike __builtin_clz). */
+static inline uint32_t port_is_zero(uint32_t value)
+{
+#if defined(__arm__)
+    uint32_t zeros;
+    __asm__("clz %0, %1" : "=r"(zeros) : "r"(value));
+    return zeros >> 5;
+#else
+    return (uint32_t)(value == 0u);
+#endif
+}
+
 /* The current loop proper, in the steady state: the PI's duty for the steady switch
  * from the next PWM period (CCRx is preloaded). */
 static inline void port_run_loop(uint32_t measured, uint32_t reference)
@@ -639,13 +652,15 @@ void ADC1_2_IRQHandler(void)
     const uint32_t measured = *port.steady_sense; /* the JDRx of I in this sector */
     const uint32_t reference = port.reference;
     /* Either analog watchdog (AWD is bit 0 of both SRs), the bridge not in the steady
-     * state, the Hall counter wrapped, a sample at a rail or the open loop. (A Hall code
-     * 0 or 7 is the EXTI's: EXTI0_IRQHandler.) */
+     * state, the Hall counter wrapped, the open loop (a reference above every ADC code:
+     * bits above the code's), (a sample at a rail is ADC2's
+     * watchdog's, which sees both rails at every conversion, this sample's instant
+     * included), and a Hall code 0 or 7 is the EXTI's
+     * (EXTI0_IRQHandler). */
     const uint32_t watchdogs = (status | PORT_AT(anchor, ADC2, ADC_TypeDef)->SR) & ADC_SR_AWD;
-    const uint32_t other = watchdogs | (uint32_t)(steady == 0u) | port.pending |
+    const uint32_t other = watchdogs | port_is_zero(steady) | port.pending |
                            (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) |
-                           (uint32_t)((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) |
-                           (uint32_t)(reference > BLDC_PORT_ADC_CODE_MAX);
+                           (reference >> BLDC_PORT_ADC_BITS);
     if (BLDC_PORT_RARE(other != 0u)) {
         port_adc_other(anchor, status, bus, measured);
         return;
@@ -802,7 +817,7 @@ static uint32_t port_present_causes(uint32_t latched)
             present |= latched & BLDC_FAULT_CURRENT_SENSOR;
         }
     }
-    /* ADC2's latest conversion (the sequence's last current channel) */
+    /* ADC2's latest conversion (the sequence's last current channel), at a watched rail */
     const uint32_t watched = ADC2->DR & ADC_DR_DATA_Msk;
     if ((watched < BLDC_PORT_CURRENT_LTR) || (watched > BLDC_PORT_CURRENT_HTR)) {
         present |= latched & BLDC_FAULT_CURRENT_SENSOR;

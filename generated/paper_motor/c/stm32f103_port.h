@@ -149,6 +149,7 @@
 #define BLDC_PORT_ADC_HTR 3385u /* over-voltage: above 30 V (the core's BLDC_BUS_CODE_MAX) */
 #define BLDC_PORT_ADC_LTR 2257u /* under-voltage or a stuck bus ADC: below 20 V (the core's BLDC_BUS_CODE_MIN) */
 #define BLDC_PORT_ADC_CODE_MAX 4095u /* ADC full scale: a current sample at 0 or here is a rail */
+#define BLDC_PORT_ADC_BITS 12u /* ADC resolution: a value with a bit at or above this is no ADC code */
 #define BLDC_PORT_CURRENT_LTR 1u /* ADC2's analog watchdog: a current conversion below it is at the low rail */
 #define BLDC_PORT_CURRENT_HTR 4094u /* ADC2's analog watchdog: a current conversion above it is at the high rail */
 #define BLDC_PORT_ADC2_SQR1 (0u << ADC_SQR1_L_Pos) /* ADC2's regular sequence: 1 conversion(s), continuously */
