@@ -237,9 +237,6 @@ def _edge_context(spec: Spec) -> dict[str, object]:
         f" ((PORT_AT(anchor, {c.port}, GPIO_TypeDef)->IDR >> {c.number} & 1u) << 2)",
         "pins_expression_text": f"P{a.port[-1]}{a.number} | P{b.port[-1]}{b.number} << 1 |"
         f" P{c.port[-1]}{c.number} << 2",
-        # the three Hall lines read alike (code 0 or 7), tested in fewer instructions
-        # than decoding the code: A xor B and A xor C at A's bit position
-        "pins_alike": _pins_alike(a, c),
         **_hall_exti(HALL_PINS),
     }
 
@@ -288,18 +285,6 @@ def _hall_exti(pins: tuple[Pin, ...]) -> dict[str, object]:
         "hall_exticr": exticr,
         "hall_confirm_loops": loops,
         "hall_confirm_text": f"{HALL_CONFIRM_NS / 1000:g} us",
-    }
-
-
-def _pins_alike(a: Pin, c: Pin) -> dict[str, object]:
-    """How the port tests that pins a, a + 1 (one port) and c read alike: with
-    ab = a's IDR and cc = c's IDR, ~((ab ^ ab >> 1) | (ab ^ cc c_shift)) >> bit & 1."""
-    shift = a.number - c.number
-    return {
-        "ab_port": a.port,
-        "c_port": c.port,
-        "c_shift": f"<< {shift}u" if shift >= 0 else f">> {-shift}u",
-        "bit": a.number,
     }
 
 

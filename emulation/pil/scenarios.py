@@ -10,9 +10,12 @@ over the whole run:
   CCRx <= ARR centre-aligned;
 * the compare values in force change only at an update event (CCRx preloaded, OCxPE,
   RM0008 14.3.9: a duty written mid-period waits for the next period);
-* the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3) or the current
-  loop (ADC1_2): it is never active while a later-entered one of those is below it
-  (the port's priority plan: the Hall edge and the current loop preempt the timing);
+* the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3), the Hall
+  lines' EXTI (EXTI0, EXTI9_5) or the current loop (ADC1_2): it is never active while a
+  later-entered one of those is below it (the port's priority plan: those preempt the
+  timing);
+* with a bus or current fault latched and its cause still there, nothing trips again:
+  the timing handler stays idle for ten PWM periods;
 * every Hall edge of the turning rotor commutates: the enables in force (TIM1 CCER)
   change within the sector that follows it, while the bridge is armed;
 * no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
@@ -51,20 +54,6 @@ LSI_FASTEST_HZ = 60_000
 SETTLE_SECTORS = 8
 #: PWM periods main's loop gets to publish a latched fault in app_faults
 MAIN_WAIT_PERIODS = 10
-#: ADCCLK = PCLK2 / 6 (RM0008 7.3.2 ADCPRE; at most 14 MHz, datasheet) and the injected
-#: sequence's four conversions (JL = 3)
-ADC_HZ = 12_000_000
-INJECTED_CONVERSIONS = 4
-
-
-def sampled_limit(spec: Spec) -> int:
-    """The latency allowed a fault seen only by the current loop's interrupt (README,
-    Faults): one PWM period, the injected conversions, and two handlers at the current
-    loop's cycle budget (one of the same priority ahead of it, then its own)."""
-    period = TICK_HZ / float(spec.inverter.pwm_frequency_hz)
-    conversions = INJECTED_CONVERSIONS * (float(spec.sensing.adc_sample_cycles) + 12.5)
-    handlers = 2 * spec.firmware.current_loop_budget_cycles * TICK_HZ / 72_000_000
-    return round(period + conversions * TICK_HZ / ADC_HZ + handlers)
 
 
 @dataclass(frozen=True)
@@ -143,6 +132,8 @@ class Run:
         self._urgent = {
             IRQ_BASE + svd_interrupt("TIM3", "TIM3"),
             IRQ_BASE + svd_interrupt("ADC1", "ADC"),
+            IRQ_BASE + svd_interrupt("EXTI", "EXTI0"),
+            IRQ_BASE + svd_interrupt("EXTI", "EXTI9_5"),
         }
 
     def _check_duties(self, machine: object) -> None:
