@@ -53,13 +53,13 @@ MUTANTS = (
         "faults",
     ),
     Mutant(
-        "ADC2's analog watchdog off: the current rail only in the sampled path",
+        "ADC2's analog watchdog off: nothing sees the current rail",
         PORT,
         "    ADC2->CR1 = BLDC_PORT_ADC2_CR1;\n    ADC2->CR2",
         "    ADC2->CR1 = 0u;\n    ADC2->CR2",
         PAPER,
         "current_sensor_low",
-        "latency",
+        "expected CURRENT_SENSOR",
     ),
     Mutant(
         "wrong CCER bits: phase 2's enables left out of the safe state's CCER",

@@ -917,7 +917,7 @@ def test_exti_should_pend_on_the_selected_edges(rising: bool, falling: bool) -> 
 
 
 def test_exti_pending_lines_should_raise_their_shared_vectors_until_cleared() -> None:
-    """RM0008 10.2.3 and Table 63: PR0 with IMR0 raises EXTI0; lines 5..9 share EXTI9_5,
+    """RM0008 10.2.4 and the vector table: PR0 with IMR0 raises EXTI0; lines 5..9 share EXTI9_5,
     whose request stays while any of its lines is pending; PR is rc_w1 (10.3.6)."""
     m = machine()
     exti_on_hall_pins(m)
@@ -937,7 +937,7 @@ def test_exti_pending_lines_should_raise_their_shared_vectors_until_cleared() ->
 
 
 def test_exti_masked_line_should_pend_but_not_interrupt() -> None:
-    """RM0008 10.2.3 (the block diagram): the edge sets PR; IMR gates the request."""
+    """RM0008 10.2.2 (the block diagram): the edge sets PR; IMR gates the request."""
     m = machine()
     exti_on_hall_pins(m)
     write(m.exti, "IMR", 0)

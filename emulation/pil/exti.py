@@ -4,10 +4,12 @@ Behaviours, with their RM0008 sections:
 * 9.4.3-9.4.6 AFIO_EXTICR1..4: four bits per EXTI line x (0..15), the GPIO port whose
   pin x drives the line (0000 PA, 0001 PB, ...). Written with the AFIO clock on (the
   machine refuses the access otherwise, RM0008 7.3.7).
-* 10.2.3 / Figure 21 (the block diagram): an edge on line x, of a kind selected in
+* 10.2.2 (the block diagram) and 10.2.4: an edge on line x, of a kind selected in
   10.3.3 RTSR (rising) or 10.3.4 FTSR (falling), sets PR bit x; 10.3.1 IMR bit x lets a
   pending bit request the line's interrupt (EXTI0..EXTI4, EXTI9_5, EXTI15_10 on the
-  NVIC, numbers from the SVD). Both edges when both are selected.
+  NVIC, numbers from the SVD). Both edges when both are selected. As the block diagram
+  draws it, the pending register comes before the mask: a masked line's edge still sets
+  PR (the port clears PR before it unmasks, so it does not depend on this).
 * 10.3.6 PR: rc_w1, a 1 clears the bit (and the matching SWIER bit, 10.3.5).
 * 10.3.5 SWIER: writing 1 to a bit at 0 with the line's IMR bit set sets its PR bit.
 * The line sees the pin's input level (the Schmitt trigger, RM0008 9.1.4): a GPIO input
