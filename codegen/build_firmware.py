@@ -165,8 +165,8 @@ def stack(build_dir: Path, cube: bool) -> StackReport:
         ("thread mode (interrupts open)", ["main"]),
         ("timing (priority 2)", [wrapped["timing"]]),
         (
-            "Hall edge, current loop, break (priority 1)",
-            [wrapped[r] for r in ("hall", "adc", "brk")],
+            "Hall edge, Hall lines, current loop, break (priority 1)",
+            [wrapped[r] for r in ("hall", "adc", "brk", "hall_line0", "hall_lines9_5")],
         ),
         ("NMI, HardFault", ["NMI_Handler", "HardFault_Handler"]),
     ]

@@ -36,6 +36,8 @@ PORT_INTERRUPTS: dict[str, tuple[str, str]] = {
     "hall": ("TIM3", "TIM3"),
     "adc": ("ADC1", "ADC"),
     "brk": ("TIM1", "TIM1_BRK_TIM9"),
+    "hall_line0": ("EXTI", "EXTI0"),
+    "hall_lines9_5": ("EXTI", "EXTI9_5"),
 }
 
 
@@ -58,7 +60,7 @@ def port_handlers() -> list[dict[str, object]]:
             "irq": irq_number(*PORT_INTERRUPTS[role]),
             "svd": PORT_INTERRUPTS[role][1],
         }
-        for role in ("timing", "hall", "adc", "brk")
+        for role in ("timing", "hall", "adc", "brk", "hall_line0", "hall_lines9_5")
     ]
 
 

@@ -237,21 +237,54 @@ def _edge_context(spec: Spec) -> dict[str, object]:
         f" ((PORT_AT(anchor, {c.port}, GPIO_TypeDef)->IDR >> {c.number} & 1u) << 2)",
         "pins_expression_text": f"P{a.port[-1]}{a.number} | P{b.port[-1]}{b.number} << 1 |"
         f" P{c.port[-1]}{c.number} << 2",
-        # the three Hall lines read alike (code 0 or 7), tested in fewer instructions
-        # than decoding the code: A xor B and A xor C at A's bit position
-        "pins_alike": _pins_alike(a, c),
+        **_hall_exti(HALL_PINS),
     }
 
 
-def _pins_alike(a: Pin, c: Pin) -> dict[str, object]:
-    """How the port tests that pins a, a + 1 (one port) and c read alike: with
-    ab = a's IDR and cc = c's IDR, ~((ab ^ ab >> 1) | (ab ^ cc c_shift)) >> bit & 1."""
-    shift = a.number - c.number
+#: RM0008 9.4.3-9.4.6 AFIO_EXTICRx: four bits per EXTI line, the port (0 = PA, 1 = PB).
+EXTI_PORT_CODE = {"GPIOA": 0, "GPIOB": 1}
+#: How long the Hall lines must read alike (code 0 or 7) for the EXTI path to trip: at
+#: least TIM3's input filter (8 samples at 72 MHz = 111 ns, what a Hall edge needs), so a
+#: shorter spike on the lines trips nothing, and far below one PWM period.
+HALL_CONFIRM_NS = 1000
+#: Cycles of one iteration of the confirmation's volatile loop at least (a load, an add,
+#: a store, a compare and a branch: more than 3 on the Cortex-M3 whatever the flash).
+HALL_CONFIRM_CYCLES_PER_LOOP = 3
+CPU_HZ = 72_000_000
+
+
+def _hall_exti(pins: tuple[Pin, ...]) -> dict[str, object]:
+    """The EXTI lines of the Hall pins (line n is pin n of the port AFIO_EXTICR selects),
+    the AFIO_EXTICRx writes that route them, and the vectors that serve them."""
+    registers: dict[int, list[Pin]] = {}
+    for pin in pins:
+        registers.setdefault(pin.number // 4, []).append(pin)
+    exticr = []
+    for index, members in sorted(registers.items()):
+        exticr.append(
+            {
+                "index": index,
+                "register": f"EXTICR{index + 1}",
+                "mask": " | ".join(f"AFIO_EXTICR{index + 1}_EXTI{p.number}_Msk" for p in members),
+                "value": " | ".join(
+                    f"({EXTI_PORT_CODE[p.port]}u << AFIO_EXTICR{index + 1}_EXTI{p.number}_Pos)"
+                    for p in members
+                ),
+                "pins": ", ".join(f"P{p.port[-1]}{p.number} on EXTI{p.number}" for p in members),
+            }
+        )
+    vectors = {
+        "EXTI0" if p.number == 0 else "EXTI9_5" if 5 <= p.number <= 9 else None for p in pins
+    }
+    if vectors != {"EXTI0", "EXTI9_5"}:
+        raise ValueError("the port's EXTI handlers serve EXTI0 and EXTI9_5: the Hall pins moved")
+    loops = -(-HALL_CONFIRM_NS * CPU_HZ // (10**9 * HALL_CONFIRM_CYCLES_PER_LOOP))
     return {
-        "ab_port": a.port,
-        "c_port": c.port,
-        "c_shift": f"<< {shift}u" if shift >= 0 else f">> {-shift}u",
-        "bit": a.number,
+        "hall_exti_lines": " | ".join(f"EXTI_PR_PR{p.number}" for p in pins),
+        "hall_exti_text": ", ".join(f"P{p.port[-1]}{p.number} EXTI{p.number}" for p in pins),
+        "hall_exticr": exticr,
+        "hall_confirm_loops": loops,
+        "hall_confirm_text": f"{HALL_CONFIRM_NS / 1000:g} us",
     }
 
 
@@ -288,12 +321,15 @@ def _peripheral_region() -> dict[str, str]:
     the SVD): the handlers build their addresses from it (one MOV, a Thumb-2 modified
     immediate) instead of loading each from a literal pool in flash."""
     device = load_device()
-    bases = {device.peripheral(n).base_address for n in ("TIM1", "TIM3", "GPIOA", "GPIOB", "ADC1")}
+    bases = {
+        device.peripheral(n).base_address
+        for n in ("TIM1", "TIM3", "GPIOA", "GPIOB", "ADC1", "ADC2", "EXTI")
+    }
     (start,) = {b - b % PERIPHERAL_REGION_BYTES for b in bases}
     return {
         "peripheral_region": f"{start:#010x}u",
-        "peripheral_region_text": "start of the peripheral region holding TIM1, TIM3, ADC1, GPIOA"
-        " and GPIOB (RM0008 3.3, bases from the SVD)",
+        "peripheral_region_text": "start of the peripheral region holding TIM1, TIM3, ADC1, ADC2,"
+        " EXTI, GPIOA and GPIOB (RM0008 3.3, bases from the SVD)",
     }
 
 

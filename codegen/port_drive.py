@@ -12,6 +12,7 @@ Resources (default mapping, DS5319 Table 5):
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from fractions import Fraction
 
 from codegen.control import current_loop
@@ -49,6 +50,9 @@ HANDLERS = {
     "timing": ("TIM1_TRG_COM_IRQHandler", "bldc_port_tim1_trg_com_irq"),
     "adc": ("ADC1_2_IRQHandler", "bldc_port_adc_irq"),
     "brk": ("TIM1_BRK_IRQHandler", "bldc_port_tim1_brk_irq"),
+    # the Hall lines' EXTI (PB0 on EXTI0, PA6 and PA7 on EXTI9_5): a code 0 or 7 at once
+    "hall_line0": ("EXTI0_IRQHandler", "bldc_port_exti0_irq"),
+    "hall_lines9_5": ("EXTI9_5_IRQHandler", "bldc_port_exti9_5_irq"),
 }
 
 
@@ -118,6 +122,48 @@ def _sense_lines(spec: Spec) -> list[str]:
     return lines
 
 
+@dataclass(frozen=True)
+class CurrentWatch:
+    """ADC2's continuous watch of the current channel(s): the analog watchdog's
+    thresholds, in raw codes. A rail is watched unless zero current itself reads on it
+    (a current-sense offset of 0 V or of the reference): every current the chain can
+    measure reads strictly between the rails, so a conversion at a rail, at any instant,
+    is a current the loop cannot measure (an open or saturated sensor, or a current
+    beyond the sensing range)."""
+
+    ltr: int  # a raw code below it sets AWD: 1 watches the low rail, 0 does not
+    htr: int  # above it: full scale - 1 watches the high rail, full scale does not
+    channels: tuple[int, ...]
+    conversion_us: float  # one conversion of ADC2 (sample + 12.5 cycles at 12 MHz)
+
+    @property
+    def rails(self) -> str:
+        watched = [r for r, on in (("0", self.ltr > 0), ("full scale", self.htr < 2**12 - 1)) if on]
+        return " and ".join(watched) if watched else "none"
+
+
+def current_watch(spec: Spec) -> CurrentWatch:
+    full = 2**spec.adc.bits - 1
+    offset = Fraction(spec.adc.current_offset_v) / Fraction(spec.adc.reference_v) * 2**spec.adc.bits
+    low_watched = offset >= 1  # zero current reads code 1 or above
+    high_watched = offset < full  # zero current reads below full scale
+    return CurrentWatch(
+        ltr=1 if low_watched else 0,
+        htr=full - 1 if high_watched else full,
+        channels=tuple(spec.sensing.current_channels),
+        conversion_us=float(
+            (Fraction(spec.sensing.adc_sample_cycles) + Fraction(25, 2))
+            / 12
+            * len(spec.sensing.current_channels)
+        ),
+    )
+
+
+def _adc2_sequence(spec: Spec) -> str:
+    channels = spec.sensing.current_channels
+    return " | ".join(f"({ch}u << ADC_SQR3_SQ{k + 1}_Pos)" for k, ch in enumerate(channels))
+
+
 def drive_context(spec: Spec) -> dict[str, object]:
     sd = sense_design(spec)
     ss = safe_state_design(spec)
@@ -130,6 +176,7 @@ def drive_context(spec: Spec) -> dict[str, object]:
     adc_max = 2**spec.adc.bits - 1
     bkp = p.break_polarity == "active_high"
     volts = sc.volts_per_bus_code
+    watch = current_watch(spec)
     defines = [
         _define(
             "BLDC_PORT_TIM1_CCR4",
@@ -185,6 +232,37 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "BLDC_PORT_ADC_CODE_MAX",
             f"{adc_max}u",
             "ADC full scale: a current sample at 0 or here is a rail",
+        ),
+        _define(
+            "BLDC_PORT_ADC_BITS",
+            f"{spec.adc.bits}u",
+            "ADC resolution: a value with a bit at or above this is no ADC code",
+        ),
+        _define(
+            "BLDC_PORT_CURRENT_LTR",
+            f"{watch.ltr}u",
+            "ADC2's analog watchdog: a current conversion below it is at the low rail"
+            if watch.ltr
+            else "ADC2's analog watchdog: 0, the low rail not watched (zero current reads 0)",
+        ),
+        _define(
+            "BLDC_PORT_CURRENT_HTR",
+            f"{watch.htr}u",
+            "ADC2's analog watchdog: a current conversion above it is at the high rail"
+            if watch.htr < adc_max
+            else "ADC2's analog watchdog: full scale, the high rail not watched",
+        ),
+        _define(
+            "BLDC_PORT_ADC2_SQR1",
+            f"({len(watch.channels) - 1}u << ADC_SQR1_L_Pos)",
+            f"ADC2's regular sequence: {len(watch.channels)} conversion(s), continuously",
+        ),
+        _define(
+            "BLDC_PORT_ADC2_SQR3",
+            f"({_adc2_sequence(spec)})",
+            "ADC2's regular sequence: the current channel(s) "
+            + ", ".join(f"IN{ch}" for ch in watch.channels)
+            + f", each converted every {watch.conversion_us:.2f} us",
         ),
         _define(
             "BLDC_PORT_ADC_PRESCALER",
@@ -281,4 +359,9 @@ def drive_context(spec: Spec) -> dict[str, object]:
         "duty_max_text": f"{window.duty_max_counts} of {window.period_counts} counts"
         f" ({100 * float(Fraction(window.duty_max_counts, window.period_counts)):.1f} %)",
         "timer_clock_text": f"{float(clk) / 1e6:g} MHz",
+        "current_watch_rails": watch.rails,
+        "current_watch_both": watch.ltr > 0 and watch.htr < adc_max,
+        "current_watch_low": watch.ltr > 0,
+        "current_watch_high": watch.htr < adc_max,
+        "current_watch_us": f"{watch.conversion_us:.2f} us",
     }

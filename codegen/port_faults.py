@@ -52,14 +52,16 @@ FAULTS: tuple[Fault, ...] = (
     Fault(
         "CURRENT_SENSOR",
         3,
-        "the current-loop interrupt, every PWM period",
+        "ADC2's analog watchdog on the current channel(s), converted continuously (every"
+        " conversion, at any instant), and the current-loop interrupt's sample",
         "a current sample at an ADC rail (0 or full scale): the sensor is open or saturated",
         "every current channel's last sample is off the rails",
     ),
     Fault(
         "HALL_INVALID",
         4,
-        "the Hall edge",
+        "the Hall edge, and the EXTI on both edges of every Hall line (the code 0 or 7 for"
+        " 1 us: two lines changing within TIM3's input filter make no Hall edge)",
         "Hall code 000 or 111 (a sensor unplugged or shorted)",
         "the Hall code now is valid",
     ),

@@ -268,7 +268,7 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
     CmsisType(
         "ADC_TypeDef",
         layout_from="ADC1",
-        instances=("ADC1",),
+        instances=("ADC1", "ADC2"),
         field_registers=(
             "SR",
             "CR1",
@@ -284,6 +284,7 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
             "JDR2",
             "JDR3",
             "JDR4",
+            "DR",
         ),
     ),
     CmsisType(
@@ -302,8 +303,14 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
         "AFIO_TypeDef",
         layout_from="AFIO",
         instances=("AFIO",),
-        field_registers=("MAPR",),
+        field_registers=("MAPR", "EXTICR1", "EXTICR2"),
         arrays=("EXTICR",),
+    ),
+    CmsisType(
+        "EXTI_TypeDef",
+        layout_from="EXTI",
+        instances=("EXTI",),
+        field_registers=("IMR", "RTSR", "FTSR", "SWIER", "PR"),
     ),
 )
 
@@ -313,7 +320,9 @@ CMSIS_TYPES: tuple[CmsisType, ...] = (
 #: Cube's stm32f103xb.h calls the same vector TIM1_UP_IRQn. ADC1 and ADC2 share one
 #: vector, which the SVD calls ADC and Cube ADC1_2.
 CMSIS_IRQS: tuple[tuple[str, str, str | None], ...] = (
+    ("EXTI0", "EXTI", None),
     ("ADC1_2", "ADC1", "ADC"),
+    ("EXTI9_5", "EXTI", None),
     ("TIM1_BRK", "TIM1", None),
     ("TIM1_UP", "TIM1", None),
     ("TIM1_TRG_COM", "TIM1", None),

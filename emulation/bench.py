@@ -245,14 +245,34 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
     sample = float(b.spec.sensing.adc_sample_cycles)
     regular_us = (sample + 12.5) / 12.0  # one regular conversion of the bus at 12 MHz
     injected_us = (3 + 4 * (sample + 12.5)) / 12.0  # trigger to JEOC: four conversions
-    wait = max(stats.hall.cycles_worst, stats.current_loop.cycles_worst)  # same priority
+    # a handler of the same priority ahead: the Hall edge, the current loop, or the Hall
+    # lines' EXTI waiting out its confirmation (rare: a glitch or an unplug)
+    wait = max(
+        stats.hall.cycles_worst,
+        stats.current_loop.cycles_worst,
+        *(s.cycles_worst for n, s in stats.fault_paths.items() if "EXTI" in n),
+    )
     figures = []
     for name, cycles in stats.fault_to_moe.items():
-        if "watchdog" in name:
+        if "watchdog" in name and "ADC2" not in name:
             detect, how = 2 * regular_us, f"two regular bus conversions ({2 * regular_us:.1f} us)"
+        elif name.startswith("current sensor") and "ADC2" in name:
+            detect = len(b.spec.sensing.current_channels) * regular_us
+            how = (
+                f"ADC2's next conversion of the channel(s), continuously ({detect:.1f} us: the"
+                " sequence of current channels)"
+            )
         elif name.startswith("current sensor"):
             detect = period_us + injected_us
-            how = f"the next sample: one PWM period + the injected sequence ({detect:.1f} us)"
+            how = (
+                f"the backstop: the next sample, one PWM period + the injected sequence"
+                f" ({detect:.1f} us)"
+            )
+        elif "EXTI" in name:
+            detect, how = (
+                0.0,
+                "at the line's edge (the EXTI); the handler waits out the confirmation",
+            )
         elif name.startswith("Hall timeout"):
             detect, how = 0.0, "at the wrap itself (TIM3's update interrupt)"
         elif name.startswith("over-current"):
@@ -281,6 +301,7 @@ def section_handlers(b: Bench, report: Report) -> Stats:
     sector = shortest_sector_cycles(b.spec_path)
     report.say(f"inputs: {inputs.describe()}, all Hall codes both ways, safe-state paths")
     hall, end = stats.hall, stats.end
+    lines = stats.hall_lines
     report.add(
         Figure(
             "Hall edge (TIM3 CC1) worst",
@@ -312,6 +333,15 @@ def section_handlers(b: Bench, report: Report) -> Stats:
                 detail=f"{stats.hall_refused.calls} edges; rare (the rotor reverses at standstill)",
             )
         )
+    report.add(
+        Figure(
+            "Hall lines' EXTI (every Hall edge, a valid code) worst",
+            lines.cycles_worst,
+            "cycles",
+            detail=f"{lines.instructions_worst} instructions; runs at the Hall edge's level"
+            " just before it, so it delays the Hall edge's handler by as much",
+        )
+    )
     loop = stats.current_loop
     loop_budget = b.spec.firmware.current_loop_budget_cycles
     report.add(
@@ -363,7 +393,7 @@ def section_handlers(b: Bench, report: Report) -> Stats:
     periods = -(
         -int(b.spec.inverter.pwm_frequency_hz) * sector // CPU_HZ
     )  # PWM periods per sector, up
-    commutation = hall.cycles_worst + end.cycles_worst + 3 * worst_timing
+    commutation = hall.cycles_worst + lines.cycles_worst + end.cycles_worst + 3 * worst_timing
     load = commutation + periods * loop.cycles_worst
     report.add(
         Figure(
@@ -371,7 +401,8 @@ def section_handlers(b: Bench, report: Report) -> Stats:
             100.0 * load / sector,
             "%",
             float(b.spec.firmware.cpu_load_budget_percent),
-            detail=f"per shortest sector: Hall edge {hall.cycles_worst} + end"
+            detail=f"per shortest sector: Hall edge {hall.cycles_worst} + its EXTI"
+            f" {lines.cycles_worst} + end"
             f" {end.cycles_worst} + 3 timing runs (after the edge, after the end, one pended"
             f" by a bus sample) all on the bus-change path {worst_timing} + {periods} current-loop"
             f" runs (one per PWM period) at {loop.cycles_worst} = {load} cycles of {sector}",
@@ -379,13 +410,18 @@ def section_handlers(b: Bench, report: Report) -> Stats:
         ),
     )
     if stats.timing is not None:
-        cached = hall.cycles_worst + end.cycles_worst + 3 * stats.timing.cycles_worst
+        cached = (
+            hall.cycles_worst
+            + lines.cycles_worst
+            + end.cycles_worst
+            + 3 * stats.timing.cycles_worst
+        )
         report.add(
             Figure(
                 "CPU load of the commutation alone, bus state cached",
                 100.0 * cached / sector,
                 "%",
-                detail=f"the Hall edge, the end and three timing runs on the cached bus state:"
+                detail=f"the Hall edge, its EXTI, the end and three timing runs on the cached bus state:"
                 f" {cached} cycles",
                 decimals=2,
             )

@@ -32,6 +32,7 @@ from codegen.build_firmware import build
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.port import port_context
+from codegen.port_drive import current_watch
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
@@ -50,6 +51,9 @@ HALL_HANDLER = "TIM3_IRQHandler"
 ADC_HANDLER = "ADC1_2_IRQHandler"
 #: TIM1_BRK: the break input (over-current).
 BREAK_HANDLER = "TIM1_BRK_IRQHandler"
+#: EXTI9_5 (Hall A, B on PA6, PA7) and EXTI0 (Hall C on PB0) run the same body: a Hall
+#: line changed (every Hall edge), the code 0 or 7 tripped.
+HALL_LINES_HANDLER = "EXTI9_5_IRQHandler"
 BUS_FUNCTION = "bldc_bus_condition"
 CPU_HZ = 72_000_000
 #: Log-spaced Hall periods from the top speed to the slowest one in `bench`'s sweep.
@@ -191,6 +195,7 @@ class PortRig:
         self.adc_sr = _register("ADC1", "SR")
         self.adc_jdr = tuple(_register("ADC1", f"JDR{n}") for n in (1, 2, 3, 4))
         self.adc_dr = _register("ADC1", "DR")
+        self.adc2_sr, self.adc2_dr = _register("ADC2", "SR"), _register("ADC2", "DR")
         self.jeoc, self.awd = _bit("ADC1", "SR", "JEOC"), _bit("ADC1", "SR", "AWD")
         (self.timing_irq,) = [
             i.value
@@ -204,6 +209,7 @@ class PortRig:
         self.stage_hall(spec.hall.sequence[0])
         # The ADC's calibration is over by the time the port polls it.
         self.sim.finish_on_read(_register("ADC1", "CR2"), _bit("ADC1", "CR2", "CAL"))
+        self.sim.finish_on_read(_register("ADC2", "CR2"), _bit("ADC2", "CR2", "CAL"))
         self.sim.call("bldc_port_init", args=(0,))
         self.sim.write_u32(self.ispr0, 0)
 
@@ -252,9 +258,26 @@ class PortRig:
             self.sim.write_u32(address, current)
         self.sim.write_u32(self.adc_jdr[3], bus)
         self.sim.write_u32(self.adc_dr, bus)  # the regular group's latest, the same bus
+        self.sim.write_u32(self.adc2_dr, current)  # ADC2's latest conversion of the current
         self.sim.write_u32(self.adc_sr, self.jeoc if status is None else status)
         self.sim.write_u32(self.tim3_sr, 0)
         return self.sim.call(ADC_HANDLER)
+
+    def current_rail(self, raw: int) -> CallResult:
+        """ADC2's analog watchdog: a continuous conversion of the current read `raw`;
+        ADC1 has nothing. The ADC1_2 handler (ADC2's entry)."""
+        self.sim.write_u32(self.adc2_dr, raw)
+        self.sim.write_u32(self.adc2_sr, self.awd)
+        self.sim.write_u32(self.adc_sr, 0)
+        self.sim.write_u32(self.tim3_sr, 0)
+        result = self.sim.call(ADC_HANDLER)
+        self.sim.write_u32(self.adc2_sr, 0)
+        return result
+
+    def hall_lines(self, code: int) -> CallResult:
+        """A Hall line changed to `code`: the EXTI handler."""
+        self.stage_hall(code)
+        return self.sim.call(HALL_LINES_HANDLER)
 
     def set_inputs(self, bus: int, current: int, duty: int) -> CallResult | None:
         """The open-loop duty, then a sample of the bus and the current (which the port
@@ -357,6 +380,7 @@ class Stats:
     core_bus: HandlerStats | None  # bldc_bus_condition() inside them
     core_timing: HandlerStats  # bldc_commutation_timing() inside every run
     current_loop: HandlerStats  # the ADC handler in the closed loop (JEOC), every path
+    hall_lines: HandlerStats  # the EXTI handler on a valid code (every Hall edge)
     fault_paths: dict[str, Sample]  # the handler that detects each fault, one run
     fault_to_moe: dict[str, int]  # cycles from its entry to the store that clears MOE
 
@@ -431,6 +455,7 @@ def bench(
                         commutation_end.append(rig.cost(rig.commutation_end()))
                         if rig.com_event() and index == 0:
                             measure_timing(rig.timing())
+    lines = [rig.cost(rig.hall_lines(code)) for code in spec.hall.sequence]
     loop, faults, to_moe = current_loop_runs(rig, inputs)
     return Stats(
         hall=_stats("Hall edge (TIM3 CC1)", hall_edge),
@@ -441,6 +466,7 @@ def bench(
         core_bus=_stats(f"{BUS_FUNCTION}()", bus_part) if bus_part else None,
         core_timing=_stats("bldc_commutation_timing()", timing_part),
         current_loop=_stats(f"{ADC_HANDLER} (current loop)", loop),
+        hall_lines=_stats(f"{HALL_LINES_HANDLER} (a valid code)", lines),
         fault_paths=faults,
         fault_to_moe=to_moe,
     )
@@ -504,7 +530,11 @@ def current_loop_runs(
         "under-voltage (analog watchdog)",
         lambda: rig.adc_sample(0, offset, status=rig.jeoc | rig.awd),
     )
-    fault("current sensor at a rail", lambda: rig.adc_sample(bus_ok, 0))
+    watch = current_watch(spec)
+    if not (watch.ltr > 0 and watch.htr < 2**spec.adc.bits - 1):
+        # a rail ADC2 does not watch: the current loop's sample is the detection
+        fault("current sensor at a rail (sampled)", lambda: rig.adc_sample(bus_ok, 0))
+    fault("current sensor at a rail (ADC2 watchdog)", lambda: rig.current_rail(0))
 
     def timeout() -> CallResult:
         # the Hall counter wraps while the bridge switches: TIM3's update interrupt
@@ -513,6 +543,7 @@ def current_loop_runs(
 
     fault("Hall timeout (TIM3 wrap)", timeout)
     fault("invalid Hall code", lambda: rig.hall_edge(7, inputs.periods[0]))
+    fault("Hall code 0/7 without an edge (EXTI, 1 us confirmation)", lambda: rig.hall_lines(7))
     fault("over-speed", lambda: rig.hall_edge(spec.hall.sequence[2], sc.period_min_ticks - 1))
 
     def break_input() -> CallResult:

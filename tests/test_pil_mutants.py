@@ -35,13 +35,31 @@ class Mutant:
 
 MUTANTS = (
     Mutant(
-        "invalid-Hall safe state dropped (code 0/7 without an edge)",
+        "invalid-Hall safe state dropped (the EXTI's trip on code 0/7 without an edge)",
         PORT,
         "port_trip(anchor, BLDC_FAULT_HALL_INVALID);",
         "(void)0;",
         PAPER,
         "hall_unplugged",
         "faults",
+    ),
+    Mutant(
+        "Hall lines' confirmation dropped: the EXTI trips on its first read",
+        PORT,
+        "    if (((pins - 1u) > 5u) && ((port.faults & BLDC_FAULT_HALL_INVALID) == 0u)) {",
+        "    if ((port.faults & BLDC_FAULT_HALL_INVALID) == (pins & 0u)) { /* mutant: no confirming read */",
+        PAPER,
+        "hall_spike",
+        "faults",
+    ),
+    Mutant(
+        "ADC2's analog watchdog off: nothing sees the current rail",
+        PORT,
+        "    ADC2->CR1 = BLDC_PORT_ADC2_CR1;\n    ADC2->CR2",
+        "    ADC2->CR1 = 0u;\n    ADC2->CR2",
+        PAPER,
+        "current_sensor_low",
+        "expected CURRENT_SENSOR",
     ),
     Mutant(
         "wrong CCER bits: phase 2's enables left out of the safe state's CCER",

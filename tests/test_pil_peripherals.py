@@ -854,3 +854,197 @@ def test_an_unmodelled_register_should_raise_with_its_name() -> None:
     m = machine()
     with pytest.raises(UnmodelledAccessError, match=r"TIM1\.DCR"):
         read(m.tim1, "DCR")
+
+
+# ---------------------------------------------------------------------- AFIO, EXTI
+
+EXTI0_IRQ, EXTI9_5_IRQ = 6, 23
+
+
+def exti_on_hall_pins(m: Machine, *, rising: bool = True, falling: bool = True) -> None:
+    """PA6, PA7 and PB0 inputs with pull-up, driven low; EXTI0 <- PB0, EXTI6/7 <- PA6/7."""
+    clocks_72mhz(m)
+    write(m.gpioa, "CRL", (0x88 << 24) | 0x8)  # PA0 too (input with pull)
+    write(m.gpiob, "CRL", 0x8)
+    for port, pin in (("gpioa", 6), ("gpioa", 7), ("gpiob", 0), ("gpioa", 0)):
+        getattr(m, port).drive(pin, False)
+    write(m.afio, "EXTICR1", 0x1)  # EXTI0: PB
+    write(m.afio, "EXTICR2", 0x0)  # EXTI4..7: PA
+    lines = (1 << 0) | (1 << 6) | (1 << 7)
+    write(m.exti, "RTSR", lines if rising else 0)
+    write(m.exti, "FTSR", lines if falling else 0)
+    write(m.exti, "IMR", lines)
+
+
+def test_afio_exticr_should_pick_the_port_of_each_line() -> None:
+    """RM0008 9.4.3: EXTICR1 bits 3:0 route EXTI0 to PA (0000) or PB (0001): only the
+    selected port's pin 0 sets PR0."""
+    m = machine()
+    exti_on_hall_pins(m)
+    m.gpioa.drive(0, True)  # PA0 is not EXTI0's port
+    assert not read(m.exti, "PR") & 1
+    m.gpiob.drive(0, True)
+    assert read(m.exti, "PR") & 1
+    write(m.afio, "EXTICR1", 0x0)  # EXTI0 <- PA0 now
+    write(m.exti, "PR", 1)
+    m.gpiob.drive(0, False)
+    assert not read(m.exti, "PR") & 1
+    m.gpioa.drive(0, False)
+    assert read(m.exti, "PR") & 1
+    assert read(m.afio, "EXTICR1") == 0
+
+
+def test_afio_exticr_should_need_its_clock_and_refuse_other_ports() -> None:
+    """RM0008 7.3.7: AFIO's registers need APB2ENR.AFIOEN; ports C..G are not modelled."""
+    m = machine()
+    with pytest.raises(PilError, match="clock"):
+        m._peripheral_at(m.afio.base + 8)
+    clocks_72mhz(m)
+    with pytest.raises(PilError, match="only PA and PB"):
+        write(m.afio, "EXTICR2", 0x2 << 8)
+
+
+@pytest.mark.parametrize(("rising", "falling"), [(True, False), (False, True), (True, True)])
+def test_exti_should_pend_on_the_selected_edges(rising: bool, falling: bool) -> None:
+    """RM0008 10.3.3 RTSR, 10.3.4 FTSR: the selected edges set PR (both with both)."""
+    m = machine()
+    exti_on_hall_pins(m, rising=rising, falling=falling)
+    m.gpioa.drive(6, True)
+    assert bool(read(m.exti, "PR") & (1 << 6)) == rising
+    write(m.exti, "PR", 1 << 6)
+    m.gpioa.drive(6, False)
+    assert bool(read(m.exti, "PR") & (1 << 6)) == falling
+
+
+def test_exti_pending_lines_should_raise_their_shared_vectors_until_cleared() -> None:
+    """RM0008 10.2.4 and the vector table: PR0 with IMR0 raises EXTI0; lines 5..9 share EXTI9_5,
+    whose request stays while any of its lines is pending; PR is rc_w1 (10.3.6)."""
+    m = machine()
+    exti_on_hall_pins(m)
+    m.nvic.active.append(2)  # nothing is taken: the pending state is what is checked
+    m.gpioa.drive(6, True)
+    m.gpioa.drive(7, True)
+    assert m.nvic.line[EXTI9_5_IRQ] and not m.nvic.line[EXTI0_IRQ]
+    assert IRQ_BASE + EXTI9_5_IRQ in m.nvic.pending
+    write(m.exti, "PR", 1 << 6)
+    assert m.nvic.line[EXTI9_5_IRQ]  # line 7 still pending
+    write(m.exti, "PR", 0)  # writing 0 clears nothing
+    assert read(m.exti, "PR") == 1 << 7
+    write(m.exti, "PR", 1 << 7)
+    assert not m.nvic.line[EXTI9_5_IRQ]
+    m.gpiob.drive(0, True)
+    assert m.nvic.line[EXTI0_IRQ]
+
+
+def test_exti_masked_line_should_pend_but_not_interrupt() -> None:
+    """RM0008 10.2.2 (the block diagram): the edge sets PR; IMR gates the request."""
+    m = machine()
+    exti_on_hall_pins(m)
+    write(m.exti, "IMR", 0)
+    m.gpiob.drive(0, True)
+    assert read(m.exti, "PR") & 1 and not m.nvic.line[EXTI0_IRQ]
+    write(m.exti, "IMR", 1)
+    assert m.nvic.line[EXTI0_IRQ]
+
+
+def test_exti_software_interrupt_should_pend_an_unmasked_line() -> None:
+    """RM0008 10.3.5: SWIER bit x at 0 written 1 with IMR x set sets PR x; clearing PR x
+    clears SWIER x; with IMR x clear it sets nothing."""
+    m = machine()
+    exti_on_hall_pins(m)
+    write(m.exti, "SWIER", 1 << 7)
+    assert read(m.exti, "PR") & (1 << 7) and read(m.exti, "SWIER") & (1 << 7)
+    write(m.exti, "PR", 1 << 7)
+    assert not read(m.exti, "SWIER") & (1 << 7)
+    write(m.exti, "IMR", 0)
+    write(m.exti, "SWIER", 1 << 6)
+    assert not read(m.exti, "PR") & (1 << 6)
+
+
+def test_exti_lines_16_to_18_and_events_should_not_be_modelled() -> None:
+    m = machine()
+    with pytest.raises(PilError, match=r"lines 16\.\.18"):
+        write(m.exti, "IMR", 1 << 16)
+    with pytest.raises(UnmodelledAccessError, match="EMR"):
+        write(m.exti, "EMR", 1)
+
+
+# ---------------------------------------------------------------------- ADC2
+
+
+def test_adc2_should_sit_at_its_own_base_and_share_adc1s_pins_and_interrupt() -> None:
+    """RM0008 11.1 / the SVD: ADC2 at 0x40012800, its own registers; the analog inputs
+    ADC12_INx are the same pins for both; ADC1_2 is one NVIC line for both (high while
+    either requests)."""
+    m = machine(vref=3.3)
+    assert m.adc2.base == 0x40012800 and m.adc1.base == 0x40012400
+    clocks_72mhz(m)
+    m.adc1.set_input(2, 3.3)  # set once, on the pin
+    m.adc2.set_input(3, 1.65)
+    for adc in (m.adc1, m.adc2):
+        write(adc, "CR2", 1)
+    at(m, m.now + 2 * US)
+    m.nvic.active.append(2)
+    write(m.adc2, "HTR", 4000)
+    write(m.adc2, "LTR", 1)
+    write(m.adc2, "SMPR2", 1 << 6)  # IN2: 7.5 cycles
+    write(m.adc2, "SQR3", 2)
+    cr2 = 1 | 2 | (1 << 20) | (7 << 17)  # ADON CONT EXTTRIG, EXTSEL = SWSTART
+    write(m.adc2, "CR1", (1 << 23) | (1 << 6))  # AWDEN, AWDIE (every regular channel)
+    write(m.adc2, "CR2", cr2)
+    write(m.adc2, "CR2", cr2 | (1 << 22))
+    at(m, m.now + 120)  # one conversion: 20 ADC cycles at 12 MHz
+    assert read(m.adc2, "DR") == 4095 and read(m.adc2, "SR") & 1  # AWD above HTR
+    assert not read(m.adc1, "SR") & 1
+    assert m.nvic.line[ADC_IRQ]
+    m.adc1.set_input(2, 1.0)
+    write(m.adc2, "CR1", 1 << 23)  # AWDIE off
+    write(m.adc2, "SR", 0)
+    assert not m.nvic.line[ADC_IRQ]
+    write(m.adc1, "CR1", 1 << 5)  # ADC1's EOCIE: the same line for ADC1's request
+    write(m.adc1, "SQR3", 3)
+    write(m.adc1, "SMPR2", 1 << 9)
+    write(m.adc1, "CR2", cr2)
+    write(m.adc1, "CR2", cr2 | (1 << 22))
+    at(m, m.now + 240)
+    assert read(m.adc2, "DR") == 1241  # the new level on the shared pin
+    assert m.nvic.line[ADC_IRQ] and read(m.adc1, "SR") & 2
+
+
+# ---------------------------------------------------------------------- the board's pins and event order
+
+
+def test_a_scheduled_pin_level_should_take_effect_at_its_exact_tick() -> None:
+    """`Gpio.drive_at`: the level changes at its tick even while the CPU is busy (a pulse
+    shorter than TIM3's input filter stays a glitch: RM0008 15.4.7, N = 8)."""
+    m = machine()
+    tim3_hall(m, filter_code=3)
+    at(m, m.now + 100)
+    start = m.now
+    m.gpioa.drive(6, True)
+    m.gpioa.drive_at(6, False, start + 5)
+    m.run_for(40)  # one step well past both the pulse and the filter
+    assert m.tim3.captures == 0
+    assert not read(m.gpioa, "IDR") & (1 << 6)
+    m.gpioa.drive_at(6, True, m.now + 3)
+    m.run_for(30)
+    assert m.tim3.captures == 1
+    with pytest.raises(PilError, match="before now"):
+        m.gpioa.drive_at(6, False, m.now - 1)
+
+
+def test_events_run_past_at_once_should_be_processed_in_time_order() -> None:
+    """The machine may pass several events in one step (a block, an exception entry):
+    TIM3's filtered edge (due 8 ticks after the pin change) comes before the pin's
+    scheduled return 14 ticks after it, though GPIOA is listed before TIM3."""
+    m = machine()
+    tim3_hall(m, filter_code=3)
+    at(m, m.now + 100)
+    start = m.now
+    m.gpioa.drive(6, True)
+    m.gpioa.drive_at(6, False, start + 14)
+    m.now = start + 40  # as if the CPU had run past both
+    m._process_events()
+    # the change at +0 captured at +8, then the return at +14 captured at +22: two
+    # edges (out of order, the return would have read as a glitch and cancelled both)
+    assert m.tim3.captures == 2

@@ -264,7 +264,9 @@ HOST_SHIM = """\
 extern TIM_TypeDef fake_tim1, fake_tim3;
 extern RCC_TypeDef fake_rcc;
 extern GPIO_TypeDef fake_gpioa, fake_gpiob;
-extern ADC_TypeDef fake_adc1;
+extern ADC_TypeDef fake_adc1, fake_adc2;
+extern AFIO_TypeDef fake_afio;
+extern EXTI_TypeDef fake_exti;
 extern unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 extern unsigned fake_nvic_priority[64];
 #undef TIM1
@@ -273,6 +275,12 @@ extern unsigned fake_nvic_priority[64];
 #undef GPIOA
 #undef GPIOB
 #undef ADC1
+#undef ADC2
+#undef AFIO
+#undef EXTI
+#define ADC2 (&fake_adc2)
+#define AFIO (&fake_afio)
+#define EXTI (&fake_exti)
 #define TIM1 (&fake_tim1)
 #define TIM3 (&fake_tim3)
 #define RCC (&fake_rcc)
@@ -298,7 +306,9 @@ HOST_HARNESS = r"""
 TIM_TypeDef fake_tim1, fake_tim3;
 RCC_TypeDef fake_rcc;
 GPIO_TypeDef fake_gpioa, fake_gpiob;
-ADC_TypeDef fake_adc1;
+ADC_TypeDef fake_adc1, fake_adc2;
+AFIO_TypeDef fake_afio;
+EXTI_TypeDef fake_exti;
 unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 unsigned fake_nvic_priority[64];
 
@@ -412,6 +422,14 @@ static void adc_with(unsigned bus, unsigned current, unsigned awd, unsigned tim3
     SET(fake_adc1.JDR3, current);
     SET(fake_adc1.JDR4, bus);
     SET(fake_adc1.DR, bus); /* the regular group converts the bus continuously */
+    SET(fake_adc2.DR, current); /* ADC2 converts the current continuously */
+    /* converting; its watchdog (RM0008 11.3.7, every regular channel with AWDEN) flags
+     * a result outside [LTR, HTR], as the port set them */
+    fake_adc2.SR = ADC_SR_EOC | ADC_SR_STRT |
+                   ((((fake_adc2.CR1 & ADC_CR1_AWDEN) != 0u) &&
+                     ((current < fake_adc2.LTR) || (current > fake_adc2.HTR)))
+                        ? ADC_SR_AWD
+                        : 0u);
     fake_adc1.SR = ADC_SR_JEOC | (awd ? ADC_SR_AWD : 0u);
     fake_tim3.SR = tim3_sr;
     fake_tim1.EGR = 0u;
@@ -452,6 +470,35 @@ static void adc_first_bus(unsigned bus, unsigned before)
     settle();
 }
 
+/* ADC2's analog watchdog: a conversion of the current read `raw` (a rail), at any
+ * instant; ADC1 has nothing (the interrupt is ADC2's alone). */
+static void adc2_rail(unsigned raw)
+{
+    SET(fake_adc2.DR, raw);
+    fake_adc2.SR = ADC_SR_AWD | ADC_SR_EOC | ADC_SR_STRT;
+    fake_adc1.SR = 0u;
+    fake_tim3.SR = 0u;
+    fake_tim1.EGR = 0u;
+    %(adc)s();
+    settle();
+}
+
+/* The Hall lines read `code` and their EXTI pending bits are set (and line 5, not the
+ * port's, which must stay pending): the EXTI handler of `vector` runs. */
+static void exti(unsigned code, int vector)
+{
+    hall_now = code;
+    pins(code);
+    fake_exti.PR = EXTI_PR_PR0 | EXTI_PR_PR6 | EXTI_PR_PR7 | EXTI_PR_PR5;
+    fake_tim1.EGR = 0u;
+    if (vector == 0) {
+        %(line0)s();
+    } else {
+        %(lines9_5)s();
+    }
+    settle();
+}
+
 /* TIM3 wraps: no Hall edge for the counter's whole range (UIF, with UIE as the port
  * left it). */
 static void wrap(void)
@@ -477,7 +524,7 @@ static void show(const char *step)
     printf("%%s tim1 ccer=%%lu ccr1=%%lu ccr2=%%lu ccr3=%%lu ccr4=%%lu egr=%%lu bdtr=%%lu cr2=%%lu "
            "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu sr=%%lu adc cr1=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
            "runs=%%u busruns=%%u breaks=%%u edge egr=%%lu sr=%%lu port faults=%%lu safe=%%lu "
-           "current=%%lu status=%%lu nvic cleared=%%lu\n",
+           "current=%%lu status=%%lu nvic cleared=%%lu adc2 cr1=%%lu sr=%%lu exti pr=%%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
            (unsigned long)fake_tim1.CCR2, (unsigned long)fake_tim1.CCR3,
            (unsigned long)fake_tim1.CCR4, (unsigned long)fake_tim1.EGR,
@@ -488,7 +535,8 @@ static void show(const char *step)
            (unsigned long)seen_duty, timing_runs, bus_runs, break_runs, raw_egr, raw_sr,
            (unsigned long)bldc_port_faults(), (unsigned long)bldc_port_safe_state(),
            (unsigned long)bldc_port_current_code(), (unsigned long)bldc_port_status(),
-           fake_nvic_cleared);
+           fake_nvic_cleared, (unsigned long)fake_adc2.CR1, (unsigned long)fake_adc2.SR,
+           (unsigned long)fake_exti.PR);
     fake_nvic_cleared = 0u;
 }
 
@@ -538,6 +586,16 @@ int main(int argc, char **argv)
            fake_nvic_priority[TIM3_IRQn], fake_nvic_priority[ADC1_2_IRQn],
            fake_nvic_priority[TIM1_BRK_IRQn], fake_nvic_priority[TIM1_TRG_COM_IRQn],
            (unsigned long)bldc_port_faults());
+    printf("init2 adc2 cr1=%%lu cr2=%%lu sqr1=%%lu sqr3=%%lu smpr1=%%lu smpr2=%%lu htr=%%lu ltr=%%lu "
+           "afio exticr1=%%lu exticr2=%%lu exti imr=%%lu rtsr=%%lu ftsr=%%lu nvic exti0=%%u exti9_5=%%u\n",
+           (unsigned long)fake_adc2.CR1, (unsigned long)fake_adc2.CR2,
+           (unsigned long)fake_adc2.SQR1, (unsigned long)fake_adc2.SQR3,
+           (unsigned long)fake_adc2.SMPR1, (unsigned long)fake_adc2.SMPR2,
+           (unsigned long)fake_adc2.HTR, (unsigned long)fake_adc2.LTR,
+           (unsigned long)fake_afio.EXTICR[0], (unsigned long)fake_afio.EXTICR[1],
+           (unsigned long)fake_exti.IMR, (unsigned long)fake_exti.RTSR,
+           (unsigned long)fake_exti.FTSR, fake_nvic_priority[EXTI0_IRQn],
+           fake_nvic_priority[EXTI9_5_IRQn]);
     settle(); /* the COM event of the initial UG | COMG */
     if (start_faults != 0u || WATCHDOG_RESET || CALIBRATION_STUCK) {
         show("start");
@@ -630,7 +688,9 @@ int main(int argc, char **argv)
 
     adc(0u, OFFSET, 1u, 0u);
     show("under_voltage");
-    adc(0u, OFFSET, 1u, 0u);
+    timing_runs = 0u;
+    adc(0u, OFFSET, 1u, 0u); /* the regular conversions keep setting AWD */
+    show("under_voltage_again");
     clear("under_voltage_held");
     adc(BUS_OK, OFFSET, 0u, 0u);
     clear("under_voltage_cleared");
@@ -643,6 +703,22 @@ int main(int argc, char **argv)
     clear("current_sensor_cleared");
     STEADY();
     show("steady_again");
+
+    adc2_rail(0u); /* ADC2's watchdog: the current at a rail between two samples */
+    show("current_rail_low");
+    timing_runs = 0u;
+    adc2_rail(0u); /* ADC2 keeps setting AWD at every conversion */
+    show("current_rail_low_again");
+    clear("current_rail_low_held");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("current_rail_low_cleared");
+    STEADY();
+    adc2_rail(BLDC_PORT_ADC_CODE_MAX);
+    show("current_rail_high");
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    clear("current_rail_high_cleared");
+    STEADY();
+    show("current_rail_steady");
 
     adc(BUS_OK, OFFSET, 0u, 1u);
     show("hall_timeout");
@@ -670,21 +746,30 @@ int main(int argc, char **argv)
     clear("hall_invalid_cleared");
     STEADY();
 
-    /* Two lines change within TIM3's input filter: no edge, the pins read 7, then 0. */
-    pins(7u);
-    adc(BUS_OK, OFFSET, 0u, 0u);
+    /* Two lines change within TIM3's input filter: no edge; the EXTI sees 7, then 0. */
+    exti(7u, 1);
     show("hall_alike_7");
     clear("hall_alike_7_held");
     pins(seq[hall_index]);
+    hall_now = seq[hall_index];
     clear("hall_alike_7_cleared");
     STEADY();
-    pins(0u);
-    adc(BUS_OK, OFFSET, 0u, 0u);
+    exti(0u, 0);
     show("hall_alike_0");
     pins(seq[hall_index]);
+    hall_now = seq[hall_index];
     clear("hall_alike_0_cleared");
     STEADY();
     show("hall_alike_steady");
+    /* A valid code on a line's edge (every Hall edge): nothing but the pending bits. */
+    exti(seq[hall_index], 1);
+    show("hall_line_valid");
+    /* The current loop no longer reads the pins: a code 7 it would see trips nothing there. */
+    pins(7u);
+    adc(BUS_OK, OFFSET, 0u, 0u);
+    show("hall_alike_loop");
+    pins(seq[hall_index]);
+    STEADY();
 
     edge(seq[(hall_index + 2u) %% 6u], TIM_SR_CC1IF, 5000u, 10u); /* a sector skipped */
     show("hall_sequence");
@@ -824,6 +909,8 @@ def _build_harness(
         "adc": names["adc"],
         "brk": names["brk"],
         "timing": names["timing"],
+        "line0": names["hall_line0"],
+        "lines9_5": names["hall_lines9_5"],
     }
     harness = harness.replace(
         '#include "stm32f103_port.h"',
@@ -916,7 +1003,8 @@ def test_init_should_configure_the_timers_and_the_adc_per_rm0008(
     assert r["adc.smpr2"] == (1 << 0) | (1 << 3)
     assert r["adc.smpr1"] == 0
     assert (r["adc.htr"], r["adc.ltr"]) == (3385, 2257)
-    assert r["rcc.apb2"] == (1 << 2) | (1 << 3) | (1 << 9) | (1 << 11)  # IOPA, IOPB, ADC1, TIM1
+    # IOPA, IOPB, AFIO, ADC1, ADC2, TIM1
+    assert r["rcc.apb2"] == (1 << 2) | (1 << 3) | 1 | (1 << 9) | (1 << 10) | (1 << 11)
     assert r["rcc.apb1"] == 1 << 1  # TIM3
     assert (r["rcc.cfgr"] >> 14) & 3 == 2  # ADCPRE = PCLK2 / 6
     assert r["rcc.csr"] & (1 << 24)  # RMVF: the reset flags are read and cleared
@@ -924,8 +1012,8 @@ def test_init_should_configure_the_timers_and_the_adc_per_rm0008(
     assert r["gpiob.crh"] == 0xBBB84444  # PB13..15 AF push-pull; PB12 (BKIN) input with pull
     assert r["gpioa.crl"] == 0x88444400  # PA0, PA1 analog; PA6, PA7 input with pull
     assert r["gpiob.crl"] == 0x44444448  # PB0 input with pull
-    # ADC1_2 = 18, TIM1_BRK = 24, TIM1_TRG_COM = 26, TIM3 = 29 (SVD numbers)
-    assert r["nvic.enabled"] == (1 << 18) | (1 << 24) | (1 << 26) | (1 << 29)
+    # EXTI0 = 6, ADC1_2 = 18, EXTI9_5 = 23, TIM1_BRK = 24, TIM1_TRG_COM = 26, TIM3 = 29
+    assert r["nvic.enabled"] == (1 << 6) | (1 << 18) | (1 << 23) | (1 << 24) | (1 << 26) | (1 << 29)
     assert r["nvic.hall"] == r["nvic.adc"] == r["nvic.brk"] < r["nvic.timing"]
     assert r["port.faults"] == 0
 
@@ -1122,18 +1210,80 @@ def test_an_over_voltage_seen_first_in_jdr2_should_latch_over_voltage(
 
 
 @pytest.mark.parametrize("code", [7, 0])
-def test_hall_lines_all_alike_without_an_edge_should_trip_in_the_current_loop(
+def test_hall_lines_all_alike_without_an_edge_should_trip_in_the_exti(
     host_run: dict[str, dict[str, int]], code: int
 ) -> None:
-    # two lines changing within TIM3's filter make no TI1 edge: the current loop's
-    # interrupt reads the pins each PWM period (found by the PIL)
+    # two lines changing within TIM3's filter make no TI1 edge: the EXTI on the Hall
+    # lines reads the pins at once (and again after its confirmation wait)
     r = host_run[f"hall_alike_{code}"]
     _assert_tripped(r, "HALL_INVALID")
     assert r["port.faults"] == _fault("HALL_INVALID")
+    # the last write to PR (rc_w1, plain memory here): a 1 for each of the port's lines
+    # alone, so line 5's pending bit (not the port's) stays
+    assert r["exti.pr"] == (1 << 0) | (1 << 6) | (1 << 7)
     if code == 7:
         assert host_run["hall_alike_7_held"]["port.faults"] == _fault("HALL_INVALID")
     assert host_run[f"hall_alike_{code}_cleared"]["port.faults"] == 0
     assert host_run["hall_alike_steady"]["port.faults"] == 0
+
+
+@pytest.mark.parametrize("step", ["under_voltage_again", "current_rail_low_again"])
+def test_a_watchdog_that_has_tripped_should_not_trip_again_each_period(
+    host_run: dict[str, dict[str, int]], step: str
+) -> None:
+    # AWD is set again by every conversion outside the window: acting on it again would
+    # raise a COM event, and a timing run, every PWM period while the fault is latched
+    r = host_run[step]
+    assert r["in.runs"] == 0
+    assert r["in.breaks"] == host_run[step.replace("_again", "")]["in.breaks"]
+    assert not r["tim1.bdtr"] & MOE
+
+
+def test_a_valid_code_on_a_hall_line_edge_should_only_clear_the_lines(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    r = host_run["hall_line_valid"]
+    assert r["port.faults"] == 0 and r["tim1.bdtr"] & MOE
+    assert r["exti.pr"] == (1 << 0) | (1 << 6) | (1 << 7)  # rc_w1: line 5 stays pending
+    # the current loop's interrupt does not read the pins any more (the EXTI does)
+    assert host_run["hall_alike_loop"]["port.faults"] == 0
+
+
+def test_init_should_route_the_hall_lines_to_the_exti_and_start_adc2(
+    host_run: dict[str, dict[str, int]], spec: Spec
+) -> None:
+    r, init = host_run["init2"], host_run["init"]
+    # RM0008 9.4.3/9.4.4: EXTI0 <- PB0 (0001), EXTI6 and EXTI7 <- PA6, PA7 (0000)
+    assert r["afio.exticr1"] & 0xF == 1
+    assert (r["afio.exticr2"] >> 8) & 0xFF == 0
+    lines = (1 << 0) | (1 << 6) | (1 << 7)
+    assert r["exti.imr"] == r["exti.rtsr"] == r["exti.ftsr"] == lines  # both edges
+    assert r["nvic.exti0"] == r["nvic.exti9_5"] == init["nvic.hall"]
+    assert init["nvic.enabled"] & (1 << 6) and init["nvic.enabled"] & (1 << 23)
+    assert init["rcc.apb2"] & (1 << 0) and init["rcc.apb2"] & (1 << 10)  # AFIOEN, ADC2EN
+    # ADC2: SCAN, AWDIE, AWDEN on every regular channel; continuous, software start
+    assert r["adc2.cr1"] == (1 << 8) | (1 << 6) | (1 << 23)
+    assert r["adc2.cr2"] & 0b11 == 0b11 and (r["adc2.cr2"] >> 17) & 7 == 7
+    channels = spec.sensing.current_channels
+    assert (r["adc2.sqr1"] >> 20) & 0xF == len(channels) - 1
+    assert [(r["adc2.sqr3"] >> (5 * k)) & 0x1F for k in range(len(channels))] == list(channels)
+    assert (r["adc2.smpr1"], r["adc2.smpr2"]) == (init["adc.smpr1"], init["adc.smpr2"])
+    assert (r["adc2.ltr"], r["adc2.htr"]) == (1, 4094)  # both rails (offset at mid-scale)
+
+
+@pytest.mark.parametrize("rail", ["low", "high"])
+def test_a_current_at_a_rail_between_samples_should_trip_through_adc2(
+    host_run: dict[str, dict[str, int]], rail: str
+) -> None:
+    r = host_run[f"current_rail_{rail}"]
+    _assert_tripped(r, "CURRENT_SENSOR")
+    assert r["port.faults"] == _fault("CURRENT_SENSOR")
+    assert not r["adc2.cr1"] & AWDIE and not r["adc2.sr"] & 1  # silenced until the clear
+    if rail == "low":
+        assert host_run["current_rail_low_held"]["port.faults"] == _fault("CURRENT_SENSOR")
+    cleared = host_run[f"current_rail_{rail}_cleared"]
+    assert cleared["port.faults"] == 0 and cleared["adc2.cr1"] & AWDIE
+    assert host_run["current_rail_steady"]["port.faults"] == 0
 
 
 def test_a_wrap_should_be_the_hall_timeout_only_while_the_bridge_switches(
@@ -1284,3 +1434,36 @@ def test_pin_indexed_edge_table_should_give_the_cores_edge_for_every_pair(spec: 
             assert table[pins(previous) << 3 | pins(code)] == want, (previous, code)
             # from any pattern the port writes (all of which hold CC4E) an invalid pair is refused
             assert ((want >> 16) & CC4E != 0) == ((previous, code) not in expected)
+
+
+@pytest.mark.parametrize(
+    ("offset_v", "watched", "ltr", "htr"),
+    [("0", "full scale", 0, 4094), ("3.3", "0", 1, 4095), ("1.65", "0 and full scale", 1, 4094)],
+)
+def test_adc2_should_watch_every_rail_zero_current_does_not_sit_on(
+    tmp_path: Path, spec: Spec, offset_v: str, watched: str, ltr: int, htr: int
+) -> None:
+    """A current-sense offset at a rail reads zero current there: that rail is left out of
+    ADC2's watch, and the current loop's sample checks the rails itself (in its hot path)
+    instead; with both rails watched, it does not."""
+    from codegen.port_drive import current_watch
+
+    variant = dataclasses.replace(
+        spec, adc=dataclasses.replace(spec.adc, current_offset_v=Fraction(offset_v))
+    )
+    watch = current_watch(variant)
+    assert (watch.ltr, watch.htr, watch.rails) == (ltr, htr, watched)
+    ctx = port.port_context(variant)
+    defines = {d["name"]: d["value"] for d in ctx["drive_defines"]}  # type: ignore[attr-defined]
+    assert (defines["BLDC_PORT_CURRENT_LTR"], defines["BLDC_PORT_CURRENT_HTR"]) == (
+        f"{ltr}u",
+        f"{htr}u",
+    )
+    _write_port(tmp_path, variant)
+    source = (tmp_path / "stm32f103_port.c").read_text(encoding="utf-8")
+    handler = source[source.index("void ADC1_2_IRQHandler(void)") :]
+    handler = handler[: handler.index("\n}\n")]
+    sampled = "(measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)" in handler
+    assert sampled == (watched != "0 and full scale")
+    run = _compile_arm(tmp_path)
+    assert run.returncode == 0, run.stderr

@@ -1,4 +1,9 @@
-"""ADC1 (RM0008 section 11).
+"""ADC1 and ADC2 (RM0008 section 11), one class at either base (the SVD's ADC1 and ADC2).
+
+The two are independent (ADC1's CR1.DUALMOD = 0; the dual modes are not modelled) but
+share the analog pins (ADC12_INx: one set of inputs, `shares_pins_with`), the external
+triggers (11.7: both take TIM1 TRGO as JEXTSEL = 000) and one interrupt, ADC1_2 (the
+SVD's ADC): the NVIC line is high while either ADC requests it.
 
 Behaviours, with their RM0008 sections:
 * 11.3.1 CR2.ADON: writing 1 to a powered-down ADC powers it up (t_STAB, datasheet 1 us);
@@ -113,10 +118,21 @@ LOOKAHEAD = 64
 
 
 class Adc(Peripheral):
-    def __init__(self, machine: Machine, *, vref: float) -> None:
-        super().__init__(machine, "ADC1")
+    def __init__(
+        self,
+        machine: Machine,
+        *,
+        vref: float,
+        name: str = "ADC1",
+        shares_pins_with: Adc | None = None,
+    ) -> None:
+        super().__init__(machine, name)
         self.vref = vref
-        self.irq = svd_interrupt("ADC1", "ADC")
+        self.irq = svd_interrupt(name, "ADC")
+        #: the ADCs on the same pins and interrupt line (this one included)
+        self.group: list[Adc] = shares_pins_with.group if shares_pins_with else []
+        self.group.append(self)
+        self.request = False
         self.sr = 0
         self.cr1 = 0
         self.cr2 = 0
@@ -136,7 +152,9 @@ class Adc(Peripheral):
         self.regular_conversions = 0
         self._alarm: int | None = None
         self._alarm_known = False
-        self.inputs: dict[int, float | Callable[[int], float]] = {}
+        self.inputs: dict[int, float | Callable[[int], float]] = (
+            shares_pins_with.inputs if shares_pins_with else {}
+        )
         self.injected_sequences = 0
         self.ignored_triggers = 0
         self.sample_log: list[tuple[int, int, int]] = []  # (tick sampled, channel, raw)
@@ -176,13 +194,18 @@ class Adc(Peripheral):
 
     # ------------------------------------------------------------- inputs
     def set_input(self, channel: int, volts: float | Callable[[int], float]) -> None:
-        self._catch_up(self.machine.now)  # what was converted so far saw the old input
+        """The pin's voltage from now on, for every ADC on the pin."""
+        for adc in self.group:
+            adc._catch_up(self.machine.now)  # what was converted so far saw the old input
         self.inputs[channel] = volts
-        self._alarm_known = False
+        for adc in self.group:
+            adc._alarm_known = False
 
     def raw(self, channel: int, at: int) -> int:
         if channel not in self.inputs:
-            raise PilError(f"ADC1 converts channel {channel}, which the board model does not drive")
+            raise PilError(
+                f"{self.svd_name} converts channel {channel}, which the board model does not drive"
+            )
         source = self.inputs[channel]
         volts = source(at) if callable(source) else source
         return max(0, min(FULL_SCALE, int(volts / self.vref * 4096)))
@@ -199,7 +222,9 @@ class Adc(Peripheral):
 
     def _write_jsqr(self, value: int) -> None:
         if any(c.injected for c in self.queue):
-            raise PilError("ADC1.JSQR written during an injected sequence (RM0008 11.12.12)")
+            raise PilError(
+                f"{self.svd_name}.JSQR written during an injected sequence (RM0008 11.12.12)"
+            )
         self.jsqr = value & 0x3FFFFF
 
     def _set_threshold(self, name: str, value: int) -> None:
@@ -228,7 +253,7 @@ class Adc(Peripheral):
         unsupported = value & (CR1_JAUTO | CR1_DISCEN | CR1_JDISCEN | (0xF << 16))
         if unsupported:
             raise PilError(
-                f"ADC1.CR1 = 0x{value:08x}: JAUTO, discontinuous and dual modes are not modelled"
+                f"{self.svd_name}.CR1 = 0x{value:08x}: JAUTO, discontinuous and dual modes are not modelled"
             )
         self._catch_up(self.machine.now)
         self.cr1 = value & 0xCFFFFF
@@ -239,7 +264,7 @@ class Adc(Peripheral):
         unsupported = value & (CR2_RSTCAL | CR2_DMA | CR2_ALIGN | CR2_TSVREFE)
         if unsupported:
             raise PilError(
-                f"ADC1.CR2 = 0x{value:08x}: RSTCAL, DMA, left alignment and"
+                f"{self.svd_name}.CR2 = 0x{value:08x}: RSTCAL, DMA, left alignment and"
                 " the temperature sensor are not modelled"
             )
         now = self.machine.now
@@ -274,9 +299,11 @@ class Adc(Peripheral):
 
     def _check_ready(self, what: str) -> None:
         if self.powered_at is None:
-            raise PilError(f"ADC1 {what} while powered down (CR2.ADON = 0)")
+            raise PilError(f"{self.svd_name} {what} while powered down (CR2.ADON = 0)")
         if self.machine.now < self.powered_at + STABILISATION_TICKS:
-            raise PilError(f"ADC1 {what} before t_STAB (1 us) after power-up (RM0008 11.3.1)")
+            raise PilError(
+                f"{self.svd_name} {what} before t_STAB (1 us) after power-up (RM0008 11.3.1)"
+            )
 
     def _start_calibration(self) -> None:
         self._check_ready("calibration")
@@ -317,7 +344,7 @@ class Adc(Peripheral):
     def _start_injected(self) -> None:
         self._check_ready("injected conversion")
         if self.calibration_end is not None:
-            raise PilError("ADC1 injected conversion during calibration")
+            raise PilError(f"{self.svd_name} injected conversion during calibration")
         if any(c.injected for c in self.queue):
             self.ignored_triggers += 1
             return
@@ -344,7 +371,9 @@ class Adc(Peripheral):
     def _start_regular(self) -> None:
         self._check_ready("regular conversion")
         if self.regular is not None:
-            raise PilError("ADC1: a regular start while the regular group converts is not modelled")
+            raise PilError(
+                f"{self.svd_name}: a regular start while the regular group converts is not modelled"
+            )
         self.sr |= SR_STRT
         self._alarm_known = False
         if any(c.injected for c in self.queue):
@@ -504,7 +533,8 @@ class Adc(Peripheral):
             or (self.sr & SR_JEOC and self.cr1 & CR1_JEOCIE)
             or (self.sr & SR_AWD and self.cr1 & CR1_AWDIE)
         )
-        self.machine.nvic.set_line(self.irq, bool(request))
+        self.request = bool(request)
+        self.machine.nvic.set_line(self.irq, any(adc.request for adc in self.group))
 
     def clock_changed(self, now: int) -> None:
         """A conversion under way when ADCCLK changes (the CSS falling back to the HSI)

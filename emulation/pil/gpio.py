@@ -12,7 +12,10 @@
 * 9.2.5 BSRR: BSy sets, BRy resets ODR bit y, BSy wins when both are written; 9.2.6 BRR.
 * LCKR is not modelled.
 Pins driven by the board are kept as levels with the time they changed; a peripheral
-that watches an input (TIM3's Hall channels, TIM1's BKIN) is told at once (`watchers`).
+that watches an input (TIM3's Hall channels, TIM1's BKIN, the EXTI) is told at once
+(`watchers`). The board may also schedule a level for a later tick (`drive_at`): it
+takes effect at that exact tick, whatever the CPU is doing then (an exception entry
+advances time in one step), so a pulse shorter than an interrupt's entry stays exact.
 """
 
 from __future__ import annotations
@@ -43,6 +46,8 @@ class Gpio(Peripheral):
         self.watchers: dict[int, list[Callable[[bool, int], None]]] = {}
         #: pin -> the alternate-function output driving it: () -> level or None (not driven)
         self.alternate: dict[int, Callable[[], bool | None]] = {}
+        #: levels the board scheduled: (tick, pin, level), in tick order
+        self.scheduled: list[tuple[int, int, bool | None]] = []
         self.readers = {
             "CRL": lambda: self._cr(0),
             "CRH": lambda: self._cr(8),
@@ -131,6 +136,28 @@ class Gpio(Peripheral):
         if after != before[pin]:
             for callback in self.watchers.get(pin, ()):
                 callback(bool(after), self.machine.now)
+
+    def drive_at(self, pin: int, level: bool | None, at: int) -> None:
+        """The board drives `pin` to `level` from tick `at` on (not before now)."""
+        if at < self.machine.now:
+            raise PilError(
+                f"{self.pin_name(pin)} scheduled at tick {at}, before now ({self.machine.now})"
+            )
+        self.scheduled.append((at, pin, level))
+        self.scheduled.sort(key=lambda event: event[0])
+
+    def next_event(self) -> int | None:
+        return self.scheduled[0][0] if self.scheduled else None
+
+    def on_event(self, now: int) -> None:
+        while self.scheduled and self.scheduled[0][0] <= now:
+            at, pin, level = self.scheduled.pop(0)
+            saved = self.machine.now
+            self.machine.now = at  # the watchers see the change at its own tick
+            try:
+                self.drive(pin, level)
+            finally:
+                self.machine.now = saved
 
     def _input_levels(self) -> list[bool | None]:
         return [self.level(p) if self.mode(p) == MODE_INPUT else None for p in range(16)]

@@ -66,6 +66,7 @@ from emulation.memory import (
 )
 from emulation.pil.adc import Adc
 from emulation.pil.bus import Peripheral, PilError, describe_address
+from emulation.pil.exti import Afio, Exti
 from emulation.pil.gpio import Gpio
 from emulation.pil.iwdg import Iwdg
 from emulation.pil.rcc import TICK_HZ, Flash, Rcc
@@ -236,6 +237,9 @@ class Machine:
         self.tim1 = AdvancedTimer(self)
         self.tim3 = HallTimer(self)
         self.adc1 = Adc(self, vref=self.options.vref)
+        self.adc2 = Adc(self, vref=self.options.vref, name="ADC2", shares_pins_with=self.adc1)
+        self.afio = Afio(self)
+        self.exti = Exti(self, self.afio, (self.gpioa, self.gpiob))
         self.peripherals: tuple[Peripheral, ...] = (
             self.rcc,
             self.flash,
@@ -248,6 +252,9 @@ class Machine:
             self.tim1,
             self.tim3,
             self.adc1,
+            self.adc2,
+            self.afio,
+            self.exti,
         )
         self._ranges: list[tuple[int, int, Peripheral]] = []
         for p in self.peripherals:
@@ -537,14 +544,26 @@ class Machine:
         return min(times) if times else None
 
     def _process_events(self) -> None:
+        """The peripherals' events due by now, in time order: the earliest first, at its
+        own tick (the CPU may have run past several in one block or exception entry, and
+        one event can undo another's cause: a pin change back before TIM3's filter took
+        the first one)."""
         for _ in range(10_000):
             due = [
-                p for p in self.peripherals if (t := p.next_event()) is not None and t <= self.now
+                (t, p)
+                for p in self.peripherals
+                if (t := p.next_event()) is not None and t <= self.now
             ]
             if not due:
                 return
-            for p in due:
-                p.on_event(self.now)
+            first = min(t for t, _ in due)
+            saved, self.now = self.now, first
+            try:
+                for t, p in due:
+                    if t == first:
+                        p.on_event(first)
+            finally:
+                self.now = saved
         raise PilError(f"peripheral events do not settle at tick {self.now}")
 
     def _raise_error(self) -> None:

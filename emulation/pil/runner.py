@@ -45,9 +45,14 @@ class DriveBoard:
         return [tick for tick, e in self.machine.entry_log if e == exception]
 
     # ------------------------------------------------------------------ inputs
-    def set_hall(self, code: int) -> None:
+    def set_hall(self, code: int, at: int | None = None) -> None:
+        """The Hall code now, or from tick `at` exactly (`Gpio.drive_at`)."""
         for port, pin, bit in HALL_PINS:
-            getattr(self.machine, port).drive(pin, bool(code >> bit & 1))
+            gpio = getattr(self.machine, port)
+            if at is None:
+                gpio.drive(pin, bool(code >> bit & 1))
+            else:
+                gpio.drive_at(pin, bool(code >> bit & 1), at)
 
     def set_break(self, over_current: bool) -> None:
         """The comparator's output: active (over-current) or idle, at the spec's polarity."""

@@ -10,9 +10,12 @@ over the whole run:
   CCRx <= ARR centre-aligned;
 * the compare values in force change only at an update event (CCRx preloaded, OCxPE,
   RM0008 14.3.9: a duty written mid-period waits for the next period);
-* the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3) or the current
-  loop (ADC1_2): it is never active while a later-entered one of those is below it
-  (the port's priority plan: the Hall edge and the current loop preempt the timing);
+* the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3), the Hall
+  lines' EXTI (EXTI0, EXTI9_5) or the current loop (ADC1_2): it is never active while a
+  later-entered one of those is below it (the port's priority plan: those preempt the
+  timing);
+* with a bus or current fault latched and its cause still there, nothing trips again:
+  the timing handler stays idle for ten PWM periods;
 * every Hall edge of the turning rotor commutates: the enables in force (TIM1 CCER)
   change within the sector that follows it, while the bridge is armed;
 * no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
@@ -51,20 +54,6 @@ LSI_FASTEST_HZ = 60_000
 SETTLE_SECTORS = 8
 #: PWM periods main's loop gets to publish a latched fault in app_faults
 MAIN_WAIT_PERIODS = 10
-#: ADCCLK = PCLK2 / 6 (RM0008 7.3.2 ADCPRE; at most 14 MHz, datasheet) and the injected
-#: sequence's four conversions (JL = 3)
-ADC_HZ = 12_000_000
-INJECTED_CONVERSIONS = 4
-
-
-def sampled_limit(spec: Spec) -> int:
-    """The latency allowed a fault seen only by the current loop's interrupt (README,
-    Faults): one PWM period, the injected conversions, and two handlers at the current
-    loop's cycle budget (one of the same priority ahead of it, then its own)."""
-    period = TICK_HZ / float(spec.inverter.pwm_frequency_hz)
-    conversions = INJECTED_CONVERSIONS * (float(spec.sensing.adc_sample_cycles) + 12.5)
-    handlers = 2 * spec.firmware.current_loop_budget_cycles * TICK_HZ / 72_000_000
-    return round(period + conversions * TICK_HZ / ADC_HZ + handlers)
 
 
 @dataclass(frozen=True)
@@ -143,6 +132,8 @@ class Run:
         self._urgent = {
             IRQ_BASE + svd_interrupt("TIM3", "TIM3"),
             IRQ_BASE + svd_interrupt("ADC1", "ADC"),
+            IRQ_BASE + svd_interrupt("EXTI", "EXTI0"),
+            IRQ_BASE + svd_interrupt("EXTI", "EXTI9_5"),
         }
 
     def _check_duties(self, machine: object) -> None:
@@ -338,10 +329,9 @@ def _hall_unplugged(run: Run) -> Outcome:
         "Hall unplugged (code 7)",
         "HALL_INVALID",
         cause,
-        sampled_limit(run.spec),
+        run.board.pwm_period_ticks(),
         "two Hall lines rise together (pull-ups of an unplugged connector): no TIM3 edge;"
-        " the current loop's interrupt reads the pins, so the limit is one PWM period, the"
-        " injected conversions and two handlers at the current loop's budget",
+        " the EXTI on the Hall lines sees the code 7 at once and confirms it",
     )
 
 
@@ -352,18 +342,14 @@ def _hall_glitch(run: Run) -> Outcome:
     captures = tim3.captures
     code = run.spec.hall.sequence[run.sector]
     width = max(1, tim3._filter_ticks() // 2)
-    # one line flips for half the input filter's time, to a valid code (a flip to 0 or 7
-    # that the current loop's interrupt happens to read trips HALL_INVALID: its pin read
-    # has no filter)
+    # one line flips for half the input filter's time, to a valid code; its end is
+    # scheduled on the pins (the EXTI wakes the CPU at its start)
     flipped = next(code ^ (1 << b) for b in range(3) if (code ^ (1 << b)) not in (0, 7))
     while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
         run.machine.run_for(1)
     began = run.machine.now
     run.board.set_hall(flipped)
-    run.machine.run_for(width)
-    if run.machine.now - began >= tim3._filter_ticks():
-        run.violations.append(f"the glitch lasted {run.machine.now - began} ticks, not {width}")
-    run.board.set_hall(code)
+    run.board.set_hall(code, at=began + width)
     run.machine.run_for(run.board.pwm_period_ticks())
     if tim3.captures != captures:
         run.violations.append("the glitch passed TIM3's input filter")
@@ -376,6 +362,40 @@ def _hall_glitch(run: Run) -> Outcome:
         None,
         None,
         f"one Hall line flips for {width} ticks, half TIM3's input filter: no edge, no fault",
+    )
+
+
+#: The spike on two Hall lines the EXTI path must ignore: shorter than its confirmation
+#: (codegen/port.py HALL_CONFIRM_NS, 1 us), longer than TIM3's input filter
+HALL_SPIKE_NS = 500
+
+
+def _hall_spike(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    while bin(run.spec.hall.sequence[run.sector]).count("1") != 1:
+        run.turn(1)
+    run.machine.run_for(run.sector_ticks() // 3)
+    code = run.spec.hall.sequence[run.sector]
+    captures = run.machine.tim3.captures
+    width = HALL_SPIKE_NS * TICK_HZ // 1_000_000_000
+    began = run.machine.now
+    run.board.set_hall(7)  # the two low lines together: no TI1 edge, the EXTI sees 7
+    run.board.set_hall(code, at=began + width)
+    run.machine.run_for(run.board.pwm_period_ticks())
+    if run.machine.tim3.captures != captures:
+        run.violations.append("the spike made a TIM3 edge")
+    if not any(began <= t <= began + width for _, t in run.machine.exti.edge_log):
+        run.violations.append("the spike reached no EXTI line")
+    run.turn(4)
+    if not run.machine.tim1.moe:
+        run.violations.append("the bridge stopped after the spike")
+    return run.outcome(
+        "Hall spike to code 7",
+        None,
+        None,
+        None,
+        f"two Hall lines rise together for {HALL_SPIKE_NS} ns (half the EXTI path's 1 us"
+        " confirmation): no TIM3 edge, the EXTI reads 7 once, no fault",
     )
 
 
@@ -395,18 +415,126 @@ def _rotor_stops(run: Run) -> Outcome:
     )
 
 
+#: PWM periods watched after a latched fault with its cause still present
+QUIET_PERIODS = 10
+
+
+def _check_quiet_while_faulted(run: Run) -> None:
+    """With the fault latched and its cause present, nothing re-trips: the timing handler
+    (raised by each trip's COM event) stays idle over QUIET_PERIODS PWM periods."""
+    before = len(run.board.entries_of("TIM1", "TIM1_TRG_COM_TIM11"))
+    run.machine.run_for(QUIET_PERIODS * run.board.pwm_period_ticks())
+    runs = len(run.board.entries_of("TIM1", "TIM1_TRG_COM_TIM11")) - before
+    if runs:
+        run.violations.append(
+            f"the timing handler ran {runs} times in {QUIET_PERIODS} PWM periods while faulted"
+        )
+
+
 def _bus_stuck_at_zero(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.machine.run_for(run.sector_ticks() // 3)
     cause = run.machine.now
     run.board.set_bus_voltage(0.0)
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    _check_quiet_while_faulted(run)
     return run.outcome(
         "bus ADC stuck at 0",
         "UNDER_VOLTAGE",
         cause,
         run.board.pwm_period_ticks(),
         "the bus divider's ADC input reads 0 V from mid-sector on",
+    )
+
+
+def _after_a_sample(run: Run) -> None:
+    """Run on to just after an injected sequence's end: the instant a cause that only
+    the sampled current would show waits longest (a whole PWM period) for the next."""
+    adc = run.machine.adc1
+    seen = adc.injected_sequences
+    while adc.injected_sequences == seen or adc.queue:
+        run.machine.run_for(TICK_HZ // 2_000_000)
+
+
+def _current_sensor(run: Run, rail_v: float, which: str) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 3)
+    _after_a_sample(run)
+    cause = run.machine.now
+    channel = run.spec.sensing.current_channels[0]
+    run.machine.adc1.set_input(channel, rail_v)  # ADC1 and ADC2 share the pin
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    _check_quiet_while_faulted(run)
+    return run.outcome(
+        f"current sensor at {which}",
+        "CURRENT_SENSOR",
+        cause,
+        run.board.pwm_period_ticks(),
+        f"the first current channel (IN{channel}) reads {which} ({rail_v:g} V) from just after"
+        " an injected sample (the sampled path's worst instant); ADC2's analog watchdog sees"
+        " it at the end of its next conversion",
+    )
+
+
+def _current_sensor_low(run: Run) -> Outcome:
+    return _current_sensor(run, 0.0, "the low rail")
+
+
+def _current_sensor_high(run: Run) -> Outcome:
+    return _current_sensor(run, float(run.spec.adc.reference_v), "the high rail")
+
+
+#: How far apart the two lines of a skipped sector change: beyond TIM3's input filter
+#: (111 ns), so the first change makes a Hall edge, and before its handler reads the pins
+SKIP_GAP_NS = 200
+
+
+def _hall_sequence(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 2)
+    sequence = run.spec.hall.sequence
+    now_code = sequence[run.sector]
+    middle = sequence[(run.sector + 1) % 6]
+    skipped_to = sequence[(run.sector + 2) % 6]
+    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
+        run.machine.run_for(1)
+    cause = run.machine.now
+    run.board.set_hall(middle)
+    run.board.set_hall(skipped_to, at=cause + SKIP_GAP_NS * TICK_HZ // 1_000_000_000)
+    if bin(now_code ^ skipped_to).count("1") != 2:
+        run.violations.append("the skipped sector is not two line changes away")
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    return run.outcome(
+        "Hall sector skipped",
+        "HALL_SEQUENCE",
+        cause,
+        run.board.pwm_period_ticks(),
+        f"two Hall lines change {SKIP_GAP_NS} ns apart (a sector skipped): the Hall edge of the"
+        " first reads the pins after the second, a code two sectors on",
+    )
+
+
+def _over_speed(run: Run) -> Outcome:
+    run.turn(SETTLE_SECTORS)
+    run.rpm = 1.25 * float(run.spec.controller.speed_max_rpm)
+    edges = []
+    for _ in range(6):
+        run.sector = (run.sector + 1) % 6
+        run.board.set_hall(run.spec.hall.sequence[run.sector])
+        edges.append(run.machine.now)
+        run.machine.run_for(run.sector_ticks())
+        if not run.machine.tim1.moe:
+            break
+    # the first edge ends the last sector at the old speed; the second the first short one
+    cause = edges[1] if len(edges) > 1 else None
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    return run.outcome(
+        "over-speed",
+        "OVER_SPEED",
+        cause,
+        run.board.pwm_period_ticks(),
+        "the rotor steps at 1.25 x controller.speed_max from one Hall edge on; latency from the"
+        " first edge that ends a sector shorter than at speed_max",
     )
 
 
@@ -435,6 +563,11 @@ SCENARIOS = (
     Scenario("break_input", _break_input),
     Scenario("hall_unplugged", _hall_unplugged),
     Scenario("hall_glitch", _hall_glitch),
+    Scenario("hall_spike", _hall_spike),
+    Scenario("current_sensor_low", _current_sensor_low),
+    Scenario("current_sensor_high", _current_sensor_high),
+    Scenario("hall_sequence", _hall_sequence),
+    Scenario("over_speed", _over_speed),
     Scenario("rotor_stops", _rotor_stops),
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
     Scenario("hse_fails", _hse_fails, hse_fails=True),

@@ -60,6 +60,15 @@
                            ADC_CR1_AWDEN | ADC_CR1_AWDSGL |                                  \
                            (BLDC_PORT_ADC_BUS_CHANNEL << ADC_CR1_AWDCH_Pos))
 
+/* ADC2 CR1: its regular group (the current channels, scanned) under the analog watchdog,
+ * every channel of the group, with its interrupt. */
+#define BLDC_PORT_ADC2_CR1 (ADC_CR1_SCAN | ADC_CR1_AWDIE | ADC_CR1_AWDEN)
+/* The Hall lines' EXTI lines (pending, mask and trigger registers share the bit layout). */
+#define BLDC_PORT_HALL_LINES (EXTI_PR_PR6 | EXTI_PR_PR7 | EXTI_PR_PR0)
+/* Iterations of the Hall lines' confirmation wait: 1 us at 72 MHz, with at
+ * least 3 cycles per iteration (codegen/port.py HALL_CONFIRM_NS). */
+#define BLDC_PORT_HALL_CONFIRM_LOOPS 24u
+
 #define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG) /* enables and compares together */
 /* TIM1 CR2: enables preloaded until a COM event, TRGO = OC4REF; the idle levels
  * (OISx, OISxN, used while MOE = 0) are OR-ed in by speed region. */
@@ -254,7 +263,7 @@ static volatile uint32_t *port_compare(TIM_TypeDef *tim1, uint32_t channel)
  * each such load waits two cycles for the flash (RM0008 3.3.3). The empty asm hides the
  * value of the peripheral region's start (one MOV), so the handlers reach TIM1, TIM3 and
  * the GPIO ports with an ADD or an offset from it instead. */
-#define BLDC_PORT_PERIPHERALS 0x40000000u /* start of the peripheral region holding TIM1, TIM3, ADC1, GPIOA and GPIOB (RM0008 3.3, bases from the SVD) */
+#define BLDC_PORT_PERIPHERALS 0x40000000u /* start of the peripheral region holding TIM1, TIM3, ADC1, ADC2, EXTI, GPIOA and GPIOB (RM0008 3.3, bases from the SVD) */
 static inline uintptr_t port_peripherals(void)
 {
     uintptr_t anchor = BLDC_PORT_PERIPHERALS;
@@ -535,6 +544,17 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
     port_trip(anchor, over ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
 }
 
+/* ADC2's analog watchdog: a conversion of a current channel, at any instant, read at a
+ * rail. Its interrupt goes off until the fault is cleared (ADC2 converts every few
+ * microseconds and would set AWD each time). */
+BLDC_PORT_COLD static void port_current_rail(uintptr_t anchor)
+{
+    ADC_TypeDef *const adc2 = PORT_AT(anchor, ADC2, ADC_TypeDef);
+    adc2->CR1 = BLDC_PORT_ADC2_CR1 & ~ADC_CR1_AWDIE;
+    adc2->SR = ~ADC_SR_AWD;
+    port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR);
+}
+
 /* While faulted, every PWM period: the Hall interval from the capture TIM3 still makes
  * (its interrupts are off) and the safe state of the region the rotor is in now, so a
  * decelerating rotor leaves the short circuit for all-off where that becomes valid. */
@@ -551,6 +571,19 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     port_set_safe_state(port.period, port.bus_code);
 }
 
+/* 1 if `value` is 0, else 0, in two instructions and no branch: CLZ gives 32 for 0 alone
+ * (ARMv7-M A7.7.24, defined for every input, unlike __builtin_clz). */
+static inline uint32_t port_is_zero(uint32_t value)
+{
+#if defined(__arm__)
+    uint32_t zeros;
+    __asm__("clz %0, %1" : "=r"(zeros) : "r"(value));
+    return zeros >> 5;
+#else
+    return (uint32_t)(value == 0u);
+#endif
+}
+
 /* The current loop proper, in the steady state: the PI's duty for the steady switch
  * from the next PWM period (CCRx is preloaded). */
 static inline void port_run_loop(uint32_t measured, uint32_t reference)
@@ -563,23 +596,28 @@ static inline void port_run_loop(uint32_t measured, uint32_t reference)
     *port.steady_compare = duty; /* the steady switch's CCRx */
 }
 
-/* The interrupt's other paths, out of line: the analog watchdog, a commutation running
- * (I is not sampled: no single signal is I then), the bridge idle or faulted, the open
- * loop, and the faults this interrupt finds (the Hall counter wrapped while the bridge
- * switches, a current sample at a rail, the Hall code 0 or 7). */
+/* The interrupt's other paths, out of line: either analog watchdog (ADC1's on the bus,
+ * ADC2's on the current), a commutation running (I is not sampled: no single signal is
+ * I then), the bridge idle or faulted, the open loop, and the faults this interrupt
+ * finds (the Hall counter wrapped while the bridge switches, a current sample at a
+ * rail). An entry for ADC2 alone (no JEOC) comes here too and runs no loop step: ADC2's
+ * AWD is then set, or the bridge is faulted. */
 BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uint32_t bus,
                                           uint32_t measured)
 {
-    if ((status & ADC_SR_AWD) != 0u) {
+    /* A watchdog acts while its interrupt is on, i.e. until it has tripped: the regular
+     * conversions set AWD again at every conversion outside the window (RM0008 11.3.7,
+     * whatever AWDIE), and a trip each PWM period would raise a COM event, and so a
+     * timing run, each period while the fault is latched. */
+    ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
+    if (((status & ADC_SR_AWD) != 0u) && ((adc1->CR1 & ADC_CR1_AWDIE) != 0u)) {
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
     }
-    port_pend_if_bus_moved(bus);
-    const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
-    if (((pins - 1u) > 5u) && ((port.faults & BLDC_FAULT_HALL_INVALID) == 0u)) {
-        /* Hall code 0 or 7 with no edge: two lines changed within TIM3's input filter
-         * (an unplugged connector), so TI1 = CH1 xor CH2 xor CH3 did not change. */
-        port_trip(anchor, BLDC_FAULT_HALL_INVALID);
+    ADC_TypeDef *const adc2 = PORT_AT(anchor, ADC2, ADC_TypeDef);
+    if (((adc2->SR & ADC_SR_AWD) != 0u) && ((adc2->CR1 & ADC_CR1_AWDIE) != 0u)) {
+        port_current_rail(anchor); /* tripped: the faulted tick below runs */
     }
+    port_pend_if_bus_moved(bus);
     const uint32_t steady = port.steady;
     if ((steady != 0u) && (port.pending == 0u)) {
         if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
@@ -613,17 +651,16 @@ void ADC1_2_IRQHandler(void)
     const uint32_t steady = port.steady;
     const uint32_t measured = *port.steady_sense; /* the JDRx of I in this sector */
     const uint32_t reference = port.reference;
-    /* Hall code 0 or 7 (every line alike), which makes no TIM3 edge if two lines change
-     * within its input filter: seen here within a PWM period. Bit 6 of
-     * (ab ^ ab >> 1) is A xor B, of (ab ^ c << 6u) A xor C. */
-    const uint32_t hall_ab = PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR;
-    const uint32_t hall_c = PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR;
-    const uint32_t hall_alike =
-        (~((hall_ab ^ (hall_ab >> 1u)) | (hall_ab ^ (hall_c << 6u))) >> 6u) & 1u;
-    const uint32_t other = (status & ADC_SR_AWD) | (uint32_t)(steady == 0u) | port.pending |
+    /* Either analog watchdog (AWD is bit 0 of both SRs), the bridge not in the steady
+     * state, the Hall counter wrapped, the open loop (a reference above every ADC code:
+     * bits above the code's), (a sample at a rail is ADC2's
+     * watchdog's, which sees both rails at every conversion, this sample's instant
+     * included), and a Hall code 0 or 7 is the EXTI's
+     * (EXTI0_IRQHandler). */
+    const uint32_t watchdogs = (status | PORT_AT(anchor, ADC2, ADC_TypeDef)->SR) & ADC_SR_AWD;
+    const uint32_t other = watchdogs | port_is_zero(steady) | port.pending |
                            (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) |
-                           (uint32_t)((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) |
-                           hall_alike | (uint32_t)(reference > BLDC_PORT_ADC_CODE_MAX);
+                           (reference >> BLDC_PORT_ADC_BITS);
     if (BLDC_PORT_RARE(other != 0u)) {
         port_adc_other(anchor, status, bus, measured);
         return;
@@ -648,6 +685,45 @@ void TIM1_BRK_IRQHandler(void)
     port.requested = 0u;
     port_trip(anchor, requested |
                           ((level == BLDC_PORT_BREAK_ACTIVE_HIGH) ? BLDC_FAULT_OVER_CURRENT : 0u));
+}
+
+/* The Hall lines read alike at the EXTI's entry: confirm, then trip. Two reads
+ * BLDC_PORT_HALL_CONFIRM_LOOPS iterations apart (1 us at least) must both
+ * read 000 or 111: a spike shorter than that on the lines trips nothing, while a real
+ * code 0 or 7 (a connector unplugged) holds. A change during the wait pends the EXTI
+ * again, which reads afresh. At the Hall edge's priority: the trip writes TIM1 at once. */
+BLDC_PORT_COLD static void port_hall_lines_alike(uintptr_t anchor)
+{
+    for (volatile uint32_t wait = 0u; wait < BLDC_PORT_HALL_CONFIRM_LOOPS; ++wait) {
+    }
+    const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
+    if (((pins - 1u) > 5u) && ((port.faults & BLDC_FAULT_HALL_INVALID) == 0u)) {
+        port_trip(anchor, BLDC_FAULT_HALL_INVALID);
+    }
+}
+
+/* A Hall line changed (EXTI, both edges): every Hall edge comes here too, once, at the
+ * TIM3 handler's priority and ahead of it (the EXTI sees the pin before TIM3's input
+ * filter does); the code 0 or 7 is the rare path. Only the port's lines'
+ * pending bits are cleared (rc_w1), before the read: a change after it pends again. */
+static void port_on_hall_lines(void)
+{
+    const uintptr_t anchor = port_peripherals();
+    PORT_AT(anchor, EXTI, EXTI_TypeDef)->PR = BLDC_PORT_HALL_LINES;
+    const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
+    if (BLDC_PORT_RARE((pins - 1u) > 5u)) {
+        port_hall_lines_alike(anchor);
+    }
+}
+
+void EXTI0_IRQHandler(void)
+{
+    port_on_hall_lines();
+}
+
+void EXTI9_5_IRQHandler(void)
+{
+    port_on_hall_lines();
 }
 
 /* ------------------------------------------------------------------ the API */
@@ -741,6 +817,11 @@ static uint32_t port_present_causes(uint32_t latched)
             present |= latched & BLDC_FAULT_CURRENT_SENSOR;
         }
     }
+    /* ADC2's latest conversion (the sequence's last current channel), at a watched rail */
+    const uint32_t watched = ADC2->DR & ADC_DR_DATA_Msk;
+    if ((watched < BLDC_PORT_CURRENT_LTR) || (watched > BLDC_PORT_CURRENT_HTR)) {
+        present |= latched & BLDC_FAULT_CURRENT_SENSOR;
+    }
     const uint32_t pins = port_read_pins();
     if ((pins == 0u) || (pins == 7u)) {
         present |= latched & BLDC_FAULT_HALL_INVALID;
@@ -758,6 +839,8 @@ static void port_arm(void)
     TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
     ADC1->SR = ~ADC_SR_AWD;
     ADC1->CR1 = BLDC_PORT_ADC_CR1; /* the bus watchdog's interrupt again */
+    ADC2->SR = ~ADC_SR_AWD;
+    ADC2->CR1 = BLDC_PORT_ADC2_CR1; /* the current watchdog's too */
     port.pending = 0u;
     port.steady = 0u;
     port.integrator = 0;
@@ -865,18 +948,52 @@ static void port_init_hall_timer(void)
  * injected trigger interrupts it and it resumes, RM0008 11.3.9), so the watchdog sees
  * every bus reading within microseconds, not once per PWM period. Returns
  * BLDC_FAULT_ADC if the calibration does not finish. */
+/* Power up and calibrate one ADC; BLDC_FAULT_ADC if the calibration does not finish. */
+static uint32_t port_calibrate_adc(ADC_TypeDef *adc)
+{
+    adc->CR2 = ADC_CR2_ADON; /* power up; t_STAB = 1 us before the calibration */
+    for (volatile uint32_t wait = 0u; wait < 100u; ++wait) {
+    }
+    adc->CR2 = ADC_CR2_ADON | ADC_CR2_CAL;
+    uint32_t spins = 0u;
+    while (((adc->CR2 & ADC_CR2_CAL) != 0u) && (spins < BLDC_PORT_ADC_WAIT_LOOPS)) {
+        ++spins;
+    }
+    return ((adc->CR2 & ADC_CR2_CAL) != 0u) ? BLDC_FAULT_ADC : 0u;
+}
+
+/* ADC2 (independent mode: ADC1's CR1.DUALMOD stays 0) converts the current channel(s)
+ * continuously in its regular group, software-started once, with its analog watchdog
+ * on every channel of the group at the rails (BLDC_PORT_CURRENT_LTR/HTR): a sensor stuck
+ * at a rail is seen at the end of the first conversion that shows it, whatever the
+ * rotor and the PWM do. It samples at random instants of the PWM period, switching
+ * edges included: a switching transient trips only if it drives the amplifier to a
+ * rail, a current the loop could not measure either. Its conversions overlap ADC1's
+ * samples of the same channel, each ADC's sample capacitor charging from the amplifier
+ * output: the spec's sample time must let the amplifier settle both (RM0008 11.9 forbids
+ * the overlap in the dual modes, where the two sample at the same instant by design).
+ * Returns BLDC_FAULT_ADC if its calibration does not finish. */
+static uint32_t port_init_current_watch(void)
+{
+    const uint32_t fault = port_calibrate_adc(ADC2);
+    ADC2->SMPR1 = BLDC_PORT_ADC_SMPR1;
+    ADC2->SMPR2 = BLDC_PORT_ADC_SMPR2;
+    ADC2->SQR1 = BLDC_PORT_ADC2_SQR1;
+    ADC2->SQR3 = BLDC_PORT_ADC2_SQR3;
+    ADC2->HTR = BLDC_PORT_CURRENT_HTR;
+    ADC2->LTR = BLDC_PORT_CURRENT_LTR;
+    ADC2->SR = 0u;
+    ADC2->CR1 = BLDC_PORT_ADC2_CR1;
+    ADC2->CR2 = ADC_CR2_ADON | ADC_CR2_CONT | ADC_CR2_EXTTRIG |
+                (BLDC_PORT_EXTSEL_SWSTART << ADC_CR2_EXTSEL_Pos);
+    ADC2->CR2 |= ADC_CR2_SWSTART;
+    return fault;
+}
+
 static uint32_t port_init_adc(void)
 {
     RCC->CFGR = (RCC->CFGR & ~RCC_CFGR_ADCPRE_Msk) | (BLDC_PORT_ADC_PRESCALER << RCC_CFGR_ADCPRE_Pos);
-    ADC1->CR2 = ADC_CR2_ADON; /* power up; t_STAB = 1 us before the calibration */
-    for (volatile uint32_t wait = 0u; wait < 100u; ++wait) {
-    }
-    ADC1->CR2 = ADC_CR2_ADON | ADC_CR2_CAL;
-    uint32_t spins = 0u;
-    while (((ADC1->CR2 & ADC_CR2_CAL) != 0u) && (spins < BLDC_PORT_ADC_WAIT_LOOPS)) {
-        ++spins;
-    }
-    const uint32_t fault = ((ADC1->CR2 & ADC_CR2_CAL) != 0u) ? BLDC_FAULT_ADC : 0u;
+    const uint32_t fault = port_calibrate_adc(ADC1);
     ADC1->SMPR1 = BLDC_PORT_ADC_SMPR1;
     ADC1->SMPR2 = BLDC_PORT_ADC_SMPR2;
     ADC1->JSQR = BLDC_PORT_ADC_JSQR;
@@ -905,6 +1022,20 @@ static void port_init_hall_pins(void)
     GPIOB->BSRR = GPIO_BSRR_BS0;
     GPIOB->CRL = (GPIOB->CRL & ~(GPIO_CRL_MODE0_Msk | GPIO_CRL_CNF0_Msk)) |
                   (BLDC_PORT_GPIO_MODE_INPUT << GPIO_CRL_MODE0_Pos) | (BLDC_PORT_GPIO_CNF_INPUT_PULL << GPIO_CRL_CNF0_Pos);
+}
+
+/* The Hall lines to the EXTI (RM0008 9.4.3-9.4.6, 10.2): AFIO_EXTICRx picks each
+ * line's port, both edges trigger, the interrupt unmasked; pending bits cleared. */
+static void port_init_hall_lines(void)
+{
+    /* PB0 on EXTI0 */
+    AFIO->EXTICR[0] = (AFIO->EXTICR[0] & ~(AFIO_EXTICR1_EXTI0_Msk)) | (1u << AFIO_EXTICR1_EXTI0_Pos);
+    /* PA6 on EXTI6, PA7 on EXTI7 */
+    AFIO->EXTICR[1] = (AFIO->EXTICR[1] & ~(AFIO_EXTICR2_EXTI6_Msk | AFIO_EXTICR2_EXTI7_Msk)) | (0u << AFIO_EXTICR2_EXTI6_Pos) | (0u << AFIO_EXTICR2_EXTI7_Pos);
+    EXTI->RTSR |= BLDC_PORT_HALL_LINES;
+    EXTI->FTSR |= BLDC_PORT_HALL_LINES;
+    EXTI->PR = BLDC_PORT_HALL_LINES;
+    EXTI->IMR |= BLDC_PORT_HALL_LINES;
 }
 
 /* Alternate-function push-pull outputs, ODR = 0 (low if the GPIO takes over). */
@@ -945,7 +1076,8 @@ void bldc_port_init(uint32_t start_faults)
      * add to the handlers'; codegen/build_firmware.py counts it apart). */
     const uint32_t primask = __get_PRIMASK();
     __disable_irq();
-    RCC->APB2ENR |= RCC_APB2ENR_IOPAEN | RCC_APB2ENR_IOPBEN | RCC_APB2ENR_TIM1EN | RCC_APB2ENR_ADC1EN;
+    RCC->APB2ENR |= RCC_APB2ENR_IOPAEN | RCC_APB2ENR_IOPBEN | RCC_APB2ENR_AFIOEN |
+                    RCC_APB2ENR_TIM1EN | RCC_APB2ENR_ADC1EN | RCC_APB2ENR_ADC2EN;
     RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
     (void)RCC->APB1ENR; /* read back: the clocks run before the first register access */
 
@@ -984,20 +1116,26 @@ void bldc_port_init(uint32_t start_faults)
     port_init_break_pin();
     port_init_analog_pins();
     faults |= port_init_adc();
+    faults |= port_init_current_watch();
     port_init_pwm_timer();   /* outputs disabled, MOE = 0, before the pins become timer outputs */
     port_init_output_pins();
 
     /* The first edge's previous code is the sector the rotor is in now. */
     port.previous_pins = port_read_pins();
     port_init_hall_timer();
+    port_init_hall_lines();
 
-    /* The Hall edge, the current loop and the break share a level and preempt the
+    /* The Hall edge, the Hall lines, the current loop and the break share a level and preempt the
      * timing computation, never the other way round. */
     NVIC_SetPriority(TIM3_IRQn, BLDC_PORT_HALL_PRIORITY);
     NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);
     NVIC_SetPriority(TIM1_BRK_IRQn, BLDC_PORT_FAULT_PRIORITY);
     NVIC_SetPriority(TIM1_TRG_COM_IRQn, BLDC_PORT_TIMING_PRIORITY);
+    NVIC_SetPriority(EXTI0_IRQn, BLDC_PORT_HALL_PRIORITY);
+    NVIC_SetPriority(EXTI9_5_IRQn, BLDC_PORT_HALL_PRIORITY);
     NVIC_EnableIRQ(TIM1_TRG_COM_IRQn);
+    NVIC_EnableIRQ(EXTI0_IRQn);
+    NVIC_EnableIRQ(EXTI9_5_IRQn);
     NVIC_EnableIRQ(TIM1_BRK_IRQn);
     NVIC_EnableIRQ(ADC1_2_IRQn);
     NVIC_EnableIRQ(TIM3_IRQn);

@@ -40,7 +40,9 @@
 
 /* Interrupt numbers (position in the vector table after the 16 core exceptions) */
 typedef enum {
+    EXTI0_IRQn = 6, /* EXTI Line0 interrupt (SVD EXTI0) */
     ADC1_2_IRQn = 18, /* ADC1 global interrupt (SVD ADC) */
+    EXTI9_5_IRQn = 23, /* EXTI Line[9:5] interrupts (SVD EXTI9_5) */
     TIM1_BRK_IRQn = 24, /* TIM1 Break interrupt and TIM9 global interrupt (SVD TIM1_BRK_TIM9) */
     TIM1_UP_IRQn = 25, /* TIM1 Update interrupt and TIM10 global interrupt (SVD TIM1_UP_TIM10) */
     TIM1_TRG_COM_IRQn = 26, /* TIM1 Trigger and Commutation interrupts and TIM11 global interrupt (SVD TIM1_TRG_COM_TIM11) */
@@ -145,6 +147,15 @@ typedef struct {
     __IO uint32_t MAPR2; /* AF remap and debug I/O configuration register, offset 0x1c */
 } AFIO_TypeDef;
 
+typedef struct {
+    __IO uint32_t IMR; /* Interrupt mask register (EXTI_IMR), offset 0x00 */
+    __IO uint32_t EMR; /* Event mask register (EXTI_EMR), offset 0x04 */
+    __IO uint32_t RTSR; /* Rising Trigger selection register (EXTI_RTSR), offset 0x08 */
+    __IO uint32_t FTSR; /* Falling Trigger selection register (EXTI_FTSR), offset 0x0c */
+    __IO uint32_t SWIER; /* Software interrupt event register (EXTI_SWIER), offset 0x10 */
+    __IO uint32_t PR; /* Pending register (EXTI_PR), offset 0x14 */
+} EXTI_TypeDef;
+
 /* Peripheral instances */
 #define TIM1_BASE 0x40012C00UL /* SVD TIM1 */
 #define TIM3_BASE 0x40000400UL /* SVD TIM3, registers of TIM2 */
@@ -152,9 +163,11 @@ typedef struct {
 #define GPIOA_BASE 0x40010800UL /* SVD GPIOA */
 #define GPIOB_BASE 0x40010C00UL /* SVD GPIOB, registers of GPIOA */
 #define ADC1_BASE 0x40012400UL /* SVD ADC1 */
+#define ADC2_BASE 0x40012800UL /* SVD ADC2 */
 #define FLASH_BASE 0x40022000UL /* SVD FLASH */
 #define IWDG_BASE 0x40003000UL /* SVD IWDG */
 #define AFIO_BASE 0x40010000UL /* SVD AFIO */
+#define EXTI_BASE 0x40010400UL /* SVD EXTI */
 
 #define TIM1 ((TIM_TypeDef *)TIM1_BASE)
 #define TIM3 ((TIM_TypeDef *)TIM3_BASE)
@@ -162,9 +175,11 @@ typedef struct {
 #define GPIOA ((GPIO_TypeDef *)GPIOA_BASE)
 #define GPIOB ((GPIO_TypeDef *)GPIOB_BASE)
 #define ADC1 ((ADC_TypeDef *)ADC1_BASE)
+#define ADC2 ((ADC_TypeDef *)ADC2_BASE)
 #define FLASH ((FLASH_TypeDef *)FLASH_BASE)
 #define IWDG ((IWDG_TypeDef *)IWDG_BASE)
 #define AFIO ((AFIO_TypeDef *)AFIO_BASE)
+#define EXTI ((EXTI_TypeDef *)EXTI_BASE)
 
 /* Bit fields of the registers the port uses: <GROUP>_<REGISTER>_<FIELD>_Pos / _Msk */
 
@@ -1650,6 +1665,14 @@ typedef struct {
 #define ADC_JDR4_JDATA_Msk (0xffffU << ADC_JDR4_JDATA_Pos) /* 0x0000FFFF */
 #define ADC_JDR4_JDATA ADC_JDR4_JDATA_Msk /* Injected data */
 
+/* ADC_DR */
+#define ADC_DR_DATA_Pos (0U)
+#define ADC_DR_DATA_Msk (0xffffU << ADC_DR_DATA_Pos) /* 0x0000FFFF */
+#define ADC_DR_DATA ADC_DR_DATA_Msk /* Regular data */
+#define ADC_DR_ADC2DATA_Pos (16U)
+#define ADC_DR_ADC2DATA_Msk (0xffffU << ADC_DR_ADC2DATA_Pos) /* 0xFFFF0000 */
+#define ADC_DR_ADC2DATA ADC_DR_ADC2DATA_Msk /* ADC2 data */
+
 /* FLASH_ACR */
 #define FLASH_ACR_LATENCY_Pos (0U)
 #define FLASH_ACR_LATENCY_Msk (0x7U << FLASH_ACR_LATENCY_Pos) /* 0x00000007 */
@@ -1758,6 +1781,361 @@ typedef struct {
 #define AFIO_MAPR_SWJ_CFG_0 (0x1U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x01000000 */
 #define AFIO_MAPR_SWJ_CFG_1 (0x2U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x02000000 */
 #define AFIO_MAPR_SWJ_CFG_2 (0x4U << AFIO_MAPR_SWJ_CFG_Pos) /* 0x04000000 */
+
+/* AFIO_EXTICR1 */
+#define AFIO_EXTICR1_EXTI0_Pos (0U)
+#define AFIO_EXTICR1_EXTI0_Msk (0xfU << AFIO_EXTICR1_EXTI0_Pos) /* 0x0000000F */
+#define AFIO_EXTICR1_EXTI0 AFIO_EXTICR1_EXTI0_Msk /* EXTI0 configuration */
+#define AFIO_EXTICR1_EXTI0_0 (0x1U << AFIO_EXTICR1_EXTI0_Pos) /* 0x00000001 */
+#define AFIO_EXTICR1_EXTI0_1 (0x2U << AFIO_EXTICR1_EXTI0_Pos) /* 0x00000002 */
+#define AFIO_EXTICR1_EXTI0_2 (0x4U << AFIO_EXTICR1_EXTI0_Pos) /* 0x00000004 */
+#define AFIO_EXTICR1_EXTI0_3 (0x8U << AFIO_EXTICR1_EXTI0_Pos) /* 0x00000008 */
+#define AFIO_EXTICR1_EXTI1_Pos (4U)
+#define AFIO_EXTICR1_EXTI1_Msk (0xfU << AFIO_EXTICR1_EXTI1_Pos) /* 0x000000F0 */
+#define AFIO_EXTICR1_EXTI1 AFIO_EXTICR1_EXTI1_Msk /* EXTI1 configuration */
+#define AFIO_EXTICR1_EXTI1_0 (0x1U << AFIO_EXTICR1_EXTI1_Pos) /* 0x00000010 */
+#define AFIO_EXTICR1_EXTI1_1 (0x2U << AFIO_EXTICR1_EXTI1_Pos) /* 0x00000020 */
+#define AFIO_EXTICR1_EXTI1_2 (0x4U << AFIO_EXTICR1_EXTI1_Pos) /* 0x00000040 */
+#define AFIO_EXTICR1_EXTI1_3 (0x8U << AFIO_EXTICR1_EXTI1_Pos) /* 0x00000080 */
+#define AFIO_EXTICR1_EXTI2_Pos (8U)
+#define AFIO_EXTICR1_EXTI2_Msk (0xfU << AFIO_EXTICR1_EXTI2_Pos) /* 0x00000F00 */
+#define AFIO_EXTICR1_EXTI2 AFIO_EXTICR1_EXTI2_Msk /* EXTI2 configuration */
+#define AFIO_EXTICR1_EXTI2_0 (0x1U << AFIO_EXTICR1_EXTI2_Pos) /* 0x00000100 */
+#define AFIO_EXTICR1_EXTI2_1 (0x2U << AFIO_EXTICR1_EXTI2_Pos) /* 0x00000200 */
+#define AFIO_EXTICR1_EXTI2_2 (0x4U << AFIO_EXTICR1_EXTI2_Pos) /* 0x00000400 */
+#define AFIO_EXTICR1_EXTI2_3 (0x8U << AFIO_EXTICR1_EXTI2_Pos) /* 0x00000800 */
+#define AFIO_EXTICR1_EXTI3_Pos (12U)
+#define AFIO_EXTICR1_EXTI3_Msk (0xfU << AFIO_EXTICR1_EXTI3_Pos) /* 0x0000F000 */
+#define AFIO_EXTICR1_EXTI3 AFIO_EXTICR1_EXTI3_Msk /* EXTI3 configuration */
+#define AFIO_EXTICR1_EXTI3_0 (0x1U << AFIO_EXTICR1_EXTI3_Pos) /* 0x00001000 */
+#define AFIO_EXTICR1_EXTI3_1 (0x2U << AFIO_EXTICR1_EXTI3_Pos) /* 0x00002000 */
+#define AFIO_EXTICR1_EXTI3_2 (0x4U << AFIO_EXTICR1_EXTI3_Pos) /* 0x00004000 */
+#define AFIO_EXTICR1_EXTI3_3 (0x8U << AFIO_EXTICR1_EXTI3_Pos) /* 0x00008000 */
+
+/* AFIO_EXTICR2 */
+#define AFIO_EXTICR2_EXTI4_Pos (0U)
+#define AFIO_EXTICR2_EXTI4_Msk (0xfU << AFIO_EXTICR2_EXTI4_Pos) /* 0x0000000F */
+#define AFIO_EXTICR2_EXTI4 AFIO_EXTICR2_EXTI4_Msk /* EXTI4 configuration */
+#define AFIO_EXTICR2_EXTI4_0 (0x1U << AFIO_EXTICR2_EXTI4_Pos) /* 0x00000001 */
+#define AFIO_EXTICR2_EXTI4_1 (0x2U << AFIO_EXTICR2_EXTI4_Pos) /* 0x00000002 */
+#define AFIO_EXTICR2_EXTI4_2 (0x4U << AFIO_EXTICR2_EXTI4_Pos) /* 0x00000004 */
+#define AFIO_EXTICR2_EXTI4_3 (0x8U << AFIO_EXTICR2_EXTI4_Pos) /* 0x00000008 */
+#define AFIO_EXTICR2_EXTI5_Pos (4U)
+#define AFIO_EXTICR2_EXTI5_Msk (0xfU << AFIO_EXTICR2_EXTI5_Pos) /* 0x000000F0 */
+#define AFIO_EXTICR2_EXTI5 AFIO_EXTICR2_EXTI5_Msk /* EXTI5 configuration */
+#define AFIO_EXTICR2_EXTI5_0 (0x1U << AFIO_EXTICR2_EXTI5_Pos) /* 0x00000010 */
+#define AFIO_EXTICR2_EXTI5_1 (0x2U << AFIO_EXTICR2_EXTI5_Pos) /* 0x00000020 */
+#define AFIO_EXTICR2_EXTI5_2 (0x4U << AFIO_EXTICR2_EXTI5_Pos) /* 0x00000040 */
+#define AFIO_EXTICR2_EXTI5_3 (0x8U << AFIO_EXTICR2_EXTI5_Pos) /* 0x00000080 */
+#define AFIO_EXTICR2_EXTI6_Pos (8U)
+#define AFIO_EXTICR2_EXTI6_Msk (0xfU << AFIO_EXTICR2_EXTI6_Pos) /* 0x00000F00 */
+#define AFIO_EXTICR2_EXTI6 AFIO_EXTICR2_EXTI6_Msk /* EXTI6 configuration */
+#define AFIO_EXTICR2_EXTI6_0 (0x1U << AFIO_EXTICR2_EXTI6_Pos) /* 0x00000100 */
+#define AFIO_EXTICR2_EXTI6_1 (0x2U << AFIO_EXTICR2_EXTI6_Pos) /* 0x00000200 */
+#define AFIO_EXTICR2_EXTI6_2 (0x4U << AFIO_EXTICR2_EXTI6_Pos) /* 0x00000400 */
+#define AFIO_EXTICR2_EXTI6_3 (0x8U << AFIO_EXTICR2_EXTI6_Pos) /* 0x00000800 */
+#define AFIO_EXTICR2_EXTI7_Pos (12U)
+#define AFIO_EXTICR2_EXTI7_Msk (0xfU << AFIO_EXTICR2_EXTI7_Pos) /* 0x0000F000 */
+#define AFIO_EXTICR2_EXTI7 AFIO_EXTICR2_EXTI7_Msk /* EXTI7 configuration */
+#define AFIO_EXTICR2_EXTI7_0 (0x1U << AFIO_EXTICR2_EXTI7_Pos) /* 0x00001000 */
+#define AFIO_EXTICR2_EXTI7_1 (0x2U << AFIO_EXTICR2_EXTI7_Pos) /* 0x00002000 */
+#define AFIO_EXTICR2_EXTI7_2 (0x4U << AFIO_EXTICR2_EXTI7_Pos) /* 0x00004000 */
+#define AFIO_EXTICR2_EXTI7_3 (0x8U << AFIO_EXTICR2_EXTI7_Pos) /* 0x00008000 */
+
+/* EXTI_IMR */
+#define EXTI_IMR_MR0_Pos (0U)
+#define EXTI_IMR_MR0_Msk (0x1U << EXTI_IMR_MR0_Pos) /* 0x00000001 */
+#define EXTI_IMR_MR0 EXTI_IMR_MR0_Msk /* Interrupt Mask on line 0 */
+#define EXTI_IMR_MR1_Pos (1U)
+#define EXTI_IMR_MR1_Msk (0x1U << EXTI_IMR_MR1_Pos) /* 0x00000002 */
+#define EXTI_IMR_MR1 EXTI_IMR_MR1_Msk /* Interrupt Mask on line 1 */
+#define EXTI_IMR_MR2_Pos (2U)
+#define EXTI_IMR_MR2_Msk (0x1U << EXTI_IMR_MR2_Pos) /* 0x00000004 */
+#define EXTI_IMR_MR2 EXTI_IMR_MR2_Msk /* Interrupt Mask on line 2 */
+#define EXTI_IMR_MR3_Pos (3U)
+#define EXTI_IMR_MR3_Msk (0x1U << EXTI_IMR_MR3_Pos) /* 0x00000008 */
+#define EXTI_IMR_MR3 EXTI_IMR_MR3_Msk /* Interrupt Mask on line 3 */
+#define EXTI_IMR_MR4_Pos (4U)
+#define EXTI_IMR_MR4_Msk (0x1U << EXTI_IMR_MR4_Pos) /* 0x00000010 */
+#define EXTI_IMR_MR4 EXTI_IMR_MR4_Msk /* Interrupt Mask on line 4 */
+#define EXTI_IMR_MR5_Pos (5U)
+#define EXTI_IMR_MR5_Msk (0x1U << EXTI_IMR_MR5_Pos) /* 0x00000020 */
+#define EXTI_IMR_MR5 EXTI_IMR_MR5_Msk /* Interrupt Mask on line 5 */
+#define EXTI_IMR_MR6_Pos (6U)
+#define EXTI_IMR_MR6_Msk (0x1U << EXTI_IMR_MR6_Pos) /* 0x00000040 */
+#define EXTI_IMR_MR6 EXTI_IMR_MR6_Msk /* Interrupt Mask on line 6 */
+#define EXTI_IMR_MR7_Pos (7U)
+#define EXTI_IMR_MR7_Msk (0x1U << EXTI_IMR_MR7_Pos) /* 0x00000080 */
+#define EXTI_IMR_MR7 EXTI_IMR_MR7_Msk /* Interrupt Mask on line 7 */
+#define EXTI_IMR_MR8_Pos (8U)
+#define EXTI_IMR_MR8_Msk (0x1U << EXTI_IMR_MR8_Pos) /* 0x00000100 */
+#define EXTI_IMR_MR8 EXTI_IMR_MR8_Msk /* Interrupt Mask on line 8 */
+#define EXTI_IMR_MR9_Pos (9U)
+#define EXTI_IMR_MR9_Msk (0x1U << EXTI_IMR_MR9_Pos) /* 0x00000200 */
+#define EXTI_IMR_MR9 EXTI_IMR_MR9_Msk /* Interrupt Mask on line 9 */
+#define EXTI_IMR_MR10_Pos (10U)
+#define EXTI_IMR_MR10_Msk (0x1U << EXTI_IMR_MR10_Pos) /* 0x00000400 */
+#define EXTI_IMR_MR10 EXTI_IMR_MR10_Msk /* Interrupt Mask on line 10 */
+#define EXTI_IMR_MR11_Pos (11U)
+#define EXTI_IMR_MR11_Msk (0x1U << EXTI_IMR_MR11_Pos) /* 0x00000800 */
+#define EXTI_IMR_MR11 EXTI_IMR_MR11_Msk /* Interrupt Mask on line 11 */
+#define EXTI_IMR_MR12_Pos (12U)
+#define EXTI_IMR_MR12_Msk (0x1U << EXTI_IMR_MR12_Pos) /* 0x00001000 */
+#define EXTI_IMR_MR12 EXTI_IMR_MR12_Msk /* Interrupt Mask on line 12 */
+#define EXTI_IMR_MR13_Pos (13U)
+#define EXTI_IMR_MR13_Msk (0x1U << EXTI_IMR_MR13_Pos) /* 0x00002000 */
+#define EXTI_IMR_MR13 EXTI_IMR_MR13_Msk /* Interrupt Mask on line 13 */
+#define EXTI_IMR_MR14_Pos (14U)
+#define EXTI_IMR_MR14_Msk (0x1U << EXTI_IMR_MR14_Pos) /* 0x00004000 */
+#define EXTI_IMR_MR14 EXTI_IMR_MR14_Msk /* Interrupt Mask on line 14 */
+#define EXTI_IMR_MR15_Pos (15U)
+#define EXTI_IMR_MR15_Msk (0x1U << EXTI_IMR_MR15_Pos) /* 0x00008000 */
+#define EXTI_IMR_MR15 EXTI_IMR_MR15_Msk /* Interrupt Mask on line 15 */
+#define EXTI_IMR_MR16_Pos (16U)
+#define EXTI_IMR_MR16_Msk (0x1U << EXTI_IMR_MR16_Pos) /* 0x00010000 */
+#define EXTI_IMR_MR16 EXTI_IMR_MR16_Msk /* Interrupt Mask on line 16 */
+#define EXTI_IMR_MR17_Pos (17U)
+#define EXTI_IMR_MR17_Msk (0x1U << EXTI_IMR_MR17_Pos) /* 0x00020000 */
+#define EXTI_IMR_MR17 EXTI_IMR_MR17_Msk /* Interrupt Mask on line 17 */
+#define EXTI_IMR_MR18_Pos (18U)
+#define EXTI_IMR_MR18_Msk (0x1U << EXTI_IMR_MR18_Pos) /* 0x00040000 */
+#define EXTI_IMR_MR18 EXTI_IMR_MR18_Msk /* Interrupt Mask on line 18 */
+
+/* EXTI_RTSR */
+#define EXTI_RTSR_TR0_Pos (0U)
+#define EXTI_RTSR_TR0_Msk (0x1U << EXTI_RTSR_TR0_Pos) /* 0x00000001 */
+#define EXTI_RTSR_TR0 EXTI_RTSR_TR0_Msk /* Rising trigger event configuration of line 0 */
+#define EXTI_RTSR_TR1_Pos (1U)
+#define EXTI_RTSR_TR1_Msk (0x1U << EXTI_RTSR_TR1_Pos) /* 0x00000002 */
+#define EXTI_RTSR_TR1 EXTI_RTSR_TR1_Msk /* Rising trigger event configuration of line 1 */
+#define EXTI_RTSR_TR2_Pos (2U)
+#define EXTI_RTSR_TR2_Msk (0x1U << EXTI_RTSR_TR2_Pos) /* 0x00000004 */
+#define EXTI_RTSR_TR2 EXTI_RTSR_TR2_Msk /* Rising trigger event configuration of line 2 */
+#define EXTI_RTSR_TR3_Pos (3U)
+#define EXTI_RTSR_TR3_Msk (0x1U << EXTI_RTSR_TR3_Pos) /* 0x00000008 */
+#define EXTI_RTSR_TR3 EXTI_RTSR_TR3_Msk /* Rising trigger event configuration of line 3 */
+#define EXTI_RTSR_TR4_Pos (4U)
+#define EXTI_RTSR_TR4_Msk (0x1U << EXTI_RTSR_TR4_Pos) /* 0x00000010 */
+#define EXTI_RTSR_TR4 EXTI_RTSR_TR4_Msk /* Rising trigger event configuration of line 4 */
+#define EXTI_RTSR_TR5_Pos (5U)
+#define EXTI_RTSR_TR5_Msk (0x1U << EXTI_RTSR_TR5_Pos) /* 0x00000020 */
+#define EXTI_RTSR_TR5 EXTI_RTSR_TR5_Msk /* Rising trigger event configuration of line 5 */
+#define EXTI_RTSR_TR6_Pos (6U)
+#define EXTI_RTSR_TR6_Msk (0x1U << EXTI_RTSR_TR6_Pos) /* 0x00000040 */
+#define EXTI_RTSR_TR6 EXTI_RTSR_TR6_Msk /* Rising trigger event configuration of line 6 */
+#define EXTI_RTSR_TR7_Pos (7U)
+#define EXTI_RTSR_TR7_Msk (0x1U << EXTI_RTSR_TR7_Pos) /* 0x00000080 */
+#define EXTI_RTSR_TR7 EXTI_RTSR_TR7_Msk /* Rising trigger event configuration of line 7 */
+#define EXTI_RTSR_TR8_Pos (8U)
+#define EXTI_RTSR_TR8_Msk (0x1U << EXTI_RTSR_TR8_Pos) /* 0x00000100 */
+#define EXTI_RTSR_TR8 EXTI_RTSR_TR8_Msk /* Rising trigger event configuration of line 8 */
+#define EXTI_RTSR_TR9_Pos (9U)
+#define EXTI_RTSR_TR9_Msk (0x1U << EXTI_RTSR_TR9_Pos) /* 0x00000200 */
+#define EXTI_RTSR_TR9 EXTI_RTSR_TR9_Msk /* Rising trigger event configuration of line 9 */
+#define EXTI_RTSR_TR10_Pos (10U)
+#define EXTI_RTSR_TR10_Msk (0x1U << EXTI_RTSR_TR10_Pos) /* 0x00000400 */
+#define EXTI_RTSR_TR10 EXTI_RTSR_TR10_Msk /* Rising trigger event configuration of line 10 */
+#define EXTI_RTSR_TR11_Pos (11U)
+#define EXTI_RTSR_TR11_Msk (0x1U << EXTI_RTSR_TR11_Pos) /* 0x00000800 */
+#define EXTI_RTSR_TR11 EXTI_RTSR_TR11_Msk /* Rising trigger event configuration of line 11 */
+#define EXTI_RTSR_TR12_Pos (12U)
+#define EXTI_RTSR_TR12_Msk (0x1U << EXTI_RTSR_TR12_Pos) /* 0x00001000 */
+#define EXTI_RTSR_TR12 EXTI_RTSR_TR12_Msk /* Rising trigger event configuration of line 12 */
+#define EXTI_RTSR_TR13_Pos (13U)
+#define EXTI_RTSR_TR13_Msk (0x1U << EXTI_RTSR_TR13_Pos) /* 0x00002000 */
+#define EXTI_RTSR_TR13 EXTI_RTSR_TR13_Msk /* Rising trigger event configuration of line 13 */
+#define EXTI_RTSR_TR14_Pos (14U)
+#define EXTI_RTSR_TR14_Msk (0x1U << EXTI_RTSR_TR14_Pos) /* 0x00004000 */
+#define EXTI_RTSR_TR14 EXTI_RTSR_TR14_Msk /* Rising trigger event configuration of line 14 */
+#define EXTI_RTSR_TR15_Pos (15U)
+#define EXTI_RTSR_TR15_Msk (0x1U << EXTI_RTSR_TR15_Pos) /* 0x00008000 */
+#define EXTI_RTSR_TR15 EXTI_RTSR_TR15_Msk /* Rising trigger event configuration of line 15 */
+#define EXTI_RTSR_TR16_Pos (16U)
+#define EXTI_RTSR_TR16_Msk (0x1U << EXTI_RTSR_TR16_Pos) /* 0x00010000 */
+#define EXTI_RTSR_TR16 EXTI_RTSR_TR16_Msk /* Rising trigger event configuration of line 16 */
+#define EXTI_RTSR_TR17_Pos (17U)
+#define EXTI_RTSR_TR17_Msk (0x1U << EXTI_RTSR_TR17_Pos) /* 0x00020000 */
+#define EXTI_RTSR_TR17 EXTI_RTSR_TR17_Msk /* Rising trigger event configuration of line 17 */
+#define EXTI_RTSR_TR18_Pos (18U)
+#define EXTI_RTSR_TR18_Msk (0x1U << EXTI_RTSR_TR18_Pos) /* 0x00040000 */
+#define EXTI_RTSR_TR18 EXTI_RTSR_TR18_Msk /* Rising trigger event configuration of line 18 */
+
+/* EXTI_FTSR */
+#define EXTI_FTSR_TR0_Pos (0U)
+#define EXTI_FTSR_TR0_Msk (0x1U << EXTI_FTSR_TR0_Pos) /* 0x00000001 */
+#define EXTI_FTSR_TR0 EXTI_FTSR_TR0_Msk /* Falling trigger event configuration of line 0 */
+#define EXTI_FTSR_TR1_Pos (1U)
+#define EXTI_FTSR_TR1_Msk (0x1U << EXTI_FTSR_TR1_Pos) /* 0x00000002 */
+#define EXTI_FTSR_TR1 EXTI_FTSR_TR1_Msk /* Falling trigger event configuration of line 1 */
+#define EXTI_FTSR_TR2_Pos (2U)
+#define EXTI_FTSR_TR2_Msk (0x1U << EXTI_FTSR_TR2_Pos) /* 0x00000004 */
+#define EXTI_FTSR_TR2 EXTI_FTSR_TR2_Msk /* Falling trigger event configuration of line 2 */
+#define EXTI_FTSR_TR3_Pos (3U)
+#define EXTI_FTSR_TR3_Msk (0x1U << EXTI_FTSR_TR3_Pos) /* 0x00000008 */
+#define EXTI_FTSR_TR3 EXTI_FTSR_TR3_Msk /* Falling trigger event configuration of line 3 */
+#define EXTI_FTSR_TR4_Pos (4U)
+#define EXTI_FTSR_TR4_Msk (0x1U << EXTI_FTSR_TR4_Pos) /* 0x00000010 */
+#define EXTI_FTSR_TR4 EXTI_FTSR_TR4_Msk /* Falling trigger event configuration of line 4 */
+#define EXTI_FTSR_TR5_Pos (5U)
+#define EXTI_FTSR_TR5_Msk (0x1U << EXTI_FTSR_TR5_Pos) /* 0x00000020 */
+#define EXTI_FTSR_TR5 EXTI_FTSR_TR5_Msk /* Falling trigger event configuration of line 5 */
+#define EXTI_FTSR_TR6_Pos (6U)
+#define EXTI_FTSR_TR6_Msk (0x1U << EXTI_FTSR_TR6_Pos) /* 0x00000040 */
+#define EXTI_FTSR_TR6 EXTI_FTSR_TR6_Msk /* Falling trigger event configuration of line 6 */
+#define EXTI_FTSR_TR7_Pos (7U)
+#define EXTI_FTSR_TR7_Msk (0x1U << EXTI_FTSR_TR7_Pos) /* 0x00000080 */
+#define EXTI_FTSR_TR7 EXTI_FTSR_TR7_Msk /* Falling trigger event configuration of line 7 */
+#define EXTI_FTSR_TR8_Pos (8U)
+#define EXTI_FTSR_TR8_Msk (0x1U << EXTI_FTSR_TR8_Pos) /* 0x00000100 */
+#define EXTI_FTSR_TR8 EXTI_FTSR_TR8_Msk /* Falling trigger event configuration of line 8 */
+#define EXTI_FTSR_TR9_Pos (9U)
+#define EXTI_FTSR_TR9_Msk (0x1U << EXTI_FTSR_TR9_Pos) /* 0x00000200 */
+#define EXTI_FTSR_TR9 EXTI_FTSR_TR9_Msk /* Falling trigger event configuration of line 9 */
+#define EXTI_FTSR_TR10_Pos (10U)
+#define EXTI_FTSR_TR10_Msk (0x1U << EXTI_FTSR_TR10_Pos) /* 0x00000400 */
+#define EXTI_FTSR_TR10 EXTI_FTSR_TR10_Msk /* Falling trigger event configuration of line 10 */
+#define EXTI_FTSR_TR11_Pos (11U)
+#define EXTI_FTSR_TR11_Msk (0x1U << EXTI_FTSR_TR11_Pos) /* 0x00000800 */
+#define EXTI_FTSR_TR11 EXTI_FTSR_TR11_Msk /* Falling trigger event configuration of line 11 */
+#define EXTI_FTSR_TR12_Pos (12U)
+#define EXTI_FTSR_TR12_Msk (0x1U << EXTI_FTSR_TR12_Pos) /* 0x00001000 */
+#define EXTI_FTSR_TR12 EXTI_FTSR_TR12_Msk /* Falling trigger event configuration of line 12 */
+#define EXTI_FTSR_TR13_Pos (13U)
+#define EXTI_FTSR_TR13_Msk (0x1U << EXTI_FTSR_TR13_Pos) /* 0x00002000 */
+#define EXTI_FTSR_TR13 EXTI_FTSR_TR13_Msk /* Falling trigger event configuration of line 13 */
+#define EXTI_FTSR_TR14_Pos (14U)
+#define EXTI_FTSR_TR14_Msk (0x1U << EXTI_FTSR_TR14_Pos) /* 0x00004000 */
+#define EXTI_FTSR_TR14 EXTI_FTSR_TR14_Msk /* Falling trigger event configuration of line 14 */
+#define EXTI_FTSR_TR15_Pos (15U)
+#define EXTI_FTSR_TR15_Msk (0x1U << EXTI_FTSR_TR15_Pos) /* 0x00008000 */
+#define EXTI_FTSR_TR15 EXTI_FTSR_TR15_Msk /* Falling trigger event configuration of line 15 */
+#define EXTI_FTSR_TR16_Pos (16U)
+#define EXTI_FTSR_TR16_Msk (0x1U << EXTI_FTSR_TR16_Pos) /* 0x00010000 */
+#define EXTI_FTSR_TR16 EXTI_FTSR_TR16_Msk /* Falling trigger event configuration of line 16 */
+#define EXTI_FTSR_TR17_Pos (17U)
+#define EXTI_FTSR_TR17_Msk (0x1U << EXTI_FTSR_TR17_Pos) /* 0x00020000 */
+#define EXTI_FTSR_TR17 EXTI_FTSR_TR17_Msk /* Falling trigger event configuration of line 17 */
+#define EXTI_FTSR_TR18_Pos (18U)
+#define EXTI_FTSR_TR18_Msk (0x1U << EXTI_FTSR_TR18_Pos) /* 0x00040000 */
+#define EXTI_FTSR_TR18 EXTI_FTSR_TR18_Msk /* Falling trigger event configuration of line 18 */
+
+/* EXTI_SWIER */
+#define EXTI_SWIER_SWIER0_Pos (0U)
+#define EXTI_SWIER_SWIER0_Msk (0x1U << EXTI_SWIER_SWIER0_Pos) /* 0x00000001 */
+#define EXTI_SWIER_SWIER0 EXTI_SWIER_SWIER0_Msk /* Software Interrupt on line 0 */
+#define EXTI_SWIER_SWIER1_Pos (1U)
+#define EXTI_SWIER_SWIER1_Msk (0x1U << EXTI_SWIER_SWIER1_Pos) /* 0x00000002 */
+#define EXTI_SWIER_SWIER1 EXTI_SWIER_SWIER1_Msk /* Software Interrupt on line 1 */
+#define EXTI_SWIER_SWIER2_Pos (2U)
+#define EXTI_SWIER_SWIER2_Msk (0x1U << EXTI_SWIER_SWIER2_Pos) /* 0x00000004 */
+#define EXTI_SWIER_SWIER2 EXTI_SWIER_SWIER2_Msk /* Software Interrupt on line 2 */
+#define EXTI_SWIER_SWIER3_Pos (3U)
+#define EXTI_SWIER_SWIER3_Msk (0x1U << EXTI_SWIER_SWIER3_Pos) /* 0x00000008 */
+#define EXTI_SWIER_SWIER3 EXTI_SWIER_SWIER3_Msk /* Software Interrupt on line 3 */
+#define EXTI_SWIER_SWIER4_Pos (4U)
+#define EXTI_SWIER_SWIER4_Msk (0x1U << EXTI_SWIER_SWIER4_Pos) /* 0x00000010 */
+#define EXTI_SWIER_SWIER4 EXTI_SWIER_SWIER4_Msk /* Software Interrupt on line 4 */
+#define EXTI_SWIER_SWIER5_Pos (5U)
+#define EXTI_SWIER_SWIER5_Msk (0x1U << EXTI_SWIER_SWIER5_Pos) /* 0x00000020 */
+#define EXTI_SWIER_SWIER5 EXTI_SWIER_SWIER5_Msk /* Software Interrupt on line 5 */
+#define EXTI_SWIER_SWIER6_Pos (6U)
+#define EXTI_SWIER_SWIER6_Msk (0x1U << EXTI_SWIER_SWIER6_Pos) /* 0x00000040 */
+#define EXTI_SWIER_SWIER6 EXTI_SWIER_SWIER6_Msk /* Software Interrupt on line 6 */
+#define EXTI_SWIER_SWIER7_Pos (7U)
+#define EXTI_SWIER_SWIER7_Msk (0x1U << EXTI_SWIER_SWIER7_Pos) /* 0x00000080 */
+#define EXTI_SWIER_SWIER7 EXTI_SWIER_SWIER7_Msk /* Software Interrupt on line 7 */
+#define EXTI_SWIER_SWIER8_Pos (8U)
+#define EXTI_SWIER_SWIER8_Msk (0x1U << EXTI_SWIER_SWIER8_Pos) /* 0x00000100 */
+#define EXTI_SWIER_SWIER8 EXTI_SWIER_SWIER8_Msk /* Software Interrupt on line 8 */
+#define EXTI_SWIER_SWIER9_Pos (9U)
+#define EXTI_SWIER_SWIER9_Msk (0x1U << EXTI_SWIER_SWIER9_Pos) /* 0x00000200 */
+#define EXTI_SWIER_SWIER9 EXTI_SWIER_SWIER9_Msk /* Software Interrupt on line 9 */
+#define EXTI_SWIER_SWIER10_Pos (10U)
+#define EXTI_SWIER_SWIER10_Msk (0x1U << EXTI_SWIER_SWIER10_Pos) /* 0x00000400 */
+#define EXTI_SWIER_SWIER10 EXTI_SWIER_SWIER10_Msk /* Software Interrupt on line 10 */
+#define EXTI_SWIER_SWIER11_Pos (11U)
+#define EXTI_SWIER_SWIER11_Msk (0x1U << EXTI_SWIER_SWIER11_Pos) /* 0x00000800 */
+#define EXTI_SWIER_SWIER11 EXTI_SWIER_SWIER11_Msk /* Software Interrupt on line 11 */
+#define EXTI_SWIER_SWIER12_Pos (12U)
+#define EXTI_SWIER_SWIER12_Msk (0x1U << EXTI_SWIER_SWIER12_Pos) /* 0x00001000 */
+#define EXTI_SWIER_SWIER12 EXTI_SWIER_SWIER12_Msk /* Software Interrupt on line 12 */
+#define EXTI_SWIER_SWIER13_Pos (13U)
+#define EXTI_SWIER_SWIER13_Msk (0x1U << EXTI_SWIER_SWIER13_Pos) /* 0x00002000 */
+#define EXTI_SWIER_SWIER13 EXTI_SWIER_SWIER13_Msk /* Software Interrupt on line 13 */
+#define EXTI_SWIER_SWIER14_Pos (14U)
+#define EXTI_SWIER_SWIER14_Msk (0x1U << EXTI_SWIER_SWIER14_Pos) /* 0x00004000 */
+#define EXTI_SWIER_SWIER14 EXTI_SWIER_SWIER14_Msk /* Software Interrupt on line 14 */
+#define EXTI_SWIER_SWIER15_Pos (15U)
+#define EXTI_SWIER_SWIER15_Msk (0x1U << EXTI_SWIER_SWIER15_Pos) /* 0x00008000 */
+#define EXTI_SWIER_SWIER15 EXTI_SWIER_SWIER15_Msk /* Software Interrupt on line 15 */
+#define EXTI_SWIER_SWIER16_Pos (16U)
+#define EXTI_SWIER_SWIER16_Msk (0x1U << EXTI_SWIER_SWIER16_Pos) /* 0x00010000 */
+#define EXTI_SWIER_SWIER16 EXTI_SWIER_SWIER16_Msk /* Software Interrupt on line 16 */
+#define EXTI_SWIER_SWIER17_Pos (17U)
+#define EXTI_SWIER_SWIER17_Msk (0x1U << EXTI_SWIER_SWIER17_Pos) /* 0x00020000 */
+#define EXTI_SWIER_SWIER17 EXTI_SWIER_SWIER17_Msk /* Software Interrupt on line 17 */
+#define EXTI_SWIER_SWIER18_Pos (18U)
+#define EXTI_SWIER_SWIER18_Msk (0x1U << EXTI_SWIER_SWIER18_Pos) /* 0x00040000 */
+#define EXTI_SWIER_SWIER18 EXTI_SWIER_SWIER18_Msk /* Software Interrupt on line 18 */
+
+/* EXTI_PR */
+#define EXTI_PR_PR0_Pos (0U)
+#define EXTI_PR_PR0_Msk (0x1U << EXTI_PR_PR0_Pos) /* 0x00000001 */
+#define EXTI_PR_PR0 EXTI_PR_PR0_Msk /* Pending bit 0 */
+#define EXTI_PR_PR1_Pos (1U)
+#define EXTI_PR_PR1_Msk (0x1U << EXTI_PR_PR1_Pos) /* 0x00000002 */
+#define EXTI_PR_PR1 EXTI_PR_PR1_Msk /* Pending bit 1 */
+#define EXTI_PR_PR2_Pos (2U)
+#define EXTI_PR_PR2_Msk (0x1U << EXTI_PR_PR2_Pos) /* 0x00000004 */
+#define EXTI_PR_PR2 EXTI_PR_PR2_Msk /* Pending bit 2 */
+#define EXTI_PR_PR3_Pos (3U)
+#define EXTI_PR_PR3_Msk (0x1U << EXTI_PR_PR3_Pos) /* 0x00000008 */
+#define EXTI_PR_PR3 EXTI_PR_PR3_Msk /* Pending bit 3 */
+#define EXTI_PR_PR4_Pos (4U)
+#define EXTI_PR_PR4_Msk (0x1U << EXTI_PR_PR4_Pos) /* 0x00000010 */
+#define EXTI_PR_PR4 EXTI_PR_PR4_Msk /* Pending bit 4 */
+#define EXTI_PR_PR5_Pos (5U)
+#define EXTI_PR_PR5_Msk (0x1U << EXTI_PR_PR5_Pos) /* 0x00000020 */
+#define EXTI_PR_PR5 EXTI_PR_PR5_Msk /* Pending bit 5 */
+#define EXTI_PR_PR6_Pos (6U)
+#define EXTI_PR_PR6_Msk (0x1U << EXTI_PR_PR6_Pos) /* 0x00000040 */
+#define EXTI_PR_PR6 EXTI_PR_PR6_Msk /* Pending bit 6 */
+#define EXTI_PR_PR7_Pos (7U)
+#define EXTI_PR_PR7_Msk (0x1U << EXTI_PR_PR7_Pos) /* 0x00000080 */
+#define EXTI_PR_PR7 EXTI_PR_PR7_Msk /* Pending bit 7 */
+#define EXTI_PR_PR8_Pos (8U)
+#define EXTI_PR_PR8_Msk (0x1U << EXTI_PR_PR8_Pos) /* 0x00000100 */
+#define EXTI_PR_PR8 EXTI_PR_PR8_Msk /* Pending bit 8 */
+#define EXTI_PR_PR9_Pos (9U)
+#define EXTI_PR_PR9_Msk (0x1U << EXTI_PR_PR9_Pos) /* 0x00000200 */
+#define EXTI_PR_PR9 EXTI_PR_PR9_Msk /* Pending bit 9 */
+#define EXTI_PR_PR10_Pos (10U)
+#define EXTI_PR_PR10_Msk (0x1U << EXTI_PR_PR10_Pos) /* 0x00000400 */
+#define EXTI_PR_PR10 EXTI_PR_PR10_Msk /* Pending bit 10 */
+#define EXTI_PR_PR11_Pos (11U)
+#define EXTI_PR_PR11_Msk (0x1U << EXTI_PR_PR11_Pos) /* 0x00000800 */
+#define EXTI_PR_PR11 EXTI_PR_PR11_Msk /* Pending bit 11 */
+#define EXTI_PR_PR12_Pos (12U)
+#define EXTI_PR_PR12_Msk (0x1U << EXTI_PR_PR12_Pos) /* 0x00001000 */
+#define EXTI_PR_PR12 EXTI_PR_PR12_Msk /* Pending bit 12 */
+#define EXTI_PR_PR13_Pos (13U)
+#define EXTI_PR_PR13_Msk (0x1U << EXTI_PR_PR13_Pos) /* 0x00002000 */
+#define EXTI_PR_PR13 EXTI_PR_PR13_Msk /* Pending bit 13 */
+#define EXTI_PR_PR14_Pos (14U)
+#define EXTI_PR_PR14_Msk (0x1U << EXTI_PR_PR14_Pos) /* 0x00004000 */
+#define EXTI_PR_PR14 EXTI_PR_PR14_Msk /* Pending bit 14 */
+#define EXTI_PR_PR15_Pos (15U)
+#define EXTI_PR_PR15_Msk (0x1U << EXTI_PR_PR15_Pos) /* 0x00008000 */
+#define EXTI_PR_PR15 EXTI_PR_PR15_Msk /* Pending bit 15 */
+#define EXTI_PR_PR16_Pos (16U)
+#define EXTI_PR_PR16_Msk (0x1U << EXTI_PR_PR16_Pos) /* 0x00010000 */
+#define EXTI_PR_PR16 EXTI_PR_PR16_Msk /* Pending bit 16 */
+#define EXTI_PR_PR17_Pos (17U)
+#define EXTI_PR_PR17_Msk (0x1U << EXTI_PR_PR17_Pos) /* 0x00020000 */
+#define EXTI_PR_PR17 EXTI_PR_PR17_Msk /* Pending bit 17 */
+#define EXTI_PR_PR18_Pos (18U)
+#define EXTI_PR_PR18_Msk (0x1U << EXTI_PR_PR18_Pos) /* 0x00040000 */
+#define EXTI_PR_PR18 EXTI_PR_PR18_Msk /* Pending bit 18 */
 
 /* NVIC interrupt set-enable registers (ARMv7-M ARM B3.4.4: NVIC_ISER0..n, one bit per
  * interrupt, 32 interrupts per register; writing 0 bits has no effect). */

@@ -35,6 +35,10 @@
  *   ADC1  injected sequence of four conversions per PWM period, triggered by TIM1;
  *         between them the regular group converts the bus channel continuously,
  *         and the analog watchdog watches the bus in both
+ *   ADC2  converts the current channel(s) continuously (every 1.67 us), its
+ *         analog watchdog on the rails: a current sensor stuck at a rail within
+ *         microseconds, not at the next sample
+ *   EXTI  both edges of the Hall lines (PA6 EXTI6, PA7 EXTI7, PB0 EXTI0, AFIO_EXTICRx)
  *         PA0 ADC12_IN0: DC-link shunt current (analog input)
  *         PA1 ADC12_IN1: bus voltage divider (analog input)
  *
@@ -68,9 +72,19 @@
  *         to run it from SRAM: faster, but over the RAM budget).
  *   ADC1_2_IRQHandler (BLDC_PORT_HALL_PRIORITY): end of the injected conversions
  *         (JEOC), once per PWM period: the braking-current PI, the bus voltage for the
- *         timing, the current sensor's plausibility and the Hall timeout; the analog
- *         watchdog (AWD): over- and under-voltage. The same priority as the Hall edge,
+ *         timing, the current sensor's plausibility and the Hall timeout; ADC1's analog
+ *         watchdog (AWD): over- and under-voltage; ADC2's analog watchdog: a current
+ *         conversion at a rail (0 and full scale watched), at any instant. The same priority as the Hall edge,
  *         so neither writes TIM1 while the other is half way through.
+ *   EXTI0_IRQHandler, EXTI9_5_IRQHandler (BLDC_PORT_HALL_PRIORITY): both edges of
+ *         every Hall line (PA6 EXTI6, PA7 EXTI7, PB0 EXTI0). The lines reading 000 or 111 twice,
+ *         1 us apart (a shorter spike trips nothing), is HALL_INVALID at
+ *         once, whether or not TIM3 saw an edge: two lines changing within TIM3's input
+ *         filter (an unplugged connector pulling two lines up) make no TIM3 edge. At the
+ *         Hall edge's level, not below it: a level of its own would stack one more
+ *         exception frame (the RAM budget has no room for it), and the trip then writes
+ *         TIM1 itself. Each Hall edge runs it once, just before the TIM3 handler, which
+ *         it delays by its short common path.
  *   TIM1_TRG_COM_IRQHandler (BLDC_PORT_TIMING_PRIORITY): the next edge's duties and
  *         commutation time, after every COM event and when the bus voltage moved; it
  *         also sets the safe state of the present speed region (TIM1 CR2.OISxN).
@@ -80,8 +94,8 @@
  *   BLDC_FAULT_OVER_CURRENT (0x0001u): the external comparator saw a phase current above protection.over_current; by TIM1 BKIN (the hardware clears MOE), then TIM1_BRK; clears: the break input is inactive
  *   BLDC_FAULT_OVER_VOLTAGE (0x0002u): bus above inverter.bus_voltage_max; by ADC analog watchdog on the bus channel (regular conversions, continuously, every 20 ADC cycles or so, and the injected ones); clears: the last bus sample is within the range
  *   BLDC_FAULT_UNDER_VOLTAGE (0x0004u): bus below inverter.bus_voltage_min, or its ADC reading stuck low (the core would compute with the minimum); by ADC analog watchdog on the bus channel (as OVER_VOLTAGE); clears: the last bus sample is within the range
- *   BLDC_FAULT_CURRENT_SENSOR (0x0008u): a current sample at an ADC rail (0 or full scale): the sensor is open or saturated; by the current-loop interrupt, every PWM period; clears: every current channel's last sample is off the rails
- *   BLDC_FAULT_HALL_INVALID (0x0010u): Hall code 000 or 111 (a sensor unplugged or shorted); by the Hall edge; clears: the Hall code now is valid
+ *   BLDC_FAULT_CURRENT_SENSOR (0x0008u): a current sample at an ADC rail (0 or full scale): the sensor is open or saturated; by ADC2's analog watchdog on the current channel(s), converted continuously (every conversion, at any instant), and the current-loop interrupt's sample; clears: every current channel's last sample is off the rails
+ *   BLDC_FAULT_HALL_INVALID (0x0010u): Hall code 000 or 111 (a sensor unplugged or shorted); by the Hall edge, and the EXTI on both edges of every Hall line (the code 0 or 7 for 1 us: two lines changing within TIM3's input filter make no Hall edge); clears: the Hall code now is valid
  *   BLDC_FAULT_HALL_SEQUENCE (0x0020u): a Hall code pair that is not one sector forward or back (a skipped or repeated code); by the Hall edge; clears: always (the next edge checks again)
  *   BLDC_FAULT_HALL_TIMEOUT (0x0040u): no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged; by TIM3's update interrupt at the counter's wrap while the bridge switches (and the current-loop interrupt, which reads the wrap too); clears: always (the next edge checks again)
  *   BLDC_FAULT_OVER_SPEED (0x0080u): a Hall interval shorter than at controller.speed_max; by the Hall edge; clears: always (the next edge checks again)
@@ -135,6 +149,11 @@
 #define BLDC_PORT_ADC_HTR 3385u /* over-voltage: above 30 V (the core's BLDC_BUS_CODE_MAX) */
 #define BLDC_PORT_ADC_LTR 2257u /* under-voltage or a stuck bus ADC: below 20 V (the core's BLDC_BUS_CODE_MIN) */
 #define BLDC_PORT_ADC_CODE_MAX 4095u /* ADC full scale: a current sample at 0 or here is a rail */
+#define BLDC_PORT_ADC_BITS 12u /* ADC resolution: a value with a bit at or above this is no ADC code */
+#define BLDC_PORT_CURRENT_LTR 1u /* ADC2's analog watchdog: a current conversion below it is at the low rail */
+#define BLDC_PORT_CURRENT_HTR 4094u /* ADC2's analog watchdog: a current conversion above it is at the high rail */
+#define BLDC_PORT_ADC2_SQR1 (0u << ADC_SQR1_L_Pos) /* ADC2's regular sequence: 1 conversion(s), continuously */
+#define BLDC_PORT_ADC2_SQR3 ((0u << ADC_SQR3_SQ1_Pos)) /* ADC2's regular sequence: the current channel(s) IN0, each converted every 1.67 us */
 #define BLDC_PORT_ADC_PRESCALER 2u /* RCC_CFGR.ADCPRE: PCLK2 / 6 = 12 MHz (<= 14 MHz) */
 #define BLDC_PORT_ADC_WAIT_LOOPS 1000u /* bound of the start-up waits (ADC power-up, calibration) */
 #define BLDC_PORT_BREAK_ACTIVE_HIGH 0u /* TIM1 BKIN (B12) is active low (BDTR.BKP = 0); the comparator trips at 15 A */
@@ -163,8 +182,8 @@
 #define BLDC_SAFE_SHORT_CIRCUIT 1u /* every lower switch on, every upper off */
 
 /* NVIC priorities (0 is the most urgent; the STM32F103 implements 4 bits). Define them
- * before including this header to fit another interrupt plan; the Hall edge, the
- * current loop and the break interrupt share one level so none interrupts another
+ * before including this header to fit another interrupt plan; the Hall edge, the Hall
+ * lines' EXTI, the current loop and the break interrupt share one level so none interrupts another
  * half way through a TIM1 update, and the timing runs below them. */
 #ifndef BLDC_PORT_HALL_PRIORITY
 #define BLDC_PORT_HALL_PRIORITY 1u
@@ -194,8 +213,8 @@
 #endif
 
 /*
- * Start-up. bldc_port_init() enables the clocks of GPIOA, GPIOB, TIM1, TIM3 and ADC1,
- * calibrates the ADC, configures TIM1 (PWM, dead time, break input, the ADC trigger),
+ * Start-up. bldc_port_init() enables the clocks of GPIOA, GPIOB, AFIO, TIM1, TIM3, ADC1
+ * and ADC2, calibrates both ADCs, routes the Hall lines to the EXTI, configures TIM1 (PWM, dead time, break input, the ADC trigger),
  * TIM3 (Hall interface) and the ADC (injected sequence, the bus in the regular group,
  * analog watchdog), sets up the pins and the NVIC. `start_faults` are latched from the start (e.g.
  * BLDC_FAULT_CLOCK when the HSE did not start); a watchdog reset (RCC_CSR.IWDGRSTF)
@@ -256,5 +275,7 @@ void TIM3_IRQHandler(void);   /* Hall edge, commutation end, Hall timeout */
 void TIM1_TRG_COM_IRQHandler(void); /* the next edge's duties and commutation time */
 void ADC1_2_IRQHandler(void);    /* current loop (JEOC), bus watchdog (AWD) */
 void TIM1_BRK_IRQHandler(void);    /* break input: over-current */
+void EXTI0_IRQHandler(void);    /* a Hall line changed: code 0 or 7 */
+void EXTI9_5_IRQHandler(void); /* a Hall line changed: code 0 or 7 */
 
 #endif /* STM32F103_PORT_H */
