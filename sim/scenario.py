@@ -49,6 +49,11 @@ def next_edge(edge: Edge) -> Edge:
     return switching_table().edge_into((edge.sector_to + step) % 6, edge.direction)
 
 
+def previous_edge(edge: Edge) -> Edge:
+    step = 1 if edge.direction == "forward" else -1
+    return switching_table().edge_into((edge.sector_to - step) % 6, edge.direction)
+
+
 @dataclass(frozen=True)
 class Case:
     drive: Drive
@@ -64,6 +69,12 @@ class Case:
     #: carrier restarts at the commutation end. False: COM only, so the new enables
     #: apply at once and the turn-on compare value at the next carrier boundary.
     end_restarts_carrier: bool = True
+    #: PWM-OFF-PWM as the paper modulates (True): the transistor the next edge turns off
+    #: takes over at the middle of the sector, and it is the one modulated before the
+    #: edge. False: as the STM32 port modulates, the incoming switch of the last edge
+    #: runs at the main duty through the whole sector (it is the one modulated before
+    #: the edge, and the turn-on switch runs to the end of the run after the commutation).
+    mid_sector_takeover: bool = True
 
     @property
     def sector_time_s(self) -> float:
@@ -106,7 +117,11 @@ class Case:
 def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
     """Gate duties from the run's start to `end`; `command` None: pre-edge only."""
     period = case.drive.pwm_period_s
-    pre_switch = switch_index(case.edge.modulated_off)
+    pre_switch = switch_index(
+        case.edge.modulated_off
+        if case.mid_sector_takeover
+        else previous_edge(case.edge).modulated_on
+    )
     segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
     restarts = [0.0]
     if case.carrier_phase > 0.0:
@@ -145,7 +160,7 @@ def _after_edge(case: Case, command: Command, period: float, end: float) -> list
         if main_from > t_com:
             last = math.ceil(t_com / period - 1e-9) - 1
             out.append(Segment(t_com, main_from, _only({on: command.on_duty(last)})))
-    middle = max(0.5 * case.sector_time_s, main_from)
+    middle = max(0.5 * case.sector_time_s, main_from) if case.mid_sector_takeover else end
     if main_from < min(middle, end):
         out.append(Segment(main_from, min(middle, end), _only({on: command.main_duty})))
     if middle < end:

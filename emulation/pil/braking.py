@@ -1,0 +1,464 @@
+"""Scenario 1 of issue 13: the firmware brakes the simulated motor.
+
+The drive firmware boots on the emulated chip (`scenarios.Run`, with every invariant
+of the fault scenarios watched at every step); then the motor of `emulation.pil.plant`
+is attached, spinning at the start speed with no current (the bridge is idle until
+the first Hall edge), and the closed current loop holds the commanded braking current
+(`app_braking_current_ma`, the firmware's command variable) while the rotor slows
+under the braking torque down to the stop speed.
+
+The chip runs in chunks that end at the next Hall crossing the plant predicts from
+its speed; at the end of each chunk the plant is advanced to the chip's tick and the
+Hall pins take the rotor's sector (one line changes per sector, at the crossing to
+within the CPU's last basic block).
+
+Each commutation is measured the way `sim.metrics` measures a simulated one: time 0
+is the COM event the Hall edge's handler raises (the pattern changes and the carrier
+restarts there, as at the simulation's t = 0); I is the turn-off current's mean over
+the last whole PWM period before it; the commutation ends when the turn-off current
+reaches zero or at the commutation-end COM event, whichever is later; the window is
+every PWM period overlapping the commutation plus the one after (issue 16), and the
+deviation is the signed extreme of (|i_nc| - I) / I over the window's period means.
+The SIL simulation of the same commutation (`sim.runs`: the generated C core on the
+host against the switched plant) runs at the PIL's speed, current and main duty.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from codegen.control.sensing import steady_signals
+from codegen.spec_model import Spec
+from emulation.pil.bus import PilError, svd_interrupt
+from emulation.pil.plant import LoadTorque, Mechanics, MotorPlant, PeriodRecord
+from emulation.pil.rcc import TICK_HZ
+from emulation.pil.scenarios import Outcome, Run
+from emulation.pil.scs import IRQ_BASE
+from sim.scenario import Case, previous_edge, switching_table
+
+#: The port's state (`static struct {...} port` of templates/c/stm32f103_port.c.j2):
+#: its size, and the byte offsets of what the timing handler hands the core (no debug
+#: information in the ELF). A changed layout is refused by size; a wrong offset makes
+#: the SIL core's outputs differ from those the chip applied, which the comparison
+#: reports for every commutation.
+PORT_SIZE = 108
+PORT_FIELDS = {"period": (16, 4), "main_duty": (24, 2), "bus_code": (26, 2), "current": (40, 4)}
+#: Commutations after the first edge that are not measured: the Hall interval, the
+#: current loop and the commutation timing start from nothing at the first edge.
+SETTLING_EDGES = 6
+
+
+@dataclass(frozen=True)
+class BrakingSetup:
+    start_rpm: float
+    stop_rpm: float
+    current_a: float
+    inertia_scale: float = 1.0  # times the spec's rotor inertia
+    load_torque: LoadTorque = 0.0
+    #: emulated seconds after which the run stops whatever the speed
+    max_seconds: float = 10.0
+    #: stop after this many Hall edges (None: at the stop speed)
+    max_edges: int | None = None
+
+
+@dataclass(frozen=True)
+class Commutation:
+    """One Hall edge of the braking run, measured as `sim.metrics` measures one."""
+
+    index: int
+    hall_tick: int
+    com_tick: int  # the Hall edge handler's COM event: time 0
+    end_com_tick: int | None  # the commutation-end COM event
+    sector_to: int
+    speed_rpm: float  # at time 0
+    current_a: float  # I: the turn-off current's mean over the last whole pre-edge period
+    main_duty: float  # the steady switch's last compare value written before the edge, / period
+    sampled_code: int  # the firmware's I at the edge: its latest sample, ADC code
+    #: what the timing handler read at its last run before the edge (port state)
+    firmware_inputs: dict[str, int]
+    #: (D_on, D_off, commutation ticks) the chip applied: CCRx at the COM event, TIM3 CCR2
+    applied: tuple[int, int, int]
+    #: the turn-on switch's duty from the commutation end on (the loop's latest)
+    main_duty_after: float
+    #: the fraction of a PWM period that had run at the COM event (the carrier restarts)
+    carrier_phase: float
+    commutation_s: float  # from time 0 to the end of the commutation
+    zero_s: float | None  # the turn-off current reaching zero, from time 0
+    period_deviations_pct: tuple[float, ...]
+    deviation_worst_pct: float
+    sil_worst_pct: float | None = None
+    #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
+    sil_outputs: tuple[int, int, int] | None = None
+
+    @property
+    def difference_pp(self) -> float | None:
+        if self.sil_worst_pct is None:
+            return None
+        return self.deviation_worst_pct - self.sil_worst_pct
+
+
+@dataclass
+class BrakingResult:
+    spec: Spec
+    setup: BrakingSetup
+    outcome: Outcome
+    commutations: list[Commutation]
+    periods: list[PeriodRecord]
+    start_tick: int
+    end_tick: int
+    end_rpm: float
+    gate_log: list[tuple[int, tuple[bool | None, ...]]]
+    speed_trace: list[tuple[int, float]] = field(default_factory=list)
+    mechanics: Mechanics | None = None
+
+    @property
+    def emulated_s(self) -> float:
+        return (self.end_tick - self.start_tick) / TICK_HZ
+
+
+class BrakingLoop:
+    """A booted `Run` with the motor attached; `run()` brakes it."""
+
+    def __init__(self, elf: Path, spec: Spec, setup: BrakingSetup) -> None:
+        self.spec = spec
+        self.setup = setup
+        self.run = Run(elf, spec)
+        self.machine = self.run.machine
+        self.mechanics = Mechanics.of_spec(
+            spec, inertia_scale=setup.inertia_scale, load_torque=setup.load_torque
+        )
+        sector = spec.hall.sequence.index(self._pins_code())
+        self.plant = MotorPlant(
+            spec, self.machine.tim1, self.mechanics, setup.start_rpm, angle_deg=60.0 * sector + 30.0
+        )
+        self._couple_sensing()
+        self.machine.write_symbol_u32("app_braking_current_ma", round(setup.current_a * 1000))
+        self.com_ticks: list[int] = []
+        #: TIM1 CCR1..CCR3 in force from each COM event on
+        self.com_compares: list[tuple[int, ...]] = []
+        #: TIM3 CCR2 (the commutation end the last Hall edge scheduled) at each COM event
+        self.com_tim3_ccr2: list[int] = []
+        self._coms_seen = self.machine.tim1.com_events
+        self.machine.tim1.period_listeners.append(self._period_started)
+        #: (tick, sector entered, compare values last written (CCRx preload), ARR) at every Hall edge
+        self.edges: list[tuple[int, int, tuple[int, ...], int]] = []
+        #: the braking current's latest injected sample (the firmware's I) at each edge
+        self.sampled_codes: list[int] = []
+        #: JDRx index holding I in each sector (forward), as the port reads it
+        self._slots = {s.sector: s.slot for s in steady_signals(spec) if s.direction == "forward"}
+        self.speed_trace: list[tuple[int, float]] = []
+        self.start_tick = self.machine.now
+        #: (tick, inputs) at every entry of the timing handler (TIM1_TRG_COM)
+        self.timing_runs: list[tuple[int, dict[str, int]]] = []
+        self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
+        self._entries_seen = len(self.machine.entry_log)
+        self._port = self.machine.symbol("port")
+        if self.machine.image.symbols and _symbol_size(elf, "port") != PORT_SIZE:
+            raise PilError("the port's state has another layout than PORT_FIELDS describes")
+        self.machine.listeners.append(self._watch_timing)
+
+    def _watch_timing(self, _machine: object) -> None:
+        """At each entry of the timing handler, before it runs, what it will read."""
+        log = self.machine.entry_log
+        for tick, exception in log[self._entries_seen :]:
+            if exception == self._timing:
+                self.timing_runs.append((tick, self._port_inputs()))
+        self._entries_seen = len(log)
+
+    def _port_inputs(self) -> dict[str, int]:
+        out = {}
+        for name, (offset, size) in PORT_FIELDS.items():
+            word = self.machine.read_u32(self._port + offset)
+            out[name] = word & ((1 << (8 * size)) - 1)
+        return out
+
+    def _pins_code(self) -> int:
+        from emulation.pil.runner import HALL_PINS
+
+        code = 0
+        for port, pin, bit in HALL_PINS:
+            code |= int(getattr(self.machine, port).input_level(pin)) << bit
+        return code
+
+    def _couple_sensing(self) -> None:
+        """Each current channel reads its shunt through the spec's chain at the ADC's
+        sample instant."""
+        offset = float(self.spec.adc.current_offset_v)
+        gain = float(self.spec.adc.current_gain_v_per_a)
+        sensing = self.spec.sensing
+        plant = self.plant
+        channels = sensing.current_channels
+        if sensing.topology == "dc_link_shunt":
+            shunts = {channels[0]: 0}
+        else:
+            shunts = {channel: 1 + phase for phase, channel in enumerate(channels)}
+        for channel, index in shunts.items():
+
+            def volts(tick: int, index: int = index) -> float:
+                return offset + gain * plant.shunt_currents(tick)[index]
+
+            self.machine.adc1.set_input(channel, volts)
+
+    def _period_started(self, tick: int) -> None:
+        tim1 = self.machine.tim1
+        if tim1.com_events != self._coms_seen:
+            self._coms_seen = tim1.com_events
+            self.com_ticks.append(tick)
+            self.com_compares.append(tuple(tim1.ccr[1:4]))
+            self.com_tim3_ccr2.append(self.machine.tim3.ccr[2])
+
+    def _hall_edge(self) -> None:
+        tim1 = self.machine.tim1
+        before = tim1.ccer
+        if self.edges and tim1.moe and self._ccer_at_edge == before and len(self.edges) > 1:
+            self.run._note(
+                f"the Hall edge at {self.edges[-1][0]} did not commutate (CCER 0x{before:04x})"
+            )
+        self._ccer_at_edge = before
+        leaving = self.plant.sector_before_edge()
+        code = self.machine.adc1.jdr[self._slots[leaving]]
+        self.run.board.set_hall(self.plant.hall_code)
+        self.edges.append(
+            (self.machine.now, self.plant.sector, tuple(tim1.ccr_preload[1:4]), tim1.arr)
+        )
+        self.sampled_codes.append(code)
+
+    def run_braking(self) -> BrakingResult:
+        setup = self.setup
+        machine, plant = self.machine, self.plant
+        limit = self.start_tick + round(setup.max_seconds * TICK_HZ)
+        code = self._pins_code()
+        self._ccer_at_edge = machine.tim1.ccer
+        next_trace = machine.now
+        trace_step = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz) * 10
+        while machine.now < limit and plant.speed_rpm > setup.stop_rpm:
+            if setup.max_edges is not None and len(self.edges) >= setup.max_edges:
+                break
+            crossing = plant.next_sector_tick()
+            target = min(limit, crossing if crossing is not None else limit, next_trace)
+            if target > machine.now:
+                machine.run_until(target)
+            plant.advance(machine.now)
+            if machine.now >= next_trace:
+                self.speed_trace.append((machine.now, plant.speed_rpm))
+                next_trace = machine.now + trace_step
+            if plant.hall_code != code:
+                code = plant.hall_code
+                self._hall_edge()
+        # one sector more, so the last commutations have their window
+        end = machine.now + round(
+            TICK_HZ * self.plant.drive.sector_time_s(max(plant.speed_rpm, 1.0)) / 2
+        )
+        while machine.now < end:
+            crossing = plant.next_sector_tick()
+            machine.run_until(min(end, crossing if crossing is not None else end))
+            plant.advance(machine.now)
+            if plant.hall_code != code:
+                code = plant.hall_code
+                self._hall_edge()
+        outcome = self.run.outcome(
+            "braking",
+            None,
+            None,
+            None,
+            f"from {setup.start_rpm:g} rpm to {setup.stop_rpm:g} rpm at {setup.current_a:g} A",
+        )
+        log = machine.tim1.gate_log or []
+        return BrakingResult(
+            self.spec,
+            setup,
+            outcome,
+            self.commutations(),
+            list(plant.periods),
+            self.start_tick,
+            machine.now,
+            plant.speed_rpm,
+            log,
+            self.speed_trace,
+            self.mechanics,
+        )
+
+    # ------------------------------------------------------------------ measurement
+    def commutations(self) -> list[Commutation]:
+        out = []
+        for index in range(SETTLING_EDGES, len(self.edges) - 1):
+            measured = self._measure(index)
+            if measured is not None:
+                out.append(measured)
+        return out
+
+    def _measure(self, index: int) -> Commutation | None:
+        hall, sector, compares, arr = self.edges[index]
+        following = self.edges[index + 1][0]
+        coms = [t for t in self.com_ticks if hall <= t < following]
+        if not coms:
+            return None
+        start = coms[0]
+        end_com = coms[1] if len(coms) > 1 else None
+        first = self.com_ticks.index(start)
+        if first + 1 >= len(self.com_ticks):
+            return None
+        runs = [inputs for tick, inputs in self.timing_runs if tick < hall]
+        if not runs:
+            return None
+        edge = switching_table().edge_into(sector, "forward")
+        periods = self.plant.periods
+        full = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz)
+        # the period the COM event cuts short (the carrier restarts there): I is the
+        # turn-off current's mean over it, as `sim.scenario.pre_edge_state` solves the
+        # simulation's last pre-edge period (cut at t = 0 by the same restart)
+        before = [p for p in periods if p.end == start]
+        if not before:
+            return None
+        phase = (before[-1].end - before[-1].start) / full
+        phase = 0.0 if phase >= 1.0 else phase
+        off, nc = edge.turn_off, edge.non_commutating
+        current = edge.current_signs[off] * before[-1].currents[off]
+        if current <= 0.0:
+            return None
+        zero = next(
+            (
+                t
+                for t, kind, phase in self.plant.events
+                if kind == "zero" and phase == off and start <= t < following
+            ),
+            None,
+        )
+        sector_ticks = following - start
+        physical = zero - start if zero is not None else sector_ticks
+        commanded = end_com - start if end_com is not None else 0
+        length = min(max(commanded, physical), sector_ticks)
+        inside = [p for p in periods if p.start >= start and p.start < start + length]
+        if not inside:
+            inside = [p for p in periods if p.start >= start][:1]
+        later = [p for p in periods if p.start >= inside[-1].end]
+        window = inside + later[:1]
+        sign = edge.current_signs[nc]
+        deviations = tuple((sign * p.currents[nc] - current) / current * 100 for p in window)
+        worst = max(deviations, key=abs)
+        # the port modulates the incoming switch of the last edge through the sector
+        steady = previous_edge(edge).modulated_on
+        steady_channel = (int(steady[1:]) - 1) // 2 + 1  # T1..T6 -> CH1..CH3
+        counts = arr if self.machine.tim1.centre_aligned else arr + 1
+        duty = compares[steady_channel - 1] / counts
+        speed = next((p.speed_rpm for p in periods if p.end >= start), self.plant.speed_rpm)
+        on_channel = (int(edge.modulated_on[1:]) - 1) // 2
+        off_channel = (int(edge.modulated_off[1:]) - 1) // 2
+        during = self.com_compares[first]
+        after = self.com_compares[first + 1][on_channel]
+        applied = (during[on_channel], during[off_channel], self.com_tim3_ccr2[first + 1])
+        return Commutation(
+            index=index,
+            hall_tick=hall,
+            com_tick=start,
+            end_com_tick=end_com,
+            sector_to=sector,
+            speed_rpm=speed,
+            current_a=current,
+            main_duty=duty,
+            sampled_code=self.sampled_codes[index],
+            firmware_inputs=runs[-1],
+            applied=applied,
+            main_duty_after=after / counts,
+            carrier_phase=phase,
+            commutation_s=length / TICK_HZ,
+            zero_s=None if zero is None else (zero - start) / TICK_HZ,
+            period_deviations_pct=deviations,
+            deviation_worst_pct=worst,
+        )
+
+
+def _symbol_size(elf: Path, name: str) -> int:
+    from elftools.elf.elffile import ELFFile
+
+    with elf.open("rb") as stream:
+        table = ELFFile(stream).get_section_by_name(".symtab")
+        for symbol in table.iter_symbols() if table is not None else ():
+            if symbol.name == name:
+                return int(symbol["st_size"])
+    raise PilError(f"{elf}: no symbol {name!r}")
+
+
+def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
+    """Each commutation with the SIL simulation's deviation (the spec's method, the
+    generated C core on the host, the switched plant) at the PIL's speed, current I,
+    carrier phase and main duty, the core told the current the firmware sampled, and
+    the bridge modulated as the port modulates it (`Case.mid_sector_takeover` False)."""
+    from dataclasses import replace
+
+    from sim.drive import Drive
+    from sim.runs import simulate
+    from sim.sil import core_command, prepare_cores
+
+    method = spec.controller.method
+    cores = prepare_cores(spec, (method,))
+    core, scale = cores.cores[method], cores.scaling
+    per_code = float(scale.amps_per_current_code)
+    drive = Drive.from_spec(spec)
+    out = []
+    for c in commutations:
+        edge = switching_table().edge_into(c.sector_to, "forward")
+        case = Case(
+            drive,
+            edge,
+            c.speed_rpm,
+            c.current_a,
+            "spec",
+            c.carrier_phase,
+            mid_sector_takeover=False,
+        )
+        fw = c.firmware_inputs
+        overrides = {
+            "hall_period_ticks": fw["period"],
+            "bus_voltage_adc": fw["bus_code"],
+            "phase_current_adc": fw["current"],
+            "main_duty_counts": fw["main_duty"],
+        }
+        sampled = (fw["current"] - scale.current_offset_code) * per_code
+        command = core_command(core, spec, scale, case, sampled, c.main_duty, overrides)
+        command = replace(command, main_duty=c.main_duty_after)
+        outputs = command.core_outputs
+        run = simulate(case, command, "switched")
+        out.append(
+            replace(
+                c,
+                sil_worst_pct=run.metrics.deviation_worst_pct,
+                sil_outputs=(
+                    outputs["turn_on_compare"],
+                    outputs["turn_off_compare"],
+                    outputs["commutation_ticks"],
+                ),
+            )
+        )
+    return out
+
+
+def brake(elf: Path, spec: Spec, setup: BrakingSetup, *, sil: bool = True) -> BrakingResult:
+    result = BrakingLoop(elf, spec, setup).run_braking()
+    if sil:
+        result.commutations = with_sil(spec, result.commutations)
+    return result
+
+
+def paper_setup(spec: Spec, *, short: bool) -> BrakingSetup:
+    """4600 rpm down to 500 rpm at 5 A with the spec's inertia (the paper's test); the
+    short version: the same start, the first `short` edges only."""
+    return BrakingSetup(4600.0, 500.0, 5.0, max_edges=24 if short else None)
+
+
+def fixture_setup(spec: Spec) -> BrakingSetup:
+    """A short braking run from 90 % of the spec's top speed at its nominal current."""
+    top = float(spec.controller.speed_max_rpm)
+    low = float(spec.controller.speed_min_rpm)
+    return BrakingSetup(
+        0.9 * top,
+        max(low, 0.1 * top),
+        float(spec.controller.braking_current_nominal_a),
+        max_edges=24,
+    )
+
+
+def worst_difference(commutations: list[Commutation]) -> Commutation | None:
+    measured = [c for c in commutations if c.difference_pp is not None]
+    return max(measured, key=lambda c: abs(c.difference_pp or 0.0), default=None)
