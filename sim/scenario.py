@@ -75,6 +75,16 @@ class Case:
     #: runs at the main duty through the whole sector (it is the one modulated before
     #: the edge, and the turn-on switch runs to the end of the run after the commutation).
     mid_sector_takeover: bool = True
+    #: The modulated switch's duty before the edge; None: the steady duty that holds I
+    #: (`Drive.steady_duty`). The emulated drive's comparison gives its loop's duty in
+    #: force in each carrier period from the run's start (the last: the period the
+    #: edge cuts short).
+    pre_duty: float | tuple[float, ...] | None = None
+    #: The phase currents at `start_time`; None: two phases at the magnitude that makes
+    #: the last pre-edge period's turn-off current average I (`pre_edge_state`). The
+    #: emulated drive's comparison gives the chip's, which carry what the port's
+    #: modulation lets the inactive phase's diode conduct before the edge.
+    start_currents: tuple[float, float, float] | None = None
 
     @property
     def sector_time_s(self) -> float:
@@ -96,6 +106,11 @@ class Case:
 
     @property
     def pre_edge_duty(self) -> float:
+        """The duty of the last pre-edge period."""
+        if isinstance(self.pre_duty, tuple):
+            return self.pre_duty[-1]
+        if self.pre_duty is not None:
+            return self.pre_duty
         return self.drive.steady_duty(self.speed_rpm, self.current_a)
 
     @property
@@ -122,7 +137,14 @@ def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
         if case.mid_sector_takeover
         else previous_edge(case.edge).modulated_on
     )
-    segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
+    if isinstance(case.pre_duty, tuple):
+        bounds = [case.start_time + k * period for k in range(len(case.pre_duty))] + [0.0]
+        segments = [
+            Segment(lo, hi, _only({pre_switch: duty}))
+            for lo, hi, duty in zip(bounds[:-1], bounds[1:], case.pre_duty, strict=True)
+        ]
+    else:
+        segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
     restarts = [0.0]
     if case.carrier_phase > 0.0:
         restarts.insert(0, -case.carrier_phase * period)
@@ -200,6 +222,8 @@ def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
     instantaneous value at a carrier start differ from the period average, so the
     start value is solved for: the period average is affine in it (linear circuit).
     """
+    if case.start_currents is not None:
+        return np.array(case.start_currents, dtype=float)
     magnitude = case.current_a
     if model != "switched":
         return case.edge_currents(magnitude)

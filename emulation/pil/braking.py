@@ -25,8 +25,11 @@ host against the switched plant) runs at the PIL's speed, current and main duty.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from codegen.control.sensing import steady_signals
 from codegen.spec_model import Spec
@@ -35,15 +38,43 @@ from emulation.pil.plant import LoadTorque, Mechanics, MotorPlant, PeriodRecord
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import Outcome, Run
 from emulation.pil.scs import IRQ_BASE
-from sim.scenario import Case, previous_edge, switching_table
+from sim.scenario import PRE_EDGE_PERIODS, Case, previous_edge, switching_table
 
-#: The port's state (`static struct {...} port` of templates/c/stm32f103_port.c.j2):
-#: its size, and the byte offsets of what the timing handler hands the core (no debug
-#: information in the ELF). A changed layout is refused by size; a wrong offset makes
-#: the SIL core's outputs differ from those the chip applied, which the comparison
-#: reports for every commutation.
-PORT_SIZE = 108
-PORT_FIELDS = {"period": (16, 4), "main_duty": (24, 2), "bus_code": (26, 2), "current": (40, 4)}
+#: What the timing handler hands the core, as fields of the port's state (`static
+#: struct {...} port` of templates/c/stm32f103_port.c.j2), read from the chip's RAM
+#: (the ELF has no debug information: the offsets come from the generated source,
+#: `port_layout`). A wrong offset would make the SIL core's outputs differ from those
+#: the chip applied, which the comparison reports for every commutation.
+PORT_FIELDS = ("period", "main_duty", "bus_code", "current")
+_C_SIZES = {"uint32_t": 4, "int32_t": 4, "uint16_t": 2, "int16_t": 2, "uint8_t": 1, "*": 4}
+
+
+def port_layout(port_source: Path) -> dict[str, tuple[int, int]]:
+    """(offset, size) of PORT_FIELDS in the port's state, from its declaration in the
+    generated stm32f103_port.c (ARM EABI: each scalar aligned to its size)."""
+    text = port_source.read_text(encoding="utf-8")
+    start = text.index("static struct {")
+    body = text[start : text.index("} port;", start)].splitlines()[1:]
+    out: dict[str, tuple[int, int]] = {}
+    offset = 0
+    for line in body:
+        declaration = line.split(";")[0].strip()
+        if not declaration:
+            continue
+        name = declaration.split()[-1].lstrip("*")
+        kind = "*" if "*" in declaration else declaration.split()[-2]
+        if kind not in _C_SIZES:
+            break  # a struct member: every field the timing reads comes before it
+        size = _C_SIZES[kind]
+        offset = -(-offset // size) * size
+        out[name] = (offset, size)
+        offset += size
+    missing = [f for f in PORT_FIELDS if f not in out]
+    if missing:
+        raise PilError(f"{port_source}: the port's state has no field {', '.join(missing)}")
+    return {f: out[f] for f in PORT_FIELDS}
+
+
 #: Commutations after the first edge that are not measured: the Hall interval, the
 #: current loop and the commutation timing start from nothing at the first edge.
 SETTLING_EDGES = 6
@@ -60,6 +91,8 @@ class BrakingSetup:
     max_seconds: float = 10.0
     #: stop after this many Hall edges (None: at the stop speed)
     max_edges: int | None = None
+    #: seconds from the start whose instantaneous currents are kept (the figures)
+    trace_seconds: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -75,6 +108,10 @@ class Commutation:
     current_a: float  # I: the turn-off current's mean over the last whole pre-edge period
     main_duty: float  # the steady switch's last compare value written before the edge, / period
     sampled_code: int  # the firmware's I at the edge: its latest sample, ADC code
+    #: the phase currents PRE_EDGE_PERIODS whole PWM periods before the cut one
+    start_currents: tuple[float, float, float]
+    #: the steady switch's duty in force in each of those periods and the cut one
+    pre_duties: tuple[float, ...]
     #: what the timing handler read at its last run before the edge (port state)
     firmware_inputs: dict[str, int]
     #: (D_on, D_off, commutation ticks) the chip applied: CCRx at the COM event, TIM3 CCR2
@@ -90,12 +127,26 @@ class Commutation:
     sil_worst_pct: float | None = None
     #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
     sil_outputs: tuple[int, int, int] | None = None
+    sil_period_deviations_pct: tuple[float, ...] = ()
 
     @property
     def difference_pp(self) -> float | None:
+        """How far the PIL's deviation is from the SIL's: the largest difference of the
+        window's period means, period by period, and of the worst deviations'
+        magnitudes (where the positive and the negative extreme of a window are nearly
+        equal, its signed extreme flips sign on a hundredth of a point; the magnitudes
+        and the periods do not)."""
         if self.sil_worst_pct is None:
             return None
-        return self.deviation_worst_pct - self.sil_worst_pct
+        pairs = zip(self.period_deviations_pct, self.sil_period_deviations_pct, strict=False)
+        periods = max((abs(a - b) for a, b in pairs), default=0.0)
+        extremes = abs(abs(self.deviation_worst_pct) - abs(self.sil_worst_pct))
+        return max(periods, extremes)
+
+    @property
+    def window_lengths(self) -> tuple[int, int]:
+        """Periods in the PIL's and the SIL's window."""
+        return len(self.period_deviations_pct), len(self.sil_period_deviations_pct)
 
 
 @dataclass
@@ -111,6 +162,10 @@ class BrakingResult:
     gate_log: list[tuple[int, tuple[bool | None, ...]]]
     speed_trace: list[tuple[int, float]] = field(default_factory=list)
     mechanics: Mechanics | None = None
+    #: (s, phase currents) of the first `setup.trace_seconds`
+    trace: list[tuple[float, np.ndarray]] = field(default_factory=list)
+    edges: int = 0
+    wall_s: float = 0.0
 
     @property
     def emulated_s(self) -> float:
@@ -120,7 +175,7 @@ class BrakingResult:
 class BrakingLoop:
     """A booted `Run` with the motor attached; `run()` brakes it."""
 
-    def __init__(self, elf: Path, spec: Spec, setup: BrakingSetup) -> None:
+    def __init__(self, elf: Path, port_source: Path, spec: Spec, setup: BrakingSetup) -> None:
         self.spec = spec
         self.setup = setup
         self.run = Run(elf, spec)
@@ -130,7 +185,12 @@ class BrakingLoop:
         )
         sector = spec.hall.sequence.index(self._pins_code())
         self.plant = MotorPlant(
-            spec, self.machine.tim1, self.mechanics, setup.start_rpm, angle_deg=60.0 * sector + 30.0
+            spec,
+            self.machine.tim1,
+            self.mechanics,
+            setup.start_rpm,
+            angle_deg=60.0 * sector + 30.0,
+            trace_seconds=setup.trace_seconds,
         )
         self._couple_sensing()
         self.machine.write_symbol_u32("app_braking_current_ma", round(setup.current_a * 1000))
@@ -154,8 +214,7 @@ class BrakingLoop:
         self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
         self._entries_seen = len(self.machine.entry_log)
         self._port = self.machine.symbol("port")
-        if self.machine.image.symbols and _symbol_size(elf, "port") != PORT_SIZE:
-            raise PilError("the port's state has another layout than PORT_FIELDS describes")
+        self._layout = port_layout(port_source)
         self.machine.listeners.append(self._watch_timing)
 
     def _watch_timing(self, _machine: object) -> None:
@@ -168,7 +227,7 @@ class BrakingLoop:
 
     def _port_inputs(self) -> dict[str, int]:
         out = {}
-        for name, (offset, size) in PORT_FIELDS.items():
+        for name, (offset, size) in self._layout.items():
             word = self.machine.read_u32(self._port + offset)
             out[name] = word & ((1 << (8 * size)) - 1)
         return out
@@ -277,6 +336,9 @@ class BrakingLoop:
             log,
             self.speed_trace,
             self.mechanics,
+            list(plant.trace),
+            len(self.edges),
+            time.perf_counter() - self.run.wall,
         )
 
     # ------------------------------------------------------------------ measurement
@@ -308,11 +370,15 @@ class BrakingLoop:
         # the period the COM event cuts short (the carrier restarts there): I is the
         # turn-off current's mean over it, as `sim.scenario.pre_edge_state` solves the
         # simulation's last pre-edge period (cut at t = 0 by the same restart)
-        before = [p for p in periods if p.end == start]
-        if not before:
+        before = [p for p in periods if p.end <= start]
+        if len(before) < PRE_EDGE_PERIODS + 1 or before[-1].end != start:
             return None
         phase = (before[-1].end - before[-1].start) / full
         phase = 0.0 if phase >= 1.0 else phase
+        # the simulation starts PRE_EDGE_PERIODS whole periods before the cut one
+        origin = -PRE_EDGE_PERIODS - (1 if phase > 0.0 else 0)
+        if any(p.end - p.start != full for p in before[origin:-1]):
+            return None  # an earlier restart (a commutation end) in the pre-edge run
         off, nc = edge.turn_off, edge.non_commutating
         current = edge.current_signs[off] * before[-1].currents[off]
         if current <= 0.0:
@@ -358,6 +424,8 @@ class BrakingLoop:
             current_a=current,
             main_duty=duty,
             sampled_code=self.sampled_codes[index],
+            start_currents=before[origin].start_currents,
+            pre_duties=tuple(p.compares[steady_channel - 1] / counts for p in before[origin:]),
             firmware_inputs=runs[-1],
             applied=applied,
             main_duty_after=after / counts,
@@ -367,17 +435,6 @@ class BrakingLoop:
             period_deviations_pct=deviations,
             deviation_worst_pct=worst,
         )
-
-
-def _symbol_size(elf: Path, name: str) -> int:
-    from elftools.elf.elffile import ELFFile
-
-    with elf.open("rb") as stream:
-        table = ELFFile(stream).get_section_by_name(".symtab")
-        for symbol in table.iter_symbols() if table is not None else ():
-            if symbol.name == name:
-                return int(symbol["st_size"])
-    raise PilError(f"{elf}: no symbol {name!r}")
 
 
 def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
@@ -407,6 +464,8 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
             "spec",
             c.carrier_phase,
             mid_sector_takeover=False,
+            pre_duty=c.pre_duties,
+            start_currents=c.start_currents,
         )
         fw = c.firmware_inputs
         overrides = {
@@ -417,6 +476,10 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
         }
         sampled = (fw["current"] - scale.current_offset_code) * per_code
         command = core_command(core, spec, scale, case, sampled, c.main_duty, overrides)
+        # the chip's COM-to-COM time: the commutation ticks plus the end handler's
+        # latency minus the edge handler's (the SIL's ideal timing has neither)
+        if c.end_com_tick is not None:
+            command = replace(command, commutation_time_s=(c.end_com_tick - c.com_tick) / TICK_HZ)
         command = replace(command, main_duty=c.main_duty_after)
         outputs = command.core_outputs
         run = simulate(case, command, "switched")
@@ -424,6 +487,7 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
             replace(
                 c,
                 sil_worst_pct=run.metrics.deviation_worst_pct,
+                sil_period_deviations_pct=run.metrics.period_deviations_pct,
                 sil_outputs=(
                     outputs["turn_on_compare"],
                     outputs["turn_off_compare"],
@@ -434,28 +498,37 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
     return out
 
 
-def brake(elf: Path, spec: Spec, setup: BrakingSetup, *, sil: bool = True) -> BrakingResult:
-    result = BrakingLoop(elf, spec, setup).run_braking()
+def brake(
+    elf: Path, port_source: Path, spec: Spec, setup: BrakingSetup, *, sil: bool = True
+) -> BrakingResult:
+    """The braking run of `setup`; `port_source` the generated stm32f103_port.c the ELF
+    was built from."""
+    result = BrakingLoop(elf, port_source, spec, setup).run_braking()
     if sil:
         result.commutations = with_sil(spec, result.commutations)
     return result
 
 
-def paper_setup(spec: Spec, *, short: bool) -> BrakingSetup:
-    """4600 rpm down to 500 rpm at 5 A with the spec's inertia (the paper's test); the
-    short version: the same start, the first `short` edges only."""
-    return BrakingSetup(4600.0, 500.0, 5.0, max_edges=24 if short else None)
+#: Hall edges of the short version (`make test`): the settling ones and a dozen measured
+SHORT_EDGES = SETTLING_EDGES + 12
 
 
-def fixture_setup(spec: Spec) -> BrakingSetup:
-    """A short braking run from 90 % of the spec's top speed at its nominal current."""
+def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
+    """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
+    speed) at its nominal braking current, with its own rotor inertia: for the paper
+    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). The short version
+    stops after SHORT_EDGES Hall edges."""
     top = float(spec.controller.speed_max_rpm)
     low = float(spec.controller.speed_min_rpm)
+    sector = 10.0 / (0.92 * top * spec.motor.pole_pairs)
     return BrakingSetup(
-        0.9 * top,
+        0.92 * top,
         max(low, 0.1 * top),
         float(spec.controller.braking_current_nominal_a),
-        max_edges=24,
+        max_edges=SHORT_EDGES if short else None,
+        max_seconds=30.0,
+        # the first measured commutation and its window, for the figure
+        trace_seconds=(SETTLING_EDGES + 3) * sector,
     )
 
 

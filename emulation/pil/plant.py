@@ -93,6 +93,8 @@ class PeriodRecord:
     currents: tuple[float, float, float]  # mean phase currents, A
     power: float  # mean sum e_x i_x, W (negative: braking)
     speed_rpm: float  # at its end
+    start_currents: tuple[float, float, float]  # the phase currents at its start
+    compares: tuple[int, int, int]  # TIM1 CCR1..CCR3 in force from its start
 
 
 class _Recorder:
@@ -156,10 +158,14 @@ class MotorPlant:
     speed_rpm: float
     angle_deg: float = 0.0  # electrical, forward; sector k spans [60 k, 60 k + 60)
     bus_voltage_v: float | None = None  # None: the spec's nominal, a stiff source
+    #: seconds after the attach whose every point (t, currents) is kept in `trace`
+    trace_seconds: float = 0.0
     drive: Drive = field(init=False)
     periods: list[PeriodRecord] = field(init=False, default_factory=list)
     #: every diode event (a current reaching zero, a floating phase conducting), in ticks
     events: list[tuple[float, str, int]] = field(init=False, default_factory=list)
+    #: (s, phase currents) of every piece end within `trace_seconds` of the attach
+    trace: list[tuple[float, np.ndarray]] = field(init=False, default_factory=list)
 
     def __post_init__(self) -> None:
         self.drive = Drive.from_spec(self.spec)
@@ -178,6 +184,7 @@ class MotorPlant:
         assert log is not None
         self.tick = self.tim1.machine.now
         self.attached = self.tick
+        self._trace_end = self.tick + self.trace_seconds * TICK_HZ
         self._log_pos = len(log) - 1
         gates = log[-1][1]
         if any(g is True for g in gates):
@@ -187,6 +194,8 @@ class MotorPlant:
         self._history: list[tuple[float, np.ndarray]] = [(self.tick / TICK_HZ, self.currents)]
         self._period_start = self.tick
         self._period = _Recorder()
+        self._period_currents: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        self._period_compares: tuple[int, int, int] = (0, 0, 0)
         self.tim1.period_listeners.append(self._period_started)
 
     # ------------------------------------------------------------------ state
@@ -332,6 +341,8 @@ class MotorPlant:
                 self.events.append((event.time * TICK_HZ, event.kind, event.phase))
             for point in recorder.points:
                 self._history.append(point)
+            if recorder.points and recorder.points[0][0] * TICK_HZ < self._trace_end:
+                self.trace.extend(recorder.points)
             if len(self._history) > 2 * _HISTORY:
                 del self._history[:_HISTORY]
             self._period.charge += recorder.charge
@@ -373,7 +384,11 @@ class MotorPlant:
                     tuple(float(v) for v in record.charge / length),  # type: ignore[arg-type]
                     record.energy / length,
                     self.speed_rpm,
+                    self._period_currents,
+                    self._period_compares,
                 )
             )
         self._period_start = tick
         self._period = _Recorder()
+        self._period_currents = tuple(float(v) for v in self.currents)  # type: ignore[assignment]
+        self._period_compares = tuple(self.tim1.ccr[1:4])  # type: ignore[assignment]
