@@ -85,6 +85,10 @@ class Case:
     #: emulated drive's comparison gives the chip's, which carry what the port's
     #: modulation lets the inactive phase's diode conduct before the edge.
     start_currents: tuple[float, float, float] | None = None
+    #: The turn-on switch's duty in each carrier period from the commutation end on
+    #: (the last holds); None: the command's main duty throughout. The emulated drive's
+    #: comparison gives its current loop's, which acts from the commutation end on.
+    post_duties: tuple[float, ...] | None = None
 
     @property
     def sector_time_s(self) -> float:
@@ -183,7 +187,15 @@ def _after_edge(case: Case, command: Command, period: float, end: float) -> list
             last = math.ceil(t_com / period - 1e-9) - 1
             out.append(Segment(t_com, main_from, _only({on: command.on_duty(last)})))
     middle = max(0.5 * case.sector_time_s, main_from) if case.mid_sector_takeover else end
-    if main_from < min(middle, end):
+    if case.post_duties and main_from < min(middle, end):
+        # the current loop's duties as the chip ran them, one per carrier period
+        k = 0
+        while main_from + k * period < min(middle, end):
+            duty = case.post_duties[min(k, len(case.post_duties) - 1)]
+            hi = min(main_from + (k + 1) * period, middle, end)
+            out.append(Segment(main_from + k * period, hi, _only({on: duty})))
+            k += 1
+    elif main_from < min(middle, end):
         out.append(Segment(main_from, min(middle, end), _only({on: command.main_duty})))
     if middle < end:
         takeover = switch_index(next_edge(case.edge).modulated_off)

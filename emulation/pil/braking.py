@@ -124,6 +124,8 @@ class Commutation:
     zero_s: float | None  # the turn-off current reaching zero, from time 0
     period_deviations_pct: tuple[float, ...]
     deviation_worst_pct: float
+    #: the turn-on switch's duty in force in each PWM period from the commutation end
+    post_duties: tuple[float, ...] = ()
     sil_worst_pct: float | None = None
     #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
     sil_outputs: tuple[int, int, int] | None = None
@@ -209,6 +211,10 @@ class BrakingLoop:
         self._slots = {s.sector: s.slot for s in steady_signals(spec) if s.direction == "forward"}
         self.speed_trace: list[tuple[int, float]] = []
         self.start_tick = self.machine.now
+        self._code = self._pins_code()
+        self._ccer_at_edge = self.machine.tim1.ccer
+        #: a Hall code the board forces on the pins (a fault), instead of the rotor's
+        self.hall_override: int | None = None
         #: (tick, inputs) at every entry of the timing handler (TIM1_TRG_COM)
         self.timing_runs: list[tuple[int, dict[str, int]]] = []
         self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
@@ -283,39 +289,36 @@ class BrakingLoop:
         )
         self.sampled_codes.append(code)
 
+    def advance_to(self, target: int) -> None:
+        """Run the chip and the motor to `target`, the Hall pins following the rotor
+        (chunks end at each Hall crossing the plant predicts)."""
+        machine, plant = self.machine, self.plant
+        while machine.now < target:
+            crossing = plant.next_sector_tick()
+            machine.run_until(min(target, crossing if crossing is not None else target))
+            plant.advance(machine.now)
+            self._follow_rotor()
+
+    def _follow_rotor(self) -> None:
+        if self.hall_override is None and self.plant.hall_code != self._code:
+            self._code = self.plant.hall_code
+            self._hall_edge()
+
     def run_braking(self) -> BrakingResult:
         setup = self.setup
         machine, plant = self.machine, self.plant
         limit = self.start_tick + round(setup.max_seconds * TICK_HZ)
-        code = self._pins_code()
-        self._ccer_at_edge = machine.tim1.ccer
-        next_trace = machine.now
         trace_step = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz) * 10
         while machine.now < limit and plant.speed_rpm > setup.stop_rpm:
             if setup.max_edges is not None and len(self.edges) >= setup.max_edges:
                 break
-            crossing = plant.next_sector_tick()
-            target = min(limit, crossing if crossing is not None else limit, next_trace)
-            if target > machine.now:
-                machine.run_until(target)
-            plant.advance(machine.now)
-            if machine.now >= next_trace:
-                self.speed_trace.append((machine.now, plant.speed_rpm))
-                next_trace = machine.now + trace_step
-            if plant.hall_code != code:
-                code = plant.hall_code
-                self._hall_edge()
-        # one sector more, so the last commutations have their window
-        end = machine.now + round(
-            TICK_HZ * self.plant.drive.sector_time_s(max(plant.speed_rpm, 1.0)) / 2
+            self.speed_trace.append((machine.now, plant.speed_rpm))
+            self.advance_to(min(limit, machine.now + trace_step))
+        # half a sector more, so the last commutations have their window
+        self.advance_to(
+            machine.now
+            + round(TICK_HZ * self.plant.drive.sector_time_s(max(plant.speed_rpm, 1.0)) / 2)
         )
-        while machine.now < end:
-            crossing = plant.next_sector_tick()
-            machine.run_until(min(end, crossing if crossing is not None else end))
-            plant.advance(machine.now)
-            if plant.hall_code != code:
-                code = plant.hall_code
-                self._hall_edge()
         outcome = self.run.outcome(
             "braking",
             None,
@@ -410,6 +413,12 @@ class BrakingLoop:
         duty = compares[steady_channel - 1] / counts
         speed = next((p.speed_rpm for p in periods if p.end >= start), self.plant.speed_rpm)
         on_channel = (int(edge.modulated_on[1:]) - 1) // 2
+        end_tick = end_com if end_com is not None else start
+        post = tuple(
+            p.compares[on_channel] / counts
+            for p in periods
+            if end_tick <= p.start < following and p.start <= window[-1].end
+        )
         off_channel = (int(edge.modulated_off[1:]) - 1) // 2
         during = self.com_compares[first]
         after = self.com_compares[first + 1][on_channel]
@@ -429,6 +438,7 @@ class BrakingLoop:
             firmware_inputs=runs[-1],
             applied=applied,
             main_duty_after=after / counts,
+            post_duties=post,
             carrier_phase=phase,
             commutation_s=length / TICK_HZ,
             zero_s=None if zero is None else (zero - start) / TICK_HZ,
@@ -466,6 +476,7 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
             mid_sector_takeover=False,
             pre_duty=c.pre_duties,
             start_currents=c.start_currents,
+            post_duties=c.post_duties or None,
         )
         fw = c.firmware_inputs
         overrides = {

@@ -20,6 +20,7 @@ from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
 from emulation.pil.build import ROOT, build_firmware, checked_in, generate
+from emulation.pil.plant_faults import PLANT_FAULTS, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import SCENARIOS, Outcome, run_scenario
 
@@ -92,6 +93,28 @@ def render(
     return "\n".join(lines)
 
 
+def _plant_faults_section(outcomes: list[Outcome]) -> list[str]:
+    lines = [
+        "## Fault scenarios with the motor in the loop",
+        "",
+        "The firmware brakes the simulated motor from the braking scenario's start; after"
+        " a few commutations the cause is applied (emulation/pil/plant_faults.py). The"
+        " invariants are watched throughout; these outcomes count in the table above.",
+        "",
+        "| scenario | fault latched | latency | limit | invariants | result |",
+        "|---|---|---|---|---|---|",
+    ]
+    for o in outcomes:
+        problems = o.problems
+        lines.append(
+            f"| {o.name} | {', '.join(o.fault_names) or 'none'} | {_us(o.latency_ticks)} |"
+            f" {_us(o.limit_ticks)} | {'kept' if not o.violations else len(o.violations)} |"
+            f" {'PASS' if not problems else 'FAIL: ' + '; '.join(problems)} |"
+        )
+    lines.append("")
+    return lines
+
+
 def publish(text: str, target: Path) -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(
@@ -137,6 +160,12 @@ def main(argv: list[str] | None = None) -> int:
                 names = braking_report.write_figures(result, target.parent)
                 publish(braking_report.csv_text(result), target.parent / "braking_commutations.csv")
                 section = braking_report.section(result, names)
+                plant_outcomes = [
+                    run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, f)
+                    for f in PLANT_FAULTS
+                ]
+                section += _plant_faults_section(plant_outcomes)
+                outcomes += plant_outcomes
         publish(
             render(spec_path, spec.name, outcomes, float(spec.inverter.pwm_frequency_hz), section),
             target,
