@@ -89,6 +89,8 @@ class Case:
     #: (the last holds); None: the command's main duty throughout. The emulated drive's
     #: comparison gives its current loop's, which acts from the commutation end on.
     post_duties: tuple[float, ...] | None = None
+    #: Centre-aligned PWM as TIM1 runs it in the port (`Schedule.on_at_boundaries`).
+    tim1_centre: bool = False
 
     @property
     def sector_time_s(self) -> float:
@@ -158,7 +160,9 @@ def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
         t_com = command.commutation_time_s
         if case.end_restarts_carrier and command.turn_on_switch is not None and 0.0 < t_com < end:
             restarts.append(t_com)
-    return Schedule(tuple(segments), period, case.drive.pwm_alignment, tuple(restarts))
+    return Schedule(
+        tuple(segments), period, case.drive.pwm_alignment, tuple(restarts), case.tim1_centre
+    )
 
 
 def _after_edge(case: Case, command: Command, period: float, end: float) -> list[Segment]:

@@ -25,8 +25,8 @@ from emulation.pil.braking import BrakingLoop, BrakingResult, braking_setup, wit
 from emulation.pil.build import build_firmware, checked_in, generate
 from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.plant import Mechanics, MotorPlant
+from emulation.pil.plant_faults import PLANT_FAULTS, PlantFault, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
-from emulation.pil.runner import HALL_PINS
 from sim.drive import Drive
 from sim.scenario import Case, switching_table
 from sim.schedule import OFF, Schedule, Segment
@@ -168,22 +168,39 @@ def test_the_short_braking_run_should_agree_with_sil_within_one_point(
     assert result.outcome.faults == 0 and result.outcome.violations == ()
 
 
+@pytest.fixture(scope="module")
+def hub_firmware(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    folder = tmp_path_factory.mktemp("hub_plant")
+    generated = generate(HUB, folder / "generated")
+    return build_firmware(HUB, folder, generated), generated / "c" / "stm32f103_port.c"
+
+
 def test_the_hub_motor_should_brake_with_every_invariant_kept(
-    tmp_path_factory: pytest.TempPathFactory,
+    hub_firmware: tuple[Path, Path],
 ) -> None:
     """46 poles, low-side phase shunts (each phase's own channel), 48 V: the firmware
     holds its braking current and the rotor slows; no fault, no invariant broken."""
     spec = load_spec(str(HUB))
-    folder = tmp_path_factory.mktemp("hub_plant")
-    generated = generate(HUB, folder / "generated")
-    elf = build_firmware(HUB, folder, generated)
+    elf, port = hub_firmware
     setup = braking_setup(spec, short=True)
-    loop = BrakingLoop(elf, generated / "c" / "stm32f103_port.c", spec, setup)
-    result = loop.run_braking()
+    result = BrakingLoop(elf, port, spec, setup).run_braking()
     assert result.outcome.problems == [] and result.outcome.faults == 0
     assert len(result.commutations) >= 4 and result.end_rpm < setup.start_rpm
-    # the loop holds the nominal current before the rotor slows below what it can hold
+    # the loop holds the nominal current on the first measured commutations
     first = result.commutations[0]
     assert first.current_a == pytest.approx(setup.current_a, rel=0.3)
-    pins = {(port, pin) for port, pin, _ in HALL_PINS}
-    assert len(pins) == 3
+
+
+@pytest.mark.parametrize(
+    "fault", [f for f in PLANT_FAULTS if f.key != "rotor_stops"], ids=lambda f: f.key
+)
+def test_each_fault_with_the_hub_motor_in_the_loop_should_latch_in_time(
+    hub_firmware: tuple[Path, Path], fault: PlantFault
+) -> None:
+    """The fault scenarios while the firmware brakes the simulated hub motor (rotor_stops
+    waits for TIM3's 65 ms wrap: `make pil` runs it)."""
+    spec = load_spec(str(HUB))
+    elf, port = hub_firmware
+    outcome = run_plant_fault(elf, port, spec, fault)
+    assert outcome.problems == [], (outcome.name, outcome.note)
+    assert outcome.latency_ticks is not None

@@ -477,6 +477,7 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
             pre_duty=c.pre_duties,
             start_currents=c.start_currents,
             post_duties=c.post_duties or None,
+            tim1_centre=True,
         )
         fw = c.firmware_inputs
         overrides = {

@@ -226,8 +226,8 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
     ]
     if worst is not None and worst.difference_pp is not None:
         lines.append(
-            f"* SIL vs PIL, worst per-period non-commutating-current deviation: largest"
-            f" difference {worst.difference_pp:+.2f} pp at commutation {worst.index}"
+            f"* SIL vs PIL, per-period non-commutating-current deviation: largest"
+            f" difference {worst.difference_pp:.2f} pp at commutation {worst.index}"
             f" ({worst.speed_rpm:.0f} rpm, PIL {worst.deviation_worst_pct:+.2f} %, SIL"
             f" {worst.sil_worst_pct:+.2f} %); required within ±{AGREEMENT_PP:g} pp."
         )
@@ -246,19 +246,29 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
         " pre-edge state is solved; the window is every PWM period overlapping the"
         " commutation plus the one after (issue 16), the deviation the signed extreme of"
         " (|i_nc| - I) / I over the window's period means. The SIL run (`sim.runs.simulate`,"
-        " switched plant) takes the PIL's speed, I, carrier phase at the COM event and"
-        " main duty; its core is handed the Hall interval, bus code, current code and main"
-        " duty the chip's timing handler read at its last run before the edge (the port"
-        " computes the next edge's timing after the previous one), and the bridge is"
-        " modulated as the port modulates it (the incoming switch through the sector:"
-        " `Case.mid_sector_takeover` False).",
+        " switched plant, the generated C core compiled for the host) is the same"
+        " commutation: the PIL's speed, I and carrier phase at the COM event; the core"
+        " handed the Hall interval, bus code, current code and main duty the chip's timing"
+        " handler read at its last run before the edge (the port computes the next edge's"
+        " timing after the previous one); the phase currents the chip had two PWM periods"
+        " before the edge (with the current the inactive phase's diode carries there: the"
+        " port modulates the incoming switch through the whole sector, `Case."
+        "mid_sector_takeover` False, where the paper's PWM-OFF-PWM hands over at"
+        " mid-sector); the steady switch's duty the chip's current loop had in force in"
+        " each of those periods and in each period after the commutation end"
+        " (`Case.pre_duty`, `Case.post_duties`); the commutation lasting from COM event to"
+        " COM event as on the chip (the commutation ticks plus the difference of the two"
+        " handlers' latencies). Difference: the largest of the window's period-by-period"
+        " differences and of the two worst deviations' magnitudes (a window whose positive"
+        " and negative extremes are nearly equal flips its signed extreme's sign on a"
+        " hundredth of a point).",
         "",
         "| # | speed (rpm) | I (A) | carrier phase | D_on | D_off | t_com (ticks) | PIL worst | SIL worst | difference |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in _rows(result):
         sil = "-" if c.sil_worst_pct is None else f"{c.sil_worst_pct:+.2f} %"
-        diff = "-" if c.difference_pp is None else f"{c.difference_pp:+.2f} pp"
+        diff = "-" if c.difference_pp is None else f"{c.difference_pp:.2f} pp"
         lines.append(
             f"| {c.index} | {c.speed_rpm:.0f} | {c.current_a:.3f} | {c.carrier_phase:.2f} |"
             f" {c.applied[0]} | {c.applied[1]} | {c.applied[2]} | {c.deviation_worst_pct:+.2f} % |"
