@@ -248,7 +248,7 @@ class MotorPlant:
         currents = self.currents_at(tick)
         gates = self.gates_at(tick)
         legs = self._legs(gates)
-        topology = resolve(legs, currents, self._emf_now(tick).values(tick / TICK_HZ))
+        topology = resolve(legs, currents, self._emf().values(tick / TICK_HZ))
         low = topology.conducting & (topology.voltages == 0.0)
         phase = np.where(low, currents, 0.0)
         return float(phase.sum()), float(phase[0]), float(phase[1]), float(phase[2])
@@ -272,7 +272,7 @@ class MotorPlant:
             return currents.copy()
         start_tick = math.floor(start * TICK_HZ + 1e-6)
         gates = self.gates_at(start_tick)
-        emf = self._emf_from(start, tick)
+        emf = self._emf_from(start)
         return run_piece(
             self.drive, emf, _OnePeriod(), self._legs(gates), start, t, currents, _Recorder()
         )
@@ -301,10 +301,11 @@ class MotorPlant:
         assert self.bus_voltage_v is not None
         return LegVoltages.from_duties(tuple(1.0 if g else 0.0 for g in gates), self.bus_voltage_v)
 
-    def _emf_now(self, tick: int) -> _Emf:
+    def _emf(self) -> _Emf:
+        """The EMF from the plant's instant on (and back: affine in time at its speed)."""
         return _Emf(self, self.seconds, self.angle_deg, self.electrical_rate, self._amplitude())
 
-    def _emf_from(self, start: float, _tick: int) -> _Emf:
+    def _emf_from(self, start: float) -> _Emf:
         """The EMF over a past piece from `start`: the angle there, from today's by the
         speed (the speed changes by parts per million within a few PWM periods)."""
         angle = self.angle_deg - self.electrical_rate * (self.seconds - start)
@@ -358,7 +359,6 @@ class MotorPlant:
                 self.turns += 1
             self._mechanics(recorder.energy, step, t)
             t = hi
-            self.tick_float = t
 
     def _mechanics(self, energy: float, step: float, t: float) -> None:
         if step <= 0.0:
