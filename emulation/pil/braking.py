@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from unicorn import UC_HOOK_MEM_READ, UC_HOOK_MEM_WRITE
 
 from codegen.control.sensing import steady_signals
 from codegen.spec_model import Spec
@@ -222,14 +223,43 @@ class BrakingLoop:
         self._port = self.machine.symbol("port")
         self._layout = port_layout(port_source)
         self.machine.listeners.append(self._watch_timing)
+        # what the timing handler reads is taken as it reads it (a higher-priority
+        # handler may change a field between the handler's entry and its read)
+        self.machine.uc.hook_add(
+            UC_HOOK_MEM_WRITE, self._on_publish, None, self._port, self._port + 3
+        )
+        for name, (offset, size) in self._layout.items():
+            address = self._port + offset
+            self.machine.uc.hook_add(
+                UC_HOOK_MEM_READ, self._on_port_read, name, address, address + size - 1
+            )
 
     def _watch_timing(self, _machine: object) -> None:
-        """At each entry of the timing handler, before it runs, what it will read."""
+        """At each entry of the timing handler, a new record of its inputs (the fields'
+        values now, replaced by what it reads)."""
         log = self.machine.entry_log
         for tick, exception in log[self._entries_seen :]:
             if exception == self._timing:
                 self.timing_runs.append((tick, self._port_inputs()))
         self._entries_seen = len(log)
+
+    def _on_publish(
+        self, _uc: object, _access: int, _address: int, _size: int, _value: int, _data: object
+    ) -> None:
+        """The timing handler publishes its result (`port.timing`, the state's first
+        word): the Hall edge applies it from now on."""
+        active = self.machine.nvic.active
+        if active and active[-1] == self._timing and self.timing_runs:
+            self.timing_runs[-1][1]["published"] = self.machine.now
+
+    def _on_port_read(
+        self, _uc: object, _access: int, _address: int, _size: int, _value: int, name: str
+    ) -> None:
+        active = self.machine.nvic.active
+        if active and active[-1] == self._timing and self.timing_runs:
+            offset, size = self._layout[name]
+            word = self.machine.read_u32(self._port + offset)
+            self.timing_runs[-1][1][name] = word & ((1 << (8 * size)) - 1)
 
     def _port_inputs(self) -> dict[str, int]:
         out = {}
@@ -364,7 +394,8 @@ class BrakingLoop:
         first = self.com_ticks.index(start)
         if first + 1 >= len(self.com_ticks):
             return None
-        runs = [inputs for tick, inputs in self.timing_runs if tick < hall]
+        # the inputs of the last timing published before the edge's handler applied it
+        runs = [inputs for _, inputs in self.timing_runs if inputs.get("published", start) < start]
         if not runs:
             return None
         edge = switching_table().edge_into(sector, "forward")
