@@ -256,7 +256,12 @@ class BrakingLoop:
         self, _uc: object, _access: int, _address: int, _size: int, _value: int, name: str
     ) -> None:
         active = self.machine.nvic.active
-        if active and active[-1] == self._timing and self.timing_runs:
+        if (
+            active
+            and active[-1] == self._timing
+            and self.timing_runs
+            and "published" not in self.timing_runs[-1][1]  # reads after it are not inputs
+        ):
             offset, size = self._layout[name]
             word = self.machine.read_u32(self._port + offset)
             self.timing_runs[-1][1][name] = word & ((1 << (8 * size)) - 1)
