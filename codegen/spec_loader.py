@@ -309,17 +309,26 @@ _SECTIONS = {
 # Ranges: what any real drive of this kind can have, so that no value can reach the
 # arithmetic below as zero, infinity or beyond a double (1e-400 V/krpm is 0.0 in float).
 _VOLTS = _positive(1, 1000, "V")
+#: Optional motor.viscous_friction: 0 (none) up to what would stop a large hub motor
+#: within milliseconds.
+_FRICTION_KEY = "viscous_friction"
+_FRICTION = _Range(0, 10, "N*m*s/rad")
 
 
 def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
     sec = r.section(data, "motor")
     if sec is None:
         return None
-    r.only_keys(sec, _MOTOR_KEYS, "motor", (spec_optional.EMF_SHAPE_KEY,))
+    r.only_keys(sec, _MOTOR_KEYS, "motor", (spec_optional.EMF_SHAPE_KEY, _FRICTION_KEY))
     shape = BackEmfShape()
     if spec_optional.EMF_SHAPE_KEY in sec:
         read = r.attempt(lambda: spec_optional.back_emf_shape(r, sec[spec_optional.EMF_SHAPE_KEY]))
         shape = read if read is not None else shape
+    friction: Fraction | None = Fraction(0)
+    if _FRICTION_KEY in sec:
+        friction = r.attempt(
+            lambda: r.quantity(sec, _FRICTION_KEY, "motor", units.VISCOUS_FRICTION, _FRICTION)
+        )
 
     def poles() -> int:
         count = r.integer(sec, "poles", "motor", _Range(2, 128, "poles"))
@@ -356,7 +365,7 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
             )
         ),
     )
-    if convention is None or k_e is None or any(v is None for v in values):
+    if convention is None or k_e is None or friction is None or any(v is None for v in values):
         return None
     rated, resistance, inductance, pole_count, inertia = values
     if convention == "line_to_line":
@@ -371,6 +380,7 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
         back_emf_convention=convention,  # type: ignore[arg-type]
         rotor_inertia_kg_m2=inertia,  # type: ignore[arg-type]
         back_emf_shape=shape,
+        viscous_friction_n_m_s=friction,
     )
 
 

@@ -100,6 +100,9 @@ class Motor:
     rotor_inertia_kg_m2: Fraction
     #: Optional `motor.back_emf_shape`; default the paper's 120 deg trapezoid.
     back_emf_shape: BackEmfShape = BackEmfShape()
+    #: Optional `motor.viscous_friction` (bearings, windage), N m s/rad; default 0: the
+    #: braking torque alone decelerates the rotor (the emulated drive's plant).
+    viscous_friction_n_m_s: Fraction = Fraction(0)
 
     @property
     def pole_pairs(self) -> int:

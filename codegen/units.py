@@ -80,6 +80,12 @@ INERTIA = Dimension(
     "kg*m^2",
     (("kg*m^2", "1.0"), ("kg*cm^2", "1e-4"), ("g*cm^2", "1e-7")),
 )
+#: Viscous friction torque per mechanical angular speed.
+VISCOUS_FRICTION = Dimension(
+    "viscous friction",
+    "N*m*s/rad",
+    (("N*m*s/rad", "1.0"), ("mN*m*s/rad", "1e-3"), ("uN*m*s/rad", "1e-6")),
+)
 FREQUENCY = Dimension("frequency", "Hz", (("Hz", "1.0"), ("kHz", "1e3"), ("MHz", "1e6")))
 TIME = Dimension("time", "s", (("s", "1.0"), ("ms", "1e-3"), ("us", "1e-6"), ("ns", "1e-9")))
 CURRENT = Dimension("current", "A", (("A", "1.0"), ("mA", "1e-3")))

@@ -49,6 +49,11 @@ def next_edge(edge: Edge) -> Edge:
     return switching_table().edge_into((edge.sector_to + step) % 6, edge.direction)
 
 
+def previous_edge(edge: Edge) -> Edge:
+    step = 1 if edge.direction == "forward" else -1
+    return switching_table().edge_into((edge.sector_to - step) % 6, edge.direction)
+
+
 @dataclass(frozen=True)
 class Case:
     drive: Drive
@@ -64,6 +69,28 @@ class Case:
     #: carrier restarts at the commutation end. False: COM only, so the new enables
     #: apply at once and the turn-on compare value at the next carrier boundary.
     end_restarts_carrier: bool = True
+    #: PWM-OFF-PWM as the paper modulates (True): the transistor the next edge turns off
+    #: takes over at the middle of the sector, and it is the one modulated before the
+    #: edge. False: as the STM32 port modulates, the incoming switch of the last edge
+    #: runs at the main duty through the whole sector (it is the one modulated before
+    #: the edge, and the turn-on switch runs to the end of the run after the commutation).
+    mid_sector_takeover: bool = True
+    #: The modulated switch's duty before the edge; None: the steady duty that holds I
+    #: (`Drive.steady_duty`). The emulated drive's comparison gives its loop's duty in
+    #: force in each carrier period from the run's start (the last: the period the
+    #: edge cuts short).
+    pre_duty: float | tuple[float, ...] | None = None
+    #: The phase currents at `start_time`; None: two phases at the magnitude that makes
+    #: the last pre-edge period's turn-off current average I (`pre_edge_state`). The
+    #: emulated drive's comparison gives the chip's, which carry what the port's
+    #: modulation lets the inactive phase's diode conduct before the edge.
+    start_currents: tuple[float, float, float] | None = None
+    #: The turn-on switch's duty in each carrier period from the commutation end on
+    #: (the last holds); None: the command's main duty throughout. The emulated drive's
+    #: comparison gives its current loop's, which acts from the commutation end on.
+    post_duties: tuple[float, ...] | None = None
+    #: Centre-aligned PWM as TIM1 runs it in the port (`Schedule.on_at_boundaries`).
+    tim1_centre: bool = False
 
     @property
     def sector_time_s(self) -> float:
@@ -85,6 +112,11 @@ class Case:
 
     @property
     def pre_edge_duty(self) -> float:
+        """The duty of the last pre-edge period."""
+        if isinstance(self.pre_duty, tuple):
+            return self.pre_duty[-1]
+        if self.pre_duty is not None:
+            return self.pre_duty
         return self.drive.steady_duty(self.speed_rpm, self.current_a)
 
     @property
@@ -106,8 +138,19 @@ class Case:
 def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
     """Gate duties from the run's start to `end`; `command` None: pre-edge only."""
     period = case.drive.pwm_period_s
-    pre_switch = switch_index(case.edge.modulated_off)
-    segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
+    pre_switch = switch_index(
+        case.edge.modulated_off
+        if case.mid_sector_takeover
+        else previous_edge(case.edge).modulated_on
+    )
+    if isinstance(case.pre_duty, tuple):
+        bounds = [case.start_time + k * period for k in range(len(case.pre_duty))] + [0.0]
+        segments = [
+            Segment(lo, hi, _only({pre_switch: duty}))
+            for lo, hi, duty in zip(bounds[:-1], bounds[1:], case.pre_duty, strict=True)
+        ]
+    else:
+        segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
     restarts = [0.0]
     if case.carrier_phase > 0.0:
         restarts.insert(0, -case.carrier_phase * period)
@@ -117,7 +160,9 @@ def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
         t_com = command.commutation_time_s
         if case.end_restarts_carrier and command.turn_on_switch is not None and 0.0 < t_com < end:
             restarts.append(t_com)
-    return Schedule(tuple(segments), period, case.drive.pwm_alignment, tuple(restarts))
+    return Schedule(
+        tuple(segments), period, case.drive.pwm_alignment, tuple(restarts), case.tim1_centre
+    )
 
 
 def _after_edge(case: Case, command: Command, period: float, end: float) -> list[Segment]:
@@ -145,8 +190,16 @@ def _after_edge(case: Case, command: Command, period: float, end: float) -> list
         if main_from > t_com:
             last = math.ceil(t_com / period - 1e-9) - 1
             out.append(Segment(t_com, main_from, _only({on: command.on_duty(last)})))
-    middle = max(0.5 * case.sector_time_s, main_from)
-    if main_from < min(middle, end):
+    middle = max(0.5 * case.sector_time_s, main_from) if case.mid_sector_takeover else end
+    if case.post_duties and main_from < min(middle, end):
+        # the current loop's duties as the chip ran them, one per carrier period
+        k = 0
+        while main_from + k * period < min(middle, end):
+            duty = case.post_duties[min(k, len(case.post_duties) - 1)]
+            hi = min(main_from + (k + 1) * period, middle, end)
+            out.append(Segment(main_from + k * period, hi, _only({on: duty})))
+            k += 1
+    elif main_from < min(middle, end):
         out.append(Segment(main_from, min(middle, end), _only({on: command.main_duty})))
     if middle < end:
         takeover = switch_index(next_edge(case.edge).modulated_off)
@@ -185,6 +238,8 @@ def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
     instantaneous value at a carrier start differ from the period average, so the
     start value is solved for: the period average is affine in it (linear circuit).
     """
+    if case.start_currents is not None:
+        return np.array(case.start_currents, dtype=float)
     magnitude = case.current_a
     if model != "switched":
         return case.edge_currents(magnitude)

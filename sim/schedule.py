@@ -50,6 +50,10 @@ class Schedule:
     alignment: PwmAlignment
     #: Carrier restarts (update events), ascending; the first is the carrier's origin.
     restarts: tuple[float, ...] = (0.0,)
+    #: Centre-aligned only. False: the on-time is centred in the period. True: as TIM1
+    #: runs PWM mode 1 centre-aligned from a counter restarted at 0 (the STM32 port): on
+    #: while CNT < CCRx, so centred on the period's boundaries, half at each end.
+    on_at_boundaries: bool = False
 
     @property
     def start(self) -> float:
@@ -105,11 +109,18 @@ class Schedule:
         half = 0.5 * (1.0 - duty) * self.period
         return start + half, start + self.period - half
 
+    def _split(self) -> bool:
+        return self.alignment != "edge" and self.on_at_boundaries
+
     def gate(self, duty: float, t: float) -> bool:
         if duty >= 1.0:
             return True
         if duty <= 0.0:
             return False
+        if self._split():
+            start = self.period_start(self.period_index(t))
+            half = 0.5 * duty * self.period
+            return t < start + half or t >= start + self.period - half
         on, off = self._on_window(duty, self.period_index(t))
         return on <= t < off
 
@@ -140,7 +151,14 @@ class Schedule:
                     period_end = self.period_bounds(k)[1]
                     for duty in set(segment.duties):
                         if 0.0 < duty < 1.0:
-                            for t in self._on_window(duty, k):
+                            start = self.period_start(k)
+                            half = 0.5 * duty * self.period
+                            window = (
+                                (start + half, start + self.period - half)
+                                if self._split()
+                                else self._on_window(duty, k)
+                            )
+                            for t in window:
                                 if lo < t < hi and t < period_end:
                                     times.add(t)
         return sorted(times)

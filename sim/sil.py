@@ -324,13 +324,17 @@ def core_command(
     case: Case,
     measured_current_a: float,
     main_duty: float,
+    overrides: dict[str, int] | None = None,
 ) -> Command:
     """Call the C core at the edge and translate its outputs into a gate command.
 
     The main duty after the commutation is the one handed to the core, in counts,
     because that is what the port keeps writing to the turn-on transistor.
+    `overrides` replaces inputs by the integers a firmware actually used (the emulated
+    drive's comparison hands the core the Hall interval, bus code, current and main
+    duty its timing handler read).
     """
-    inputs = core_inputs(spec, scale, case, measured_current_a, main_duty)
+    inputs = {**core_inputs(spec, scale, case, measured_current_a, main_duty), **(overrides or {})}
     outputs = core.commutate(inputs)
     counts = core.constants.period_counts
     no_switch = core.constants.no_switch

@@ -86,11 +86,11 @@ def _simulate(
                     builder.transitions.append(Transition(lo, switch, now > 0.5))
         previous_gates = gates
         legs = LegVoltages.from_duties(gates, drive.bus_voltage_v)
-        currents = _run_piece(drive, emf, schedule, legs, lo, hi, currents, builder)
+        currents = run_piece(drive, emf, schedule, legs, lo, hi, currents, builder)
     return builder.finish()
 
 
-def _run_piece(
+def run_piece(
     drive: Drive,
     emf: BackEmf,
     schedule: Schedule,
@@ -100,6 +100,11 @@ def _run_piece(
     currents: np.ndarray,
     builder: TraceBuilder,
 ) -> np.ndarray:
+    """The currents at `hi` from `currents` at `lo`, the gates (`legs`) constant and the
+    EMFs affine in between (no corner of `emf.affine` inside): every diode event found
+    exactly, each stretch recorded in `builder` (points, events, the carrier period's
+    charge and energy from `schedule.period_index`). The emulated drive's plant
+    (emulation/pil/plant.py) advances its motor with this same function."""
     emf0, emf1 = emf.affine(lo, hi)
     period = schedule.period_index(0.5 * (lo + hi))
     reversible = legs.reversible()

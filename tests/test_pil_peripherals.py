@@ -325,6 +325,24 @@ def test_tim1_single_output_should_follow_ocxref_and_ossr_should_hold_the_other(
     assert m.tim1.gates(start + 1)[2:] == (None, None, None, None)  # CH2, CH3 disabled
 
 
+def test_tim1_complementary_output_alone_should_follow_ocxref_not_its_complement() -> None:
+    """RM0008 Table 83: CCxE = 0, CCxNE = 1: OCxN = OCxREF xor CCxNP (active while
+    CNT < CCRx in PWM mode 1, like OCx alone); the complement only with both enabled."""
+    m = machine()
+    tim1_pwm(m, dtg=10)
+    write(m.tim1, "CCR1", 50)
+    write(m.tim1, "CCER", 0b0100)  # CC1NE alone
+    write(m.tim1, "BDTR", read(m.tim1, "BDTR") | 1 << 15 | 1 << 11)  # MOE, OSSR
+    write(m.tim1, "EGR", 1)
+    start = m.now
+    assert m.tim1.gates(start + 1)[:2] == (False, True)
+    assert m.tim1.gates(start + 60)[:2] == (False, False)
+    write(m.tim1, "CCER", 0b1100)  # CC1NP: active low
+    write(m.tim1, "EGR", 1)
+    assert m.tim1.gates(m.now + 1)[1] is False
+    assert m.tim1.gates(m.now + 60)[1] is True
+
+
 def test_tim1_break_input_should_clear_moe_and_idle_after_the_dead_time() -> None:
     """RM0008 14.3.12: BKIN active clears MOE at once and sets BIF; with OSSI the outputs
     go to CCxP/CCxNP at once and to OISx/OISxN after a dead time."""

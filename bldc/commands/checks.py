@@ -305,7 +305,7 @@ def _bench_arguments(parser: argparse.ArgumentParser) -> None:
         "--only",
         metavar="SECTIONS",
         help="comma-separated sections to run (default: all; an unknown one is refused with"
-        " the list): size, handlers, placement, peers, rule, reciprocal, times",
+        " the list): size, handlers, placement, peers, rule, reciprocal, times, pil",
     )
 
 

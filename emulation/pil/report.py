@@ -17,7 +17,10 @@ import tempfile
 from pathlib import Path
 
 from codegen.spec_loader import load_spec
-from emulation.pil.build import ROOT, build_firmware
+from emulation.pil import braking_report
+from emulation.pil.braking import BrakingResult, brake, braking_setup
+from emulation.pil.build import ROOT, build_firmware, checked_in, generate
+from emulation.pil.plant_faults import PLANT_FAULTS, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import SCENARIOS, Outcome, run_scenario
 
@@ -26,7 +29,13 @@ def _us(ticks: int | None) -> str:
     return "-" if ticks is None else f"{ticks * 1e6 / TICK_HZ:.2f} us"
 
 
-def render(spec_path: str, name: str, outcomes: list[Outcome], pwm_hz: float) -> str:
+def render(
+    spec_path: str,
+    name: str,
+    outcomes: list[Outcome],
+    pwm_hz: float,
+    braking: list[str] | None = None,
+) -> str:
     digest = hashlib.sha256(Path(spec_path).read_bytes()).hexdigest()[:16]
     shown = Path(spec_path).resolve()
     shown = shown.relative_to(ROOT) if shown.is_relative_to(ROOT) else Path(shown.name)
@@ -79,13 +88,42 @@ def render(spec_path: str, name: str, outcomes: list[Outcome], pwm_hz: float) ->
         f" ({emulated * 1e3 / wall:.1f} emulated ms per second, boot and build excluded).",
         "",
     ]
+    if braking:
+        lines += braking
     return "\n".join(lines)
+
+
+def _plant_faults_section(outcomes: list[Outcome]) -> list[str]:
+    lines = [
+        "## Fault scenarios with the motor in the loop",
+        "",
+        "The firmware brakes the simulated motor from the braking scenario's start; after"
+        " a few commutations the cause is applied (emulation/pil/plant_faults.py). The"
+        " invariants are watched throughout; these outcomes count in the table above.",
+        "",
+        "| scenario | fault latched | latency | limit | invariants | result |",
+        "|---|---|---|---|---|---|",
+    ]
+    for o in outcomes:
+        problems = o.problems
+        lines.append(
+            f"| {o.name} | {', '.join(o.fault_names) or 'none'} | {_us(o.latency_ticks)} |"
+            f" {_us(o.limit_ticks)} | {'kept' if not o.violations else len(o.violations)} |"
+            f" {'PASS' if not problems else 'FAIL: ' + '; '.join(problems)} |"
+        )
+    lines.append("")
+    return lines
 
 
 def publish(text: str, target: Path) -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(
-        "w", dir=target.parent, prefix=".PIL.", suffix=".md", delete=False, encoding="utf-8"
+        "w",
+        dir=target.parent,
+        prefix=f".{target.stem}.",
+        suffix=target.suffix,
+        delete=False,
+        encoding="utf-8",
     ) as handle:
         handle.write(text)
     os.replace(handle.name, target)
@@ -94,23 +132,54 @@ def publish(text: str, target: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m emulation.pil.report", description=__doc__)
     parser.add_argument("specs", nargs="+")
+    parser.add_argument(
+        "--braking",
+        choices=("full", "short", "off"),
+        default="full",
+        help="the braking scenario: to its stop speed (default), its first Hall edges, or none",
+    )
     args = parser.parse_args(argv)
     failed = False
     for spec_path in args.specs:
         spec = load_spec(spec_path)
+        target = ROOT / "generated" / spec.name / "pil" / "PIL.md"
         with tempfile.TemporaryDirectory() as folder:
             try:
-                elf = build_firmware(Path(spec_path).resolve(), Path(folder))
+                path = Path(spec_path).resolve()
+                generated = checked_in(path) or generate(path, Path(folder) / "generated")
+                elf = build_firmware(path, Path(folder), generated)
             except RuntimeError as error:
                 print(f"error: {error}", file=sys.stderr)
                 return 1
             outcomes = [run_scenario(elf, spec, s) for s in SCENARIOS]
-        target = ROOT / "generated" / spec.name / "pil" / "PIL.md"
+            result: BrakingResult | None = None
+            section: list[str] | None = None
+            if args.braking != "off":
+                setup = braking_setup(spec, short=args.braking == "short")
+                result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+                names = braking_report.write_figures(result, target.parent)
+                publish(braking_report.csv_text(result), target.parent / "braking_commutations.csv")
+                section = braking_report.section(result, names)
+                plant_outcomes = [
+                    run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, f)
+                    for f in PLANT_FAULTS
+                ]
+                section += _plant_faults_section(plant_outcomes)
+                outcomes += plant_outcomes
         publish(
-            render(spec_path, spec.name, outcomes, float(spec.inverter.pwm_frequency_hz)), target
+            render(spec_path, spec.name, outcomes, float(spec.inverter.pwm_frequency_hz), section),
+            target,
         )
         bad = [o for o in outcomes if o.problems]
         failed |= bool(bad)
+        if result is not None:
+            braking_problems = braking_report.problems(result)
+            failed |= bool(braking_problems)
+            print(
+                f"pil:   braking: {result.emulated_s * 1e3:.1f} ms, {result.setup.start_rpm:.0f}"
+                f" -> {result.end_rpm:.0f} rpm, {len(result.commutations)} commutations;"
+                f" {'; '.join(braking_problems[:3]) or 'pass'}"
+            )
         print(
             f"pil: {spec.name}: {len(outcomes) - len(bad)}/{len(outcomes)} scenarios pass -> {target.relative_to(ROOT)}"
         )

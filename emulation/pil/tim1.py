@@ -12,7 +12,8 @@ Behaviours beyond the shared time base, with their RM0008 sections:
   (CR1.CKD = 00); a pulse shorter than DT never shows.
 * 14.4.9 Table 83, the output states, for channels 1..3 (`outputs`):
   MOE = 1: CCxE/CCxNE 00: not driven; 10: OCx = OCxREF xor CCxP, OCxN = CCxNP (OSSR = 1)
-  or not driven (OSSR = 0); 01: the mirror image; 11: complementary with dead time.
+  or not driven (OSSR = 0); 01: the mirror image, OCxN = OCxREF xor CCxNP (not the
+  complement of OCxREF) and OCx = CCxP or not driven; 11: complementary with dead time.
   MOE = 0: OSSI = 0 or both enables 0: not driven; OSSI = 1: OCx = CCxP and OCxN =
   CCxNP at once, then OCx = OISx and OCxN = OISxN (CR2) after a dead time.
 * 14.3.12 break: the break input (BKIN, PB12, RM0008 9.3.7 with no remap) active at level
@@ -254,7 +255,9 @@ class AdvancedTimer(Timer):
         if not own:
             return own_polarity if self.bdtr & BDTR_OSSR else None
         level, since = self._ref_edges(channel, now)
-        if complementary:
+        if complementary and enabled:
+            # 14.4.9 Table 83: OCxN is the complement of OCxREF only with both outputs
+            # enabled; CCxE = 0, CCxNE = 1 gives OCxN = OCxREF xor CCxNP
             level = not level
         if enabled and enabled_n:
             level = level and now - since >= dead

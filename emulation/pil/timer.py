@@ -76,6 +76,9 @@ class Timer(Peripheral):
         self.ref = [False] * 5  # OCxREF, index 1..4
         self.trgo = False
         self.trgo_listeners: list[Callable[[int], None]] = []
+        #: called with the tick at which the counter starts a PWM period from 0: an
+        #: overflow (edge-aligned), an underflow (centre-aligned), UG or a slave reset
+        self.period_listeners: list[Callable[[int], None]] = []
         self.update_count = 0
         self._tpc: int | None = None  # ticks per count, cached until PSC or a clock changes
         self._next: int | None = None  # counter_event(), cached until the state changes
@@ -323,8 +326,13 @@ class Timer(Peripheral):
         """UG or a slave reset: counter to 0 (14.3.1) and an UEV."""
         self.update_event(from_counter=False)
         self.reanchor(0)
+        self._period_started()
         self.trgo_update_pulse()
         self.refresh_refs()
+
+    def _period_started(self) -> None:
+        for listener in self.period_listeners:
+            listener(self.machine.now)
 
     def _channel_events(self, start: int, end: int) -> list[tuple[int, int]]:
         """(position, channel) compare matches with start < position <= end."""
@@ -395,6 +403,8 @@ class Timer(Peripheral):
                     at_top = bool(self.centre_aligned) and (update // self.arr) % 2 == 1
                     self.update_event(from_counter=True)
                     self.reanchor(self.arr if at_top else 0)
+                    if not at_top:
+                        self._period_started()
                     self.trgo_update_pulse()
                 self.refresh_refs()
                 self.update_lines()

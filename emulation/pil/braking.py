@@ -1,0 +1,585 @@
+"""Scenario 1 of issue 13: the firmware brakes the simulated motor.
+
+The drive firmware boots on the emulated chip (`scenarios.Run`, with every invariant
+of the fault scenarios watched at every step); then the motor of `emulation.pil.plant`
+is attached, spinning at the start speed with no current (the bridge is idle until
+the first Hall edge), and the closed current loop holds the commanded braking current
+(`app_braking_current_ma`, the firmware's command variable) while the rotor slows
+under the braking torque down to the stop speed.
+
+The chip runs in chunks that end at the next Hall crossing the plant predicts from
+its speed; at the end of each chunk the plant is advanced to the chip's tick and the
+Hall pins take the rotor's sector (one line changes per sector, at the crossing to
+within the CPU's last basic block).
+
+Each commutation is measured the way `sim.metrics` measures a simulated one: time 0
+is the COM event the Hall edge's handler raises (the pattern changes and the carrier
+restarts there, as at the simulation's t = 0); I is the turn-off current's mean over
+the last whole PWM period before it; the commutation ends when the turn-off current
+reaches zero or at the commutation-end COM event, whichever is later; the window is
+every PWM period overlapping the commutation plus the one after (issue 16), and the
+deviation is the signed extreme of (|i_nc| - I) / I over the window's period means.
+The SIL simulation of the same commutation (`sim.runs`: the generated C core on the
+host against the switched plant) runs at the PIL's speed, current and main duty.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from unicorn import UC_HOOK_MEM_READ, UC_HOOK_MEM_WRITE
+
+from codegen.control.sensing import steady_signals
+from codegen.spec_model import Spec
+from emulation.pil.bus import PilError, svd_interrupt
+from emulation.pil.plant import LoadTorque, Mechanics, MotorPlant, PeriodRecord
+from emulation.pil.rcc import TICK_HZ
+from emulation.pil.scenarios import Outcome, Run
+from emulation.pil.scs import IRQ_BASE
+from sim.scenario import PRE_EDGE_PERIODS, Case, previous_edge, switching_table
+
+#: What the timing handler hands the core, as fields of the port's state (`static
+#: struct {...} port` of templates/c/stm32f103_port.c.j2), read from the chip's RAM
+#: (the ELF has no debug information: the offsets come from the generated source,
+#: `port_layout`). A wrong offset would make the SIL core's outputs differ from those
+#: the chip applied, which the comparison reports for every commutation.
+PORT_FIELDS = ("period", "main_duty", "bus_code", "current")
+_C_SIZES = {"uint32_t": 4, "int32_t": 4, "uint16_t": 2, "int16_t": 2, "uint8_t": 1, "*": 4}
+
+
+def port_layout(port_source: Path) -> dict[str, tuple[int, int]]:
+    """(offset, size) of PORT_FIELDS in the port's state, from its declaration in the
+    generated stm32f103_port.c (ARM EABI: each scalar aligned to its size)."""
+    text = port_source.read_text(encoding="utf-8")
+    start = text.index("static struct {")
+    body = text[start : text.index("} port;", start)].splitlines()[1:]
+    out: dict[str, tuple[int, int]] = {}
+    offset = 0
+    for line in body:
+        declaration = line.split(";")[0].strip()
+        if not declaration:
+            continue
+        name = declaration.split()[-1].lstrip("*")
+        kind = "*" if "*" in declaration else declaration.split()[-2]
+        if kind not in _C_SIZES:
+            break  # a struct member: every field the timing reads comes before it
+        size = _C_SIZES[kind]
+        offset = -(-offset // size) * size
+        out[name] = (offset, size)
+        offset += size
+    missing = [f for f in PORT_FIELDS if f not in out]
+    if missing:
+        raise PilError(f"{port_source}: the port's state has no field {', '.join(missing)}")
+    return {f: out[f] for f in PORT_FIELDS}
+
+
+#: Commutations after the first edge that are not measured: the Hall interval, the
+#: current loop and the commutation timing start from nothing at the first edge.
+SETTLING_EDGES = 6
+
+
+@dataclass(frozen=True)
+class BrakingSetup:
+    start_rpm: float
+    stop_rpm: float
+    current_a: float
+    inertia_scale: float = 1.0  # times the spec's rotor inertia
+    load_torque: LoadTorque = 0.0
+    #: emulated seconds after which the run stops whatever the speed
+    max_seconds: float = 10.0
+    #: stop after this many Hall edges (None: at the stop speed)
+    max_edges: int | None = None
+    #: seconds from the start whose instantaneous currents are kept (the figures)
+    trace_seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class Commutation:
+    """One Hall edge of the braking run, measured as `sim.metrics` measures one."""
+
+    index: int
+    hall_tick: int
+    com_tick: int  # the Hall edge handler's COM event: time 0
+    end_com_tick: int | None  # the commutation-end COM event
+    sector_to: int
+    speed_rpm: float  # at time 0
+    current_a: float  # I: the turn-off current's mean over the last whole pre-edge period
+    main_duty: float  # the steady switch's last compare value written before the edge, / period
+    sampled_code: int  # the firmware's I at the edge: its latest sample, ADC code
+    #: the phase currents PRE_EDGE_PERIODS whole PWM periods before the cut one
+    start_currents: tuple[float, float, float]
+    #: the steady switch's duty in force in each of those periods and the cut one
+    pre_duties: tuple[float, ...]
+    #: what the timing handler read at its last run before the edge (port state)
+    firmware_inputs: dict[str, int]
+    #: (D_on, D_off, commutation ticks) the chip applied: CCRx at the COM event, TIM3 CCR2
+    applied: tuple[int, int, int]
+    #: the turn-on switch's duty from the commutation end on (the loop's latest)
+    main_duty_after: float
+    #: the fraction of a PWM period that had run at the COM event (the carrier restarts)
+    carrier_phase: float
+    commutation_s: float  # from time 0 to the end of the commutation
+    zero_s: float | None  # the turn-off current reaching zero, from time 0
+    period_deviations_pct: tuple[float, ...]
+    deviation_worst_pct: float
+    #: the turn-on switch's duty in force in each PWM period from the commutation end
+    post_duties: tuple[float, ...] = ()
+    sil_worst_pct: float | None = None
+    #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
+    sil_outputs: tuple[int, int, int] | None = None
+    sil_period_deviations_pct: tuple[float, ...] = ()
+
+    @property
+    def difference_pp(self) -> float | None:
+        """How far the PIL's deviation is from the SIL's: the largest difference of the
+        window's period means, period by period, and of the worst deviations'
+        magnitudes (where the positive and the negative extreme of a window are nearly
+        equal, its signed extreme flips sign on a hundredth of a point; the magnitudes
+        and the periods do not)."""
+        if self.sil_worst_pct is None:
+            return None
+        pairs = zip(self.period_deviations_pct, self.sil_period_deviations_pct, strict=False)
+        periods = max((abs(a - b) for a, b in pairs), default=0.0)
+        extremes = abs(abs(self.deviation_worst_pct) - abs(self.sil_worst_pct))
+        return max(periods, extremes)
+
+    @property
+    def window_lengths(self) -> tuple[int, int]:
+        """Periods in the PIL's and the SIL's window."""
+        return len(self.period_deviations_pct), len(self.sil_period_deviations_pct)
+
+
+@dataclass
+class BrakingResult:
+    spec: Spec
+    setup: BrakingSetup
+    outcome: Outcome
+    commutations: list[Commutation]
+    periods: list[PeriodRecord]
+    start_tick: int
+    end_tick: int
+    end_rpm: float
+    gate_log: list[tuple[int, tuple[bool | None, ...]]]
+    speed_trace: list[tuple[int, float]] = field(default_factory=list)
+    mechanics: Mechanics | None = None
+    #: (s, phase currents) of the first `setup.trace_seconds`
+    trace: list[tuple[float, np.ndarray]] = field(default_factory=list)
+    edges: int = 0
+    wall_s: float = 0.0
+
+    @property
+    def emulated_s(self) -> float:
+        return (self.end_tick - self.start_tick) / TICK_HZ
+
+
+class BrakingLoop:
+    """A booted `Run` with the motor attached; `run()` brakes it."""
+
+    def __init__(self, elf: Path, port_source: Path, spec: Spec, setup: BrakingSetup) -> None:
+        self.spec = spec
+        self.setup = setup
+        self.run = Run(elf, spec)
+        self.machine = self.run.machine
+        self.mechanics = Mechanics.of_spec(
+            spec, inertia_scale=setup.inertia_scale, load_torque=setup.load_torque
+        )
+        sector = spec.hall.sequence.index(self._pins_code())
+        self.plant = MotorPlant(
+            spec,
+            self.machine.tim1,
+            self.mechanics,
+            setup.start_rpm,
+            angle_deg=60.0 * sector + 30.0,
+            trace_seconds=setup.trace_seconds,
+        )
+        self._couple_sensing()
+        self.machine.write_symbol_u32("app_braking_current_ma", round(setup.current_a * 1000))
+        self.com_ticks: list[int] = []
+        #: TIM1 CCR1..CCR3 in force from each COM event on
+        self.com_compares: list[tuple[int, ...]] = []
+        #: TIM3 CCR2 (the commutation end the last Hall edge scheduled) at each COM event
+        self.com_tim3_ccr2: list[int] = []
+        self._coms_seen = self.machine.tim1.com_events
+        self.machine.tim1.period_listeners.append(self._period_started)
+        #: (tick, sector entered, compare values last written (CCRx preload), ARR) at every Hall edge
+        self.edges: list[tuple[int, int, tuple[int, ...], int]] = []
+        #: the braking current's latest injected sample (the firmware's I) at each edge
+        self.sampled_codes: list[int] = []
+        #: JDRx index holding I in each sector (forward), as the port reads it
+        self._slots = {s.sector: s.slot for s in steady_signals(spec) if s.direction == "forward"}
+        self.speed_trace: list[tuple[int, float]] = []
+        self.start_tick = self.machine.now
+        self._code = self._pins_code()
+        self._ccer_at_edge = self.machine.tim1.ccer
+        #: a Hall code the board forces on the pins (a fault), instead of the rotor's
+        self.hall_override: int | None = None
+        #: (tick, inputs) at every entry of the timing handler (TIM1_TRG_COM)
+        self.timing_runs: list[tuple[int, dict[str, int]]] = []
+        self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
+        self._entries_seen = len(self.machine.entry_log)
+        self._port = self.machine.symbol("port")
+        self._layout = port_layout(port_source)
+        self.machine.listeners.append(self._watch_timing)
+        # what the timing handler reads is taken as it reads it (a higher-priority
+        # handler may change a field between the handler's entry and its read)
+        self.machine.uc.hook_add(
+            UC_HOOK_MEM_WRITE, self._on_publish, None, self._port, self._port + 3
+        )
+        for name, (offset, size) in self._layout.items():
+            address = self._port + offset
+            self.machine.uc.hook_add(
+                UC_HOOK_MEM_READ, self._on_port_read, name, address, address + size - 1
+            )
+
+    def _watch_timing(self, _machine: object) -> None:
+        """At each entry of the timing handler, a new record of its inputs (the fields'
+        values now, replaced by what it reads)."""
+        log = self.machine.entry_log
+        for tick, exception in log[self._entries_seen :]:
+            if exception == self._timing:
+                self.timing_runs.append((tick, self._port_inputs()))
+        self._entries_seen = len(log)
+
+    def _on_publish(
+        self, _uc: object, _access: int, _address: int, _size: int, _value: int, _data: object
+    ) -> None:
+        """The timing handler publishes its result (`port.timing`, the state's first
+        word): the Hall edge applies it from now on."""
+        active = self.machine.nvic.active
+        if active and active[-1] == self._timing and self.timing_runs:
+            self.timing_runs[-1][1]["published"] = self.machine.now
+
+    def _on_port_read(
+        self, _uc: object, _access: int, _address: int, _size: int, _value: int, name: str
+    ) -> None:
+        active = self.machine.nvic.active
+        if (
+            active
+            and active[-1] == self._timing
+            and self.timing_runs
+            and "published" not in self.timing_runs[-1][1]  # reads after it are not inputs
+        ):
+            offset, size = self._layout[name]
+            word = self.machine.read_u32(self._port + offset)
+            self.timing_runs[-1][1][name] = word & ((1 << (8 * size)) - 1)
+
+    def _port_inputs(self) -> dict[str, int]:
+        out = {}
+        for name, (offset, size) in self._layout.items():
+            word = self.machine.read_u32(self._port + offset)
+            out[name] = word & ((1 << (8 * size)) - 1)
+        return out
+
+    def _pins_code(self) -> int:
+        from emulation.pil.runner import HALL_PINS
+
+        code = 0
+        for port, pin, bit in HALL_PINS:
+            code |= int(getattr(self.machine, port).input_level(pin)) << bit
+        return code
+
+    def _couple_sensing(self) -> None:
+        """Each current channel reads its shunt through the spec's chain at the ADC's
+        sample instant."""
+        offset = float(self.spec.adc.current_offset_v)
+        gain = float(self.spec.adc.current_gain_v_per_a)
+        sensing = self.spec.sensing
+        plant = self.plant
+        channels = sensing.current_channels
+        if sensing.topology == "dc_link_shunt":
+            shunts = {channels[0]: 0}
+        else:
+            shunts = {channel: 1 + phase for phase, channel in enumerate(channels)}
+        for channel, index in shunts.items():
+
+            def volts(tick: int, index: int = index) -> float:
+                return offset + gain * plant.shunt_currents(tick)[index]
+
+            self.machine.adc1.set_input(channel, volts)
+
+    def _period_started(self, tick: int) -> None:
+        tim1 = self.machine.tim1
+        if tim1.com_events != self._coms_seen:
+            self._coms_seen = tim1.com_events
+            self.com_ticks.append(tick)
+            self.com_compares.append(tuple(tim1.ccr[1:4]))
+            self.com_tim3_ccr2.append(self.machine.tim3.ccr[2])
+
+    def _hall_edge(self) -> None:
+        tim1 = self.machine.tim1
+        before = tim1.ccer
+        if self.edges and tim1.moe and self._ccer_at_edge == before and len(self.edges) > 1:
+            self.run._note(
+                f"the Hall edge at {self.edges[-1][0]} did not commutate (CCER 0x{before:04x})"
+            )
+        self._ccer_at_edge = before
+        leaving = self.plant.sector_before_edge()
+        code = self.machine.adc1.jdr[self._slots[leaving]]
+        self.run.board.set_hall(self.plant.hall_code)
+        self.edges.append(
+            (self.machine.now, self.plant.sector, tuple(tim1.ccr_preload[1:4]), tim1.arr)
+        )
+        self.sampled_codes.append(code)
+
+    def advance_to(self, target: int) -> None:
+        """Run the chip and the motor to `target`, the Hall pins following the rotor
+        (chunks end at each Hall crossing the plant predicts)."""
+        machine, plant = self.machine, self.plant
+        while machine.now < target:
+            crossing = plant.next_sector_tick()
+            machine.run_until(min(target, crossing if crossing is not None else target))
+            plant.advance(machine.now)
+            self._follow_rotor()
+
+    def _follow_rotor(self) -> None:
+        if self.hall_override is None and self.plant.hall_code != self._code:
+            self._code = self.plant.hall_code
+            self._hall_edge()
+
+    def run_braking(self) -> BrakingResult:
+        setup = self.setup
+        machine, plant = self.machine, self.plant
+        limit = self.start_tick + round(setup.max_seconds * TICK_HZ)
+        trace_step = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz) * 10
+        while machine.now < limit and plant.speed_rpm > setup.stop_rpm:
+            if setup.max_edges is not None and len(self.edges) >= setup.max_edges:
+                break
+            self.speed_trace.append((machine.now, plant.speed_rpm))
+            self.advance_to(min(limit, machine.now + trace_step))
+        # half a sector more, so the last commutations have their window
+        self.advance_to(
+            machine.now
+            + round(TICK_HZ * self.plant.drive.sector_time_s(max(plant.speed_rpm, 1.0)) / 2)
+        )
+        outcome = self.run.outcome(
+            "braking",
+            None,
+            None,
+            None,
+            f"from {setup.start_rpm:g} rpm to {setup.stop_rpm:g} rpm at {setup.current_a:g} A",
+        )
+        log = machine.tim1.gate_log or []
+        return BrakingResult(
+            self.spec,
+            setup,
+            outcome,
+            self.commutations(),
+            list(plant.periods),
+            self.start_tick,
+            machine.now,
+            plant.speed_rpm,
+            log,
+            self.speed_trace,
+            self.mechanics,
+            list(plant.trace),
+            len(self.edges),
+            time.perf_counter() - self.run.wall,
+        )
+
+    # ------------------------------------------------------------------ measurement
+    def commutations(self) -> list[Commutation]:
+        out = []
+        for index in range(SETTLING_EDGES, len(self.edges) - 1):
+            measured = self._measure(index)
+            if measured is not None:
+                out.append(measured)
+        return out
+
+    def _measure(self, index: int) -> Commutation | None:
+        hall, sector, compares, arr = self.edges[index]
+        following = self.edges[index + 1][0]
+        coms = [t for t in self.com_ticks if hall <= t < following]
+        if not coms:
+            return None
+        start = coms[0]
+        end_com = coms[1] if len(coms) > 1 else None
+        first = self.com_ticks.index(start)
+        if first + 1 >= len(self.com_ticks):
+            return None
+        # the inputs of the last timing published before the edge's handler applied it
+        runs = [inputs for _, inputs in self.timing_runs if inputs.get("published", start) < start]
+        if not runs:
+            return None
+        edge = switching_table().edge_into(sector, "forward")
+        periods = self.plant.periods
+        full = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz)
+        # the period the COM event cuts short (the carrier restarts there): I is the
+        # turn-off current's mean over it, as `sim.scenario.pre_edge_state` solves the
+        # simulation's last pre-edge period (cut at t = 0 by the same restart)
+        before = [p for p in periods if p.end <= start]
+        if len(before) < PRE_EDGE_PERIODS + 1 or before[-1].end != start:
+            return None
+        phase = (before[-1].end - before[-1].start) / full
+        phase = 0.0 if phase >= 1.0 else phase
+        # the simulation starts PRE_EDGE_PERIODS whole periods before the cut one
+        origin = -PRE_EDGE_PERIODS - (1 if phase > 0.0 else 0)
+        if any(p.end - p.start != full for p in before[origin:-1]):
+            return None  # an earlier restart (a commutation end) in the pre-edge run
+        off, nc = edge.turn_off, edge.non_commutating
+        current = edge.current_signs[off] * before[-1].currents[off]
+        if current <= 0.0:
+            return None
+        zero = next(
+            (
+                t
+                for t, kind, phase in self.plant.events
+                if kind == "zero" and phase == off and start <= t < following
+            ),
+            None,
+        )
+        sector_ticks = following - start
+        physical = zero - start if zero is not None else sector_ticks
+        commanded = end_com - start if end_com is not None else 0
+        length = min(max(commanded, physical), sector_ticks)
+        inside = [p for p in periods if p.start >= start and p.start < start + length]
+        if not inside:
+            inside = [p for p in periods if p.start >= start][:1]
+        later = [p for p in periods if p.start >= inside[-1].end]
+        window = inside + later[:1]
+        sign = edge.current_signs[nc]
+        deviations = tuple((sign * p.currents[nc] - current) / current * 100 for p in window)
+        worst = max(deviations, key=abs)
+        # the port modulates the incoming switch of the last edge through the sector
+        steady = previous_edge(edge).modulated_on
+        steady_channel = (int(steady[1:]) - 1) // 2 + 1  # T1..T6 -> CH1..CH3
+        counts = arr if self.machine.tim1.centre_aligned else arr + 1
+        duty = compares[steady_channel - 1] / counts
+        speed = next((p.speed_rpm for p in periods if p.end >= start), self.plant.speed_rpm)
+        on_channel = (int(edge.modulated_on[1:]) - 1) // 2
+        end_tick = end_com if end_com is not None else start
+        post = tuple(
+            p.compares[on_channel] / counts
+            for p in periods
+            if end_tick <= p.start < following and p.start <= window[-1].end
+        )
+        off_channel = (int(edge.modulated_off[1:]) - 1) // 2
+        during = self.com_compares[first]
+        after = self.com_compares[first + 1][on_channel]
+        applied = (during[on_channel], during[off_channel], self.com_tim3_ccr2[first + 1])
+        return Commutation(
+            index=index,
+            hall_tick=hall,
+            com_tick=start,
+            end_com_tick=end_com,
+            sector_to=sector,
+            speed_rpm=speed,
+            current_a=current,
+            main_duty=duty,
+            sampled_code=self.sampled_codes[index],
+            start_currents=before[origin].start_currents,
+            pre_duties=tuple(p.compares[steady_channel - 1] / counts for p in before[origin:]),
+            firmware_inputs=runs[-1],
+            applied=applied,
+            main_duty_after=after / counts,
+            post_duties=post,
+            carrier_phase=phase,
+            commutation_s=length / TICK_HZ,
+            zero_s=None if zero is None else (zero - start) / TICK_HZ,
+            period_deviations_pct=deviations,
+            deviation_worst_pct=worst,
+        )
+
+
+def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
+    """Each commutation with the SIL simulation's deviation (the spec's method, the
+    generated C core on the host, the switched plant) at the PIL's speed, current I,
+    carrier phase and main duty, the core told the current the firmware sampled, and
+    the bridge modulated as the port modulates it (`Case.mid_sector_takeover` False)."""
+    from dataclasses import replace
+
+    from sim.drive import Drive
+    from sim.runs import simulate
+    from sim.sil import core_command, prepare_cores
+
+    method = spec.controller.method
+    cores = prepare_cores(spec, (method,))
+    core, scale = cores.cores[method], cores.scaling
+    per_code = float(scale.amps_per_current_code)
+    drive = Drive.from_spec(spec)
+    out = []
+    for c in commutations:
+        edge = switching_table().edge_into(c.sector_to, "forward")
+        case = Case(
+            drive,
+            edge,
+            c.speed_rpm,
+            c.current_a,
+            "spec",
+            c.carrier_phase,
+            mid_sector_takeover=False,
+            pre_duty=c.pre_duties,
+            start_currents=c.start_currents,
+            post_duties=c.post_duties or None,
+            tim1_centre=True,
+        )
+        fw = c.firmware_inputs
+        overrides = {
+            "hall_period_ticks": fw["period"],
+            "bus_voltage_adc": fw["bus_code"],
+            "phase_current_adc": fw["current"],
+            "main_duty_counts": fw["main_duty"],
+        }
+        sampled = (fw["current"] - scale.current_offset_code) * per_code
+        command = core_command(core, spec, scale, case, sampled, c.main_duty, overrides)
+        # the chip's COM-to-COM time: the commutation ticks plus the end handler's
+        # latency minus the edge handler's (the SIL's ideal timing has neither)
+        if c.end_com_tick is not None:
+            command = replace(command, commutation_time_s=(c.end_com_tick - c.com_tick) / TICK_HZ)
+        command = replace(command, main_duty=c.main_duty_after)
+        outputs = command.core_outputs
+        run = simulate(case, command, "switched")
+        out.append(
+            replace(
+                c,
+                sil_worst_pct=run.metrics.deviation_worst_pct,
+                sil_period_deviations_pct=run.metrics.period_deviations_pct,
+                sil_outputs=(
+                    outputs["turn_on_compare"],
+                    outputs["turn_off_compare"],
+                    outputs["commutation_ticks"],
+                ),
+            )
+        )
+    return out
+
+
+def brake(
+    elf: Path, port_source: Path, spec: Spec, setup: BrakingSetup, *, sil: bool = True
+) -> BrakingResult:
+    """The braking run of `setup`; `port_source` the generated stm32f103_port.c the ELF
+    was built from."""
+    result = BrakingLoop(elf, port_source, spec, setup).run_braking()
+    if sil:
+        result.commutations = with_sil(spec, result.commutations)
+    return result
+
+
+#: Hall edges of the short version (`make test`): the settling ones and a dozen measured
+SHORT_EDGES = SETTLING_EDGES + 12
+
+
+def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
+    """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
+    speed) at its nominal braking current, with its own rotor inertia: for the paper
+    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). The short version
+    stops after SHORT_EDGES Hall edges."""
+    top = float(spec.controller.speed_max_rpm)
+    low = float(spec.controller.speed_min_rpm)
+    sector = 10.0 / (0.92 * top * spec.motor.pole_pairs)
+    return BrakingSetup(
+        0.92 * top,
+        max(low, 0.1 * top),
+        float(spec.controller.braking_current_nominal_a),
+        max_edges=SHORT_EDGES if short else None,
+        max_seconds=30.0,
+        # the first measured commutation and its window, for the figure
+        trace_seconds=(SETTLING_EDGES + 3) * sector,
+    )
+
+
+def worst_difference(commutations: list[Commutation]) -> Commutation | None:
+    measured = [c for c in commutations if c.difference_pp is not None]
+    return max(measured, key=lambda c: abs(c.difference_pp or 0.0), default=None)

@@ -1,0 +1,309 @@
+"""The braking section of PIL.md and its figures (matplotlib, Agg, byte-stable PNGs as
+in sim/figures.py): speed and braking current over the run, the six gate signals and
+the phase currents through one measured commutation, and each commutation's
+deviation on the chip (PIL) against the SIL simulation of the same firmware."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from emulation.pil.braking import BrakingResult, Commutation, worst_difference
+from emulation.pil.rcc import TICK_HZ
+from sim.scenario import switching_table
+
+DPI = 110
+#: The ±1 pp the issue asks of every commutation (never widened)
+AGREEMENT_PP = 1.0
+#: Rows of the per-commutation table in PIL.md (evenly spread, the worst always in);
+#: every commutation is in braking_commutations.csv
+TABLE_ROWS = 30
+PHASES = "ABC"
+SWITCHES = ("T1 (A+)", "T2 (A-)", "T3 (B+)", "T4 (B-)", "T5 (C+)", "T6 (C-)")
+
+
+def _save(fig: plt.Figure, path: Path) -> None:
+    """Written beside and renamed: a reader never sees half a PNG."""
+    partial = path.with_name(f".{path.name}.partial")
+    fig.savefig(partial, dpi=DPI, format="png", metadata={"Software": None})
+    plt.close(fig)
+    os.replace(partial, path)
+
+
+def speed_figure(result: BrakingResult, path: Path) -> None:
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 5.0), sharex=True)
+    start = result.start_tick
+    times = np.array([(t - start) / TICK_HZ for t, _ in result.speed_trace])
+    speeds = np.array([v for _, v in result.speed_trace])
+    top.plot(times, speeds, color="tab:blue", lw=1.0)
+    top.set_ylabel("speed (rpm)")
+    top.grid(alpha=0.3)
+    periods = result.periods
+    step = max(1, len(periods) // 4000)
+    t = np.array([(p.start - start) / TICK_HZ for p in periods[::step]])
+    current = np.array([max(abs(c) for c in p.currents) for p in periods[::step]])
+    bottom.plot(t, current, color="tab:red", lw=0.6)
+    bottom.axhline(result.setup.current_a, color="black", lw=0.8, ls="--", label="command")
+    bottom.set_ylabel("|i| PWM-period mean (A)")
+    bottom.set_xlabel("time from the attach (s)")
+    bottom.grid(alpha=0.3)
+    bottom.legend(loc="lower right", fontsize=8)
+    fig.suptitle(f"{result.spec.name}: braking on the emulated STM32F103", fontsize=10)
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def commutation_figure(result: BrakingResult, c: Commutation, path: Path) -> None:
+    """Gates and phase currents from two PWM periods before the edge to the window end."""
+    period = round(TICK_HZ / float(result.spec.inverter.pwm_frequency_hz))
+    lo = c.hall_tick - 2 * period
+    hi = c.com_tick + round(c.commutation_s * TICK_HZ) + 2 * period
+    fig, (gates_ax, current_ax) = plt.subplots(
+        2, 1, figsize=(7.0, 5.6), sharex=True, gridspec_kw={"height_ratios": (1.1, 1.0)}
+    )
+    log = result.gate_log
+    entries = [(t, g) for t, g in log if lo <= t <= hi]
+    before = [g for t, g in log if t < lo]
+    first = before[-1] if before else log[0][1]
+    ticks = [lo] + [t for t, _ in entries] + [hi]
+    states = [first] + [g for _, g in entries] + [entries[-1][1] if entries else first]
+    x = (np.array(ticks) - c.com_tick) * 1e6 / TICK_HZ
+    for k in range(6):
+        level = np.array([1.0 if s[k] is True else 0.0 for s in states])
+        gates_ax.step(x, level * 0.8 + (5 - k), where="post", lw=0.8, color="black")
+    gates_ax.set_yticks([5 - k + 0.4 for k in range(6)], SWITCHES, fontsize=7)
+    gates_ax.set_title("TIM1 gate signals (dead time included)", fontsize=9)
+    points = [(s, i) for s, i in result.trace if lo <= s * TICK_HZ <= hi]
+    if points:
+        t = (np.array([s for s, _ in points]) * TICK_HZ - c.com_tick) * 1e6 / TICK_HZ
+        currents = np.array([i for _, i in points])
+        for phase in range(3):
+            current_ax.plot(t, currents[:, phase], lw=0.8, label=f"i_{PHASES[phase].lower()}")
+    current_ax.axvline(0.0, color="grey", lw=0.6, ls=":")
+    current_ax.set_xlabel("time from the Hall edge's COM event (us)")
+    current_ax.set_ylabel("phase current (A)")
+    current_ax.grid(alpha=0.3)
+    current_ax.legend(fontsize=8, loc="lower right")
+    edge = switching_table().edge_into(c.sector_to, "forward")
+    fig.suptitle(
+        f"commutation {c.index} into sector {c.sector_to} ({edge.modulated_on} on,"
+        f" {edge.modulated_off} off) at {c.speed_rpm:.0f} rpm",
+        fontsize=10,
+    )
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def deviation_figure(result: BrakingResult, path: Path) -> None:
+    cs = [c for c in result.commutations if c.sil_worst_pct is not None]
+    fig, ax = plt.subplots(figsize=(7.0, 3.8))
+    speed = np.array([c.speed_rpm for c in cs])
+    ax.plot(speed, [c.deviation_worst_pct for c in cs], ".", ms=3, label="PIL (emulated chip)")
+    ax.plot(speed, [c.sil_worst_pct for c in cs], "x", ms=3, label="SIL (host core, sim plant)")
+    ax.set_xlabel("speed at the commutation (rpm)")
+    ax.set_ylabel("worst per-period deviation (%)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.invert_xaxis()
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def write_figures(result: BrakingResult, folder: Path) -> list[str]:
+    folder.mkdir(parents=True, exist_ok=True)
+    names = ["braking_speed.png"]
+    speed_figure(result, folder / names[0])
+    traced = [
+        c
+        for c in result.commutations
+        if result.trace and c.com_tick / TICK_HZ + c.commutation_s < result.trace[-1][0]
+    ]
+    if traced:
+        names.append("braking_commutation.png")
+        commutation_figure(result, traced[0], folder / names[-1])
+    if any(c.sil_worst_pct is not None for c in result.commutations):
+        names.append("braking_sil_pil.png")
+        deviation_figure(result, folder / names[-1])
+    return names
+
+
+def csv_text(result: BrakingResult) -> str:
+    lines = [
+        "index,hall_tick,com_tick,sector_to,speed_rpm,current_a,carrier_phase,main_duty,"
+        "d_on,d_off,commutation_ticks,sil_d_on,sil_d_off,sil_commutation_ticks,"
+        "pil_worst_pct,sil_worst_pct,difference_pp"
+    ]
+    for c in result.commutations:
+        sil = c.sil_outputs or ("", "", "")
+        lines.append(
+            f"{c.index},{c.hall_tick},{c.com_tick},{c.sector_to},{c.speed_rpm:.3f},"
+            f"{c.current_a:.5f},{c.carrier_phase:.5f},{c.main_duty:.5f},"
+            f"{c.applied[0]},{c.applied[1]},{c.applied[2]},{sil[0]},{sil[1]},{sil[2]},"
+            f"{c.deviation_worst_pct:.4f},"
+            f"{'' if c.sil_worst_pct is None else f'{c.sil_worst_pct:.4f}'},"
+            f"{'' if c.difference_pp is None else f'{c.difference_pp:.4f}'}"
+        )
+    return "\n".join(lines) + "\n"
+
+
+#: The deviation is relative to I: where the loop can no longer hold the current (I
+#: below this fraction of the command, the end of a braking whose EMF has run out) a
+#: hundredth of an ampere is a hundred percent, and the commutation is not compared
+COMPARED_FRACTION = 0.5
+
+
+def compared(result: BrakingResult, c: Commutation) -> bool:
+    return c.current_a >= COMPARED_FRACTION * result.setup.current_a
+
+
+def problems(result: BrakingResult) -> list[str]:
+    """Every way the braking run breaks its requirement (empty: it passes)."""
+    out = list(result.outcome.problems)
+    for c in result.commutations:
+        if c.sil_outputs is not None and c.sil_outputs[:2] != c.applied[:2]:
+            out.append(
+                f"commutation {c.index}: the chip applied D_on, D_off {c.applied[:2]}, the"
+                f" host core gives {c.sil_outputs[:2]} for the same inputs"
+            )
+        if not compared(result, c):
+            continue
+        if c.difference_pp is not None and c.difference_pp > AGREEMENT_PP:
+            out.append(
+                f"commutation {c.index} at {c.speed_rpm:.0f} rpm: PIL {c.deviation_worst_pct:+.2f} %"
+                f" vs SIL {c.sil_worst_pct:+.2f} %, {c.difference_pp:.2f} pp apart"
+            )
+        if c.sil_worst_pct is not None and c.window_lengths[0] != c.window_lengths[1]:
+            out.append(
+                f"commutation {c.index}: windows of {c.window_lengths[0]} (PIL) and"
+                f" {c.window_lengths[1]} (SIL) PWM periods"
+            )
+    if not result.commutations:
+        out.append("no commutation was measured")
+    return out
+
+
+def _rows(result: BrakingResult) -> list[Commutation]:
+    cs = result.commutations
+    if len(cs) <= TABLE_ROWS:
+        return cs
+    chosen = {round(k * (len(cs) - 1) / (TABLE_ROWS - 1)) for k in range(TABLE_ROWS)}
+    worst = worst_difference(cs)
+    if worst is not None:
+        chosen.add(cs.index(worst))
+    return [cs[k] for k in sorted(chosen)]
+
+
+def section(result: BrakingResult, figures: list[str]) -> list[str]:
+    setup, spec = result.setup, result.spec
+    mech = result.mechanics
+    inertia = mech.inertia_kg_m2 if mech is not None else float("nan")
+    friction = mech.friction_n_m_s if mech is not None else 0.0
+    load = mech.load_torque if mech is not None else 0.0
+    worst = worst_difference([c for c in result.commutations if compared(result, c)])
+    skipped = sum(1 for c in result.commutations if not compared(result, c))
+    found = problems(result)
+    emulated = result.emulated_s
+    lines = [
+        "## Braking the simulated motor (scenario 1)",
+        "",
+        f"The firmware brakes the motor of `sim/` (emulation/pil/plant.py: TIM1's six gate"
+        f" signals with their dead time drive sim's switched bridge, body diodes included)"
+        f" from {setup.start_rpm:g} rpm to {setup.stop_rpm:g} rpm under its closed current"
+        f" loop at {setup.current_a:g} A (app_braking_current_ma). Rotor inertia"
+        f" {inertia:.6g} kg m^2 ({setup.inertia_scale:g} x the spec's), viscous friction"
+        f" {friction:g} N m s/rad, load torque {load if not callable(load) else 'a function of time'} N m;"
+        f" the bus a stiff {float(spec.inverter.bus_voltage_nominal_v):g} V."
+        + (
+            f" Short version: the first {setup.max_edges} Hall edges."
+            if setup.max_edges is not None
+            else ""
+        ),
+        "",
+        f"* Run: {emulated * 1e3:.1f} ms of motor time, {result.edges} Hall edges, from"
+        f" {setup.start_rpm:.0f} rpm to {result.end_rpm:.1f} rpm, in {result.wall_s:.1f} s wall"
+        f" ({emulated * 1e3 / max(result.wall_s, 1e-9):.1f} emulated ms per second, plant"
+        " included).",
+        f"* CPU load from emulated cycles (2 flash wait states): {100 * result.outcome.cpu_load:.2f} %"
+        f" of the run; faults latched: {', '.join(result.outcome.fault_names) or 'none'}.",
+        f"* Invariants (every step, as in the fault scenarios):"
+        f" {'kept' if not result.outcome.violations else '; '.join(result.outcome.violations[:5])}.",
+        f"* Commutations measured: {len(result.commutations)} (the first"
+        " few edges after the attach settle the Hall interval, the loop and the timing).",
+    ]
+    if worst is not None and worst.difference_pp is not None:
+        lines.append(
+            f"* SIL vs PIL, per-period non-commutating-current deviation: largest"
+            f" difference {worst.difference_pp:.2f} pp at commutation {worst.index}"
+            f" ({worst.speed_rpm:.0f} rpm, PIL {worst.deviation_worst_pct:+.2f} %, SIL"
+            f" {worst.sil_worst_pct:+.2f} %); required within ±{AGREEMENT_PP:g} pp."
+            + (
+                f" Not compared: {skipped} commutations whose I is below"
+                f" {COMPARED_FRACTION:g} x the command (the loop cannot hold it there)."
+                if skipped
+                else ""
+            )
+        )
+        same = sum(1 for c in result.commutations if c.sil_outputs == c.applied)
+        duties = sum(
+            1 for c in result.commutations if c.sil_outputs and c.sil_outputs[:2] == c.applied[:2]
+        )
+        ticks = max(
+            (abs(c.sil_outputs[2] - c.applied[2]) for c in result.commutations if c.sil_outputs),
+            default=0,
+        )
+        lines.append(
+            f"* Same arithmetic: given the inputs the chip's timing handler read, the"
+            f" host-compiled core (`bldc_commutate`) returns the D_on and D_off the chip applied"
+            f" for {duties} of {len(result.commutations)} commutations, and its commutation"
+            f" ticks too for {same} (at most {ticks} ticks apart: the port's"
+            " `bldc_commutation_timing` works from the bus state's precomputed reciprocals;"
+            " the SIL runs the chip's COM-to-COM time, so this does not enter the comparison)."
+        )
+    lines += [
+        f"* Result: {'PASS' if not found else 'FAIL: ' + '; '.join(found[:8])}",
+        "",
+        "How each commutation is compared: time 0 is the COM event the Hall edge's handler"
+        " raises (the pattern changes and the carrier restarts there); I is the turn-off"
+        " current's mean over the PWM period that event cuts short, as the simulation's"
+        " pre-edge state is solved; the window is every PWM period overlapping the"
+        " commutation plus the one after (issue 16), the deviation the signed extreme of"
+        " (|i_nc| - I) / I over the window's period means. The SIL run (`sim.runs.simulate`,"
+        " switched plant, the generated C core compiled for the host) is the same"
+        " commutation: the PIL's speed, I and carrier phase at the COM event; the core"
+        " handed the Hall interval, bus code, current code and main duty the chip's timing"
+        " handler read at its last run before the edge (the port computes the next edge's"
+        " timing after the previous one); the phase currents the chip had two PWM periods"
+        " before the edge (with the current the inactive phase's diode carries there: the"
+        " port modulates the incoming switch through the whole sector, `Case."
+        "mid_sector_takeover` False, where the paper's PWM-OFF-PWM hands over at"
+        " mid-sector); the steady switch's duty the chip's current loop had in force in"
+        " each of those periods and in each period after the commutation end"
+        " (`Case.pre_duty`, `Case.post_duties`); the commutation lasting from COM event to"
+        " COM event as on the chip (the commutation ticks plus the difference of the two"
+        " handlers' latencies). Difference: the largest of the window's period-by-period"
+        " differences and of the two worst deviations' magnitudes (a window whose positive"
+        " and negative extremes are nearly equal flips its signed extreme's sign on a"
+        " hundredth of a point).",
+        "",
+        "| # | speed (rpm) | I (A) | carrier phase | D_on | D_off | t_com (ticks) | PIL worst | SIL worst | difference |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for c in _rows(result):
+        sil = "-" if c.sil_worst_pct is None else f"{c.sil_worst_pct:+.2f} %"
+        diff = "-" if c.difference_pp is None else f"{c.difference_pp:.2f} pp"
+        lines.append(
+            f"| {c.index} | {c.speed_rpm:.0f} | {c.current_a:.3f} | {c.carrier_phase:.2f} |"
+            f" {c.applied[0]} | {c.applied[1]} | {c.applied[2]} | {c.deviation_worst_pct:+.2f} % |"
+            f" {sil} | {diff} |"
+        )
+    lines += ["", "Every commutation: `braking_commutations.csv`.", ""]
+    lines += [f"![{name}]({name})" for name in figures]
+    lines.append("")
+    return lines

@@ -1,0 +1,160 @@
+"""The fault scenarios with the motor in the loop: the firmware brakes the simulated
+motor (emulation/pil/braking.py) and, once the loop and the commutations have settled,
+one cause is applied; the latency is measured from the cause to TIM1's MOE cleared,
+against the limits of emulation/pil/scenarios.py, with every invariant of the braking
+run watched throughout and the motor still turning behind the bridge (its diodes
+conduct into the bus after the trip, or the three lower switches short it).
+
+* over-voltage: the bus itself steps to 10 % above inverter.bus_voltage_max (the bridge
+  and the divider both see it) at the start of a PWM period;
+* BKIN over-current: the comparator goes active mid-sector;
+* Hall unplugged: the two low lines are pulled up together (code 7), the rotor turns on;
+* bus ADC stuck at 0: the divider's input reads 0 V, the bridge still sees the bus;
+* rotor stops: the rotor is blocked (speed 0): the Hall code stops changing while the
+  bridge switches; latency from TIM3's wrap.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from codegen.spec_model import Spec
+from emulation.pil.braking import SETTLING_EDGES, BrakingLoop, braking_setup
+from emulation.pil.bus import PilError
+from emulation.pil.iwdg import WatchdogResetError
+from emulation.pil.rcc import TICK_HZ
+from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, sampled_limit
+
+#: Hall edges braked before the cause: the loop, the timing and the commutations run
+EDGES_BEFORE = SETTLING_EDGES + 2
+
+
+@dataclass(frozen=True)
+class PlantFault:
+    key: str
+    run: Callable[[BrakingLoop], Outcome]
+
+
+def _settle(loop: BrakingLoop) -> None:
+    while len(loop.edges) < EDGES_BEFORE:
+        loop.advance_to(loop.machine.now + loop.run.board.pwm_period_ticks())
+
+
+def _third_of_sector(loop: BrakingLoop) -> int:
+    return round(loop.plant.drive.sector_time_s(loop.plant.speed_rpm) * TICK_HZ / 3)
+
+
+def _until_tripped(loop: BrakingLoop, limit: int) -> None:
+    """Run with the motor until MOE clears or `limit` ticks pass; then until main has
+    published app_faults (up to MAIN_WAIT_PERIODS periods more), as the scenarios do."""
+    machine, period = loop.machine, loop.run.board.pwm_period_ticks()
+    end = machine.now + limit
+    while machine.tim1.moe and machine.now < end:
+        loop.advance_to(machine.now + TICK_HZ // 1_000_000)
+    loop.advance_to(machine.now + 2 * period)
+    tripped = machine.tim1.moe_cleared_at
+    for _ in range(MAIN_WAIT_PERIODS):
+        if loop.run.board.symbol("app_faults") or tripped is None:
+            break
+        loop.advance_to(machine.now + period)
+    loop.run.published_after = None if tripped is None else machine.now - tripped
+
+
+def _over_voltage(loop: BrakingLoop) -> Outcome:
+    _settle(loop)
+    loop.advance_to(loop.run.next_update())
+    high = 1.1 * float(loop.spec.inverter.bus_voltage_max_v)
+    cause = loop.machine.now
+    loop.plant.bus_voltage_v = high
+    loop.run.board.set_bus_voltage(high)
+    _until_tripped(loop, 2 * loop.run.board.pwm_period_ticks())
+    return loop.run.outcome(
+        "over-voltage step (motor in the loop)",
+        "OVER_VOLTAGE",
+        cause,
+        loop.run.board.pwm_period_ticks(),
+        "the bus steps 10 % above inverter.bus_voltage_max at a PWM period start",
+    )
+
+
+def _break_input(loop: BrakingLoop) -> Outcome:
+    _settle(loop)
+    loop.advance_to(loop.machine.now + _third_of_sector(loop))
+    cause = loop.machine.now
+    loop.run.board.set_break(True)
+    _until_tripped(loop, loop.run.board.pwm_period_ticks())
+    return loop.run.outcome(
+        "BKIN over-current (motor in the loop)",
+        "OVER_CURRENT",
+        cause,
+        loop.run.board.pwm_period_ticks(),
+        "the comparator on BKIN goes active mid-sector; MOE clears in hardware",
+    )
+
+
+def _hall_unplugged(loop: BrakingLoop) -> Outcome:
+    _settle(loop)
+    loop.advance_to(loop.machine.now + _third_of_sector(loop))
+    cause = loop.machine.now
+    loop.hall_override = 7
+    loop.run.board.set_hall(7)
+    _until_tripped(loop, 2 * loop.run.board.pwm_period_ticks())
+    return loop.run.outcome(
+        "Hall unplugged, code 7 (motor in the loop)",
+        "HALL_INVALID",
+        cause,
+        sampled_limit(loop.spec),
+        "two Hall lines pulled up together while the rotor turns",
+    )
+
+
+def _bus_stuck_at_zero(loop: BrakingLoop) -> Outcome:
+    _settle(loop)
+    loop.advance_to(loop.machine.now + _third_of_sector(loop))
+    cause = loop.machine.now
+    loop.run.board.set_bus_voltage(0.0)
+    _until_tripped(loop, 2 * loop.run.board.pwm_period_ticks())
+    return loop.run.outcome(
+        "bus ADC stuck at 0 (motor in the loop)",
+        "UNDER_VOLTAGE",
+        cause,
+        loop.run.board.pwm_period_ticks(),
+        "the divider's ADC input reads 0 V from mid-sector on; the bridge still sees the bus",
+    )
+
+
+def _rotor_stops(loop: BrakingLoop) -> Outcome:
+    _settle(loop)
+    last_edge = loop.edges[-1][0]
+    loop.plant.speed_rpm = 0.0  # blocked
+    tim3 = loop.machine.tim3
+    wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()
+    _until_tripped(loop, wrap - loop.machine.now + 2 * loop.run.board.pwm_period_ticks())
+    return loop.run.outcome(
+        "rotor stops (motor in the loop)",
+        "HALL_TIMEOUT",
+        wrap,
+        loop.run.board.pwm_period_ticks(),
+        "the rotor is blocked after a Hall edge; latency from TIM3's wrap",
+    )
+
+
+PLANT_FAULTS = (
+    PlantFault("over_voltage", _over_voltage),
+    PlantFault("break_input", _break_input),
+    PlantFault("hall_unplugged", _hall_unplugged),
+    PlantFault("bus_stuck_at_zero", _bus_stuck_at_zero),
+    PlantFault("rotor_stops", _rotor_stops),
+)
+
+
+def run_plant_fault(elf: Path, port_source: Path, spec: Spec, fault: PlantFault) -> Outcome:
+    """One fault with the motor in the loop, braking from the braking scenario's start."""
+    loop = BrakingLoop(elf, port_source, spec, braking_setup(spec, short=True))
+    try:
+        return fault.run(loop)
+    except (PilError, WatchdogResetError) as error:
+        loop.run.violations.append(f"{type(error).__name__}: {error}")
+        return loop.run.outcome(fault.key, "never", None, None, "aborted")
