@@ -59,7 +59,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from emulation.pil.bus import Peripheral, PilError, bits, svd_interrupt
+from emulation.pil.bus import NotYetKnownError, Peripheral, PilError, bits, svd_interrupt
 from emulation.pil.rcc import TICK_HZ
 
 if TYPE_CHECKING:
@@ -461,11 +461,16 @@ class Adc(Peripheral):
             return None
         constant = self._constant_inputs(run)
         for count, (end, sampled, _rank, channel, last) in enumerate(self._regular_steps(run)):
-            if (eoc and last) or (
-                awd
-                and self._watched(channel, injected=False)
-                and not self.ltr <= self.raw(channel, sampled) <= self.htr
-            ):
+            try:
+                outside = (
+                    awd
+                    and self._watched(channel, injected=False)
+                    and not self.ltr <= self.raw(channel, sampled) <= self.htr
+                )
+            except NotYetKnownError:  # a causal input: look again when this one ends
+                self._alarm = end
+                return end
+            if (eoc and last) or outside:
                 self._alarm = end
                 return end
             if count >= LOOKAHEAD or (constant and count >= len(run.channels)):

@@ -53,6 +53,12 @@ class UnmodelledAccessError(PilError):
     """A register or peripheral access that no model implements."""
 
 
+class NotYetKnownError(PilError):
+    """An input asked for an instant the emulated time has not reached: a causal source
+    (the motor in the loop) knows its value only once the chip has run to it. A model
+    that looks ahead (the ADC's analog watchdog) stops there and checks again then."""
+
+
 Reader = Callable[[], int]
 Writer = Callable[[int], None]
 

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from codegen.spec_model import Spec
-from emulation.pil.bus import PilError
+from emulation.pil.bus import NotYetKnownError, PilError
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.tim1 import AdvancedTimer
 from sim.circuit import LegVoltages, resolve
@@ -283,7 +283,7 @@ class MotorPlant:
         if tick <= self.tick:
             return
         if tick > self.tim1.machine.now:
-            raise PilError(
+            raise NotYetKnownError(
                 f"the plant asked to run to {tick}, ahead of the chip ({self.tim1.machine.now})"
             )
         self.tim1._flush(tick)

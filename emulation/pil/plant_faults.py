@@ -25,7 +25,7 @@ from emulation.pil.braking import SETTLING_EDGES, BrakingLoop, braking_setup
 from emulation.pil.bus import PilError
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.rcc import TICK_HZ
-from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, sampled_limit
+from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome
 
 #: Hall edges braked before the cause: the loop, the timing and the commutations run
 EDGES_BEFORE = SETTLING_EDGES + 2
@@ -105,8 +105,8 @@ def _hall_unplugged(loop: BrakingLoop) -> Outcome:
         "Hall unplugged, code 7 (motor in the loop)",
         "HALL_INVALID",
         cause,
-        sampled_limit(loop.spec),
-        "two Hall lines pulled up together while the rotor turns",
+        loop.run.board.pwm_period_ticks(),
+        "two Hall lines pulled up together while the rotor turns (the Hall lines' EXTI)",
     )
 
 
