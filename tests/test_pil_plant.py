@@ -21,7 +21,7 @@ import pytest
 
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
-from emulation.pil.braking import BrakingLoop, BrakingResult, braking_setup, with_sil
+from emulation.pil.braking import BrakingLoop, BrakingResult, Commutation, braking_setup, with_sil
 from emulation.pil.build import build_firmware, checked_in, generate
 from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.plant import Mechanics, MotorPlant
@@ -208,3 +208,50 @@ def test_each_fault_with_the_hub_motor_in_the_loop_should_latch_in_time(
     outcome = run_plant_fault(elf, port, spec, fault)
     assert outcome.problems == [], (outcome.name, outcome.note)
     assert outcome.latency_ticks is not None
+
+
+def _commutation(
+    pil: tuple[float, ...],
+    sil: tuple[float, ...],
+    ext: tuple[float, ...],
+    sil_ext: tuple[float, ...],
+) -> Commutation:
+    return Commutation(
+        index=0,
+        hall_tick=0,
+        com_tick=0,
+        end_com_tick=None,
+        sector_to=0,
+        speed_rpm=1000.0,
+        current_a=5.0,
+        main_duty=0.5,
+        sampled_code=0,
+        start_currents=(0.0, 0.0, 0.0),
+        pre_duties=(),
+        firmware_inputs={},
+        applied=(0, 0, 0),
+        main_duty_after=0.5,
+        carrier_phase=0.0,
+        commutation_s=0.0,
+        zero_s=None,
+        period_deviations_pct=pil,
+        deviation_worst_pct=max(pil, key=abs),
+        sil_worst_pct=max(sil, key=abs),
+        sil_period_deviations_pct=sil,
+        extended_deviations_pct=ext,
+        sil_extended_deviations_pct=sil_ext,
+    )
+
+
+def test_windows_a_period_apart_should_be_compared_over_the_same_periods() -> None:
+    """The PIL's commutation ends just before a period boundary, the SIL's just after:
+    the windows are 2 and 3 periods, and both runs are compared over the 3."""
+    agree = _commutation(
+        (-5.0, -4.0), (-5.1, -4.1, -9.0), (-5.0, -4.0, -9.2, 0.0), (-5.1, -4.1, -9.0, 0.0)
+    )
+    assert agree.compared_periods == 3
+    assert agree.difference_pp == pytest.approx(0.2)  # not |-5.0| vs |-9.0|: 4 pp
+    apart = _commutation(
+        (-5.0, -4.0), (-5.1, -4.1, -9.0), (-5.0, -4.0, -6.0, 0.0), (-5.1, -4.1, -9.0, 0.0)
+    )
+    assert apart.difference_pp == pytest.approx(3.0)

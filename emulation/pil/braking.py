@@ -131,19 +131,37 @@ class Commutation:
     #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
     sil_outputs: tuple[int, int, int] | None = None
     sil_period_deviations_pct: tuple[float, ...] = ()
+    #: the period means' deviations from time 0 on, past the window (the same periods
+    #: in both runs, whichever window is longer)
+    extended_deviations_pct: tuple[float, ...] = ()
+    sil_extended_deviations_pct: tuple[float, ...] = ()
+
+    @property
+    def compared_periods(self) -> int:
+        """The periods both runs are compared on: the longer of the two windows. Each
+        window ends one period after the commutation; where the turn-off current reaches
+        zero a few nanoseconds either side of a period boundary in the two runs, one
+        window is a period longer by definition alone, and the other run's deviation is
+        taken over the same periods."""
+        return max(len(self.period_deviations_pct), len(self.sil_period_deviations_pct))
 
     @property
     def difference_pp(self) -> float | None:
-        """How far the PIL's deviation is from the SIL's: the largest difference of the
-        window's period means, period by period, and of the worst deviations'
-        magnitudes (where the positive and the negative extreme of a window are nearly
-        equal, its signed extreme flips sign on a hundredth of a point; the magnitudes
-        and the periods do not)."""
+        """How far the PIL's deviation is from the SIL's over the same periods (the
+        longer window): the largest difference of the period means, period by period,
+        and of the worst deviations' magnitudes (where the positive and the negative
+        extreme of a window are nearly equal, its signed extreme flips sign on a
+        hundredth of a point; the magnitudes and the periods do not)."""
         if self.sil_worst_pct is None:
             return None
-        pairs = zip(self.period_deviations_pct, self.sil_period_deviations_pct, strict=False)
+        n = self.compared_periods
+        pil = self.extended_deviations_pct[:n] or self.period_deviations_pct
+        sil = self.sil_extended_deviations_pct[:n] or self.sil_period_deviations_pct
+        if len(pil) < n or len(sil) < n:
+            pil, sil = self.period_deviations_pct, self.sil_period_deviations_pct
+        pairs = zip(pil, sil, strict=False)
         periods = max((abs(a - b) for a, b in pairs), default=0.0)
-        extremes = abs(abs(self.deviation_worst_pct) - abs(self.sil_worst_pct))
+        extremes = abs(max(map(abs, pil), default=0.0) - max(map(abs, sil), default=0.0))
         return max(periods, extremes)
 
     @property
@@ -441,6 +459,9 @@ class BrakingLoop:
         window = inside + later[:1]
         sign = edge.current_signs[nc]
         deviations = tuple((sign * p.currents[nc] - current) / current * 100 for p in window)
+        extended = tuple(
+            (sign * p.currents[nc] - current) / current * 100 for p in inside + later[:3]
+        )
         worst = max(deviations, key=abs)
         # the port modulates the incoming switch of the last edge through the sector
         steady = previous_edge(edge).modulated_on
@@ -480,6 +501,7 @@ class BrakingLoop:
             zero_s=None if zero is None else (zero - start) / TICK_HZ,
             period_deviations_pct=deviations,
             deviation_worst_pct=worst,
+            extended_deviations_pct=extended,
         )
 
 
@@ -531,11 +553,21 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
         command = replace(command, main_duty=c.main_duty_after)
         outputs = command.core_outputs
         run = simulate(case, command, "switched")
+        trace = run.trace
+        nc = edge.non_commutating
+        after = np.flatnonzero(trace.period_ends > 1e-12)
+        after = after[np.argsort(trace.period_starts[after])]
+        sign = edge.current_signs[nc]
+        extended = tuple(
+            float((sign * trace.period_currents[k, nc] - c.current_a) / c.current_a * 100)
+            for k in after
+        )
         out.append(
             replace(
                 c,
                 sil_worst_pct=run.metrics.deviation_worst_pct,
                 sil_period_deviations_pct=run.metrics.period_deviations_pct,
+                sil_extended_deviations_pct=extended,
                 sil_outputs=(
                     outputs["turn_on_compare"],
                     outputs["turn_off_compare"],
