@@ -126,7 +126,12 @@
 #define BLDC_PORT_NOINLINE __attribute__((noinline))
 /* Start on a 64-bit flash line: the first fetch brings in four 16-bit instructions. */
 #define BLDC_PORT_LINE_ALIGNED __attribute__((aligned(8)))
+/* No instruction scheduling before register allocation: it hoists loads and constants
+ * to the top, which keeps more values alive than the scratch registers (r0-r3, r12)
+ * hold, and so costs a push and a pop of callee-saved registers. */
+#define BLDC_PORT_FEW_REGISTERS __attribute__((optimize("no-schedule-insns")))
 #else
+#define BLDC_PORT_FEW_REGISTERS
 #define BLDC_PORT_RARE(condition) ((condition) != 0)
 #define BLDC_PORT_COLD
 #define BLDC_PORT_NOINLINE
@@ -269,8 +274,28 @@ static inline uintptr_t port_peripherals(void)
     __asm__("" : "+r"(anchor));
     return anchor;
 }
+/* The same, made again (one MOV) where keeping the first alive would hold one more
+ * register through the Hall edge: every value past the scratch registers (r0-r3,
+ * r12) is a callee-saved one pushed and popped. The MOV is in the asm, volatile and
+ * ordered by a memory clobber, so the compiler can neither share the first's value
+ * nor hoist this one to the top. */
+static inline uintptr_t port_peripherals_again(void)
+{
+#if defined(__arm__)
+    uintptr_t anchor;
+    __asm__ volatile("mov %0, %1" : "=r"(anchor) : "i"(BLDC_PORT_PERIPHERALS) : "memory");
+    return anchor;
+#else
+    return port_peripherals();
+#endif
+}
 #define PORT_AT(anchor, instance, type) \
     ((type *)((anchor) + ((uintptr_t)(instance) - (uintptr_t)BLDC_PORT_PERIPHERALS)))
+
+/* TIM1 register `name` reached from the address of TIM1 CCR1 by a constant offset
+ * (negative: every TIM1 register the Hall edge writes besides CCRx lies below CCR1). */
+#define PORT_TIM1_FROM_CCR1(ccr1, name) \
+    ((volatile uint32_t *)((uintptr_t)(ccr1) - ((uintptr_t)&TIM1->CCR1 - (uintptr_t)&TIM1->name)))
 
 /* Every switch off at the next COM event, nothing scheduled: a direction reversal or
  * no valid timing yet. Not a fault; the next valid edge switches again. */
@@ -307,9 +332,10 @@ BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
 }
 
 /* The Hall edge refused to commutate: find out why. The edge stored its record, pins
- * and interval before calling. */
-BLDC_PORT_COLD static void port_refuse(uintptr_t anchor)
+ * and interval before calling (so the Hall edge branches here with nothing to pass). */
+BLDC_PORT_COLD static void port_refuse(void)
 {
+    const uintptr_t anchor = port_peripherals();
     const uint32_t pins = port.previous_pins;
     if (port.pending == PORT_RECORD_INVALID) {
         /* 000 and 111 read as the same pin levels in any order */
@@ -332,19 +358,23 @@ BLDC_PORT_COLD static void port_refuse(uintptr_t anchor)
  * and schedules. */
 static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
 {
-    TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
-    const uint32_t record = port_edge_of_pins[(port.previous_pins << 3) | pins];
     /* Reading CCR1 clears CC1IF. A wrapped counter (UIF, bit 0) reads as its whole
      * range, the slowest speed the core can be told: 0 - UIF is all ones then, and
      * CCR1 | ARR = ARR (CCR1 <= ARR = 2^16 - 1). No branch; UIF is cleared below, with
      * CC2IF, on every path. */
     const uint32_t wrapped = 0u - (status & TIM_SR_UIF);
-    const uint32_t period = tim3->CCR1 | (wrapped >> 16);
-    const bldc_timing_t *const timing = port.timing;
+    const uint32_t period = PORT_AT(anchor, TIM3, TIM_TypeDef)->CCR1 | (wrapped >> 16);
+    BLDC_PORT_SEQUENCE(); /* the peripheral reads before the state's: fewer values live at once */
+    const uint32_t previous = port.previous_pins;
     port.previous_pins = pins;
     port.period = period;   /* every path below ends in a COM event, which runs the timing */
+    const uint32_t record = port_edge_of_pins[(previous << 3) | pins];
     port.pending = record;  /* the safe state below clears it again */
+    const bldc_timing_t *const timing = port.timing;
+    /* Compared here, so `period` is dead before TIM1 is reached: one register fewer. */
+    const uint32_t too_fast = (uint32_t)(period < timing->period_min);
+    BLDC_PORT_SEQUENCE();
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
     /* Invalid Hall code or sequence (its record's partner field is CC4E, always set);
      * over-speed now, or over-voltage or over-speed when the timing was computed; or a
@@ -353,30 +383,38 @@ static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
      * to the other in one COM event, with no dead time in single-output mode (a
      * direction reversal). One test, one branch: from flash every conditional branch
      * fetches its target. */
-    const uint32_t refused =
-        (uint32_t)(period < timing->period_min) | (tim1->CCER & PORT_RECORD_FORBIDDEN(record));
+    const uint32_t refused = too_fast | (tim1->CCER & PORT_RECORD_FORBIDDEN(record));
     if (BLDC_PORT_RARE(refused != 0u)) {
-        port_refuse(anchor);
+        port_refuse();
         return;
     }
-    /* During the commutation: turn-off switch at D_off, turn-on switch at D_on. */
-    *port_compare(tim1, PORT_RECORD_ON_CHANNEL(record)) = timing->turn_on_compare;
+    /* During the commutation: turn-off switch at D_off, turn-on switch at D_on. One
+     * register, hidden like the anchor, holds CCR1: it reaches CCR1..3 by index and
+     * CCER and EGR by an offset, so the compares need no base register of their own
+     * (which would be a sixth live value: a push and pop). */
+    volatile uint32_t *compare = port_compare(tim1, 0u);
+    __asm__("" : "+r"(compare));
+    compare[PORT_RECORD_ON_CHANNEL(record)] = timing->turn_on_compare;
     BLDC_PORT_SEQUENCE();
-    *port_compare(tim1, PORT_RECORD_OFF_CHANNEL(record)) = timing->turn_off_compare;
+    compare[PORT_RECORD_OFF_CHANNEL(record)] = timing->turn_off_compare;
     BLDC_PORT_SEQUENCE();
-    tim1->CCER = PORT_RECORD_CCER_DURING(record);
-    tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    *PORT_TIM1_FROM_CCR1(compare, CCER) = PORT_RECORD_CCER_DURING(record);
+    *PORT_TIM1_FROM_CCR1(compare, EGR) = BLDC_PORT_EGR_COMMUTATE;
+    const uint32_t ticks = timing->commutation_ticks;
+    BLDC_PORT_SEQUENCE();
 
     /* End of the commutation (Eq. 20) at commutation_ticks after this edge: the counter
      * restarted from 0 at the edge (reset mode), so the compare value is the duration
      * itself. Drop any stale match of the previous value, and if the counter is
-     * already past it (latency longer than t_com) raise the match by software. */
-    const uint32_t ticks = timing->commutation_ticks;
+     * already past it (latency longer than t_com) raise the match by software: EGR
+     * bits are write 1 to act, so writing 0 there does nothing, and the test takes no
+     * branch (the path is as long either way). CNT and ticks are at most 16 bits, so
+     * ticks + ~CNT = ticks - CNT - 1 is negative (bit 31 set) exactly when
+     * CNT >= ticks, and >> 29 brings bit 31 to CC2G's bit 2. */
+    TIM_TypeDef *const tim3 = PORT_AT(port_peripherals_again(), TIM3, TIM_TypeDef);
     tim3->CCR2 = ticks;
     tim3->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
-    if (BLDC_PORT_RARE(tim3->CNT >= ticks)) {
-        tim3->EGR = TIM_EGR_CC2G;
-    }
+    tim3->EGR = ((ticks + ~tim3->CNT) >> (31u - TIM_EGR_CC2G_Pos)) & TIM_EGR_CC2G;
 }
 
 /* TIM3 wrapped (UIF, its interrupt on since the last commutation end): no Hall edge for
@@ -394,7 +432,8 @@ BLDC_PORT_COLD static void port_on_wrap(uintptr_t anchor)
 
 /* Commutation end: outgoing switch off, incoming switch at the main duty. Not inlined
  * into the TIM3 handler, so the Hall edge's path needs fewer registers. */
-BLDC_PORT_NOINLINE BLDC_PORT_FAST_CODE static void port_on_commutation_end(uintptr_t anchor)
+BLDC_PORT_NOINLINE BLDC_PORT_FAST_CODE BLDC_PORT_FEW_REGISTERS
+static void port_on_commutation_end(uintptr_t anchor)
 {
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t record = port.pending;
@@ -640,7 +679,7 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
  * braking current's sample goes straight to the PI; every condition that leads
  * elsewhere is tested at once, with one branch (from flash each conditional branch
  * fetches its target). */
-void ADC1_2_IRQHandler(void)
+BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
 {
     const uintptr_t anchor = port_peripherals();
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
