@@ -461,6 +461,7 @@ class Adc(Peripheral):
             return None
         constant = self._constant_inputs(run)
         for count, (end, sampled, _rank, channel, last) in enumerate(self._regular_steps(run)):
+            self.machine.looking_ahead = True
             try:
                 outside = (
                     awd
@@ -470,6 +471,8 @@ class Adc(Peripheral):
             except NotYetKnownError:  # a causal input: look again when this one ends
                 self._alarm = end
                 return end
+            finally:
+                self.machine.looking_ahead = False
             if (eoc and last) or outside:
                 self._alarm = end
                 return end

@@ -204,6 +204,9 @@ class Machine:
         self.image = image
         self.options = options or MachineOptions()
         self.now = 0
+        #: set while a peripheral looks ahead at its inputs (the ADC's watchdog): a
+        #: causal source (the motor in the loop) answers only what it already knows
+        self.looking_ahead = False
         self.cycle_ticks = TICK_HZ // 8_000_000  # the HSI out of reset
         self.error: BaseException | None = None
         self.sleep_pc: int | None = None

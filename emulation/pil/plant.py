@@ -282,6 +282,10 @@ class MotorPlant:
         """Integrate from the plant's tick to `tick`, the gates as TIM1 drove them."""
         if tick <= self.tick:
             return
+        if self.tim1.machine.looking_ahead:
+            # a look ahead (the ADC's watchdog) must not move the motor past events
+            # the chip has not processed yet (a PWM period's start): it asks again then
+            raise NotYetKnownError(f"the plant is at {self.tick}, asked ahead to {tick}")
         if tick > self.tim1.machine.now:
             raise NotYetKnownError(
                 f"the plant asked to run to {tick}, ahead of the chip ({self.tim1.machine.now})"
