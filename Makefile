@@ -148,8 +148,9 @@ check-generated: setup
 	fi; \
 	echo "check-generated: generated/ is up to date"
 
-# Every test, on every core (pytest-xdist), and the Frama-C proof.
-test: setup lint check-generated prove
+# Every test, on every core (pytest-xdist); the Frama-C proof of each checked-in spec
+# (`make prove`) is one of them (tests/test_prove.py), run first with the other long ones.
+test: setup lint check-generated
 	$(PY) -m pytest -n auto
 
 # Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the

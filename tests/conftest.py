@@ -1,4 +1,5 @@
-"""Session-wide: green means it ran, and the spec fuzzer's outcome counts.
+"""Session-wide: green means it ran, the spec fuzzer's outcome counts, and the long
+tests first.
 
 A skipped test fails the session unless it is on the allow-list below, with its reason:
 a missing tool (a compiler, qemu, chromium, the paper) must make `make test` fail, never
@@ -15,6 +16,13 @@ import pytest
 ALLOWED_SKIPS: dict[str, str] = {}
 
 _skipped: list[tuple[str, str]] = []
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The tests marked `heavy` (a Frama-C proof, a user's whole journey, a motor braking
+    in the loop: 10-90 s each) run first, in their order, so pytest-xdist spreads them
+    over the cores instead of leaving one core on a proof alone at the end."""
+    items.sort(key=lambda item: item.get_closest_marker("heavy") is None)
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:

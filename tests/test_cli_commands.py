@@ -189,6 +189,7 @@ def test_init_converts_datasheet_values_and_records_each_conversion(
     assert "exists" in capsys.readouterr().err
 
 
+@pytest.mark.heavy
 @pytest.mark.parametrize(
     ("name", "datasheet", "edit"),
     [

@@ -32,6 +32,7 @@ from sim.scenario import Case, switching_table
 from sim.schedule import OFF, Schedule, Segment
 from sim.switched import simulate_switched
 
+pytestmark = pytest.mark.heavy
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"

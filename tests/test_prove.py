@@ -8,8 +8,9 @@ or a contract clause that neither WP nor EVA can establish any more. Each check 
 on the unmutated copy first, so it cannot pass vacuously. Frama-C missing fails these
 tests (tests/conftest.py turns skips into failures).
 
-`make prove` (part of `make test`) proves the checked-in specs; this module proves the
-unusual motors in tests/fixtures/specs/.
+This module also proves every checked-in spec (what `make prove` does, writing
+generated/<spec>/PROOF.md) and the unusual motors in tests/fixtures/specs/, one test
+each, so pytest-xdist spreads the Frama-C runs over the cores with the rest of the suite.
 """
 
 from __future__ import annotations
@@ -25,8 +26,9 @@ from codegen.core.module import build_core
 from codegen.proof.harness import INTERVAL, SIGNED_INTERVAL, clz_model, proof_plan
 from codegen.spec_loader import load_spec
 from verify.frama_c import Tools, find_tools, run_eva
-from verify.prove import establish, main, target_at
+from verify.prove import establish, main, target_at, target_for
 
+pytestmark = pytest.mark.heavy
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = {
     "paper_motor": ROOT / "spec" / "paper_motor.yaml",
@@ -202,14 +204,18 @@ def test_prove_should_catch_every_mutant(
         assert methods[caught_by] == "NOT PROVEN", f"{mutant}: {caught_by} still {methods}"
 
 
-@pytest.mark.parametrize("spec", FIXTURES, ids=lambda p: Path(p).stem)
-def test_prove_should_establish_every_fixture_motor(tmp_path: Path, spec: Path) -> None:
-    """The unusual motors: generated into a work folder and proven, 0 alarms (one test
-    each, one Frama-C at a time: pytest-xdist spreads them over the cores)."""
+@pytest.mark.parametrize("spec", [*SPECS.values(), *FIXTURES], ids=lambda p: Path(p).stem)
+def test_prove_should_establish_every_spec(tmp_path: Path, spec: Path) -> None:
+    """`make prove` on each checked-in spec (its shipped generated/<name>/, PROOF.md
+    written there) and each unusual motor (generated into a work folder): proven, 0
+    alarms. One test each, one Frama-C at a time: pytest-xdist spreads them."""
+    target = target_for(str(spec), tmp_path)
+    assert target.shipped == (spec in SPECS.values()), "generated/ is stale: make generate"
     status = main([str(spec), "--build", str(tmp_path), "--jobs", "1"])
     assert status == 0
-    text = (tmp_path / load_spec(spec).name / "PROOF.md").read_text(encoding="utf-8")
-    assert text.startswith(f"# Proof of the `{load_spec(spec).name}` core: PROVEN")
+    name = target.name
+    text = (target.root / "PROOF.md").read_text(encoding="utf-8")
+    assert text.startswith(f"# Proof of the `{name}` core: PROVEN")
     assert "NOT PROVEN" not in text
     assert "| 0 |" in text
 

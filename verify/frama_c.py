@@ -290,11 +290,11 @@ def run_wp(
     provers: tuple[str, ...] = WP_PROVERS,
     skip: tuple[str, ...] = (),
 ) -> WpResult:
-    """WP on the contracts of `functions` (the core's and the harness's), or only on the
-    named `properties` of them."""
+    """WP on the contracts of `functions` (the core's and the harness's), or on the
+    selection `properties` of them: clause names, or `-name` to leave a clause out."""
     work.mkdir(parents=True, exist_ok=True)
     report = work / f"{tag}.csv"
-    selection = ["-wp-prop", ",".join(properties)] if properties else []
+    selection = [f"-wp-prop={','.join(properties)}"] if properties else []
     cmd = [
         *_frama_c(tools),
         *_sources(root, list(plan["sources"]), str(plan["include"])),  # type: ignore[call-overload]

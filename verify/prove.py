@@ -13,8 +13,8 @@ partitioning are generated with the code (generated/<name>/proof/, codegen/proof
 * WP on every contract of the core (the ACSL printed into the header) and on the
   harness's calls.
 * Each contract clause must be established by WP or by EVA (EVA checks a function's
-  postconditions over every input of its own analysis). PROOF.md says which, with the
-  alarms and the time per function. WP's proofs use the contracts of the callees and
+  postconditions over every input of its own analysis; WP is asked only for what EVA
+  leaves). PROOF.md says which, with the alarms and the time per function. WP's proofs use the contracts of the callees and
   the absence of run-time errors, which EVA establishes: the two together close.
 
 Exit status: 0 all proven, 1 an alarm or an unproven contract, 2 a bad spec, 3 a
@@ -154,12 +154,16 @@ def clauses(eva: list[EvaResult], wp: list[WpResult]) -> list[Clause]:
     goal of the clause, in every copy Frama-C makes of an inline function, in one pass or
     the other) or EVA (valid in the analysis of the function's own harness, over every
     input)."""
-    eva_valid = {
-        _key(p) for r in eva for p in r.properties if p.owner == r.function and p.status == "Valid"
-    }
+    own = [p for r in eva for p in r.properties if p.owner == r.function]
+    eva_valid = {_key(p) for p in own if p.status == "Valid"}
     texts = {_key(p): p for run in wp for p in run.properties}
+    by_wp_copies = _wp_valid(wp)
+    for p in own:  # the clauses WP was not asked for (EVA had established them)
+        if p.file in SHIPPED_FILES and p.kind in CONTRACT_KINDS and _key(p) not in by_wp_copies:
+            texts[_key(p)] = p
+            by_wp_copies[_key(p)] = [False]
     out = []
-    for key, copies in _wp_valid(wp).items():
+    for key, copies in by_wp_copies.items():
         p = texts[key]
         by_wp = all(copies)
         provers = _provers(wp, p.owner, p.name) if by_wp and p.kind == "postcondition" else ""
@@ -216,25 +220,68 @@ def _copies(t: Target) -> tuple[str, ...]:
     return tuple(f"{a['function']}_0" for a in analyses if a.get("inline"))
 
 
+def eva_established(eva: EvaResult) -> list[str]:
+    """The named postconditions of the analysed function that EVA established, every
+    instance of each name valid over every input of its analysis: WP is not asked for
+    them (a clause WP cannot prove costs its timeout, a clause EVA has closed costs WP
+    nothing more than a second proof)."""
+    valid: dict[str, bool] = {}
+    for p in eva.properties:
+        if p.owner == eva.function and p.kind == "postcondition" and p.name != p.kind:
+            valid[p.name] = valid.get(p.name, True) and p.status == "Valid"
+    return sorted(name for name, ok in valid.items() if ok)
+
+
+def _first_pass(
+    tools: Tools,
+    t: Target,
+    functions: list[str],
+    work: Path,
+    tag: str,
+    eva: Future[EvaResult] | None,
+) -> WpResult:
+    """WP's first pass on a group, after its function's EVA analysis when it has one:
+    every clause but those EVA established."""
+    done = eva_established(eva.result()) if eva is not None else []
+    selection = [f"-{name}" for name in done] or None
+    return run_wp(tools, t.root, t.plan, functions, work, selection, tag=tag, skip=_copies(t))
+
+
 def prove(targets: list[Target], tools: Tools, build: Path, jobs: int) -> list[Outcome]:
-    """Every EVA analysis and WP's first pass, `jobs` at a time; then WP's second pass
-    on the clauses neither established."""
+    """Every EVA analysis, then WP's first pass on what each left, `jobs` at a time;
+    then WP's second pass on the clauses neither established. Each WP run waits only
+    for an EVA analysis submitted before it, so the pool never waits on itself."""
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        first: dict[str, list[Future[WpResult]]] = {}
-        analyses: dict[str, list[Future[EvaResult]]] = {}
-        for t in targets:
-            work = build / t.name / "frama-c"
-            skip = _copies(t)
-            first[t.name] = [
-                pool.submit(run_wp, tools, t.root, t.plan, fns, work, tag=f"wp_{g}", skip=skip)
+        analyses = {
+            t.name: {
+                str(a["function"]): pool.submit(
+                    run_eva, tools, t.root, t.plan, a, build / t.name / "frama-c"
+                )
+                for a in t.plan["analyses"]  # type: ignore[attr-defined]
+            }
+            for t in targets
+        }
+        first = {
+            t.name: [
+                pool.submit(
+                    _first_pass,
+                    tools,
+                    t,
+                    fns,
+                    build / t.name / "frama-c",
+                    f"wp_{g}",
+                    analyses[t.name].get(g),
+                )
                 for g, fns in _groups(t)
             ]
-            analyses[t.name] = [
-                pool.submit(run_eva, tools, t.root, t.plan, a, work)
-                for a in t.plan["analyses"]  # type: ignore[attr-defined]
-            ]
+            for t in targets
+        }
         outcomes = [
-            Outcome(t, [f.result() for f in analyses[t.name]], [f.result() for f in first[t.name]])
+            Outcome(
+                t,
+                [f.result() for f in analyses[t.name].values()],
+                [f.result() for f in first[t.name]],
+            )
             for t in targets
         ]
         second: list[tuple[Outcome, Future[WpResult]]] = []
@@ -271,11 +318,18 @@ def establish(
     analysis = next(a for a in target.plan["analyses"] if a["function"] == function)  # type: ignore[attr-defined]
     eva = run_eva(tools, target.root, target.plan, analysis, work)
     skip = _copies(target)
-    wp = [run_wp(tools, target.root, target.plan, [function], work, names, skip=skip)]
+    by_eva = set(eva_established(eva)) & set(names)
+    asked = sorted(set(names) - by_eva)
+    wp = (
+        [run_wp(tools, target.root, target.plan, [function], work, asked, skip=skip)]
+        if asked
+        else []
+    )
 
     def methods() -> dict[str, str]:
         rows = clauses([eva], wp)
-        return {c.name: c.method for c in rows if c.function == function and c.name in names}
+        found = {c.name: c.method for c in rows if c.function == function and c.name in names}
+        return {**found, **dict.fromkeys(sorted(by_eva), "EVA")}
 
     left = sorted(n for n, m in methods().items() if m == "NOT PROVEN")
     if left:
