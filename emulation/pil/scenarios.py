@@ -335,27 +335,35 @@ def _hall_unplugged(run: Run) -> Outcome:
     )
 
 
+def _hall_pulse(run: Run, during: int, width: int, what: str) -> int:
+    """The Hall pins at `during` for `width` ticks, then back at the sector's code (the
+    end scheduled on the pins); then one PWM period and four sectors, which must bring
+    no TIM3 edge and leave the bridge switching. Returns the pulse's start."""
+    code = run.spec.hall.sequence[run.sector]
+    captures = run.machine.tim3.captures
+    began = run.machine.now
+    run.board.set_hall(during)
+    run.board.set_hall(code, at=began + width)
+    run.machine.run_for(run.board.pwm_period_ticks())
+    if run.machine.tim3.captures != captures:
+        run.violations.append(f"the {what} made a TIM3 edge")
+    run.turn(4)
+    if not run.machine.tim1.moe:
+        run.violations.append(f"the bridge stopped after the {what}")
+    return began
+
+
 def _hall_glitch(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.machine.run_for(run.sector_ticks() // 3)
-    tim3 = run.machine.tim3
-    captures = tim3.captures
     code = run.spec.hall.sequence[run.sector]
-    width = max(1, tim3._filter_ticks() // 2)
-    # one line flips for half the input filter's time, to a valid code; its end is
-    # scheduled on the pins (the EXTI wakes the CPU at its start)
+    width = max(1, run.machine.tim3._filter_ticks() // 2)
+    # one line flips for half the input filter's time, to a valid code (the EXTI wakes
+    # the CPU at its start)
     flipped = next(code ^ (1 << b) for b in range(3) if (code ^ (1 << b)) not in (0, 7))
     while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
         run.machine.run_for(1)
-    began = run.machine.now
-    run.board.set_hall(flipped)
-    run.board.set_hall(code, at=began + width)
-    run.machine.run_for(run.board.pwm_period_ticks())
-    if tim3.captures != captures:
-        run.violations.append("the glitch passed TIM3's input filter")
-    run.turn(4)
-    if not run.machine.tim1.moe:
-        run.violations.append("the bridge stopped after the glitch")
+    _hall_pulse(run, flipped, width, "glitch")
     return run.outcome(
         "Hall glitch",
         None,
@@ -375,20 +383,11 @@ def _hall_spike(run: Run) -> Outcome:
     while bin(run.spec.hall.sequence[run.sector]).count("1") != 1:
         run.turn(1)
     run.machine.run_for(run.sector_ticks() // 3)
-    code = run.spec.hall.sequence[run.sector]
-    captures = run.machine.tim3.captures
     width = HALL_SPIKE_NS * TICK_HZ // 1_000_000_000
-    began = run.machine.now
-    run.board.set_hall(7)  # the two low lines together: no TI1 edge, the EXTI sees 7
-    run.board.set_hall(code, at=began + width)
-    run.machine.run_for(run.board.pwm_period_ticks())
-    if run.machine.tim3.captures != captures:
-        run.violations.append("the spike made a TIM3 edge")
+    # the two low lines together: no TI1 edge, the EXTI sees 7
+    began = _hall_pulse(run, 7, width, "spike")
     if not any(began <= t <= began + width for _, t in run.machine.exti.edge_log):
         run.violations.append("the spike reached no EXTI line")
-    run.turn(4)
-    if not run.machine.tim1.moe:
-        run.violations.append("the bridge stopped after the spike")
     return run.outcome(
         "Hall spike to code 7",
         None,
