@@ -69,6 +69,16 @@ class Waveform:
         values = [v for _, v in self.points]
         return sign * float(np.interp(angle, angles, values))
 
+    def many(self, angles_deg: np.ndarray) -> np.ndarray:
+        """`self(angle)` for each of `angles_deg`, the same arithmetic on arrays."""
+        angle = np.mod(angles_deg, 360.0)
+        upper = angle >= 180.0
+        angle = np.where(upper, angle - 180.0, angle)
+        sign = np.where(upper, -1.0, 1.0)
+        angles = [a for a, _ in self.points]
+        values = [v for _, v in self.points]
+        return sign * np.interp(angle, angles, values)
+
     def corner_angles(self) -> tuple[float, ...]:
         """Angles in [0, 360) where the slope changes."""
         full = [(a, v) for a, v in self.points] + [(a + 180.0, -v) for a, v in self.points[1:]]
@@ -117,6 +127,16 @@ class BackEmf:
             * self.amplitude_v
             * np.array([self.waveform(angle - rising_zero_deg(self.sectors, p)) for p in range(3)])
         )
+
+    def values_many(self, times: np.ndarray) -> np.ndarray:
+        """`values(t)` for each of `times`, one row each, the same arithmetic on arrays."""
+        if self.shape == "flat":
+            return np.tile(self.values(0.0), (len(times), 1))
+        angle = (
+            self.edge.angle_deg + self._direction * 60.0 * np.asarray(times) / self.sector_time_s
+        )
+        columns = [self.waveform.many(angle - rising_zero_deg(self.sectors, p)) for p in range(3)]
+        return self._direction * self.amplitude_v * np.stack(columns, axis=1)
 
     def affine(self, t0: float, t1: float) -> tuple[np.ndarray, np.ndarray]:
         """(e0, e1) with e(t) = e0 + e1 t on [t0, t1], which must not contain a corner."""

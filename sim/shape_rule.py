@@ -64,16 +64,17 @@ def duty_sum_along(case: Case, current_a: float, times: np.ndarray) -> np.ndarra
     """S(t): the duty sum that holds the non-commutating current, along the shape."""
     rule = numeric_rule()
     drive = case.drive
-    emf = case.emf
+    mirror = 1.0 if case.edge.kind == "upper" else -1.0
+    values = case.emf.values_many(times)
     return np.array(
         [
             rule.duty_sum(
-                *_canonical(case, emf, float(t)),
+                *(mirror * float(values[k, phase]) for phase in case.roles()),
                 drive.resistance_ohm,
                 current_a,
                 drive.bus_voltage_v,
             )
-            for t in times
+            for k in range(len(times))
         ]
     )
 

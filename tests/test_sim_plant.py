@@ -17,8 +17,9 @@ from sim import closed_form
 from sim.circuit import LegVoltages, resolve
 from sim.command import Command
 from sim.drive import Drive
+from sim.emf import TRAPEZOID_120, BackEmf, Waveform
 from sim.resistance import alpha, beta, decay, derive_resistance_rule, i0
-from sim.scenario import Case, paper_edge, run_case
+from sim.scenario import Case, paper_edge, run_case, switching_table
 from sim.schedule import switch_index
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -145,3 +146,22 @@ def test_exact_averaged_plant_should_agree_with_cvodes(drive: Drive) -> None:
         zero = exact.first_zero(case.edge.turn_off)
         assert zero is not None
         assert zero == pytest.approx(cvodes.first_zero(case.edge.turn_off), abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    "points",
+    [TRAPEZOID_120, ((0.0, 0.0), (20.0, 0.7), (75.0, 1.0), (150.0, 0.9), (180.0, 0.0))],
+    ids=["trapezoid", "uneven"],
+)
+def test_emf_values_on_arrays_should_equal_them_one_by_one(
+    points: tuple[tuple[float, float], ...],
+) -> None:
+    """`values_many` (the shaped rule's vector form) gives each instant exactly what
+    `values` gives it, every edge of both directions, before, in and past the sector."""
+    table = switching_table()
+    for edge in table.edges:
+        for shape in ("spec", "flat"):
+            emf = BackEmf(shape, edge, table.sectors("forward"), 37.5, 1.3e-3, Waveform(points))
+            times = np.linspace(-2.0e-3, 4.0e-3, 401)
+            one_by_one = np.array([emf.values(float(t)) for t in times])
+            assert np.array_equal(emf.values_many(times), one_by_one), (edge, shape)
