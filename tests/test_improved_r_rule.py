@@ -240,3 +240,33 @@ def test_design_summary_should_describe_the_shipped_core() -> None:
     assert grid is not None and measured is not None
     undecided = int(grid.group(2)) - int(grid.group(1))
     assert int(measured.group(1)) <= undecided
+
+
+def test_a_rho_should_share_y_product_only_where_the_constants_coincide(
+    design: RuleDesign, spec: Spec, twin: object
+) -> None:
+    """A rho = Y exactly (rho = R T_s / L): the design rounds both per-unit constants to
+    the same integer in the same format, so the core computes one product; a rule whose
+    constants differ keeps two, and both forms prove."""
+    from codegen.ir import c_printer
+    from codegen.methods.improved_r.design import prove_formats
+    from codegen.methods.improved_r.ir import functions, shares_current_scale
+
+    rule = design.rule
+    c = rule.constants
+    assert c.kappa * c.k_rho == c.k_y / c.k_x  # the identity, symbolically
+    assert shares_current_scale(rule)
+    for code in range(c.bus_low, c.bus_high + 1, 37):
+        bus = twin.bus_condition(code)  # type: ignore[attr-defined]
+        own = (bus.x_numerator * rule.kar + (1 << (rule.kar_shift - 1))) >> rule.kar_shift
+        assert bus.a_numerator == own == bus.y_numerator
+    limits = build_core(spec).limits
+    apart = replace(rule, kar=rule.kar + 1)
+    assert not shares_current_scale(apart)
+    assert prove_formats(apart, limits)
+    bus_fn, timing, _ = functions(apart, limits, c.current)
+    assert "KAR_Q" in c_printer.function_definition(bus_fn)
+    assert "bus->a_numerator" in c_printer.function_definition(timing)
+    shared_bus, shared_timing, _ = functions(rule, limits, c.current)
+    assert "KAR_Q" not in c_printer.function_definition(shared_bus)
+    assert "bus->a_numerator" not in c_printer.function_definition(shared_timing)

@@ -51,8 +51,8 @@ PROOF_MUTANTS = [
     (
         "paper_motor_improved_r",
         "narrowed_wide_product",
-        "(((uint64_t)e * (uint64_t)bldc_decay[step][0]) >> 32u)",
-        "((uint64_t)(e * bldc_decay[step][0]) >> 32u)",
+        "(((uint64_t)e * (uint64_t)bldc_decay[step]) >> 32u)",
+        "((uint64_t)(e * bldc_decay[step]) >> 32u)",
         "bldc_commutation_timing",
         "alarm",
     ),

@@ -114,8 +114,8 @@ RULE_MUTANTS = [
     ),
     (
         "inductive_current_ten_percent_low",
-        "#define KAR_Q 1891788u",
-        "#define KAR_Q 1702609u",
+        "const uint32_t a_rho = y;",
+        "const uint32_t a_rho = y * 9u / 10u;",
         "commutation_time",
     ),
     (

@@ -92,7 +92,7 @@ class ImprovedR:
             "ramp_frac_bits": r.ramp_frac_bits,
             "growth_frac_bits": r.growth_frac_bits,
             "decay_table_rows": len(r.decay),
-            "decay_table_bytes": 2 * 4 * len(r.decay),  # (D^(2^k), 2^k) as two uint32_t
+            "decay_table_bytes": 4 * len(r.decay),  # D^(2^k) as one uint32_t (2^k is a shift)
             "carrier_ticks": str(Fraction(int(tau.p), int(tau.q))),
             "emf_shape": shape.description,
             "current_scale": m,
@@ -116,7 +116,7 @@ class ImprovedR:
             formats=formats,
             summary=(
                 f"improved_r, counts in Q{r.counts_frac_bits}, {r.steps}-step carrier-grid search,"
-                f" decay table {len(r.decay)} rows ({8 * len(r.decay)} B), EMF {shape.description};"
+                f" decay table {len(r.decay)} rows ({4 * len(r.decay)} B), EMF {shape.description};"
                 f" bounds over the design grid: duties {round_up_f(design.duty_bound)} counts,"
                 f" t_com {round_up_f(design.ticks_bound)} ticks"
             ),

@@ -184,23 +184,46 @@ def rule_consts(rule: FixedRule) -> RuleConsts:
 
 
 def decay_table(rule: FixedRule) -> Table:
-    """Rows in the search's order, k = K-1 down to 0: (D^(2^k) in Q32, 2^k)."""
+    """Rows in the search's order, k = K-1 down to 0: D^(2^k) in Q32 (the row's 2^k is
+    2^(K-1) >> step, a shift, not a second column)."""
     c = rule.constants
     steps = len(rule.decay)
-    rows = tuple((rule.decay[k], 1 << k) for k in range(steps - 1, -1, -1))
+    rows = tuple((rule.decay[k],) for k in range(steps - 1, -1, -1))
     return Table(
         "bldc_decay",
         U32,
         rows,
-        tuple(f"D^{2**k}, {2**k} PWM periods" for k in range(steps - 1, -1, -1)),
-        f"(D^(2^k) in Q32, 2^k) for k = {steps - 1} .. 0, D = e^-y_1, y_1 = R tau / (L f_hall) ="
-        f" {float(c.step_decay):.6e}: the turn-off current's decay over 2^k PWM periods",
+        tuple(f"D^{2**k}: {2**k} PWM periods" for k in range(steps - 1, -1, -1)),
+        f"D^(2^k) in Q32 for k = {steps - 1} .. 0 (row step: 2^k = 2^{steps - 1} >> step),"
+        f" D = e^-y_1, y_1 = R tau / (L f_hall) = {float(c.step_decay):.6e}: the turn-off"
+        " current's decay over 2^k PWM periods",
+    )
+
+
+def shares_current_scale(rule: FixedRule) -> bool:
+    """A rho = Y exactly (rho = R T_s / L): when both per-unit constants round to the
+    same integer in the same format, the core computes one product for both."""
+    return (rule.kar, rule.kar_shift, rule.a_guard_bits) == (
+        rule.kyx,
+        rule.kyx_shift,
+        rule.y_guard_bits,
     )
 
 
 def bus_condition_function(rule: FixedRule, limits: CoreLimits, k: RuleConsts) -> Function:
     code = var("code", U32)
     xn = var("xn", U32)
+    a_stmts: tuple[Stmt, ...] = ()
+    a_numerator: Expr = var("yn", U32)
+    if not shares_current_scale(rule):
+        a_stmts = (
+            SLet(
+                "an",
+                cast(round_shr(mul(cast(xn, U64), cast(k.kar, U64), U64), rule.kar_shift), U32),
+                "A rho per unit of current",
+            ),
+        )
+        a_numerator = var("an", U32)
     return Function(
         c_name="bldc_bus_condition",
         py_name="bus_condition",
@@ -233,25 +256,19 @@ def bus_condition_function(rule: FixedRule, limits: CoreLimits, k: RuleConsts) -
                 ),
             ),
             SLet("xn", ILongDiv(U32, k.n_x, code), "round(N_X / B)"),
+            SLet(
+                "yn",
+                cast(round_shr(mul(cast(xn, U64), cast(k.kyx, U64), U64), rule.kyx_shift), U32),
+                "Y per unit of current",
+            ),
+            *a_stmts,
             SStruct(
                 "bus",
                 BUS,
                 (
                     ("x_numerator", xn),
-                    (
-                        "y_numerator",
-                        cast(
-                            round_shr(mul(cast(xn, U64), cast(k.kyx, U64), U64), rule.kyx_shift),
-                            U32,
-                        ),
-                    ),
-                    (
-                        "a_numerator",
-                        cast(
-                            round_shr(mul(cast(xn, U64), cast(k.kar, U64), U64), rule.kar_shift),
-                            U32,
-                        ),
-                    ),
+                    ("y_numerator", var("yn", U32)),
+                    ("a_numerator", a_numerator),
                     ("period_min", var("period_min", U32)),
                     ("bus_code", code),
                     ("flags", var("flags", U32)),
@@ -399,8 +416,11 @@ def timing_function(
         ),
         SLet(
             "a_rho",
-            round_shr(mul(fld("bus", "a_numerator", U32), i), rule.a_guard_bits),
-            f"A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q{fc}",
+            var("y", U32)
+            if shares_current_scale(rule)
+            else round_shr(mul(fld("bus", "a_numerator", U32), i), rule.a_guard_bits),
+            f"A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q{fc}"
+            + (" (= Y: the same constant and format)" if shares_current_scale(rule) else ""),
         ),
         SLet(
             "periods",
@@ -483,7 +503,11 @@ def timing_function(
         "step",
         steps,
         (
-            SLet("m", add(n, ILookup(U32, table, index, 1)), "the next candidate: n + 2^k"),
+            SLet(
+                "m",
+                add(n, shr(const(1 << (steps - 1)), index)),
+                f"the next candidate: n + 2^k, 2^k = 2^{steps - 1} >> step",
+            ),
             SIf(
                 cmp("<=", m, var("periods", U32)),
                 (

@@ -104,7 +104,8 @@ def summary_lines(spec_path: str) -> list[str]:
         "",
         "## Decay table",
         "",
-        f"* {len(r.decay)} rows x (D^(2^k) Q32, 2^k) uint32 ({8 * len(r.decay)} bytes), D = e^-y_1",
+        f"* {len(r.decay)} rows x D^(2^k) Q32 uint32 ({4 * len(r.decay)} bytes), D = e^-y_1; the"
+        " row's 2^k is a shift of the step",
         "",
         "## Accuracy (integer prototype against the real-arithmetic reference)",
         "",

@@ -5,7 +5,6 @@
 #define N_X_LOW 1219u /* N_X mod 2^11 */
 #define N_X_SHIFT 11u
 #define KYX_Q 1891788u /* K_Y / K_X in Q44: Y per unit = x_numerator K_Y/K_X */
-#define KAR_Q 1891788u /* kappa K_rho in Q44: A rho per unit = x_numerator kappa K_rho */
 #define CURRENT_OFFSET_Q 2048 /* zero current: 2048 codes x 1 */
 #define CARRIER_DEN 1u /* N = floor(T CARRIER_DEN / CARRIER_NUM) */
 #define CARRIER_NUM 50u /* tau = CARRIER_NUM / CARRIER_DEN = 50 Hall ticks per PWM period */
@@ -111,18 +110,18 @@ const uint8_t bldc_edge_switch[12][2] = {
     {4u, 0u}, /* edge 11: into sector 5 (300-360 deg), reverse 0 deg: non-commutating B via D3, off A (T1), on C (T5) */
 };
 
-/* (D^(2^k) in Q32, 2^k) for k = 9 .. 0, D = e^-y_1, y_1 = R tau / (L f_hall) = 1.875000e-02: the turn-off current's decay over 2^k PWM periods */
-static const uint32_t bldc_decay[10][2] = {
-    {290893u, 512u}, /* D^512, 512 PWM periods */
-    {35346494u, 256u}, /* D^256, 256 PWM periods */
-    {389630643u, 128u}, /* D^128, 128 PWM periods */
-    {1293619290u, 64u}, /* D^64, 64 PWM periods */
-    {2357128029u, 32u}, /* D^32, 32 PWM periods */
-    {3181790030u, 16u}, /* D^16, 16 PWM periods */
-    {3696712610u, 8u}, /* D^8, 8 PWM periods */
-    {3984627933u, 4u}, /* D^4, 4 PWM periods */
-    {4136888524u, 2u}, /* D^2, 2 PWM periods */
-    {4215186937u, 1u}, /* D^1, 1 PWM periods */
+/* D^(2^k) in Q32 for k = 9 .. 0 (row step: 2^k = 2^9 >> step), D = e^-y_1, y_1 = R tau / (L f_hall) = 1.875000e-02: the turn-off current's decay over 2^k PWM periods */
+static const uint32_t bldc_decay[10] = {
+    290893u, /* D^512: 512 PWM periods */
+    35346494u, /* D^256: 256 PWM periods */
+    389630643u, /* D^128: 128 PWM periods */
+    1293619290u, /* D^64: 64 PWM periods */
+    2357128029u, /* D^32: 32 PWM periods */
+    3181790030u, /* D^16: 16 PWM periods */
+    3696712610u, /* D^8: 8 PWM periods */
+    3984627933u, /* D^4: 4 PWM periods */
+    4136888524u, /* D^2: 2 PWM periods */
+    4215186937u, /* D^1: 1 PWM periods */
 };
 
 /* round(N / divisor) for N = high 2^shift + low: two 32-bit divides, no 64-bit helper. N / divisor = q_high 2^shift + (r 2^shift + low) / divisor, r = high mod divisor. */
@@ -150,10 +149,11 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code)
         flags = BLDC_FLAG_INPUT_SATURATED;
     }
     const uint32_t xn = bldc_divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code); /* round(N_X / B) */
+    const uint32_t yn = (uint32_t)(((uint64_t)xn * (uint64_t)KYX_Q + 1073741824ull) >> 31u); /* Y per unit of current */
     const bldc_bus_t bus = {
         .x_numerator = xn,
-        .y_numerator = (uint32_t)(((uint64_t)xn * (uint64_t)KYX_Q + 1073741824ull) >> 31u),
-        .a_numerator = (uint32_t)(((uint64_t)xn * (uint64_t)KAR_Q + 1073741824ull) >> 31u),
+        .y_numerator = yn,
+        .a_numerator = yn,
         .period_min = period_min,
         .bus_code = code,
         .flags = flags,
@@ -189,7 +189,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     const uint32_t i = (uint32_t)((current < 0) ? 0 : current); /* negative currents count as 0 */
     const uint32_t x = (bus->x_numerator + (period >> 1)) / period; /* X in Q7 counts */
     const uint32_t y = (bus->y_numerator * i + 4096u) >> 13u; /* Y = 3 P R I / U_d, Q7 */
-    const uint32_t a_rho = (bus->a_numerator * i + 4096u) >> 13u; /* A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7 */
+    const uint32_t a_rho = y; /* A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7 (= Y: the same constant and format) */
     const uint32_t periods = period * CARRIER_DEN / CARRIER_NUM; /* N: whole PWM periods in the sector */
     const int32_t sigma0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x; /* Sigma(0) = 2P + Y - (sigma_0/4) X: the held duty sum at the edge's EMFs */
     const uint32_t per_tick = bldc_divide_long(x, 0u, 15u, period); /* X / T in Q22 */
@@ -203,9 +203,9 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     uint32_t end_e = 0u;
     /*@ loop invariant 0 <= step <= 10; loop invariant 0 <= n <= 1000; loop invariant 0 <= e <= 2147483648; loop invariant -9223372036854775807 <= end_h <= -1; loop invariant 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
     for (uint32_t step = 0u; step < 10u; ++step) { /* binary lifting: n = the last carrier boundary at which the current remains */
-        const uint32_t m = n + bldc_decay[step][1]; /* the next candidate: n + 2^k */
+        const uint32_t m = n + (512u >> step); /* the next candidate: n + 2^k, 2^k = 2^9 >> step */
         if (m <= periods) {
-            const uint32_t em = (uint32_t)(((uint64_t)e * (uint64_t)bldc_decay[step][0]) >> 32u); /* e^-rho x_m in Q31 */
+            const uint32_t em = (uint32_t)(((uint64_t)e * (uint64_t)bldc_decay[step]) >> 32u); /* e^-rho x_m in Q31 */
             const int32_t total = sigma0 + (int32_t)((growth * m) >> 9u); /* Sigma at m: the held duty sum */
             const int32_t held = (total < 0) ? 0 : (total > 2 * PERIOD_Q) ? 2 * PERIOD_Q : total; /* the duties' range: C_on + C_off in [0, 2P] */
             const int32_t fd = 3 * ((held - PERIOD_Q < 0) ? 0 : held - PERIOD_Q) - held - PERIOD_Q; /* F_d = 2 C_off - C_on - P = 3 C_off - (C_on + C_off) - P of the split */

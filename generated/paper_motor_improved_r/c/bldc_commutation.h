@@ -65,6 +65,7 @@
  *   bldc_divide_long: q_high: uint32_t in [0, 1061882] (12.0 bits spare)
  *   bldc_divide_long: remainder: uint32_t in [0, 3221225471] (0.4 bits spare)
  *   bldc_bus_condition: xn: uint32_t in [1450037102, 2174734422] (1.0 bits spare)
+ *   bldc_bus_condition: yn: uint32_t in [1277385, 1915794] (11.1 bits spare)
  *   bldc_bus_condition: bus.x_numerator: uint32_t in [1450037102, 2174734422] (1.0 bits spare)
  *   bldc_bus_condition: bus.y_numerator: uint32_t in [1277385, 1915794] (11.1 bits spare)
  *   bldc_bus_condition: bus.a_numerator: uint32_t in [1277385, 1915794] (11.1 bits spare)

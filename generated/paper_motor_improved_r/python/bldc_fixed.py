@@ -20,7 +20,6 @@ N_X_HIGH = 2396667768  # N_X >> 11, round(K_X 2^7), K_X = 3.834668e+10
 N_X_LOW = 1219  # N_X mod 2^11
 N_X_SHIFT = 11
 KYX_Q = 1891788  # K_Y / K_X in Q44: Y per unit = x_numerator K_Y/K_X
-KAR_Q = 1891788  # kappa K_rho in Q44: A rho per unit = x_numerator kappa K_rho
 BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
 BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm: a longer period is flagged
 BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
@@ -149,18 +148,18 @@ BLDC_EDGE_SWITCH = (
 )
 
 
-# (D^(2^k) in Q32, 2^k) for k = 9 .. 0, D = e^-y_1, y_1 = R tau / (L f_hall) = 1.875000e-02: the turn-off current's decay over 2^k PWM periods
+# D^(2^k) in Q32 for k = 9 .. 0 (row step: 2^k = 2^9 >> step), D = e^-y_1, y_1 = R tau / (L f_hall) = 1.875000e-02: the turn-off current's decay over 2^k PWM periods
 BLDC_DECAY = (
-    (290893, 512),
-    (35346494, 256),
-    (389630643, 128),
-    (1293619290, 64),
-    (2357128029, 32),
-    (3181790030, 16),
-    (3696712610, 8),
-    (3984627933, 4),
-    (4136888524, 2),
-    (4215186937, 1),
+    290893,
+    35346494,
+    389630643,
+    1293619290,
+    2357128029,
+    3181790030,
+    3696712610,
+    3984627933,
+    4136888524,
+    4215186937,
 )
 
 
@@ -234,7 +233,8 @@ def bus_condition(bus_code: int) -> Bus:
         code = BLDC_BUS_CODE_MIN
         flags = BLDC_FLAG_INPUT_SATURATED
     xn = divide_long(N_X_HIGH, N_X_LOW, N_X_SHIFT, code)  # round(N_X / B)
-    bus = Bus(xn, (xn * KYX_Q + 1073741824) >> 31, (xn * KAR_Q + 1073741824) >> 31, period_min, code, flags)
+    yn = (xn * KYX_Q + 1073741824) >> 31  # Y per unit of current
+    bus = Bus(xn, yn, yn, period_min, code, flags)
     return bus
 
 
@@ -255,7 +255,7 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     i = 0 if current < 0 else current  # negative currents count as 0
     x = (bus.x_numerator + (period >> 1)) // period  # X in Q7 counts
     y = (bus.y_numerator * i + 4096) >> 13  # Y = 3 P R I / U_d, Q7
-    a_rho = (bus.a_numerator * i + 4096) >> 13  # A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7
+    a_rho = y  # A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7 (= Y: the same constant and format)
     periods = period * CARRIER_DEN // CARRIER_NUM  # N: whole PWM periods in the sector
     sigma0 = 2 * PERIOD_Q + y - x  # Sigma(0) = 2P + Y - (sigma_0/4) X: the held duty sum at the edge's EMFs
     per_tick = divide_long(x, 0, 15, period)  # X / T in Q22
@@ -268,9 +268,9 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     end_h = -1
     end_e = 0
     for step in range(10):  # binary lifting: n = the last carrier boundary at which the current remains
-        m = n + BLDC_DECAY[step][1]  # the next candidate: n + 2^k
+        m = n + (512 >> step)  # the next candidate: n + 2^k, 2^k = 2^9 >> step
         if m <= periods:
-            em = e * BLDC_DECAY[step][0] >> 32  # e^-rho x_m in Q31
+            em = e * BLDC_DECAY[step] >> 32  # e^-rho x_m in Q31
             total = sigma0 + (growth * m >> 9)  # Sigma at m: the held duty sum
             held = 0 if total < 0 else 2 * PERIOD_Q if total > 2 * PERIOD_Q else total  # the duties' range: C_on + C_off in [0, 2P]
             fd = 3 * (0 if held - PERIOD_Q < 0 else held - PERIOD_Q) - held - PERIOD_Q  # F_d = 2 C_off - C_on - P = 3 C_off - (C_on + C_off) - P of the split
