@@ -586,7 +586,7 @@ def section_reciprocal(b: Bench, report: Report, sizes: dict[str, Sizes], stats:
         table=table_option(b.spec, core),
         divide_instructions=bus.instructions_worst,
         divide_cycles=bus.cycles_worst,
-        flash_in_use=sizes["core"].flash + sizes["port"].flash,
+        flash_in_use=sum(linked_flash(b.build_dir).get(part, 0) for part in ("core", "port")),
     )
     report.say(*choice.lines())
 
