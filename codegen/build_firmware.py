@@ -12,6 +12,7 @@ exits non-zero when flash exceeds `firmware.flash_budget` or RAM, stack included
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from collections.abc import Sequence
@@ -87,6 +88,35 @@ def section_sizes(path: Path) -> Sizes:
         if len(parts) >= 2 and parts[0].startswith(".") and parts[1].isdigit() and int(parts[1]):
             sections[parts[0]] = sections.get(parts[0], 0) + int(parts[1])
     return Sizes(sections)
+
+
+_MAP_OUTPUT = re.compile(r"^(\.\S+)\s+0x[0-9a-f]+\s+0x[0-9a-f]+")
+_MAP_INPUT = re.compile(r"\s0x[0-9a-f]+\s+(0x[0-9a-f]+)\s+(\S+)\.o$")
+
+
+def linked_flash(build_dir: Path) -> dict[str, int]:
+    """Flash bytes each object contributes to the linked image (from the link map: what
+    --gc-sections kept), by part name. Unlike the objects' own sizes, a function or
+    table the linker dropped does not count: the port compiles the core's text in as
+    well (templates/c/stm32f103_port.c.j2) and keeps only what its handler inlined."""
+    out: dict[str, int] = {}
+    output = ""
+    started = False
+    for line in (build_dir / "firmware.map").read_text(encoding="utf-8").splitlines():
+        if line.startswith("Linker script and memory map"):
+            started = True
+            continue
+        if not started:
+            continue
+        head = _MAP_OUTPUT.match(line)
+        if head:
+            output = head.group(1)
+            continue
+        found = _MAP_INPUT.search(line)
+        if found and output.startswith(FLASH_SECTIONS):
+            part = Path(found.group(2)).name
+            out[part] = out.get(part, 0) + int(found.group(1), 16)
+    return out
 
 
 def sources(generated: Path) -> dict[str, str]:
@@ -212,9 +242,11 @@ def main(argv: list[str]) -> int:
     sizes = build(generated, build_dir)
     report = stack(build_dir, spec.firmware.integration == "cube")
     print(f"firmware: {build_dir / ELF} (+ .bin, .hex, .map)")
+    linked = linked_flash(build_dir)
     for name, size in sizes.items():
         detail = ", ".join(f"{k} {v}" for k, v in sorted(size.sections.items()))
-        print(f"  {name:13s} flash {size.flash:5d} B  RAM {size.ram:4d} B  ({detail})")
+        kept = f"  linked {linked.get(name, 0):5d} B" if name != ELF else ""
+        print(f"  {name:13s} flash {size.flash:5d} B{kept}  RAM {size.ram:4d} B  ({detail})")
     print("  worst stack, every preemption level stacked (-fcallgraph-info):")
     for line in report.lines():
         print(f"    {line}")

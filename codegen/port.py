@@ -18,6 +18,7 @@ from fractions import Fraction
 
 from codegen.control.sensing import sense_design
 from codegen.core.hall import edge_index, edge_of_hall_pair
+from codegen.core.module import build_core, timing_is_leaf
 from codegen.dead_time import (  # noqa: F401  (the port's public names)
     DTG_MAX_TICKS,
     DeadTime,
@@ -445,6 +446,7 @@ def port_context(
         **_edge_context(spec),
         **drive_context(spec),
         "core_header": CORE_HEADER,
+        "core_inlined": timing_is_leaf(build_core(spec)),
         "regs_header": REGS_HEADER,
         "port_header": PORT_HEADER,
         "pwm_text": f"{pwm} {align_text}",

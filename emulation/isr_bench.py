@@ -55,6 +55,7 @@ BREAK_HANDLER = "TIM1_BRK_IRQHandler"
 #: line changed (every Hall edge), the code 0 or 7 tripped.
 HALL_LINES_HANDLER = "EXTI9_5_IRQHandler"
 BUS_FUNCTION = "bldc_bus_condition"
+TIMING_FUNCTION = "bldc_commutation_timing"
 CPU_HZ = 72_000_000
 #: Log-spaced Hall periods from the top speed to the slowest one in `bench`'s sweep.
 BENCH_PERIOD_POINTS = 12
@@ -378,7 +379,9 @@ class Stats:
     timing: HandlerStats | None  # runs on the cached bus state
     timing_bus: HandlerStats | None  # runs that called bldc_bus_condition()
     core_bus: HandlerStats | None  # bldc_bus_condition() inside them
-    core_timing: HandlerStats  # bldc_commutation_timing() inside every run
+    #: bldc_commutation_timing() inside every run; None where the port inlines it into
+    #: the handler (no function of that name in the image: the handler's figure is all)
+    core_timing: HandlerStats | None
     current_loop: HandlerStats  # the ADC handler in the closed loop (JEOC), every path
     hall_lines: HandlerStats  # the EXTI handler on a valid code (every Hall edge)
     fault_paths: dict[str, Sample]  # the handler that detects each fault, one run
@@ -408,7 +411,7 @@ def bench(
         inputs = sweep(spec, scaling(spec, derive()))
     build(generated, build_dir, defines=defines)
     rig = PortRig(spec, build_dir / "firmware.elf", timing)
-    timing_symbol = rig.image.symbol("bldc_commutation_timing")
+    timing_symbol = rig.image.symbols.get(TIMING_FUNCTION)
     hall_edge: list[Sample] = []
     refused: list[Sample] = []
     cached: list[Sample] = []
@@ -418,7 +421,8 @@ def bench(
     commutation_end: list[Sample] = []
 
     def measure_timing(result: CallResult) -> None:
-        timing_part.append(rig.part(result, timing_symbol))
+        if timing_symbol is not None:
+            timing_part.append(rig.part(result, timing_symbol))
         if BUS_FUNCTION in rig.entries(result.trace):
             bus_part.append(rig.part(result, rig.bus_symbol))
             recomputed.append(rig.cost(result))
@@ -464,7 +468,7 @@ def bench(
         timing=_stats(f"{TIMING_HANDLER}, bus state cached", cached) if cached else None,
         timing_bus=_stats(f"{TIMING_HANDLER}, bus changed", recomputed) if recomputed else None,
         core_bus=_stats(f"{BUS_FUNCTION}()", bus_part) if bus_part else None,
-        core_timing=_stats("bldc_commutation_timing()", timing_part),
+        core_timing=_stats(f"{TIMING_FUNCTION}()", timing_part) if timing_part else None,
         current_loop=_stats(f"{ADC_HANDLER} (current loop)", loop),
         hall_lines=_stats(f"{HALL_LINES_HANDLER} (a valid code)", lines),
         fault_paths=faults,

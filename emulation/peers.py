@@ -82,6 +82,47 @@ void peer_run(uint32_t bus_code, uint32_t period, uint32_t current_code, uint32_
 }
 """
 
+#: Ours on the bus state cached, as the port's timing handler has it: the core's text
+#: compiled into the caller's translation unit under other names (the port's
+#: port_core_ prefix, here peer_core_) and bldc_commutation_timing() inlined (flatten).
+OURS_CACHED_SOURCE = """\
+/* The generated core on the cached bus state, inlined into its caller as in the port's
+ * timing handler (templates/c/stm32f103_port.c.j2). */
+#include <stdint.h>
+#include "bldc_commutation.h"
+
+#define bldc_sector_of_hall peer_core_sector_of_hall
+#define bldc_edge_of_hall_pair peer_core_edge_of_hall_pair
+#define bldc_edge_switch peer_core_edge_switch
+#define bldc_bus_condition peer_core_bus_condition
+#define bldc_commutation_timing peer_core_commutation_timing
+#define bldc_commutate peer_core_commutate
+#include "bldc_commutation.c"
+
+uint32_t peer_out[3];
+static bldc_bus_t peer_bus;
+
+/* On a bus change (not measured). */
+void peer_bus_set(uint32_t bus_code)
+{
+    peer_bus = peer_core_bus_condition(bus_code);
+}
+
+/* Per commutation (measured); bus_code is the one peer_bus_set() was given. */
+__attribute__((flatten)) void peer_run_cached(uint32_t bus_code, uint32_t period,
+                                              uint32_t current_code, uint32_t main_duty)
+{
+    (void)bus_code;
+    const bldc_timing_t timing = peer_core_commutation_timing(&peer_bus, period, current_code, main_duty);
+    peer_out[0] = timing.turn_on_compare;
+    peer_out[1] = timing.turn_off_compare;
+    peer_out[2] = timing.commutation_ticks;
+}
+"""
+#: ours on the cached bus state: set once per bus code (unmeasured), then run per point.
+CACHED_ENTRY = "peer_run_cached"
+BUS_SET_ENTRY = "peer_bus_set"
+
 CCODE_SOURCE = """\
 /* {title}: the derivation printed by sympy.ccode ({kind}), unit conversions substituted.
  * Inputs are codes within the spec's ranges; outputs rounded to counts and ticks. */
@@ -308,6 +349,16 @@ def _fixed_source(spec: Spec, sc: Scaling) -> str:
 
 
 @dataclass(frozen=True)
+class Cached:
+    """Ours on the bus state cached (bldc_bus_condition() run beforehand, unmeasured, as
+    the port runs it on a bus change): bldc_commutation_timing() alone per point."""
+
+    cycles_worst: int  # UDIV/SDIV at 12
+    cycles_mean: float
+    outputs: tuple[tuple[int, int, int], ...]
+
+
+@dataclass(frozen=True)
 class PeerResult:
     name: str
     cycles_worst: int  # UDIV/SDIV at 12
@@ -317,6 +368,7 @@ class PeerResult:
     duty_error: float  # counts, max over the points
     time_error: float  # ticks, max where Eq. 20 is below the sector
     outputs: tuple[tuple[int, int, int], ...]
+    cached: Cached | None = None  # ours only
 
 
 @dataclass(frozen=True)
@@ -337,7 +389,14 @@ def points(
     return Points(*(tuple(r[k] for r in rows) for k in range(4)))  # type: ignore[arg-type]
 
 
-def _compile(sources: dict[str, str], folder: Path, includes: Sequence[Path] = ()) -> Path:
+def _compile(
+    sources: dict[str, str],
+    folder: Path,
+    includes: Sequence[Path] = (),
+    entries: Sequence[str] = (),
+) -> Path:
+    """Build a peer; `entries` replace ENTRY as the functions called (the first is the
+    image's entry; the linker keeps them all)."""
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "peer.ld").write_text(LINKER_SCRIPT, encoding="utf-8")
     paths = []
@@ -355,6 +414,8 @@ def _compile(sources: dict[str, str], folder: Path, includes: Sequence[Path] = (
             *(f"-I{i}" for i in includes),
             "-nostartfiles",
             "-Wl,--gc-sections",
+            *([f"-Wl,--entry={entries[0]}"] if entries else []),
+            *(f"-Wl,--undefined={e}" for e in entries),
             "-T",
             str(folder / "peer.ld"),
             *paths,
@@ -411,6 +472,34 @@ def _measure(
     return worst, typical, bus_cycles, outputs, _code_bytes(elf)
 
 
+def _measure_cached(generated: Path, work: Path, inputs: Points, timing: MemoryTiming) -> Cached:
+    """Ours per point on the cached bus state: the state set for the point's bus code by
+    an unmeasured call, then the measured run, which does not compute it again."""
+    elf = _compile(
+        {"ours_cached.c": OURS_CACHED_SOURCE},
+        work / "ours_cached",
+        [generated / "c"],
+        (CACHED_ENTRY, BUS_SET_ENTRY),
+    )
+    sim = CortexM3Sim(load_elf(elf))
+    out = sim.image.symbol(OUT).address
+    worst: list[int] = []
+    typical: list[int] = []
+    outputs: list[tuple[int, int, int]] = []
+    for k in progress(range(len(inputs)), "bench peer ours (bus state cached)"):
+        sim.call(BUS_SET_ENTRY, args=(inputs.bus[k],), max_instructions=200_000)
+        result = sim.call(
+            CACHED_ENTRY,
+            args=(inputs.bus[k], inputs.period[k], inputs.current[k], inputs.duty[k]),
+            max_instructions=200_000,
+        )
+        worst.append(estimate_cycles(result.trace, sim, udiv_mode="worst", timing=timing).cycles)
+        typical.append(estimate_cycles(result.trace, sim, timing=timing).cycles)
+        on, off, ticks = (sim.read_u32(out + 4 * j) for j in range(3))
+        outputs.append((on, off, ticks))
+    return Cached(max(worst), float(np.mean(typical)), tuple(outputs))
+
+
 def _errors(
     spec: Spec, sc: Scaling, inputs: Points, outputs: Sequence[tuple[int, int, int]]
 ) -> tuple[float, float]:
@@ -464,6 +553,9 @@ def run(
         elf = _compile(sources, work / name.replace(" ", "_"), includes)
         worst, typical, bus_cycles, outputs, flash = _measure(name, elf, inputs, timing, bus_symbol)
         duty_error, time_error = _errors(spec, sc, inputs, outputs)
+        cached = _measure_cached(generated, work, inputs, timing) if name == "ours" else None
+        if cached is not None and cached.outputs != tuple(outputs):
+            raise AssertionError("ours on the cached bus state differs from ours computed afresh")
         results.append(
             PeerResult(
                 name=name,
@@ -474,6 +566,7 @@ def run(
                 duty_error=duty_error,
                 time_error=time_error,
                 outputs=tuple(outputs),
+                cached=cached,
             )
         )
     return results

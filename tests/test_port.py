@@ -31,10 +31,12 @@ HOST_CC = shutil.which("cc") or shutil.which("gcc")
 
 STUB_CORE_HEADER = """\
 /* Stub of the generated core's header: the contract only. bldc_commutation_timing()
- * records its arguments and returns what the harness scripted. */
+ * records its arguments and returns what the harness scripted, so the port calls it
+ * (BLDC_PORT_CORE_OUT_OF_LINE) instead of compiling the core's definitions in. */
 #ifndef BLDC_COMMUTATION_H
 #define BLDC_COMMUTATION_H
 #include <stdint.h>
+#define BLDC_PORT_CORE_OUT_OF_LINE 1
 #define BLDC_PWM_PERIOD_COUNTS   {period}u
 #define BLDC_EDGE_NONE           0xFFu
 #define BLDC_EDGE_COUNT          12u
@@ -221,6 +223,50 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     # the current loop runs inline in its interrupt: no call, no divide
     adc = dump[dump.index("<ADC1_2_IRQHandler>:") :].split("\n\n")[0]
     assert "bldc_" not in adc and "div" not in adc
+
+
+@pytest.mark.parametrize(
+    ("path", "inlined"),
+    [
+        (SPEC, True),
+        (ROOT / "tests" / "fixtures" / "specs" / "offset_conventional.yaml", True),
+        (ROOT / "spec" / "paper_motor_improved_r.yaml", False),
+    ],
+    ids=lambda v: v.stem if isinstance(v, Path) else str(v),
+)
+def test_timing_handler_should_inline_a_straight_line_core(
+    path: Path, inlined: bool, tmp_path: Path
+) -> None:
+    """With the real core beside it, the port compiles bldc_commutation.c's text in and
+    its timing handler has bldc_commutation_timing() inlined (the core's two divides run
+    in the handler, no call); a core with helpers or loops (improved_r) is called. Either
+    way the bus state comes from the core's own bldc_bus_condition()."""
+    from codegen.generate import render_all
+
+    assert ARM_GCC is not None and ARM_OBJDUMP is not None
+    for name, text in render_all(path).files.items():
+        if name.startswith("c/"):
+            (tmp_path / name[2:]).write_text(text, encoding="utf-8")
+    run = _compile_arm(tmp_path)
+    assert run.returncode == 0, run.stderr
+    dump = subprocess.run(
+        [ARM_OBJDUMP, "-d", "-r", "stm32f103_port.o"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert "__aeabi_" not in dump
+    name = port.port_context(load_spec(path))["handler"]["timing"]  # type: ignore[index]
+    handler = dump[dump.index(f"<{name}>:") :].split("\n\n")[0]
+    called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", handler))
+    update = dump[dump.index("<port_update_bus>:") :].split("\n\n")[0]
+    assert "bldc_bus_condition" in update
+    if inlined:
+        assert not any("commutation_timing" in c for c in called), called
+        assert re.search(r"\budiv\b", handler) and re.search(r"\bsdiv\b", handler)
+    else:
+        assert "bldc_commutation_timing" in called
 
 
 def test_port_should_compile_warning_free_on_the_host(tmp_path: Path, spec: Spec) -> None:

@@ -68,8 +68,7 @@ PROOF_MUTANTS = [
     (
         "paper_motor",
         "dropped_time_clamp",
-        "        if (ticks > period) {\n            ticks = period;\n"
-        "            flags |= BLDC_FLAG_TIME_CLAMPED;\n        }\n",
+        "        ticks = (ticks > period) ? period : ticks; /* at most the sector */\n",
         "",
         "bldc_commutate",
         "alarm",

@@ -20,7 +20,7 @@ from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.ir import acsl, c_printer, py_printer
 from codegen.ir.intervals import ProvenRange, full, new_prover, prove_function
 from codegen.ir.longdiv import DIVIDE_LONG
-from codegen.ir.nodes import Function, IConst, Module, SStruct, StructType
+from codegen.ir.nodes import Function, ICall, IConst, ILongDiv, Module, SFor, SStruct, StructType
 from codegen.ir.types import U32
 from codegen.ir.walk import called_functions, named_constants, tables
 from codegen.methods import method
@@ -86,6 +86,19 @@ def build_core(spec: Spec) -> Core:
     )
     ranges = prove_module(module, design.bus_condition, design.commutation_timing)
     return Core(spec, sc, limits, design, module, ranges)
+
+
+def timing_is_leaf(core: Core) -> bool:
+    """Whether bldc_commutation_timing() is straight-line arithmetic: no call, no helper
+    (a long division prints as one), no loop. The port inlines such a function into its
+    timing handler (no code grows: the linker drops the out-of-line copy it no longer
+    calls); a method with helpers or loops keeps the call."""
+    from codegen.ir.walk import all_exprs, all_statements
+
+    body = core.design.commutation_timing.body
+    calls = any(isinstance(e, (ICall, ILongDiv)) for e in all_exprs(body))
+    loops = any(isinstance(s, SFor) for s in all_statements(body))
+    return not calls and not loops
 
 
 # ------------------------------------------------------------------------ printing

@@ -255,10 +255,10 @@ def timing_function(
             cast(maximum(quotient, const(0, I32)), U32),
             "a negative current: nothing to commutate",
         ),
-        SIf(
-            cmp(">", var("ticks", U32), period),
-            (SAssign("ticks", period), SOrAssign("flags", flag_const("TIME_CLAMPED"))),
-        ),
+        # Saturated without a branch (a flag OR and a select): from flash every branch
+        # fetches its target.
+        flag_if(cmp(">", var("ticks", U32), period), "TIME_CLAMPED"),
+        SAssign("ticks", minimum(var("ticks", U32), period), "at most the sector"),
     )
     never = (
         SIf(

@@ -40,7 +40,8 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         "arithmetic ccode float worst",
         "arithmetic ccode double worst",
         "arithmetic plain fixed point worst",
-        "ours / plain fixed point",
+        "arithmetic ours worst, bus state cached",
+        "ours (bus state cached) / plain fixed point (all its work every run)",
         "improved_r Hall edge worst",
         "improved_r library helpers reachable from TIM1_TRG_COM_IRQHandler",
     ):

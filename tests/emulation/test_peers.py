@@ -36,6 +36,11 @@ def test_peers_should_compute_the_commutation_each_their_way(name: str, tmp_path
         )
         assert got == (timing.turn_on_compare, timing.turn_off_compare, timing.commutation_ticks), k
     assert results["ours"].bus_part_worst and results["ours"].bus_part_worst > 0
+    # ours on the cached bus state: the same outputs, without the bus part's cost
+    cached = results["ours"].cached
+    assert cached is not None and cached.outputs == results["ours"].outputs
+    assert cached.cycles_worst < results["ours"].cycles_worst - results["ours"].bus_part_worst
+    assert all(r.cached is None for n, r in results.items() if n != "ours")
 
     # the floating-point peers round the exact values: within half a count (plus float32
     # noise) of the duties, and of Eq. 20 at their own duties

@@ -253,8 +253,8 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
         t = _c_div(bus.time_numerator * current + (w_q >> 1), w_q)  # Eq. 20
         ticks = 0 if t < 0 else t  # a negative current: nothing to commutate
         if ticks > period:
-            ticks = period
             flags |= BLDC_FLAG_TIME_CLAMPED
+        ticks = period if ticks > period else ticks  # at most the sector
     timing = Timing(bus.period_min, on, off, ticks, flags)
     return timing
 

@@ -191,9 +191,9 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
         const int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q; /* Eq. 20 */
         ticks = (uint32_t)((t < 0) ? 0 : t); /* a negative current: nothing to commutate */
         if (ticks > period) {
-            ticks = period;
             flags |= BLDC_FLAG_TIME_CLAMPED;
         }
+        ticks = (ticks > period) ? period : ticks; /* at most the sector */
     }
     const bldc_timing_t timing = {
         .period_min = bus->period_min,

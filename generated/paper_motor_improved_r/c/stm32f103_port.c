@@ -240,7 +240,7 @@ static struct {
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
     volatile uint32_t *steady_compare; /* its compare register (CCRx), set with `steady` */
-    uint32_t period;                /* last Hall interval in ticks, for the next timing */
+    uint16_t period;                /* last Hall interval in ticks, for the next timing (16 bits: the inlined core's cap to the counter's range folds away) */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
     uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
     uint16_t bus_code;              /* the bus code of `bus` */
@@ -368,7 +368,7 @@ static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
     BLDC_PORT_SEQUENCE(); /* the peripheral reads before the state's: fewer values live at once */
     const uint32_t previous = port.previous_pins;
     port.previous_pins = pins;
-    port.period = period;   /* every path below ends in a COM event, which runs the timing */
+    port.period = (uint16_t)period; /* <= ARR; every path below ends in a COM event, which runs the timing */
     const uint32_t record = port_edge_of_pins[(previous << 3) | pins];
     port.pending = record;  /* the safe state below clears it again */
     const bldc_timing_t *const timing = port.timing;
@@ -526,13 +526,20 @@ BLDC_PORT_NOINLINE static void port_update_bus(uint32_t code)
     }
 }
 
+#ifndef PORT_COMMUTATION_TIMING
+#define PORT_COMMUTATION_TIMING bldc_commutation_timing
+#endif
+#ifndef PORT_TIMING_FLATTEN
+#define PORT_TIMING_FLATTEN
+#endif
+
 /* The next edge's duties and commutation time, at a lower priority than TIM3. Raised
  * by every COM event (DIER.COMIE), which every Hall edge generates, and pended by
  * the current loop when the bus voltage moved beyond the hysteresis. A Hall edge that
  * arrives meanwhile preempts it, raises it again, and the NVIC runs it once more
  * afterwards; the extra run after a commutation end recomputes with the latest current
  * and main duty. */
-void TIM1_TRG_COM_IRQHandler(void)
+PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
 {
     TIM1->SR = ~TIM_SR_COMIF;
     /* The latest injected bus sample; the current loop pended this run when it left the
@@ -544,7 +551,7 @@ void TIM1_TRG_COM_IRQHandler(void)
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
      * an edge sees the previous timing or this one, never half of either. */
     bldc_timing_t *const next = (port.timing == &port.slots[0]) ? &port.slots[1] : &port.slots[0];
-    *next = bldc_commutation_timing(&port.bus, port.period, port.current, port.main_duty);
+    *next = PORT_COMMUTATION_TIMING(&port.bus, port.period, port.current, port.main_duty);
     port.timing = next;
     port_set_safe_state(port.period, port.bus_code);
 }
@@ -606,7 +613,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     }
     const uint32_t captured = tim3->CCR1; /* clears CC1IF */
     tim3->SR = ~TIM_SR_UIF;
-    port.period = ((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured;
+    port.period = (uint16_t)(((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured);
     port_set_safe_state(port.period, port.bus_code);
 }
 
