@@ -148,10 +148,12 @@ check-generated: setup
 	fi; \
 	echo "check-generated: generated/ is up to date"
 
-# Every test, on every core (pytest-xdist); the Frama-C proof of each checked-in spec
-# (`make prove`) is one of them (tests/test_prove.py), run first with the other long ones.
+# Every test, on every core (pytest-xdist, work stealing: a worker that runs out takes
+# half of another's queue, so no core idles while the other runs its share of the long
+# tests); the Frama-C proof of each checked-in spec (`make prove`) is one of them
+# (tests/test_prove.py), queued first with the other long ones.
 test: setup lint check-generated
-	$(PY) -m pytest -n auto
+	$(PY) -m pytest -n auto --dist worksteal
 
 # Speed and size figures of SPEC, each with its target; exits 1 on a miss. Flags for the
 # driver (python -m emulation --help): BENCH_FLAGS=--report-only, --only handlers,peers.

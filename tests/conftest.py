@@ -20,8 +20,8 @@ _skipped: list[tuple[str, str]] = []
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     """The tests marked `heavy` (a Frama-C proof, a user's whole journey, a motor braking
-    in the loop: 10-90 s each) run first, in their order, so pytest-xdist spreads them
-    over the cores instead of leaving one core on a proof alone at the end."""
+    in the loop: 10-50 s each) are queued first, in their order, so none of them starts
+    when the rest of the suite is done and leaves the other core idle."""
     items.sort(key=lambda item: item.get_closest_marker("heavy") is None)
 
 
