@@ -193,21 +193,26 @@ def _compile_arm(directory: Path, *extra: str) -> subprocess.CompletedProcess[st
     )
 
 
+def _port_disassembly(folder: Path) -> str:
+    """The port compiled for the Cortex-M3 in `folder`, disassembled with relocations."""
+    run = _compile_arm(folder)
+    assert run.returncode == 0, run.stderr
+    assert ARM_OBJDUMP is not None
+    return subprocess.run(
+        [ARM_OBJDUMP, "-d", "-r", "stm32f103_port.o"],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+
+
 @pytest.mark.skipif(ARM_GCC is None or ARM_OBJDUMP is None, reason="arm-none-eabi-gcc missing")
 def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     tmp_path: Path, spec: Spec
 ) -> None:
     _write_port(tmp_path, spec)
-    run = _compile_arm(tmp_path)
-    assert run.returncode == 0, run.stderr
-    assert ARM_OBJDUMP is not None
-    dump = subprocess.run(
-        [ARM_OBJDUMP, "-d", "-r", "stm32f103_port.o"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
+    dump = _port_disassembly(tmp_path)
     assert "<TIM3_IRQHandler>:" in dump
     assert "<bldc_port_init>:" in dump
     assert "__aeabi_" not in dump
@@ -247,15 +252,7 @@ def test_timing_handler_should_inline_a_straight_line_core(
     for name, text in render_all(path).files.items():
         if name.startswith("c/"):
             (tmp_path / name[2:]).write_text(text, encoding="utf-8")
-    run = _compile_arm(tmp_path)
-    assert run.returncode == 0, run.stderr
-    dump = subprocess.run(
-        [ARM_OBJDUMP, "-d", "-r", "stm32f103_port.o"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
+    dump = _port_disassembly(tmp_path)
     assert "__aeabi_" not in dump
     name = port.port_context(load_spec(path))["handler"]["timing"]  # type: ignore[index]
     handler = dump[dump.index(f"<{name}>:") :].split("\n\n")[0]
