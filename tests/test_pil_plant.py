@@ -14,6 +14,7 @@ shunts, 23 pole pairs) brakes with every invariant kept.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +22,14 @@ import pytest
 
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
-from emulation.pil.braking import BrakingLoop, BrakingResult, Commutation, braking_setup, with_sil
+from emulation.pil.braking import (
+    READS,
+    BrakingLoop,
+    BrakingResult,
+    Commutation,
+    braking_setup,
+    with_sil,
+)
 from emulation.pil.build import build_firmware, checked_in, generate
 from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.plant import Mechanics, MotorPlant
@@ -168,9 +176,36 @@ def test_the_short_braking_run_should_agree_with_sil_within_one_point(
     _, result = paper_run
     assert len(result.commutations) >= 8
     assert braking_report.problems(result) == []
-    assert all(c.sil_outputs == c.applied for c in result.commutations)  # ticks too, here
+    assert all(c.sil_outputs == c.applied for c in result.commutations)  # ticks too
     assert result.end_rpm < result.setup.start_rpm
     assert result.outcome.faults == 0 and result.outcome.violations == ()
+
+
+def test_the_host_core_should_be_handed_what_the_timing_handler_read(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """The timing handler ran while the firmware booted, before the read hooks were
+    added: its reads must be seen all the same (Unicorn keeps translated code without
+    the hooks unless it is dropped), else its inputs are the values at its entry."""
+    loop, result = paper_run
+    published = [inputs for _, inputs in loop.timing_runs if "published" in inputs]
+    assert published and all(inputs.get(READS, 0) >= 1 for inputs in published)
+    assert all(c.firmware_inputs[READS] >= 1 for c in result.commutations)
+
+
+def test_a_commutation_time_the_host_core_does_not_give_should_fail_the_braking_run(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    _, result = paper_run
+    first = result.commutations[0]
+    assert first.sil_outputs is not None
+    on, off, ticks = first.sil_outputs
+    wrong = replace(result, commutations=[replace(first, sil_outputs=(on, off, ticks + 1))])
+    found = braking_report.problems(wrong)
+    assert any(f"commutation {first.index}: the chip applied" in p for p in found), found
+    unseen = replace(first, firmware_inputs={**first.firmware_inputs, READS: 0})
+    found = braking_report.problems(replace(result, commutations=[unseen]))
+    assert any("no read of the port's state" in p for p in found), found
 
 
 @pytest.fixture(scope="module")

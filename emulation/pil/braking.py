@@ -47,6 +47,10 @@ from sim.scenario import PRE_EDGE_PERIODS, Case, previous_edge, switching_table
 #: `port_layout`). A wrong offset would make the SIL core's outputs differ from those
 #: the chip applied, which the comparison reports for every commutation.
 PORT_FIELDS = ("period", "main_duty", "bus_code", "current")
+#: The key of a timing run's record that counts the reads of PORT_FIELDS seen (every
+#: run reads the Hall interval before it publishes: 0 means the reads went unobserved,
+#: and the record holds the fields' values at the handler's entry instead)
+READS = "reads_seen"
 _C_SIZES = {"uint32_t": 4, "int32_t": 4, "uint16_t": 2, "int16_t": 2, "uint8_t": 1, "*": 4}
 
 
@@ -113,7 +117,8 @@ class Commutation:
     start_currents: tuple[float, float, float]
     #: the steady switch's duty in force in each of those periods and the cut one
     pre_duties: tuple[float, ...]
-    #: what the timing handler read at its last run before the edge (port state)
+    #: what the timing handler read at its last run before the edge (port state), and
+    #: how many reads of it were seen (READS)
     firmware_inputs: dict[str, int]
     #: (D_on, D_off, commutation ticks) the chip applied: CCRx at the COM event, TIM3 CCR2
     applied: tuple[int, int, int]
@@ -251,6 +256,11 @@ class BrakingLoop:
             self.machine.uc.hook_add(
                 UC_HOOK_MEM_READ, self._on_port_read, name, address, address + size - 1
             )
+        # Unicorn 2 builds a memory hook into the code it translates from then on: the
+        # timing handler, translated while the firmware booted, would never call these
+        # (its inputs would stay the snapshot at its entry, not what it read). Dropping
+        # every translation makes the next run of each handler translated with them.
+        self.machine.uc.ctl_flush_tb()
 
     def _watch_timing(self, _machine: object) -> None:
         """At each entry of the timing handler, a new record of its inputs (the fields'
@@ -282,7 +292,9 @@ class BrakingLoop:
         ):
             offset, size = self._layout[name]
             word = self.machine.read_u32(self._port + offset)
-            self.timing_runs[-1][1][name] = word & ((1 << (8 * size)) - 1)
+            record = self.timing_runs[-1][1]
+            record[name] = word & ((1 << (8 * size)) - 1)
+            record[READS] = record.get(READS, 0) + 1
 
     def _port_inputs(self) -> dict[str, int]:
         out = {}
