@@ -37,7 +37,7 @@ from codegen.derivation import derive
 from codegen.derivation import symbols as s
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.spec_model import Spec
-from emulation.armsim import CortexM3Sim, Symbol, load_elf
+from emulation.armsim import CortexM3Sim, Step, Symbol, load_elf
 from emulation.cycles import estimate_cycles
 from emulation.memory import STM32F103_72MHZ, MemoryTiming
 from emulation.progress import progress
@@ -444,6 +444,33 @@ def _code_bytes(elf: Path) -> int:
     return total
 
 
+def _timed_point(
+    sim: CortexM3Sim,
+    entry: str,
+    inputs: Points,
+    k: int,
+    timing: MemoryTiming,
+    worst: list[int],
+    typical: list[int],
+) -> tuple[Step, ...]:
+    """One call of `entry` on point k: its worst-case and typical cycles appended to
+    `worst` and `typical`; returns the trace."""
+    result = sim.call(
+        entry,
+        args=(inputs.bus[k], inputs.period[k], inputs.current[k], inputs.duty[k]),
+        max_instructions=200_000,
+    )
+    worst.append(estimate_cycles(result.trace, sim, udiv_mode="worst", timing=timing).cycles)
+    typical.append(estimate_cycles(result.trace, sim, timing=timing).cycles)
+    return result.trace
+
+
+def _outputs(sim: CortexM3Sim, out: int) -> tuple[int, int, int]:
+    """D_on, D_off and the commutation ticks a peer wrote to `peer_out`."""
+    on, off, ticks = (sim.read_u32(out + 4 * j) for j in range(3))
+    return on, off, ticks
+
+
 def _measure(
     name: str,
     elf: Path,
@@ -456,19 +483,11 @@ def _measure(
     part: Symbol | None = sim.image.symbol(bus_symbol) if bus_symbol else None
     worst, typical, bus_cycles, outputs = [], [], [], []
     for k in progress(range(len(inputs)), f"bench peer {name}"):
-        result = sim.call(
-            ENTRY,
-            args=(inputs.bus[k], inputs.period[k], inputs.current[k], inputs.duty[k]),
-            max_instructions=200_000,
-        )
-        worst.append(estimate_cycles(result.trace, sim, udiv_mode="worst", timing=timing).cycles)
-        typical.append(estimate_cycles(result.trace, sim, timing=timing).cycles)
+        trace = _timed_point(sim, ENTRY, inputs, k, timing, worst, typical)
         if part is not None:
-            inside = [
-                st for st in result.trace if part.address <= st.address < part.address + part.size
-            ]
+            inside = [st for st in trace if part.address <= st.address < part.address + part.size]
             bus_cycles.append(estimate_cycles(inside, sim, udiv_mode="worst", timing=timing).cycles)
-        outputs.append(tuple(sim.read_u32(out + 4 * j) for j in range(3)))  # type: ignore[misc]
+        outputs.append(_outputs(sim, out))
     return worst, typical, bus_cycles, outputs, _code_bytes(elf)
 
 
@@ -488,15 +507,8 @@ def _measure_cached(generated: Path, work: Path, inputs: Points, timing: MemoryT
     outputs: list[tuple[int, int, int]] = []
     for k in progress(range(len(inputs)), "bench peer ours (bus state cached)"):
         sim.call(BUS_SET_ENTRY, args=(inputs.bus[k],), max_instructions=200_000)
-        result = sim.call(
-            CACHED_ENTRY,
-            args=(inputs.bus[k], inputs.period[k], inputs.current[k], inputs.duty[k]),
-            max_instructions=200_000,
-        )
-        worst.append(estimate_cycles(result.trace, sim, udiv_mode="worst", timing=timing).cycles)
-        typical.append(estimate_cycles(result.trace, sim, timing=timing).cycles)
-        on, off, ticks = (sim.read_u32(out + 4 * j) for j in range(3))
-        outputs.append((on, off, ticks))
+        _timed_point(sim, CACHED_ENTRY, inputs, k, timing, worst, typical)
+        outputs.append(_outputs(sim, out))
     return Cached(max(worst), float(np.mean(typical)), tuple(outputs))
 
 
