@@ -18,6 +18,7 @@ import json
 import os
 import select
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -62,6 +63,29 @@ def _above_ten(fd: int) -> int:
     return moved
 
 
+def _signal_group(group: int, signum: signal.Signals) -> None:
+    """Send `signum` to every process of the group (none left is not an error)."""
+    with contextlib.suppress(ProcessLookupError, PermissionError):
+        os.killpg(group, signum)
+
+
+def _remove_profile(profile: tempfile.TemporaryDirectory[str]) -> None:
+    """Remove the profile, waiting out a killed process's last write (a process killed
+    by SIGKILL may still be exiting, with a file of the profile open, for a moment)."""
+    deadline = time.monotonic() + 5.0
+    while True:
+        try:
+            shutil.rmtree(profile.name)
+            break
+        except FileNotFoundError:
+            break
+        except OSError:
+            if time.monotonic() > deadline:
+                raise
+            time.sleep(0.05)
+    profile.cleanup()  # the folder is gone: marks the object cleaned up
+
+
 class Chromium:
     """One headless Chromium with one page, driven over the DevTools pipe."""
 
@@ -98,6 +122,10 @@ class Chromium:
                 stdin=subprocess.DEVNULL,
                 stdout=log,
                 stderr=log,
+                # its own process group: Chromium's renderer, GPU and crash-handler
+                # processes outlive the browser process by a moment, and close() must
+                # end them all before it removes the profile they write to
+                start_new_session=True,
             )
         os.close(to_browser_r)
         os.close(from_browser_w)
@@ -206,17 +234,20 @@ class Chromium:
         return out
 
     def close(self) -> None:
+        """End the browser and every process it started, then remove the profile."""
+        group = self._process.pid  # the group's id: the session was started for it
         if self._process.poll() is None:
-            self._process.terminate()
+            _signal_group(group, signal.SIGTERM)  # the browser shuts its children down
             try:
                 self._process.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 self._process.kill()
                 self._process.wait()
+        _signal_group(group, signal.SIGKILL)  # any child still writing to the profile
         for fd in (self._to_browser, self._from_browser):
             with contextlib.suppress(OSError):
                 os.close(fd)
-        self._profile.cleanup()
+        _remove_profile(self._profile)
 
     def __enter__(self) -> Chromium:
         return self
