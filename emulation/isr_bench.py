@@ -386,6 +386,9 @@ class Stats:
     hall_lines: HandlerStats  # the EXTI handler on a valid code (every Hall edge)
     fault_paths: dict[str, Sample]  # the handler that detects each fault, one run
     fault_to_moe: dict[str, int]  # cycles from its entry to the store that clears MOE
+    #: (Hall period in ticks, worst timing run at it, either path), by period: each run
+    #: counts at the period of the last Hall edge, the one the handler computes with
+    timing_by_period: tuple[tuple[int, int], ...] = ()
 
     @property
     def timing_worst(self) -> HandlerStats:
@@ -419,15 +422,19 @@ def bench(
     bus_part: list[Sample] = []
     timing_part: list[Sample] = []
     commutation_end: list[Sample] = []
+    worst_at: dict[int, int] = {}
+    at_period = [inputs.periods[0]]  # the last Hall edge's period (rig.prime's first)
 
     def measure_timing(result: CallResult) -> None:
+        cost = rig.cost(result)
+        worst_at[at_period[0]] = max(worst_at.get(at_period[0], 0), cost.cycles_worst)
         if timing_symbol is not None:
             timing_part.append(rig.part(result, timing_symbol))
         if BUS_FUNCTION in rig.entries(result.trace):
             bus_part.append(rig.part(result, rig.bus_symbol))
-            recomputed.append(rig.cost(result))
+            recomputed.append(cost)
         else:
-            cached.append(rig.cost(result))
+            cached.append(cost)
 
     def set_inputs(bus: int, current: int, duty: int) -> None:
         pended = rig.set_inputs(bus, current, duty)
@@ -446,6 +453,7 @@ def bench(
                     for index, code in enumerate(sequence):
                         # The slowest period also as a Hall timeout (the counter wrapped).
                         edge = rig.hall_edge(code, period, timeout=period == periods[-1])
+                        at_period[0] = period
                         if "port_refuse" in rig.entries(edge.trace):
                             refused.append(rig.cost(edge))
                         else:
@@ -473,6 +481,7 @@ def bench(
         hall_lines=_stats(f"{HALL_LINES_HANDLER} (a valid code)", lines),
         fault_paths=faults,
         fault_to_moe=to_moe,
+        timing_by_period=tuple(sorted(worst_at.items())),
     )
 
 

@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
-from emulation.bench import main, prepare, run_spec
+from codegen.spec_loader import load_spec
+from emulation.bench import _cpu_load, main, prepare, run_spec
+from emulation.isr_bench import CPU_HZ, HandlerStats, Stats
 
 ROOT = Path(__file__).resolve().parents[2]
 FIXTURES = sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml"))
@@ -32,7 +35,7 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         "Hall edge (TIM3 CC1) worst",
         "commutation end (TIM3 CC2) worst",
         "current loop (ADC1_2 JEOC) worst",
-        "CPU load at the top speed, every interrupt",
+        "CPU load at the worst speed, every interrupt",
         "stack TIM3_IRQHandler (static)",
         "stack ADC1_2_IRQHandler (static)",
         "stack TIM1_TRG_COM_IRQHandler (static)",
@@ -114,3 +117,53 @@ def test_reciprocal_section_should_run_on_every_method(
     said = [line for line in report.lines if line.startswith("bus reciprocal")]
     assert said, report.lines
     assert ("no table option" in said[0]) is not tabulated, said
+
+
+def _stats(by_period: tuple[tuple[int, int], ...]) -> Stats:
+    def handler(cycles: int) -> HandlerStats:
+        return HandlerStats("h", 1, 10, 10.0, cycles, float(cycles))
+
+    slowest = max(c for _, c in by_period)
+    return Stats(
+        hall=handler(120),
+        hall_refused=None,
+        end=handler(100),
+        timing=None,
+        timing_bus=handler(slowest),
+        core_bus=None,
+        core_timing=None,
+        current_loop=handler(140),
+        hall_lines=handler(50),
+        fault_paths={},
+        fault_to_moe={},
+        timing_by_period=by_period,
+    )
+
+
+def test_cpu_load_should_price_each_speed_at_the_timing_runs_measured_around_it() -> None:
+    """The load is the worst over the swept speeds; at each, the timing runs are priced
+    at the worst measured at that speed or the next slower one, never below it."""
+    spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+    bench = SimpleNamespace(spec=spec)
+    clock = int(spec.hall.timer_clock_hz)
+    sector = 2000 * CPU_HZ // clock
+
+    def share(ticks: int, timing: int) -> float:
+        cycles = ticks * CPU_HZ // clock
+        periods = -(-int(spec.inverter.pwm_frequency_hz) * cycles // CPU_HZ)
+        return 100.0 * (120 + 50 + 100 + 3 * timing + periods * 140) / cycles
+
+    flat = _cpu_load(bench, _stats(((2000, 400), (4000, 400), (8000, 400))), sector)  # type: ignore[arg-type]
+    assert flat.value == pytest.approx(share(2000, 400))  # the top speed is the worst
+    # a search that runs longer at low speed is priced there, and at the speed before it
+    rising = _cpu_load(bench, _stats(((2000, 400), (4000, 400), (8000, 20000))), sector)  # type: ignore[arg-type]
+    assert rising.value == pytest.approx(
+        max(share(2000, 400), share(4000, 20000), share(8000, 20000))
+    )
+    assert rising.value > flat.value
+    # never below the share of any speed at its own worst run
+    for ticks, cycles in ((2000, 400), (4000, 400), (8000, 20000)):
+        assert rising.value >= share(ticks, cycles) - 1e-9
+    # no run measured at the top speed: every speed priced at the slowest run
+    late = _cpu_load(bench, _stats(((4000, 400), (8000, 900))), sector)  # type: ignore[arg-type]
+    assert late.value == pytest.approx(share(2000, 900))
