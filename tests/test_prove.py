@@ -25,8 +25,8 @@ import pytest
 from codegen.core.module import build_core
 from codegen.proof.harness import INTERVAL, SIGNED_INTERVAL, clz_model, proof_plan
 from codegen.spec_loader import load_spec
-from verify.frama_c import Tools, find_tools, run_eva
-from verify.prove import establish, main, target_at, target_for
+from verify.frama_c import WP_LET, WP_NO_LET, Tools, find_tools, run_eva
+from verify.prove import _looping, _passes, establish, main, target_at, target_for
 
 pytestmark = pytest.mark.heavy
 ROOT = Path(__file__).resolve().parents[1]
@@ -309,3 +309,19 @@ def test_clz_model_should_count_leading_zeros_as_the_compiler_does(tmp_path: Pat
     exe = tmp_path / "clz"
     subprocess.run(["gcc", "-std=c99", "-O1", "-o", str(exe), str(driver)], check=True)
     assert subprocess.run([str(exe)], check=False).returncode == 0
+
+
+@pytest.mark.parametrize(
+    ("spec", "looping"),
+    [("paper_motor", []), ("paper_motor_improved_r", ["bldc_commutation_timing"])],
+)
+def test_wp_should_take_each_function_in_its_form(
+    tmp_path: Path, spec: str, looping: list[str]
+) -> None:
+    """Without variable elimination first where a function loops (Qed's elimination
+    takes minutes after the improved_r search), with it first elsewhere."""
+    target = target_at(_copy(spec, tmp_path), spec, spec)
+    assert sorted(_looping(target)) == looping
+    assert _passes(target, ["bldc_commutate"]) == (WP_LET, WP_NO_LET)
+    timing = _passes(target, ["bldc_commutation_timing"])
+    assert timing == ((WP_NO_LET, WP_LET) if looping else (WP_LET, WP_NO_LET))

@@ -263,15 +263,24 @@ _GOAL = re.compile(r"^\[wp\] \[([^\]]+)\] Goal (\S+) : (\w+)", re.M)
 _FAILED = re.compile(r"^\[wp\] \[(?:Failed|Unknown|Timeout)\] Goal (\S+)", re.M)
 
 
-#: WP's first pass, without variable elimination: Qed keeps a local that holds a shifted
-#: value as one term instead of rewriting one occurrence of the shift into a division
-#: and not the other (which no prover then relates), and it simplifies the long
-#: straight-line code after a loop in milliseconds instead of half a minute a goal
-#: (improved_r's bldc_commutation_timing: the same 90 of 95 goals in 37 s, not 212 s)
-WP_FIRST_PASS = ("-wp-no-let",)
-#: WP's second pass, on what the first left: with variable elimination (Qed's default),
-#: which proves some goals the first pass's form does not
-WP_SECOND_PASS = ("-wp-let",)
+#: WP without variable elimination: Qed keeps a local that holds a shifted value as one
+#: term instead of rewriting one occurrence of the shift into a division and not the
+#: other (which no prover then relates), and it simplifies the long straight-line code
+#: after a loop in milliseconds instead of half a minute a goal (improved_r's
+#: bldc_commutation_timing: the same 90 of 95 goals in 37 s, not 212 s)
+WP_NO_LET = ("-wp-no-let",)
+#: WP with variable elimination (Qed's default): proves in milliseconds goals the other
+#: form leaves to a prover's timeout (bldc_commutate's flag of an invalid Hall code)
+WP_LET = ("-wp-let",)
+
+
+def wp_passes(has_loop: bool) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """WP's first and second pass for a function: with variable elimination first where
+    the function has no loop, without it first where it has one; the second pass, on
+    what the first left, in the other form."""
+    return (WP_NO_LET, WP_LET) if has_loop else (WP_LET, WP_NO_LET)
+
+
 #: statuses that count as proven by WP: "Partially proven" is a proof that rests on
 #: other clauses of the session (a loop invariant, a callee's contract), each of which
 #: must itself be established for the verdict
@@ -285,10 +294,11 @@ def run_wp(
     functions: list[str],
     work: Path,
     properties: list[str] | None = None,
-    options: tuple[str, ...] = WP_FIRST_PASS,
+    options: tuple[str, ...] = WP_NO_LET,
     tag: str = "wp",
     provers: tuple[str, ...] = WP_PROVERS,
     skip: tuple[str, ...] = (),
+    second_pass: bool = False,
 ) -> WpResult:
     """WP on the contracts of `functions` (the core's and the harness's), or on the
     selection `properties` of them: clause names, or `-name` to leave a clause out."""
@@ -335,7 +345,7 @@ def run_wp(
         goals.setdefault(m.group(1), "")
     return WpResult(
         tuple(functions),
-        options != WP_FIRST_PASS,
+        second_pass,
         seconds,
         goals,
         tuple(read_report(report)),

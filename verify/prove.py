@@ -40,10 +40,10 @@ from verify.frama_c import (
     EVA_POLICY,
     MACHDEP,
     SHIPPED_FILES,
-    WP_FIRST_PASS,
+    WP_LET,
+    WP_NO_LET,
     WP_PROVEN,
     WP_PROVERS,
-    WP_SECOND_PASS,
     WP_SECOND_PROVERS,
     WP_TIMEOUT_S,
     EvaResult,
@@ -54,6 +54,7 @@ from verify.frama_c import (
     find_tools,
     run_eva,
     run_wp,
+    wp_passes,
 )
 
 EXIT_FAILED, EXIT_SPEC, EXIT_TOOL = 1, 2, 3
@@ -220,6 +221,28 @@ def _copies(t: Target) -> tuple[str, ...]:
     return tuple(f"{a['function']}_0" for a in analyses if a.get("inline"))
 
 
+_DEFINITION = re.compile(r"^[A-Za-z_][\w \*]*?\b(\w+)\([^;{]*\)\s*\n\{(.*?)^\}", re.M | re.S)
+
+
+def _looping(t: Target) -> frozenset[str]:
+    """The functions of the proof's sources whose body has a loop (its ACSL loop
+    annotations, which the generator prints on every loop the proof must cover)."""
+    found = set()
+    for source in t.plan["sources"]:  # type: ignore[attr-defined]
+        text = (t.root / str(source)).read_text(encoding="utf-8")
+        for m in _DEFINITION.finditer(text):
+            body = m.group(2)
+            if "loop invariant" in body or re.search(r"\b(for|while|do)\b\s*[({]", body):
+                found.add(m.group(1))
+    return frozenset(found)
+
+
+def _passes(t: Target, functions: list[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """WP's two passes for a group: its functions' form (`wp_passes`); a group with a
+    looping function takes the loop's."""
+    return wp_passes(any(f in _looping(t) for f in functions))
+
+
 def eva_established(eva: EvaResult) -> list[str]:
     """The named postconditions of the analysed function that EVA established, every
     instance of each name valid over every input of its analysis: WP is not asked for
@@ -244,7 +267,10 @@ def _first_pass(
     every clause but those EVA established."""
     done = eva_established(eva.result()) if eva is not None else []
     selection = [f"-{name}" for name in done] or None
-    return run_wp(tools, t.root, t.plan, functions, work, selection, tag=tag, skip=_copies(t))
+    first, _ = _passes(t, functions)
+    return run_wp(
+        tools, t.root, t.plan, functions, work, selection, first, tag=tag, skip=_copies(t)
+    )
 
 
 def prove(targets: list[Target], tools: Tools, build: Path, jobs: int) -> list[Outcome]:
@@ -298,10 +324,11 @@ def prove(targets: list[Target], tools: Tools, build: Path, jobs: int) -> list[O
                         fns,
                         build / o.target.name / "frama-c",
                         names,
-                        WP_SECOND_PASS,
+                        _passes(o.target, fns)[1],
                         f"wp2_{g}",
                         WP_SECOND_PROVERS,
                         _copies(o.target),
+                        True,
                     )
                     second.append((o, run))
         for o, run in second:
@@ -320,8 +347,9 @@ def establish(
     skip = _copies(target)
     by_eva = set(eva_established(eva)) & set(names)
     asked = sorted(set(names) - by_eva)
+    first, second = _passes(target, [function])
     wp = (
-        [run_wp(tools, target.root, target.plan, [function], work, asked, skip=skip)]
+        [run_wp(tools, target.root, target.plan, [function], work, asked, first, skip=skip)]
         if asked
         else []
     )
@@ -341,10 +369,11 @@ def establish(
                 [function],
                 work,
                 left,
-                WP_SECOND_PASS,
+                second,
                 "wp2",
                 WP_SECOND_PROVERS,
                 skip,
+                True,
             )
         )
     return eva, methods()
@@ -396,8 +425,9 @@ def report(o: Outcome, tools: Tools) -> tuple[bool, str]:
         wp_provers=", ".join(WP_PROVERS),
         wp_second_provers=", ".join(WP_SECOND_PROVERS),
         wp_timeout=WP_TIMEOUT_S,
-        wp_second=" ".join(WP_SECOND_PASS),
-        wp_first=" ".join(WP_FIRST_PASS),
+        wp_let=" ".join(WP_LET),
+        wp_no_let=" ".join(WP_NO_LET),
+        looping=sorted(_looping(target)),
         partitioning=target.plan["partitioning"],
         analyses=[
             {
