@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -23,11 +24,14 @@ import pytest
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import (
+    BRAKING_EDGES,
     READS,
     BrakingLoop,
     BrakingResult,
     Commutation,
+    braking_edges,
     braking_setup,
+    speed_change_per_sector,
     with_sil,
 )
 from emulation.pil.build import build_firmware, checked_in, generate
@@ -291,3 +295,34 @@ def test_windows_a_period_apart_should_be_compared_over_the_same_periods() -> No
         (-5.0, -4.0), (-5.1, -4.1, -9.0), (-5.0, -4.0, -6.0, 0.0), (-5.1, -4.1, -9.0, 0.0)
     )
     assert apart.difference_pp == pytest.approx(3.0)
+
+
+@pytest.mark.parametrize("inertia_factor", [1.0, 200.0, 0.001])
+def test_braking_run_should_keep_its_edges_within_bounds_by_the_inertia(
+    inertia_factor: float,
+) -> None:
+    """The paper motor keeps its own inertia (about 578 edges, its 573 measured); a rotor
+    200 times heavier would take about 116,000 edges (hours of emulation), a 1000 times
+    lighter one a single edge: each is scaled to the nearer bound, and the report says
+    why, with the speed change over a sector."""
+    spec = load_spec(PAPER)
+    inertia = spec.motor.rotor_inertia_kg_m2 * Fraction(inertia_factor)
+    spec = replace(spec, motor=replace(spec.motor, rotor_inertia_kg_m2=inertia))
+    setup = braking_setup(spec, short=False)
+    own = braking_edges(spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
+    scaled = braking_edges(
+        spec, setup.start_rpm, setup.stop_rpm, setup.current_a, setup.inertia_scale
+    )
+    fewest, most = BRAKING_EDGES
+    if inertia_factor == 1.0:
+        assert setup.inertia_scale == 1.0 and fewest < own < most
+        assert own == pytest.approx(573, rel=0.05)  # the run's own count (PIL.md)
+    else:
+        assert not fewest < own < most
+        assert scaled == pytest.approx(most if own > most else fewest)
+    change = speed_change_per_sector(spec, setup)
+    assert 0.0 < change < 0.5
+    note = braking_report.inertia_note(spec, setup)
+    assert (note == "") == (inertia_factor == 1.0)
+    if note:
+        assert f"{own:.0f} Hall edges" in note and f"{100 * change:.1f} %" in note

@@ -25,6 +25,7 @@ host against the switched plant) runs at the PIL's speed, current and main duty.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -605,23 +606,61 @@ def brake(
 SHORT_EDGES = SETTLING_EDGES + 12
 
 
+#: Hall edges a full braking run takes at most: about 2.6 times the paper motor's (573
+#: with its own inertia), so `make pil` stays within minutes on any spec; and at least,
+#: so that a strong brake on a light rotor still gives commutations to compare (the
+#: Maxon's own inertia takes about 160)
+BRAKING_EDGES = (100, 1500)
+
+
+def braking_edges(
+    spec: Spec, start_rpm: float, stop_rpm: float, current_a: float, inertia_scale: float = 1.0
+) -> float:
+    """About how many Hall edges braking from `start_rpm` to `stop_rpm` takes: a constant
+    torque k_t I (two conducting phases convert 2 E I, E = k_e n per phase) against the
+    rotor inertia times `inertia_scale`, friction and losses left out (they shorten it)."""
+    k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
+    alpha = k_t * current_a / (float(spec.motor.rotor_inertia_kg_m2) * inertia_scale)
+    w1, w2 = (rpm * 2.0 * math.pi / 60.0 for rpm in (start_rpm, stop_rpm))
+    edges_per_radian = 6.0 * spec.motor.pole_pairs / (2.0 * math.pi)
+    return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
+
+
 def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
     speed) at its nominal braking current, with its own rotor inertia: for the paper
-    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). The short version
-    stops after SHORT_EDGES Hall edges."""
+    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). Where that would take
+    more Hall edges than BRAKING_EDGES allows (a weak motor on a heavy rotor) or fewer (a
+    strong brake on a light one), the inertia is scaled to take about the limit: the
+    report says so, with how much the speed then changes over a sector. The short
+    version stops after SHORT_EDGES Hall edges."""
     top = float(spec.controller.speed_max_rpm)
     low = float(spec.controller.speed_min_rpm)
-    sector = 10.0 / (0.92 * top * spec.motor.pole_pairs)
+    start, stop = 0.92 * top, max(low, 0.1 * top)
+    current = float(spec.controller.braking_current_nominal_a)
+    edges = braking_edges(spec, start, stop, current)
+    fewest, most = BRAKING_EDGES
+    scale = min(max(1.0, fewest / edges), most / edges) if 0 < edges < math.inf else 1.0
+    sector = 10.0 / (start * spec.motor.pole_pairs)
     return BrakingSetup(
-        0.92 * top,
-        max(low, 0.1 * top),
-        float(spec.controller.braking_current_nominal_a),
+        start,
+        stop,
+        current,
+        inertia_scale=scale,
         max_edges=SHORT_EDGES if short else None,
         max_seconds=30.0,
         # the first measured commutation and its window, for the figure
         trace_seconds=(SETTLING_EDGES + 3) * sector,
     )
+
+
+def speed_change_per_sector(spec: Spec, setup: BrakingSetup) -> float:
+    """The relative speed change over one sector at the stop speed (the largest of the
+    run), at the constant torque of `braking_edges`."""
+    k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
+    alpha = k_t * setup.current_a / (float(spec.motor.rotor_inertia_kg_m2) * setup.inertia_scale)
+    w = setup.stop_rpm * 2.0 * math.pi / 60.0
+    return alpha * (2.0 * math.pi / (6.0 * spec.motor.pole_pairs * w)) / w if w > 0 else math.inf
 
 
 def worst_difference(commutations: list[Commutation]) -> Commutation | None:

@@ -15,7 +15,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from emulation.pil.braking import READS, BrakingResult, Commutation, worst_difference
+from codegen.spec_model import Spec
+from emulation.pil.braking import (
+    BRAKING_EDGES,
+    READS,
+    BrakingResult,
+    BrakingSetup,
+    Commutation,
+    braking_edges,
+    speed_change_per_sector,
+    worst_difference,
+)
 from emulation.pil.rcc import TICK_HZ
 from sim.scenario import switching_table
 
@@ -209,6 +219,21 @@ def _rows(result: BrakingResult) -> list[Commutation]:
     return [cs[k] for k in sorted(chosen)]
 
 
+def inertia_note(spec: Spec, setup: BrakingSetup) -> str:
+    """Why the rotor inertia is not the spec's, when it is not."""
+    if setup.inertia_scale == 1.0:
+        return ""
+    own = braking_edges(spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
+    fewest, most = BRAKING_EDGES
+    return (
+        f" The spec's own inertia would take about {own:.0f} Hall edges over this range"
+        f" (at k_t I, friction left out), outside the {fewest} to {most} a run takes, so"
+        f" the run scales it to take about {own * setup.inertia_scale:.0f}; the speed"
+        f" then changes by up to {100 * speed_change_per_sector(spec, setup):.1f} % over a"
+        " sector (at the stop speed), each commutation's own dynamics unchanged."
+    )
+
+
 def section(result: BrakingResult, figures: list[str]) -> list[str]:
     setup, spec = result.setup, result.spec
     mech = result.mechanics
@@ -229,6 +254,7 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
         f" {inertia:.6g} kg m^2 ({setup.inertia_scale:g} x the spec's), viscous friction"
         f" {friction:g} N m s/rad, load torque {load if not callable(load) else 'a function of time'} N m;"
         f" the bus a stiff {float(spec.inverter.bus_voltage_nominal_v):g} V."
+        + inertia_note(spec, setup)
         + (
             f" Short version: the first {setup.max_edges} Hall edges."
             if setup.max_edges is not None
