@@ -72,6 +72,8 @@ WARNINGS: dict[str, str] = {
     "time-budget-large": "accuracy.commutation_time_ticks above 2 % of the shortest 60 deg sector",
     "current-sense-window": "an operating point's nominal braking current needs a duty above"
     " the current sample window's maximum",
+    "improved-r-time-not-relaxed": "controller.method improved_r, a PWM period longer than"
+    " accuracy.commutation_time_ticks and no declared relaxation",
 }
 
 T = TypeVar("T")
@@ -1075,6 +1077,22 @@ def _check_plausible(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
         )
     fastest = hall.timer_clock_hz * 10 / (motor.pole_pairs * controller.speed_max_rpm)
     budget = p.accuracy.commutation_time_ticks
+    carrier = hall.timer_clock_hz / inverter.pwm_frequency_hz
+    if (
+        controller.method == "improved_r"
+        and p.accuracy.ill_conditioned_above is None
+        and carrier > budget
+    ):
+        r.warn(
+            "improved-r-time-not-relaxed",
+            "accuracy.commutation_time_ticks",
+            _raw(data, "accuracy.commutation_time_ticks"),
+            "the improved_r commutation ends on a carrier boundary, and where the turn-off"
+            " current is within the core's error of zero at a boundary the end may move by"
+            f" one PWM period ({_f1(carrier)} Hall ticks, more than this target): `verify`"
+            " fails there. Declare accuracy.ill_conditioned_above and"
+            " accuracy.ill_conditioned_counts (spec/paper_motor_improved_r.yaml: 80 and 0.1)",
+        )
     if budget > fastest / 50:
         r.warn(
             "time-budget-large",

@@ -270,3 +270,61 @@ def test_a_rho_should_share_y_product_only_where_the_constants_coincide(
     shared_bus, shared_timing, _ = functions(rule, limits, c.current)
     assert "KAR_Q" not in c_printer.function_definition(shared_bus)
     assert "bus->a_numerator" not in c_printer.function_definition(shared_timing)
+
+
+SLOW_20_POLE_PAIRS = [
+    *("--pole-pairs", "20", "--ke", "40 V/krpm", "--resistance", "0.4 ohm"),
+    *("--inductance", "1 mH", "--bus-voltage", "36 V", "--braking-current", "4 A"),
+    *("--speed-max", "300 rpm"),
+]
+
+
+def _init_improved_r(folder: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A new user's slow 20-pole-pair motor from `init`, switched to improved_r."""
+    from bldc import cli
+
+    monkeypatch.chdir(folder)
+    assert cli.main(["init", "slow20", *SLOW_20_POLE_PAIRS]) == 0
+    spec = folder / "spec" / "slow20.yaml"
+    spec.write_text(spec.read_text().replace("  method: improved\n", "  method: improved_r\n"))
+    return spec
+
+
+def test_init_should_declare_the_relaxation_and_its_absence_be_warned(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A PWM period of 25 Hall ticks against an 8-tick target: where the turn-off current
+    is within the core's error of zero at a boundary the end may move by a period, so
+    a spec without the declared relaxation is warned at load (verify would fail)."""
+    spec_path = _init_improved_r(tmp_path, monkeypatch)
+    spec = load_spec(spec_path)
+    assert spec.accuracy.ill_conditioned_above == 10 * spec.accuracy.commutation_time_ticks
+    assert spec.accuracy.ill_conditioned_counts == Fraction(1, 10)
+    assert not [w for w in spec.warnings if w.id == "improved-r-time-not-relaxed"]
+    text = spec_path.read_text()
+    bare = tmp_path / "bare.yaml"
+    bare.write_text(
+        "\n".join(
+            line
+            for line in text.splitlines()
+            if "ill_conditioned_" not in line or line.lstrip().startswith("#")
+        )
+        + "\n"
+    )
+    warned = [w for w in load_spec(bare).warnings if w.id == "improved-r-time-not-relaxed"]
+    assert len(warned) == 1 and "25.0 Hall ticks" in str(warned[0])
+    paper = bare.read_text().replace("  method: improved_r\n", "  method: improved\n")
+    bare.write_text(paper)
+    assert not [w for w in load_spec(bare).warnings if w.id == "improved-r-time-not-relaxed"]
+
+
+@pytest.mark.heavy
+def test_a_new_slow_many_pole_improved_r_motor_should_verify(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The motor that found the missing relaxation: init, generate and verify pass."""
+    from bldc import cli
+
+    spec = _init_improved_r(tmp_path, monkeypatch)
+    assert cli.main(["generate", str(spec)]) == 0
+    assert cli.main(["verify", str(spec), "--no-progress"]) == 0

@@ -610,7 +610,7 @@ SHORT_EDGES = SETTLING_EDGES + 12
 #: with its own inertia), so `make pil` stays within minutes on any spec; and at least,
 #: so that a strong brake on a light rotor still gives commutations to compare (the
 #: Maxon's own inertia takes about 160)
-BRAKING_EDGES = (100, 1500)
+BRAKING_EDGES = (150, 1500)
 
 
 def braking_edges(
