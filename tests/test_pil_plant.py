@@ -214,6 +214,30 @@ def test_a_commutation_time_the_host_core_does_not_give_should_fail_the_braking_
     assert any("no read of the port's state" in p for p in found), found
 
 
+def test_a_compared_commutation_timed_from_no_current_should_fail_the_braking_run(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """A timing computed from the code of 0 A where the loop holds I near the command
+    (a sample of the commutating bridge taken as I) fails the run; below the compared
+    current it is reported, not failed."""
+    _, result = paper_run
+    spec = result.spec
+    zero = int(spec.adc.current_offset_v / spec.adc.reference_v * (1 << spec.adc.bits))
+    assert braking_report.zero_current_code(result) == zero
+    first = result.commutations[0]
+    assert braking_report.compared(result, first)
+    assert braking_report.zero_current_reads(result) == []
+    read = {**first.firmware_inputs, "current": zero}
+    found = braking_report.problems(
+        replace(result, commutations=[replace(first, firmware_inputs=read)])
+    )
+    assert any(f"commutation {first.index} at" in p and f"code {zero} (0 A)" in p for p in found)
+    low = replace(first, firmware_inputs=read, current_a=0.1 * result.setup.current_a)
+    assert braking_report.problems(replace(result, commutations=[low])) == []
+    lines = braking_report.section(replace(result, commutations=[first, low]), [])
+    assert any(f"at or below {zero}, the code of 0 A): 1 of 2" in line for line in lines)
+
+
 class LoopSamples:
     """What the current loop took as I: each injected trigger (TIM1 TRGO) and each value
     ADC1_2_IRQHandler stores into `port.current`, with their ticks."""
