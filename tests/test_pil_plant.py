@@ -13,6 +13,7 @@ shunts, 23 pole pairs) brakes with every invariant kept.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import replace
 from fractions import Fraction
@@ -20,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from unicorn import UC_HOOK_MEM_WRITE
 
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
@@ -31,14 +33,17 @@ from emulation.pil.braking import (
     Commutation,
     braking_edges,
     braking_setup,
+    port_layout,
     speed_change_per_sector,
     with_sil,
 )
 from emulation.pil.build import build_firmware, checked_in, generate
+from emulation.pil.bus import svd_interrupt
 from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.plant import Mechanics, MotorPlant
 from emulation.pil.plant_faults import PLANT_FAULTS, PlantFault, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
+from emulation.pil.scs import IRQ_BASE
 from sim.drive import Drive
 from sim.scenario import Case, switching_table
 from sim.schedule import OFF, Schedule, Segment
@@ -48,6 +53,7 @@ pytestmark = pytest.mark.heavy
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
+MAXON = ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml"
 WFI_LOOP = b"\x30\xbf\xfd\xe7"
 
 
@@ -210,6 +216,108 @@ def test_a_commutation_time_the_host_core_does_not_give_should_fail_the_braking_
     unseen = replace(first, firmware_inputs={**first.firmware_inputs, READS: 0})
     found = braking_report.problems(replace(result, commutations=[unseen]))
     assert any("no read of the port's state" in p for p in found), found
+
+
+def test_a_compared_commutation_timed_from_no_current_should_fail_the_braking_run(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """A timing computed from the code of 0 A where the loop holds I near the command
+    (a sample of the commutating bridge taken as I) fails the run; below the compared
+    current it is reported, not failed."""
+    _, result = paper_run
+    spec = result.spec
+    zero = int(spec.adc.current_offset_v / spec.adc.reference_v * (1 << spec.adc.bits))
+    assert braking_report.zero_current_code(result) == zero
+    first = result.commutations[0]
+    assert braking_report.compared(result, first)
+    assert braking_report.zero_current_reads(result) == []
+    read = {**first.firmware_inputs, "current": zero}
+    found = braking_report.problems(
+        replace(result, commutations=[replace(first, firmware_inputs=read)])
+    )
+    assert any(f"commutation {first.index} at" in p and f"code {zero} (0 A)" in p for p in found)
+    low = replace(first, firmware_inputs=read, current_a=0.1 * result.setup.current_a)
+    assert braking_report.problems(replace(result, commutations=[low])) == []
+    lines = braking_report.section(replace(result, commutations=[first, low]), [])
+    assert any(f"at or below {zero}, the code of 0 A): 1 of 2" in line for line in lines)
+
+
+class LoopSamples:
+    """What the current loop took as I: each injected trigger (TIM1 TRGO) and each value
+    ADC1_2_IRQHandler stores into `port.current`, with their ticks."""
+
+    def __init__(self, loop: BrakingLoop, port_source: Path) -> None:
+        machine = loop.machine
+        self.triggers: list[int] = []
+        self.stores: list[tuple[int, int]] = []
+        machine.tim1.trgo_listeners.append(self.triggers.append)
+        adc = IRQ_BASE + svd_interrupt("ADC1", "ADC")
+        offset, size = port_layout(port_source)["current"]
+        address = machine.symbol("port") + offset
+
+        def stored(
+            _uc: object, _access: int, _address: int, _size: int, value: int, _data: object
+        ) -> None:
+            if machine.nvic.active and machine.nvic.active[-1] == adc:
+                self.stores.append((machine.now, value & ((1 << (8 * size)) - 1)))
+
+        machine.uc.hook_add(UC_HOOK_MEM_WRITE, stored, None, address, address + size - 1)
+        machine.uc.ctl_flush_tb()  # hooks reach only code translated after them
+
+    def trigger_before(self, tick: int) -> int:
+        return self.triggers[bisect.bisect_right(self.triggers, tick) - 1]
+
+
+@pytest.fixture(scope="module")
+def maxon_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[BrakingLoop, LoopSamples]:
+    """The Maxon (low-side phase shunts: the JDRx of I changes at each commutation end)
+    braking for the short run's Hall edges."""
+    spec = load_spec(str(MAXON))
+    generated = checked_in(MAXON)
+    assert generated is not None
+    port = generated / "c" / "stm32f103_port.c"
+    elf = build_firmware(MAXON, tmp_path_factory.mktemp("maxon_plant"), generated)
+    loop = BrakingLoop(elf, port, spec, braking_setup(spec, short=True))
+    samples = LoopSamples(loop, port)
+    loop.run_braking()
+    return loop, samples
+
+
+def test_the_current_loop_should_take_no_sample_triggered_before_the_commutation_end(
+    maxon_run: tuple[BrakingLoop, LoopSamples],
+) -> None:
+    """Between a Hall edge and its commutation end no single signal is I and the loop
+    holds; at the end it switches to the new sector's JDRx. An injected sequence
+    triggered before the end was sampled while both switches commutated (the turn-on
+    switch at D_on, up to the whole period: its phase's lower diode, the new sector's
+    signal, then carries nothing and reads the zero code): the loop must not store it as
+    I, nor the timing handler that the end's COM event raises compute with it. Every
+    value stored is of a sequence triggered after the latest COM event; and the run
+    holds commutation ends inside a sequence (trigger before, loop's handler after), so
+    the case is exercised, not missed."""
+    loop, samples = maxon_run
+    coms = loop.com_ticks
+    assert coms and samples.stores and samples.triggers
+    halls = [tick for tick, *_ in loop.edges]
+    # the commutation ends: every COM event but the first after each Hall edge
+    edge_coms = {next((c for c in coms if c >= hall), None) for hall in halls}
+    ends = [c for c in coms if c not in edge_coms]
+    adc = IRQ_BASE + svd_interrupt("ADC1", "ADC")
+    entries = [tick for tick, exception in loop.machine.entry_log if exception == adc]
+    straddled = [
+        end
+        for end in ends
+        if samples.trigger_before(end) < end
+        and next((e for e in entries if e > samples.trigger_before(end)), end + 1) > end
+    ]
+    late = []
+    for tick, code in samples.stores:
+        trigger = samples.trigger_before(tick)
+        com = coms[bisect.bisect_right(coms, tick) - 1]
+        if trigger < com:
+            late.append((tick, code, com - trigger))
+    assert len(ends) >= 10 and straddled, (len(ends), straddled)
+    assert late == [], f"stored as I from sequences triggered before a COM event: {late}"
 
 
 @pytest.fixture(scope="module")

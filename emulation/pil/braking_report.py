@@ -173,9 +173,25 @@ def compared(result: BrakingResult, c: Commutation) -> bool:
     return c.current_a >= COMPARED_FRACTION * result.setup.current_a
 
 
+def zero_current_code(result: BrakingResult) -> int:
+    """The code the spec's sensing chain gives for 0 A (an ideal ADC: floor(V / VREF x
+    2^bits), as `emulation.pil.adc` converts)."""
+    adc = result.spec.adc
+    return int(adc.current_offset_v / adc.reference_v * (1 << adc.bits))
+
+
+def zero_current_reads(result: BrakingResult) -> list[Commutation]:
+    """The commutations whose timing was computed from no current: the timing handler
+    read a current code at or below the one of 0 A (the core then applies no
+    commutation time)."""
+    zero = zero_current_code(result)
+    return [c for c in result.commutations if c.firmware_inputs.get("current", zero + 1) <= zero]
+
+
 def problems(result: BrakingResult) -> list[str]:
     """Every way the braking run breaks its requirement (empty: it passes)."""
     out = list(result.outcome.problems)
+    zero_reads = {c.index for c in zero_current_reads(result)}
     for c in result.commutations:
         if not c.firmware_inputs.get(READS, 0):
             out.append(
@@ -189,6 +205,13 @@ def problems(result: BrakingResult) -> list[str]:
             )
         if not compared(result, c):
             continue
+        # the loop holds I near the command here: a sample of no current is not I (it
+        # was a sequence sampled while the bridge commutated, before the port held it)
+        if c.index in zero_reads:
+            out.append(
+                f"commutation {c.index} at {c.current_a:.3f} A: the timing handler read the"
+                f" current code {c.firmware_inputs['current']} (0 A)"
+            )
         if c.difference_pp is not None and c.difference_pp > AGREEMENT_PP:
             out.append(
                 f"commutation {c.index} at {c.speed_rpm:.0f} rpm: PIL {c.deviation_worst_pct:+.2f} %"
@@ -284,6 +307,21 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
                 if skipped
                 else ""
             )
+        )
+        zero_reads = zero_current_reads(result)
+        lines.append(
+            f"* Timings computed from no current (the timing handler read a current code at"
+            f" or below {zero_current_code(result)}, the code of 0 A): {len(zero_reads)} of"
+            f" {len(result.commutations)} commutations"
+            + (
+                f" ({', '.join(str(c.index) for c in zero_reads)}; I at most"
+                f" {max(c.current_a for c in zero_reads):.3f} A, main duty at least"
+                f" {min(c.main_duty for c in zero_reads):.3f})"
+                if zero_reads
+                else ""
+            )
+            + f"; required: none where I is compared (at least {COMPARED_FRACTION:g} x the"
+            " command)."
         )
         same = sum(1 for c in result.commutations if c.sil_outputs == c.applied)
         lines.append(

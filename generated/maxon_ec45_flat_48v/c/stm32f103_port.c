@@ -239,6 +239,7 @@ static struct {
     const bldc_timing_t *timing;    /* what the next Hall edge applies: one of `slots` */
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
+    uint32_t stale;                 /* ADC_SR_JSTRT: the injected sequence in flight at the commutation end began before it, or 0 */
     volatile uint32_t *steady_compare; /* its compare register (CCRx), set with `steady` */
     const volatile uint32_t *steady_sense; /* the JDRx that holds I then, set with `steady` */
     uint16_t period;                /* last Hall interval in ticks, for the next timing (16 bits: the inlined core's cap to the counter's range folds away) */
@@ -451,6 +452,13 @@ static void port_on_commutation_end(uintptr_t anchor)
     port.steady_compare = compare;
     port.steady_sense = &PORT_AT(anchor, ADC1, ADC_TypeDef)->JDR1 + PORT_RECORD_SENSE_SLOT(record);
     port.steady = record;
+    /* An injected sequence that began before now (JSTRT: set at its trigger, cleared
+     * with JEOC by the current loop, which runs at this priority) was sampled while
+     * both switches commutated, through the sense slot of the sector before: no single
+     * signal was I then, and the new slot's shunt may carry nothing (the turn-on switch
+     * at D_on up to the whole period: its lower diode off, the zero code). The loop
+     * holds I and the duty through that sequence too. */
+    port.stale = PORT_AT(anchor, ADC1, ADC_TypeDef)->SR & ADC_SR_JSTRT;
     port.pending = 0u;
     /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the
      * Hall timeout (port_on_wrap). */
@@ -670,7 +678,7 @@ static inline void port_run_loop(uint32_t measured, uint32_t reference)
 
 /* The interrupt's other paths, out of line: either analog watchdog (ADC1's on the bus,
  * ADC2's on the current), a commutation running (I is not sampled: no single signal is
- * I then), the bridge idle or faulted, the open loop, and the faults this interrupt
+ * I then) or the sequence begun before its end (`stale`), the bridge idle or faulted, the open loop, and the faults this interrupt
  * finds (the Hall counter wrapped while the bridge switches, a current sample at a
  * rail). An entry for ADC2 alone (no JEOC) comes here too and runs no loop step: ADC2's
  * AWD is then set, or the bridge is faulted. */
@@ -697,6 +705,8 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
             port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
         } else if ((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
             port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* 0 or full scale */
+        } else if (port.stale != 0u) {
+            port.stale = 0u; /* begun before the commutation end: not I; hold I and the duty */
         } else if (port.reference <= BLDC_PORT_ADC_CODE_MAX) {
             port_run_loop(measured, port.reference);
         } else {
@@ -724,13 +734,13 @@ BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
     const uint32_t measured = *port.steady_sense; /* the JDRx of I in this sector */
     const uint32_t reference = port.reference;
     /* Either analog watchdog (AWD is bit 0 of both SRs), the bridge not in the steady
-     * state, the Hall counter wrapped, the open loop (a reference above every ADC code:
+     * state, a sequence begun before the commutation end, the Hall counter wrapped, the open loop (a reference above every ADC code:
      * bits above the code's), (a sample at a rail is ADC2's
      * watchdog's, which sees both rails at every conversion, this sample's instant
      * included), and a Hall code 0 or 7 is the EXTI's
      * (EXTI0_IRQHandler). */
     const uint32_t watchdogs = (status | PORT_AT(anchor, ADC2, ADC_TypeDef)->SR) & ADC_SR_AWD;
-    const uint32_t other = watchdogs | port_is_zero(steady) | port.pending |
+    const uint32_t other = watchdogs | port_is_zero(steady) | port.pending | port.stale |
                            (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) |
                            (reference >> BLDC_PORT_ADC_BITS);
     if (BLDC_PORT_RARE(other != 0u)) {
