@@ -245,6 +245,7 @@ static struct {
     uint16_t period;                /* last Hall interval in ticks, for the next timing (16 bits: the inlined core's cap to the counter's range folds away) */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
     uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
+    uint16_t bus_code;              /* the bus code of `bus` (written at the bus change; for a debugger and the PIL, no handler reads it) */
     uint32_t bus_low;               /* the bus code of `bus` - hysteresis (mod 2^32): a sample within the band is no change */
     uint32_t bus_moved;             /* 1: the current loop's last bus sample left the band (the timing handler recomputes), else 0 */
     uint32_t rectifying_max;        /* the longest Hall interval at which all-off rectifies at the bus code of `bus` */
@@ -535,6 +536,7 @@ BLDC_PORT_NOINLINE static void port_update_bus(void)
 {
     port.bus_moved = 0u;
     const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
+    port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.rectifying_max = port_rectifying_max(code);
     port.bus = bldc_bus_condition(code);
@@ -1212,6 +1214,7 @@ void bldc_port_init(uint32_t start_faults)
      * any conversion: the first sample above it pends the timing, which computes the
      * bus state from it; a bus that reads 0 keeps the bridge off (and the analog
      * watchdog trips under-voltage). */
+    port.bus_code = BLDC_PORT_BUS_UNKNOWN;
     port.bus_low = 0u - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus_moved = 0u;
     port.rectifying_max = port_rectifying_max(BLDC_PORT_BUS_UNKNOWN);
