@@ -122,6 +122,12 @@
 /* Branch hints: lay the rare paths out of line, so the Hall edge runs straight through. */
 #if defined(__GNUC__)
 #define BLDC_PORT_RARE(condition) __builtin_expect((condition) != 0, 0)
+/* A rare call kept in line, skipped by a short forward CBZ: stated as likely, so the
+ * compiler lays the call out as the fall-through. From flash, a conditional branch
+ * that is not taken still fetches its target (TRM r2p0 1.4, speculative fetch), a read
+ * of a distant flash line that the next instructions wait behind; the taken short
+ * skip lands in the line already fetched. */
+#define BLDC_PORT_RARE_IN_LINE(condition) __builtin_expect((condition) != 0, 1)
 #define BLDC_PORT_COLD __attribute__((cold, noinline))
 #define BLDC_PORT_NOINLINE __attribute__((noinline))
 /* Start on a 64-bit flash line: the first fetch brings in four 16-bit instructions. */
@@ -133,6 +139,7 @@
 #else
 #define BLDC_PORT_FEW_REGISTERS
 #define BLDC_PORT_RARE(condition) ((condition) != 0)
+#define BLDC_PORT_RARE_IN_LINE(condition) ((condition) != 0)
 #define BLDC_PORT_COLD
 #define BLDC_PORT_NOINLINE
 #define BLDC_PORT_LINE_ALIGNED
@@ -587,7 +594,7 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
 {
     /* The current loop tests each bus sample against the band around the code in use
      * and leaves its answer here (one word, no ADC register read on this path). */
-    if (BLDC_PORT_RARE(port.bus_moved != 0u)) {
+    if (BLDC_PORT_RARE_IN_LINE(port.bus_moved != 0u)) {
         port_update_bus();
     }
     /* COMIF cleared before the interval is read: a Hall edge after this point raises it
