@@ -608,8 +608,9 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
      * an edge sees the previous timing or this one, never half of either. Only this
      * handler writes `timing` and `spare` (the Hall edge reads `timing`). */
-    bldc_timing_t *const next = port.spare;
     const bldc_timing_t timing = PORT_COMMUTATION_TIMING(&port.bus, period, port.current, port.main_duty);
+    BLDC_PORT_SEQUENCE(); /* `next` read after the core: one register fewer through it */
+    bldc_timing_t *const next = port.spare;
     /* Field by field, a half-word store each: a copy of the whole struct, or stores
      * the compiler may merge, packs the four half-words into two words first (BFI). */
     next->period_min = timing.period_min;
