@@ -257,6 +257,11 @@ class BrakingLoop:
             self.machine.uc.hook_add(
                 UC_HOOK_MEM_READ, self._on_port_read, name, address, address + size - 1
             )
+            # a field the timing handler writes itself before it computes (the bus code,
+            # at a bus change) is an input from then on: its new value
+            self.machine.uc.hook_add(
+                UC_HOOK_MEM_WRITE, self._on_port_write, name, address, address + size - 1
+            )
         # Unicorn 2 builds a memory hook into the code it translates from then on: the
         # timing handler, translated while the firmware booted, would never call these
         # (its inputs would stay the snapshot at its entry, not what it read). Dropping
@@ -284,18 +289,31 @@ class BrakingLoop:
     def _on_port_read(
         self, _uc: object, _access: int, _address: int, _size: int, _value: int, name: str
     ) -> None:
-        active = self.machine.nvic.active
-        if (
-            active
-            and active[-1] == self._timing
-            and self.timing_runs
-            and "published" not in self.timing_runs[-1][1]  # reads after it are not inputs
-        ):
+        if self._timing_reading():  # reads after it published are not inputs
             offset, size = self._layout[name]
             word = self.machine.read_u32(self._port + offset)
             record = self.timing_runs[-1][1]
             record[name] = word & ((1 << (8 * size)) - 1)
             record[READS] = record.get(READS, 0) + 1
+
+    def _on_port_write(
+        self, _uc: object, _access: int, address: int, size: int, value: int, name: str
+    ) -> None:
+        if self._timing_reading():
+            offset, field_size = self._layout[name]
+            shift = 8 * (self._port + offset - address)  # the field's bytes in the access
+            if shift >= 0 and shift + 8 * field_size <= 8 * size:
+                self.timing_runs[-1][1][name] = (value >> shift) & ((1 << (8 * field_size)) - 1)
+
+    def _timing_reading(self) -> bool:
+        """The timing handler runs and has not published its result yet."""
+        active = self.machine.nvic.active
+        return bool(
+            active
+            and active[-1] == self._timing
+            and self.timing_runs
+            and "published" not in self.timing_runs[-1][1]
+        )
 
     def _port_inputs(self) -> dict[str, int]:
         out = {}

@@ -122,6 +122,12 @@
 /* Branch hints: lay the rare paths out of line, so the Hall edge runs straight through. */
 #if defined(__GNUC__)
 #define BLDC_PORT_RARE(condition) __builtin_expect((condition) != 0, 0)
+/* A rare call kept in line, skipped by a short forward CBZ: stated as likely, so the
+ * compiler lays the call out as the fall-through. From flash, a conditional branch
+ * that is not taken still fetches its target (TRM r2p0 1.4, speculative fetch), a read
+ * of a distant flash line that the next instructions wait behind; the taken short
+ * skip lands in the line already fetched. */
+#define BLDC_PORT_RARE_IN_LINE(condition) __builtin_expect((condition) != 0, 1)
 #define BLDC_PORT_COLD __attribute__((cold, noinline))
 #define BLDC_PORT_NOINLINE __attribute__((noinline))
 /* Start on a 64-bit flash line: the first fetch brings in four 16-bit instructions. */
@@ -133,6 +139,7 @@
 #else
 #define BLDC_PORT_FEW_REGISTERS
 #define BLDC_PORT_RARE(condition) ((condition) != 0)
+#define BLDC_PORT_RARE_IN_LINE(condition) ((condition) != 0)
 #define BLDC_PORT_COLD
 #define BLDC_PORT_NOINLINE
 #define BLDC_PORT_LINE_ALIGNED
@@ -236,7 +243,8 @@ BLDC_PORT_FAST_DATA static const uint32_t port_edge_of_pins[64] = {
  * the timing handler never writes the slot the Hall edge may be reading (it fills the
  * other one and then publishes it with one word write). */
 static struct {
-    const bldc_timing_t *timing;    /* what the next Hall edge applies: one of `slots` */
+    bldc_timing_t *timing;          /* what the next Hall edge applies: one of `slots` (it only reads it) */
+    bldc_timing_t *spare;           /* the other slot, the one the timing handler fills next */
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
     uint32_t stale;                 /* ADC_SR_JSTRT: the injected sequence in flight at the commutation end began before it, or 0 */
@@ -245,8 +253,10 @@ static struct {
     uint16_t period;                /* last Hall interval in ticks, for the next timing (16 bits: the inlined core's cap to the counter's range folds away) */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
     uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
-    uint16_t bus_code;              /* the bus code of `bus` */
-    uint32_t bus_low;               /* bus_code - hysteresis (mod 2^32): a sample within the band is no change */
+    uint16_t bus_code;              /* the bus code of `bus` (written at the bus change; for a debugger and the PIL, no handler reads it) */
+    uint32_t bus_low;               /* the bus code of `bus` - hysteresis (mod 2^32): a sample within the band is no change */
+    uint32_t bus_moved;             /* 1: the current loop's last bus sample left the band (the timing handler recomputes), else 0 */
+    uint32_t rectifying_max;        /* the longest Hall interval at which all-off rectifies at the bus code of `bus` */
     uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
     int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
     uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation) */
@@ -484,13 +494,23 @@ BLDC_PORT_FAST_CODE BLDC_PORT_LINE_ALIGNED void TIM3_IRQHandler(void)
     }
 }
 
-/* The safe state of this speed region (codegen/control/safe_state.py): the short
- * circuit where all-off would rectify into the bus (T B at or below the product), and,
- * if the spec prefers it, wherever it is within the bridge's rating. T and B are at most
- * 16 bits each: the product fits 32. */
-static uint32_t port_short_circuit(uint32_t period, uint32_t bus_code)
+/* All-off rectifies into the bus where T B is at or below the product
+ * (codegen/control/safe_state.py). For whole numbers T >= 0 and B >= 1,
+ * T B <= K exactly when T <= floor(K / B): floor(K / B) B <= K, and
+ * (floor(K / B) + 1) B > K. So the product test becomes one compare of T with a bound
+ * found once per bus code (a UDIV on the bus change, out of line: no divide and no
+ * multiply per timing run). B = 0 rectifies at every interval (0 <= K). */
+static uint32_t port_rectifying_max(uint32_t bus_code)
 {
-    const uint32_t rectifying = (period * bus_code) <= BLDC_PORT_RECTIFYING_PRODUCT;
+    return (bus_code == 0u) ? UINT32_MAX : (BLDC_PORT_RECTIFYING_PRODUCT / bus_code);
+}
+
+/* The safe state of this speed region: the short circuit where all-off would rectify
+ * into the bus, and, if the spec prefers it, wherever it is within the bridge's
+ * rating. */
+static uint32_t port_short_circuit(uint32_t period)
+{
+    const uint32_t rectifying = (uint32_t)(period <= port.rectifying_max);
 #if BLDC_PORT_SHORT_WHERE_BOTH && (BLDC_PORT_SHORT_VALID_PERIOD == 0u)
     (void)rectifying;
     return 1u; /* the short is within the rating at every speed, and preferred */
@@ -502,10 +522,9 @@ static uint32_t port_short_circuit(uint32_t period, uint32_t bus_code)
 }
 
 /* CR2's idle levels for the region: what MOE = 0 (a fault, the break input) does now. */
-static void port_set_safe_state(uint32_t period, uint32_t bus_code)
+static uint32_t port_safe_state_cr2(uint32_t period)
 {
-    TIM1->CR2 = BLDC_PORT_TIM1_CR2 |
-                ((port_short_circuit(period, bus_code) != 0u) ? BLDC_PORT_OIS_SHORT : 0u);
+    return BLDC_PORT_TIM1_CR2 | ((port_short_circuit(period) != 0u) ? BLDC_PORT_OIS_SHORT : 0u);
 }
 
 /* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
@@ -523,12 +542,18 @@ static void port_request_trip(uint32_t fault)
 
 /* The bus voltage changed beyond the hysteresis: its reciprocals, once per change (out
  * of line, so the bus state's temporaries cost the timing handler's common path no
- * stack). The core flags a bus outside its range: the analog watchdog has tripped
- * already, and this is its backstop. */
-BLDC_PORT_NOINLINE static void port_update_bus(uint32_t code)
+ * stack), from the latest injected sample. The request is taken before the sample is
+ * read: a sample the current loop finds outside the old band meanwhile requests (and
+ * pends this handler) again, and the rerun takes the newer code. The core flags a bus
+ * outside its range: the analog watchdog has tripped already, and this is its
+ * backstop. */
+BLDC_PORT_NOINLINE static void port_update_bus(void)
 {
+    port.bus_moved = 0u;
+    const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
+    port.rectifying_max = port_rectifying_max(code);
     port.bus = bldc_bus_condition(code);
     if (BLDC_PORT_RARE((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u)) {
         port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
@@ -577,19 +602,37 @@ BLDC_PORT_NOINLINE static void port_update_bus(uint32_t code)
  * and main duty. */
 PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
 {
-    TIM1->SR = ~TIM_SR_COMIF;
-    /* The latest injected bus sample; the current loop pended this run when it left the
-     * band around the code in use. */
-    const uint32_t bus = ADC1->JDR4;
-    if (BLDC_PORT_RARE((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES)) {
-        port_update_bus(bus);
+    /* The current loop tests each bus sample against the band around the code in use
+     * and leaves its answer here (one word, no ADC register read on this path). */
+    if (BLDC_PORT_RARE_IN_LINE(port.bus_moved != 0u)) {
+        port_update_bus();
     }
+    /* COMIF cleared before the interval is read: a Hall edge after this point raises it
+     * again and this handler runs once more; one before it left its interval in
+     * `period` already. SR and CR2 next to each other share TIM1's address. */
+    TIM_TypeDef *const tim1 = TIM1;
+    tim1->SR = ~TIM_SR_COMIF;
+    BLDC_PORT_SEQUENCE();
+    const uint32_t period = port.period;
+    tim1->CR2 = port_safe_state_cr2(period);
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
-     * an edge sees the previous timing or this one, never half of either. */
-    bldc_timing_t *const next = (port.timing == &port.slots[0]) ? &port.slots[1] : &port.slots[0];
-    *next = PORT_COMMUTATION_TIMING(&port.bus, port.period, port.current, port.main_duty);
+     * an edge sees the previous timing or this one, never half of either. Only this
+     * handler writes `timing` and `spare` (the Hall edge reads `timing`). */
+    const bldc_timing_t timing = PORT_COMMUTATION_TIMING(&port.bus, period, port.current, port.main_duty);
+    BLDC_PORT_SEQUENCE(); /* `next` read after the core: one register fewer through it */
+    bldc_timing_t *const next = port.spare;
+    /* Field by field, a half-word store each: a copy of the whole struct, or stores
+     * the compiler may merge, packs the four half-words into two words first (BFI). */
+    next->period_min = timing.period_min;
+    next->turn_on_compare = timing.turn_on_compare;
+    BLDC_PORT_SEQUENCE();
+    next->turn_off_compare = timing.turn_off_compare;
+    BLDC_PORT_SEQUENCE();
+    next->commutation_ticks = timing.commutation_ticks;
+    BLDC_PORT_SEQUENCE();
+    next->flags = timing.flags;
+    port.spare = port.timing;
     port.timing = next;
-    port_set_safe_state(port.period, port.bus_code);
 }
 
 /* Pend the timing handler when `moved` is 1, nothing when 0, without a branch: a 0
@@ -602,7 +645,9 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
 #endif
 static inline void port_pend_if_bus_moved(uint32_t bus)
 {
-    BLDC_PORT_PEND_TIMING_WHEN((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES);
+    const uint32_t moved = (uint32_t)((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES);
+    port.bus_moved = moved; /* the latest sample decides: back in the band, no change */
+    BLDC_PORT_PEND_TIMING_WHEN(moved);
 }
 
 /* The analog watchdog: a conversion of the bus (the regular group's, continuously, or
@@ -648,7 +693,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     const uint32_t captured = tim3->CCR1; /* clears CC1IF */
     tim3->SR = ~TIM_SR_UIF;
     port.period = (uint16_t)(((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured);
-    port_set_safe_state(port.period, port.bus_code);
+    TIM1->CR2 = port_safe_state_cr2(port.period);
 }
 
 /* 1 if `value` is 0, else 0, in two instructions and no branch: CLZ gives 32 for 0 alone
@@ -1189,10 +1234,13 @@ void bldc_port_init(uint32_t start_faults)
      * watchdog trips under-voltage). */
     port.bus_code = BLDC_PORT_BUS_UNKNOWN;
     port.bus_low = 0u - BLDC_PORT_BUS_HYSTERESIS_CODES;
+    port.bus_moved = 0u;
+    port.rectifying_max = port_rectifying_max(BLDC_PORT_BUS_UNKNOWN);
     port.bus = bldc_bus_condition(BLDC_PORT_BUS_UNKNOWN);
     port.period = BLDC_PORT_TIM3_ARR;
     port.slots[0] = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
     port.timing = &port.slots[0];
+    port.spare = &port.slots[1];
 
     port_init_hall_pins();
     port_init_break_pin();
