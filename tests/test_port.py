@@ -349,10 +349,8 @@ extern unsigned fake_nvic_priority[64];
 #endif
 """
 
-HOST_HARNESS = r"""
-#include <stdio.h>
-#include "stm32f103_port.h"
-
+#: The peripherals and NVIC state the host builds of the port link against.
+FAKE_PERIPHERALS = r"""
 TIM_TypeDef fake_tim1, fake_tim3;
 RCC_TypeDef fake_rcc;
 GPIO_TypeDef fake_gpioa, fake_gpiob;
@@ -361,7 +359,16 @@ AFIO_TypeDef fake_afio;
 EXTI_TypeDef fake_exti;
 unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 unsigned fake_nvic_priority[64];
+"""
 
+HOST_HARNESS = (
+    r"""
+#include <stdio.h>
+#include "stm32f103_port.h"
+
+"""
+    + FAKE_PERIPHERALS
+    + r"""
 static bldc_timing_t stub_next = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
 static uint32_t stub_bus_flags;
 static uint32_t seen_bus, seen_period, seen_current, seen_duty;
@@ -903,6 +910,7 @@ int main(int argc, char **argv)
     return 0;
 }
 """
+)
 
 
 def _parse(line: str) -> dict[str, int]:
@@ -1425,22 +1433,17 @@ def test_safe_state_should_follow_the_speed_region_while_faulted(
     assert stopped["port.safe"] == 0
 
 
-SAFE_STATE_CHECK = r"""
+SAFE_STATE_CHECK = (
+    r"""
 /* Every bus code the ADC gives (12 bits) and the start-up code 0xFFFF, through the
  * port's own bus change; for each, every Hall interval 0..65535 through the port's own
  * CR2 choice, against the design's product rule. */
 #include <stdio.h>
 #include "stm32f103_port.c"
 
-TIM_TypeDef fake_tim1, fake_tim3;
-RCC_TypeDef fake_rcc;
-GPIO_TypeDef fake_gpioa, fake_gpiob;
-ADC_TypeDef fake_adc1, fake_adc2;
-AFIO_TypeDef fake_afio;
-EXTI_TypeDef fake_exti;
-unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
-unsigned fake_nvic_priority[64];
-
+"""
+    + FAKE_PERIPHERALS
+    + r"""
 bldc_bus_t bldc_bus_condition(uint32_t bus_code)
 {
     bldc_bus_t bus = {0u, 0u, 0, 0u, bus_code, 0u};
@@ -1482,6 +1485,7 @@ int main(void)
     return wrong != 0ul;
 }
 """
+)
 
 
 @pytest.mark.parametrize(
