@@ -301,8 +301,8 @@ def test_the_current_loop_should_take_no_sample_triggered_before_the_commutation
     assert coms and samples.stores and samples.triggers
     halls = [tick for tick, *_ in loop.edges]
     # the commutation ends: every COM event but the first after each Hall edge
-    edge_coms = {next((c for c in coms if c >= hall), None) for hall in halls}
-    ends = [c for c in coms if c not in edge_coms]
+    first_coms = {next((c for c in coms if c >= hall), None) for hall in halls}
+    ends = [c for c in coms if c not in first_coms]
     adc = IRQ_BASE + svd_interrupt("ADC1", "ADC")
     entries = [tick for tick, exception in loop.machine.entry_log if exception == adc]
     straddled = [
