@@ -33,6 +33,7 @@ from emulation.pil.braking import (
     Commutation,
     braking_edges,
     braking_setup,
+    edge_coms,
     port_layout,
     speed_change_per_sector,
     with_sil,
@@ -300,8 +301,8 @@ def test_the_current_loop_should_take_no_sample_triggered_before_the_commutation
     assert coms and samples.stores and samples.triggers
     halls = [tick for tick, *_ in loop.edges]
     # the commutation ends: every COM event but the first after each Hall edge
-    edge_coms = {next((c for c in coms if c >= hall), None) for hall in halls}
-    ends = [c for c in coms if c not in edge_coms]
+    first_coms = {next((c for c in coms if c >= hall), None) for hall in halls}
+    ends = [c for c in coms if c not in first_coms]
     adc = IRQ_BASE + svd_interrupt("ADC1", "ADC")
     entries = [tick for tick, exception in loop.machine.entry_log if exception == adc]
     straddled = [
@@ -403,6 +404,35 @@ def test_windows_a_period_apart_should_be_compared_over_the_same_periods() -> No
         (-5.0, -4.0), (-5.1, -4.1, -9.0), (-5.0, -4.0, -6.0, 0.0), (-5.1, -4.1, -9.0, 0.0)
     )
     assert apart.difference_pp == pytest.approx(3.0)
+
+
+# The COM events around commutation 58 of the conv8k braking run (3 pole pairs, 5 V/krpm,
+# 24 V, 8 kHz, conventional method): each edge's commutation lasts about its whole
+# sector (862 Hall ticks, the interval), so the end of edge 57's lands on edge 58's pin
+# change. CCER per switch: CCxE upper, CCxNE lower, CC4E always set (0x1000).
+_COM_TICKS = [7_100_000, 7_141_790, 7_265_873, 7_266_012, 7_390_065, 7_390_240]
+_COM_CCERS = [
+    0x1014,  # edge 56's end: CH2 upper, CH1 lower
+    0x1114,  # edge 57: CH2 upper off, CH3 upper on, CH1 lower throughout
+    0x1104,  # edge 57's end: CH2 upper disabled
+    0x1144,  # edge 58: CH1 lower off, CH2 lower on, CH3 upper throughout
+    0x1140,  # edge 58's end: CH1 lower disabled
+    0x1141,  # edge 59: CH3 upper off, CH1 upper on
+]
+
+
+def test_a_commutation_end_on_the_next_pin_change_should_not_be_that_edges_time_0() -> None:
+    """Edge 58's pins change at 7265873, the tick of edge 57's commutation-end COM event
+    (its handler entered before the pins changed): time 0 is the COM event of edge 58's
+    own handler, 139 ticks later, and edge 57's commutation ends at 7265873."""
+    assert edge_coms(_COM_TICKS, _COM_CCERS, 7_265_873, 7_390_131) == (3, 4)
+    assert edge_coms(_COM_TICKS, _COM_CCERS, 7_141_681, 7_265_873) == (1, 2)
+    # a commutation that has not ended by the next edge's COM event has no end
+    ticks = _COM_TICKS[:4] + _COM_TICKS[5:]
+    ccers = _COM_CCERS[:4] + _COM_CCERS[5:]
+    assert edge_coms(ticks, ccers, 7_265_873, 7_390_131) == (3, None)
+    # an edge whose handler raised no COM event before the next edge: not measured
+    assert edge_coms(_COM_TICKS[:3], _COM_CCERS[:3], 7_265_873, 7_390_131) is None
 
 
 @pytest.mark.parametrize("inertia_factor", [1.0, 200.0, 0.001])

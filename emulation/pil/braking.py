@@ -25,6 +25,7 @@ host against the switched plant) runs at the PIL's speed, current and main duty.
 
 from __future__ import annotations
 
+import bisect
 import math
 import time
 from dataclasses import dataclass, field
@@ -79,6 +80,35 @@ def port_layout(port_source: Path) -> dict[str, tuple[int, int]]:
     if missing:
         raise PilError(f"{port_source}: the port's state has no field {', '.join(missing)}")
     return {f: out[f] for f in PORT_FIELDS}
+
+
+#: TIM1 CCER's output enables of channels 1 to 3 (CCxE and CCxNE): the switches a COM
+#: event leaves enabled
+CCER_OUTPUTS = 0b0101_0101_0101
+
+
+def edge_coms(
+    com_ticks: list[int], com_ccers: list[int], hall: int, following: int
+) -> tuple[int, int | None] | None:
+    """(index of the edge's own COM event, index of its commutation-end COM event or
+    None) among the COM events (`com_ticks`, with the CCER each put in force), for the
+    Hall edge whose pins changed at `hall` and the next one at `following`.
+
+    The edge's own COM event is the first one from `hall` on that enables a switch
+    (its incoming one). A commutation end only disables the outgoing switch: when the
+    previous edge's commutation lasts about its whole sector (commutation ticks at the
+    Hall interval), its end lands on or just after the next pin change, before the
+    firmware's Hall edge handler runs, and it is not that edge's time 0. The
+    commutation end is the next COM event if it enables nothing, wherever it lands."""
+    for k in range(max(bisect.bisect_left(com_ticks, hall), 1), len(com_ticks)):
+        if com_ticks[k] >= following:
+            return None
+        if not com_ccers[k] & ~com_ccers[k - 1] & CCER_OUTPUTS:
+            continue
+        if k + 1 < len(com_ticks) and not com_ccers[k + 1] & ~com_ccers[k] & CCER_OUTPUTS:
+            return k, k + 1
+        return k, None
+    return None
 
 
 #: Commutations after the first edge that are not measured: the Hall interval, the
@@ -226,6 +256,8 @@ class BrakingLoop:
         self.com_compares: list[tuple[int, ...]] = []
         #: TIM3 CCR2 (the commutation end the last Hall edge scheduled) at each COM event
         self.com_tim3_ccr2: list[int] = []
+        #: TIM1 CCER in force from each COM event on
+        self.com_ccers: list[int] = []
         self._coms_seen = self.machine.tim1.com_events
         self.machine.tim1.period_listeners.append(self._period_started)
         #: (tick, sector entered, compare values last written (CCRx preload), ARR) at every Hall edge
@@ -356,6 +388,7 @@ class BrakingLoop:
             self.com_ticks.append(tick)
             self.com_compares.append(tuple(tim1.ccr[1:4]))
             self.com_tim3_ccr2.append(self.machine.tim3.ccr[2])
+            self.com_ccers.append(tim1.ccer)
 
     def _hall_edge(self) -> None:
         tim1 = self.machine.tim1
@@ -440,12 +473,12 @@ class BrakingLoop:
     def _measure(self, index: int) -> Commutation | None:
         hall, sector, compares, arr = self.edges[index]
         following = self.edges[index + 1][0]
-        coms = [t for t in self.com_ticks if hall <= t < following]
-        if not coms:
+        own = edge_coms(self.com_ticks, self.com_ccers, hall, following)
+        if own is None:
             return None
-        start = coms[0]
-        end_com = coms[1] if len(coms) > 1 else None
-        first = self.com_ticks.index(start)
+        first, end_index = own
+        start = self.com_ticks[first]
+        end_com = None if end_index is None else self.com_ticks[end_index]
         if first + 1 >= len(self.com_ticks):
             return None
         # the inputs of the last timing published before the edge's handler applied it
