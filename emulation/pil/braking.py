@@ -664,14 +664,20 @@ SHORT_EDGES = SETTLING_EDGES + 12
 BRAKING_EDGES = (150, 1500)
 
 
+def _deceleration(spec: Spec, current_a: float, inertia_scale: float) -> float:
+    """The rotor's deceleration (rad/s^2) under a constant braking torque k_t I: two
+    conducting phases convert 2 E I, E = k_e n per phase."""
+    k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
+    return k_t * current_a / (float(spec.motor.rotor_inertia_kg_m2) * inertia_scale)
+
+
 def braking_edges(
     spec: Spec, start_rpm: float, stop_rpm: float, current_a: float, inertia_scale: float = 1.0
 ) -> float:
     """About how many Hall edges braking from `start_rpm` to `stop_rpm` takes: a constant
     torque k_t I (two conducting phases convert 2 E I, E = k_e n per phase) against the
     rotor inertia times `inertia_scale`, friction and losses left out (they shorten it)."""
-    k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
-    alpha = k_t * current_a / (float(spec.motor.rotor_inertia_kg_m2) * inertia_scale)
+    alpha = _deceleration(spec, current_a, inertia_scale)
     w1, w2 = (rpm * 2.0 * math.pi / 60.0 for rpm in (start_rpm, stop_rpm))
     edges_per_radian = 6.0 * spec.motor.pole_pairs / (2.0 * math.pi)
     return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
@@ -708,8 +714,7 @@ def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
 def speed_change_per_sector(spec: Spec, setup: BrakingSetup) -> float:
     """The relative speed change over one sector at the stop speed (the largest of the
     run), at the constant torque of `braking_edges`."""
-    k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
-    alpha = k_t * setup.current_a / (float(spec.motor.rotor_inertia_kg_m2) * setup.inertia_scale)
+    alpha = _deceleration(spec, setup.current_a, setup.inertia_scale)
     w = setup.stop_rpm * 2.0 * math.pi / 60.0
     return alpha * (2.0 * math.pi / (6.0 * spec.motor.pole_pairs * w)) / w if w > 0 else math.inf
 
