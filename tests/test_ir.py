@@ -17,6 +17,7 @@ from codegen.ir.errors import error
 from codegen.ir.intervals import Interval, ProofError, new_prover, prove_function
 from codegen.ir.nodes import (
     Function,
+    IBin,
     IConst,
     IShl,
     Param,
@@ -104,6 +105,46 @@ def test_proof_should_hold_a_loop_to_its_declared_invariant() -> None:
         invariants=(("acc", 0, 2),),
     )
     _prove(_fn((SVar("acc", U32, const(0)), kept, SReturn(var("acc", U32)))))
+
+
+def _counting_loop(start_high: int) -> Function:
+    """acc marks the steps (bit 3 - k) of a loop from min(a, start_high) to 4."""
+    body = (
+        SLet("first", select(cmp(">", a, const(start_high)), const(start_high), a)),
+        SVar("acc", U32, const(0)),
+        SFor(
+            "k",
+            4,
+            (SAssign("acc", IBin(U32, "|", var("acc", U32), shr(const(8), var("k", U32)))),),
+            invariants=(("acc", 0, 15),),
+            start="first",
+        ),
+        SReturn(add(mul(var("acc", U32), const(16)), var("first", U32))),
+    )
+    return _fn(body)
+
+
+def test_a_loop_from_a_variable_start_should_be_proven_and_printed_alike(tmp_path: Path) -> None:
+    """The start is checked against [0, count]; C and Python run the same steps."""
+    with pytest.raises(ProofError, match=r"loop start first is \[0, 5\], outside \[0, 4\]"):
+        _prove(_counting_loop(5))
+    fn = _counting_loop(4)
+    _prove(fn)
+    source = tmp_path / "loop.c"
+    source.write_text(
+        "#include <stdint.h>\n#include <stdio.h>\n"
+        + c_printer.function_definition(fn)
+        + '\nint main(void) { for (uint32_t a = 0u; a < 7u; ++a) { printf("%u\\n",'
+        " ir_test(a, 0u)); } return 0; }\n"
+    )
+    exe = tmp_path / "loop"
+    subprocess.run(["gcc", "-std=c99", "-Wall", "-Werror", str(source), "-o", str(exe)], check=True)
+    out = subprocess.run([str(exe)], capture_output=True, text=True, check=True)
+    namespace: dict[str, object] = {}
+    exec(py_printer.C_DIV + "\n" + py_printer.function_definition(fn), namespace)
+    python = [namespace["ir_test"](v, 0) for v in range(7)]  # type: ignore[operator]
+    expected = [sum(8 >> k for k in range(min(v, 4), 4)) * 16 + min(v, 4) for v in range(7)]
+    assert [int(v) for v in out.stdout.split()] == python == expected
 
 
 def test_printers_should_compute_the_same_integers(tmp_path: Path) -> None:

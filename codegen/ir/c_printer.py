@@ -266,9 +266,10 @@ class IRCPrinter(C99CodePrinter):  # type: ignore[misc]
         if isinstance(s, SIf):
             return self._if(s, depth, "if")
         if isinstance(s, SFor):
+            first = s.start if s.start is not None else "0u"
             head = (
-                f"{pad}for (uint32_t {s.counter} = 0u; {s.counter} < {s.count}u; ++{s.counter}) {{"
-                f"{self._tail(s.comment)}"
+                f"{pad}for (uint32_t {s.counter} = {first}; {s.counter} < {s.count}u;"
+                f" ++{s.counter}) {{{self._tail(s.comment)}"
             )
             return [head, *self.block(s.body, depth + 1), f"{pad}}}"]
         raise TypeError(f"cannot print {type(s).__name__}")

@@ -558,7 +558,17 @@ class Prover:
 
     def _for(self, s: SFor, env: Env, result: Analysis) -> bool:
         inner = dict(env)
-        inner[s.counter] = Interval(0, s.count - 1)
+        first = 0
+        if s.start is not None:
+            start = env.get(s.start)
+            if start is None or start.lo < 0 or start.hi > s.count:
+                raise self._fail(
+                    None, f"loop start {s.start} is {start}, outside [0, {s.count}]"
+                )
+            if start.lo == s.count:
+                return False  # the body never runs
+            first = start.lo
+        inner[s.counter] = Interval(first, s.count - 1)
         declared = {name: Interval(lo, hi) for name, lo, hi in s.invariants}
         for name, keep in declared.items():
             if name not in env or not (keep.lo <= env[name].lo and env[name].hi <= keep.hi):

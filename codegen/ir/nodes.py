@@ -314,6 +314,9 @@ class SFor(Stmt):
     #: loop-carried variables and the interval each keeps (the proof checks it)
     invariants: tuple[tuple[str, int, int], ...] = ()
     comment: str = ""
+    #: the counter's first value, a uint32 local within [0, count] (the proof checks it);
+    #: None: 0
+    start: str | None = None
 
 
 @dataclass(frozen=True, eq=False)

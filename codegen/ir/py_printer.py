@@ -249,7 +249,8 @@ class IRPythonPrinter(PythonCodePrinter):  # type: ignore[misc]
             return lines
         if isinstance(s, SFor):
             return [
-                f"{pad}for {s.counter} in range({s.count}):{self._tail(s.comment)}",
+                f"{pad}for {s.counter} in range("
+                f"{'' if s.start is None else s.start + ', '}{s.count}):{self._tail(s.comment)}",
                 *self.block(s.body, depth + 1, out),
             ]
         raise TypeError(f"cannot print {type(s).__name__}")

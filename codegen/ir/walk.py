@@ -24,6 +24,7 @@ from codegen.ir.nodes import (
     IShl,
     IShr,
     IStep,
+    IVar,
     Module,
     SAssign,
     SFor,
@@ -38,6 +39,7 @@ from codegen.ir.nodes import (
     SVar,
     Table,
 )
+from codegen.ir.types import U32
 
 
 def children(e: Expr) -> tuple[Expr, ...]:
@@ -87,6 +89,8 @@ def statement_exprs(stmts: tuple[Stmt, ...]) -> Iterator[Expr]:
             yield from statement_exprs(s.then)
             yield from statement_exprs(s.orelse)
         elif isinstance(s, SFor):
+            if s.start is not None:
+                yield IVar(U32, s.start)
             yield from statement_exprs(s.body)
 
 

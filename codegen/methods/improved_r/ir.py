@@ -24,6 +24,7 @@ from codegen.ir.nodes import (
     Expr,
     Function,
     IBin,
+    IBitLength,
     ICall,
     IConst,
     ILongDiv,
@@ -530,6 +531,7 @@ def timing_function(
                 ),
             ),
         ),
+        start="first",
         invariants=(
             ("n", 0, rule.periods_max),
             ("e", 0, ONE_Q31),
@@ -679,6 +681,17 @@ def timing_function(
     ]
     body: list[Stmt] = [
         *prologue,
+        SLet(
+            "skipped",
+            sub(const(steps, I32), cast(IBitLength(U32, maximum(var("periods", U32), const(1))), I32)),
+            "the steps whose 2^k is past the sector",
+        ),
+        SLet(
+            "first",
+            cast(maximum(var("skipped", I32), const(0, I32)), U32),
+            f"the first step whose 2^k fits in the sector: 2^{steps - 1} >> step <= N (a"
+            " larger candidate is past the sector, from n = 0: the same result, fewer steps)",
+        ),
         SVar("n", U32, const(0)),
         SVar("e", U32, const(ONE_Q31)),
         SVar("end_h", I64, const(-1, I64)),

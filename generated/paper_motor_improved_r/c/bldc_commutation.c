@@ -197,12 +197,14 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     const uint32_t growth = (uint32_t)(((uint64_t)per_tick * (uint64_t)GROWTH_Q) >> 32u); /* the held sum's growth per PWM period, Q16 */
     const int32_t ca2 = 2 * ((int32_t)a_rho - (int32_t)((q + 16u) >> 5u) - (int32_t)((x * PHI0 + 2u) >> 2u)); /* 2 (A rho - q - (phi_0/4) X) */
     const int32_t cb = (int32_t)((x * PHI0 + 2u) >> 2u) + (int32_t)((q + 16u) >> 5u); /* (phi_0/4) X + q */
+    const int32_t skipped = 10 - (int32_t)(32u - (uint32_t)__builtin_clz((periods < 1u) ? 1u : periods)); /* the steps whose 2^k is past the sector */
+    const uint32_t first = (uint32_t)((skipped < 0) ? 0 : skipped); /* the first step whose 2^k fits in the sector: 2^9 >> step <= N (a larger candidate is past the sector, from n = 0: the same result, fewer steps) */
     uint32_t n = 0u;
     uint32_t e = 2147483648u;
     int64_t end_h = (-1ll);
     uint32_t end_e = 0u;
     /*@ loop invariant 0 <= step <= 10; loop invariant 0 <= n <= 1000; loop invariant 0 <= e <= 2147483648; loop invariant -9223372036854775807 <= end_h <= -1; loop invariant 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
-    for (uint32_t step = 0u; step < 10u; ++step) { /* binary lifting: n = the last carrier boundary at which the current remains */
+    for (uint32_t step = first; step < 10u; ++step) { /* binary lifting: n = the last carrier boundary at which the current remains */
         const uint32_t m = n + (512u >> step); /* the next candidate: n + 2^k, 2^k = 2^9 >> step */
         if (m <= periods) {
             const uint32_t em = (uint32_t)(((uint64_t)e * (uint64_t)bldc_decay[step]) >> 32u); /* e^-rho x_m in Q31 */

@@ -93,6 +93,8 @@
  *   bldc_commutation_timing: growth: uint32_t in [0, 3011497] (10.5 bits spare)
  *   bldc_commutation_timing: ca2: int32_t in [-4116712, 928430] (9.0 bits spare)
  *   bldc_commutation_timing: cb: int32_t in [14500, 2058356] (10.0 bits spare)
+ *   bldc_commutation_timing: skipped: int32_t in [0, 4] (29.0 bits spare)
+ *   bldc_commutation_timing: first: uint32_t in [0, 4] (30.0 bits spare)
  *   bldc_commutation_timing: n: uint32_t in [0, 1000] (22.0 bits spare)
  *   bldc_commutation_timing: e: uint32_t in [0, 2147483648] (1.0 bits spare)
  *   bldc_commutation_timing: end_h: int64_t in [-140413180662657216, -1] (6.0 bits spare)

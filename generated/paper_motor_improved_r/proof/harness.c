@@ -14,6 +14,111 @@
 #include "bldc_commutation.h"
 #include "bldc_current_loop.h"
 
+/* __builtin_clz as the Cortex-M3's CLZ computes it for a non-zero argument (GCC
+ * leaves 0 undefined: required). Frama-C's declaration only bounds the result to
+ * [0, 31]; this definition gives EVA the exact count. */
+/*@ requires nonzero: x != 0;
+    assigns \nothing;
+    ensures leading_zeros: x >> (31 - \result) == 1;
+*/
+int __builtin_clz(unsigned int x)
+{
+    if (x >= 2147483648u) {
+        return 0;
+    }
+    if (x >= 1073741824u) {
+        return 1;
+    }
+    if (x >= 536870912u) {
+        return 2;
+    }
+    if (x >= 268435456u) {
+        return 3;
+    }
+    if (x >= 134217728u) {
+        return 4;
+    }
+    if (x >= 67108864u) {
+        return 5;
+    }
+    if (x >= 33554432u) {
+        return 6;
+    }
+    if (x >= 16777216u) {
+        return 7;
+    }
+    if (x >= 8388608u) {
+        return 8;
+    }
+    if (x >= 4194304u) {
+        return 9;
+    }
+    if (x >= 2097152u) {
+        return 10;
+    }
+    if (x >= 1048576u) {
+        return 11;
+    }
+    if (x >= 524288u) {
+        return 12;
+    }
+    if (x >= 262144u) {
+        return 13;
+    }
+    if (x >= 131072u) {
+        return 14;
+    }
+    if (x >= 65536u) {
+        return 15;
+    }
+    if (x >= 32768u) {
+        return 16;
+    }
+    if (x >= 16384u) {
+        return 17;
+    }
+    if (x >= 8192u) {
+        return 18;
+    }
+    if (x >= 4096u) {
+        return 19;
+    }
+    if (x >= 2048u) {
+        return 20;
+    }
+    if (x >= 1024u) {
+        return 21;
+    }
+    if (x >= 512u) {
+        return 22;
+    }
+    if (x >= 256u) {
+        return 23;
+    }
+    if (x >= 128u) {
+        return 24;
+    }
+    if (x >= 64u) {
+        return 25;
+    }
+    if (x >= 32u) {
+        return 26;
+    }
+    if (x >= 16u) {
+        return 27;
+    }
+    if (x >= 8u) {
+        return 28;
+    }
+    if (x >= 4u) {
+        return 29;
+    }
+    if (x >= 2u) {
+        return 30;
+    }
+    return 31;
+}
+
 /* bldc_bus_condition() for every uint32_t bus code, code by code */
 void prove_bldc_bus_condition(void)
 {

@@ -263,11 +263,13 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     growth = per_tick * GROWTH_Q >> 32  # the held sum's growth per PWM period, Q16
     ca2 = 2 * (a_rho - ((q + 16) >> 5) - ((x * PHI0 + 2) >> 2))  # 2 (A rho - q - (phi_0/4) X)
     cb = ((x * PHI0 + 2) >> 2) + ((q + 16) >> 5)  # (phi_0/4) X + q
+    skipped = 10 - (1 if periods < 1 else periods).bit_length()  # the steps whose 2^k is past the sector
+    first = 0 if skipped < 0 else skipped  # the first step whose 2^k fits in the sector: 2^9 >> step <= N (a larger candidate is past the sector, from n = 0: the same result, fewer steps)
     n = 0
     e = 2147483648
     end_h = -1
     end_e = 0
-    for step in range(10):  # binary lifting: n = the last carrier boundary at which the current remains
+    for step in range(first, 10):  # binary lifting: n = the last carrier boundary at which the current remains
         m = n + (512 >> step)  # the next candidate: n + 2^k, 2^k = 2^9 >> step
         if m <= periods:
             em = e * BLDC_DECAY[step] >> 32  # e^-rho x_m in Q31
