@@ -562,9 +562,7 @@ class Prover:
         if s.start is not None:
             start = env.get(s.start)
             if start is None or start.lo < 0 or start.hi > s.count:
-                raise self._fail(
-                    None, f"loop start {s.start} is {start}, outside [0, {s.count}]"
-                )
+                raise self._fail(None, f"loop start {s.start} is {start}, outside [0, {s.count}]")
             if start.lo == s.count:
                 return False  # the body never runs
             first = start.lo

@@ -683,7 +683,10 @@ def timing_function(
         *prologue,
         SLet(
             "skipped",
-            sub(const(steps, I32), cast(IBitLength(U32, maximum(var("periods", U32), const(1))), I32)),
+            sub(
+                const(steps, I32),
+                cast(IBitLength(U32, maximum(var("periods", U32), const(1))), I32),
+            ),
             "the steps whose 2^k is past the sector",
         ),
         SLet(
