@@ -244,15 +244,23 @@ def _passes(t: Target, functions: list[str]) -> tuple[tuple[str, ...], tuple[str
 
 
 def eva_established(eva: EvaResult) -> list[str]:
-    """The named postconditions of the analysed function that EVA established, every
-    instance of each name valid over every input of its analysis: WP is not asked for
+    """What of the analysed function's contract EVA established, in WP's selection
+    syntax: each named postcondition every instance of which is valid over every input
+    of its analysis, and `@invariant` when every loop invariant is. WP is not asked for
     them (a clause WP cannot prove costs its timeout, a clause EVA has closed costs WP
-    nothing more than a second proof)."""
+    nothing more than a second proof); WP still assumes them where it proves the rest,
+    as Frama-C's consolidation does for a property another analysis established."""
     valid: dict[str, bool] = {}
+    invariants: list[bool] = []
     for p in eva.properties:
-        if p.owner == eva.function and p.kind == "postcondition" and p.name != p.kind:
+        if p.owner != eva.function:
+            continue
+        if p.kind == "postcondition" and p.name != p.kind:
             valid[p.name] = valid.get(p.name, True) and p.status == "Valid"
-    return sorted(name for name, ok in valid.items() if ok)
+        elif p.kind == "loop invariant":
+            invariants.append(p.status == "Valid")
+    done = sorted(name for name, ok in valid.items() if ok)
+    return [*done, "@invariant"] if invariants and all(invariants) else done
 
 
 def _first_pass(

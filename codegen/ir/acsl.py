@@ -192,10 +192,13 @@ def _assigned(stmts: tuple[Stmt, ...]) -> list[str]:
 
 
 def loop_annotation(s: SFor) -> str:
-    """The loop's declared invariants (the IR proof checks them by induction), what it
+    """The loop's declared invariants (the IR proof checks them by induction), each named
+    `<variable>_kept` so that one EVA establishes can be left out of WP's goals, what it
     writes, and why it ends."""
-    parts = [f"loop invariant 0 <= {s.counter} <= {s.count};"]
-    parts += [f"loop invariant {lo} <= {name} <= {hi};" for name, lo, hi in s.invariants]
+    parts = [f"loop invariant {s.counter}_kept: 0 <= {s.counter} <= {s.count};"]
+    parts += [
+        f"loop invariant {name}_kept: {lo} <= {name} <= {hi};" for name, lo, hi in s.invariants
+    ]
     parts.append(f"loop assigns {', '.join([*_assigned(s.body), s.counter])};")
     parts.append(f"loop variant {s.count} - {s.counter};")
     return "/*@ " + " ".join(parts) + " */"
