@@ -25,7 +25,6 @@ import hashlib
 import re
 import shutil
 import subprocess
-import sys
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -169,7 +168,8 @@ def spec_with_emf_shape(spec_text: str, shape: str) -> str:
     lines = spec_text.splitlines(keepends=True)
     out: list[str] = []
     skip_indent: int | None = None
-    placed = False
+    # an entry of the spec's own is replaced where it is; only without one is it added
+    placed = any(re.match(r"^\s+back_emf_shape:", line) for line in lines)
     for line in lines:
         indent = len(line) - len(line.lstrip(" "))
         if skip_indent is not None:
@@ -206,9 +206,9 @@ def _is_output_of(spec: Spec, generated: Path) -> bool:
 def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_ROOT) -> CoreSet:
     """Compile the checked-in core and generate + compile the other methods' variants.
 
-    Variant generation runs `python -m codegen generate` in parallel subprocesses (one
-    per missing variant): the same command a user runs, so the variant is exactly what
-    the toolchain emits for that method (and, for improved_r, EMF shape).
+    Variant generation runs the generator's `generate()` (what `codegen generate` runs)
+    for each missing variant, so the variant is exactly what the toolchain emits for that
+    method (and, for improved_r, EMF shape).
     """
     spec_path = Path(spec.source_path)
     checked_in = PROJECT_ROOT / "generated" / spec.name / "c"
@@ -260,9 +260,17 @@ def _generate_all(
     toolchain: str,
     build_dir: Path,
 ) -> dict[tuple[str, str | None], Path | str]:
-    """Generate each variant text (cached by content); its c/ folder, or the output of
-    a failed generation."""
-    pending: list[tuple[tuple[str, str | None], Path, subprocess.Popen[str]]] = []
+    """Generate each variant text (cached by content); its c/ folder, or the error of a
+    variant the generator refused (a spec or fixed-point design error, which names its
+    key). One after the other in this process, through the generator's own
+    `generate()` (what `codegen generate` runs): the derivation, the device description
+    and the imports are loaded once for all of them, which takes less time than
+    one process per variant on two cores. An error of any other kind is a bug and is
+    raised as it is."""
+    from codegen.errors import SpecError
+    from codegen.generate import generate
+    from codegen.methods.base import FixedPointError
+
     out: dict[tuple[str, str | None], Path | str] = {}
     for key, text in variants.items():
         method, shape = key
@@ -272,28 +280,19 @@ def _generate_all(
         out[key] = folder / "c"
         if (folder / "c" / CORE_SOURCE).exists():
             continue
+        own = re.compile(rf"{re.escape(spec.name)}-{re.escape(tag)}-[0-9a-f]{{12}}")
         for stale in build_dir.glob(f"{spec.name}-{tag}-*"):
-            shutil.rmtree(stale, ignore_errors=True)  # variants of an older toolchain
+            if own.fullmatch(stale.name):  # not improved_r-flat's for improved_r's
+                shutil.rmtree(stale, ignore_errors=True)  # variants of an older toolchain
         variant_spec = build_dir / "specs" / f"{spec.name}-{tag}.yaml"
         variant_spec.parent.mkdir(parents=True, exist_ok=True)
         variant_spec.write_text(text, encoding="utf-8")
-        command = [
-            sys.executable,
-            "-m",
-            "codegen",
-            "generate",
-            str(variant_spec),
-            "-o",
-            str(folder),
-        ]
-        process = subprocess.Popen(
-            command, cwd=PROJECT_ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
-        )
-        pending.append((key, folder, process))
-    for key, _folder, process in pending:
-        output, _ = process.communicate()
-        if process.returncode != 0:
-            out[key] = output
+        try:
+            generate(variant_spec, folder, PROJECT_ROOT)
+        except FixedPointError as exc:
+            out[key] = f"{variant_spec}: {exc.key}: fixed-point design: {exc}"
+        except SpecError as exc:
+            out[key] = str(exc)
     return out
 
 

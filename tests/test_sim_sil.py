@@ -24,6 +24,7 @@ from sim.sil import (
     expected_switches,
     load_core,
     prepare_cores,
+    spec_with_emf_shape,
 )
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -172,3 +173,23 @@ def test_checked_in_core_should_serve_only_its_own_spec(tmp_path: Path) -> None:
     )
     assert mine.read_text(encoding="utf-8") != text
     assert not _is_output_of(load_spec(mine), generated)
+
+
+def test_a_shape_improved_r_refuses_should_fall_back_to_the_paper_trapezoid(
+    tmp_path: Path,
+) -> None:
+    """The variants are generated in this process: a spec whose EMF shape the
+    resistance-aware design refuses (a 100 deg flat top is not affine over the
+    commutation) gets its improved_r core for the paper's 120 deg trapezoid, said so,
+    and the flat-EMF core beside it; the other methods' cores are the spec's own."""
+    text = spec_with_emf_shape(SPEC.read_text(encoding="utf-8"), "100 deg")
+    path = tmp_path / "shaped.yaml"
+    path.write_text(text.replace("name: paper_motor", "name: shaped_motor"), encoding="utf-8")
+    shaped = load_spec(path)
+    assert shaped.name == "shaped_motor"
+    cores = prepare_cores(shaped, ("improved", "improved_r"), tmp_path / "build")
+    assert cores.shape_fallback == "120 deg"
+    assert set(cores.cores) == {"improved", "improved_r"}
+    assert set(cores.shaped) == {"flat"}
+    fallback = (tmp_path / "build" / "specs" / "shaped_motor-improved_r.yaml").read_text()
+    assert "back_emf_shape: 120 deg" in fallback
