@@ -27,6 +27,7 @@ from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import (
     BRAKING_EDGES,
+    CCER_OUTPUTS,
     READS,
     BrakingLoop,
     BrakingResult,
@@ -299,10 +300,10 @@ def test_the_current_loop_should_take_no_sample_triggered_before_the_commutation
     loop, samples = maxon_run
     coms = loop.com_ticks
     assert coms and samples.stores and samples.triggers
-    halls = [tick for tick, *_ in loop.edges]
-    # the commutation ends: every COM event but the first after each Hall edge
-    first_coms = {next((c for c in coms if c >= hall), None) for hall in halls}
-    ends = [c for c in coms if c not in first_coms]
+    # the commutation ends: the COM events that enable no switch (an edge's own enables
+    # its incoming one; an end that lands on the next pin change is still an end)
+    ccers = loop.com_ccers
+    ends = [coms[k] for k in range(1, len(coms)) if not ccers[k] & ~ccers[k - 1] & CCER_OUTPUTS]
     adc = IRQ_BASE + svd_interrupt("ADC1", "ADC")
     entries = [tick for tick, exception in loop.machine.entry_log if exception == adc]
     straddled = [
