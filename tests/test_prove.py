@@ -25,8 +25,24 @@ import pytest
 from codegen.core.module import build_core
 from codegen.proof.harness import INTERVAL, SIGNED_INTERVAL, clz_model, proof_plan
 from codegen.spec_loader import load_spec
-from verify.frama_c import WP_LET, WP_NO_LET, Tools, find_tools, run_eva
-from verify.prove import _looping, _passes, establish, main, target_at, target_for
+from verify.frama_c import (
+    WP_LET,
+    WP_NO_LET,
+    EvaResult,
+    Property,
+    Tools,
+    find_tools,
+    run_eva,
+)
+from verify.prove import (
+    _looping,
+    _passes,
+    establish,
+    eva_established,
+    main,
+    target_at,
+    target_for,
+)
 
 pytestmark = pytest.mark.heavy
 ROOT = Path(__file__).resolve().parents[1]
@@ -329,3 +345,31 @@ def test_wp_should_take_each_function_in_its_form(
     assert _passes(target, ["bldc_commutate"]) == (WP_LET, WP_NO_LET)
     timing = _passes(target, ["bldc_commutation_timing"])
     assert timing == ((WP_NO_LET, WP_NO_LET) if looping else (WP_LET, WP_NO_LET))
+
+
+def _eva_with(statuses: list[tuple[str, str, str]]) -> EvaResult:
+    """An EVA result of bldc_commutation_timing with these (kind, status, text) rows."""
+    rows = tuple(
+        Property("c/bldc_commutation.c", 10 + k, "bldc_commutation_timing", kind, status, text)
+        for k, (kind, status, text) in enumerate(statuses)
+    )
+    return EvaResult("bldc_commutation_timing", "prove_timing", 1.0, (), 0, "", (), rows, "")
+
+
+def test_wp_should_be_spared_only_what_eva_established_in_full() -> None:
+    """WP's first pass leaves out a named postcondition valid in every instance, and the
+    loop invariants only when EVA established every one of them (they are unnamed in
+    Frama-C's report): one left Unknown and WP is asked for them all."""
+    invariants = [
+        ("loop invariant", "Valid", "0 ≤ step ≤ 10"),
+        ("loop invariant", "Valid", "0 ≤ n ≤ 1000"),
+    ]
+    posts = [
+        ("postcondition", "Valid", "in_period: \\result.ticks ≤ T"),
+        ("postcondition", "Valid", "clamped: x"),
+        ("postcondition", "Unknown", "clamped: y"),
+    ]
+    assert eva_established(_eva_with(invariants + posts)) == ["in_period", "@invariant"]
+    invariants[1] = ("loop invariant", "Unknown", "0 ≤ n ≤ 1000")
+    assert eva_established(_eva_with(invariants + posts)) == ["in_period"]
+    assert eva_established(_eva_with(posts)) == ["in_period"]
