@@ -190,7 +190,7 @@ MASKED = ("bldc_port_init", "port_clear_masked")
 def stack(build_dir: Path, cube: bool) -> StackReport:
     """Worst stack over the preemption levels of the port's NVIC plan (thread mode, the
     timing handler, the Hall edge's level, the NMI and HardFault)."""
-    wrapped = {role: HANDLERS[role][0] for role in HANDLERS}
+    wrapped = {role: h.vector for role, h in HANDLERS.items()}
     levels = [
         ("thread mode (interrupts open)", ["main"]),
         ("timing (priority 2)", [wrapped["timing"]]),
