@@ -189,14 +189,17 @@ MASKED = ("bldc_port_init", "port_clear_masked")
 
 def stack(build_dir: Path, cube: bool) -> StackReport:
     """Worst stack over the preemption levels of the port's NVIC plan (thread mode, the
-    timing handler, the Hall edge's level, the NMI and HardFault)."""
-    wrapped = {role: HANDLERS[role][0] for role in HANDLERS}
+    timing handler, the Hall edge's level, the NMI and HardFault). Each level's roots
+    are the vector table's handlers, in either integration: the port's own or, for the
+    vectors the port leaves to a Cube project (`cube`), stm32f1xx_it.c's, whose call
+    into the port the graph follows."""
+    vectors = {role: h.vector for role, h in HANDLERS.items()}
     levels = [
         ("thread mode (interrupts open)", ["main"]),
-        ("timing (priority 2)", [wrapped["timing"]]),
+        ("timing (priority 2)", [vectors["timing"]]),
         (
             "Hall edge, Hall lines, current loop, break (priority 1)",
-            [wrapped[r] for r in ("hall", "adc", "brk", "hall_line0", "hall_lines9_5")],
+            [vectors[r] for r in ("hall", "adc", "brk", "hall_line0", "hall_lines9_5")],
         ),
         ("NMI, HardFault", ["NMI_Handler", "HardFault_Handler"]),
     ]

@@ -9,7 +9,7 @@ arithmetic; the interrupt numbers come from the vendor SVD.
 
 from __future__ import annotations
 
-from codegen.port_drive import HANDLERS, handler_names
+from codegen.port_drive import HANDLERS, cube_handlers, handler_names
 from codegen.render import provenance, render
 from codegen.spec_model import Spec
 from codegen.svd import load_device
@@ -56,7 +56,7 @@ def port_handlers() -> list[dict[str, object]]:
     port's own names in vector-table integration, stm32f1xx_it.c's in Cube's)."""
     return [
         {
-            "name": HANDLERS[role][0],
+            "name": HANDLERS[role].vector,
             "irq": irq_number(*PORT_INTERRUPTS[role]),
             "svd": PORT_INTERRUPTS[role][1],
         }
@@ -77,6 +77,7 @@ def vector_table() -> list[str]:
 def render_firmware_files(spec: Spec) -> dict[str, str]:
     cube = spec.firmware.integration == "cube"
     context = {
+        "cube_handlers": cube_handlers(),
         "handlers": port_handlers(),
         "vectors": vector_table(),
         "vector_count": 16 + PERIPHERAL_IRQS,

@@ -44,23 +44,88 @@ OPEN_LOOP = 0xFFFFFFFF
 #: 3 cycles, so 1000 is 6 times the longest it can need.
 ADC_WAIT_LOOPS = 1000
 
+
+@dataclass(frozen=True)
+class Handler:
+    """One of the port's interrupt handlers and how it is named.
+
+    vector: its CMSIS name, the vector table's entry (startup_stm32f103xb.s).
+    cube_call: in Cube integration, the function the project's stm32f1xx_it.c calls from
+        its handler of that vector; None where the port owns the vector in Cube
+        integration too: a hot handler, entered without stm32f1xx_it.c's extra branch
+        (from flash, a taken branch refetches through the wait states), for which the
+        Cube project unticks NVIC > Code generation > "Generate IRQ handler".
+    cube_interrupt: the interrupt's name in CubeMX's NVIC tab.
+    """
+
+    vector: str
+    cube_call: str | None
+    cube_interrupt: str
+
+    @property
+    def cube_owned(self) -> bool:
+        """The port defines the vector itself in Cube integration too."""
+        return self.cube_call is None
+
+    def name(self, cube: bool) -> str:
+        """The name the port compiles the handler with."""
+        return self.cube_call if cube and self.cube_call is not None else self.vector
+
+
 HANDLERS = {
-    # role: (CMSIS vector name, Cube-callable name)
-    "hall": ("TIM3_IRQHandler", "bldc_port_tim3_irq"),
-    "timing": ("TIM1_TRG_COM_IRQHandler", "bldc_port_tim1_trg_com_irq"),
-    "adc": ("ADC1_2_IRQHandler", "bldc_port_adc_irq"),
-    "brk": ("TIM1_BRK_IRQHandler", "bldc_port_tim1_brk_irq"),
+    # the Hall edge and the timing run at every commutation: the port owns their vectors in
+    # Cube integration too
+    "hall": Handler(
+        "TIM3_IRQHandler",
+        None,
+        cube_interrupt="TIM3 global interrupt",
+    ),
+    "timing": Handler(
+        "TIM1_TRG_COM_IRQHandler",
+        None,
+        cube_interrupt="TIM1 trigger and commutation interrupts",
+    ),
+    "adc": Handler(
+        "ADC1_2_IRQHandler",
+        "bldc_port_adc_irq",
+        cube_interrupt="ADC1 and ADC2 global interrupts",
+    ),
+    "brk": Handler(
+        "TIM1_BRK_IRQHandler",
+        "bldc_port_tim1_brk_irq",
+        cube_interrupt="TIM1 break interrupt",
+    ),
     # the Hall lines' EXTI (PB0 on EXTI0, PA6 and PA7 on EXTI9_5): a code 0 or 7 at once
-    "hall_line0": ("EXTI0_IRQHandler", "bldc_port_exti0_irq"),
-    "hall_lines9_5": ("EXTI9_5_IRQHandler", "bldc_port_exti9_5_irq"),
+    "hall_line0": Handler(
+        "EXTI0_IRQHandler",
+        "bldc_port_exti0_irq",
+        cube_interrupt="EXTI line0 interrupt",
+    ),
+    "hall_lines9_5": Handler(
+        "EXTI9_5_IRQHandler",
+        "bldc_port_exti9_5_irq",
+        cube_interrupt="EXTI line[9:5] interrupts",
+    ),
 }
 
 
 def handler_names(spec: Spec) -> dict[str, str]:
     """The name each of the port's handlers is compiled with: the vector table's (the
-    port owns the entries) or a function the Cube project's stm32f1xx_it.c calls."""
+    port owns the entry: always in vector-table integration, the hot handlers in Cube's)
+    or a function the Cube project's stm32f1xx_it.c calls."""
     cube = spec.firmware.integration == "cube"
-    return {role: names[1] if cube else names[0] for role, names in HANDLERS.items()}
+    return {role: h.name(cube) for role, h in HANDLERS.items()}
+
+
+def cube_handlers() -> dict[str, list[dict[str, str]]]:
+    """For Cube integration: the vectors the port defines itself ("owned": the project
+    unticks "Generate IRQ handler" for them) and those stm32f1xx_it.c's handlers call
+    the port from ("called")."""
+    out: dict[str, list[dict[str, str]]] = {"owned": [], "called": []}
+    for h in HANDLERS.values():
+        entry = {"vector": h.vector, "call": h.cube_call or "", "interrupt": h.cube_interrupt}
+        out["owned" if h.cube_owned else "called"].append(entry)
+    return out
 
 
 def _define(name: str, value: str, comment: str) -> dict[str, str]:
@@ -325,6 +390,7 @@ def drive_context(spec: Spec) -> dict[str, object]:
     ]
     names = handler_names(spec)
     return {
+        "cube_handlers": cube_handlers(),
         "loop_header": LOOP_HEADER,
         "integration": spec.firmware.integration,
         "cube": spec.firmware.integration == "cube",

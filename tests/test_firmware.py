@@ -55,3 +55,129 @@ def test_firmware_should_link_with_the_handler_in_the_vector_table(
     entry = int.from_bytes(vectors[4 * (16 + 29) : 4 * (16 + 30)], "little")
     assert entry == handler | 1  # Thumb bit set
     assert sizes["firmware.elf"].flash > 0 and "__aeabi" not in symbols
+
+
+# ------------------------------------------------------------ Cube integration
+
+CUBE_SPEC = ROOT / "tests" / "fixtures" / "specs" / "offset_conventional.yaml"
+
+
+def test_cube_integration_should_leave_only_the_hot_vectors_to_the_port() -> None:
+    from codegen.port_drive import HANDLERS, handler_names
+    from codegen.spec_loader import load_spec
+
+    spec = load_spec(str(CUBE_SPEC))
+    assert spec.firmware.integration == "cube"
+    owned = {role for role, h in HANDLERS.items() if h.cube_owned}
+    assert owned == {"hall", "timing"}
+    assert handler_names(spec) == {
+        "hall": "TIM3_IRQHandler",
+        "timing": "TIM1_TRG_COM_IRQHandler",
+        "adc": "bldc_port_adc_irq",
+        "brk": "bldc_port_tim1_brk_irq",
+        "hall_line0": "bldc_port_exti0_irq",
+        "hall_lines9_5": "bldc_port_exti9_5_irq",
+    }
+    vector_spec = load_spec(str(ROOT / "spec" / "paper_motor.yaml"))
+    assert set(handler_names(vector_spec).values()) == {h.vector for h in HANDLERS.values()}
+
+
+def test_cube_stand_in_it_c_should_not_define_the_ports_vectors_and_say_why() -> None:
+    from codegen.firmware import render_firmware_files
+    from codegen.spec_loader import load_spec
+
+    it_c = render_firmware_files(load_spec(str(CUBE_SPEC)))["firmware/stm32f1xx_it.c"]
+    for vector in ("TIM3_IRQHandler", "TIM1_TRG_COM_IRQHandler"):
+        assert f"void {vector}(void)\n{{" not in it_c
+        assert f"void {vector}(void);" not in it_c
+    for vector, call in (
+        ("ADC1_2_IRQHandler", "bldc_port_adc_irq"),
+        ("TIM1_BRK_IRQHandler", "bldc_port_tim1_brk_irq"),
+        ("EXTI0_IRQHandler", "bldc_port_exti0_irq"),
+        ("EXTI9_5_IRQHandler", "bldc_port_exti9_5_irq"),
+    ):
+        body = it_c[it_c.index(f"void {vector}(void)\n{{") :].split("}", 1)[0]
+        assert f"{call}();" in body
+    # what to untick in CubeMX, under the names its NVIC tab shows
+    assert 'untick "Generate IRQ handler"' in it_c
+    assert '"TIM3 global interrupt" (TIM3_IRQHandler)' in it_c
+    assert '"TIM1 trigger and commutation interrupts" (TIM1_TRG_COM_IRQHandler)' in it_c
+    assert "multiple definition of `TIM3_IRQHandler'" in it_c
+
+
+@pytest.fixture(scope="module")
+def cube_generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from codegen.generate import generate
+
+    out = tmp_path_factory.mktemp("cube") / "generated"
+    generate(CUBE_SPEC, out, ROOT)
+    return out
+
+
+def _defined(obj: Path) -> set[str]:
+    out = subprocess.run(
+        ["arm-none-eabi-nm", "--defined-only", str(obj)],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    return {line.split()[-1] for line in out.splitlines() if line.split()[1] in "Tt"}
+
+
+def test_cube_firmware_should_enter_the_hall_edge_and_timing_in_the_port_directly(
+    cube_generated: Path, tmp_path: Path
+) -> None:
+    build(cube_generated, tmp_path)
+    port, it = _defined(tmp_path / "port.o"), _defined(tmp_path / "it.o")
+    assert {"TIM3_IRQHandler", "TIM1_TRG_COM_IRQHandler"} <= port
+    assert not {"TIM3_IRQHandler", "TIM1_TRG_COM_IRQHandler"} & it
+    assert {"ADC1_2_IRQHandler", "TIM1_BRK_IRQHandler", "EXTI0_IRQHandler"} <= it
+    assert "bldc_port_tim3_irq" not in port and "bldc_port_adc_irq" in port
+    elf = tmp_path / "firmware.elf"
+    symbols = {
+        line.split()[-1]: int(line.split()[0], 16)
+        for line in subprocess.run(
+            ["arm-none-eabi-nm", str(elf)], check=True, capture_output=True, text=True
+        ).stdout.splitlines()
+        if len(line.split()) == 3
+    }
+    subprocess.run(
+        [
+            "arm-none-eabi-objcopy",
+            "-O",
+            "binary",
+            "-j",
+            ".isr_vector",
+            str(elf),
+            str(tmp_path / "v.bin"),
+        ],
+        check=True,
+    )
+    vectors = (tmp_path / "v.bin").read_bytes()
+
+    def entry(irq: int) -> int:
+        return int.from_bytes(vectors[4 * (16 + irq) : 4 * (16 + irq + 1)], "little")
+
+    assert entry(29) == symbols["TIM3_IRQHandler"] | 1
+    assert entry(26) == symbols["TIM1_TRG_COM_IRQHandler"] | 1
+
+
+def test_a_cube_it_c_that_still_defines_tim3_irqhandler_should_not_link(
+    cube_generated: Path, tmp_path: Path, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """The CubeMX untick forgotten: stm32f1xx_it.c keeps its generated TIM3 handler.
+    The link fails and names the symbol; no image picks one of the two silently."""
+    copy = tmp_path / "generated"
+    shutil.copytree(cube_generated, copy)
+    it_c = copy / "firmware" / "stm32f1xx_it.c"
+    it_c.write_text(
+        it_c.read_text(encoding="utf-8")
+        + "\nvoid TIM3_IRQHandler(void);\nvoid TIM3_IRQHandler(void)\n{\n}\n",
+        encoding="utf-8",
+    )
+    capfd.readouterr()
+    with pytest.raises(subprocess.CalledProcessError) as failed:
+        build(copy, tmp_path / "build")
+    assert "-T" in failed.value.cmd  # the link, not a compile, failed
+    assert "multiple definition of `TIM3_IRQHandler'" in capfd.readouterr().err
+    assert not (tmp_path / "build" / "firmware.elf").exists()

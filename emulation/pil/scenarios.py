@@ -111,6 +111,14 @@ class Run:
         )
         self.machine = self.board.machine
         self.violations: list[str] = []
+        # what _check_nesting reads, set before it listens (the boot may nest handlers)
+        self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
+        self._urgent = {
+            IRQ_BASE + svd_interrupt("TIM3", "TIM3"),
+            IRQ_BASE + svd_interrupt("ADC1", "ADC"),
+            IRQ_BASE + svd_interrupt("EXTI", "EXTI0"),
+            IRQ_BASE + svd_interrupt("EXTI", "EXTI9_5"),
+        }
         self.machine.listeners.append(self._check_duties)
         self.machine.listeners.append(self._check_preload)
         self.machine.listeners.append(self._check_nesting)
@@ -128,13 +136,6 @@ class Run:
         self.rpm = default_rpm(spec)
         self.published_after: int | None = None
         self._armed_edges = 0  # the first edge after boot only arms the measurement
-        self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
-        self._urgent = {
-            IRQ_BASE + svd_interrupt("TIM3", "TIM3"),
-            IRQ_BASE + svd_interrupt("ADC1", "ADC"),
-            IRQ_BASE + svd_interrupt("EXTI", "EXTI0"),
-            IRQ_BASE + svd_interrupt("EXTI", "EXTI9_5"),
-        }
 
     def _check_duties(self, machine: object) -> None:
         tim1 = self.machine.tim1
