@@ -436,6 +436,10 @@ def emf_harmonic(shape: BackEmfShape, h: int) -> float:
     return 2.0 / math.pi * total
 
 
+#: A ripple (peak to peak) above this fraction of braking_current_nominal is warned of
+RIPPLE_WARN_FRACTION = Fraction(1, 2)
+
+
 @dataclass(frozen=True)
 class BrakingRipple:
     """The braking current's PWM ripple at its worst and what it adds to the peak.
@@ -637,6 +641,31 @@ def check_drive(
             f" peaks at {why}: ADC2's watchdog would read the rail (CURRENT_SENSOR) in normal"
             " braking; lower the gain, or raise the PWM frequency or the inductance",
             f"<= {float((reference - offset) / peak * 1000):.4g} mV/A",
+        )
+    # The averaged model of Eqs. 13-20 takes I as constant over a PWM period.
+    nominal = controller.braking_current_nominal_a
+    at_nominal = braking_ripple(
+        bus_voltage_max_v=inverter.bus_voltage_max_v,
+        pwm_frequency_hz=f_pwm,
+        phase_inductance_h=motor.phase_inductance_h,
+        k_e_v_per_rpm=motor.back_emf_constant_v_per_rpm,
+        phase_resistance_ohm=motor.phase_resistance_ohm,
+        speed_min_rpm=controller.speed_min_rpm,
+        speed_max_rpm=controller.speed_max_rpm,
+        current_max_a=nominal,
+        alignment=inverter.pwm_alignment,
+    )
+    if at_nominal.ripple_a > nominal * RIPPLE_WARN_FRACTION:
+        r.warn(
+            "pwm-ripple-large",
+            "motor.phase_inductance",
+            raw("motor.phase_inductance"),
+            f"the braking current ripples by up to {float(at_nominal.ripple_a):.4g} A peak to"
+            f" peak (D(1 - D) U_d T / (2L) at bus_voltage_max {_g(at_nominal.bus_v)} V),"
+            f" {float(at_nominal.ripple_a / nominal) * 100:.0f} % of braking_current_nominal"
+            f" {_g(nominal)} A: the duty-cycle model of Eqs. 13-20 takes I as constant over a"
+            " PWM period, so expect the commutations to deviate from it; raise the PWM"
+            " frequency or the inductance",
         )
     # Protection: the comparator must not trip in normal braking.
     if protection.over_current_a <= peak:

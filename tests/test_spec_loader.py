@@ -622,3 +622,18 @@ def test_braking_ripple_should_be_worst_at_half_the_bus_within_the_speed_range()
     # a speed range whose largest 2E is below U/2: the worst is at speed_max, no current
     slow = braking_ripple(**(tiny | {"speed_max_rpm": Fraction(6000)}), alignment="edge")
     assert slow.y_v == 6 and slow.ripple_a == Fraction(6 * 24, 20_000 * 10 * 30) * 10**6
+
+
+def test_a_pwm_ripple_above_half_the_nominal_current_should_be_warned_of(tmp_path: Path) -> None:
+    """0.06 mH: the paper motor's 0.335 A of ripple grows to 3.125 A peak to peak, 62.5 %
+    of its 5 A braking_current_nominal (still under its 15 A trip and 33 A sensing)."""
+    text = _replace("phase_inductance: 0.56 mH", "phase_inductance: 0.06 mH")(DEFAULT_TEXT)
+    # less inductance: a larger short-circuit peak at the top speed (158 A)
+    text = _replace("short_circuit_current_max: 120 A", "short_circuit_current_max: 160 A")(text)
+    path = _write(tmp_path, text)
+    warnings = load_spec(path).warnings
+    assert [w.id for w in warnings] == ["pwm-ripple-large"]
+    line = str(warnings[0])
+    assert "motor.phase_inductance = '0.06 mH'" in line
+    assert "3.125 A peak to peak" in line and "62 % of braking_current_nominal 5 A" in line
+    assert load_spec(DEFAULT_SPEC).warnings == ()
