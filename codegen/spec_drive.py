@@ -23,7 +23,11 @@ The physics (one copy, used by the loader's checks and by codegen/control):
   switch off (lambda E is the peak line-to-line EMF: 2E for the 120 deg trapezoid),
   so all-off is no safe state there;
 * `short_circuit_peak`: a bound on the phase current of an active short circuit
-  (all lower switches on) at a speed, from the EMF's harmonics.
+  (all lower switches on) at a speed, from the EMF's harmonics;
+* `braking_ripple` / `braking_current_peak`: the PWM ripple of the braking current
+  and the largest instantaneous current steady braking makes above the current the
+  loop samples, which the current sensing must read (ADC2's analog watchdog trips
+  CURRENT_SENSOR on any conversion at a rail) and the comparator must let through.
 
 Every error names the key path, the value, the unit and the allowed range.
 """
@@ -432,6 +436,59 @@ def emf_harmonic(shape: BackEmfShape, h: int) -> float:
     return 2.0 / math.pi * total
 
 
+#: A ripple (peak to peak) above this fraction of braking_current_nominal is warned of
+RIPPLE_WARN_FRACTION = Fraction(1, 2)
+
+
+@dataclass(frozen=True)
+class BrakingRipple:
+    """The braking current's PWM ripple at its worst and what it adds to the peak.
+
+    Between commutations two phases conduct in series (2L, 2R) against their EMFs 2E.
+    ON (the modulated switch closed) the bridge shorts them and the current rises at
+    (2E - 2RI)/(2L); OFF it flows into the bus and falls at (U_d - 2E + 2RI)/(2L). In
+    the steady state (1 - D) U_d = 2E - 2RI = y, so the peak-to-peak ripple is
+    D (1 - D) U_d T / (2L) = y (U_d - y) T / (2 L U_d): largest at y = U_d/2 when the
+    speed range reaches it, and growing with U_d (the largest bus voltage). The loop
+    samples in the OFF time (codegen/control/sensing.py): at its end with edge-aligned
+    PWM, the ripple's valley, so the current peaks a whole ripple above what the loop
+    holds; at its centre with centre-aligned PWM, the mean, half a ripple below."""
+
+    ripple_a: Fraction  # peak to peak, at the worst y in the speed range
+    above_sample: Fraction  # the peak's rise above the sampled current
+    bus_v: Fraction
+    y_v: Fraction  # 2E - 2RI at the worst point
+
+
+def braking_ripple(
+    *,
+    bus_voltage_max_v: Fraction,
+    pwm_frequency_hz: Fraction,
+    phase_inductance_h: Fraction,
+    k_e_v_per_rpm: Fraction,
+    phase_resistance_ohm: Fraction,
+    speed_min_rpm: Fraction,
+    speed_max_rpm: Fraction,
+    current_max_a: Fraction,
+    alignment: str,
+) -> BrakingRipple:
+    """The worst ripple over speed_min..speed_max and currents 0..current_max (exact)."""
+    u = bus_voltage_max_v
+    low = max(
+        Fraction(0), 2 * (k_e_v_per_rpm * speed_min_rpm - phase_resistance_ohm * current_max_a)
+    )
+    high = min(u, 2 * k_e_v_per_rpm * speed_max_rpm)
+    y = min(max(u / 2, low), high) if low <= high else high
+    ripple = y * (u - y) / (pwm_frequency_hz * 2 * phase_inductance_h * u)
+    above = ripple if alignment == "edge" else ripple / 2
+    return BrakingRipple(ripple, above, u, y)
+
+
+def braking_current_peak(current_a: Fraction, ripple: BrakingRipple) -> Fraction:
+    """The largest instantaneous current while the loop holds `current_a`."""
+    return current_a + ripple.above_sample
+
+
 def short_circuit_peak(
     *,
     speed_rpm: float,
@@ -548,13 +605,75 @@ def check_drive(
                     f" {float(needed):.3f}, above the {float(d_max):.3f} the current sample"
                     " window leaves: the loop saturates there",
                 )
+    # The PWM ripple: what the current reaches above the sample the loop holds.
+    ripple = braking_ripple(
+        bus_voltage_max_v=inverter.bus_voltage_max_v,
+        pwm_frequency_hz=f_pwm,
+        phase_inductance_h=motor.phase_inductance_h,
+        k_e_v_per_rpm=motor.back_emf_constant_v_per_rpm,
+        phase_resistance_ohm=motor.phase_resistance_ohm,
+        speed_min_rpm=controller.speed_min_rpm,
+        speed_max_rpm=controller.speed_max_rpm,
+        current_max_a=controller.braking_current_max_a,
+        alignment=inverter.pwm_alignment,
+    )
+    peak = braking_current_peak(controller.braking_current_max_a, ripple)
+    sampled = (
+        "its mean, sampled at the centre of the OFF time"
+        if centre
+        else "its valley, sampled at the end of the OFF time"
+    )
+    why = (
+        f"braking_current_max {_g(controller.braking_current_max_a)} A ({sampled}) +"
+        f" {float(ripple.above_sample):.4g} A of PWM ripple ({float(ripple.ripple_a):.4g} A"
+        f" peak to peak at {_g(f_pwm)} Hz through 2 x {_g(motor.phase_inductance_h)} H,"
+        f" bus_voltage_max {_g(ripple.bus_v)} V) = {float(peak):.4g} A"
+    )
+    # The sensing chain must read every current steady braking makes: ADC2 watches the
+    # current channel(s) continuously and a conversion at a rail is CURRENT_SENSOR.
+    offset, reference = adc.current_offset_v, adc.reference_v
+    if offset < reference and (reference - offset) / adc.current_gain_v_per_a < peak:
+        r.report(
+            "adc.current_gain",
+            raw("adc.current_gain"),
+            f"reads at most (reference - offset) / gain ="
+            f" {float((reference - offset) / adc.current_gain_v_per_a):.4g} A, but braking"
+            f" peaks at {why}: ADC2's watchdog would read the rail (CURRENT_SENSOR) in normal"
+            " braking; lower the gain, or raise the PWM frequency or the inductance",
+            f"<= {float((reference - offset) / peak * 1000):.4g} mV/A",
+        )
+    # The averaged model of Eqs. 13-20 takes I as constant over a PWM period.
+    nominal = controller.braking_current_nominal_a
+    at_nominal = braking_ripple(
+        bus_voltage_max_v=inverter.bus_voltage_max_v,
+        pwm_frequency_hz=f_pwm,
+        phase_inductance_h=motor.phase_inductance_h,
+        k_e_v_per_rpm=motor.back_emf_constant_v_per_rpm,
+        phase_resistance_ohm=motor.phase_resistance_ohm,
+        speed_min_rpm=controller.speed_min_rpm,
+        speed_max_rpm=controller.speed_max_rpm,
+        current_max_a=nominal,
+        alignment=inverter.pwm_alignment,
+    )
+    if at_nominal.ripple_a > nominal * RIPPLE_WARN_FRACTION:
+        r.warn(
+            "pwm-ripple-large",
+            "motor.phase_inductance",
+            raw("motor.phase_inductance"),
+            f"the braking current ripples by up to {float(at_nominal.ripple_a):.4g} A peak to"
+            f" peak (D(1 - D) U_d T / (2L) at bus_voltage_max {_g(at_nominal.bus_v)} V),"
+            f" {float(at_nominal.ripple_a / nominal) * 100:.0f} % of braking_current_nominal"
+            f" {_g(nominal)} A: the duty-cycle model of Eqs. 13-20 takes I as constant over a"
+            " PWM period, so expect the commutations to deviate from it; raise the PWM"
+            " frequency or the inductance",
+        )
     # Protection: the comparator must not trip in normal braking.
-    if protection.over_current_a <= controller.braking_current_max_a:
+    if protection.over_current_a <= peak:
         r.report(
             "protection.over_current",
             raw("protection.over_current"),
-            "at or below controller.braking_current_max: normal braking would trip it",
-            f"> {_g(controller.braking_current_max_a)} A",
+            f"at or below the braking current's peak, {why}: normal braking would trip it",
+            f"> {float(peak):.4g} A",
         )
         return
     # Safe state: above U_d/(lambda k_e) all-off rectifies, so the short circuit must be

@@ -31,7 +31,7 @@ from pathlib import Path
 from codegen import units
 from codegen.errors import SpecError
 from codegen.render import write_atomically
-from codegen.spec_drive import short_circuit_peak
+from codegen.spec_drive import braking_current_peak, braking_ripple, short_circuit_peak
 from codegen.spec_loader import load_spec
 from codegen.spec_model import BackEmfShape, SpecWarning
 
@@ -358,13 +358,27 @@ def render_spec(name: str, sheet: Datasheet) -> str:
         )
     i_nom = max(i_nom, Fraction(1, 10))
     i_max = 2 * i_nom
-    gain_mv = max(Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1320) / i_max, 1)))
+    # the current the sensing must read and the comparator let through: braking_current_max
+    # plus the PWM ripple above the loop's sample (edge-aligned, the default: a whole ripple)
+    ripple = braking_ripple(
+        bus_voltage_max_v=v_max,
+        pwm_frequency_hz=pwm,
+        phase_inductance_h=si["l"],
+        k_e_v_per_rpm=si["ke"],
+        phase_resistance_ohm=si["r"],
+        speed_min_rpm=n_min,
+        speed_max_rpm=n_max,
+        current_max_a=i_max,
+        alignment="edge",
+    )
+    peak = braking_current_peak(i_max, ripple)
+    gain_mv = max(Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1320) / peak, 1)))
     budget = min(Fraction(8), _round_down(fastest / 20, 1))
     points = sorted(
         {max(n_min, _round_down(n_max * Fraction(3, 10), 10)), _round_down(n_max * 9 / 10, 10)}
     )
     bandwidth_hz = min(Fraction(1000), pwm / 10)
-    over_current = _round_up(i_max * Fraction(3, 2), 1)
+    over_current = _round_up(max(i_max * Fraction(3, 2), peak * Fraction(5, 4)), 1)
     short_max = _round_up(
         Fraction(
             math.ceil(
@@ -405,8 +419,9 @@ def render_spec(name: str, sheet: Datasheet) -> str:
         "adc.reference": "assumption: VREF+ = 3.3 V",
         "adc.bus_voltage_divider": f"{derived} full scale at least 1.1 x bus_voltage_max",
         "adc.current_gain": (
-            f"{derived} full scale (3.3 V - offset) / gain at least 1.25 x braking_current_max;"
-            " set your shunt x amplifier gain"
+            f"{derived} full scale (3.3 V - offset) / gain at least 1.25 x the braking"
+            f" current's peak, braking_current_max + {_num(_round_up(ripple.above_sample * 10, 1) / 10)} A"
+            " of PWM ripple (edge-aligned); set your shunt x amplifier gain"
         ),
         "adc.current_offset": "assumption: bipolar current sense biased at mid-rail",
         "controller.method": "paper Eq. 18 (the proposed method)",
@@ -430,7 +445,10 @@ def render_spec(name: str, sheet: Datasheet) -> str:
         "sensing": "assumption: bldc-codegen init default, a DC-link shunt on ADC12_IN0 (PA0), the"
         " bus divider on ADC12_IN1 (PA1); set your board's topology, channels and settling time",
         "current_loop.bandwidth": f"{derived} 1 kHz or a tenth of the PWM frequency if less",
-        "protection.over_current": f"{derived} 1.5 x braking_current_max; set your comparator's trip",
+        "protection.over_current": (
+            f"{derived} 1.5 x braking_current_max, or 1.25 x the braking current's peak"
+            " (with the PWM ripple) if more; set your comparator's trip"
+        ),
         "protection.break_input": "assumption: open-drain comparator output, low on over-current",
         "protection.short_circuit_current_max": (
             f"{derived} the short-circuit bound at speed_max, rounded up; set your bridge's"

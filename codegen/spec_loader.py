@@ -72,6 +72,8 @@ WARNINGS: dict[str, str] = {
     "time-budget-large": "accuracy.commutation_time_ticks above 2 % of the shortest 60 deg sector",
     "current-sense-window": "an operating point's nominal braking current needs a duty above"
     " the current sample window's maximum",
+    "pwm-ripple-large": "the braking current's PWM ripple is more than half of"
+    " braking_current_nominal",
     "improved-r-time-not-relaxed": "controller.method improved_r, a PWM period longer than"
     " accuracy.commutation_time_ticks and no declared relaxation",
 }

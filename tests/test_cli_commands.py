@@ -8,6 +8,7 @@ import json
 import shutil
 import subprocess
 import sys
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -187,6 +188,30 @@ def test_init_converts_datasheet_values_and_records_each_conversion(
     assert sources["motor.rotor_inertia"].startswith("assumption:")
     assert cli.main(["init", "drone"]) == ExitCode.USAGE  # never overwrites by surprise
     assert "exists" in capsys.readouterr().err
+
+
+def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A small high-speed motor (2 x 5 uH at 20 kHz, 30 V bus_voltage_max): its braking
+    current ripples by 37.5 A peak to peak above the sample the loop holds, so 40 A of
+    braking_current_max peaks at 77.5 A. init sizes the sensing's full scale and the
+    comparator's trip to 1.25 x that (17 mV/A: 97 A; 97 A), and the spec loads."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "tiny4p", "--pole-pairs", "2", "--kv", "1000"]
+    argv += ["--resistance-line-to-line", "0.05 ohm", "--inductance-line-to-line", "0.01 mH"]
+    argv += ["--bus-voltage", "24 V", "--braking-current", "20 A", "--pwm-frequency", "20 kHz"]
+    assert cli.main(argv) == 0
+    capsys.readouterr()
+    spec = load_spec(tmp_path / "spec" / "tiny4p.yaml")
+    assert spec.adc.current_gain_v_per_a == Fraction(17, 1000)
+    assert spec.protection.over_current_a == 97
+    span = (spec.adc.reference_v - spec.adc.current_offset_v) / spec.adc.current_gain_v_per_a
+    assert span >= Fraction(5, 4) * Fraction(155, 2)  # 40 A + 37.5 A of ripple
+    sources = dict(spec.sources)
+    assert "braking_current_max + 37.5 A of PWM ripple" in sources["adc.current_gain"]
 
 
 @pytest.mark.heavy

@@ -28,7 +28,9 @@ from emulation.pil import braking_report
 from emulation.pil.braking import (
     BRAKING_EDGES,
     CCER_OUTPUTS,
+    EDGE_BUDGET,
     READS,
+    SETTLING_EDGES,
     BrakingLoop,
     BrakingResult,
     Commutation,
@@ -242,6 +244,66 @@ def test_a_compared_commutation_timed_from_no_current_should_fail_the_braking_ru
     assert braking_report.problems(replace(result, commutations=[low])) == []
     lines = braking_report.section(replace(result, commutations=[first, low]), [])
     assert any(f"at or below {zero}, the code of 0 A): 1 of 2" in line for line in lines)
+
+
+@pytest.fixture(scope="module")
+def paper_firmware(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    generated = checked_in(PAPER)
+    assert generated is not None
+    elf = build_firmware(PAPER, tmp_path_factory.mktemp("paper_firmware"), generated)
+    return elf, generated / "c" / "stm32f103_port.c"
+
+
+def test_a_fault_latched_in_a_full_braking_run_should_end_it_at_once(
+    paper_firmware: tuple[Path, Path],
+) -> None:
+    """The full run (to the stop speed, no edge limit) with the bus stepping above
+    inverter.bus_voltage_max two Hall edges after the attach: the bridge trips, the rotor
+    would coast for the run's 30 s of motor time; the run ends within a Hall edge of the
+    trip instead, failed with a line that says why, the fault published."""
+    spec = load_spec(str(PAPER))
+    elf, port = paper_firmware
+    setup = braking_setup(spec, short=False)
+    assert setup.max_edges is None and setup.max_seconds >= 10.0
+    loop = BrakingLoop(elf, port, spec, setup)
+    sector = round(loop.plant.drive.sector_time_s(setup.start_rpm) * TICK_HZ)
+    step = loop.machine.now + 2 * sector
+    nominal = float(spec.inverter.bus_voltage_nominal_v)
+    high = 1.1 * float(spec.inverter.bus_voltage_max_v)
+    loop.run.board.set_bus_voltage(lambda tick: high if tick >= step else nominal)
+    result = loop.run_braking()
+    assert loop.machine.tim1.moe_cleared_at is not None
+    assert result.edges <= 4, result.edges
+    assert result.emulated_s < 0.01 and result.end_rpm > 0.99 * setup.start_rpm
+    assert result.outcome.fault_names == ["OVER_VOLTAGE"]
+    found = braking_report.problems(result)
+    assert any("the braking run ended at Hall edge" in p and "a fault latched" in p for p in found)
+
+
+def test_a_rotor_that_cannot_reach_the_stop_speed_should_end_the_run_within_its_edge_budget(
+    paper_firmware: tuple[Path, Path],
+) -> None:
+    """A load that drives the rotor harder than the braking torque k_t I holds it back:
+    the stop speed, 1 % below the start, is never reached; the run ends after
+    `edge_budget` Hall edges (EDGE_BUDGET x the constant-torque estimate), failed."""
+    spec = load_spec(str(PAPER))
+    elf, port = paper_firmware
+    base = braking_setup(spec, short=False)
+    k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
+    setup = replace(base, stop_rpm=0.99 * base.start_rpm, load_torque=-1.3 * k_t * base.current_a)
+    loop = BrakingLoop(elf, port, spec, setup)
+    budget = loop.edge_budget()
+    expected = braking_edges(
+        spec, setup.start_rpm, setup.stop_rpm, setup.current_a, setup.inertia_scale
+    )
+    assert budget == SETTLING_EDGES + math.ceil(EDGE_BUDGET * expected) and budget < 80
+    result = loop.run_braking()
+    assert result.outcome.faults == 0 and result.end_rpm > setup.stop_rpm
+    assert budget < result.edges <= budget + 2
+    found = braking_report.problems(result)
+    assert any(
+        f"did not reach {setup.stop_rpm:g} rpm within {budget} Hall edges" in p for p in found
+    )
 
 
 class LoopSamples:

@@ -38,3 +38,22 @@ def test_each_scenario_should_latch_its_fault_in_time_and_keep_the_invariants(
     assert outcome.problems == [], (outcome.name, outcome.note)
     if outcome.limit_ticks is not None:
         assert outcome.latency_ticks is not None
+
+
+def test_make_pil_should_refuse_an_invalid_spec_with_one_line_per_error(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A new user's spec whose sensing and trip sit below its PWM ripple's peak: `make
+    pil` names both keys, one `error:` line each, and exits with the spec status; no
+    traceback, nothing built."""
+    from codegen.errors import ExitCode
+    from emulation.pil import report
+
+    spec = Path(__file__).parent / "fixtures" / "pil" / "tiny4p_init_before_ripple.yaml"
+    assert report.main([str(spec), "--braking", "short"]) == ExitCode.SPEC
+    err = capsys.readouterr().err.splitlines()
+    assert [line.split(" = ")[0].rsplit(" ", 1)[1] for line in err] == [
+        "adc.current_gain",
+        "protection.over_current",
+    ]
+    assert all(line.startswith("error: ") and "Traceback" not in line for line in err)

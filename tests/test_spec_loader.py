@@ -459,6 +459,26 @@ BAD_SPECS = [
         ("beyond the current-sense range", "<= 33 A"),
         id="braking-current-beyond-current-sense",
     ),
+    pytest.param(
+        # above braking_current_max (10 A) but not above its PWM ripple's peak (10.33 A)
+        _replace("over_current: 15 A", "over_current: 10.2 A"),
+        "protection.over_current",
+        (
+            "at or below the braking current's peak",
+            "its valley, sampled at the end of the OFF time",
+            "0.3348 A of PWM ripple",
+            "normal braking would trip it",
+            "(allowed: > 10.33 A)",
+        ),
+        id="over-current-within-the-pwm-ripple",
+    ),
+    pytest.param(
+        # reads 10.25 A: braking_current_max (10 A) but not its ripple's peak (10.33 A)
+        _replace("current_gain: 50 mV/A", "current_gain: 161 mV/A"),
+        "adc.current_gain",
+        ("reads at most", "10.25 A", "10.33 A", "CURRENT_SENSOR", "(allowed: <= 159.7 mV/A)"),
+        id="current-sense-below-the-pwm-ripples-peak",
+    ),
     # ---- operating points
     pytest.param(
         _replace("{speed: 4600 rpm", "{speed: 6000 rpm"),
@@ -558,3 +578,62 @@ def test_unreadable_file_is_a_spec_error(tmp_path: Path) -> None:
     latin1.write_bytes(DEFAULT_TEXT.replace("Table 3", "Tabl\xe9 3").encode("latin-1"))
     with pytest.raises(SpecError, match="not UTF-8"):
         load_spec(latin1)
+
+
+TINY4P = ROOT / "tests" / "fixtures" / "pil" / "tiny4p_init_before_ripple.yaml"
+
+
+def test_a_small_inductance_should_need_sensing_and_a_trip_above_its_pwm_ripple() -> None:
+    """A new user's motor as `bldc-codegen init` wrote it before the ripple was counted
+    (2 x 5 uH at 20 kHz, 30 V bus_voltage_max: 37.5 A of ripple peak to peak, sampled at
+    its valley): its 50 A current sensing and 60 A trip sit below the 77.5 A braking at
+    40 A reaches, and the firmware latched CURRENT_SENSOR in its first commutations."""
+    from codegen.errors import MultiSpecError
+
+    with pytest.raises(MultiSpecError) as caught:
+        load_spec(TINY4P)
+    found = {e.path: e for e in caught.value.errors}
+    assert set(found) == {"adc.current_gain", "protection.over_current"}
+    assert found["adc.current_gain"].value == "33 mV/A"
+    assert found["adc.current_gain"].allowed == "<= 21.29 mV/A"
+    assert "37.5 A of PWM ripple" in found["adc.current_gain"].problem
+    assert found["protection.over_current"].allowed == "> 77.5 A"
+
+
+def test_braking_ripple_should_be_worst_at_half_the_bus_within_the_speed_range() -> None:
+    from codegen.spec_drive import braking_current_peak, braking_ripple
+
+    tiny = {
+        "bus_voltage_max_v": Fraction(30),
+        "pwm_frequency_hz": Fraction(20_000),
+        "phase_inductance_h": Fraction(5, 10**6),
+        "k_e_v_per_rpm": Fraction(1, 2000),
+        "phase_resistance_ohm": Fraction(1, 40),
+        "speed_min_rpm": Fraction(340),
+        "speed_max_rpm": Fraction(22_800),
+        "current_max_a": Fraction(40),
+    }
+    edge = braking_ripple(**tiny, alignment="edge")
+    # y = 2E - 2RI = U/2 = 15 V is in range: D(1 - D) U T / (2L) = 30 / 4 x 50 us / 10 uH
+    assert edge.y_v == 15 and edge.ripple_a == Fraction(75, 2) == edge.above_sample
+    assert braking_current_peak(Fraction(40), edge) == Fraction(155, 2)
+    centre = braking_ripple(**tiny, alignment="center")
+    assert centre.ripple_a == edge.ripple_a and centre.above_sample == Fraction(75, 4)
+    # a speed range whose largest 2E is below U/2: the worst is at speed_max, no current
+    slow = braking_ripple(**(tiny | {"speed_max_rpm": Fraction(6000)}), alignment="edge")
+    assert slow.y_v == 6 and slow.ripple_a == Fraction(6 * 24, 20_000 * 10 * 30) * 10**6
+
+
+def test_a_pwm_ripple_above_half_the_nominal_current_should_be_warned_of(tmp_path: Path) -> None:
+    """0.06 mH: the paper motor's 0.335 A of ripple grows to 3.125 A peak to peak, 62.5 %
+    of its 5 A braking_current_nominal (still under its 15 A trip and 33 A sensing)."""
+    text = _replace("phase_inductance: 0.56 mH", "phase_inductance: 0.06 mH")(DEFAULT_TEXT)
+    # less inductance: a larger short-circuit peak at the top speed (158 A)
+    text = _replace("short_circuit_current_max: 120 A", "short_circuit_current_max: 160 A")(text)
+    path = _write(tmp_path, text)
+    warnings = load_spec(path).warnings
+    assert [w.id for w in warnings] == ["pwm-ripple-large"]
+    line = str(warnings[0])
+    assert "motor.phase_inductance = '0.06 mH'" in line
+    assert "3.125 A peak to peak" in line and "62 % of braking_current_nominal 5 A" in line
+    assert load_spec(DEFAULT_SPEC).warnings == ()

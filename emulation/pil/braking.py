@@ -39,7 +39,7 @@ from codegen.spec_model import Spec
 from emulation.pil.bus import PilError, svd_interrupt
 from emulation.pil.plant import LoadTorque, Mechanics, MotorPlant, PeriodRecord
 from emulation.pil.rcc import TICK_HZ
-from emulation.pil.scenarios import Outcome, Run
+from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, Run
 from emulation.pil.scs import IRQ_BASE
 from sim.scenario import PRE_EDGE_PERIODS, Case, previous_edge, switching_table
 
@@ -406,6 +406,15 @@ class BrakingLoop:
         )
         self.sampled_codes.append(code)
 
+    def _await_faults(self) -> None:
+        """After a trip, up to MAIN_WAIT_PERIODS PWM periods for main to publish
+        app_faults (the outcome reads them), as the fault scenarios wait."""
+        period = self.run.board.pwm_period_ticks()
+        for _ in range(MAIN_WAIT_PERIODS):
+            if self.run.board.symbol("app_faults"):
+                break
+            self.advance_to(self.machine.now + period)
+
     def advance_to(self, target: int) -> None:
         """Run the chip and the motor to `target`, the Hall pins following the rotor
         (chunks end at each Hall crossing the plant predicts)."""
@@ -421,16 +430,57 @@ class BrakingLoop:
             self._code = self.plant.hall_code
             self._hall_edge()
 
+    def edge_budget(self) -> int:
+        """The Hall edges a run to the stop speed may take: EDGE_BUDGET times the
+        constant-torque estimate (`braking_edges`, friction and losses left out: they
+        shorten the run) plus the settling edges."""
+        s = self.setup
+        expected = braking_edges(
+            self.spec, s.start_rpm, max(s.stop_rpm, 0.0), s.current_a, s.inertia_scale
+        )
+        return SETTLING_EDGES + math.ceil(EDGE_BUDGET * min(expected, 1e9))
+
     def run_braking(self) -> BrakingResult:
+        """Brake to the stop speed (or `max_edges` Hall edges, or `max_seconds`). The run
+        ends at once, with a note that fails it, when the bridge trips (MOE cleared: a
+        fault latched, the rotor would coast for ever) or when the rotor takes more Hall
+        edges than `edge_budget` (it cannot reach the stop speed)."""
         setup = self.setup
         machine, plant = self.machine, self.plant
         limit = self.start_tick + round(setup.max_seconds * TICK_HZ)
         trace_step = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz) * 10
+        budget = self.edge_budget()
         while machine.now < limit and plant.speed_rpm > setup.stop_rpm:
             if setup.max_edges is not None and len(self.edges) >= setup.max_edges:
                 break
+            if machine.tim1.moe_cleared_at is not None:
+                self.run._note(
+                    f"the braking run ended at Hall edge {len(self.edges)},"
+                    f" {plant.speed_rpm:.0f} rpm, {(machine.now - self.start_tick) / TICK_HZ * 1e3:.2f} ms"
+                    f" after the attach: the bridge tripped (MOE cleared at tick"
+                    f" {machine.tim1.moe_cleared_at}), a fault latched"
+                )
+                self._await_faults()
+                break
+            if len(self.edges) > budget:
+                self.run._note(
+                    f"the rotor did not reach {setup.stop_rpm:g} rpm within {budget} Hall edges"
+                    f" ({EDGE_BUDGET:g} x the constant-torque estimate): {plant.speed_rpm:.0f} rpm"
+                    f" after {(machine.now - self.start_tick) / TICK_HZ * 1e3:.2f} ms"
+                )
+                break
             self.speed_trace.append((machine.now, plant.speed_rpm))
             self.advance_to(min(limit, machine.now + trace_step))
+        else:
+            if (
+                setup.stop_rpm > 0.0
+                and plant.speed_rpm > setup.stop_rpm
+                and setup.max_edges is None
+            ):
+                self.run._note(
+                    f"the rotor did not reach {setup.stop_rpm:g} rpm within {setup.max_seconds:g} s"
+                    f" of motor time: {plant.speed_rpm:.0f} rpm"
+                )
         # half a sector more, so the last commutations have their window
         self.advance_to(
             machine.now
@@ -651,6 +701,11 @@ def brake(
     if sil:
         result.commutations = with_sil(spec, result.commutations)
     return result
+
+
+#: A braking run that takes this many times the constant-torque estimate of its Hall
+#: edges (`braking_edges`) does not reach its stop speed: it ends there, failed
+EDGE_BUDGET = 3.0
 
 
 #: Hall edges of the short version (`make test`): the settling ones and a dozen measured

@@ -16,6 +16,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from codegen.errors import ExitCode, SpecError
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
@@ -141,7 +142,12 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     failed = False
     for spec_path in args.specs:
-        spec = load_spec(spec_path)
+        try:
+            spec = load_spec(spec_path)
+        except SpecError as error:  # every error of the spec, one line each
+            for line in str(error).splitlines():
+                print(f"error: {line}", file=sys.stderr)
+            return int(ExitCode.SPEC)
         target = ROOT / "generated" / spec.name / "pil" / "PIL.md"
         with tempfile.TemporaryDirectory() as folder:
             try:
