@@ -676,6 +676,37 @@ def check_drive(
             f"> {float(peak):.4g} A",
         )
         return
+    # Every current the comparator lets through must be readable: ADC2's watchdog takes
+    # a conversion at a rail for a failed sensor (CURRENT_SENSOR), so a current between
+    # the sensing's full scale and the trip (a commutation's overshoot above the steady
+    # peak) would stop the drive as a sensor fault. Low-side phase shunts carry the
+    # braking current both ways (in the ON state it circulates up one phase's lower leg
+    # and down another's), so their range must reach the trip below the offset too.
+    trip = protection.over_current_a
+    gain = adc.current_gain_v_per_a
+    if (
+        offset < reference
+        and (reference - offset) / gain < trip
+        and (reference - offset) / gain >= peak
+    ):
+        r.report(
+            "adc.current_gain",
+            raw("adc.current_gain"),
+            f"reads at most (reference - offset) / gain = {float((reference - offset) / gain):.4g}"
+            f" A, below protection.over_current {_g(trip)} A: a current the comparator lets"
+            " through would read as a failed sensor (ADC2's watchdog at the rail)",
+            f"<= {float((reference - offset) / trip * 1000):.4g} mV/A",
+        )
+    if sensing.topology == "low_side_phase_shunts" and offset / gain < trip:
+        r.report(
+            "adc.current_offset",
+            raw("adc.current_offset"),
+            f"leaves offset / gain = {float(offset / gain):.4g} A below zero current, but each"
+            " low-side phase shunt carries the braking current both ways (up one phase's lower"
+            " leg, down another's) up to protection.over_current"
+            f" {_g(trip)} A: ADC2's watchdog would read the low rail (CURRENT_SENSOR)",
+            f">= {float(trip * gain):.4g} V (with the gain {float(gain * 1000):.4g} mV/A)",
+        )
     # Safe state: above U_d/(lambda k_e) all-off rectifies, so the short circuit must be
     # within the bridge's rating wherever that can happen within the speed range (at the
     # lowest bus voltage it starts lowest).

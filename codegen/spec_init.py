@@ -372,13 +372,16 @@ def render_spec(name: str, sheet: Datasheet) -> str:
         alignment="edge",
     )
     peak = braking_current_peak(i_max, ripple)
-    gain_mv = max(Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1320) / peak, 1)))
     budget = min(Fraction(8), _round_down(fastest / 20, 1))
     points = sorted(
         {max(n_min, _round_down(n_max * Fraction(3, 10), 10)), _round_down(n_max * 9 / 10, 10)}
     )
     bandwidth_hz = min(Fraction(1000), pwm / 10)
     over_current = _round_up(max(i_max * Fraction(3, 2), peak * Fraction(5, 4)), 1)
+    # the sensing reads every current below the trip: 1.65 V of mid-rail headroom at it
+    gain_mv = max(
+        Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1650) / over_current, 1))
+    )
     short_max = _round_up(
         Fraction(
             math.ceil(
@@ -419,9 +422,10 @@ def render_spec(name: str, sheet: Datasheet) -> str:
         "adc.reference": "assumption: VREF+ = 3.3 V",
         "adc.bus_voltage_divider": f"{derived} full scale at least 1.1 x bus_voltage_max",
         "adc.current_gain": (
-            f"{derived} full scale (3.3 V - offset) / gain at least 1.25 x the braking"
+            f"{derived} full scale (3.3 V - offset) / gain at least protection.over_current,"
+            " so that every current below the trip reads (that is at least 1.25 x the braking"
             f" current's peak, braking_current_max + {_num(_round_up(ripple.above_sample * 10, 1) / 10)} A"
-            " of PWM ripple (edge-aligned); set your shunt x amplifier gain"
+            " of PWM ripple, edge-aligned); set your shunt x amplifier gain"
         ),
         "adc.current_offset": "assumption: bipolar current sense biased at mid-rail",
         "controller.method": "paper Eq. 18 (the proposed method)",

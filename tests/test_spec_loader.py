@@ -479,6 +479,19 @@ BAD_SPECS = [
         ("reads at most", "10.25 A", "10.33 A", "CURRENT_SENSOR", "(allowed: <= 159.7 mV/A)"),
         id="current-sense-below-the-pwm-ripples-peak",
     ),
+    pytest.param(
+        # reads 13.75 A: above the ripple's peak (10.33 A), below the 15 A trip
+        _replace("current_gain: 50 mV/A", "current_gain: 120 mV/A"),
+        "adc.current_gain",
+        (
+            "reads at most",
+            "13.75 A",
+            "below protection.over_current 15 A",
+            "failed sensor",
+            "(allowed: <= 110 mV/A)",
+        ),
+        id="current-sense-below-the-over-current-trip",
+    ),
     # ---- operating points
     pytest.param(
         _replace("{speed: 4600 rpm", "{speed: 6000 rpm"),
@@ -637,3 +650,22 @@ def test_a_pwm_ripple_above_half_the_nominal_current_should_be_warned_of(tmp_pat
     assert "motor.phase_inductance = '0.06 mH'" in line
     assert "3.125 A peak to peak" in line and "62 % of braking_current_nominal 5 A" in line
     assert load_spec(DEFAULT_SPEC).warnings == ()
+
+
+def test_low_side_phase_shunts_should_read_the_trip_below_their_offset(tmp_path: Path) -> None:
+    """Each low-side phase shunt carries the braking current both ways: the Maxon's 3.6 A
+    trip needs 1.44 V of offset at 400 mV/A; 1.2 V reads only 3 A below zero (the
+    offset_conventional fixture's 0.5 V on such shunts latched CURRENT_SENSOR in the
+    loop at -7 A)."""
+    from codegen.errors import MultiSpecError
+
+    maxon = ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml"
+    text = maxon.read_text(encoding="utf-8")
+    assert "  current_offset: 1.65 V\n" in text and "topology: low_side_phase_shunts" in text
+    path = _write(tmp_path, text.replace("  current_offset: 1.65 V\n", "  current_offset: 1.2 V\n"))
+    with pytest.raises(MultiSpecError) as caught:
+        load_spec(path)
+    found = {e.path: e for e in caught.value.errors}
+    assert set(found) == {"adc.current_offset"}
+    assert found["adc.current_offset"].allowed == ">= 1.44 V (with the gain 400 mV/A)"
+    assert "3 A below zero current" in found["adc.current_offset"].problem
