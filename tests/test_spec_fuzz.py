@@ -41,6 +41,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import pytest
 import yaml
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
@@ -477,6 +478,7 @@ def run_case(raw: bytes, design: bool = True) -> str:
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 @given(spec_case())
+@pytest.mark.heavy
 def test_a_malformed_spec_is_refused_cleanly_or_designed(case: tuple[str, bytes]) -> None:
     _, raw = case
     outcome = run_case(raw)
