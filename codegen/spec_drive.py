@@ -605,18 +605,22 @@ def check_drive(
                     f" {float(needed):.3f}, above the {float(d_max):.3f} the current sample"
                     " window leaves: the loop saturates there",
                 )
+
     # The PWM ripple: what the current reaches above the sample the loop holds.
-    ripple = braking_ripple(
-        bus_voltage_max_v=inverter.bus_voltage_max_v,
-        pwm_frequency_hz=f_pwm,
-        phase_inductance_h=motor.phase_inductance_h,
-        k_e_v_per_rpm=motor.back_emf_constant_v_per_rpm,
-        phase_resistance_ohm=motor.phase_resistance_ohm,
-        speed_min_rpm=controller.speed_min_rpm,
-        speed_max_rpm=controller.speed_max_rpm,
-        current_max_a=controller.braking_current_max_a,
-        alignment=inverter.pwm_alignment,
-    )
+    def ripple_up_to(current_a: Fraction) -> BrakingRipple:
+        return braking_ripple(
+            bus_voltage_max_v=inverter.bus_voltage_max_v,
+            pwm_frequency_hz=f_pwm,
+            phase_inductance_h=motor.phase_inductance_h,
+            k_e_v_per_rpm=motor.back_emf_constant_v_per_rpm,
+            phase_resistance_ohm=motor.phase_resistance_ohm,
+            speed_min_rpm=controller.speed_min_rpm,
+            speed_max_rpm=controller.speed_max_rpm,
+            current_max_a=current_a,
+            alignment=inverter.pwm_alignment,
+        )
+
+    ripple = ripple_up_to(controller.braking_current_max_a)
     peak = braking_current_peak(controller.braking_current_max_a, ripple)
     sampled = (
         "its mean, sampled at the centre of the OFF time"
@@ -644,17 +648,7 @@ def check_drive(
         )
     # The averaged model of Eqs. 13-20 takes I as constant over a PWM period.
     nominal = controller.braking_current_nominal_a
-    at_nominal = braking_ripple(
-        bus_voltage_max_v=inverter.bus_voltage_max_v,
-        pwm_frequency_hz=f_pwm,
-        phase_inductance_h=motor.phase_inductance_h,
-        k_e_v_per_rpm=motor.back_emf_constant_v_per_rpm,
-        phase_resistance_ohm=motor.phase_resistance_ohm,
-        speed_min_rpm=controller.speed_min_rpm,
-        speed_max_rpm=controller.speed_max_rpm,
-        current_max_a=nominal,
-        alignment=inverter.pwm_alignment,
-    )
+    at_nominal = ripple_up_to(nominal)
     if at_nominal.ripple_a > nominal * RIPPLE_WARN_FRACTION:
         r.warn(
             "pwm-ripple-large",

@@ -24,6 +24,16 @@ def test_tim3_vector_should_sit_at_its_svd_interrupt_number() -> None:
     assert table.count("TIM3_IRQHandler") == 1 and len(table) == 15 + 43
 
 
+def vector(elf: Path, irq: int, work: Path) -> int:
+    """The vector table's entry for interrupt `irq` in the linked image."""
+    table = work / "vectors.bin"
+    subprocess.run(
+        ["arm-none-eabi-objcopy", "-O", "binary", "-j", ".isr_vector", str(elf), str(table)],
+        check=True,
+    )
+    return int.from_bytes(table.read_bytes()[4 * (16 + irq) : 4 * (16 + irq + 1)], "little")
+
+
 @pytest.mark.parametrize("name", ["paper_motor", "maxon_ec45_flat_48v"])
 def test_firmware_should_link_with_the_handler_in_the_vector_table(
     name: str, tmp_path: Path
@@ -38,22 +48,7 @@ def test_firmware_should_link_with_the_handler_in_the_vector_table(
         for line in symbols.splitlines()
         if line.endswith(" TIM3_IRQHandler")
     )
-    image = subprocess.run(
-        [
-            "arm-none-eabi-objcopy",
-            "-O",
-            "binary",
-            "-j",
-            ".isr_vector",
-            str(elf),
-            str(tmp_path / "v.bin"),
-        ],
-        check=True,
-    )
-    assert image.returncode == 0
-    vectors = (tmp_path / "v.bin").read_bytes()
-    entry = int.from_bytes(vectors[4 * (16 + 29) : 4 * (16 + 30)], "little")
-    assert entry == handler | 1  # Thumb bit set
+    assert vector(elf, 29, tmp_path) == handler | 1  # Thumb bit set
     assert sizes["firmware.elf"].flash > 0 and "__aeabi" not in symbols
 
 
@@ -141,25 +136,8 @@ def test_cube_firmware_should_enter_the_hall_edge_and_timing_in_the_port_directl
         ).stdout.splitlines()
         if len(line.split()) == 3
     }
-    subprocess.run(
-        [
-            "arm-none-eabi-objcopy",
-            "-O",
-            "binary",
-            "-j",
-            ".isr_vector",
-            str(elf),
-            str(tmp_path / "v.bin"),
-        ],
-        check=True,
-    )
-    vectors = (tmp_path / "v.bin").read_bytes()
-
-    def entry(irq: int) -> int:
-        return int.from_bytes(vectors[4 * (16 + irq) : 4 * (16 + irq + 1)], "little")
-
-    assert entry(29) == symbols["TIM3_IRQHandler"] | 1
-    assert entry(26) == symbols["TIM1_TRG_COM_IRQHandler"] | 1
+    assert vector(elf, 29, tmp_path) == symbols["TIM3_IRQHandler"] | 1
+    assert vector(elf, 26, tmp_path) == symbols["TIM1_TRG_COM_IRQHandler"] | 1
 
 
 def test_a_cube_it_c_that_still_defines_tim3_irqhandler_should_not_link(
