@@ -370,6 +370,9 @@ HOST_HARNESS = (
     + FAKE_PERIPHERALS
     + r"""
 static bldc_timing_t stub_next = {BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
+/* The stub's flags: a function of all four inputs (test_status_should_be_the_flags_of_the_published_timing). */
+#define STUB_FLAGS(bus, period, current, duty) \
+    ((uint16_t)(((bus) * 5u + (period) * 7u + (current) * 11u + (duty) * 13u) & 0xFFFFu))
 static uint32_t stub_bus_flags;
 static uint32_t seen_bus, seen_period, seen_current, seen_duty;
 static unsigned timing_runs, bus_runs, break_runs;
@@ -398,7 +401,9 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     seen_current = current_adc;
     seen_duty = main_duty_counts;
     ++timing_runs;
-    return stub_next;
+    bldc_timing_t out = stub_next;
+    out.flags = STUB_FLAGS(bus->bus_code, period_ticks, current_adc, main_duty_counts);
+    return out;
 }
 
 #define SET(reg, value) (*(volatile uint32_t *)&(reg) = (uint32_t)(value))
@@ -596,6 +601,15 @@ static void brk(void)
 
 static void show(const char *step)
 {
+    /* bldc_port_status() runs the core (the stub) again: it must not count as a run. */
+    const uint32_t bus = seen_bus, period = seen_period, current = seen_current, duty = seen_duty;
+    const unsigned runs = timing_runs;
+    const unsigned long status = (unsigned long)bldc_port_status();
+    seen_bus = bus;
+    seen_period = period;
+    seen_current = current;
+    seen_duty = duty;
+    timing_runs = runs;
     printf("%%s tim1 ccer=%%lu ccr1=%%lu ccr2=%%lu ccr3=%%lu ccr4=%%lu egr=%%lu bdtr=%%lu cr2=%%lu "
            "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu sr=%%lu adc cr1=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
            "runs=%%u busruns=%%u breaks=%%u edge egr=%%lu sr=%%lu port faults=%%lu safe=%%lu "
@@ -609,7 +623,7 @@ static void show(const char *step)
            (unsigned long)fake_tim3.SR, (unsigned long)fake_adc1.CR1, (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
            (unsigned long)seen_duty, timing_runs, bus_runs, break_runs, raw_egr, raw_sr,
            (unsigned long)bldc_port_faults(), (unsigned long)bldc_port_safe_state(),
-           (unsigned long)bldc_port_current_code(), (unsigned long)bldc_port_status(),
+           (unsigned long)bldc_port_current_code(), status,
            fake_nvic_cleared, (unsigned long)fake_adc2.CR1, (unsigned long)fake_adc2.SR,
            (unsigned long)fake_exti.PR);
     fake_nvic_cleared = 0u;
@@ -1189,6 +1203,32 @@ def test_current_loop_should_set_the_steady_switch_from_each_sample(
     assert host_run["loop0"]["tim1.ccr2"] > 1700  # below the reference: more braking duty
     # the next timing takes the loop's latest duty
     assert host_run["edge2"]["in.duty"] == host_run[f"loop{len(run.measured) - 1}"]["tim1.ccr2"]
+
+
+def _stub_flags(bus: int, period: int, current: int, duty: int) -> int:
+    """STUB_FLAGS of the harness: the stub core's flags, a function of its four inputs."""
+    return (bus * 5 + period * 7 + current * 11 + duty * 13) & 0xFFFF
+
+
+def test_status_should_be_the_flags_of_the_published_timing(
+    host_run: dict[str, dict[str, int]], spec: Spec
+) -> None:
+    """The timing handler stores no flags; bldc_port_status() runs the core again on the
+    inputs the published timing took. So at every step it gives the flags of the last
+    timing run's inputs (`in.*`, what the stub saw), not of the inputs now: the current
+    loop's samples move `port.current` between runs, and a Hall edge `port.period`."""
+    uses_duty = bool(port.port_context(spec)["uses_main_duty"])
+    checked = moved = 0
+    for step, r in host_run.items():
+        if "port.status" not in r:
+            continue
+        duty = r["in.duty"] if uses_duty else 0  # a method without it gets 0 from status
+        expected = _stub_flags(r["in.bus"], r["in.period"], r["in.cur"], duty)
+        assert r["port.status"] == expected, step
+        checked += 1
+        moved += r["port.current"] != r["in.cur"]
+    assert checked > 40
+    assert moved > 5  # steps where the current sampled since differs from the timed one
 
 
 def _assert_tripped(r: dict[str, int], fault: str) -> None:

@@ -255,7 +255,9 @@ void bldc_port_raise_fault(uint32_t fault);
  * BLDC_SAFE_ALL_OFF or BLDC_SAFE_SHORT_CIRCUIT. */
 uint32_t bldc_port_safe_state(void);
 
-/* The core's BLDC_FLAG_* of the timing the next Hall edge applies. */
+/* The core's BLDC_FLAG_* of the timing the next Hall edge applies, computed on demand:
+ * the core runs again on the inputs that timing took (interrupts are masked only while
+ * they are copied). Call it from thread mode. */
 uint32_t bldc_port_status(void);
 
 /* The braking current I in ADC codes as the current loop last sampled it. */

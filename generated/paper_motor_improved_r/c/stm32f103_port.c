@@ -243,8 +243,7 @@ BLDC_PORT_FAST_DATA static const uint32_t port_edge_of_pins[64] = {
  * the timing handler never writes the slot the Hall edge may be reading (it fills the
  * other one and then publishes it with one word write). */
 static struct {
-    bldc_timing_t *timing;          /* what the next Hall edge applies: one of `slots` (it only reads it) */
-    bldc_timing_t *spare;           /* the other slot, the one the timing handler fills next */
+    bldc_timing_t *timing;          /* what the next Hall edge applies: one of port_slots (it only reads it) */
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
     uint32_t stale;                 /* ADC_SR_JSTRT: the injected sequence in flight at the commutation end began before it, or 0 */
@@ -259,13 +258,41 @@ static struct {
     uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
     int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
     uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation) */
+    /* The inputs of the published timing beside `bus`, which only the timing handler
+     * writes: bldc_port_status() computes its flags from them. */
+    uint16_t timed_period;          /* the Hall interval it took */
+    uint16_t timed_current;         /* the current code it took */
     uint32_t faults;                /* latched BLDC_FAULT_* */
     uint32_t requested;             /* faults found below the break interrupt's priority, for it to latch */
     uint32_t heartbeat;             /* current-loop runs, for the watchdog */
     uint32_t heartbeat_seen;        /* its value at the last bldc_port_alive() */
     bldc_bus_t bus;                 /* bldc_bus_condition(bus_code), cached */
-    bldc_timing_t slots[2];         /* the published timing and the one being computed */
 } port;
+
+/* The published timing and the one being computed, each in a 16-byte slot. The pair
+ * starts on a 32-byte boundary, so the two addresses differ in bit 4 alone: the slot
+ * the timing handler fills is the published one's address XOR 16, one EOR, where a
+ * pointer to the spare slot would cost a load and a store on every run. */
+typedef union {
+    bldc_timing_t timing;
+    uint8_t bytes[16];
+} port_slot_t;
+#define PORT_SLOT_BYTES 16u
+typedef char port_slot_is_16_bytes[(sizeof(port_slot_t) == PORT_SLOT_BYTES) ? 1 : -1];
+#if !defined(BLDC_PORT_SLOTS_ALIGNED)
+#if defined(__GNUC__)
+#define BLDC_PORT_SLOTS_ALIGNED __attribute__((aligned(32)))
+#else
+#error "define BLDC_PORT_SLOTS_ALIGNED to your compiler's 32-byte alignment attribute: port_slots[0] and [1] must differ in address bit 4 alone"
+#endif
+#endif
+static port_slot_t port_slots[2] BLDC_PORT_SLOTS_ALIGNED;
+
+/* The slot that is not `slot`. */
+static inline bldc_timing_t *port_other_slot(bldc_timing_t *slot)
+{
+    return (bldc_timing_t *)((uintptr_t)slot ^ PORT_SLOT_BYTES);
+}
 
 /* TIM1 compare register of channel 0..2 (CCR1..CCR3 are consecutive words). */
 static volatile uint32_t *port_compare(TIM_TypeDef *tim1, uint32_t channel)
@@ -587,23 +614,29 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
     BLDC_PORT_SEQUENCE();
     const uint32_t period = port.period;
     tim1->CR2 = port_safe_state_cr2(period);
+    /* The inputs, kept for bldc_port_status(): the flags are not stored, so the
+     * compiler drops their arithmetic from this copy of the core (status computes them
+     * from the same inputs with the same function). Stored before the core runs, so
+     * nothing holds them in a register through it. */
+    const uint32_t current = port.current;
+    port.timed_period = (uint16_t)period;
+    port.timed_current = (uint16_t)current;
+    const uint32_t duty = port.main_duty; /* not used by the method's duties (a load the compiler drops) */
     /* Fill the slot the Hall edge is not reading, then publish it with one word write:
      * an edge sees the previous timing or this one, never half of either. Only this
-     * handler writes `timing` and `spare` (the Hall edge reads `timing`). */
-    const bldc_timing_t timing = PORT_COMMUTATION_TIMING(&port.bus, period, port.current, port.main_duty);
-    BLDC_PORT_SEQUENCE(); /* `next` read after the core: one register fewer through it */
-    bldc_timing_t *const next = port.spare;
+     * handler writes `timing` (the Hall edge reads it). */
+    const bldc_timing_t timing = PORT_COMMUTATION_TIMING(&port.bus, period, current, duty);
+    BLDC_PORT_SEQUENCE(); /* the slot read after the core: one register fewer through it */
+    bldc_timing_t *const published = port.timing;
+    bldc_timing_t *const next = port_other_slot(published);
     /* Field by field, a half-word store each: a copy of the whole struct, or stores
-     * the compiler may merge, packs the four half-words into two words first (BFI). */
+     * the compiler may merge, packs the half-words into words first (BFI). */
     next->period_min = timing.period_min;
     next->turn_on_compare = timing.turn_on_compare;
     BLDC_PORT_SEQUENCE();
     next->turn_off_compare = timing.turn_off_compare;
     BLDC_PORT_SEQUENCE();
     next->commutation_ticks = timing.commutation_ticks;
-    BLDC_PORT_SEQUENCE();
-    next->flags = timing.flags;
-    port.spare = port.timing;
     port.timing = next;
 }
 
@@ -872,9 +905,20 @@ uint32_t bldc_port_safe_state(void)
     return ((TIM1->CR2 & BLDC_PORT_OIS_SHORT) != 0u) ? BLDC_SAFE_SHORT_CIRCUIT : BLDC_SAFE_ALL_OFF;
 }
 
+/* The flags of the published timing: the core once more on the inputs the timing
+ * handler took (which it recorded) and the bus state it took (which only it writes),
+ * copied with interrupts masked, so no timing run can fall between the reads. The
+ * timing handler stores no flags: nothing on its path needs them. */
 uint32_t bldc_port_status(void)
 {
-    return port.timing->flags;
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    const bldc_bus_t bus = port.bus;
+    const uint32_t period = port.timed_period;
+    const uint32_t current = port.timed_current;
+    const uint32_t duty = 0u; /* the method's duties do not use the main duty */
+    __set_PRIMASK(primask);
+    return PORT_COMMUTATION_TIMING(&bus, period, current, duty).flags;
 }
 
 uint32_t bldc_port_current_code(void)
@@ -1208,9 +1252,10 @@ void bldc_port_init(uint32_t start_faults)
     port.rectifying_max = port_rectifying_max(BLDC_PORT_BUS_UNKNOWN);
     port.bus = bldc_bus_condition(BLDC_PORT_BUS_UNKNOWN);
     port.period = BLDC_PORT_TIM3_ARR;
-    port.slots[0] = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
-    port.timing = &port.slots[0];
-    port.spare = &port.slots[1];
+    port.timed_period = (uint16_t)BLDC_PORT_TIM3_ARR;
+    port.timed_current = 0u;
+    port_slots[0].timing = (bldc_timing_t){BLDC_PERIOD_NEVER, 0u, 0u, 0u, 0u};
+    port.timing = &port_slots[0].timing;
 
     port_init_hall_pins();
     port_init_break_pin();
