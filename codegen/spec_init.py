@@ -373,9 +373,12 @@ def render_spec(name: str, sheet: Datasheet) -> str:
     )
     peak = braking_current_peak(i_max, ripple)
     budget = min(Fraction(8), _round_down(fastest / 20, 1))
-    points = sorted(
-        {max(n_min, _round_down(n_max * Fraction(3, 10), 10)), _round_down(n_max * 9 / 10, 10)}
-    )
+    # In braking only the back-EMF drives the current, at most E/R: the lower point sits
+    # where E is 1.5 x R x braking_current_nominal (a duty near 2/3), if 30 % is below it.
+    n_hold = _round_up(si["r"] * i_nom / si["ke"] * Fraction(3, 2), 10)
+    high = _round_down(n_max * 9 / 10, 10)
+    low = max(n_min, _round_down(n_max * Fraction(3, 10), 10))
+    points = sorted({min(max(low, n_hold), high), high})
     bandwidth_hz = min(Fraction(1000), pwm / 10)
     over_current = _round_up(max(i_max * Fraction(3, 2), peak * Fraction(5, 4)), 1)
     # the sensing reads every current below the trip: 1.65 V of mid-rail headroom at it
@@ -440,7 +443,10 @@ def render_spec(name: str, sheet: Datasheet) -> str:
         "accuracy.commutation_time_ticks": (
             f"{derived} 8 Hall ticks, at most 5 % of the shortest 60 deg sector"
         ),
-        "operating_points": f"{derived} 30 % and 90 % of speed_max; set your test speeds",
+        "operating_points": (
+            f"{derived} 90 % of speed_max, and 30 % or where E = 1.5 x R x"
+            " braking_current_nominal if faster; set your test speeds"
+        ),
         "accuracy.current_loop_duty_counts": "assumption: 1 TIM1 count for the braking-current PI",
         "accuracy.ill_conditioned_above": (
             f"{derived} the time target per 0.1 count, as spec/paper_motor.yaml declares"

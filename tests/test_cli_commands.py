@@ -214,6 +214,26 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     assert "braking_current_max + 37.5 A of PWM ripple" in sources["adc.current_gain"]
 
 
+def test_init_should_put_the_lower_operating_point_where_the_current_can_be_held(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 60-pole hub motor braking 20 A through 0.3 ohm: the back-EMF drives at most E/R,
+    which reaches 20 A at 96 rpm. init's usual lower point, 30 % of 300 rpm, is below it;
+    init moves the point to where E = 1.5 x R x I (144 rpm, rounded up to 150) and the
+    spec loads without the loader's warning that the current cannot be held there."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "hub30pp", "--pole-pairs", "30", "--kv", "8", "--resistance", "0.3 ohm"]
+    argv += ["--inductance", "400 uH", "--bus-voltage", "48 V", "--braking-current", "20 A"]
+    argv += ["--speed-max", "300 rpm", "--pwm-frequency", "20 kHz"]
+    assert cli.main(argv) == 0
+    captured = capsys.readouterr()
+    assert "warning" not in captured.err + captured.out
+    spec = load_spec(tmp_path / "spec" / "hub30pp.yaml")
+    assert [float(p.speed_rpm) for p in spec.operating_points] == [150.0, 270.0]
+
+
 @pytest.mark.heavy
 @pytest.mark.parametrize(
     ("name", "datasheet", "edit"),
