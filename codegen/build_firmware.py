@@ -196,7 +196,7 @@ def stack(build_dir: Path, cube: bool) -> StackReport:
     vectors = {role: h.vector for role, h in HANDLERS.items()}
     levels = [
         ("thread mode (interrupts open)", ["main"]),
-        ("timing (priority 2)", [vectors["timing"]]),
+        ("timing and bus change (priority 2)", [vectors["timing"], vectors["bus"]]),
         (
             "Hall edge, Hall lines, current loop, break (priority 1)",
             [vectors[r] for r in ("hall", "adc", "brk", "hall_line0", "hall_lines9_5")],

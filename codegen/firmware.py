@@ -33,6 +33,7 @@ CORE_HANDLERS = {2: "NMI_Handler", 3: "HardFault_Handler"}
 #: the XL-density line, whose TIM1 vectors TIM9..TIM11 share; ADC1 and ADC2 share one.
 PORT_INTERRUPTS: dict[str, tuple[str, str]] = {
     "timing": ("TIM1", "TIM1_TRG_COM_TIM11"),
+    "bus": ("TIM1", "TIM1_UP_TIM10"),
     "hall": ("TIM3", "TIM3"),
     "adc": ("ADC1", "ADC"),
     "brk": ("TIM1", "TIM1_BRK_TIM9"),
@@ -60,7 +61,7 @@ def port_handlers() -> list[dict[str, object]]:
             "irq": irq_number(*PORT_INTERRUPTS[role]),
             "svd": PORT_INTERRUPTS[role][1],
         }
-        for role in ("timing", "hall", "adc", "brk", "hall_line0", "hall_lines9_5")
+        for role in ("timing", "bus", "hall", "adc", "brk", "hall_line0", "hall_lines9_5")
     ]
 
 

@@ -85,6 +85,13 @@ HANDLERS = {
         None,
         cube_interrupt="TIM1 trigger and commutation interrupts",
     ),
+    # the bus voltage moved beyond the hysteresis (rare): TIM1's update vector, which
+    # TIM1 never raises; the current loop pends it
+    "bus": Handler(
+        "TIM1_UP_IRQHandler",
+        "bldc_port_tim1_up_irq",
+        cube_interrupt="TIM1 update interrupt",
+    ),
     "adc": Handler(
         "ADC1_2_IRQHandler",
         "bldc_port_adc_irq",

@@ -46,6 +46,11 @@ TARGET_HALL_CYCLES = 120
 TARGET_END_INSTRUCTIONS = 24
 #: TIM1 trigger/COM: IRQ 26 on the STM32F103 (SVD TIM1_TRG_COM_TIM11).
 TIMING_HANDLER = "TIM1_TRG_COM_IRQHandler"
+#: TIM1 update: IRQ 25, which TIM1 never raises; the current loop pends it when the bus
+#: moved, and it pends the timing once the bus state is new.
+BUS_HANDLER = "TIM1_UP_IRQHandler"
+#: A bus change as one event: the bus-change handler and the timing run it pends.
+BUS_CHANGE = f"bus change ({BUS_HANDLER}, then {TIMING_HANDLER})"
 HALL_HANDLER = "TIM3_IRQHandler"
 #: ADC1_2: the current loop (JEOC) and the bus watchdog (AWD).
 ADC_HANDLER = "ADC1_2_IRQHandler"
@@ -198,11 +203,9 @@ class PortRig:
         self.adc_dr = _register("ADC1", "DR")
         self.adc2_sr, self.adc2_dr = _register("ADC2", "SR"), _register("ADC2", "DR")
         self.jeoc, self.awd = _bit("ADC1", "SR", "JEOC"), _bit("ADC1", "SR", "AWD")
-        (self.timing_irq,) = [
-            i.value
-            for i in load_device().peripheral("TIM1").interrupts
-            if i.name.startswith("TIM1_TRG_COM")
-        ]
+        tim1_irqs = load_device().peripheral("TIM1").interrupts
+        (self.timing_irq,) = [i.value for i in tim1_irqs if i.name.startswith("TIM1_TRG_COM")]
+        (self.bus_irq,) = [i.value for i in tim1_irqs if i.name.startswith("TIM1_UP")]
         self.bus_symbol = self.sim.image.symbol(BUS_FUNCTION)
         self.function_at = {
             s.address: s.name for s in self.sim.image.symbols.values() if s.is_function
@@ -215,9 +218,10 @@ class PortRig:
         self.sim.write_u32(self.ispr0, 0)
 
     def prime(self, bus: int, current: int, period: int) -> None:
-        """From init to the steady state: a bus sample (its timing), one Hall edge
-        forward and its commutation end."""
+        """From init to the steady state: a bus sample (its bus change and timing), one
+        Hall edge forward and its commutation end."""
         self.adc_sample(bus, current)
+        self.serve(self.pended())
         self.timing()
         self.hall_edge(self.spec.hall.sequence[1], period)
         self.timing()
@@ -238,11 +242,25 @@ class PortRig:
         for gpio, value in levels.items():
             self.sim.write_u32(_register(gpio, "IDR"), value)
 
-    def nvic_pending(self) -> bool:
-        """Whether TIM1_TRG_COM was pended by software (then cleared)."""
-        pending = bool(self.sim.read_u32(self.ispr0) & (1 << self.timing_irq))
+    def pended(self) -> frozenset[str]:
+        """The port's handlers pended by software since the last look (then cleared):
+        the timing and the bus change."""
+        word = self.sim.read_u32(self.ispr0)
         self.sim.write_u32(self.ispr0, 0)
-        return pending
+        irqs = ((TIMING_HANDLER, self.timing_irq), (BUS_HANDLER, self.bus_irq))
+        return frozenset(name for name, irq in irqs if word & (1 << irq))
+
+    def serve(self, pended: frozenset[str]) -> dict[str, CallResult]:
+        """Run what is pending as the NVIC would: the bus change first (the same priority
+        as the timing and a lower IRQ number), which pends the timing; then the timing.
+        Each run by its handler's name, in that order."""
+        runs = {}
+        if BUS_HANDLER in pended:
+            runs[BUS_HANDLER] = self.sim.call(BUS_HANDLER)
+            pended = pended | self.pended()
+        if TIMING_HANDLER in pended:
+            runs[TIMING_HANDLER] = self.sim.call(TIMING_HANDLER)
+        return runs
 
     def com_event(self) -> bool:
         """Whether the last handler raised a COM event with its interrupt on (then cleared)."""
@@ -280,15 +298,13 @@ class PortRig:
         self.stage_hall(code)
         return self.sim.call(HALL_LINES_HANDLER)
 
-    def set_inputs(self, bus: int, current: int, duty: int) -> CallResult | None:
+    def set_inputs(self, bus: int, current: int, duty: int) -> dict[str, CallResult]:
         """The open-loop duty, then a sample of the bus and the current (which the port
-        takes as I in the steady state); the timing run they pended, if any."""
+        takes as I in the steady state); the runs they pended (`serve`), if any."""
         self.sim.call("bldc_port_set_main_duty", args=(duty,))
-        pended = self.nvic_pending()
+        pended = self.pended()
         self.adc_sample(bus, current)
-        if self.nvic_pending() or pended:
-            return self.sim.call(TIMING_HANDLER)
-        return None
+        return self.serve(pended | self.pended())
 
     def hall_edge(self, code: int, period: int, *, timeout: bool = False) -> CallResult:
         """A Hall edge to `code` after `period` ticks (with the counter wrapped if
@@ -348,6 +364,18 @@ class PortRig:
             worst.peripheral_accesses,
         )
 
+    def total(self, runs: Iterable[CallResult]) -> Sample:
+        """The cost of handler runs one after the other (each with its entry and exit):
+        the whole work of one event; the deepest stack of any of them."""
+        costs = [self.cost(r) for r in runs]
+        return Sample(
+            sum(c.instructions for c in costs),
+            sum(c.cycles_worst for c in costs),
+            sum(c.cycles_typical for c in costs),
+            max(c.stack_bytes for c in costs),
+            sum(c.peripheral_accesses for c in costs),
+        )
+
     def part(self, result: CallResult, symbol: Symbol) -> Sample:
         """The cost of the steps of a call that ran inside `symbol` (no entry or exit)."""
         inside = [
@@ -368,16 +396,16 @@ class PortRig:
 
 @dataclass(frozen=True)
 class Stats:
-    """The port's handlers over a bench run. The timing handler's runs are split by
-    whether they recomputed the bus state (a new bus code beyond the hysteresis) or
-    used the cached one; `core_*` are the core's functions inside those runs (no entry
-    or exit)."""
+    """The port's handlers over a bench run. The timing handler's runs on the cached
+    bus state apart from the bus changes (a new bus code beyond the hysteresis: the
+    bus-change handler and the timing run it pends, one event); `core_*` are the core's
+    functions inside those runs (no entry or exit)."""
 
     hall: HandlerStats  # edges that commutate
     hall_refused: HandlerStats | None  # edges refused without a fault (a reversal: all off)
     end: HandlerStats
     timing: HandlerStats | None  # runs on the cached bus state
-    timing_bus: HandlerStats | None  # runs that called bldc_bus_condition()
+    timing_bus: HandlerStats | None  # bus changes: the bus-change handler + the timing it pends
     core_bus: HandlerStats | None  # bldc_bus_condition() inside them
     #: bldc_commutation_timing() inside every run; None where the port inlines it into
     #: the handler (no function of that name in the image: the handler's figure is all)
@@ -425,21 +453,28 @@ def bench(
     worst_at: dict[int, int] = {}
     at_period = [inputs.periods[0]]  # the last Hall edge's period (rig.prime's first)
 
+    def worst_here(cost: Sample) -> None:
+        worst_at[at_period[0]] = max(worst_at.get(at_period[0], 0), cost.cycles_worst)
+
     def measure_timing(result: CallResult) -> None:
         cost = rig.cost(result)
-        worst_at[at_period[0]] = max(worst_at.get(at_period[0], 0), cost.cycles_worst)
+        worst_here(cost)
         if timing_symbol is not None:
             timing_part.append(rig.part(result, timing_symbol))
-        if BUS_FUNCTION in rig.entries(result.trace):
-            bus_part.append(rig.part(result, rig.bus_symbol))
-            recomputed.append(cost)
-        else:
-            cached.append(cost)
+        cached.append(cost)
 
     def set_inputs(bus: int, current: int, duty: int) -> None:
-        pended = rig.set_inputs(bus, current, duty)
-        if pended is not None:
-            measure_timing(pended)
+        runs = rig.set_inputs(bus, current, duty)
+        if BUS_HANDLER in runs:
+            # a bus change: its handler and the timing run it pends, one event
+            bus_part.append(rig.part(runs[BUS_HANDLER], rig.bus_symbol))
+            if timing_symbol is not None and TIMING_HANDLER in runs:
+                timing_part.append(rig.part(runs[TIMING_HANDLER], timing_symbol))
+            cost = rig.total(runs.values())
+            worst_here(cost)
+            recomputed.append(cost)
+        elif TIMING_HANDLER in runs:
+            measure_timing(runs[TIMING_HANDLER])
 
     periods = inputs.periods
     rig.prime(inputs.buses[0], inputs.currents[0], periods[0])
@@ -474,7 +509,7 @@ def bench(
         hall_refused=_stats("Hall edge refused (all off)", refused) if refused else None,
         end=_stats("commutation end (TIM3 CC2)", commutation_end),
         timing=_stats(f"{TIMING_HANDLER}, bus state cached", cached) if cached else None,
-        timing_bus=_stats(f"{TIMING_HANDLER}, bus changed", recomputed) if recomputed else None,
+        timing_bus=_stats(BUS_CHANGE, recomputed) if recomputed else None,
         core_bus=_stats(f"{BUS_FUNCTION}()", bus_part) if bus_part else None,
         core_timing=_stats(f"{TIMING_FUNCTION}()", timing_part) if timing_part else None,
         current_loop=_stats(f"{ADC_HANDLER} (current loop)", loop),
@@ -515,8 +550,7 @@ def current_loop_runs(
     for bus in inputs.buses:
         for current in inputs.currents:
             samples.append(rig.cost(rig.adc_sample(bus, current)))
-            if rig.nvic_pending():
-                rig.timing()
+            rig.serve(rig.pended())
             samples.append(rig.cost(rig.adc_sample(bus, current)))
     faults: dict[str, Sample] = {}
     to_moe: dict[str, int] = {}
@@ -526,7 +560,7 @@ def current_loop_runs(
         faults[name] = rig.cost(result)
         to_moe[name] = _cycles_to_store(rig, result, rig.tim1_bdtr)
         rig.com_event()
-        rig.nvic_pending()
+        rig.pended()
         rig.stage_hall(spec.hall.sequence[0])
         rig.adc_sample(sc.bus_code_min, sc.current_offset_code)
         left = rig.sim.call("bldc_port_clear_faults").return_value
@@ -595,7 +629,7 @@ class TimingSweep:
     def bus_change_stats(self) -> HandlerStats | None:
         if not self.bus_changes:
             return None
-        return _stats(f"{TIMING_HANDLER}, bus changed", self.bus_changes)
+        return _stats(BUS_CHANGE, self.bus_changes)
 
     @property
     def stats(self) -> HandlerStats:
@@ -627,9 +661,9 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
         for bus in inputs.buses:
             for current in inputs.currents:
                 for duty in inputs.duties:
-                    pended = rig.set_inputs(bus, current, duty)
-                    if pended is not None:
-                        bus_changes.append(rig.cost(pended))
+                    runs = rig.set_inputs(bus, current, duty)
+                    if BUS_HANDLER in runs:
+                        bus_changes.append(rig.total(runs.values()))
                     rig.hall_edge(sequence[step % 6], period)
                     result = rig.timing()
                     rig.commutation_end()

@@ -72,6 +72,7 @@ def test_cube_integration_should_leave_only_the_hot_vectors_to_the_port() -> Non
     assert handler_names(spec) == {
         "hall": "TIM3_IRQHandler",
         "timing": "TIM1_TRG_COM_IRQHandler",
+        "bus": "bldc_port_tim1_up_irq",
         "adc": "bldc_port_adc_irq",
         "brk": "bldc_port_tim1_brk_irq",
         "hall_line0": "bldc_port_exti0_irq",
@@ -91,6 +92,7 @@ def test_cube_stand_in_it_c_should_not_define_the_ports_vectors_and_say_why() ->
         assert f"void {vector}(void);" not in it_c
     for vector, call in (
         ("ADC1_2_IRQHandler", "bldc_port_adc_irq"),
+        ("TIM1_UP_IRQHandler", "bldc_port_tim1_up_irq"),
         ("TIM1_BRK_IRQHandler", "bldc_port_tim1_brk_irq"),
         ("EXTI0_IRQHandler", "bldc_port_exti0_irq"),
         ("EXTI9_5_IRQHandler", "bldc_port_exti9_5_irq"),

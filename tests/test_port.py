@@ -216,14 +216,14 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     assert "<TIM3_IRQHandler>:" in dump
     assert "<bldc_port_init>:" in dump
     assert "__aeabi_" not in dump
-    # one hardware divide, in the bus change (out of line, once per change beyond the
-    # hysteresis): the safe state's interval bound floor(K / B); no handler divides
+    # one hardware divide, in the bus-change handler (once per change beyond the
+    # hysteresis): the safe state's interval bound floor(K / B); no other handler divides
     divides = [
         name
         for name, body in re.findall(r"<(\w+)>:\n(.*?)(?:\n\n|\Z)", dump, re.S)
         for _ in re.findall(r"\b[us]div\b", body)
     ]
-    assert divides == ["port_update_bus"], divides
+    assert divides == [port.port_context(spec)["handler"]["bus"]], divides  # type: ignore[index]
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
     # nothing else leaves the object but the core and the current loop's reference (the
     # port's own static functions are its cold paths), and the Hall edge calls neither
@@ -264,8 +264,10 @@ def test_timing_handler_should_inline_a_straight_line_core(
     name = port.port_context(load_spec(path))["handler"]["timing"]  # type: ignore[index]
     handler = dump[dump.index(f"<{name}>:") :].split("\n\n")[0]
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", handler))
-    update = dump[dump.index("<port_update_bus>:") :].split("\n\n")[0]
+    bus_name = port.port_context(load_spec(path))["handler"]["bus"]  # type: ignore[index]
+    update = dump[dump.index(f"<{bus_name}>:") :].split("\n\n")[0]
     assert "bldc_bus_condition" in update
+    assert "bldc_bus_condition" not in handler  # the timing handler reads no bus request
     if inlined:
         assert not any("commutation_timing" in c for c in called), called
         assert re.search(r"\budiv\b", handler) and re.search(r"\bsdiv\b", handler)
@@ -339,8 +341,8 @@ extern unsigned fake_nvic_priority[64];
 #define ADC1 (&fake_adc1)
 #define NVIC_EnableIRQ(n) (fake_nvic_enabled |= 1ul << (n))
 #define NVIC_SetPendingIRQ(n) (fake_nvic_pending |= 1ul << (n))
-#define BLDC_PORT_PEND_TIMING_WHEN(moved) \
-    (fake_nvic_pending |= (unsigned long)((moved) != 0) << TIM1_TRG_COM_IRQn)
+#define BLDC_PORT_PEND_BUS_WHEN(moved) \
+    (fake_nvic_pending |= (unsigned long)((moved) != 0) << TIM1_UP_IRQn)
 #define NVIC_ClearPendingIRQ(n) (fake_nvic_cleared |= 1ul << (n))
 #define NVIC_SetPriority(n, p) (fake_nvic_priority[(n)] = (p))
 #ifndef HARNESS_CALIBRATION_STUCK
@@ -433,6 +435,12 @@ static void settle(void)
                 %(brk)s();
                 ran = 1;
             }
+        }
+        /* the bus change first: the timing's priority and a lower IRQ number */
+        if ((fake_nvic_pending & (1ul << TIM1_UP_IRQn)) != 0u) {
+            fake_nvic_pending &= ~(1ul << TIM1_UP_IRQn);
+            %(bus)s();
+            ran = 1;
         }
         const int com = (fake_tim1.EGR & TIM_EGR_COMG) != 0u && (fake_tim1.DIER & TIM_DIER_COMIE) != 0u;
         const int pended = (fake_nvic_pending & (1ul << TIM1_TRG_COM_IRQn)) != 0u;
@@ -651,7 +659,7 @@ int main(int argc, char **argv)
            "ccr4=%%lu dier=%%lu tim3 cr1=%%lu cr2=%%lu smcr=%%lu ccmr1=%%lu ccer=%%lu dier=%%lu "
            "psc=%%lu arr=%%lu cnt=%%lu adc cr1=%%lu cr2=%%lu jsqr=%%lu sqr1=%%lu sqr3=%%lu smpr1=%%lu smpr2=%%lu htr=%%lu "
            "ltr=%%lu rcc apb2=%%lu apb1=%%lu cfgr=%%lu csr=%%lu gpioa crl=%%lu crh=%%lu gpiob "
-           "crl=%%lu crh=%%lu bsrr=%%lu nvic enabled=%%lu hall=%%u adc=%%u brk=%%u timing=%%u port "
+           "crl=%%lu crh=%%lu bsrr=%%lu nvic enabled=%%lu hall=%%u adc=%%u brk=%%u timing=%%u bus=%%u port "
            "faults=%%lu\n",
            (unsigned long)fake_tim1.CR1, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.CCMR1, (unsigned long)fake_tim1.CCMR2,
@@ -674,6 +682,7 @@ int main(int argc, char **argv)
            (unsigned long)fake_gpiob.BSRR, fake_nvic_enabled,
            fake_nvic_priority[TIM3_IRQn], fake_nvic_priority[ADC1_2_IRQn],
            fake_nvic_priority[TIM1_BRK_IRQn], fake_nvic_priority[TIM1_TRG_COM_IRQn],
+           fake_nvic_priority[TIM1_UP_IRQn],
            (unsigned long)bldc_port_faults());
     printf("init2 adc2 cr1=%%lu cr2=%%lu sqr1=%%lu sqr3=%%lu smpr1=%%lu smpr2=%%lu htr=%%lu ltr=%%lu "
            "afio exticr1=%%lu exticr2=%%lu exti imr=%%lu rtsr=%%lu ftsr=%%lu nvic exti0=%%u exti9_5=%%u\n",
@@ -1006,6 +1015,7 @@ def _build_harness(
         "adc": names["adc"],
         "brk": names["brk"],
         "timing": names["timing"],
+        "bus": names["bus"],
         "line0": names["hall_line0"],
         "lines9_5": names["hall_lines9_5"],
     }
@@ -1109,9 +1119,11 @@ def test_init_should_configure_the_timers_and_the_adc_per_rm0008(
     assert r["gpiob.crh"] == 0xBBB84444  # PB13..15 AF push-pull; PB12 (BKIN) input with pull
     assert r["gpioa.crl"] == 0x88444400  # PA0, PA1 analog; PA6, PA7 input with pull
     assert r["gpiob.crl"] == 0x44444448  # PB0 input with pull
-    # EXTI0 = 6, ADC1_2 = 18, EXTI9_5 = 23, TIM1_BRK = 24, TIM1_TRG_COM = 26, TIM3 = 29
-    assert r["nvic.enabled"] == (1 << 6) | (1 << 18) | (1 << 23) | (1 << 24) | (1 << 26) | (1 << 29)
-    assert r["nvic.hall"] == r["nvic.adc"] == r["nvic.brk"] < r["nvic.timing"]
+    # EXTI0 = 6, ADC1_2 = 18, EXTI9_5 = 23, TIM1_BRK = 24, TIM1_UP = 25 (the bus change),
+    # TIM1_TRG_COM = 26, TIM3 = 29
+    enabled = (1 << 6) | (1 << 18) | (1 << 23) | (1 << 24) | (1 << 25) | (1 << 26) | (1 << 29)
+    assert r["nvic.enabled"] == enabled
+    assert r["nvic.hall"] == r["nvic.adc"] == r["nvic.brk"] < r["nvic.timing"] == r["nvic.bus"]
     assert r["port.faults"] == 0
 
 

@@ -254,7 +254,7 @@ static struct {
     uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
     uint16_t bus_code;              /* the bus code of `bus` (written at the bus change; for a debugger and the PIL, no handler reads it) */
     uint32_t bus_low;               /* the bus code of `bus` - hysteresis (mod 2^32): a sample within the band is no change */
-    uint32_t bus_moved;             /* 1: the current loop's last bus sample left the band (the timing handler recomputes), else 0 */
+    uint32_t bus_moved;             /* 1: the current loop's last bus sample left the band (the bus-change handler recomputes), else 0 */
     uint32_t rectifying_max;        /* the longest Hall interval at which all-off rectifies at the bus code of `bus` */
     uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
     int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
@@ -567,14 +567,13 @@ static void port_request_trip(uint32_t fault)
     __set_PRIMASK(primask);
 }
 
-/* The bus voltage changed beyond the hysteresis: its reciprocals, once per change (out
- * of line, so the bus state's temporaries cost the timing handler's common path no
- * stack), from the latest injected sample. The request is taken before the sample is
- * read: a sample the current loop finds outside the old band meanwhile requests (and
- * pends this handler) again, and the rerun takes the newer code. The core flags a bus
+/* The bus voltage changed beyond the hysteresis: its reciprocals, once per change,
+ * from the latest injected sample. The request is taken before the sample is read: a
+ * sample the current loop finds outside the old band meanwhile requests (and pends the
+ * bus-change handler) again, and the rerun takes the newer code. The core flags a bus
  * outside its range: the analog watchdog has tripped already, and this is its
  * backstop. */
-BLDC_PORT_NOINLINE static void port_update_bus(void)
+static void port_update_bus(void)
 {
     port.bus_moved = 0u;
     const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
@@ -623,17 +622,12 @@ BLDC_PORT_NOINLINE static void port_update_bus(void)
 
 /* The next edge's duties and commutation time, at a lower priority than TIM3. Raised
  * by every COM event (DIER.COMIE), which every Hall edge generates, and pended by
- * the current loop when the bus voltage moved beyond the hysteresis. A Hall edge that
+ * the bus-change handler once the bus state is new. A Hall edge that
  * arrives meanwhile preempts it, raises it again, and the NVIC runs it once more
  * afterwards; the extra run after a commutation end recomputes with the latest current
  * and main duty. */
 PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
 {
-    /* The current loop tests each bus sample against the band around the code in use
-     * and leaves its answer here (one word, no ADC register read on this path). */
-    if (BLDC_PORT_RARE_IN_LINE(port.bus_moved != 0u)) {
-        port_update_bus();
-    }
     /* COMIF cleared before the interval is read: a Hall edge after this point raises it
      * again and this handler runs once more; one before it left its interval in
      * `period` already. SR and CR2 next to each other share TIM1's address. */
@@ -668,19 +662,34 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
     port.timing = next;
 }
 
-/* Pend the timing handler when `moved` is 1, nothing when 0, without a branch: a 0
- * written to an NVIC set-pending bit has no effect (PM0056 4.3.4). The timing handler
- * takes the new code (the latest injected sample) and computes the bus state from it. */
-#ifndef BLDC_PORT_PEND_TIMING_WHEN
-#define BLDC_PORT_PEND_TIMING_WHEN(moved)                                          \
-    (((volatile uint32_t *)NVIC_ISPR_BASE)[(uint32_t)TIM1_TRG_COM_IRQn >> 5u] =  \
-         (uint32_t)(moved) << ((uint32_t)TIM1_TRG_COM_IRQn & 31u))
+/* The bus voltage moved beyond the hysteresis: its new state, then the timing with it.
+ * TIM1's update vector, which TIM1 itself never raises (DIER.UIE stays 0): the current
+ * loop pends it. It runs at the timing handler's priority, so neither preempts the
+ * other, and has the lower interrupt number, so when both are pending it runs first
+ * (PM0056 2.3.6). The timing handler's path so reads no request at all; this handler
+ * pends it once the bus state is new. The latest sample decides: a bus back in the
+ * band meanwhile changes nothing. */
+void TIM1_UP_IRQHandler(void)
+{
+    if (port.bus_moved != 0u) {
+        port_update_bus();
+        NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
+    }
+}
+
+/* Pend the bus-change handler when `moved` is 1, nothing when 0, without a branch: a
+ * 0 written to an NVIC set-pending bit has no effect (PM0056 4.3.4). It takes the new
+ * code (the latest injected sample) and computes the bus state from it. */
+#ifndef BLDC_PORT_PEND_BUS_WHEN
+#define BLDC_PORT_PEND_BUS_WHEN(moved)                                         \
+    (((volatile uint32_t *)NVIC_ISPR_BASE)[(uint32_t)TIM1_UP_IRQn >> 5u] =  \
+         (uint32_t)(moved) << ((uint32_t)TIM1_UP_IRQn & 31u))
 #endif
 static inline void port_pend_if_bus_moved(uint32_t bus)
 {
     const uint32_t moved = (uint32_t)((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES);
     port.bus_moved = moved; /* the latest sample decides: back in the band, no change */
-    BLDC_PORT_PEND_TIMING_WHEN(moved);
+    BLDC_PORT_PEND_BUS_WHEN(moved);
 }
 
 /* The analog watchdog: a conversion of the bus (the regular group's, continuously, or
@@ -1273,8 +1282,8 @@ void bldc_port_init(uint32_t start_faults)
     /* Until the first bus sample, every edge is treated as over-voltage: the bridge
      * stays off. The bus state of a code no ADC gives is saturated, so the first timing
      * is the safe state (not a fault). The band starts around 0, what JDR4 reads before
-     * any conversion: the first sample above it pends the timing, which computes the
-     * bus state from it; a bus that reads 0 keeps the bridge off (and the analog
+     * any conversion: the first sample above it pends the bus-change handler, which
+     * computes the bus state from it and pends the timing; a bus that reads 0 keeps the bridge off (and the analog
      * watchdog trips under-voltage). */
     port.bus_code = BLDC_PORT_BUS_UNKNOWN;
     port.bus_low = 0u - BLDC_PORT_BUS_HYSTERESIS_CODES;
@@ -1306,9 +1315,11 @@ void bldc_port_init(uint32_t start_faults)
     NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);
     NVIC_SetPriority(TIM1_BRK_IRQn, BLDC_PORT_FAULT_PRIORITY);
     NVIC_SetPriority(TIM1_TRG_COM_IRQn, BLDC_PORT_TIMING_PRIORITY);
+    NVIC_SetPriority(TIM1_UP_IRQn, BLDC_PORT_TIMING_PRIORITY);
     NVIC_SetPriority(EXTI0_IRQn, BLDC_PORT_HALL_PRIORITY);
     NVIC_SetPriority(EXTI9_5_IRQn, BLDC_PORT_HALL_PRIORITY);
     NVIC_EnableIRQ(TIM1_TRG_COM_IRQn);
+    NVIC_EnableIRQ(TIM1_UP_IRQn);
     NVIC_EnableIRQ(EXTI0_IRQn);
     NVIC_EnableIRQ(EXTI9_5_IRQn);
     NVIC_EnableIRQ(TIM1_BRK_IRQn);

@@ -88,6 +88,11 @@
  *   TIM1_TRG_COM_IRQHandler (BLDC_PORT_TIMING_PRIORITY): the next edge's duties and
  *         commutation time, after every COM event and when the bus voltage moved; it
  *         also sets the safe state of the present speed region (TIM1 CR2.OISxN).
+ *   TIM1_UP_IRQHandler (BLDC_PORT_TIMING_PRIORITY): TIM1's update vector, which TIM1
+ *         never raises (UIE stays 0); the current loop pends it when the bus voltage
+ *         moved beyond the hysteresis: the bus state, once per change, then the
+ *         timing. The same priority as the timing handler and a lower number: it runs
+ *         first when both are pending, never in the middle of a timing run.
  *
  * Faults. Each acts at once, latches its bit and holds the bridge in the safe state
  * until bldc_port_clear_faults() finds its cause gone:
@@ -275,6 +280,7 @@ void bldc_port_emergency_off(void);
  * CMSIS names. */
 void TIM3_IRQHandler(void);   /* Hall edge, commutation end, Hall timeout */
 void TIM1_TRG_COM_IRQHandler(void); /* the next edge's duties and commutation time */
+void TIM1_UP_IRQHandler(void);    /* the bus voltage moved: its state, then the timing */
 void ADC1_2_IRQHandler(void);    /* current loop (JEOC), bus watchdog (AWD) */
 void TIM1_BRK_IRQHandler(void);    /* break input: over-current */
 void EXTI0_IRQHandler(void);    /* a Hall line changed: code 0 or 7 */

@@ -14,6 +14,7 @@ void Default_Handler(void);
 void NMI_Handler(void);
 void HardFault_Handler(void);
 void TIM1_TRG_COM_IRQHandler(void);
+void TIM1_UP_IRQHandler(void);
 void TIM3_IRQHandler(void);
 void ADC1_2_IRQHandler(void);
 void TIM1_BRK_IRQHandler(void);
@@ -58,7 +59,7 @@ void Reset_Handler(void)
 }
 
 /* 16 system exceptions, then the STM32F103xB's 43 peripheral interrupts (RM0008
- * Table 63); the port's: TIM1_TRG_COM_IRQHandler at IRQ 26 (SVD TIM1_TRG_COM_TIM11), TIM3_IRQHandler at IRQ 29 (SVD TIM3), ADC1_2_IRQHandler at IRQ 18 (SVD ADC), TIM1_BRK_IRQHandler at IRQ 24 (SVD TIM1_BRK_TIM9), EXTI0_IRQHandler at IRQ 6 (SVD EXTI0), EXTI9_5_IRQHandler at IRQ 23 (SVD EXTI9_5). */
+ * Table 63); the port's: TIM1_TRG_COM_IRQHandler at IRQ 26 (SVD TIM1_TRG_COM_TIM11), TIM1_UP_IRQHandler at IRQ 25 (SVD TIM1_UP_TIM10), TIM3_IRQHandler at IRQ 29 (SVD TIM3), ADC1_2_IRQHandler at IRQ 18 (SVD ADC), TIM1_BRK_IRQHandler at IRQ 24 (SVD TIM1_BRK_TIM9), EXTI0_IRQHandler at IRQ 6 (SVD EXTI0), EXTI9_5_IRQHandler at IRQ 23 (SVD EXTI9_5). */
 typedef void (*vector_t)(void);
 typedef union {
     vector_t handler;
@@ -106,7 +107,7 @@ __attribute__((section(".isr_vector"), used)) static const vector_entry_t vector
     {.handler = Default_Handler},
     {.handler = EXTI9_5_IRQHandler},
     {.handler = TIM1_BRK_IRQHandler},
-    {.handler = Default_Handler},
+    {.handler = TIM1_UP_IRQHandler},
     {.handler = TIM1_TRG_COM_IRQHandler},
     {.handler = Default_Handler},
     {.handler = Default_Handler},
