@@ -39,6 +39,7 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         "stack TIM3_IRQHandler (static)",
         "stack ADC1_2_IRQHandler (static)",
         "stack TIM1_TRG_COM_IRQHandler (static)",
+        "stack TIM1_UP_IRQHandler (static)",
         "Hall edge from flash (the port's default) minus from SRAM",
         "arithmetic ccode float worst",
         "arithmetic ccode double worst",
@@ -46,7 +47,7 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         "arithmetic ours worst, bus state cached",
         "ours (bus state cached) / plain fixed point (all its work every run)",
         "improved_r Hall edge worst",
-        "improved_r library helpers reachable from TIM1_TRG_COM_IRQHandler",
+        "improved_r library helpers reachable from TIM1_TRG_COM_IRQHandler and TIM1_UP_IRQHandler",
     ):
         assert expected in names, expected
     assert any(n.startswith("TIM1_TRG_COM_IRQHandler worst") for n in names)

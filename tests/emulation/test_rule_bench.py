@@ -29,7 +29,7 @@ from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from emulation.armsim import load_elf
 from emulation.callgraph import reached_functions
-from emulation.isr_bench import HALL_HANDLER, TIMING_HANDLER, timing_sweep
+from emulation.isr_bench import BUS_HANDLER, HALL_HANDLER, TIMING_HANDLER, timing_sweep
 from emulation.rule_bench import (
     METHOD,
     helper_names,
@@ -80,9 +80,13 @@ def test_timing_handler_and_core_should_reach_no_library_helper(
     _, generated, build_dir = variant
     image = load_elf(build_dir / "firmware.elf")
     reached, indirect = reached_functions(image, TIMING_HANDLER)
-    # the walk really follows the calls into the core
-    assert {"bldc_bus_condition", "bldc_commutation_timing", TIMING_HANDLER} <= reached
-    assert not indirect
+    bus_reached, bus_indirect = reached_functions(image, BUS_HANDLER)
+    # the walk really follows the calls into the core: the timing from the timing
+    # handler, the bus state from the bus-change handler
+    assert {"bldc_commutation_timing", TIMING_HANDLER} <= reached
+    assert {"bldc_bus_condition", BUS_HANDLER} <= bus_reached
+    assert not indirect and not bus_indirect
+    reached |= bus_reached
     assert helper_names(reached) == frozenset()
     functions = {s.name for s in image.symbols.values() if s.is_function}
     assert helper_names(functions) == frozenset()  # none linked at all
