@@ -29,7 +29,9 @@ from fractions import Fraction
 from pathlib import Path
 
 from codegen import units
+from codegen.control.current_loop import accuracy_needed, widest_design
 from codegen.errors import SpecError
+from codegen.methods.base import FixedPointError
 from codegen.render import write_atomically
 from codegen.spec_drive import braking_current_peak, braking_ripple, short_circuit_peak
 from codegen.spec_loader import load_spec
@@ -317,8 +319,10 @@ def _round_up(value: Fraction, step: int) -> Fraction:
     return Fraction(math.ceil(value / step) * step)
 
 
-def render_spec(name: str, sheet: Datasheet) -> str:
-    """The spec text for `name` from the datasheet values (see the module docstring)."""
+def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)) -> str:
+    """The spec text for `name` from the datasheet values (see the module docstring);
+    `loop_counts` is accuracy.current_loop_duty_counts (`write_new_spec` raises it where
+    the PI's widest fixed-point format needs more than one count)."""
     motor, motor_sources, si = _motor(sheet)
     derived = "assumption: bldc-codegen init, derived:"
     bus = sheet.bus_voltage[0] if sheet.bus_voltage else si["rated"]
@@ -447,7 +451,12 @@ def render_spec(name: str, sheet: Datasheet) -> str:
             f"{derived} 90 % of speed_max, and 30 % or where E = 1.5 x R x"
             " braking_current_nominal if faster; set your test speeds"
         ),
-        "accuracy.current_loop_duty_counts": "assumption: 1 TIM1 count for the braking-current PI",
+        "accuracy.current_loop_duty_counts": (
+            "assumption: 1 TIM1 count for the braking-current PI"
+            if loop_counts == 1
+            else f"{derived} {_num(loop_counts)} TIM1 counts, what the braking-current PI's"
+            " widest fixed-point format meets over a step response (1 count is out of reach)"
+        ),
         "accuracy.ill_conditioned_above": (
             f"{derived} the time target per 0.1 count, as spec/paper_motor.yaml declares"
         ),
@@ -526,7 +535,7 @@ controller:
 accuracy:
   duty_counts: 1.0
   commutation_time_ticks: {_num(budget)}
-  current_loop_duty_counts: 1.0
+  current_loop_duty_counts: {_num(loop_counts) if loop_counts != 1 else "1.0"}
   # Declared relaxation (as in spec/paper_motor.yaml): where the commutation time is
   # ill-conditioned (an error of one count in Eq. 20's denominator, or in the
   # resistance-aware rule's turn-off current, moves t_com by more than
@@ -584,4 +593,15 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
         spec = load_spec(path)
     except SpecError as exc:
         return Written(path, exc, ())
+    try:
+        needed = accuracy_needed(widest_design(spec))
+    except FixedPointError:
+        needed = Fraction(1)  # no format at all: generate names the key
+    if needed > spec.accuracy.current_loop_duty_counts:
+        # the PI's widest format cannot meet 1 count: the spec says what it does meet
+        write_atomically(path, render_spec(name, sheet, _round_up(needed * 100, 1) / 100))
+        try:
+            spec = load_spec(path)
+        except SpecError as exc:
+            return Written(path, exc, ())
     return Written(path, None, spec.warnings)

@@ -6,6 +6,7 @@ exists has passed every range, unit and physical-consistency check.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Literal
@@ -270,3 +271,26 @@ class Spec:
     @property
     def assumptions(self) -> tuple[tuple[str, str], ...]:
         return tuple((k, v) for k, v in self.sources if v.startswith("assumption"))
+
+
+#: The closed-loop time constants a braking-current step response takes to settle.
+STEP_RESPONSE_TIME_CONSTANTS = 5
+
+
+def loop_periods_per_step_response(spec: Spec) -> float:
+    """PWM periods in a braking-current step response: 5 closed-loop time constants,
+    5 f_pwm / w_c (at least one)."""
+    periods = (
+        STEP_RESPONSE_TIME_CONSTANTS
+        * float(spec.inverter.pwm_frequency_hz)
+        / (2 * math.pi * float(spec.current_loop.bandwidth_hz))
+    )
+    return max(1.0, periods)
+
+
+def integrator_step_tolerance_counts(spec: Spec) -> float:
+    """What the spec allows the braking-current PI's integrator to be off by in one PWM
+    period, in TIM1 counts: accuracy.current_loop_duty_counts spread over the periods of
+    a step response, over which the error of each step accumulates. The requirement the
+    loop's design is held to and its check measures against, stated once."""
+    return float(spec.accuracy.current_loop_duty_counts) / loop_periods_per_step_response(spec)

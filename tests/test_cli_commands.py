@@ -234,6 +234,44 @@ def test_init_should_put_the_lower_operating_point_where_the_current_can_be_held
     assert [float(p.speed_rpm) for p in spec.operating_points] == [150.0, 270.0]
 
 
+HEAVY_L = [
+    *("init", "heavy_l", "--pole-pairs", "2", "--resistance", "1.5 ohm", "--inductance"),
+    *("2 mH", "--ke", "0.05 V/rpm", "--bus-voltage", "24 V", "--braking-current", "3 A"),
+    *("--speed-max", "200 rpm", "--pwm-frequency", "8 kHz"),
+]
+
+
+def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 2 mH motor at 8 kHz with an 800 Hz loop: its PI's widest format (Q13, the
+    proportional product fills int32) rounds k_i by 0.25 LSB, 0.126 counts a period,
+    1.002 counts over a step response's 8 periods. init states 1.01 counts, not the
+    1 count it cannot meet, and says so; with 1 count, `generate` refuses in one line
+    naming the key and the value it needs (it used to generate, and `verify` failed)."""
+    from codegen.control.current_loop import design
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(HEAVY_L) == 0
+    capsys.readouterr()
+    path = tmp_path / "spec" / "heavy_l.yaml"
+    spec = load_spec(path)
+    assert spec.accuracy.current_loop_duty_counts == Fraction(101, 100)
+    assert "1 count is out of reach" in dict(spec.sources)["accuracy.current_loop_duty_counts"]
+    design(spec)  # held to 1.01: no refusal
+    strict = tmp_path / "strict.yaml"
+    strict.write_text(
+        path.read_text().replace("current_loop_duty_counts: 1.01", "current_loop_duty_counts: 1")
+    )
+    assert cli.main(["generate", str(strict)]) == ExitCode.SPEC
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert "accuracy.current_loop_duty_counts" in err[0]
+    assert "(allowed: >= 1.002 counts)" in err[0]
+    assert not (tmp_path / "generated" / "strict").exists()
+
+
 @pytest.mark.heavy
 @pytest.mark.parametrize(
     ("name", "datasheet", "edit"),

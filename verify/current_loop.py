@@ -39,7 +39,7 @@ from types import ModuleType
 import numpy as np
 import numpy.typing as npt
 
-from codegen.spec_model import Spec
+from codegen.spec_model import Spec, loop_periods_per_step_response
 from oracle.current_loop import LoopModel, loop_model
 from verify.check import SLACK, OutputCheck
 from verify.host_core import compile_with_shim
@@ -410,14 +410,10 @@ def claims_check(
 
 
 def integrator_tolerance(spec: Spec, tol: float) -> float:
-    """The duty tolerance spread over the PWM periods of a step response (5 closed-loop
-    time constants, 5 f_pwm / w_c): the integrator's error per step accumulates."""
-    periods = (
-        5
-        * float(spec.inverter.pwm_frequency_hz)
-        / (2 * np.pi * float(spec.current_loop.bandwidth_hz))
-    )
-    return tol / max(1.0, periods)
+    """The duty tolerance `tol` spread over the PWM periods of a step response (the
+    spec's requirement, `integrator_step_tolerance_counts`): the integrator's error per
+    step accumulates."""
+    return tol / loop_periods_per_step_response(spec)
 
 
 def verify_loop(

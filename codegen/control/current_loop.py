@@ -37,6 +37,7 @@ smallest distance between a value and a rounding boundary.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
@@ -68,7 +69,11 @@ from codegen.ir.nodes import (
 )
 from codegen.ir.types import I32, U32, U64
 from codegen.methods.base import FixedPointError
-from codegen.spec_model import Spec
+from codegen.spec_model import (
+    Spec,
+    integrator_step_tolerance_counts,
+    loop_periods_per_step_response,
+)
 
 HEADER = "bldc_current_loop.h"
 SOURCE = "bldc_current_loop.c"
@@ -364,8 +369,44 @@ def _claims(
     return duty_error, integrator_error
 
 
+def _hold_claims(spec: Spec, f: int, duty_claim: Fraction, integrator_claim: Fraction) -> None:
+    """The widest format's error bounds against what the spec allows: a design that
+    would fail `verify` is refused here, naming the key to change."""
+    allowed = spec.accuracy.current_loop_duty_counts
+    periods = loop_periods_per_step_response(spec)
+    needed = max(duty_claim, integrator_claim * Fraction(periods))
+    if duty_claim > allowed or float(integrator_claim) > integrator_step_tolerance_counts(spec):
+        raise FixedPointError(
+            f"accuracy.current_loop_duty_counts = {float(allowed):g} counts: the"
+            f" braking-current PI's widest format (Q{f}) is off by up to"
+            f" {float(duty_claim):.4f} counts in the duty and {float(integrator_claim):.4f}"
+            f" counts a period in the integrator, {float(integrator_claim) * periods:.4f}"
+            f" counts over a step response ({periods:.1f} PWM periods) (allowed: >="
+            f" {math.ceil(float(needed) * 1000) / 1000:g} counts)",
+            "accuracy.current_loop_duty_counts",
+        )
+
+
+def accuracy_needed(d: LoopDesign) -> Fraction:
+    """The smallest accuracy.current_loop_duty_counts the design meets: its duty bound,
+    and its integrator bound a period over the periods of a step response."""
+    periods = Fraction(loop_periods_per_step_response(d.spec))
+    return max(d.duty_claim, d.integrator_claim * periods)
+
+
 @lru_cache(maxsize=16)
 def design(spec: Spec) -> LoopDesign:
+    """The PI in the widest Q format whose every intermediate is proven to fit, held to
+    the spec's accuracy (refused, naming the key, where it falls short)."""
+    d = widest_design(spec)
+    _hold_claims(spec, d.fraction_bits, d.duty_claim, d.integrator_claim)
+    return d
+
+
+@lru_cache(maxsize=16)
+def widest_design(spec: Spec) -> LoopDesign:
+    """The PI in the widest Q format whose every intermediate is proven to fit, with its
+    error bounds (not yet held to the spec's accuracy: `design` does)."""
     g = gains(spec)
     code_max = 2**spec.adc.bits - 1
     if g.duty_max_counts <= 0:
