@@ -58,6 +58,7 @@ from codegen.derivation import derive
 from codegen.errors import SpecError
 from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
+from codegen.methods.base import FixedPointError
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -627,24 +628,39 @@ def section_reciprocal(b: Bench, report: Report, sizes: dict[str, Sizes], stats:
     report.say(*choice.lines())
 
 
-def _seconds(command: Sequence[str]) -> float:
+@dataclass(frozen=True)
+class Timed:
+    """A command's wall time, or why it failed: a failed run is a miss (infinite
+    seconds) with its exit status and last line of stderr, never a traceback."""
+
+    seconds: float
+    failure: str = ""
+
+
+def _seconds(command: Sequence[str]) -> Timed:
     started = time.perf_counter()
-    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - started
+    run = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if run.returncode != 0:
+        lines = run.stderr.strip().splitlines()
+        last = lines[-1] if lines else "no output"
+        return Timed(float("inf"), f"FAILED (exit {run.returncode}): {last}")
+    return Timed(time.perf_counter() - started)
 
 
 def section_times(b: Bench, report: Report) -> None:
     python = sys.executable
     spec = str(b.spec_path)
     with tempfile.TemporaryDirectory() as out:
-        cold = [_seconds([python, "-m", "codegen", "audit", spec, "-o", out]) for _ in range(RUNS)]
+        runs = [_seconds([python, "-m", "codegen", "audit", spec, "-o", out]) for _ in range(RUNS)]
+    cold = [r.seconds for r in runs]
+    failed = next((r.failure for r in runs if r.failure), "")
     report.add(
         Figure(
             "derive + audit, cold start, median",
-            statistics.median(cold),
+            float("inf") if failed else statistics.median(cold),
             "s",
             TARGET_DERIVE_AUDIT_S,
-            f"{RUNS} runs, min {min(cold):.2f} s",
+            failed or f"{RUNS} runs, min {min(cold):.2f} s",
             decimals=2,
         )
     )
@@ -665,14 +681,16 @@ def section_times(b: Bench, report: Report) -> None:
             decimals=2,
         )
     )
+    verified = _seconds(
+        [python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]
+    )
     report.add(
         Figure(
             "verify (exhaustive + random + boundary, host)",
-            _seconds(
-                [python, "-m", "verify", spec, "--generated", str(b.generated), "--no-progress"]
-            ),
+            verified.seconds,
             "s",
             TARGET_VERIFY_S,
+            verified.failure,
             decimals=1,
         )
     )
@@ -693,13 +711,14 @@ def section_times(b: Bench, report: Report) -> None:
         )
     )
     with tempfile.TemporaryDirectory() as sim_out:
-        seconds = _seconds([python, "-m", "sim", spec, "-o", sim_out, "--no-progress"])
+        simulated = _seconds([python, "-m", "sim", spec, "-o", sim_out, "--no-progress"])
     report.add(
         Figure(
             "simulate (sweep, optimum, figures, report)",
-            seconds,
+            simulated.seconds,
             "s",
             TARGET_SIMULATE_S,
+            simulated.failure,
             decimals=1,
         )
     )
@@ -817,6 +836,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             b = prepare(spec_path, args.work, args.quick)
         except SpecError as error:
             print(f"bench: {error}", file=sys.stderr)
+            return 2
+        except FixedPointError as error:  # no design meets the spec: the key to change
+            print(
+                f"bench: {spec_path}: {error.key}: fixed-point design: {' '.join(str(error).split())}",
+                file=sys.stderr,
+            )
             return 2
         except OSError as error:
             print(f"bench: cannot read spec {spec_path}: {error.strerror}", file=sys.stderr)

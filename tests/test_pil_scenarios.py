@@ -57,3 +57,18 @@ def test_make_pil_should_refuse_an_invalid_spec_with_one_line_per_error(
         "protection.over_current",
     ]
     assert all(line.startswith("error: ") and "Traceback" not in line for line in err)
+
+
+def test_make_pil_should_refuse_a_spec_no_design_meets_in_one_line(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """A valid spec whose PI the generator refuses (it meets 1.002 counts, the spec asks
+    1): one `error:` line naming the key, the spec status, no traceback."""
+    from codegen.errors import ExitCode
+    from emulation.pil import report
+
+    spec = Path(__file__).parent / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
+    assert report.main([str(spec), "--braking", "off"]) == ExitCode.SPEC
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("error:")]
+    assert len(err) == 1, err
+    assert "accuracy.current_loop_duty_counts" in err[0]

@@ -17,12 +17,22 @@ from codegen.spec_loader import load_spec
 ROOT = Path(__file__).resolve().parents[2]
 
 
+class ToolError(RuntimeError):
+    """A bldc-codegen step failed: its exit status (a spec no design meets is
+    ExitCode.SPEC) and its own error lines."""
+
+    def __init__(self, step: str, returncode: int, stderr: str) -> None:
+        self.returncode = returncode
+        self.lines = [line for line in stderr.strip().splitlines() if line.strip()]
+        super().__init__(f"bldc-codegen {step}: {' / '.join(self.lines) or 'no output'}")
+
+
 def _codegen(*args: str) -> None:
     done = subprocess.run(
         [sys.executable, "-m", "codegen", *args], cwd=ROOT, capture_output=True, text=True
     )
     if done.returncode != 0:
-        raise RuntimeError(f"bldc-codegen {args[0]} {args[1]}: {done.stderr.strip()}")
+        raise ToolError(f"{args[0]} {args[1]}", done.returncode, done.stderr)
 
 
 def generate(spec: Path, generated: Path) -> Path:

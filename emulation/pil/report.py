@@ -20,7 +20,7 @@ from codegen.errors import ExitCode, SpecError
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
-from emulation.pil.build import ROOT, build_firmware, checked_in, generate
+from emulation.pil.build import ROOT, ToolError, build_firmware, checked_in, generate
 from emulation.pil.plant_faults import PLANT_FAULTS, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import SCENARIOS, Outcome, run_scenario
@@ -154,6 +154,10 @@ def main(argv: list[str] | None = None) -> int:
                 path = Path(spec_path).resolve()
                 generated = checked_in(path) or generate(path, Path(folder) / "generated")
                 elf = build_firmware(path, Path(folder), generated)
+            except ToolError as error:  # the tool's own lines and status (3: no design)
+                for line in error.lines or [str(error)]:
+                    print(line, file=sys.stderr)
+                return error.returncode
             except RuntimeError as error:
                 print(f"error: {error}", file=sys.stderr)
                 return 1
