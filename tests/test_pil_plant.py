@@ -527,3 +527,29 @@ def test_braking_run_should_keep_its_edges_within_bounds_by_the_inertia(
     assert (note == "") == (inertia_factor == 1.0)
     if note:
         assert f"{own:.0f} Hall edges" in note and f"{100 * change:.1f} %" in note
+
+
+def test_braking_should_stop_where_the_back_emf_still_drives_the_nominal_current(
+    tmp_path: Path,
+) -> None:
+    """In braking only the back-EMF drives the current, at most E/R. A 310 V servo motor
+    (2 x 1.2 ohm, k_e 0.1 V s/rad line to line) holds 4 A down to 917 rpm, above the
+    300 rpm a tenth of its top speed would give: below that the torque falls with the
+    speed and its run took 1408 Hall edges (3 x the estimate) and 15 minutes without
+    reaching 300 rpm. The run now stops at 1.25 x 917 rpm. Where the nominal current is
+    held at the tenth (the paper motor: to 445 rpm), the stop stays where it was."""
+    from bldc import cli
+
+    path = tmp_path / "servo_hv.yaml"
+    argv = ["init", "servo_hv", "-o", str(path), "--pole-pairs", "4"]
+    argv += ["--ke-line-to-line", "0.1 V*s/rad", "--resistance-line-to-line", "2.4 ohm"]
+    argv += ["--inductance-line-to-line", "8 mH", "--bus-voltage", "310 V"]
+    argv += ["--braking-current", "4 A", "--speed-max", "3000 rpm", "--pwm-frequency", "10 kHz"]
+    assert cli.main(argv) == 0
+    servo = load_spec(str(path))
+    r_ohm, k_e = servo.motor.phase_resistance_ohm, servo.motor.back_emf_constant_v_per_rpm
+    held = float(r_ohm) * 4.0 / float(k_e)
+    assert 900 < held < 930
+    setup = braking_setup(servo, short=False)
+    assert setup.stop_rpm == pytest.approx(1.25 * held)
+    assert braking_setup(load_spec(str(PAPER)), short=False).stop_rpm == pytest.approx(500.0)

@@ -738,6 +738,11 @@ def braking_edges(
     return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
 
 
+#: How far above the speed where E = R x I_nominal a braking run stops: the loop holds
+#: the current there with a duty near 1 / HOLD_MARGIN, clear of its sample window's limit
+HOLD_MARGIN = 1.25
+
+
 def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
     speed) at its nominal braking current, with its own rotor inertia: for the paper
@@ -745,11 +750,25 @@ def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     more Hall edges than BRAKING_EDGES allows (a weak motor on a heavy rotor) or fewer (a
     strong brake on a light one), the inertia is scaled to take about the limit: the
     report says so, with how much the speed then changes over a sector. The short
-    version stops after SHORT_EDGES Hall edges."""
+    version stops after SHORT_EDGES Hall edges.
+
+    In braking only the back-EMF drives the current, at most E/R: below the speed where
+    E = R I the braking current, and the torque, fall with the speed, which the
+    constant-torque estimate leaves out (the rotor then slows exponentially and the run
+    would take many times its estimate). So where that speed is above the stop speed,
+    the run stops at HOLD_MARGIN times it instead, while that leaves at least half the
+    starting speed to brake through."""
     top = float(spec.controller.speed_max_rpm)
     low = float(spec.controller.speed_min_rpm)
-    start, stop = 0.92 * top, max(low, 0.1 * top)
     current = float(spec.controller.braking_current_nominal_a)
+    start, stop = 0.92 * top, max(low, 0.1 * top)
+    held_down_to = (
+        float(spec.motor.phase_resistance_ohm)
+        * current
+        / float(spec.motor.back_emf_constant_v_per_rpm)
+    )
+    if stop < held_down_to and HOLD_MARGIN * held_down_to <= 0.5 * start:
+        stop = HOLD_MARGIN * held_down_to
     edges = braking_edges(spec, start, stop, current)
     fewest, most = BRAKING_EDGES
     scale = min(max(1.0, fewest / edges), most / edges) if 0 < edges < math.inf else 1.0
