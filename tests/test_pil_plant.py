@@ -27,14 +27,17 @@ from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import (
     BRAKING_EDGES,
+    BRAKING_MOTOR_S,
     CCER_OUTPUTS,
     EDGE_BUDGET,
     READS,
     SETTLING_EDGES,
+    SHORT_EDGES,
     BrakingLoop,
     BrakingResult,
     Commutation,
     braking_edges,
+    braking_seconds,
     braking_setup,
     edge_coms,
     port_layout,
@@ -553,3 +556,25 @@ def test_braking_should_stop_where_the_back_emf_still_drives_the_nominal_current
     setup = braking_setup(servo, short=False)
     assert setup.stop_rpm == pytest.approx(1.25 * held)
     assert braking_setup(load_spec(str(PAPER)), short=False).stop_rpm == pytest.approx(500.0)
+
+
+def test_a_slow_motors_braking_run_should_stay_within_its_motor_time(tmp_path: Path) -> None:
+    """A 4-pole 200 rpm motor (25 ms sectors at the top speed): its fewest Hall edges
+    would take 7.4 s of motor time, about 20 minutes of emulation. The run takes at most
+    BRAKING_MOTOR_S, with fewer edges then, never below twice the short run's."""
+    from bldc import cli
+
+    path = tmp_path / "heavy_l.yaml"
+    argv = ["init", "heavy_l", "-o", str(path), "--pole-pairs", "2", "--resistance", "1.5 ohm"]
+    argv += ["--inductance", "2 mH", "--ke", "0.05 V/rpm", "--bus-voltage", "24 V"]
+    argv += ["--braking-current", "3 A", "--speed-max", "200 rpm", "--pwm-frequency", "8 kHz"]
+    assert cli.main(argv) == 0
+    spec = load_spec(str(path))
+    setup = braking_setup(spec, short=False)
+    run = (spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
+    at_fewest = BRAKING_EDGES[0] / braking_edges(*run)  # the inertia for the fewest edges
+    assert braking_seconds(*run, at_fewest) > 2.5 * BRAKING_MOTOR_S
+    assert braking_seconds(*run, setup.inertia_scale) == pytest.approx(BRAKING_MOTOR_S)
+    assert 2 * SHORT_EDGES <= braking_edges(*run, setup.inertia_scale) < BRAKING_EDGES[0]
+    paper = braking_setup(load_spec(str(PAPER)), short=False)
+    assert paper.inertia_scale == 1.0  # 2.3 s with its own inertia: unchanged

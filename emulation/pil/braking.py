@@ -726,6 +726,22 @@ def _deceleration(spec: Spec, current_a: float, inertia_scale: float) -> float:
     return k_t * current_a / (float(spec.motor.rotor_inertia_kg_m2) * inertia_scale)
 
 
+#: Motor time a full braking run takes at most, seconds: a little above the paper motor's
+#: (2.3 s with its own inertia; the emulation with the plant runs about 5 ms of motor
+#: time a wall second), so that a slow motor's long sectors do not take `make pil` an hour
+BRAKING_MOTOR_S = 2.5
+
+
+def braking_seconds(
+    spec: Spec, start_rpm: float, stop_rpm: float, current_a: float, inertia_scale: float = 1.0
+) -> float:
+    """About how long braking from `start_rpm` to `stop_rpm` takes at the constant torque
+    of `braking_edges`, seconds."""
+    alpha = _deceleration(spec, current_a, inertia_scale)
+    w1, w2 = (rpm * 2.0 * math.pi / 60.0 for rpm in (start_rpm, stop_rpm))
+    return (w1 - w2) / alpha if alpha > 0 else math.inf
+
+
 def braking_edges(
     spec: Spec, start_rpm: float, stop_rpm: float, current_a: float, inertia_scale: float = 1.0
 ) -> float:
@@ -772,6 +788,12 @@ def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     edges = braking_edges(spec, start, stop, current)
     fewest, most = BRAKING_EDGES
     scale = min(max(1.0, fewest / edges), most / edges) if 0 < edges < math.inf else 1.0
+    # and within BRAKING_MOTOR_S of motor time (the emulation's cost follows motor time):
+    # a slow motor's long sectors take fewer edges then, never fewer than SHORT_EDGES x 2
+    seconds = braking_seconds(spec, start, stop, current, scale)
+    if 0 < seconds < math.inf and seconds > BRAKING_MOTOR_S:
+        floor = 2 * SHORT_EDGES / (edges * scale)
+        scale *= max(BRAKING_MOTOR_S / seconds, min(1.0, floor))
     sector = 10.0 / (start * spec.motor.pole_pairs)
     return BrakingSetup(
         start,

@@ -18,11 +18,13 @@ import numpy as np
 from codegen.spec_model import Spec
 from emulation.pil.braking import (
     BRAKING_EDGES,
+    BRAKING_MOTOR_S,
     READS,
     BrakingResult,
     BrakingSetup,
     Commutation,
     braking_edges,
+    braking_seconds,
     speed_change_per_sector,
     worst_difference,
 )
@@ -247,11 +249,13 @@ def inertia_note(spec: Spec, setup: BrakingSetup) -> str:
     if setup.inertia_scale == 1.0:
         return ""
     own = braking_edges(spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
+    seconds = braking_seconds(spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
     fewest, most = BRAKING_EDGES
     return (
-        f" The spec's own inertia would take about {own:.0f} Hall edges over this range"
-        f" (at k_t I, friction left out), outside the {fewest} to {most} a run takes, so"
-        f" the run scales it to take about {own * setup.inertia_scale:.0f}; the speed"
+        f" The spec's own inertia would take about {own:.0f} Hall edges and"
+        f" {seconds:.3g} s over this range (at k_t I, friction left out), outside the"
+        f" {fewest} to {most} edges and {BRAKING_MOTOR_S:g} s of motor time a run takes,"
+        f" so the run scales it to take about {own * setup.inertia_scale:.0f}; the speed"
         f" then changes by up to {100 * speed_change_per_sector(spec, setup):.1f} % over a"
         " sector (at the stop speed), each commutation's own dynamics unchanged."
     )
