@@ -388,6 +388,10 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
     )
 
 
+#: The longest PWM period in TIM1 counts: twice it fits the core's 16-bit compare values.
+PERIOD_COUNTS_MAX = 32767
+
+
 def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter | None:
     sec = r.section(data, "inverter")
     if sec is None:
@@ -429,13 +433,17 @@ def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter | None:
         )
     if timer_clock is not None and f_pwm is not None and alignment is not None:
         period_counts = timer_clock / f_pwm / (2 if alignment == "center" else 1)
-        if not 256 <= period_counts <= 65536 or period_counts.denominator != 1:
+        # Eq. 18's D_on = 2 - 4E/U_d reaches twice the period's counts before its clamp,
+        # and the core's compare values are 16 bits: 2 P <= 65535
+        if not 256 <= period_counts <= PERIOD_COUNTS_MAX or period_counts.denominator != 1:
+            lowest = timer_clock / PERIOD_COUNTS_MAX / (2 if alignment == "center" else 1)
             r.report(
                 "inverter.pwm_frequency",
                 sec["pwm_frequency"],
                 f"gives {_g(period_counts)} TIM1 counts per period at {_g(timer_clock)} Hz"
-                f" ({alignment})",
-                "a whole number of counts in [256, 65536]",
+                f" ({alignment}); the duties reach twice the period's counts in 16-bit"
+                " compare values",
+                f"a whole number of counts in [256, {PERIOD_COUNTS_MAX}]: at least {_g(lowest)} Hz",
             )
     if dead is not None and f_pwm is not None and dead * f_pwm * 2 >= Fraction(1, 10):
         r.report(
