@@ -21,9 +21,12 @@ class ToolError(RuntimeError):
     """A bldc-codegen step failed: its exit status (a spec no design meets is
     ExitCode.SPEC) and its own error lines."""
 
-    def __init__(self, step: str, returncode: int, stderr: str) -> None:
+    def __init__(self, step: str, returncode: int, stderr: str, stdout: str = "") -> None:
         self.returncode = returncode
         self.lines = [line for line in stderr.strip().splitlines() if line.strip()]
+        if not self.lines:  # `firmware` reports an exceeded budget on stdout
+            said = [line.strip() for line in stdout.strip().splitlines() if line.strip()]
+            self.lines = [line for line in said if "EXCEEDED" in line] or said[-1:]
         super().__init__(f"bldc-codegen {step}: {' / '.join(self.lines) or 'no output'}")
 
 
@@ -32,7 +35,7 @@ def _codegen(*args: str) -> None:
         [sys.executable, "-m", "codegen", *args], cwd=ROOT, capture_output=True, text=True
     )
     if done.returncode != 0:
-        raise ToolError(f"{args[0]} {args[1]}", done.returncode, done.stderr)
+        raise ToolError(f"{args[0]} {args[1]}", done.returncode, done.stderr, done.stdout)
 
 
 def generate(spec: Path, generated: Path) -> Path:

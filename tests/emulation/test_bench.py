@@ -180,3 +180,18 @@ def test_cpu_load_should_price_each_speed_at_the_timing_runs_measured_around_it(
     # no run measured at the top speed: every speed priced at the slowest run
     late = _cpu_load(bench, _stats(((4000, 400), (8000, 900))), sector)  # type: ignore[arg-type]
     assert late.value == pytest.approx(share(2000, 900))
+
+
+def test_an_image_over_its_ram_budget_should_be_a_pil_miss_not_a_traceback(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The improved_r motor held to the paper method's 512 B of RAM: `firmware` refuses
+    the image (532 B), so the PIL section cannot run. It is a miss naming the budget,
+    and the bench exits 1."""
+    text = (ROOT / "spec" / "paper_motor_improved_r.yaml").read_text(encoding="utf-8")
+    tight = tmp_path / "tight.yaml"
+    tight.write_text(text.replace("ram_budget: 640", "ram_budget: 512", 1), encoding="utf-8")
+    assert main([str(tight), "--only", "pil", "--work", str(tmp_path / "work")]) == 1
+    out = capsys.readouterr().out
+    assert "PIL: 100 ms of motor time, plant in the loop: inf s" in out
+    assert "not run: bldc-codegen firmware" in out and "of 512 B (EXCEEDED)" in out
