@@ -29,9 +29,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from codegen import units
-from codegen.control.current_loop import accuracy_needed, widest_design
 from codegen.errors import SpecError
-from codegen.methods.base import FixedPointError
 from codegen.render import write_atomically
 from codegen.spec_drive import braking_current_peak, braking_ripple, short_circuit_peak
 from codegen.spec_loader import load_spec
@@ -593,6 +591,10 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
         spec = load_spec(path)
     except SpecError as exc:
         return Written(path, exc, ())
+    # the loop's design imports the IR and its prover: only once the spec loads
+    from codegen.control.current_loop import accuracy_needed, widest_design
+    from codegen.methods.base import FixedPointError
+
     try:
         needed = accuracy_needed(widest_design(spec))
     except FixedPointError:
