@@ -214,7 +214,6 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     assert "braking_current_max + 37.5 A of PWM ripple" in sources["adc.current_gain"]
 
 
-@pytest.mark.heavy
 @pytest.mark.parametrize(
     ("name", "datasheet", "edit"),
     [
@@ -227,6 +226,7 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
             ],
             ("sequence: [5, 4, 6, 2, 3, 1]", "sequence: [3, 2, 6, 4, 5, 1]"),
             id="46-pole-hub-cut-off-200-rpm-reversed-hall-order",
+            marks=pytest.mark.heavy(seconds=27),
         ),
         pytest.param(
             "drone14",
@@ -237,6 +237,7 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
             ],
             ("pwm_alignment: edge", "pwm_alignment: center"),
             id="14-pole-7000-rpm-line-to-line-centre-aligned-16-kHz",
+            marks=pytest.mark.heavy(seconds=19),
         ),
         pytest.param(
             "conventional",
@@ -246,6 +247,7 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
             ],
             ("method: improved", "method: conventional"),
             id="conventional-method",
+            marks=pytest.mark.heavy(seconds=24),
         ),
     ],
 )
