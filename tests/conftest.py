@@ -1,5 +1,5 @@
 """Session-wide: green means it ran, the spec fuzzer's outcome counts, and the long
-tests first.
+tests first, spread so the workers finish together.
 
 A skipped test fails the session unless it is on the allow-list below, with its reason:
 a missing tool (a compiler, qemu, chromium, the paper) must make `make test` fail, never
@@ -8,9 +8,17 @@ pass quietly.
 
 from __future__ import annotations
 
+import itertools
+import os
 import sys
+from collections.abc import Callable, Sequence
+from typing import TypeVar
 
 import pytest
+
+T = TypeVar("T")
+#: pytester, for the tests of the queue order (test_scheduling.py)
+pytest_plugins = ["pytester"]
 
 #: nodeid prefix -> why a skip there is acceptable
 ALLOWED_SKIPS: dict[str, str] = {}
@@ -18,11 +26,80 @@ ALLOWED_SKIPS: dict[str, str] = {}
 _skipped: list[tuple[str, str]] = []
 
 
+def heavy_unit(item: pytest.Item) -> tuple[str, float] | None:
+    """The unit a `heavy(seconds=N)` test is queued in, and its cost: the test alone,
+    or its whole module when the module carries the mark (its tests share module-scoped
+    fixtures, so they stay together on one worker)."""
+    for node, mark in item.iter_markers_with_node("heavy"):
+        seconds = mark.kwargs.get("seconds")
+        if not isinstance(seconds, int | float) or seconds <= 0:
+            raise pytest.UsageError(
+                f"{item.nodeid}: heavy needs seconds=N (its CPU seconds on 2 cores), "
+                f"got {seconds!r}"
+            )
+        key = node.nodeid if isinstance(node, pytest.Module) else item.nodeid
+        return key, float(seconds)
+    return None
+
+
+def chunk_sizes(count: int, workers: int) -> list[int]:
+    """How pytest-xdist's work stealing first deals `count` tests to `workers` idle
+    workers: each takes the next len(pending) // (workers left) from the front."""
+    sizes = []
+    left = count
+    for remaining in range(workers, 0, -1):
+        sizes.append(left // remaining)
+        left -= sizes[-1]
+    return sizes
+
+
+def deal(
+    items: Sequence[T], unit_of: Callable[[T], tuple[str, float] | None], workers: int
+) -> list[T]:
+    """`items` reordered for `workers` workers: the long units (`unit_of` gives an
+    item's unit and the unit's cost, None for a short test) longest first, each onto the
+    worker with the least so far; each worker's chunk of the queue begins with its long
+    units, and the short tests fill the chunks in their order."""
+    units: dict[str, list[T]] = {}
+    cost: dict[str, float] = {}
+    light: list[T] = []
+    for item in items:
+        unit = unit_of(item)
+        if unit is None:
+            light.append(item)
+            continue
+        units.setdefault(unit[0], []).append(item)
+        cost[unit[0]] = unit[1]
+    sizes = chunk_sizes(len(items), max(1, workers))
+    shares: list[list[T]] = [[] for _ in sizes]
+    loads = [0.0 for _ in sizes]
+    for key in sorted(units, key=lambda k: -cost[k]):  # stable: ties in collection order
+        k = loads.index(min(loads))
+        shares[k].extend(units[key])
+        loads[k] += cost[key]
+    if any(len(share) > size for share, size in zip(shares, sizes, strict=True)):
+        shares = [[i for share in shares for i in share]]  # too few tests to deal out
+        sizes = [len(items)]
+    ordered: list[T] = []
+    rest = iter(light)
+    for share, size in zip(shares, sizes, strict=True):
+        ordered.extend(share)
+        ordered.extend(itertools.islice(rest, size - len(share)))
+    ordered.extend(rest)
+    return ordered
+
+
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """The tests marked `heavy` (a Frama-C proof, a user's whole journey, a motor braking
-    in the loop: 10-50 s each) are queued first, in their order, so none of them starts
-    when the rest of the suite is done and leaves the other core idle."""
-    items.sort(key=lambda item: item.get_closest_marker("heavy") is None)
+    """The tests marked `heavy(seconds=N)` (a Frama-C proof, a user's whole journey, a
+    motor braking in the loop: 5-45 s each) start first, longest first, spread over the
+    workers so that each gets the same total (`deal`); every other test follows in
+    collection order. Work stealing deals the queue out in contiguous chunks, one per
+    worker (`chunk_sizes`), so each chunk begins with its worker's share of the long
+    tests; a worker that runs out takes the tail of another's queue, short tests, and
+    no long test is left to start when the rest of the suite is done. The order is the
+    same in every worker (xdist requires it); without xdist it is the long tests,
+    longest first, then the rest."""
+    items[:] = deal(items, heavy_unit, int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")))
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:

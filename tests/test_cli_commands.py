@@ -272,7 +272,6 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
     assert not (tmp_path / "generated" / "strict").exists()
 
 
-@pytest.mark.heavy
 @pytest.mark.parametrize(
     ("name", "datasheet", "edit"),
     [
@@ -285,6 +284,7 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
             ],
             ("sequence: [5, 4, 6, 2, 3, 1]", "sequence: [3, 2, 6, 4, 5, 1]"),
             id="46-pole-hub-cut-off-200-rpm-reversed-hall-order",
+            marks=pytest.mark.heavy(seconds=27),
         ),
         pytest.param(
             "drone14",
@@ -295,6 +295,7 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
             ],
             ("pwm_alignment: edge", "pwm_alignment: center"),
             id="14-pole-7000-rpm-line-to-line-centre-aligned-16-kHz",
+            marks=pytest.mark.heavy(seconds=19),
         ),
         pytest.param(
             "conventional",
@@ -304,6 +305,7 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
             ],
             ("method: improved", "method: conventional"),
             id="conventional-method",
+            marks=pytest.mark.heavy(seconds=24),
         ),
     ],
 )

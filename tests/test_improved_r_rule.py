@@ -318,7 +318,7 @@ def test_init_should_declare_the_relaxation_and_its_absence_be_warned(
     assert not [w for w in load_spec(bare).warnings if w.id == "improved-r-time-not-relaxed"]
 
 
-@pytest.mark.heavy
+@pytest.mark.heavy(seconds=8)
 def test_a_new_slow_many_pole_improved_r_motor_should_verify(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -56,7 +56,8 @@ from sim.scenario import Case, switching_table
 from sim.schedule import OFF, Schedule, Segment
 from sim.switched import simulate_switched
 
-pytestmark = pytest.mark.heavy
+#: the whole module (its motors braking share module-scoped runs): one queued unit
+pytestmark = pytest.mark.heavy(seconds=42)
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"

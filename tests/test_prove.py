@@ -44,7 +44,6 @@ from verify.prove import (
     target_for,
 )
 
-pytestmark = pytest.mark.heavy
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = {
     "paper_motor": ROOT / "spec" / "paper_motor.yaml",
@@ -52,6 +51,23 @@ SPECS = {
     "maxon_ec45_flat_48v": ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
 }
 FIXTURES = sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml"))
+#: CPU seconds of each spec's whole proof (the order the long tests are queued in,
+#: tests/conftest.py); the per-bus-code EVA partitioning is most of the longest
+PROOF_SECONDS = {
+    "paper_motor": 36,
+    "example_maxon_ec45_flat_48v": 35,
+    "hub_motor_46p": 24,
+    "offset_conventional": 18,
+    "paper_motor_improved_r": 16,
+    "fast_14p_12v": 15,
+}
+#: the same for the mutants whose check runs WP (the others take under a second)
+MUTANT_SECONDS = {
+    "unclamped_late_time": 9,
+    "anti_windup_dropped": 6,
+    "invalid_hall_pair_made_valid": 6,
+    "loop_duty_unclamped_above": 6,
+}
 
 #: (spec, mutant, original text, replacement, function whose proof must catch it,
 #:  "alarm" or the contract clause that must no longer be established)
@@ -184,8 +200,16 @@ def _baseline(name: str, function: str, clause: str, work: str, tools: Tools) ->
 
 @pytest.mark.parametrize(
     ("spec", "mutant", "original", "replacement", "function", "caught_by"),
-    PROOF_MUTANTS,
-    ids=[f"{m[0]}-{m[1]}" for m in PROOF_MUTANTS],
+    [
+        pytest.param(
+            *m,
+            id=f"{m[0]}-{m[1]}",
+            marks=[pytest.mark.heavy(seconds=MUTANT_SECONDS[m[1]])]
+            if m[1] in MUTANT_SECONDS
+            else [],
+        )
+        for m in PROOF_MUTANTS
+    ],
 )
 def test_prove_should_catch_every_mutant(
     tmp_path_factory: pytest.TempPathFactory,
@@ -225,7 +249,13 @@ def test_prove_should_catch_every_mutant(
         assert methods[caught_by] == "NOT PROVEN", f"{mutant}: {caught_by} still {methods}"
 
 
-@pytest.mark.parametrize("spec", [*SPECS.values(), *FIXTURES], ids=lambda p: Path(p).stem)
+@pytest.mark.parametrize(
+    "spec",
+    [
+        pytest.param(p, id=p.stem, marks=pytest.mark.heavy(seconds=PROOF_SECONDS[p.stem]))
+        for p in [*SPECS.values(), *FIXTURES]
+    ],
+)
 def test_prove_should_establish_every_spec(tmp_path: Path, spec: Path) -> None:
     """`make prove` on each checked-in spec (its shipped generated/<name>/, PROOF.md
     written there) and each unusual motor (generated into a work folder): proven, 0

@@ -40,6 +40,7 @@ def test_campaign_should_sample_the_specs_declared_tolerances() -> None:
     assert switched.parameters[-1] == "carrier_phase"
 
 
+@pytest.mark.heavy(seconds=6)
 def test_robustness_should_run_on_a_local_cluster_and_on_a_given_scheduler(
     tmp_path: Path,
 ) -> None:

@@ -478,7 +478,7 @@ def run_case(raw: bytes, design: bool = True) -> str:
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 @given(spec_case())
-@pytest.mark.heavy
+@pytest.mark.heavy(seconds=28)
 def test_a_malformed_spec_is_refused_cleanly_or_designed(case: tuple[str, bytes]) -> None:
     _, raw = case
     outcome = run_case(raw)
@@ -525,6 +525,7 @@ def check_cli(result: subprocess.CompletedProcess[str], spec: Path, output: Path
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 @given(spec_case())
+@pytest.mark.heavy(seconds=6)
 def test_the_cli_refuses_a_malformed_spec_in_one_line_per_error_and_writes_nothing(
     case: tuple[str, bytes],
 ) -> None:

@@ -1,13 +1,20 @@
 """The firmware of any spec for the emulated chip: `bldc-codegen generate` into a
 folder of its own, then `bldc-codegen firmware` (the `make firmware` command) from it,
 so a spec with no checked-in generated/ output (a test fixture) builds too. A port
-mutant is linked from an edited copy of a generated folder (`link_mutant`)."""
+mutant is linked from an edited copy of a generated folder (`link_mutant`).
+
+The commands run in this process (`bldc.cli.main`, the same code as the command line,
+with the paths resolved from the project root as the command would resolve them
+there): a second interpreter would only start Python and import SymPy again, and derive
+again what this process has derived already (2.5 s a generate). Their messages are
+captured, so callers run them one at a time (stdout and stderr are the process's)."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import shutil
 import subprocess
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -30,17 +37,26 @@ class ToolError(RuntimeError):
         super().__init__(f"bldc-codegen {step}: {' / '.join(self.lines) or 'no output'}")
 
 
-def _codegen(*args: str) -> None:
-    done = subprocess.run(
-        [sys.executable, "-m", "codegen", *args], cwd=ROOT, capture_output=True, text=True
-    )
-    if done.returncode != 0:
-        raise ToolError(f"{args[0]} {args[1]}", done.returncode, done.stderr, done.stdout)
+def _codegen(command: str, spec: Path, *options: str | Path) -> None:
+    """`bldc-codegen command spec options` as if run from the project root; raises
+    ToolError with the command's status and its own messages when it fails."""
+    from bldc import cli  # the command line sits above emulation; imported when used
+
+    argv = [command, str(ROOT / spec)]
+    argv += [str(ROOT / o) if isinstance(o, Path) else o for o in options]
+    messages, said = io.StringIO(), io.StringIO()
+    try:
+        with contextlib.redirect_stderr(messages), contextlib.redirect_stdout(said):
+            status = cli.main(argv)
+    except SystemExit as stop:  # argparse's usage error
+        status = stop.code if isinstance(stop.code, int) else 2
+    if status != 0:
+        raise ToolError(f"{command} {spec}", status, messages.getvalue(), said.getvalue())
 
 
 def generate(spec: Path, generated: Path) -> Path:
     """`bldc-codegen generate spec -o generated`; the folder."""
-    _codegen("generate", str(spec), "-o", str(generated))
+    _codegen("generate", spec, "-o", generated)
     return generated
 
 
@@ -57,7 +73,7 @@ def build_firmware(spec: Path, folder: Path, generated: Path | None = None) -> P
     (`firmware` refuses a generated folder that is not this spec's, fresh)."""
     generated = generated or generate(spec, folder / "generated")
     build = folder / "build"
-    _codegen("firmware", str(spec), "--generated", str(generated), "--build", str(build))
+    _codegen("firmware", spec, "--generated", generated, "--build", build)
     return build / "firmware.elf"
 
 

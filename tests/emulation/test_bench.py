@@ -24,6 +24,7 @@ SECTIONS = ["size", "handlers", "placement", "peers", "rule"]
 
 
 @pytest.mark.parametrize("spec", FIXTURES, ids=lambda p: p.stem)
+@pytest.mark.heavy(seconds=7)
 def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> None:
     report = run_spec(prepare(spec, tmp_path, quick=True), SECTIONS)
     names = [f.name for f in report.figures]

@@ -1,0 +1,42 @@
+"""emulation/pil/build.py: the firmware of any spec, through `bldc-codegen generate` and
+`bldc-codegen firmware` run in this process."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from emulation.pil.build import ROOT, build_firmware
+
+HUB = Path("tests") / "fixtures" / "specs" / "hub_motor_46p.yaml"  # from the project root
+
+
+def test_a_failing_command_should_raise_its_own_message_and_print_nothing(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`firmware` refuses another spec's generated folder; a missing spec is refused by
+    `generate`: each a RuntimeError with the command's one line, nothing printed."""
+    paper = ROOT / "generated" / "paper_motor"
+    with pytest.raises(RuntimeError) as refused:
+        build_firmware(HUB, tmp_path / "a", paper)
+    assert str(refused.value).startswith(f"bldc-codegen firmware {HUB}: error: ")
+    assert "another version of the spec" in str(refused.value)
+    with pytest.raises(RuntimeError) as missing:
+        build_firmware(HUB.with_name("no_such_motor.yaml"), tmp_path / "b")
+    assert "bldc-codegen generate" in str(missing.value)
+    assert "cannot read spec" in str(missing.value)
+    assert capsys.readouterr() == ("", "")
+    assert not (tmp_path / "a" / "build" / "firmware.elf").exists()
+
+
+def test_a_relative_spec_should_resolve_from_the_project_root(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """As the command ran from the project root before: the working directory does not
+    matter; the ELF is linked from the spec's own generation."""
+    monkeypatch.chdir(tmp_path)
+    elf = build_firmware(HUB, tmp_path / "hub")
+    assert elf == tmp_path / "hub" / "build" / "firmware.elf" and elf.is_file()
+    assert (tmp_path / "hub" / "generated" / "manifest.json").is_file()
+    assert capsys.readouterr() == ("", "")
