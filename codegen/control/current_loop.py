@@ -369,20 +369,20 @@ def _claims(
     return duty_error, integrator_error
 
 
-def _hold_claims(spec: Spec, f: int, duty_claim: Fraction, integrator_claim: Fraction) -> None:
+def _hold_claims(d: LoopDesign) -> None:
     """The widest format's error bounds against what the spec allows: a design that
     would fail `verify` is refused here, naming the key to change."""
-    allowed = spec.accuracy.current_loop_duty_counts
-    periods = loop_periods_per_step_response(spec)
-    needed = max(duty_claim, integrator_claim * Fraction(periods))
-    if duty_claim > allowed or float(integrator_claim) > integrator_step_tolerance_counts(spec):
+    allowed = d.spec.accuracy.current_loop_duty_counts
+    periods = loop_periods_per_step_response(d.spec)
+    step = float(d.integrator_claim)
+    if d.duty_claim > allowed or step > integrator_step_tolerance_counts(d.spec):
         raise FixedPointError(
             f"accuracy.current_loop_duty_counts = {float(allowed):g} counts: the"
-            f" braking-current PI's widest format (Q{f}) is off by up to"
-            f" {float(duty_claim):.4f} counts in the duty and {float(integrator_claim):.4f}"
-            f" counts a period in the integrator, {float(integrator_claim) * periods:.4f}"
-            f" counts over a step response ({periods:.1f} PWM periods) (allowed: >="
-            f" {math.ceil(float(needed) * 1000) / 1000:g} counts)",
+            f" braking-current PI's widest format (Q{d.fraction_bits}) is off by up to"
+            f" {float(d.duty_claim):.4f} counts in the duty and {step:.4f} counts a period"
+            f" in the integrator, {step * periods:.4f} counts over a step response"
+            f" ({periods:.1f} PWM periods) (allowed: >="
+            f" {math.ceil(float(accuracy_needed(d)) * 1000) / 1000:g} counts)",
             "accuracy.current_loop_duty_counts",
         )
 
@@ -399,7 +399,7 @@ def design(spec: Spec) -> LoopDesign:
     """The PI in the widest Q format whose every intermediate is proven to fit, held to
     the spec's accuracy (refused, naming the key, where it falls short)."""
     d = widest_design(spec)
-    _hold_claims(spec, d.fraction_bits, d.duty_claim, d.integrator_claim)
+    _hold_claims(d)
     return d
 
 
