@@ -328,3 +328,48 @@ def test_a_new_slow_many_pole_improved_r_motor_should_verify(
     spec = _init_improved_r(tmp_path, monkeypatch)
     assert cli.main(["generate", str(spec)]) == 0
     assert cli.main(["verify", str(spec), "--no-progress"]) == 0
+
+
+SHORT_SECTOR = ROOT / "tests" / "fixtures" / "specs" / "short_sector_2k5_ir.yaml"
+
+
+def test_easing_should_reach_the_room_when_a_sector_holds_one_pwm_period() -> None:
+    """The fixture's top-speed sector holds one 400-tick carrier period: the commutation
+    ends on the first or second boundary, 3 (1 - e) is large and the easing can need the
+    whole room of the split (up to P = 28800 counts). Where the end is decided the
+    printed pair is within the pointwise bound of the reference, and some of those
+    points need an easing of more than 2^40 / 3 (1 - e) in the division's units (the
+    cap that once bound below the room)."""
+    from codegen.methods.improved_r.fixed import DELTA_FRAC_BITS, E1_SHIFT
+
+    spec = load_spec(SHORT_SECTOR)
+    core = build_core(spec)
+    sc = core.scaling
+    rule = design_rule(rule_constants(spec, sc), sc.current_code_max, core.limits).rule
+    twin = twin_module(core)
+    c = rule.constants
+    tau = float(c.carrier_ticks)
+    assert c.periods(c.period_low) == 1
+    full_scale = c.adc_max - c.current_offset
+    grid = [
+        RuleInputs(int(t), b, c.current_offset + i)
+        for t in np.linspace(c.period_low, 3 * tau, 24).round().astype(int)
+        for b in range(c.bus_low, c.bus_high + 1, max(1, (c.bus_high - c.bus_low) // 12))
+        for i in (1, *range(full_scale // 16, full_scale + 1, full_scale // 16))
+    ]
+    ref = reference_points(c, grid)
+    b = bounds(rule, ref)
+    old_cap = 2.0**40 * 2.0 ** -(DELTA_FRAC_BITS + 31 - E1_SHIFT)  # counts x 3 (1 - e)
+    beyond_old_cap = 0
+    checked = 0
+    for k, inputs in enumerate(grid):
+        if not b.decided[k] or ref.flags[k] & FLAG_NOT_FINISHED:
+            continue
+        on, off, ticks, _ = run_twin(twin, inputs)
+        assert ticks == min(round(float(ref.ticks_exact[k])), inputs.period_ticks), inputs
+        assert abs(on - ref.on_exact[k]) <= b.duty_counts[k], (inputs, on, ref.on_exact[k])
+        assert abs(off - ref.off_exact[k]) <= b.duty_counts[k], (inputs, off, ref.off_exact[k])
+        checked += 1
+        beyond_old_cap += int(ref.delta[k] * ref.shortfall[k] > old_cap)
+    assert checked > 200
+    assert beyond_old_cap > 10

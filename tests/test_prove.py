@@ -60,6 +60,7 @@ PROOF_SECONDS = {
     "offset_conventional": 18,
     "paper_motor_improved_r": 16,
     "fast_14p_12v": 15,
+    "short_sector_2k5_ir": 15,
 }
 #: the same for the mutants whose check runs WP (the others take under a second)
 MUTANT_SECONDS = {

@@ -29,6 +29,7 @@ from codegen.ir.nodes import (
     IConst,
     ILongDiv,
     ILookup,
+    IMod,
     IShl,
     Param,
     SAssign,
@@ -62,7 +63,6 @@ from codegen.ir.nodes import (
 from codegen.ir.types import I32, I64, U16, U32, U64
 from codegen.methods.improved_r.fixed import (
     DELTA_FRAC_BITS,
-    DELTA_LONG_SHIFT,
     E1_SHIFT,
     PER_TICK_BITS,
     FixedRule,
@@ -577,17 +577,22 @@ def timing_function(
     else:
         total = var("sigma0", I32)
         end_on, end_off = var("held_on", I32), var("held_off", I32)
-    ld = DELTA_LONG_SHIFT
     numerator_shift = 32 + fc - DELTA_FRAC_BITS - 31 + E1_SHIFT
     shift_down = fc - DELTA_FRAC_BITS
+    room_q_max = (rule.period_q >> shift_down) + 1
+    shortfall = var("shortfall", U32)
+
+    def part(name: str) -> Expr:
+        return var(name, U32)
+
+    def byte(shift: int) -> Expr:
+        return cast(IBin(U64, "&", shr(var("numerator", U64), shift), const(255, U64)), U32)
+
     tail += [
         SLet(
-            "overshoot",
-            minimum(
-                cast(sub(const(0, I64), end_h), U64),
-                const(((1 << (32 + ld)) - 1) << numerator_shift, U64),
-            ),
-            "-2^(32+fc) rho g at the end, > 0 (bounded for the division)",
+            "room",
+            minimum(end_on, sub(pq, end_off)),
+            "what the split can give: C_on down to 0, C_off up to P",
         ),
         SLet(
             "shortfall",
@@ -595,31 +600,50 @@ def timing_function(
             f"3 (1 - e) in Q{31 - E1_SHIFT}",
         ),
         SLet(
-            "eased",
-            ICall(
-                U32,
-                DIVIDE_LONG,
-                (
-                    cast(shr(var("overshoot", U64), numerator_shift + ld), U32),
-                    cast(
-                        IBin(
-                            U64,
-                            "&",
-                            shr(var("overshoot", U64), numerator_shift),
-                            const((1 << ld) - 1, U64),
-                        ),
-                        U32,
-                    ),
-                    const(ld),
-                    var("shortfall", U32),
-                ),
-            ),
-            f"delta = -rho g / (3 (1 - e)) in Q{DELTA_FRAC_BITS}: ends the current at the boundary",
+            "overshoot",
+            shr(cast(sub(const(0, I64), end_h), U64), numerator_shift),
+            f"-rho g / 3 in Q{DELTA_FRAC_BITS + 31 - E1_SHIFT}, > 0",
         ),
         SLet(
-            "room",
-            minimum(end_on, sub(pq, end_off)),
-            "what the split can give: C_on down to 0, C_off up to P",
+            "cap",
+            mul(
+                cast(add(cast(shr(var("room", I32), shift_down), U32), const(1)), U64),
+                cast(shortfall, U64),
+            ),
+            "(room + 1) 3 (1 - e): a larger easing is cut to the room below",
+        ),
+        # locals of their own, so that a non-relational analysis (EVA) narrows the
+        # overshoot in the comparison as the IR's proof does
+        SLet(
+            "numerator",
+            minimum(var("overshoot", U64), var("cap", U64)),
+            "the overshoot, at most the cap (it never binds sooner than the room)",
+        ),
+        # round(numerator / shortfall) in three 32-bit divides, 16 + 8 + 8 bits: each
+        # remainder is below shortfall < 2^24, so remainder 2^8 + the next byte fits
+        SLet("upper", cast(shr(var("numerator", U64), 16), U32), "numerator / 2^16"),
+        SLet(
+            "middle",
+            add(IShl(U32, IMod(U32, part("upper"), shortfall), 8), byte(8)),
+            "the remainder, then the next byte",
+        ),
+        SLet(
+            "lower",
+            add(IShl(U32, IMod(U32, part("middle"), shortfall), 8), byte(0)),
+            "the remainder, then the last byte",
+        ),
+        SLet(
+            "eased",
+            add(
+                add(
+                    IShl(U32, minimum(div(part("upper"), shortfall), const(room_q_max >> 16)), 16),
+                    IShl(U32, minimum(div(part("middle"), shortfall), const(255)), 8),
+                ),
+                minimum(div(part("lower"), shortfall, "nearest"), const(256)),
+            ),
+            f"delta = -rho g / (3 (1 - e)) in Q{DELTA_FRAC_BITS}: ends the current at the"
+            " boundary (the caps never bind: each quotient digit is below 2^8, and the"
+            " numerator's cap keeps the first one under them)",
         ),
         SLet(
             "delta",

@@ -288,10 +288,15 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     end_held = 0 if end_total < 0 else 2 * PERIOD_Q if end_total > 2 * PERIOD_Q else end_total  # C_on + C_off in [0, 2P]
     end_on = PERIOD_Q if end_held > PERIOD_Q else end_held
     end_off = 0 if end_held - PERIOD_Q < 0 else end_held - PERIOD_Q
-    overshoot = 2251799813683200 if 0 - end_h > 2251799813683200 else 0 - end_h  # -2^(32+fc) rho g at the end, > 0 (bounded for the division)
-    shortfall = 3 * (2147483648 - end_e >> 9)  # 3 (1 - e) in Q22
-    eased = divide_long(overshoot >> 19, overshoot >> 11 & 255, 8, shortfall)  # delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary
     room = PERIOD_Q - end_off if end_on > PERIOD_Q - end_off else end_on  # what the split can give: C_on down to 0, C_off up to P
+    shortfall = 3 * (2147483648 - end_e >> 9)  # 3 (1 - e) in Q22
+    overshoot = 0 - end_h >> 11  # -rho g / 3 in Q28, > 0
+    cap = ((room >> 1) + 1) * shortfall  # (room + 1) 3 (1 - e): a larger easing is cut to the room below
+    numerator = cap if overshoot > cap else overshoot  # the overshoot, at most the cap (it never binds sooner than the room)
+    upper = numerator >> 16  # numerator / 2^16
+    middle = (upper % shortfall << 8) + (numerator >> 8 & 255)  # the remainder, then the next byte
+    lower = (middle % shortfall << 8) + (numerator & 255)  # the remainder, then the last byte
+    eased = ((3 if upper // shortfall > 3 else upper // shortfall) << 16) + ((255 if middle // shortfall > 255 else middle // shortfall) << 8) + (256 if (lower + (shortfall >> 1)) // shortfall > 256 else (lower + (shortfall >> 1)) // shortfall)  # delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary (the caps never bind: each quotient digit is below 2^8, and the numerator's cap keeps the first one under them)
     delta = (room >> 1 if (1073741823 if eased > 1073741823 else eased) > room >> 1 else 1073741823 if eased > 1073741823 else eased) << 1  # the easing in Q7, at most the room
     eased_on = end_on - delta  # C_on - delta
     eased_off = end_off + delta  # C_off + delta
