@@ -33,7 +33,7 @@ from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import braking_current_peak, braking_ripple, short_circuit_peak
 from codegen.spec_loader import load_spec
-from codegen.spec_model import BackEmfShape, SpecWarning
+from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
 #: Hall timer clocks that divide the 72 MHz timer clock, slowest first.
@@ -54,6 +54,16 @@ HALL_CLOCKS_HZ = (
 )
 ADC_REFERENCE_V = Fraction(33, 10)
 COUNTER_MAX = 65535
+
+
+#: where `controller.method` comes from, per method `init --method` can write
+METHOD_SOURCES = {
+    "improved": "paper Eq. 18 (the proposed method)",
+    "improved_r": "bldc-codegen init --method improved_r: the resistance-aware rule",
+    "conventional": "bldc-codegen init --method conventional: the paper's conventional"
+    " PWM-OFF-PWM commutation (its baseline)",
+    "none": "bldc-codegen init --method none: no commutation compensation",
+}
 
 
 def _quantity(dimension: units.Dimension) -> object:
@@ -171,6 +181,12 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="Q",
         help="PWM frequency, edge-aligned",
     )
+    parser.add_argument(
+        "--method",
+        choices=COMMUTATION_METHODS,
+        help="commutation method (default: improved, the paper's Eq. 18); improved_r, the"
+        " resistance-aware rule, gets a 640 B RAM budget for its deeper stack",
+    )
 
 
 @dataclass(frozen=True)
@@ -192,6 +208,7 @@ class Datasheet:
     braking_current: tuple[Fraction, str] | None = None
     speed_max: tuple[Fraction, str] | None = None
     pwm_frequency: tuple[Fraction, str] | None = None
+    method: str | None = None
 
     @classmethod
     def from_arguments(cls, args: argparse.Namespace) -> Datasheet:
@@ -322,6 +339,7 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
     `loop_counts` is accuracy.current_loop_duty_counts (`write_new_spec` raises it where
     the PI's widest fixed-point format needs more than one count)."""
     motor, motor_sources, si = _motor(sheet)
+    method = sheet.method or "improved"
     derived = "assumption: bldc-codegen init, derived:"
     bus = sheet.bus_voltage[0] if sheet.bus_voltage else si["rated"]
     bus_source = (
@@ -433,7 +451,7 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
             " of PWM ripple, edge-aligned); set your shunt x amplifier gain"
         ),
         "adc.current_offset": "assumption: bipolar current sense biased at mid-rail",
-        "controller.method": "paper Eq. 18 (the proposed method)",
+        "controller.method": METHOD_SOURCES[method],
         "controller.braking_current_min": "assumption: bldc-codegen init default",
         "controller.braking_current_nominal": i_source,
         "controller.braking_current_max": f"{derived} twice nominal",
@@ -472,7 +490,13 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
             " pulsed rating"
         ),
         "protection.safe_state": "assumption: all-off where both are valid",
-        "firmware": "assumption: bldc-codegen init defaults; the budgets of issue 12",
+        "firmware": "assumption: bldc-codegen init defaults; the budgets of issue 12"
+        + (
+            ", but ram_budget 640 B, stack included (the resistance-aware rule's search"
+            " runs deeper than the 512 B of the paper method)"
+            if method == "improved_r"
+            else ""
+        ),
     }
     source_lines = "\n".join(f"  {key}: {_yaml_string(text)}" for key, text in sources.items())
     return f"""\
@@ -523,7 +547,7 @@ adc:
   current_offset: 1.65 V
 
 controller:
-  method: improved
+  method: {method}
   braking_current_min: 0 A
   braking_current_nominal: {_num(i_nom)} A
   braking_current_max: {_num(i_max)} A
@@ -571,7 +595,7 @@ firmware:
   hse_startup_timeout: 10 ms
   watchdog_timeout: 20 ms
   flash_budget: 8192
-  ram_budget: 512
+  ram_budget: {640 if method == "improved_r" else 512}
   cpu_load_budget: 25
   current_loop_budget: 150
 

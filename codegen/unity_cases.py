@@ -184,10 +184,15 @@ class _CaseMaker:
         first = int(com.end_after(np.array([max(lo, 0.0)]))[0])
         last = int(com.end_after(np.array([hi]))[0])
         periods = int(com.periods[0])
-        tau = float(o.u.carrier_ticks)
         limit = float(measured)
         ends = list(range(first, last + 1))
-        times = [limit if m > periods else min(round(m * tau), limit) for m in ends]
+        # round(m tau) half up, as the core rounds it: a carrier of 62.5 ticks ends the
+        # first period at 63 (Python's round() would give the even 62)
+        carrier = Fraction(o.u.carrier_ticks)
+        times = [
+            limit if m > periods else min(math.floor(m * carrier + Fraction(1, 2)), limit)
+            for m in ends
+        ]
         ticks = _mid_range(min(times), max(times))
         pairs = com.pair_at(np.array(ends, dtype=np.int64))
         p = o.u.pwm_counts

@@ -190,6 +190,37 @@ def test_init_converts_datasheet_values_and_records_each_conversion(
     assert "exists" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("method", ["improved", "improved_r", "conventional", "none"])
+def test_init_should_write_the_method_asked_for_with_its_ram_budget(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], method: str
+) -> None:
+    """`init --method`: the spec loads with that method, says where it came from, and
+    the resistance-aware rule gets the RAM budget its deeper stack needs (640 B, as the
+    checked-in improved_r spec); without the option the paper's Eq. 18."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "m", "--pole-pairs", "6", "--kv", "400", "--bus-voltage", "24 V"]
+    argv += ["--resistance-line-to-line", "0.2 ohm", "--inductance-line-to-line", "100 uH"]
+    argv += ["--speed-max", "8000 rpm", "--pwm-frequency", "20 kHz"]
+    assert cli.main([*argv, "--method", method]) == 0
+    capsys.readouterr()
+    spec = load_spec(tmp_path / "spec" / "m.yaml")
+    assert spec.controller.method == method
+    assert spec.firmware.ram_budget_bytes == (640 if method == "improved_r" else 512)
+    sources = dict(spec.sources)
+    if method != "improved":
+        assert f"--method {method}" in sources["controller.method"]
+    assert ("640 B" in sources["firmware"]) == (method == "improved_r")
+    assert cli.main(["init", "d", *argv[2:]]) == 0
+    assert load_spec(tmp_path / "spec" / "d.yaml").controller.method == "improved"
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as caught:
+        cli.main([*argv, "--force", "--method", "improved-r"])
+    assert caught.value.code == ExitCode.USAGE
+    assert "argument --method: invalid choice: 'improved-r'" in capsys.readouterr().err
+
+
 def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -40,3 +40,18 @@ def test_a_relative_spec_should_resolve_from_the_project_root(
     assert elf == tmp_path / "hub" / "build" / "firmware.elf" and elf.is_file()
     assert (tmp_path / "hub" / "generated" / "manifest.json").is_file()
     assert capsys.readouterr() == ("", "")
+
+
+def test_a_failed_step_should_report_why_not_the_specs_warnings() -> None:
+    """A spec that loads with a warning (a large PWM ripple) and whose image is over its
+    RAM budget: `firmware` warns on stderr and reports the budget on stdout. The error
+    names the budget; the warning is not the reason (make pil once printed only it)."""
+    from emulation.pil.build import ToolError
+
+    warning = "warning: spec/m.yaml:18: motor.phase_inductance = '0.05 mH': ripple"
+    stdout = "firmware: build/m/firmware.elf\n  RAM (variables, worst stack): 532 B of 512 B (EXCEEDED)\n"
+    error = ToolError("firmware spec/m.yaml", 1, warning + "\n", stdout)
+    assert error.lines == ["RAM (variables, worst stack): 532 B of 512 B (EXCEEDED)"]
+    assert error.returncode == 1
+    failed = ToolError("generate spec/m.yaml", 3, f"{warning}\nerror: no design meets\n", "")
+    assert failed.lines == ["error: no design meets"]

@@ -252,3 +252,29 @@ def test_improved_r_unity_tests_should_fail_without_resistance_in_the_decay(
     run = run_host(generated, tmp_path / "build")
     failed = {r.name for r in run.results if r.status == "FAIL"}
     assert not run.passed and any("sector" in name for name in failed), failed
+
+
+def test_expected_times_should_round_half_a_tick_up_as_the_core_does() -> None:
+    """A 62.5-tick carrier: with no current the rule ends on the first boundary, at
+    63 ticks in the core (round half up). Each case's expected time is the printed
+    twin's, within its stated tolerance."""
+    from codegen.core.module import build_core, twin_module
+
+    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "hub25pp_ir.yaml")
+    core = build_core(spec)
+    twin = twin_module(core)
+    cases = {c.name: c for c in unity_cases(spec)}
+    zero = cases["give_no_commutation_time_without_current"]
+    assert (zero.commutation_ticks, zero.commutation_tolerance) == (63, 0)
+    for case in cases.values():
+        out = twin.commutate(  # type: ignore[attr-defined]
+            twin.Inputs(  # type: ignore[attr-defined]
+                case.hall_code,
+                case.previous_hall_code,
+                case.hall_period_ticks,
+                case.bus_voltage_adc,
+                case.phase_current_adc,
+                case.main_duty_counts,
+            )
+        )
+        assert abs(out.commutation_ticks - case.commutation_ticks) <= case.commutation_tolerance

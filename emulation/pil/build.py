@@ -30,7 +30,12 @@ class ToolError(RuntimeError):
 
     def __init__(self, step: str, returncode: int, stderr: str, stdout: str = "") -> None:
         self.returncode = returncode
-        self.lines = [line for line in stderr.strip().splitlines() if line.strip()]
+        # the spec's warnings are not why it failed (a spec that loads warns on stderr too)
+        self.lines = [
+            line
+            for line in stderr.strip().splitlines()
+            if line.strip() and not line.startswith("warning:")
+        ]
         if not self.lines:  # `firmware` reports an exceeded budget on stdout
             said = [line.strip() for line in stdout.strip().splitlines() if line.strip()]
             self.lines = [line for line in said if "EXCEEDED" in line] or said[-1:]

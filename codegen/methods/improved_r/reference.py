@@ -95,7 +95,7 @@ class ReferenceBatch:
         return RuleOutputs(
             on_counts=round(float(self.on_exact[k])),
             off_counts=round(float(self.off_exact[k])),
-            commutation_ticks=min(round(float(self.ticks_exact[k])), measured_period),
+            commutation_ticks=min(math.floor(float(self.ticks_exact[k]) + 0.5), measured_period),
             flags=int(self.flags[k]),
         )
 
