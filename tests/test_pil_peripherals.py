@@ -413,6 +413,45 @@ def test_tim1_trgo_should_fire_on_the_oc4ref_rising_edge() -> None:
     assert [e - start for e in edges] == [180, 280, 380]
 
 
+def test_tim1_centre_aligned_trgo_should_rise_one_count_after_the_peak() -> None:
+    """RM0008 14.3.10: centre-aligned PWM mode 1 is active while CNT < CCRx, so OC4REF
+    with CCR4 = ARR (the port's current-sample trigger) rises one count after the peak,
+    counting down (CNT = ARR - 1), not at the next compare match of another channel
+    (the model once raised it at CCR3's match, late by ARR - CCR3 counts)."""
+    m = machine()
+    tim1_pwm(m, cms=1)
+    write(m.tim1, "CCMR2", (6 << 4) | (1 << 3) | (6 << 12) | (1 << 11))  # OC3, OC4: PWM 1
+    write(m.tim1, "CCR3", 60)
+    write(m.tim1, "CCR4", 99)
+    write(m.tim1, "CR2", 7 << 4)  # TRGO = OC4REF
+    edges: list[tuple[int, bool]] = []  # (CNT, counting down) at each rising edge
+    m.tim1.trgo_listeners.append(lambda t: edges.append((m.tim1.cnt(t), m.tim1.counting_down(t))))
+    at(m, m.now + 1000)
+    assert len(edges) >= 4
+    assert set(edges) == {(98, True)}
+
+
+def test_tim1_gate_log_should_hold_every_centre_aligned_edge() -> None:
+    """The plant reads the gates from the log: at every tick it must equal the outputs
+    evaluated afresh, the turn-on counting down (CNT = CCRx - 1) included."""
+    m = machine()
+    tim1_pwm(m, cms=1)
+    write(m.tim1, "CCR3", 60)
+    write(m.tim1, "CCER", 1 << 8)  # CH3 alone
+    write(m.tim1, "BDTR", (1 << 15) | (1 << 11) | (1 << 10))  # MOE, OSSR, OSSI
+    m.tim1.record_gates()
+    start = m.now
+    at(m, start + 1000)
+    log = m.tim1.gate_log
+    assert log is not None
+    changes = 0
+    for tick in range(start + 200, start + 990):
+        logged = [g for t, g in log if t <= tick][-1]
+        assert logged == m.tim1.gates(tick), tick
+        changes += int(logged != [g for t, g in log if t <= tick - 1][-1])
+    assert changes >= 6
+
+
 # ---------------------------------------------------------------------- TIM3
 
 

@@ -294,8 +294,9 @@ class AdvancedTimer(Timer):
                 for channel in (1, 2, 3):
                     value = self.ccr[channel]
                     positions.add(base + value)
-                    if self.centre_aligned:
+                    if self.centre_aligned:  # counting down: active from CCRx - 1
                         positions.add(base + 2 * self.arr - value)
+                        positions.add(base + 2 * self.arr - value + 1)
                 for position in positions:
                     tick = self.time_of_position(position)
                     ticks.update((tick, tick + dead))

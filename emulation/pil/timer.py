@@ -358,6 +358,27 @@ class Timer(Peripheral):
                         found.append((pos, channel))
         return sorted(set(found))
 
+    def down_count_edges(self, start: int, end: int) -> list[int]:
+        """Positions in (start, end] where a PWM-mode OCxREF of a centre-aligned counter
+        changes level one count after its compare match: counting down, CNT < CCRx
+        becomes true at CNT = CCRx - 1 (14.3.10, PWM mode 1 active while CNT < CCRx),
+        not at the match. (Counting up the level changes at the match itself.)"""
+        if not self.centre_aligned:
+            return []
+        cycle = 2 * self.arr
+        found = []
+        for channel in range(1, 5):
+            if self.is_input(channel) or self.oc_mode(channel) not in (OC_PWM1, OC_PWM2):
+                continue
+            value = self.ccr[channel]
+            if not 0 < value <= self.arr:
+                continue
+            base = (start // cycle) * cycle
+            for pos in (base + 2 * self.arr - value + 1, base + cycle + 2 * self.arr - value + 1):
+                if start < pos <= end:
+                    found.append(pos)
+        return sorted(set(found))
+
     def _centre_flags(self, pos: int, cycle: int) -> bool:
         up = pos % cycle < self.arr
         return {1: not up, 2: up, 3: True}[self.centre_aligned]
@@ -382,7 +403,9 @@ class Timer(Peripheral):
         done = self.position(self.processed_until)
         update = self._next_update_position(done)
         matches = self._channel_events(done, update)
-        target = matches[0][0] if matches else update
+        target = min(
+            [update, *(pos for pos, _ in matches[:1]), *self.down_count_edges(done, update)[:1]]
+        )
         return self.time_of_position(target)
 
     def on_event(self, now: int) -> None:
