@@ -41,6 +41,7 @@ from codegen.ir.nodes import (
     IBin,
     IConst,
     ILongDiv,
+    IVar,
     Param,
     SAssign,
     SIf,
@@ -68,6 +69,7 @@ from codegen.ir.nodes import (
     var,
 )
 from codegen.ir.types import I32, U16, U32, U64
+from codegen.ir.walk import all_exprs
 
 
 @dataclass(frozen=True)
@@ -244,6 +246,10 @@ def timing_function(
         bus_code=fld("bus", "bus_code", U32),
         main_duty_counts=var("main_duty_counts", U32),
     )
+    duties = rule.statements(ctx)
+    # X in counts where the rule uses it (the main-duty rule does not: an unused local
+    # fails -Werror=unused-variable)
+    uses_x_c = any(isinstance(e, IVar) and e.name == "x_c" for e in all_exprs(duties))
     w_q = var("w_q", I32)
     scale = const(1 << f, I32)
     duty_sum = sub(add(mul(const(2, I32), p), mul(const(2, I32), on)), mul(const(4, I32), off))
@@ -286,7 +292,7 @@ def timing_function(
             div(fld("bus", "x_numerator", U32), period, "nearest"),
             f"X = P 4E/U_d in Q{f} counts (Eqs. 3, 9)",
         ),
-        SLet("x_c", cast(round_shr(x_q, f), I32), "X in counts"),
+        *((SLet("x_c", cast(round_shr(x_q, f), I32), "X in counts"),) if uses_x_c else ()),
         SLet(
             "high_speed",
             select(cmp("<", period, fld("bus", "high_speed_period", U32)), const(1), const(0)),
@@ -295,7 +301,7 @@ def timing_function(
         flag_if(ctx.high_speed, "HIGH_SPEED"),
         SVar("on", I32, const(0, I32)),
         SVar("off", I32, const(0, I32)),
-        *rule.statements(ctx),
+        *duties,
         SLet(
             "w_q",
             sub(mul(duty_sum, scale), cast(x_q, I32)),
