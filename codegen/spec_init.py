@@ -69,9 +69,14 @@ METHOD_SOURCES = {
 def _quantity(dimension: units.Dimension) -> object:
     def parse(text: str) -> tuple[Fraction, str]:
         try:
-            return units.parse_quantity(text, dimension).si_value, text
+            value = units.parse_quantity(text, dimension).si_value
         except units.QuantityError as exc:
             raise argparse.ArgumentTypeError(str(exc)) from None
+        if value <= 0:  # every datasheet value init takes is a positive quantity
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is out of range (allowed: > 0, a quantity of {dimension.name})"
+            )
+        return value, text
 
     parse.__name__ = dimension.name  # argparse names the type in its error
     return parse

@@ -221,6 +221,31 @@ def test_init_should_write_the_method_asked_for_with_its_ram_budget(
     assert "argument --method: invalid choice: 'improved-r'" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [("--speed-max", "0 rpm"), ("--resistance", "0 ohm"), ("--bus-voltage", "-5 V")],
+)
+def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    option: str,
+    value: str,
+) -> None:
+    """A zero top speed or resistance once divided by zero inside init (an internal
+    error); every datasheet quantity must be above zero, said at the argument."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as caught:
+        cli.main(["init", "m", option, value])
+    assert caught.value.code == ExitCode.USAGE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith(
+        f"bldc-codegen init: error: argument {option}: {value!r} is out of range (allowed: > 0"
+    )
+    assert "Traceback" not in "\n".join(err)
+    assert not (tmp_path / "spec").exists()
+
+
 def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
