@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
+from codegen.argtypes import SEED
+
 METHOD_NAMES = "none,conventional,improved,improved_r"
 
 
@@ -40,7 +42,7 @@ def add_campaign_arguments(parser: argparse.ArgumentParser) -> None:
         default="averaged",
         help="averaged (default) or switched plant; switched also samples the carrier phase",
     )
-    parser.add_argument("--seed", type=int, default=1, help="sampling seed (1)")
+    parser.add_argument("--seed", type=SEED, default=1, help="sampling seed (1)")
     parser.add_argument(
         "--workers", type=_at_least(1), default=2, help="Dask LocalCluster worker processes (2)"
     )

@@ -246,6 +246,26 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
     assert not (tmp_path / "spec").exists()
 
 
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        (["verify", "SPEC", "--seed", "-1"], "argument --seed: -1 is out of range"),
+        (["verify", "SPEC", "--random", "-5"], "argument --random: -5 is out of range"),
+        (["all", "SPEC", "--random", "-5"], "argument --random: -5 is out of range"),
+        (["robustness", "SPEC", "--seed", "x"], "argument --seed: 'x' is not a whole number"),
+    ],
+)
+def test_a_numeric_option_out_of_range_should_be_one_usage_line(
+    capsys: pytest.CaptureFixture[str], argv: list[str], line: str
+) -> None:
+    """A negative seed or point count once reached NumPy (an internal error)."""
+    with pytest.raises(SystemExit) as caught:
+        cli.main([str(SPEC) if a == "SPEC" else a for a in argv])
+    assert caught.value.code == ExitCode.USAGE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert line in err[-1] and "Traceback" not in "\n".join(err)
+
+
 def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

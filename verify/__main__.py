@@ -7,6 +7,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from codegen.argtypes import POINTS, SEED
 from codegen.errors import SpecError
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, StaleOutputError, plot, table, verify, write_json
@@ -26,8 +27,10 @@ def main(argv: list[str] | None = None) -> int:
         type=Path,
         help="generated folder (default: generated/<spec name> in the current folder)",
     )
-    parser.add_argument("--seed", type=int, help="replay a random set")
-    parser.add_argument("--random", type=int, default=DEFAULT_RANDOM_POINTS, help="random points")
+    parser.add_argument("--seed", type=SEED, help="replay a random set")
+    parser.add_argument(
+        "--random", type=POINTS, default=DEFAULT_RANDOM_POINTS, help="random points"
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = parser.parse_args(argv)
     try:

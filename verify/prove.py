@@ -32,6 +32,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
+from codegen.argtypes import whole_number
 from codegen.errors import SpecError
 from codegen.generate import render_all, write_tree
 from codegen.render import PROJECT_ROOT, project_relative, render, write_atomically
@@ -472,7 +473,9 @@ def main(argv: list[str] | None = None) -> int:
         prog="verify.prove", description="Frama-C EVA and WP on the generated C core."
     )
     parser.add_argument("specs", nargs="+", help="motor spec YAML files")
-    parser.add_argument("--jobs", type=int, default=2, help="Frama-C runs at a time")
+    parser.add_argument(
+        "--jobs", type=whole_number(1, 64), default=2, help="Frama-C runs at a time"
+    )
     parser.add_argument(
         "--build", type=Path, default=PROJECT_ROOT / "build" / "prove", help="work folder"
     )

@@ -22,6 +22,7 @@ from bldc.commands.common import (
     fresh_generated,
     load,
 )
+from codegen.argtypes import POINTS, SEED
 from codegen.errors import ExitCode
 from codegen.shown import shown
 from sim.robustness_args import add_campaign_arguments
@@ -134,11 +135,11 @@ def _verify_arguments(parser: argparse.ArgumentParser) -> None:
     add_spec(parser)
     add_generated(parser)
     parser.add_argument(
-        "--seed", type=int, metavar="N", help="seed of the random set, to replay a run"
+        "--seed", type=SEED, metavar="N", help="seed of the random set, to replay a run"
     )
     parser.add_argument(
         "--random",
-        type=int,
+        type=POINTS,
         metavar="N",
         help="number of random points over the whole input space (default: verify's, 20000)",
     )
@@ -354,7 +355,7 @@ def _all(args: argparse.Namespace) -> int:
 def _all_arguments(parser: argparse.ArgumentParser) -> None:
     add_spec(parser)
     parser.add_argument(
-        "--random", type=int, metavar="N", help="random points for verify (default: 20000)"
+        "--random", type=POINTS, metavar="N", help="random points for verify (default: 20000)"
     )
     parser.add_argument("--bench", action="store_true", help="run the bench as the last step")
     add_progress(parser)

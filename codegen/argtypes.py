@@ -1,0 +1,29 @@
+"""argparse types for the command lines' numeric options: a bad value is one usage line
+naming the option, the value and the allowed range, never a traceback further in."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+
+
+def whole_number(low: int, high: int) -> Callable[[str], int]:
+    """A whole number in [low, high]."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 10)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"{value} is out of range (allowed: [{low}, {high}])")
+        return value
+
+    parse.__name__ = "whole number"
+    return parse
+
+
+#: a random generator's seed (NumPy takes any non-negative integer; 32 bits replays)
+SEED = whole_number(0, 2**32 - 1)
+#: a count of random points
+POINTS = whole_number(0, 10**8)
