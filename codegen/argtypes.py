@@ -27,3 +27,21 @@ def whole_number(low: int, high: int) -> Callable[[str], int]:
 SEED = whole_number(0, 2**32 - 1)
 #: a count of random points
 POINTS = whole_number(0, 10**8)
+
+
+def decimal_number(low: float, high: float) -> Callable[[str], float]:
+    """A finite number in [low, high]."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not low <= value <= high:  # NaN fails both comparisons
+            raise argparse.ArgumentTypeError(
+                f"{text} is out of range (allowed: [{low:g}, {high:g}])"
+            )
+        return value
+
+    parse.__name__ = "number"
+    return parse

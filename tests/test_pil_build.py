@@ -55,3 +55,17 @@ def test_a_failed_step_should_report_why_not_the_specs_warnings() -> None:
     assert error.returncode == 1
     failed = ToolError("generate spec/m.yaml", 3, f"{warning}\nerror: no design meets\n", "")
     assert failed.lines == ["error: no design meets"]
+
+
+@pytest.mark.parametrize(("option", "value"), [("--ms", "-5"), ("--amps", "nan")])
+def test_pil_main_should_refuse_a_bad_number_in_one_usage_line(
+    capsys: pytest.CaptureFixture[str], option: str, value: str
+) -> None:
+    """`python -m emulation.pil --ms -5` once divided by zero (a traceback)."""
+    from emulation.pil.__main__ import main
+
+    with pytest.raises(SystemExit) as caught:
+        main([str(ROOT / "spec" / "paper_motor.yaml"), option, value])
+    assert caught.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert f"argument {option}: {value} is out of range" in err[-1]

@@ -10,6 +10,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
+from codegen.argtypes import decimal_number
 from codegen.spec_loader import load_spec
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
@@ -20,9 +21,15 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m emulation.pil", description=__doc__)
     parser.add_argument("spec")
     parser.add_argument("--elf", help="default: build/<spec name>/firmware.elf (make firmware)")
-    parser.add_argument("--ms", type=float, default=100.0, help="emulated time after boot")
-    parser.add_argument("--rpm", type=float, default=4600.0, help="0: the rotor stands still")
-    parser.add_argument("--amps", type=float, default=5.0, help="the DC-link current read")
+    parser.add_argument(
+        "--ms", type=decimal_number(0.001, 60000), default=100.0, help="emulated time after boot"
+    )
+    parser.add_argument(
+        "--rpm", type=decimal_number(0, 1e6), default=4600.0, help="0: the rotor stands still"
+    )
+    parser.add_argument(
+        "--amps", type=decimal_number(-1e4, 1e4), default=5.0, help="the DC-link current read"
+    )
     parser.add_argument(
         "--gates", action="store_true", help="record every gate edge and check the bridge"
     )
