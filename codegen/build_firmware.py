@@ -259,7 +259,26 @@ def main(argv: list[str]) -> int:
     )
     for b in results:
         print(f"  {b.line()}")
+    for b in results:
+        hint = budget_hint(b, spec.controller.method)
+        if hint:
+            print(f"  {hint}")
     return 0 if all(b.meets for b in results) else 1
+
+
+def budget_hint(budget: Budget, method: str) -> str | None:
+    """What to change where a budget is exceeded: the spec key, its value and what the
+    image needs."""
+    if budget.meets or budget.value is None:
+        return None
+    key = "firmware.flash_budget" if budget.name == "flash" else "firmware.ram_budget"
+    why = (
+        " (the resistance-aware rule's search runs deeper than the paper method's;"
+        " `init --method improved_r` writes 640 B)"
+        if key == "firmware.ram_budget" and method == "improved_r"
+        else ""
+    )
+    return f"{key} = {budget.limit} B is below what this image needs, {budget.value} B{why}"
 
 
 if __name__ == "__main__":

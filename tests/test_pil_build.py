@@ -69,3 +69,21 @@ def test_pil_main_should_refuse_a_bad_number_in_one_usage_line(
     assert caught.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert f"argument {option}: {value} is out of range" in err[-1]
+
+
+def test_an_exceeded_budget_should_name_its_key_and_what_the_image_needs() -> None:
+    from codegen.build_firmware import Budget, budget_hint
+
+    ram = Budget("RAM (variables, code run from SRAM, worst stack)", 532, 512)
+    assert budget_hint(ram, "improved_r") == (
+        "firmware.ram_budget = 512 B is below what this image needs, 532 B (the"
+        " resistance-aware rule's search runs deeper than the paper method's;"
+        " `init --method improved_r` writes 640 B)"
+    )
+    assert budget_hint(ram, "improved") == (
+        "firmware.ram_budget = 512 B is below what this image needs, 532 B"
+    )
+    assert budget_hint(Budget("flash", 9000, 8192), "improved_r") == (
+        "firmware.flash_budget = 8192 B is below what this image needs, 9000 B"
+    )
+    assert budget_hint(Budget("flash", 4000, 8192), "improved") is None
