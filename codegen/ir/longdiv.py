@@ -8,8 +8,25 @@ whenever B 2^shift does (the proof checks it at each call). No 64-bit divide hel
 
 from __future__ import annotations
 
-from codegen.ir.nodes import Function, IMod, IShl, Param, SLet, SReturn, add, div, var
-from codegen.ir.types import U32
+from codegen.ir.nodes import (
+    Expr,
+    Function,
+    IBin,
+    IMod,
+    IShl,
+    Param,
+    SLet,
+    SReturn,
+    Stmt,
+    add,
+    cast,
+    const,
+    div,
+    minimum,
+    shr,
+    var,
+)
+from codegen.ir.types import U32, U64
 
 _high, _low, _shift, _divisor = (var(n, U32) for n in ("high", "low", "shift", "divisor"))
 
@@ -33,3 +50,44 @@ DIVIDE_LONG = Function(
         ),
     ),
 )
+
+
+def bytewise_quotient(
+    name: str, numerator: str, divisor: Expr, top_cap: int, doc: str
+) -> tuple[Stmt, ...]:
+    """`name` = round(numerator / divisor) for a uint64_t local `numerator` below 2^48
+    and a divisor below 2^24, in three 32-bit divides (16 + 8 + 8 bits): each remainder
+    is below the divisor, so remainder 2^8 + the next byte fits 32 bits. The caller
+    bounds the quotient: `top_cap` caps its first digit (the quotient / 2^16), the
+    others are below 2^8 by construction; the caps let a non-relational proof see the
+    shifts fit, and never bind."""
+    wide = var(numerator, U64)
+    upper, middle, lower = (var(f"{name}_{part}", U32) for part in ("upper", "middle", "lower"))
+
+    def byte(shift: int) -> Expr:
+        return cast(IBin(U64, "&", shr(wide, shift), const(255, U64)), U32)
+
+    return (
+        SLet(upper.name, cast(shr(wide, 16), U32), f"{numerator} / 2^16"),
+        SLet(
+            middle.name,
+            add(IShl(U32, IMod(U32, upper, divisor), 8), byte(8)),
+            "the remainder, then the next byte",
+        ),
+        SLet(
+            lower.name,
+            add(IShl(U32, IMod(U32, middle, divisor), 8), byte(0)),
+            "the remainder, then the last byte",
+        ),
+        SLet(
+            name,
+            add(
+                add(
+                    IShl(U32, minimum(div(upper, divisor), const(top_cap)), 16),
+                    IShl(U32, minimum(div(middle, divisor), const(255)), 8),
+                ),
+                minimum(div(lower, divisor, "nearest"), const(256)),
+            ),
+            doc,
+        ),
+    )

@@ -19,7 +19,7 @@ import sympy as sp
 
 from codegen.abi import TIMING, flag_const
 from codegen.core.conditioning import CoreLimits, CurrentFormat, current_statements, flag_if
-from codegen.ir.longdiv import DIVIDE_LONG
+from codegen.ir.longdiv import DIVIDE_LONG, bytewise_quotient
 from codegen.ir.nodes import (
     Expr,
     Function,
@@ -29,7 +29,6 @@ from codegen.ir.nodes import (
     IConst,
     ILongDiv,
     ILookup,
-    IMod,
     IShl,
     Param,
     SAssign,
@@ -582,12 +581,6 @@ def timing_function(
     room_q_max = (rule.period_q >> shift_down) + 1
     shortfall = var("shortfall", U32)
 
-    def part(name: str) -> Expr:
-        return var(name, U32)
-
-    def byte(shift: int) -> Expr:
-        return cast(IBin(U64, "&", shr(var("numerator", U64), shift), const(255, U64)), U32)
-
     tail += [
         SLet(
             "room",
@@ -619,31 +612,13 @@ def timing_function(
             minimum(var("overshoot", U64), var("cap", U64)),
             "the overshoot, at most the cap (it never binds sooner than the room)",
         ),
-        # round(numerator / shortfall) in three 32-bit divides, 16 + 8 + 8 bits: each
-        # remainder is below shortfall < 2^24, so remainder 2^8 + the next byte fits
-        SLet("upper", cast(shr(var("numerator", U64), 16), U32), "numerator / 2^16"),
-        SLet(
-            "middle",
-            add(IShl(U32, IMod(U32, part("upper"), shortfall), 8), byte(8)),
-            "the remainder, then the next byte",
-        ),
-        SLet(
-            "lower",
-            add(IShl(U32, IMod(U32, part("middle"), shortfall), 8), byte(0)),
-            "the remainder, then the last byte",
-        ),
-        SLet(
+        *bytewise_quotient(
             "eased",
-            add(
-                add(
-                    IShl(U32, minimum(div(part("upper"), shortfall), const(room_q_max >> 16)), 16),
-                    IShl(U32, minimum(div(part("middle"), shortfall), const(255)), 8),
-                ),
-                minimum(div(part("lower"), shortfall, "nearest"), const(256)),
-            ),
+            "numerator",
+            shortfall,
+            room_q_max >> 16,
             f"delta = -rho g / (3 (1 - e)) in Q{DELTA_FRAC_BITS}: ends the current at the"
-            " boundary (the caps never bind: each quotient digit is below 2^8, and the"
-            " numerator's cap keeps the first one under them)",
+            " boundary (at most room + 1: the numerator's cap)",
         ),
         SLet(
             "delta",

@@ -231,10 +231,10 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     const uint64_t overshoot = (uint64_t)(0ll - end_h) >> 11u; /* -rho g / 3 in Q28, > 0 */
     const uint64_t cap = (uint64_t)((uint32_t)(room >> 1u) + 1u) * (uint64_t)shortfall; /* (room + 1) 3 (1 - e): a larger easing is cut to the room below */
     const uint64_t numerator = (overshoot > cap) ? cap : overshoot; /* the overshoot, at most the cap (it never binds sooner than the room) */
-    const uint32_t upper = (uint32_t)(numerator >> 16u); /* numerator / 2^16 */
-    const uint32_t middle = ((upper % shortfall) << 8u) + (uint32_t)((numerator >> 8u) & 255ull); /* the remainder, then the next byte */
-    const uint32_t lower = ((middle % shortfall) << 8u) + (uint32_t)(numerator & 255ull); /* the remainder, then the last byte */
-    const uint32_t eased = (((upper / shortfall > 3u) ? 3u : upper / shortfall) << 16u) + (((middle / shortfall > 255u) ? 255u : middle / shortfall) << 8u) + (((lower + (shortfall >> 1)) / shortfall > 256u) ? 256u : (lower + (shortfall >> 1)) / shortfall); /* delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary (the caps never bind: each quotient digit is below 2^8, and the numerator's cap keeps the first one under them) */
+    const uint32_t eased_upper = (uint32_t)(numerator >> 16u); /* numerator / 2^16 */
+    const uint32_t eased_middle = ((eased_upper % shortfall) << 8u) + (uint32_t)((numerator >> 8u) & 255ull); /* the remainder, then the next byte */
+    const uint32_t eased_lower = ((eased_middle % shortfall) << 8u) + (uint32_t)(numerator & 255ull); /* the remainder, then the last byte */
+    const uint32_t eased = (((eased_upper / shortfall > 3u) ? 3u : eased_upper / shortfall) << 16u) + (((eased_middle / shortfall > 255u) ? 255u : eased_middle / shortfall) << 8u) + (((eased_lower + (shortfall >> 1)) / shortfall > 256u) ? 256u : (eased_lower + (shortfall >> 1)) / shortfall); /* delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary (at most room + 1: the numerator's cap) */
     const int32_t delta = (((int32_t)((eased > 1073741823u) ? 1073741823u : eased) > room >> 1u) ? room >> 1u : (int32_t)((eased > 1073741823u) ? 1073741823u : eased)) << 1u; /* the easing in Q7, at most the room */
     const int32_t eased_on = end_on - delta; /* C_on - delta */
     const int32_t eased_off = end_off + delta; /* C_off + delta */

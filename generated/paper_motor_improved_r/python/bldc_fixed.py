@@ -293,10 +293,10 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     overshoot = 0 - end_h >> 11  # -rho g / 3 in Q28, > 0
     cap = ((room >> 1) + 1) * shortfall  # (room + 1) 3 (1 - e): a larger easing is cut to the room below
     numerator = cap if overshoot > cap else overshoot  # the overshoot, at most the cap (it never binds sooner than the room)
-    upper = numerator >> 16  # numerator / 2^16
-    middle = (upper % shortfall << 8) + (numerator >> 8 & 255)  # the remainder, then the next byte
-    lower = (middle % shortfall << 8) + (numerator & 255)  # the remainder, then the last byte
-    eased = ((3 if upper // shortfall > 3 else upper // shortfall) << 16) + ((255 if middle // shortfall > 255 else middle // shortfall) << 8) + (256 if (lower + (shortfall >> 1)) // shortfall > 256 else (lower + (shortfall >> 1)) // shortfall)  # delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary (the caps never bind: each quotient digit is below 2^8, and the numerator's cap keeps the first one under them)
+    eased_upper = numerator >> 16  # numerator / 2^16
+    eased_middle = (eased_upper % shortfall << 8) + (numerator >> 8 & 255)  # the remainder, then the next byte
+    eased_lower = (eased_middle % shortfall << 8) + (numerator & 255)  # the remainder, then the last byte
+    eased = ((3 if eased_upper // shortfall > 3 else eased_upper // shortfall) << 16) + ((255 if eased_middle // shortfall > 255 else eased_middle // shortfall) << 8) + (256 if (eased_lower + (shortfall >> 1)) // shortfall > 256 else (eased_lower + (shortfall >> 1)) // shortfall)  # delta = -rho g / (3 (1 - e)) in Q6: ends the current at the boundary (at most room + 1: the numerator's cap)
     delta = (room >> 1 if (1073741823 if eased > 1073741823 else eased) > room >> 1 else 1073741823 if eased > 1073741823 else eased) << 1  # the easing in Q7, at most the room
     eased_on = end_on - delta  # C_on - delta
     eased_off = end_off + delta  # C_off + delta
