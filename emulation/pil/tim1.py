@@ -294,9 +294,10 @@ class AdvancedTimer(Timer):
                 for channel in (1, 2, 3):
                     value = self.ccr[channel]
                     positions.add(base + value)
-                    if self.centre_aligned:  # counting down: active from CCRx - 1
+                    if self.centre_aligned:
                         positions.add(base + 2 * self.arr - value)
-                        positions.add(base + 2 * self.arr - value + 1)
+                # counting down, a PWM-mode output turns active one count after its match
+                positions.update(self.down_count_edges(base, base + cycle))
                 for position in positions:
                     tick = self.time_of_position(position)
                     ticks.update((tick, tick + dead))
