@@ -731,7 +731,11 @@ def section_pil(b: Bench, report: Report) -> None:
     motor_s = PIL_MOTOR_S / 10 if b.quick else PIL_MOTOR_S
     name = f"PIL: {PIL_MOTOR_S * 1e3:.0f} ms of motor time, plant in the loop"
     try:
-        elf = build_firmware(b.spec_path.resolve(), b.work / "pil", b.generated)
+        # the bench's folders are relative to the working directory, and pil.build
+        # reads a relative path from the project root (as `make pil` runs)
+        elf = build_firmware(
+            b.spec_path.resolve(), (b.work / "pil").resolve(), b.generated.resolve()
+        )
     except ToolError as error:  # e.g. the image over its RAM budget: a miss, its reason
         report.add(Figure(name, float("inf"), "s", TARGET_PIL_S, f"not run: {error}", 1))
         return

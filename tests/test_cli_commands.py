@@ -391,10 +391,11 @@ def test_a_new_users_motor_goes_through_every_step_outside_the_repo(
     name: str,
     datasheet: list[str],
     edit: tuple[str, str],
+    capsys: pytest.CaptureFixture[str],
 ) -> None:
     """init, edit, generate, firmware, unity, verify, simulate and bench from an empty
     folder outside the repo (simulate and bench in their quick forms: every study at a
-    few speeds, the bench's size and handler sections)."""
+    few speeds, the bench's size and handler sections, and for one motor its PIL run)."""
     monkeypatch.chdir(tmp_path)
     assert cli.main(["init", name, *datasheet]) == 0
     spec = Path("spec") / f"{name}.yaml"
@@ -411,8 +412,16 @@ def test_a_new_users_motor_goes_through_every_step_outside_the_repo(
     assert cli.main(["simulate", str(spec), "--quick", "--no-progress"]) == 0
     report = tmp_path / "generated" / name / "simulation" / "SIMULATION.md"
     assert "quick run" in report.read_text()
-    bench = ["bench", str(spec), "--quick", "--report-only", "--only", "size,handlers"]
+    # the PIL section links the firmware through emulation/pil/build.py, which reads a
+    # relative folder from the project root: the bench's own folder is relative to here
+    sections = "size,handlers,pil" if name == "conventional" else "size,handlers"
+    bench = ["bench", str(spec), "--quick", "--report-only", "--only", sections]
+    capsys.readouterr()
     assert cli.main(bench) == 0
+    said = capsys.readouterr().out
+    assert "not run" not in said, said  # --report-only exits 0 on a miss: read the lines
+    if "pil" in sections:
+        assert "bench: PIL: 100 ms of motor time, plant in the loop:" in said, said
     assert (tmp_path / "build" / "bench" / name).is_dir()
 
 

@@ -77,7 +77,7 @@ def build_firmware(spec: Path, folder: Path, generated: Path | None = None) -> P
     the ELF's path. Raises RuntimeError with the tool's own message when a step fails
     (`firmware` refuses a generated folder that is not this spec's, fresh)."""
     generated = generated or generate(spec, folder / "generated")
-    build = folder / "build"
+    build = ROOT / folder / "build"  # where `firmware` puts it (a relative folder is the root's)
     _codegen("firmware", spec, "--generated", generated, "--build", build)
     return build / "firmware.elf"
 
