@@ -254,7 +254,8 @@ static struct {
     uint16_t bus_code;              /* the bus code of `bus` (written at the bus change; for a debugger and the PIL, no handler reads it) */
     uint32_t bus_low;               /* the bus code of `bus` - hysteresis (mod 2^32): a sample within the band is no change */
     uint32_t bus_moved;             /* 1: the current loop's last bus sample left the band (the bus-change handler recomputes), else 0 */
-    uint32_t rectifying_max;        /* the longest Hall interval at which all-off rectifies at the bus code of `bus` */
+    uint32_t all_off_from;          /* all-off is the safe state at Hall intervals from this one (at the bus code of `bus`) */
+    uint32_t all_off_span;          /* ... for this many intervals (0: none; port_set_safe_region) */
     uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
     int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
     uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation) */
@@ -530,26 +531,42 @@ static uint32_t port_rectifying_max(uint32_t bus_code)
     return (bus_code == 0u) ? UINT32_MAX : (BLDC_PORT_RECTIFYING_PRODUCT / bus_code);
 }
 
-/* The safe state of this speed region: the short circuit where all-off would rectify
- * into the bus, and, if the spec prefers it, wherever it is within the bridge's
- * rating. */
+/* The safe state's speed regions at a bus code: the short circuit where all-off would
+ * rectify into the bus (T <= floor(K / B)), and, if the spec prefers the short, also
+ * wherever the bridge is rated for it (T >= BLDC_PORT_SHORT_VALID_PERIOD); all-off
+ * elsewhere. That rest is one run of intervals, [from, from + span), kept as its start
+ * and length, so the timing run decides with one unsigned compare, T - from < span
+ * (mod 2^32: from + span <= 2^32), whatever the policy: two compares joined cost a
+ * branch laid out of line, and from flash a taken branch waits for its target. */
+static void port_set_safe_region(uint32_t bus_code)
+{
+    const uint32_t rectifying_max = port_rectifying_max(bus_code);
+    const uint32_t from = rectifying_max + 1u; /* 0 when it rectifies at every interval */
+#if BLDC_PORT_SHORT_WHERE_BOTH && (BLDC_PORT_SHORT_VALID_PERIOD == 0u)
+    const uint32_t span = 0u; /* the short is rated at every speed, and preferred */
+#elif BLDC_PORT_SHORT_WHERE_BOTH
+    /* up to the rated interval; none if it rectifies everywhere (from = 0) */
+    const uint32_t span = (from != 0u && BLDC_PORT_SHORT_VALID_PERIOD > from)
+                              ? BLDC_PORT_SHORT_VALID_PERIOD - from
+                              : 0u;
+#else
+    const uint32_t span = 0u - from; /* every interval from `from` up (none when from = 0) */
+#endif
+    port.all_off_from = from;
+    port.all_off_span = span;
+}
+
+/* 1 where the safe state of this Hall interval is the short circuit, else 0. */
 static uint32_t port_short_circuit(uint32_t period)
 {
-    const uint32_t rectifying = (uint32_t)(period <= port.rectifying_max);
-#if BLDC_PORT_SHORT_WHERE_BOTH && (BLDC_PORT_SHORT_VALID_PERIOD == 0u)
-    (void)rectifying;
-    return 1u; /* the short is within the rating at every speed, and preferred */
-#elif BLDC_PORT_SHORT_WHERE_BOTH
-    return rectifying | (uint32_t)(period >= BLDC_PORT_SHORT_VALID_PERIOD);
-#else
-    return rectifying;
-#endif
+    return (uint32_t)((period - port.all_off_from) >= port.all_off_span);
 }
 
 /* CR2's idle levels for the region: what MOE = 0 (a fault, the break input) does now. */
 static uint32_t port_safe_state_cr2(uint32_t period)
 {
-    return BLDC_PORT_TIM1_CR2 | ((port_short_circuit(period) != 0u) ? BLDC_PORT_OIS_SHORT : 0u);
+    return (port_short_circuit(period) != 0u) ? (BLDC_PORT_TIM1_CR2 | BLDC_PORT_OIS_SHORT)
+                                              : BLDC_PORT_TIM1_CR2;
 }
 
 /* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
@@ -577,7 +594,7 @@ static void port_update_bus(void)
     const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
-    port.rectifying_max = port_rectifying_max(code);
+    port_set_safe_region(code);
     port.bus = bldc_bus_condition(code);
     if (BLDC_PORT_RARE((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u)) {
         port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
@@ -1258,7 +1275,7 @@ void bldc_port_init(uint32_t start_faults)
     port.bus_code = BLDC_PORT_BUS_UNKNOWN;
     port.bus_low = 0u - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus_moved = 0u;
-    port.rectifying_max = port_rectifying_max(BLDC_PORT_BUS_UNKNOWN);
+    port_set_safe_region(BLDC_PORT_BUS_UNKNOWN);
     port.bus = bldc_bus_condition(BLDC_PORT_BUS_UNKNOWN);
     port.period = BLDC_PORT_TIM3_ARR;
     port.timed_period = (uint16_t)BLDC_PORT_TIM3_ARR;
