@@ -1,4 +1,5 @@
-"""A spec's YAML with the commutation method (and optionally the name) replaced.
+"""A spec's YAML with the commutation method (and optionally the name) replaced, or
+its duty accuracy target.
 
 The simulation and the bench measure a motor under every method; they derive each
 variant from the user's spec text, so comments and layout are kept and every other
@@ -24,4 +25,12 @@ def spec_with_method(spec_text: str, method: str, name: str | None = None) -> st
         new, count = re.subn(r"(?m)^(name:\s*)\S+", rf"\g<1>{name}", new, count=1)
         if count != 1:
             raise SpecError("name", None, "no top-level line to replace", "a spec name")
+    return new
+
+
+def spec_with_duty_target(spec_text: str, counts: str) -> str:
+    """The spec YAML with accuracy.duty_counts replaced by `counts`."""
+    new, count = re.subn(r"(?m)^(\s+duty_counts:\s*)[^\s#]+", rf"\g<1>{counts}", spec_text, count=1)
+    if count != 1:
+        raise SpecError("accuracy.duty_counts", None, "no line to replace", "a number of counts")
     return new

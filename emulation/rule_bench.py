@@ -20,6 +20,7 @@ default), and measured with the machinery of emulation/isr_bench.py:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -31,9 +32,11 @@ from codegen.build_firmware import Sizes, build, linked_flash
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
+from codegen.methods.base import FixedPointError
+from codegen.methods.improved_r.design import refused_duty_bound
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
-from codegen.spec_variant import spec_with_method
+from codegen.spec_variant import spec_with_duty_target, spec_with_method
 from emulation.callgraph import reached_functions
 from emulation.figures import Figure
 from emulation.isr_bench import (
@@ -75,6 +78,25 @@ def improved_r_spec(spec_path: str | Path, folder: Path) -> Path:
     out = folder / f"{name}.yaml"
     out.write_text(text, encoding="utf-8")
     return out
+
+
+def generate_rule(spec_path: str | Path, variant: Path, generated: Path) -> str | None:
+    """Generate the improved_r `variant` into `generated`. Where it is a copy (the
+    spec's own method is another) and the rule's integer design cannot meet the spec's
+    duty target, the copy is held to the bound the rule meets (to 0.01 counts up), as
+    the simulation does: that target, else None. Any other refusal is raised."""
+    try:
+        generate(variant, generated, PROJECT_ROOT)
+        return None
+    except FixedPointError as error:
+        bound = refused_duty_bound(str(error))
+        if bound is None or variant == Path(spec_path):
+            raise
+        target = f"{math.ceil(bound * 100) / 100:.2f}"
+    text = spec_with_duty_target(variant.read_text(encoding="utf-8"), target)
+    variant.write_text(text, encoding="utf-8")
+    generate(variant, generated, PROJECT_ROOT)
+    return target
 
 
 def rule_sweep(
@@ -153,6 +175,8 @@ class RuleBench:
     indirect: bool
     core_undefined: frozenset[str]
     sector_cycles: int
+    #: the duty target (counts) the variant was held to, when the spec's is out of reach
+    duty_target: str | None = None
 
     def figures(self) -> list[Figure]:
         core, port = self.linked.get("core", 0), self.linked.get("port", 0)
@@ -202,6 +226,11 @@ class RuleBench:
     def lines(self) -> list[str]:
         name = load_spec(self.spec).name
         lines = [f"{METHOD} variant {name} ({self.spec}, generated into {self.generated})"]
+        if self.duty_target is not None:
+            lines.append(
+                f"{METHOD}   held to {self.duty_target} duty counts: its integer design cannot"
+                " meet the spec's accuracy.duty_counts (the spec's own method is another)"
+            )
         lines += self._sweep_lines(self.within, "rule sweep")
         worst = self.within.worst
         parts = ", ".join(
@@ -255,7 +284,8 @@ def run(spec_path: str | Path, work: Path, *, quick: bool = False) -> RuleBench:
     spec = load_spec(variant)
     generated = work / spec.name
     build_dir = work / f"{spec.name}.build"
-    generate(variant, generated, PROJECT_ROOT)
+    duty_target = generate_rule(spec_path, variant, generated)
+    spec = load_spec(variant)
     sizes = build(generated, build_dir)
     # The Hall edge and the commutation end do not depend on the rule: a small sweep of
     # them; the rule's cost is the timing sweeps' business.
@@ -294,4 +324,5 @@ def run(spec_path: str | Path, work: Path, *, quick: bool = False) -> RuleBench:
         indirect=indirect,
         core_undefined=undefined_symbols(build_dir / "core.o"),
         sector_cycles=shortest_sector_cycles(variant),
+        duty_target=duty_target,
     )

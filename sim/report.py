@@ -779,6 +779,8 @@ def render_report(results: Results, limits: Limits, figure_names: dict[str, str]
         "spec_sha256": spec.sha256,
         "spec_name": spec.name,
         "quick": results.quick,
+        "rule_duty_target": results.rule_duty_target,
+        "duty_target": f"{float(spec.accuracy.duty_counts):g}",
         "template": f"sim/templates/{TEMPLATE}",
         "drive": {
             "resistance": f"{drive.resistance_ohm:g}",

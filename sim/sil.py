@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import math
 import re
 import shutil
 import subprocess
@@ -33,9 +34,10 @@ from codegen.abi import INPUTS, OUTPUTS, ctypes_struct
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.freshness import StaleOutputError, check_fresh
+from codegen.methods.improved_r.design import refused_duty_bound
 from codegen.render import PROJECT_ROOT
 from codegen.spec_model import Spec
-from codegen.spec_variant import spec_with_method
+from codegen.spec_variant import spec_with_duty_target, spec_with_method
 from sim.command import Command
 from sim.scenario import Case
 from sim.schedule import switch_index
@@ -156,6 +158,9 @@ class CoreSet:
     shaped: dict[str, CoreLibrary] = field(default_factory=dict)
     #: the shape the spec's improved_r core was generated for, when not the spec's own
     shape_fallback: str | None = None
+    #: the duty target (counts) the improved_r cores were generated for, when the
+    #: spec's own is out of the rule's reach (its method is another: the rule is compared)
+    rule_duty_target: str | None = None
 
     @cached_property
     def scaling(self) -> Scaling:
@@ -228,16 +233,30 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
         )
     outputs = _generate_all(spec, variants, toolchain, build_dir)
     fallback = None
-    if (SHAPED_METHOD, None) in outputs and isinstance(outputs[(SHAPED_METHOD, None)], str):
-        if not _shape_refused(str(outputs[(SHAPED_METHOD, None)])):
-            raise SilError(
-                f"generating the {SHAPED_METHOD!r} core failed:\n{outputs[(SHAPED_METHOD, None)]}"
-            )
+    refused = outputs.get((SHAPED_METHOD, None))
+    if isinstance(refused, str) and _shape_refused(refused):  # any other error: below
         fallback = FALLBACK_SHAPE
         retry = {
             (SHAPED_METHOD, None): spec_with_emf_shape(variants[(SHAPED_METHOD, None)], fallback)
         }
+        variants.update(retry)
         outputs.update(_generate_all(spec, retry, toolchain, build_dir))
+    rule_duty_target = None
+    if spec.controller.method != SHAPED_METHOD:
+        # the rule is compared on a motor whose firmware is another method: where its
+        # integer design cannot meet the spec's duty target, hold it to the bound it
+        # can meet (to 0.01 counts up), and say so, rather than simulate nothing
+        bounds = {
+            key: bound
+            for key, result in outputs.items()
+            if key[0] == SHAPED_METHOD
+            and isinstance(result, str)
+            and (bound := refused_duty_bound(result)) is not None
+        }
+        if bounds:
+            rule_duty_target = f"{math.ceil(max(bounds.values()) * 100) / 100:.2f}"
+            relaxed = {k: spec_with_duty_target(variants[k], rule_duty_target) for k in bounds}
+            outputs.update(_generate_all(spec, relaxed, toolchain, build_dir))
     for key, result in outputs.items():
         if isinstance(result, str):
             raise SilError(f"generating the {key[0]!r} core failed:\n{result}")
@@ -251,7 +270,7 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
         flat_dir = outputs[(SHAPED_METHOD, FLAT_SHAPE)]
         assert isinstance(flat_dir, Path)
         shaped[FLAT_SHAPE] = load_core(flat_dir, SHAPED_METHOD, build_dir)
-    return CoreSet(spec, cores, shaped, fallback)
+    return CoreSet(spec, cores, shaped, fallback, rule_duty_target)
 
 
 def _generate_all(

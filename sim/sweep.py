@@ -120,6 +120,8 @@ class Results:
     studies: Studies
     seconds: dict[str, float] = field(default_factory=dict)
     quick: bool = False  # QUICK_POINTS speeds per study, not the report's density
+    #: the duty target improved_r was held to, when the spec's is out of its reach
+    rule_duty_target: str | None = None
 
     def rows(self, **match: object) -> list[SweepRow]:
         return [r for r in self.sweep if all(getattr(r, k) == v for k, v in match.items())]
@@ -394,4 +396,5 @@ def run_all(spec: Spec, progress: bool = True, quick: bool = False) -> Results:
         studies=Studies(shapes, shape_speeds, short),  # type: ignore[arg-type]
         seconds=seconds,
         quick=quick,
+        rule_duty_target=cores.rule_duty_target,
     )

@@ -193,3 +193,20 @@ def test_a_shape_improved_r_refuses_should_fall_back_to_the_paper_trapezoid(
     assert set(cores.shaped) == {"flat"}
     fallback = (tmp_path / "build" / "specs" / "shaped_motor-improved_r.yaml").read_text()
     assert "back_emf_shape: 120 deg" in fallback
+
+
+def test_a_rule_out_of_the_motors_duty_target_should_be_simulated_at_the_bound_it_meets(
+    tmp_path: Path,
+) -> None:
+    """A motor whose own method meets its targets, where the resistance-aware rule's
+    integer design misses the 1-count duty target (1.156 counts): its improved_r cores
+    (the spec's EMF and the flat one) are generated for 1.16 counts and the report says
+    so; `simulate` used to refuse the whole spec."""
+    heavy = load_spec(ROOT / "tests" / "fixtures" / "odd" / "heavy_2k5_adc16.yaml")
+    cores = prepare_cores(heavy, ("improved", "improved_r"), tmp_path / "build")
+    assert cores.rule_duty_target == "1.16"
+    assert set(cores.cores) == {"improved", "improved_r"}
+    held = (tmp_path / "build" / "specs" / "heavy_2k5_adc16-improved_r.yaml").read_text()
+    assert "duty_counts: 1.16" in held
+    own = (tmp_path / "build" / "specs" / "heavy_2k5_adc16-improved.yaml").read_text()
+    assert "duty_counts: 1.0\n" in own

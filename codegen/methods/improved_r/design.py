@@ -15,7 +15,9 @@
 from __future__ import annotations
 
 import random
+import re
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 
@@ -40,6 +42,21 @@ GRID_RANDOM = 200
 
 class RuleFormatError(ValueError):
     """No integer format of the rule meets the spec's ranges and accuracy targets."""
+
+
+#: How a refusal for the duty target begins; `refused_duty_bound` reads the bound back.
+DUTY_REFUSAL = "duty bound"
+_DUTY_REFUSED = re.compile(
+    re.escape(DUTY_REFUSAL) + r" (\d+\.\d{3}) counts over the design grid exceeds the target"
+)
+
+
+def refused_duty_bound(message: str) -> Fraction | None:
+    """The rule's duty bound (counts) a refusal for the spec's duty target names, or None
+    for any other message: what the simulation and the bench, which compare the rule on
+    a motor whose own method is another, hold it to instead."""
+    found = _DUTY_REFUSED.search(message)
+    return Fraction(found.group(1)) if found else None
 
 
 @dataclass(frozen=True)
@@ -142,7 +159,7 @@ def design_rule(c: RuleConstants, braking_current_codes: int, limits: CoreLimits
     duty, ticks, used = worst_bounds(rule, grid)
     if duty > c.duty_target_counts:
         raise RuleFormatError(
-            f"duty bound {duty:.3f} counts over the design grid exceeds the target"
+            f"{DUTY_REFUSAL} {duty:.3f} counts over the design grid exceeds the target"
             f" {float(c.duty_target_counts):g}"
         )
     if ticks > c.time_target_ticks:
