@@ -276,6 +276,16 @@ def _paths(target: Path) -> _Paths:
     )
 
 
+def file_in_the_way(path: Path) -> Path | None:
+    """The file standing where `path`, or a folder above it, must be a folder: the first
+    existing path from `path` upwards when that is not a folder, else None. Checked
+    before long work whose output goes there, so that it fails at once."""
+    for candidate in (path, *path.parents):
+        if candidate.exists():
+            return None if candidate.is_dir() else candidate
+    return None
+
+
 def check_target(target: Path) -> Path:
     """The absolute target folder, or PublishError if it can never hold the output (a
     file-system root, a file): cheap, so a command can fail before it does any work."""

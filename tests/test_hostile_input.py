@@ -178,6 +178,38 @@ def test_output_into_the_file_system_root_is_refused_in_one_line(tmp_path: Path)
     ]
 
 
+@pytest.mark.parametrize(
+    ("command", "option", "below"),
+    [
+        ("generate", "-o", "out"),
+        ("firmware", "--build", ""),
+        ("unity", "--build", ""),
+        ("simulate", "-o", ""),
+    ],
+)
+def test_a_file_where_a_folder_must_go_is_named_in_one_line(
+    tmp_path: Path, command: str, option: str, below: str
+) -> None:
+    """An output path through an existing file: one line naming the file, not the
+    system's bare "File exists" / "Not a directory" (simulate: after its whole run),
+    and the file is left alone."""
+    blocker = tmp_path / "notes.txt"
+    blocker.write_text("mine\n", encoding="utf-8")
+    target = blocker / below if below else blocker
+    result = subprocess.run(
+        [sys.executable, "-m", "bldc", command, str(SPEC), option, str(target)],
+        capture_output=True,
+        text=True,
+        timeout=HANG_GUARD_S,
+        check=False,
+    )
+    assert result.returncode == ExitCode.ENVIRONMENT, result.stderr
+    lines = [line for line in result.stderr.splitlines() if not line.startswith("warning:")]
+    assert len(lines) == 1, lines
+    assert f"{blocker} is a file, not a folder" in lines[0], lines
+    assert blocker.read_text(encoding="utf-8") == "mine\n"
+
+
 def test_several_errors_are_reported_at_once_each_on_its_own_line(tmp_path: Path) -> None:
     spec = tmp_path / "spec.yaml"
     text = TEXT.replace("0.56 mH", "0.56 mh").replace("  poles: 2\n", "  poles: 3\n")
