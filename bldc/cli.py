@@ -41,7 +41,7 @@ from pathlib import Path
 from codegen import __version__
 from codegen.errors import DerivationError, ExitCode, SpecError, internal_error_line
 from codegen.freshness import StaleOutputError
-from codegen.publish import PublishError, file_in_the_way
+from codegen.publish import PublishError, os_error_line
 from codegen.render import PROJECT_ROOT
 
 PROG = "bldc-codegen"
@@ -152,27 +152,10 @@ def _report(exc: BaseException, args: argparse.Namespace) -> int:
         print(f"error: `{command}` failed with exit status {exc.returncode}", file=sys.stderr)
         return int(ExitCode.ENVIRONMENT)
     if isinstance(exc, OSError):
-        blocker = _file_in_the_way(exc)
-        if blocker is not None:
-            print(
-                f"error: {exc.filename}: {blocker} is a file, not a folder (a folder is needed"
-                " there: give another path, or move the file)",
-                file=sys.stderr,
-            )
-            return int(ExitCode.ENVIRONMENT)
-        name = f" {exc.filename}" if exc.filename else ""
-        print(f"error:{name}: {exc.strerror or _one_line(exc)}", file=sys.stderr)
+        print(os_error_line(exc), file=sys.stderr)
         return int(ExitCode.ENVIRONMENT)
     print(internal_error_line(exc, PROJECT_ROOT), file=sys.stderr)
     return int(ExitCode.INTERNAL)
-
-
-def _file_in_the_way(exc: OSError) -> Path | None:
-    """The file that stands where a folder had to be made (mkdir's "File exists", or
-    "Not a directory" below it), or None for any other error."""
-    if not isinstance(exc, FileExistsError | NotADirectoryError) or not exc.filename:
-        return None
-    return file_in_the_way(Path(str(exc.filename)))
 
 
 def main(argv: Sequence[str] | None = None) -> int:

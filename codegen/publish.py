@@ -286,6 +286,24 @@ def file_in_the_way(path: Path) -> Path | None:
     return None
 
 
+def os_error_line(exc: OSError) -> str:
+    """The one `error:` line for a file-system error: the file that stands where a
+    folder had to be made (mkdir's "File exists", or "Not a directory" below it) named
+    as such; else the path and the system's words."""
+    blocker = (
+        file_in_the_way(Path(str(exc.filename)))
+        if isinstance(exc, FileExistsError | NotADirectoryError) and exc.filename
+        else None
+    )
+    if blocker is not None:
+        return (
+            f"error: {exc.filename}: {blocker} is a file, not a folder (a folder is needed"
+            " there: give another path, or move the file)"
+        )
+    name = f" {exc.filename}" if exc.filename else ""
+    return f"error:{name}: {exc.strerror or str(exc).splitlines()[0]}"
+
+
 def check_target(target: Path) -> Path:
     """The absolute target folder, or PublishError if it can never hold the output (a
     file-system root, a file): cheap, so a command can fail before it does any work."""

@@ -15,8 +15,8 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from codegen.errors import DerivationError, SpecError
-from codegen.publish import file_in_the_way
+from codegen.errors import DerivationError, ExitCode, SpecError
+from codegen.publish import file_in_the_way, os_error_line
 from codegen.render import write_atomically
 from codegen.shown import shown
 from codegen.spec_loader import load_spec
@@ -87,3 +87,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SilError as exc:
         print(f"software in the loop failed: {exc}", file=sys.stderr)
         return EXIT_SIL
+    except OSError as exc:  # the output folder
+        print(os_error_line(exc), file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)

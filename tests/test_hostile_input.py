@@ -181,23 +181,30 @@ def test_output_into_the_file_system_root_is_refused_in_one_line(tmp_path: Path)
 @pytest.mark.parametrize(
     ("command", "option", "below"),
     [
-        ("generate", "-o", "out"),
-        ("firmware", "--build", ""),
-        ("unity", "--build", ""),
-        ("simulate", "-o", ""),
+        (("bldc", "generate"), "-o", "out"),
+        (("bldc", "firmware"), "--build", ""),
+        (("bldc", "unity"), "--build", ""),
+        (("bldc", "simulate"), "-o", ""),
+        (("bldc", "robustness"), "-o", "report"),
+        (("sim",), "-o", ""),
+        (("sim.robustness",), "-o", ""),
     ],
+    ids=lambda v: "-".join(v) if isinstance(v, tuple) else v,
 )
 def test_a_file_where_a_folder_must_go_is_named_in_one_line(
-    tmp_path: Path, command: str, option: str, below: str
+    tmp_path: Path, command: tuple[str, ...], option: str, below: str
 ) -> None:
     """An output path through an existing file: one line naming the file, not the
-    system's bare "File exists" / "Not a directory" (simulate: after its whole run),
-    and the file is left alone."""
+    system's bare "File exists" / "Not a directory" (simulate and robustness: after
+    their whole run; their module entry points: a traceback), and the file is left
+    alone."""
     blocker = tmp_path / "notes.txt"
     blocker.write_text("mine\n", encoding="utf-8")
     target = blocker / below if below else blocker
     result = subprocess.run(
-        [sys.executable, "-m", "bldc", command, str(SPEC), option, str(target)],
+        [sys.executable, "-m", *command, str(SPEC), option, str(target), "--no-progress"]
+        if command[-1] in ("simulate", "robustness", "sim", "sim.robustness")
+        else [sys.executable, "-m", *command, str(SPEC), option, str(target)],
         capture_output=True,
         text=True,
         timeout=HANG_GUARD_S,
