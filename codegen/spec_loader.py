@@ -519,10 +519,17 @@ def _adc(r: _Reader, data: Mapping[str, Any]) -> Adc | None:
     if sec is None:
         return None
     r.only_keys(sec, _ADC_KEYS, "adc")
+    # The generated port reads the STM32F103's ADC as it converts: 12-bit codes, right
+    # aligned, against VREF+ (DS5319: 2.4 V to VDDA, which is at most 3.6 V). Another
+    # width would make the firmware read every code 2^(12 - bits) times off, and trip.
     reference = r.attempt(
-        lambda: r.quantity(sec, "reference", "adc", units.VOLTAGE, _positive(0.5, 5.0, "V"))
+        lambda: r.quantity(
+            sec, "reference", "adc", units.VOLTAGE, _Range(2.4, 3.6, "V (the STM32F103's VREF+)")
+        )
     )
-    bits = r.attempt(lambda: r.integer(sec, "bits", "adc", _Range(8, 16, "bits")))
+    bits = r.attempt(
+        lambda: r.integer(sec, "bits", "adc", _Range(12, 12, "bits (the STM32F103's ADC)"))
+    )
     divider = r.attempt(
         lambda: r.number(sec, "bus_voltage_divider", "adc", _Range(1, 1000, "(V/V)"))
     )

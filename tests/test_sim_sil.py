@@ -199,14 +199,14 @@ def test_a_rule_out_of_the_motors_duty_target_should_be_simulated_at_the_bound_i
     tmp_path: Path,
 ) -> None:
     """A motor whose own method meets its targets, where the resistance-aware rule's
-    integer design misses the 1-count duty target (1.156 counts): its improved_r cores
-    (the spec's EMF and the flat one) are generated for 1.16 counts and the report says
+    integer design misses its 0.6-count duty target (0.646 counts): its improved_r cores
+    (the spec's EMF and the flat one) are generated for 0.65 counts and the report says
     so; `simulate` used to refuse the whole spec."""
-    heavy = load_spec(ROOT / "tests" / "fixtures" / "odd" / "heavy_2k5_adc16.yaml")
+    heavy = load_spec(ROOT / "tests" / "fixtures" / "odd" / "heavy_2k5_tight_duty.yaml")
     cores = prepare_cores(heavy, ("improved", "improved_r"), tmp_path / "build")
-    assert cores.rule_duty_target == "1.16"
+    assert cores.rule_duty_target == "0.65"
     assert set(cores.cores) == {"improved", "improved_r"}
-    held = (tmp_path / "build" / "specs" / "heavy_2k5_adc16-improved_r.yaml").read_text()
-    assert "duty_counts: 1.16" in held
-    own = (tmp_path / "build" / "specs" / "heavy_2k5_adc16-improved.yaml").read_text()
-    assert "duty_counts: 1.0\n" in own
+    held = (tmp_path / "build" / "specs" / "heavy_2k5_tight_duty-improved_r.yaml").read_text()
+    assert "duty_counts: 0.65" in held
+    own = (tmp_path / "build" / "specs" / "heavy_2k5_tight_duty-improved.yaml").read_text()
+    assert "duty_counts: 0.6\n" in own

@@ -311,6 +311,21 @@ BAD_SPECS = [
         id="pole-count-huge-integer",
     ),
     pytest.param(
+        # the generated port reads the F103's 12-bit codes as they are: a 10-bit spec
+        # read every code 4x high and tripped over-voltage at boot (its PIL run, with
+        # the short circuit as the safe state, could not even attach the motor)
+        _replace("  bits: 12\n", "  bits: 10\n"),
+        "adc.bits",
+        ("out of range", "[12, 12] bits (the STM32F103's ADC)"),
+        id="adc-not-12-bit",
+    ),
+    pytest.param(
+        _replace("  reference: 3.3 V\n", "  reference: 5 V\n"),
+        "adc.reference",
+        ("out of range", "[2.4, 3.6] V (the STM32F103's VREF+)"),
+        id="adc-reference-above-vdda",
+    ),
+    pytest.param(
         _replace("counter_bits: 16", "counter_bits: 32"),
         "hall.counter_bits",
         ("out of range", "[16, 16] bits"),

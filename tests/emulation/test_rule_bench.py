@@ -44,7 +44,7 @@ ROOT = Path(__file__).resolve().parents[2]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 PAPER_IMPROVED_R = ROOT / "spec" / "paper_motor_improved_r.yaml"
 #: improved, meeting its targets; the rule's integer design misses its duty target
-HEAVY = ROOT / "tests" / "fixtures" / "odd" / "heavy_2k5_adc16.yaml"
+HEAVY = ROOT / "tests" / "fixtures" / "odd" / "heavy_2k5_tight_duty.yaml"
 #: The rule's table of the turn-off current's decay over 2^k PWM periods.
 DECAY_TABLE = "bldc_decay"
 
@@ -176,8 +176,8 @@ def test_a_rule_out_of_the_motors_duty_target_should_be_measured_at_the_bound_it
     tmp_path: Path,
 ) -> None:
     """The bench measures the rule on every motor. Where the spec's method is another and
-    the rule's design cannot meet the spec's duty target (1.156 counts against 1), the
-    copy is held to 1.16 counts and generated, and the bench says so (it used to exit 3
+    the rule's design cannot meet the spec's duty target (0.646 counts against 0.6), the
+    copy is held to 0.65 counts and generated, and the bench says so (it used to exit 3
     on a spec whose own firmware meets every target). The rule's own spec is held to
     its target: the same refusal is raised there."""
     from codegen.methods.base import FixedPointError
@@ -185,10 +185,10 @@ def test_a_rule_out_of_the_motors_duty_target_should_be_measured_at_the_bound_it
 
     variant = improved_r_spec(HEAVY, tmp_path)
     generated = tmp_path / "generated"
-    assert generate_rule(HEAVY, variant, generated) == "1.16"
+    assert generate_rule(HEAVY, variant, generated) == "0.65"
     assert (generated / "c" / "bldc_commutation.c").is_file()
-    assert "duty_counts: 1.16" in variant.read_text(encoding="utf-8")
+    assert "duty_counts: 0.65" in variant.read_text(encoding="utf-8")
     own = tmp_path / "own.yaml"
     own.write_text(spec_with_method(HEAVY.read_text(encoding="utf-8"), METHOD), encoding="utf-8")
-    with pytest.raises(FixedPointError, match=r"duty bound 1\.156 counts"):
+    with pytest.raises(FixedPointError, match=r"duty bound 0\.646 counts"):
         generate_rule(own, own, tmp_path / "own")
