@@ -87,3 +87,28 @@ def test_an_exceeded_budget_should_name_its_key_and_what_the_image_needs() -> No
         "firmware.flash_budget = 8192 B is below what this image needs, 9000 B"
     )
     assert budget_hint(Budget("flash", 4000, 8192), "improved") is None
+
+
+def test_a_braking_run_that_cannot_start_should_be_one_line_not_a_traceback(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """`make pil`: the motor is attached to an idle bridge; where the firmware holds a
+    switch on when it is attached (a fault latched at boot, the short circuit its safe
+    state) the plant refuses with PilError. The report says so in one line and exits 1
+    (a 10-bit ADC spec once ended in a traceback there). The firmware, scenarios and
+    run are stand-ins: this is the report's handling of the refusal."""
+    from emulation.pil import report
+    from emulation.pil.bus import PilError
+
+    def refuse(*_: object) -> None:
+        raise PilError("the plant is attached with switches on ((False, True)): attach it idle")
+
+    monkeypatch.setattr(report, "build_firmware", lambda *_: tmp_path / "firmware.elf")
+    monkeypatch.setattr(report, "SCENARIOS", ())
+    monkeypatch.setattr(report, "brake", refuse)
+    assert report.main([str(ROOT / "spec" / "paper_motor.yaml"), "--braking", "short"]) == 1
+    err = capsys.readouterr().err
+    assert err.splitlines() == [
+        "error: pil: paper_motor: braking: the plant is attached with switches on"
+        " ((False, True)): attach it idle"
+    ]

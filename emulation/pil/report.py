@@ -21,6 +21,7 @@ from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
 from emulation.pil.build import ROOT, ToolError, build_firmware, checked_in, generate
+from emulation.pil.bus import PilError
 from emulation.pil.plant_faults import PLANT_FAULTS, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import SCENARIOS, Outcome, run_scenario
@@ -166,7 +167,11 @@ def main(argv: list[str] | None = None) -> int:
             section: list[str] | None = None
             if args.braking != "off":
                 setup = braking_setup(spec, short=args.braking == "short")
-                result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+                try:
+                    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+                except PilError as error:  # e.g. a fault latched at boot: no motor to brake
+                    print(f"error: pil: {spec.name}: braking: {error}", file=sys.stderr)
+                    return 1
                 names = braking_report.write_figures(result, target.parent)
                 publish(braking_report.csv_text(result), target.parent / "braking_commutations.csv")
                 section = braking_report.section(result, names)
