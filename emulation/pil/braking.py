@@ -171,6 +171,11 @@ class Commutation:
     #: in both runs, whichever window is longer)
     extended_deviations_pct: tuple[float, ...] = ()
     sil_extended_deviations_pct: tuple[float, ...] = ()
+    #: the window and the commutation's length without the commanded end: what they are
+    #: where the command acts like the main duty (`sim.metrics.acts_like_main_duty`:
+    #: no suppression, the end no event in the plant), decided with the SIL's command
+    physical_period_deviations_pct: tuple[float, ...] = ()
+    physical_commutation_s: float = 0.0
 
     @property
     def compared_periods(self) -> int:
@@ -563,19 +568,26 @@ class BrakingLoop:
             None,
         )
         sector_ticks = following - start
-        physical = zero - start if zero is not None else sector_ticks
+        physical = min(zero - start if zero is not None else sector_ticks, sector_ticks)
         commanded = end_com - start if end_com is not None else 0
         length = min(max(commanded, physical), sector_ticks)
-        inside = [p for p in periods if p.start >= start and p.start < start + length]
-        if not inside:
-            inside = [p for p in periods if p.start >= start][:1]
-        later = [p for p in periods if p.start >= inside[-1].end]
-        window = inside + later[:1]
         sign = edge.current_signs[nc]
-        deviations = tuple((sign * p.currents[nc] - current) / current * 100 for p in window)
-        extended = tuple(
-            (sign * p.currents[nc] - current) / current * 100 for p in inside + later[:3]
-        )
+
+        def window_of(ticks: int) -> list[PeriodRecord]:
+            """Every period overlapping [start, start + ticks), and the one after."""
+            inside = [p for p in periods if p.start >= start and p.start < start + ticks]
+            if not inside:
+                inside = [p for p in periods if p.start >= start][:1]
+            later = [p for p in periods if p.start >= inside[-1].end]
+            return inside + later[:1]
+
+        def deviations_of(window: list[PeriodRecord]) -> tuple[float, ...]:
+            return tuple((sign * p.currents[nc] - current) / current * 100 for p in window)
+
+        window = window_of(length)
+        later = [p for p in periods if p.start >= window[-1].end]
+        deviations = deviations_of(window)
+        extended = deviations_of(window + later[:2])
         worst = max(deviations, key=abs)
         # the port modulates the incoming switch of the last edge through the sector
         steady = previous_edge(edge).modulated_on
@@ -616,6 +628,8 @@ class BrakingLoop:
             period_deviations_pct=deviations,
             deviation_worst_pct=worst,
             extended_deviations_pct=extended,
+            physical_period_deviations_pct=deviations_of(window_of(physical)),
+            physical_commutation_s=physical / TICK_HZ,
         )
 
 
@@ -627,6 +641,7 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
     from dataclasses import replace
 
     from sim.drive import Drive
+    from sim.metrics import acts_like_main_duty
     from sim.runs import simulate
     from sim.sil import core_command, prepare_cores
 
@@ -665,6 +680,16 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
         if c.end_com_tick is not None:
             command = replace(command, commutation_time_s=(c.end_com_tick - c.com_tick) / TICK_HZ)
         command = replace(command, main_duty=c.main_duty_after)
+        if acts_like_main_duty(command) and c.physical_period_deviations_pct:
+            # the commanded end is no event in the plant: the window ends one period
+            # after the turn-off current's zero, in the PIL as in the SIL
+            physical = c.physical_period_deviations_pct
+            c = replace(
+                c,
+                period_deviations_pct=physical,
+                deviation_worst_pct=max(physical, key=abs),
+                commutation_s=c.physical_commutation_s,
+            )
         outputs = command.core_outputs
         run = simulate(case, command, "switched")
         trace = run.trace
