@@ -16,7 +16,9 @@ Each commutation is measured the way `sim.metrics` measures a simulated one: tim
 is the COM event the Hall edge's handler raises (the pattern changes and the carrier
 restarts there, as at the simulation's t = 0); I is the turn-off current's mean over
 the last whole PWM period before it; the commutation ends when the turn-off current
-reaches zero or at the commutation-end COM event, whichever is later; the window is
+reaches zero or at the commutation-end COM event, whichever is later (the zero alone
+where the command acts like the main duty: its end is then no event in the plant,
+decided on the SIL's command with `sim.metrics.acts_like_main_duty`); the window is
 every PWM period overlapping the commutation plus the one after (issue 16), and the
 deviation is the signed extreme of (|i_nc| - I) / I over the window's period means.
 The SIL simulation of the same commutation (`sim.runs`: the generated C core on the
