@@ -58,7 +58,7 @@ from sim.schedule import OFF, Schedule, Segment
 from sim.switched import simulate_switched
 
 #: the whole module (its motors braking share module-scoped runs): one queued unit
-pytestmark = pytest.mark.heavy(seconds=58)
+pytestmark = pytest.mark.heavy(seconds=64)
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
@@ -615,3 +615,29 @@ def test_a_command_acting_like_the_main_duty_should_end_both_windows_at_the_zero
     assert cut, [(c.index, c.window_lengths) for c in result.commutations]
     for c in result.commutations:
         assert abs(c.window_lengths[0] - c.window_lengths[1]) <= 1, (c.index, c.window_lengths)
+
+
+def test_a_run_that_compares_nothing_should_say_why_each_edge_was_not_compared(
+    tmp_path: Path,
+) -> None:
+    """A short run at a speed where every commutation fills its sector (the previous
+    commutation's end restarts the carrier just before the next edge, so there are no
+    steady periods for the simulation to start from) measures nothing; the failure
+    says why, edge by edge, and that the full run compares them lower down (it used to
+    say only "no commutation was measured")."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "lv6v100a.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, braking_setup(spec, short=True))
+    assert not result.commutations
+    edges = result.edges - 1 - SETTLING_EDGES
+    restart = (
+        "a carrier restart (the previous commutation's end) within the 2 whole PWM periods"
+        " before it: the commutation fills its sector at this speed"
+    )
+    assert result.unmeasured == {restart: edges}
+    assert braking_report.problems(result) == [
+        f"no commutation was measured ({edges} x {restart}; the full run (`make pil`)"
+        " compares them at the lower speeds it brakes to)"
+    ]

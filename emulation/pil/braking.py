@@ -30,6 +30,7 @@ from __future__ import annotations
 import bisect
 import math
 import time
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -230,6 +231,9 @@ class BrakingResult:
     trace: list[tuple[float, np.ndarray]] = field(default_factory=list)
     edges: int = 0
     wall_s: float = 0.0
+    #: why the Hall edges after the settling ones that were not measured were not
+    #: (reason -> edges)
+    unmeasured: dict[str, int] = field(default_factory=dict)
 
     @property
     def emulated_s(self) -> float:
@@ -516,32 +520,39 @@ class BrakingLoop:
             list(plant.trace),
             len(self.edges),
             time.perf_counter() - self.run.wall,
+            dict(self.unmeasured),
         )
 
     # ------------------------------------------------------------------ measurement
     def commutations(self) -> list[Commutation]:
+        """The measured commutations; why each other edge is not one goes to
+        `unmeasured`."""
         out = []
+        self.unmeasured: Counter[str] = Counter()
         for index in range(SETTLING_EDGES, len(self.edges) - 1):
             measured = self._measure(index)
-            if measured is not None:
+            if isinstance(measured, Commutation):
                 out.append(measured)
+            else:
+                self.unmeasured[measured] += 1
         return out
 
-    def _measure(self, index: int) -> Commutation | None:
+    def _measure(self, index: int) -> Commutation | str:
+        """The commutation of Hall edge `index`, or why it cannot be compared."""
         hall, sector, compares, arr = self.edges[index]
         following = self.edges[index + 1][0]
         own = edge_coms(self.com_ticks, self.com_ccers, hall, following)
         if own is None:
-            return None
+            return "no COM event of its own before the next edge"
         first, end_index = own
         start = self.com_ticks[first]
         end_com = None if end_index is None else self.com_ticks[end_index]
         if first + 1 >= len(self.com_ticks):
-            return None
+            return "the run ended within its commutation"
         # the inputs of the last timing published before the edge's handler applied it
         runs = [inputs for _, inputs in self.timing_runs if inputs.get("published", start) < start]
         if not runs:
-            return None
+            return "no timing published before it"
         edge = switching_table().edge_into(sector, "forward")
         periods = self.plant.periods
         full = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz)
@@ -550,17 +561,22 @@ class BrakingLoop:
         # simulation's last pre-edge period (cut at t = 0 by the same restart)
         before = [p for p in periods if p.end <= start]
         if len(before) < PRE_EDGE_PERIODS + 1 or before[-1].end != start:
-            return None
+            return f"fewer than {PRE_EDGE_PERIODS + 1} PWM periods recorded before it"
         phase = (before[-1].end - before[-1].start) / full
         phase = 0.0 if phase >= 1.0 else phase
         # the simulation starts PRE_EDGE_PERIODS whole periods before the cut one
         origin = -PRE_EDGE_PERIODS - (1 if phase > 0.0 else 0)
         if any(p.end - p.start != full for p in before[origin:-1]):
-            return None  # an earlier restart (a commutation end) in the pre-edge run
+            # the simulation starts from steady whole periods (`sim.scenario`)
+            return (
+                f"a carrier restart (the previous commutation's end) within the"
+                f" {PRE_EDGE_PERIODS} whole PWM periods before it: the commutation fills"
+                " its sector at this speed"
+            )
         off, nc = edge.turn_off, edge.non_commutating
         current = edge.current_signs[off] * before[-1].currents[off]
         if current <= 0.0:
-            return None
+            return "no turn-off current at the edge"
         zero = next(
             (
                 t

@@ -229,7 +229,10 @@ def problems(result: BrakingResult) -> list[str]:
                 f" {c.window_lengths[1]} (SIL) PWM periods"
             )
     if not result.commutations:
-        out.append("no commutation was measured")
+        why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
+        if "fills its sector" in why:
+            why += "; the full run (`make pil`) compares them at the lower speeds it brakes to"
+        out.append("no commutation was measured" + (f" ({why})" if why else ""))
     return out
 
 
