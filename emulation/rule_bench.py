@@ -20,7 +20,6 @@ default), and measured with the machinery of emulation/isr_bench.py:
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -33,7 +32,7 @@ from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
 from codegen.methods.base import FixedPointError
-from codegen.methods.improved_r.design import refused_duty_bound
+from codegen.methods.improved_r.design import reachable_duty_target
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from codegen.spec_variant import spec_with_duty_target, spec_with_method
@@ -89,10 +88,9 @@ def generate_rule(spec_path: str | Path, variant: Path, generated: Path) -> str 
         generate(variant, generated, PROJECT_ROOT)
         return None
     except FixedPointError as error:
-        bound = refused_duty_bound(str(error))
-        if bound is None or variant == Path(spec_path):
+        target = reachable_duty_target([str(error)])
+        if target is None or variant == Path(spec_path):
             raise
-        target = f"{math.ceil(bound * 100) / 100:.2f}"
     text = spec_with_duty_target(variant.read_text(encoding="utf-8"), target)
     variant.write_text(text, encoding="utf-8")
     generate(variant, generated, PROJECT_ROOT)

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
-import math
 import re
 import shutil
 import subprocess
@@ -34,7 +33,7 @@ from codegen.abi import INPUTS, OUTPUTS, ctypes_struct
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.freshness import StaleOutputError, check_fresh
-from codegen.methods.improved_r.design import refused_duty_bound
+from codegen.methods.improved_r.design import reachable_duty_target, refused_duty_bound
 from codegen.render import PROJECT_ROOT
 from codegen.spec_model import Spec
 from codegen.spec_variant import spec_with_duty_target, spec_with_method
@@ -246,16 +245,16 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
         # the rule is compared on a motor whose firmware is another method: where its
         # integer design cannot meet the spec's duty target, hold it to the bound it
         # can meet (to 0.01 counts up), and say so, rather than simulate nothing
-        bounds = {
-            key: bound
+        refused = {
+            key: result
             for key, result in outputs.items()
             if key[0] == SHAPED_METHOD
             and isinstance(result, str)
-            and (bound := refused_duty_bound(result)) is not None
+            and refused_duty_bound(result) is not None
         }
-        if bounds:
-            rule_duty_target = f"{math.ceil(max(bounds.values()) * 100) / 100:.2f}"
-            relaxed = {k: spec_with_duty_target(variants[k], rule_duty_target) for k in bounds}
+        rule_duty_target = reachable_duty_target(refused.values())
+        if rule_duty_target is not None:
+            relaxed = {k: spec_with_duty_target(variants[k], rule_duty_target) for k in refused}
             outputs.update(_generate_all(spec, relaxed, toolchain, build_dir))
     for key, result in outputs.items():
         if isinstance(result, str):

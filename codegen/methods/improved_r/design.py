@@ -14,8 +14,10 @@
 
 from __future__ import annotations
 
+import math
 import random
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -53,10 +55,18 @@ _DUTY_REFUSED = re.compile(
 
 def refused_duty_bound(message: str) -> Fraction | None:
     """The rule's duty bound (counts) a refusal for the spec's duty target names, or None
-    for any other message: what the simulation and the bench, which compare the rule on
-    a motor whose own method is another, hold it to instead."""
+    for any other message."""
     found = _DUTY_REFUSED.search(message)
     return Fraction(found.group(1)) if found else None
+
+
+def reachable_duty_target(messages: Iterable[str]) -> str | None:
+    """The duty target (counts, as a spec value) the simulation and the bench hold the
+    rule to when they compare it on a motor whose own method is another and its design
+    refused the spec's: the largest bound the refusals name, to 0.01 counts up; None if
+    none of them is such a refusal."""
+    bounds = [b for m in messages if (b := refused_duty_bound(m)) is not None]
+    return f"{math.ceil(max(bounds) * 100) / 100:.2f}" if bounds else None
 
 
 @dataclass(frozen=True)
