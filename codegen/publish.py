@@ -310,6 +310,9 @@ def check_target(target: Path) -> Path:
     p = _paths(target)
     if p.target.exists() and not p.target.is_dir():
         raise PublishError(f"{p.target} exists and is not a folder")
+    blocker = file_in_the_way(p.target)
+    if blocker is not None:  # a file above it: the folder can never be made
+        raise PublishError(f"{p.target}: {blocker} is a file, not a folder")
     return p.target
 
 

@@ -192,26 +192,32 @@ def test_output_into_the_file_system_root_is_refused_in_one_line(tmp_path: Path)
     ids=lambda v: "-".join(v) if isinstance(v, tuple) else v,
 )
 def test_a_file_where_a_folder_must_go_is_named_in_one_line(
-    tmp_path: Path, command: tuple[str, ...], option: str, below: str
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    command: tuple[str, ...],
+    option: str,
+    below: str,
 ) -> None:
     """An output path through an existing file: one line naming the file, not the
     system's bare "File exists" / "Not a directory" (simulate and robustness: after
     their whole run; their module entry points: a traceback), and the file is left
-    alone."""
+    alone. In this process, through each entry point's own main()."""
+    from bldc import cli
+    from sim import cli as sim_cli
+    from sim import robustness
+
     blocker = tmp_path / "notes.txt"
     blocker.write_text("mine\n", encoding="utf-8")
     target = blocker / below if below else blocker
-    result = subprocess.run(
-        [sys.executable, "-m", *command, str(SPEC), option, str(target), "--no-progress"]
-        if command[-1] in ("simulate", "robustness", "sim", "sim.robustness")
-        else [sys.executable, "-m", *command, str(SPEC), option, str(target)],
-        capture_output=True,
-        text=True,
-        timeout=HANG_GUARD_S,
-        check=False,
-    )
-    assert result.returncode == ExitCode.ENVIRONMENT, result.stderr
-    lines = [line for line in result.stderr.splitlines() if not line.startswith("warning:")]
+    argv = [str(SPEC), option, str(target)]
+    if command[-1] in ("simulate", "robustness", "sim", "sim.robustness"):
+        argv.append("--no-progress")
+    mains = {"bldc": lambda: cli.main([command[1], *argv]), "sim": lambda: sim_cli.main(argv)}
+    mains["sim.robustness"] = lambda: robustness.main(argv)
+    capsys.readouterr()
+    assert mains[command[0]]() == ExitCode.ENVIRONMENT
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if not line.startswith("warning:")]
     assert len(lines) == 1, lines
     assert f"{blocker} is a file, not a folder" in lines[0], lines
     assert blocker.read_text(encoding="utf-8") == "mine\n"
