@@ -286,6 +286,13 @@ def file_in_the_way(path: Path) -> Path | None:
     return None
 
 
+def require_folder_path(path: Path) -> None:
+    """Raise NotADirectoryError (for `os_error_line`) when a file stands where `path` or
+    a folder above it must be: before long work whose output goes there."""
+    if file_in_the_way(path) is not None:
+        raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(path))
+
+
 def os_error_line(exc: OSError) -> str:
     """The one `error:` line for a file-system error: the file that stands where a
     folder had to be made (mkdir's "File exists", or "Not a directory" below it) named

@@ -8,15 +8,13 @@ core cannot be generated, compiled or loaded.
 from __future__ import annotations
 
 import argparse
-import errno
-import os
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
 
 from codegen.errors import DerivationError, ExitCode, SpecError
-from codegen.publish import file_in_the_way, os_error_line
+from codegen.publish import os_error_line, require_folder_path
 from codegen.render import write_atomically
 from codegen.shown import shown
 from codegen.spec_loader import load_spec
@@ -36,8 +34,7 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool, quick: boo
     start = time.perf_counter()
     spec = load_spec(spec_path)
     out = Path(output) if output else Path("generated") / spec.name / "simulation"
-    if file_in_the_way(out) is not None:  # before the run, not after it
-        raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(out))
+    require_folder_path(out)  # before the run, not after it
     results = run_all(spec, progress=progress, quick=quick)
     bounds = limits(results.drive)
     figure_start = time.perf_counter()

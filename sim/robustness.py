@@ -27,8 +27,6 @@ Exit status: 0 success, 2 bad spec or arguments, 4 the cores cannot be built.
 from __future__ import annotations
 
 import argparse
-import errno
-import os
 import sys
 import time
 from collections.abc import Sequence
@@ -38,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.errors import ExitCode, SpecError
-from codegen.publish import file_in_the_way, os_error_line
+from codegen.publish import os_error_line, require_folder_path
 from codegen.shown import shown
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec, Tolerances
@@ -310,12 +308,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         spec = load_spec(args.spec)
         out = Path(args.output) if args.output else Path("generated") / spec.name / "robustness"
-        if file_in_the_way(out) is not None:  # before the campaign, not after it
-            raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(out))
+        require_folder_path(out)  # before the campaign, not after it
         campaign = build_campaign(spec, args.samples, args.speeds, methods, args.plant, args.seed)
         result = run_campaign(
             spec, campaign, args.scheduler, args.workers, args.chunk, not args.no_progress
         )
+        names = write_report(spec, result, out)
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_SPEC
@@ -323,11 +321,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"software in the loop failed: {exc}", file=sys.stderr)
         return EXIT_SIL
     except OSError as exc:  # the output folder
-        print(os_error_line(exc), file=sys.stderr)
-        return int(ExitCode.ENVIRONMENT)
-    try:
-        names = write_report(spec, result, out)
-    except OSError as exc:
         print(os_error_line(exc), file=sys.stderr)
         return int(ExitCode.ENVIRONMENT)
     runs = result.values.shape[0] * result.values.shape[1] * result.values.shape[2]

@@ -285,6 +285,8 @@ class BrakingLoop:
         self.hall_override: int | None = None
         #: (tick, inputs) at every entry of the timing handler (TIM1_TRG_COM)
         self.timing_runs: list[tuple[int, dict[str, int]]] = []
+        #: why each edge `commutations()` did not measure was not measured
+        self.unmeasured: Counter[str] = Counter()
         self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
         self._entries_seen = len(self.machine.entry_log)
         self._port = self.machine.symbol("port")
@@ -505,11 +507,12 @@ class BrakingLoop:
             f"from {setup.start_rpm:g} rpm to {setup.stop_rpm:g} rpm at {setup.current_a:g} A",
         )
         log = machine.tim1.gate_log or []
+        commutations = self.commutations()  # fills `unmeasured`
         return BrakingResult(
             self.spec,
             setup,
             outcome,
-            self.commutations(),
+            commutations,
             list(plant.periods),
             self.start_tick,
             machine.now,
@@ -528,7 +531,7 @@ class BrakingLoop:
         """The measured commutations; why each other edge is not one goes to
         `unmeasured`."""
         out = []
-        self.unmeasured: Counter[str] = Counter()
+        self.unmeasured.clear()
         for index in range(SETTLING_EDGES, len(self.edges) - 1):
             measured = self._measure(index)
             if isinstance(measured, Commutation):
