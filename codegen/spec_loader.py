@@ -290,6 +290,8 @@ _INVERTER_KEYS = (
     "dead_time",
 )
 _HALL_KEYS = ("sequence", "timer_clock", "counter_bits")
+#: the narrowest braking-current range, in current-ADC codes
+CURRENT_RANGE_CODES = 16
 _ADC_KEYS = ("bits", "reference", "bus_voltage_divider", "current_gain", "current_offset")
 _CONTROLLER_KEYS = (
     "method",
@@ -945,6 +947,27 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"below one current-ADC code ({_g(amps_per_code)} A = reference / 2^bits / gain):"
             " the controller cannot tell it from zero",
             f">= {_g(amps_per_code)} A",
+        )
+    current_span = controller.braking_current_max_a - controller.braking_current_min_a
+    # the current loop's range: its anti-windup is exercised (and needed) where the
+    # largest current is codes above what D_max holds and the smallest codes below it
+    if 0 < current_span < CURRENT_RANGE_CODES * amps_per_code:
+        r.report(
+            "controller.braking_current_max",
+            _raw(data, "controller.braking_current_max"),
+            f"is only {_g(current_span)} A above braking_current_min, less than"
+            f" {CURRENT_RANGE_CODES} current-ADC codes ({_g(amps_per_code)} A each): too"
+            " narrow a range for the current loop to resolve",
+            f">= braking_current_min + {_g(CURRENT_RANGE_CODES * amps_per_code)} A",
+        )
+    bus_span = inverter.bus_voltage_max_v - inverter.bus_voltage_min_v
+    if 0 < bus_span < volts_per_code:
+        r.report(
+            "inverter.bus_voltage_max",
+            _raw(data, "inverter.bus_voltage_max"),
+            f"is only {_g(bus_span)} V above bus_voltage_min, less than one bus-ADC code"
+            f" ({_g(volts_per_code)} V): the range may hold no code",
+            f">= bus_voltage_min + {_g(volts_per_code)} V",
         )
     if inverter.bus_voltage_nominal_v > Fraction(3, 2) * motor.rated_voltage_v:
         r.report(

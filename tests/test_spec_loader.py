@@ -465,6 +465,39 @@ BAD_SPECS = [
         id="braking-current-range-inverted",
     ),
     pytest.param(
+        # 0.25 A over 16 mA codes: 15.5 codes, too few for the loop to saturate and leave
+        _edit(
+            lambda d: d["controller"].update(
+                braking_current_min="5 A",
+                braking_current_nominal="5.1 A",
+                braking_current_max="5.25 A",
+            )
+        ),
+        "controller.braking_current_max",
+        (
+            "only 0.25 A above braking_current_min",
+            "16 current-ADC codes",
+            ">= braking_current_min + 0.257812 A",
+        ),
+        id="braking-current-range-narrower-than-16-codes",
+    ),
+    pytest.param(
+        # 5 mV over 8.9 mV codes, with the tolerances narrowed to fit
+        _edit(
+            lambda d: (
+                d["inverter"].update(
+                    bus_voltage_min="23.998 V",
+                    bus_voltage_nominal="24 V",
+                    bus_voltage_max="24.003 V",
+                ),
+                d["tolerances"].update(bus_voltage=[-0.001, 0.001]),
+            )
+        ),
+        "inverter.bus_voltage_max",
+        ("only 0.005 V above bus_voltage_min", "less than one bus-ADC code"),
+        id="bus-range-narrower-than-one-code",
+    ),
+    pytest.param(
         _replace("braking_current_nominal: 5 A", "braking_current_nominal: 15 A"),
         "controller.braking_current_nominal",
         ("outside its range", "[0, 10] A"),

@@ -298,3 +298,28 @@ def test_verify_should_stop_on_a_stale_generated_folder(
     assert main([str(edited), "--generated", str(generated), "--no-progress"]) == EXIT_STALE
     err = capsys.readouterr().err
     assert "regenerate with" in err and "make generate" in err
+
+
+def test_anti_windup_should_be_exercised_where_speed_min_holds_every_current(
+    tmp_path: Path,
+) -> None:
+    """On a one-rpm speed range at 4000 rpm, E(speed_min)/R = 45 A holds the 10 A
+    largest current: a windup scenario at speed_min never saturates. The scenario's EMF
+    comes from the oracle's plant (D_max holds the mid current), so the check runs."""
+    spec = ROOT / "tests" / "fixtures" / "odd" / "narrow_speed_4k.yaml"
+    generated = tmp_path / "generated"
+    write_tree(render_all(spec).files, generated)
+    result, _, _, _ = verify(
+        spec,
+        generated,
+        tmp_path / "build",
+        seed=20261124,
+        random_count=2000,
+        exhaustive_stride=1,
+        show_progress=False,
+    )
+    windup = result.checks["loop_windup"]
+    assert windup.verdict == "PASS", windup.note
+    assert "saturated before the drop True" in windup.note
+    assert "D_max holds 5 A" in windup.note
+    assert result.passed, _failures(result)

@@ -288,11 +288,19 @@ def scenarios(spec: Spec, model: LoopModel) -> list[tuple[str, float, list[int]]
         out.append(
             (f"{float(speed):.0f} rpm: nominal -> min", emf, [nominal] * half + [bottom] * half)
         )
-    # unreachable: the largest current at the slowest speed (E/R below it), then nominal
-    slow = float(k_e * c.speed_min_rpm)
+    # saturation: at the EMF where the averaged plant's steady current at D_max,
+    # (E - U_d (1 - D_max) / 2) / R, is midway between the smallest and the largest
+    # braking current, the largest is unreachable (the duty saturates) and the smallest
+    # is reachable (it must leave saturation). speed_min's EMF may hold both (a narrow
+    # speed range of a fast motor) or neither (E/R below the smallest current)
+    u_d, r_ohm = float(model.bus_nominal), float(model.resistance)
+    floor_v = u_d * (1 - float(model.duty_max) / model.pwm_counts) / 2
+    middle_a = float(c.braking_current_min_a + c.braking_current_max_a) / 2
+    slow = floor_v + r_ohm * middle_a
+    where = f"{slow / float(k_e):.0f} rpm (D_max holds {middle_a:g} A)"
     out.append(
         (
-            "windup: max at speed_min, then nominal",
+            f"windup: max at {where}, then min",
             slow,
             [top] * (2 * STEP_PERIODS) + [bottom] * STEP_PERIODS,
         )
