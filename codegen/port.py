@@ -248,9 +248,6 @@ EXTI_PORT_CODE = {"GPIOA": 0, "GPIOB": 1}
 #: least TIM3's input filter (8 samples at 72 MHz = 111 ns, what a Hall edge needs), so a
 #: shorter spike on the lines trips nothing, and far below one PWM period.
 HALL_CONFIRM_NS = 1000
-#: Cycles of one iteration of the confirmation's volatile loop at least (a load, an add,
-#: a store, a compare and a branch: more than 3 on the Cortex-M3 whatever the flash).
-HALL_CONFIRM_CYCLES_PER_LOOP = 3
 CPU_HZ = 72_000_000
 
 
@@ -279,12 +276,12 @@ def _hall_exti(pins: tuple[Pin, ...]) -> dict[str, object]:
     }
     if vectors != {"EXTI0", "EXTI9_5"}:
         raise ValueError("the port's EXTI handlers serve EXTI0 and EXTI9_5: the Hall pins moved")
-    loops = -(-HALL_CONFIRM_NS * CPU_HZ // (10**9 * HALL_CONFIRM_CYCLES_PER_LOOP))
+    cycles = -(-HALL_CONFIRM_NS * CPU_HZ // 10**9)
     return {
         "hall_exti_lines": " | ".join(f"EXTI_PR_PR{p.number}" for p in pins),
         "hall_exti_text": ", ".join(f"P{p.port[-1]}{p.number} EXTI{p.number}" for p in pins),
         "hall_exticr": exticr,
-        "hall_confirm_loops": loops,
+        "hall_confirm_cycles": cycles,
         "hall_confirm_text": f"{HALL_CONFIRM_NS / 1000:g} us",
     }
 

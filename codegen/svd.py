@@ -341,6 +341,17 @@ SYSTICK_CSR_BITS: tuple[tuple[str, int, str], ...] = (
     ("SysTick_CTRL_COUNTFLAG_Msk", 16, "wrapped since the last read (the read clears it)"),
 )
 
+#: The cycle counter, the same on every Cortex-M3 with the DWT (the STM32F103's): the
+#: ARMv7-M ARM C1.8.7 DWT_CTRL at 0xE0001000 (CYCCNTENA, bit 0) and DWT_CYCCNT after it,
+#: counting the processor clock once CoreDebug DEMCR.TRCENA (C1.6.5, 0xE000EDFC, bit 24)
+#: enables the DWT: the Hall lines' confirmation waits on it.
+DWT_BASE = 0xE0001000
+COREDEBUG_BASE = 0xE000EDF0
+CYCLE_COUNTER_BITS: tuple[tuple[str, int, str], ...] = (
+    ("DWT_CTRL_CYCCNTENA_Msk", 0, "DWT_CTRL: CYCCNT counts the processor clock"),
+    ("CoreDebug_DEMCR_TRCENA_Msk", 24, "DEMCR: the DWT and ITM enabled"),
+)
+
 #: The SVD's NVIC peripheral gives the core registers the header needs.
 NVIC_PERIPHERAL = "NVIC"
 NVIC_ENABLE_REGISTER = "ISER0"
@@ -607,6 +618,14 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
         "systick_bits": [
             {"name": name, "value": f"(1UL << {bit}U)", "comment": doc}
             for name, bit, doc in SYSTICK_CSR_BITS
+        ],
+        "dwt_base": f"0x{DWT_BASE:08X}UL",
+        "dwt_comment": "ARMv7-M ARM C1.8.7 DWT_CTRL (not in the vendor SVD)",
+        "coredebug_base": f"0x{COREDEBUG_BASE:08X}UL",
+        "coredebug_comment": "ARMv7-M ARM C1.6 DHCSR (not in the vendor SVD)",
+        "cycle_counter_bits": [
+            {"name": name, "value": f"(1UL << {bit}U)", "comment": doc}
+            for name, bit, doc in CYCLE_COUNTER_BITS
         ],
     }
 

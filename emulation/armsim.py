@@ -5,6 +5,9 @@ the very Thumb-2 code arm-none-eabi-gcc produced, run on many inputs, without a 
 The image is loaded as the startup code would leave it (.data at its run address, .bss
 zeroed); no startup code runs. Peripheral space is plain read/write memory, so handler
 register writes land and a test can pre-load what a handler reads (a capture register).
+One register is not plain memory: the DWT's cycle counter (DWT_CYCCNT, ARMv7-M ARM
+C1.8.7) reads as the cycles the call has taken so far, as `emulation.cycles` estimates
+them, so a wait on it (the Hall lines' confirmation) runs for as long as on the chip.
 
 A call runs one function under the AAPCS: arguments in r0-r3, the stack at the top of
 RAM, LR pointing at a return address outside the image where emulation stops. Anything
@@ -67,6 +70,8 @@ PERIPHERAL_REGIONS = (
     (0x4000_0000, 0x4003_0000),  # APB1, APB2, AHB (TIM1 at 0x40012C00, GPIO, ADC, ...)
     (0xE000_0000, 0xE010_0000),  # private peripheral bus: NVIC, SCB, SysTick
 )
+#: DWT_CYCCNT: reads as the call's cycles so far (see the module's docstring)
+CYCLE_COUNTER = 0xE000_1004
 # LR holds this (| 1 for Thumb) during a call; it lies outside every mapping, and
 # emulation stops when the PC reaches it, before anything is fetched there.
 RETURN_ADDRESS = 0x0FFF_FFF0
@@ -386,6 +391,10 @@ class CortexM3Sim:
         self, uc: Uc, access: int, address: int, size: int, _value: int, _data: object
     ) -> None:
         self._accesses.append(Access(address, size, access != UC_MEM_READ))
+        if access == UC_MEM_READ and address == CYCLE_COUNTER:
+            cycles = estimate_cycles(self._steps, self).cycles & 0xFFFF_FFFF
+            uc.mem_write(address, cycles.to_bytes(4, "little"))
+            return
         mask = self._done_on_read.get(address) if access == UC_MEM_READ else None
         if mask:
             word = int.from_bytes(uc.mem_read(address, 4), "little")

@@ -44,6 +44,15 @@ MUTANTS = (
         "faults",
     ),
     Mutant(
+        "cycle counter never started: the Hall lines' confirmation waits for ever",
+        PORT,
+        "    DWT->CTRL |= DWT_CTRL_CYCCNTENA_Msk;\n",
+        "",
+        PAPER,
+        "hall_unplugged",
+        "faults",
+    ),
+    Mutant(
         "Hall lines' confirmation dropped: the EXTI trips on its first read",
         PORT,
         "    if (((pins - 1u) > 5u) && ((port.faults & BLDC_FAULT_HALL_INVALID) == 0u)) {",

@@ -867,6 +867,31 @@ def test_systick_should_reload_and_flag_each_wrap() -> None:
     assert not m.systick.read(0x0, 4) & (1 << 16)
 
 
+def test_cycle_counter_should_count_processor_cycles_once_both_enables_are_set() -> None:
+    """ARMv7-M ARM C1.8.7: DWT_CYCCNT counts the processor clock while DWT_CTRL.CYCCNTENA
+    and DEMCR.TRCENA are set, wraps at 2^32 and takes writes; other bits are errors."""
+    m = machine()
+    tick = TICK_HZ // 8_000_000  # HCLK out of reset: the 8 MHz HSI
+    m.dwt.write(0x0, 4, 1)
+    at(m, m.now + 50 * tick)
+    assert m.dwt.read(0x4, 4) == 0  # TRCENA still 0: the DWT is off
+    m.coredebug.write(0xC, 4, 1 << 24)
+    start = m.now
+    at(m, start + 40 * tick)
+    assert m.dwt.read(0x4, 4) == 40
+    m.dwt.write(0x4, 4, 0xFFFF_FFF0)
+    at(m, m.now + 20 * tick)
+    assert m.dwt.read(0x4, 4) == 4  # wrapped
+    m.dwt.write(0x0, 4, 0)
+    held = m.dwt.read(0x4, 4)
+    at(m, m.now + 30 * tick)
+    assert m.dwt.read(0x4, 4) == held  # CYCCNTENA cleared: it holds
+    with pytest.raises(UnmodelledAccessError):
+        m.dwt.write(0x0, 4, 1 << 22)  # a profiling counter's enable: not modelled
+    with pytest.raises(UnmodelledAccessError):
+        m.coredebug.write(0xC, 4, 1 << 16)  # MON_EN: halting debug is not modelled
+
+
 def test_systick_tickint_should_pend_the_exception() -> None:
     m = machine()
     m.nvic.active.append(2)

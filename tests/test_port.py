@@ -319,6 +319,9 @@ extern GPIO_TypeDef fake_gpioa, fake_gpiob;
 extern ADC_TypeDef fake_adc1, fake_adc2;
 extern AFIO_TypeDef fake_afio;
 extern EXTI_TypeDef fake_exti;
+extern DWT_Type fake_dwt;
+extern CoreDebug_Type fake_coredebug;
+extern uint32_t fake_cycles;
 extern unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 extern unsigned fake_nvic_priority[64];
 #undef TIM1
@@ -330,6 +333,12 @@ extern unsigned fake_nvic_priority[64];
 #undef ADC2
 #undef AFIO
 #undef EXTI
+#undef DWT
+#undef CoreDebug
+#define DWT (&fake_dwt)
+#define CoreDebug (&fake_coredebug)
+/* the host's cycle counter: each read a few cycles on */
+#define BLDC_PORT_CYCLES() (fake_cycles += 5u)
 #define ADC2 (&fake_adc2)
 #define AFIO (&fake_afio)
 #define EXTI (&fake_exti)
@@ -359,6 +368,9 @@ GPIO_TypeDef fake_gpioa, fake_gpiob;
 ADC_TypeDef fake_adc1, fake_adc2;
 AFIO_TypeDef fake_afio;
 EXTI_TypeDef fake_exti;
+DWT_Type fake_dwt;
+CoreDebug_Type fake_coredebug;
+uint32_t fake_cycles = 0xFFFFFFF0u; /* wraps within the first confirmation */
 unsigned long fake_nvic_enabled, fake_nvic_pending, fake_nvic_cleared;
 unsigned fake_nvic_priority[64];
 """

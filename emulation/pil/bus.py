@@ -6,7 +6,7 @@ covers, or with a width the model does not accept, is a `PilError` naming the ad
 the peripheral and the register as the vendor SVD calls them: a model says what it does
 not model (STYLE.md 15), it never answers with a silent zero.
 
-The core's own registers (SysTick, SCB) are not in the vendor SVD; their names and
+The core's own registers (SysTick, SCB, DWT, CoreDebug) are not in the vendor SVD; their names and
 offsets come from the ARMv7-M Architecture Reference Manual (`CORE_REGISTERS`).
 """
 
@@ -21,8 +21,11 @@ from codegen.svd import load_device
 if TYPE_CHECKING:
     from emulation.pil.machine import Machine
 
-#: ARMv7-M ARM B3.3.2 (SysTick) and B3.2.2 (System control block): base, name -> offset.
+#: ARMv7-M ARM B3.3.2 (SysTick), B3.2.2 (System control block), C1.8.7 (DWT: its
+#: control and cycle counter) and C1.6 (CoreDebug: DEMCR): base, name -> offset.
 CORE_REGISTERS: dict[str, tuple[int, dict[str, int]]] = {
+    "DWT": (0xE0001000, {"CTRL": 0x0, "CYCCNT": 0x4}),
+    "CoreDebug": (0xE000EDF0, {"DHCSR": 0x0, "DCRSR": 0x4, "DCRDR": 0x8, "DEMCR": 0xC}),
     "SysTick": (0xE000E010, {"CSR": 0x0, "RVR": 0x4, "CVR": 0x8, "CALIB": 0xC}),
     "SCB": (
         0xE000ED00,

@@ -70,7 +70,7 @@ from emulation.pil.exti import Afio, Exti
 from emulation.pil.gpio import Gpio
 from emulation.pil.iwdg import Iwdg
 from emulation.pil.rcc import TICK_HZ, Flash, Rcc
-from emulation.pil.scs import HARD_FAULT, Nvic, Scb, SysTick
+from emulation.pil.scs import HARD_FAULT, CoreDebug, CycleCounter, Nvic, Scb, SysTick
 from emulation.pil.tim1 import AdvancedTimer
 from emulation.pil.tim3 import HallTimer
 
@@ -234,6 +234,8 @@ class Machine:
         self.nvic = Nvic(self)
         self.scb = Scb(self)
         self.systick = SysTick(self)
+        self.dwt = CycleCounter(self)
+        self.coredebug = CoreDebug(self, self.dwt)
         self.gpioa = Gpio(self, "GPIOA")
         self.gpiob = Gpio(self, "GPIOB")
         self.iwdg = Iwdg(self, lsi_hz=self.options.lsi_hz)
@@ -249,6 +251,8 @@ class Machine:
             self.nvic,
             self.scb,
             self.systick,
+            self.dwt,
+            self.coredebug,
             self.gpioa,
             self.gpiob,
             self.iwdg,

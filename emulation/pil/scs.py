@@ -1,4 +1,5 @@
-"""The Cortex-M3 system control space: NVIC, SCB and SysTick (PM0056 4.3, 4.4, 4.5;
+"""The Cortex-M3 system control space: NVIC, SCB, SysTick and the DWT's cycle counter
+(PM0056 4.3, 4.4, 4.5;
 ARMv7-M ARM B1.5 for the exception model the machine runs on top of them).
 
 NVIC (PM0056 4.3): ISER/ICER set and clear enables, ISPR/ICPR pending, IABR reads the
@@ -22,6 +23,12 @@ SysTick (PM0056 4.5): a 24-bit down counter clocked by HCLK (CLKSOURCE = 1) or H
 writing CVR clears it and COUNTFLAG; the first count after that loads RVR; COUNTFLAG is
 set when the counter goes from 1 to 0 and cleared by reading CSR; with TICKINT the same
 transition pends the SysTick exception. Its value is computed from the time when read.
+
+Cycle counter (ARMv7-M ARM C1.8.7, C1.6.5): DWT_CYCCNT counts processor clock cycles
+while DWT_CTRL.CYCCNTENA and CoreDebug DEMCR.TRCENA are both set, wrapping at 2^32;
+writable. Its value is computed from the time when read, as SysTick's. The rest of the
+DWT (comparators, the other profiling counters) and of CoreDebug (halting debug) is not
+modelled: an access to it is an error.
 """
 
 from __future__ import annotations
@@ -380,3 +387,82 @@ class SysTick(Peripheral):
     def on_event(self, now: int) -> None:
         self._catch_up()
         self.machine.nvic.pend(SYSTICK)
+
+
+CYCCNTENA = 1
+DEMCR_TRCENA = 1 << 24
+
+
+class CycleCounter(Peripheral):
+    """DWT_CTRL and DWT_CYCCNT; CoreDebug's DEMCR (its TRCENA gates the DWT) is the
+    `CoreDebug` model's, which tells this one when it changes."""
+
+    size = 0x8
+
+    def __init__(self, machine: Machine) -> None:
+        super().__init__(machine, "DWT")
+        self.ctrl = 0
+        self.trcena = False
+        self.anchor_time = 0
+        self.anchor_value = 0
+        self.anchor_ticks = machine.cycle_ticks  # ticks per cycle since the anchor
+        self.readers = {"CTRL": lambda: self.ctrl, "CYCCNT": lambda: self.value(self.machine.now)}
+        self.writers = {"CTRL": self._write_ctrl, "CYCCNT": self._write_cyccnt}
+
+    def counting(self) -> bool:
+        return self.trcena and bool(self.ctrl & CYCCNTENA)
+
+    def value(self, now: int) -> int:
+        if not self.counting():
+            return self.anchor_value
+        cycles = (now - self.anchor_time) // self.anchor_ticks
+        return (self.anchor_value + cycles) & 0xFFFFFFFF
+
+    def _reanchor(self) -> None:
+        """From now on, at the processor clock now (`clock_changed` comes after the
+        machine took the new one: the cycles so far are counted at the old)."""
+        now = self.machine.now
+        self.anchor_value = self.value(now)
+        self.anchor_time = now
+        self.anchor_ticks = self.machine.cycle_ticks
+
+    def _write_ctrl(self, value: int) -> None:
+        if value & ~CYCCNTENA:
+            raise UnmodelledAccessError(
+                f"DWT.CTRL = 0x{value:08x}: only CYCCNTENA (bit 0) is modelled"
+            )
+        self._reanchor()
+        self.ctrl = value
+
+    def _write_cyccnt(self, value: int) -> None:
+        self.anchor_time = self.machine.now
+        self.anchor_value = value
+        self.anchor_ticks = self.machine.cycle_ticks
+
+    def set_trcena(self, on: bool) -> None:
+        self._reanchor()
+        self.trcena = on
+
+    def clock_changed(self, now: int) -> None:
+        self._reanchor()
+
+
+class CoreDebug(Peripheral):
+    """DEMCR's TRCENA only (the DWT's enable); halting debug is not modelled."""
+
+    size = 0x10
+
+    def __init__(self, machine: Machine, dwt: CycleCounter) -> None:
+        super().__init__(machine, "CoreDebug")
+        self.dwt = dwt
+        self.demcr = 0
+        self.readers = {"DEMCR": lambda: self.demcr}
+        self.writers = {"DEMCR": self._write_demcr}
+
+    def _write_demcr(self, value: int) -> None:
+        if value & ~DEMCR_TRCENA:
+            raise UnmodelledAccessError(
+                f"CoreDebug.DEMCR = 0x{value:08x}: only TRCENA (bit 24) is modelled"
+            )
+        self.demcr = value
+        self.dwt.set_trcena(bool(value & DEMCR_TRCENA))

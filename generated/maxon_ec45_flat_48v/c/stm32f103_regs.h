@@ -2193,6 +2193,26 @@ typedef struct {
 #define SysTick_CTRL_CLKSOURCE_Msk (1UL << 2U) /* counts the processor clock */
 #define SysTick_CTRL_COUNTFLAG_Msk (1UL << 16U) /* wrapped since the last read (the read clears it) */
 
+/* The cycle counter: the DWT and CoreDebug core peripherals, not in the vendor SVD either
+ * (codegen/svd.py CYCLE_COUNTER_BITS, from the ARMv7-M Architecture Reference Manual), with
+ * CMSIS core_cm3.h's names; only the registers the port uses. */
+typedef struct {
+    __IO uint32_t CTRL;   /* DWT_CTRL, offset 0x00 */
+    __IO uint32_t CYCCNT; /* DWT_CYCCNT, offset 0x04 */
+} DWT_Type;
+#define DWT_BASE 0xE0001000UL /* ARMv7-M ARM C1.8.7 DWT_CTRL (not in the vendor SVD) */
+#define DWT ((DWT_Type *)DWT_BASE)
+typedef struct {
+    __IO uint32_t DHCSR; /* offset 0x00 */
+    __IO uint32_t DCRSR; /* offset 0x04 */
+    __IO uint32_t DCRDR; /* offset 0x08 */
+    __IO uint32_t DEMCR; /* offset 0x0C */
+} CoreDebug_Type;
+#define CoreDebug_BASE 0xE000EDF0UL /* ARMv7-M ARM C1.6 DHCSR (not in the vendor SVD) */
+#define CoreDebug ((CoreDebug_Type *)CoreDebug_BASE)
+#define DWT_CTRL_CYCCNTENA_Msk (1UL << 0U) /* DWT_CTRL: CYCCNT counts the processor clock */
+#define CoreDebug_DEMCR_TRCENA_Msk (1UL << 24U) /* DEMCR: the DWT and ITM enabled */
+
 /* CMSIS cmsis_gcc.h's PRIMASK intrinsics. A host build (the project's tests) has no
  * interrupts to mask, so there they do nothing. */
 #if defined(__arm__)

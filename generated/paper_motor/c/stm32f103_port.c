@@ -65,9 +65,14 @@
 #define BLDC_PORT_ADC2_CR1 (ADC_CR1_SCAN | ADC_CR1_AWDIE | ADC_CR1_AWDEN)
 /* The Hall lines' EXTI lines (pending, mask and trigger registers share the bit layout). */
 #define BLDC_PORT_HALL_LINES (EXTI_PR_PR6 | EXTI_PR_PR7 | EXTI_PR_PR0)
-/* Iterations of the Hall lines' confirmation wait: 1 us at 72 MHz, with at
- * least 3 cycles per iteration (codegen/port.py HALL_CONFIRM_NS). */
-#define BLDC_PORT_HALL_CONFIRM_LOOPS 24u
+/* The Hall lines' confirmation wait: 1 us of the processor clock, counted by
+ * the DWT's cycle counter (codegen/port.py HALL_CONFIRM_NS): exact whatever the flash
+ * and the code's placement, so the wait delays the handlers of its priority by no more. */
+#define BLDC_PORT_HALL_CONFIRM_CYCLES 72u
+/* The processor clock's cycles (a seam: a host build of the port counts its own). */
+#ifndef BLDC_PORT_CYCLES
+#define BLDC_PORT_CYCLES() (DWT->CYCCNT)
+#endif
 
 #define BLDC_PORT_EGR_COMMUTATE (TIM_EGR_COMG | TIM_EGR_UG) /* enables and compares together */
 /* TIM1 CR2: enables preloaded until a COM event, TRGO = OC4REF; the idle levels
@@ -874,13 +879,15 @@ void TIM1_BRK_IRQHandler(void)
 }
 
 /* The Hall lines read alike at the EXTI's entry: confirm, then trip. Two reads
- * BLDC_PORT_HALL_CONFIRM_LOOPS iterations apart (1 us at least) must both
+ * BLDC_PORT_HALL_CONFIRM_CYCLES processor cycles apart (1 us at least) must both
  * read 000 or 111: a spike shorter than that on the lines trips nothing, while a real
  * code 0 or 7 (a connector unplugged) holds. A change during the wait pends the EXTI
  * again, which reads afresh. At the Hall edge's priority: the trip writes TIM1 at once. */
 BLDC_PORT_COLD static void port_hall_lines_alike(uintptr_t anchor)
 {
-    for (volatile uint32_t wait = 0u; wait < BLDC_PORT_HALL_CONFIRM_LOOPS; ++wait) {
+    const uint32_t start = BLDC_PORT_CYCLES();
+    while ((uint32_t)(BLDC_PORT_CYCLES() - start) < BLDC_PORT_HALL_CONFIRM_CYCLES) {
+        /* unsigned difference: the counter's wrap is harmless */
     }
     const uint32_t pins = ((PORT_AT(anchor, GPIOA, GPIO_TypeDef)->IDR >> 6) & 3u) | ((PORT_AT(anchor, GPIOB, GPIO_TypeDef)->IDR >> 0 & 1u) << 2);
     if (((pins - 1u) > 5u) && ((port.faults & BLDC_FAULT_HALL_INVALID) == 0u)) {
@@ -1274,6 +1281,10 @@ void bldc_port_init(uint32_t start_faults)
                     RCC_APB2ENR_TIM1EN | RCC_APB2ENR_ADC1EN | RCC_APB2ENR_ADC2EN;
     RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
     (void)RCC->APB1ENR; /* read back: the clocks run before the first register access */
+    /* The cycle counter the Hall lines' confirmation waits on (DEMCR.TRCENA enables the
+     * DWT; a debugger may have set both already). */
+    CoreDebug->DEMCR |= CoreDebug_DEMCR_TRCENA_Msk;
+    DWT->CTRL |= DWT_CTRL_CYCCNTENA_Msk;
 
     uint32_t faults = start_faults;
     if ((RCC->CSR & RCC_CSR_IWDGRSTF) != 0u) {
