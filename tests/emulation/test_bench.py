@@ -63,6 +63,10 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         "over-current",
     ):
         assert any(n.startswith(f"fault {fault}") for n in names), fault
+    # ... and the worst of them from the fault to MOE = 0, held to one PWM period
+    safe = next(f for f in report.figures if f.name.startswith("fault to the safe state"))
+    period_us = 1e6 / float(load_spec(str(spec)).inverter.pwm_frequency_hz)
+    assert safe.target == pytest.approx(period_us) and safe.meets, safe.line()
     for figure in report.figures:
         assert (math.isfinite(figure.value) and figure.value >= 0) or figure.name.startswith(
             "Hall edge from flash"
@@ -70,6 +74,21 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         assert figure.line().startswith(figure.name)
     # the generated output went where the bench was told, not into the repository
     assert (tmp_path / report.spec.name / "generated" / "c" / "stm32f103_port.c").is_file()
+
+
+def test_every_fault_should_reach_its_safe_state_within_a_100_khz_pwm_period(
+    tmp_path: Path,
+) -> None:
+    """10 us: a fault handler may wait behind one of its priority, and the longest was
+    the Hall lines' confirmation, counted in loop iterations (6.6 us on the bench's
+    cycle model: 12.6 us in all). Counted on the DWT's cycle counter it is 1 us."""
+    spec = ROOT / "tests" / "fixtures" / "odd" / "pwm_100k.yaml"
+    report = run_spec(prepare(spec, tmp_path, quick=True), ["handlers"])
+    safe = next(f for f in report.figures if f.name.startswith("fault to the safe state"))
+    assert safe.target == pytest.approx(10.0)
+    assert safe.meets, safe.line()
+    exti = next(f for f in report.figures if "0/7 without an edge" in f.name)
+    assert exti.value <= 72 + 150, exti.line()  # the 1 us wait and the trip, not 6 us
 
 
 def test_exit_status_should_follow_the_targets(
@@ -196,3 +215,18 @@ def test_an_image_over_its_ram_budget_should_be_a_pil_miss_not_a_traceback(
     out = capsys.readouterr().out
     assert "PIL: 100 ms of motor time, plant in the loop: inf s" in out
     assert "not run: bldc-codegen firmware" in out and "of 512 B (EXCEEDED)" in out
+
+
+@pytest.mark.parametrize("only", ["", "size,,handlers", "sizes"])
+def test_an_unknown_or_empty_section_should_be_refused_by_name(
+    only: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--only ""` once ran every section (the CLI dropped the empty value)."""
+    from bldc.cli import main as cli_main
+
+    spec = str(ROOT / "spec" / "paper_motor.yaml")
+    with pytest.raises(SystemExit) as exited:
+        cli_main(["bench", spec, "--only", only])
+    assert exited.value.code == 2
+    last = capsys.readouterr().err.strip().splitlines()[-1]  # argparse: usage, then the error
+    assert "unknown section" in last and "allowed: size," in last, last
