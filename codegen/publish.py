@@ -307,8 +307,16 @@ def os_error_line(exc: OSError) -> str:
             f"error: {exc.filename}: {blocker} is a file, not a folder (a folder is needed"
             " there: give another path, or move the file)"
         )
+    words = exc.strerror or str(exc).splitlines()[0]
+    lock = Path(str(exc.filename)) if exc.filename else None
+    if lock is not None and lock.name.startswith(".") and lock.name.endswith(f".{_TAG}.lock"):
+        target = lock.parent / lock.name[1 : -len(f".{_TAG}.lock")]
+        return (
+            f"error: {target}: cannot publish there: {words} when creating its lock file"
+            f" {lock.name} beside it (give a folder in a writable place)"
+        )
     name = f" {exc.filename}" if exc.filename else ""
-    return f"error:{name}: {exc.strerror or str(exc).splitlines()[0]}"
+    return f"error:{name}: {words}"
 
 
 def check_target(target: Path) -> Path:

@@ -292,3 +292,13 @@ def test_a_recovery_killed_at_every_step_still_recovers(fast_tmp: Path) -> None:
             break
         assert killed == -signal.SIGKILL
     assert step > 5
+
+
+def test_a_lock_that_cannot_be_made_should_name_the_output_folder(tmp_path: Path) -> None:
+    """`generate -o /proc/x` said only `/proc/.x.bldc-codegen.lock: No such file...`."""
+    from codegen.publish import os_error_line
+
+    lock = tmp_path / "gone" / ".out.bldc-codegen.lock"
+    line = os_error_line(FileNotFoundError(2, "No such file or directory", str(lock)))
+    assert line.startswith(f"error: {tmp_path / 'gone' / 'out'}: cannot publish there:"), line
+    assert "\n" not in line and ".out.bldc-codegen.lock" in line

@@ -290,7 +290,7 @@ def _bench(args: argparse.Namespace) -> int:
     load(args.spec)  # one line for a bad spec, before the heavy imports
     flags = ["--report-only"] if args.report_only else []
     flags += ["--quick"] if args.quick else []
-    flags += ["--only", args.only] if args.only else []
+    flags += ["--only", args.only] if args.only is not None else []  # "" is refused there
     return bench_main([args.spec, *flags])
 
 
