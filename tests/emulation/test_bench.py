@@ -52,6 +52,9 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
     ):
         assert expected in names, expected
     assert any(n.startswith("TIM1_TRG_COM_IRQHandler worst") for n in names)
+    if load_spec(str(spec)).controller.method != "improved_r":  # issue 17: <= 150 cycles
+        timing = next(f for f in report.figures if f.name.startswith("TIM1_TRG_COM_IRQHandler"))
+        assert timing.target == 150 and timing.meets, timing.line()
     # every fault path measured to the store that clears MOE
     for fault in (
         "over-voltage",
