@@ -108,13 +108,17 @@ class BackEmf:
     amplitude_v: float
     sector_time_s: float
     waveform: Waveform = Waveform()
+    #: The rotor passed the edge's angle this long before t = 0: the emulated drive's
+    #: time 0 is the COM event its Hall edge's handler raises, after the Hall lines
+    #: changed (TIM3's input filter, the EXTI's and the edge handler's entry).
+    lead_s: float = 0.0
 
     @property
     def _direction(self) -> float:
         return 1.0 if self.edge.direction == "forward" else -1.0
 
     def _angle(self, t: float) -> float:
-        return self.edge.angle_deg + self._direction * 60.0 * t / self.sector_time_s
+        return self.edge.angle_deg + self._direction * 60.0 * (t + self.lead_s) / self.sector_time_s
 
     def values(self, t: float) -> np.ndarray:
         if self.shape == "flat":
@@ -133,7 +137,8 @@ class BackEmf:
         if self.shape == "flat":
             return np.tile(self.values(0.0), (len(times), 1))
         angle = (
-            self.edge.angle_deg + self._direction * 60.0 * np.asarray(times) / self.sector_time_s
+            self.edge.angle_deg
+            + self._direction * 60.0 * (np.asarray(times) + self.lead_s) / self.sector_time_s
         )
         columns = [self.waveform.many(angle - rising_zero_deg(self.sectors, p)) for p in range(3)]
         return self._direction * self.amplitude_v * np.stack(columns, axis=1)
@@ -158,12 +163,13 @@ class BackEmf:
         for phase in range(3):
             zero = rising_zero_deg(self.sectors, phase)
             for corner in self.waveform.corner_angles():
-                # angle(t) - zero = corner + 360 k
+                # angle(t) - zero = corner + 360 k, angle(t) = angle_deg + rate (t + lead)
                 base = zero + corner - self.edge.angle_deg
-                lo = (min(t0 * rate, t1 * rate) - base) / 360.0
-                hi = (max(t0 * rate, t1 * rate) - base) / 360.0
+                s0, s1 = (t0 + self.lead_s) * rate, (t1 + self.lead_s) * rate
+                lo = (min(s0, s1) - base) / 360.0
+                hi = (max(s0, s1) - base) / 360.0
                 for k in range(math.floor(lo), math.ceil(hi) + 1):
-                    t = (base + 360.0 * k) / rate
+                    t = (base + 360.0 * k) / rate - self.lead_s
                     if t0 < t < t1:
                         out.add(round(t, 15))
         return sorted(out)

@@ -91,6 +91,9 @@ class Case:
     post_duties: tuple[float, ...] | None = None
     #: Centre-aligned PWM as TIM1 runs it in the port (`Schedule.on_at_boundaries`).
     tim1_centre: bool = False
+    #: How long before t = 0 the rotor passed the edge's angle (`BackEmf.lead_s`): the
+    #: emulated drive's Hall-lines-to-COM-event delay; 0 in the simulation's own studies.
+    emf_lead_s: float = 0.0
 
     @property
     def sector_time_s(self) -> float:
@@ -108,6 +111,7 @@ class Case:
             self.drive.emf_v(self.speed_rpm),
             self.sector_time_s,
             Waveform(self.drive.emf_points),
+            self.emf_lead_s,
         )
 
     @property

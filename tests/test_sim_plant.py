@@ -165,3 +165,23 @@ def test_emf_values_on_arrays_should_equal_them_one_by_one(
             times = np.linspace(-2.0e-3, 4.0e-3, 401)
             one_by_one = np.array([emf.values(float(t)) for t in times])
             assert np.array_equal(emf.values_many(times), one_by_one), (edge, shape)
+
+
+def test_an_emf_lead_should_shift_the_waveform_and_its_corners_in_time() -> None:
+    """`BackEmf.lead_s`: the rotor passed the edge's angle `lead_s` before t = 0, so the
+    EMF at t is the unshifted one's at t + lead_s, corners included (the emulated
+    drive's time 0 is its COM event, after the Hall lines changed)."""
+    edge = paper_edge()
+    sectors = switching_table().sectors("forward")
+    sector_s, lead = 1e-3, 37e-6
+    plain = BackEmf("spec", edge, sectors, 10.0, sector_s)
+    ahead = dataclasses.replace(plain, lead_s=lead)
+    times = np.linspace(-2e-3, 2e-3, 97)
+    for t in times:
+        assert np.allclose(ahead.values(float(t)), plain.values(float(t) + lead), atol=1e-12)
+    assert np.allclose(ahead.values_many(times), plain.values_many(times + lead), atol=1e-12)
+    assert np.allclose(
+        ahead.corners(-2e-3, 2e-3), [c - lead for c in plain.corners(-2e-3 + lead, 2e-3 + lead)]
+    )
+    e0, e1 = ahead.affine(0.0, 1e-5)
+    assert np.allclose(e0 + e1 * 5e-6, plain.values(5e-6 + lead), atol=1e-9)

@@ -686,6 +686,9 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
             start_currents=c.start_currents,
             post_duties=c.post_duties or None,
             tim1_centre=True,
+            # the rotor crossed into the sector when the Hall lines changed (hall_tick),
+            # the handler's COM event (time 0) comes after it
+            emf_lead_s=(c.com_tick - c.hall_tick) / TICK_HZ,
         )
         fw = c.firmware_inputs
         overrides = {
