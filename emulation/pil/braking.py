@@ -166,6 +166,8 @@ class Commutation:
     deviation_worst_pct: float
     #: the turn-on switch's duty in force in each PWM period from the commutation end
     post_duties: tuple[float, ...] = ()
+    #: the rotor's speed at the end of the window (the SIL holds `speed_rpm` throughout)
+    window_speed_rpm: float | None = None
     sil_worst_pct: float | None = None
     #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
     sil_outputs: tuple[int, int, int] | None = None
@@ -628,6 +630,7 @@ class BrakingLoop:
         after = self.com_compares[first + 1][on_channel]
         applied = (during[on_channel], during[off_channel], self.com_tim3_ccr2[first + 1])
         return Commutation(
+            window_speed_rpm=window[-1].speed_rpm,
             index=index,
             hall_tick=hall,
             com_tick=start,

@@ -171,8 +171,25 @@ def csv_text(result: BrakingResult) -> str:
 COMPARED_FRACTION = 0.5
 
 
-def compared(result: BrakingResult, c: Commutation) -> bool:
+#: The SIL holds the rotor's speed at time 0 through the window: where the rotor slows
+#: by more than this fraction within it (the end of a hard braking, a sector or two
+#: from the stop) the EMF it sees is not the SIL's, and the commutation is not compared
+SPEED_HELD_FRACTION = 0.02
+
+
+def slowed(c: Commutation) -> float:
+    """How much the rotor slowed from time 0 to the window's end, a fraction."""
+    if c.window_speed_rpm is None or c.speed_rpm <= 0.0:
+        return 0.0
+    return 1.0 - c.window_speed_rpm / c.speed_rpm
+
+
+def held_current(result: BrakingResult, c: Commutation) -> bool:
     return c.current_a >= COMPARED_FRACTION * result.setup.current_a
+
+
+def compared(result: BrakingResult, c: Commutation) -> bool:
+    return held_current(result, c) and slowed(c) <= SPEED_HELD_FRACTION
 
 
 def zero_current_code(result: BrakingResult) -> int:
@@ -271,7 +288,10 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
     friction = mech.friction_n_m_s if mech is not None else 0.0
     load = mech.load_torque if mech is not None else 0.0
     worst = worst_difference([c for c in result.commutations if compared(result, c)])
-    skipped = sum(1 for c in result.commutations if not compared(result, c))
+    low = sum(1 for c in result.commutations if not held_current(result, c))
+    slowing = sum(
+        1 for c in result.commutations if held_current(result, c) and not compared(result, c)
+    )
     found = problems(result)
     emulated = result.emulated_s
     lines = [
@@ -309,9 +329,16 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
             f" ({worst.speed_rpm:.0f} rpm, PIL {worst.deviation_worst_pct:+.2f} %, SIL"
             f" {worst.sil_worst_pct:+.2f} %); required within ±{AGREEMENT_PP:g} pp."
             + (
-                f" Not compared: {skipped} commutations whose I is below"
+                f" Not compared: {low} commutations whose I is below"
                 f" {COMPARED_FRACTION:g} x the command (the loop cannot hold it there)."
-                if skipped
+                if low
+                else ""
+            )
+            + (
+                f" Not compared: {slowing} commutations where the rotor slows more than"
+                f" {100 * SPEED_HELD_FRACTION:g} % within the window (the SIL holds the"
+                " speed of time 0)."
+                if slowing
                 else ""
             )
         )
