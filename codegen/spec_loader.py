@@ -292,6 +292,8 @@ _INVERTER_KEYS = (
 _HALL_KEYS = ("sequence", "timer_clock", "counter_bits")
 #: the narrowest braking-current range, in current-ADC codes
 CURRENT_RANGE_CODES = 16
+#: the narrowest speed range, in Hall timer ticks of the 60 deg period
+SPEED_RANGE_TICKS = 16
 _ADC_KEYS = ("bits", "reference", "bus_voltage_divider", "current_gain", "current_offset")
 _CONTROLLER_KEYS = (
     "method",
@@ -900,6 +902,20 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"its 60 deg Hall period is only {_f1(fastest)} ticks: speed resolution worse than"
             " 1.6 %",
             f"<= {_f1(ticks_per_rpm_60deg / 64)} rpm at {_g(hall.timer_clock_hz)} Hz",
+        )
+    # The Hall timer measures the speed to a tick, and a rotor at a steady speed reads
+    # intervals a tick apart: a range of a few ticks reads as over-speed (an interval
+    # below the one at speed_max, the safe state) at speeds inside it.
+    span_ticks = slowest - fastest
+    if fastest >= 64 and slowest <= counter_max and span_ticks < SPEED_RANGE_TICKS:
+        r.report(
+            "controller.speed_max",
+            _raw(data, "controller.speed_max"),
+            f"the speed range spans only {_f1(span_ticks)} Hall timer ticks of 60 deg period"
+            f" ({_f1(fastest)} to {_f1(slowest)}): a rotor inside it reads outside it on a"
+            " tick's jitter",
+            f">= {_f1(ticks_per_rpm_60deg / (slowest - SPEED_RANGE_TICKS))} rpm, a range of"
+            f" {SPEED_RANGE_TICKS} ticks at least",
         )
     # The port clocks TIM3 (the Hall timer) from the timer clock through a 16-bit prescaler.
     prescale = inverter.timer_clock_hz / hall.timer_clock_hz

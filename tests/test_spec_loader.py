@@ -465,6 +465,24 @@ BAD_SPECS = [
         id="braking-current-range-inverted",
     ),
     pytest.param(
+        # 4000-4001 rpm: 0.6 Hall ticks; a rotor at 4000.5 rpm read 2499 and tripped
+        # OVER_SPEED (the PIL's fault scenarios failed 11 of 17 on it)
+        _edit(
+            lambda d: (
+                d["controller"].update(speed_min="4000 rpm", speed_max="4001 rpm"),
+                d.update(
+                    operating_points=[
+                        {"speed": "4000 rpm", "main_duty": 0.42},
+                        {"speed": "4001 rpm", "main_duty": 0.42},
+                    ]
+                ),
+            )
+        ),
+        "controller.speed_max",
+        ("spans only 0.6 Hall timer ticks", "(allowed: >= 4025.8 rpm, a range of 16 ticks"),
+        id="speed-range-narrower-than-16-hall-ticks",
+    ),
+    pytest.param(
         # 0.25 A over 16 mA codes: 15.5 codes, too few for the loop to saturate and leave
         _edit(
             lambda d: d["controller"].update(

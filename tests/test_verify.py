@@ -303,7 +303,7 @@ def test_verify_should_stop_on_a_stale_generated_folder(
 def test_anti_windup_should_be_exercised_where_speed_min_holds_every_current(
     tmp_path: Path,
 ) -> None:
-    """On a one-rpm speed range at 4000 rpm, E(speed_min)/R = 45 A holds the 10 A
+    """On a 4000-4100 rpm speed range, E(speed_min)/R = 45 A holds the 10 A
     largest current: a windup scenario at speed_min never saturates. The scenario's EMF
     comes from the oracle's plant (D_max holds the mid current), so the check runs."""
     spec = ROOT / "tests" / "fixtures" / "odd" / "narrow_speed_4k.yaml"
