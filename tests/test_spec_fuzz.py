@@ -424,11 +424,13 @@ def _audit_free_design(spec_key: tuple[Any, ...], spec: Spec) -> str:
     derivation = derive()
     try:
         core = build_core(spec)
+        core_context(core)
+        float_model_context(spec, derivation)
+        # the current loop's fixed-point design, in the port, refuses a spec its widest
+        # format cannot meet as the core's does (the CLI: one `error:` line, exit 3)
+        render_port_files(spec)
     except FixedPointError:
         return "design refused"
-    core_context(core)
-    float_model_context(spec, derivation)
-    render_port_files(spec)
     render_firmware_files(spec)
     unity_cases(spec)
     return "designed"
