@@ -872,7 +872,8 @@ def test_cycle_counter_should_count_processor_cycles_once_both_enables_are_set()
     and DEMCR.TRCENA are set, wraps at 2^32 and takes writes; other bits are errors."""
     m = machine()
     tick = TICK_HZ // 8_000_000  # HCLK out of reset: the 8 MHz HSI
-    m.dwt.write(0x0, 4, 1)
+    assert m.dwt.read(0x0, 4) == 4 << 28  # NUMCOMP: the M3's 4 comparators, read-only
+    m.dwt.write(0x0, 4, m.dwt.read(0x0, 4) | 1)  # the port's read-modify-write
     at(m, m.now + 50 * tick)
     assert m.dwt.read(0x4, 4) == 0  # TRCENA still 0: the DWT is off
     m.coredebug.write(0xC, 4, 1 << 24)

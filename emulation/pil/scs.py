@@ -390,6 +390,10 @@ class SysTick(Peripheral):
 
 
 CYCCNTENA = 1
+#: DWT_CTRL's read-only fields as the Cortex-M3 has them: NUMCOMP = 4 comparators (bits
+#: 31:28; ARMv7-M ARM C1.8.7); a read-modify-write writes them back, which they ignore
+DWT_CTRL_READ_ONLY = 4 << 28
+DWT_CTRL_WRITABLE = (1 << 23) - 1  # bits 22:0; 27:24 and NUMCOMP are read-only
 DEMCR_TRCENA = 1 << 24
 
 
@@ -406,7 +410,10 @@ class CycleCounter(Peripheral):
         self.anchor_time = 0
         self.anchor_value = 0
         self.anchor_ticks = machine.cycle_ticks  # ticks per cycle since the anchor
-        self.readers = {"CTRL": lambda: self.ctrl, "CYCCNT": lambda: self.value(self.machine.now)}
+        self.readers = {
+            "CTRL": lambda: DWT_CTRL_READ_ONLY | self.ctrl,
+            "CYCCNT": lambda: self.value(self.machine.now),
+        }
         self.writers = {"CTRL": self._write_ctrl, "CYCCNT": self._write_cyccnt}
 
     def counting(self) -> bool:
@@ -427,12 +434,12 @@ class CycleCounter(Peripheral):
         self.anchor_ticks = self.machine.cycle_ticks
 
     def _write_ctrl(self, value: int) -> None:
-        if value & ~CYCCNTENA:
+        if value & DWT_CTRL_WRITABLE & ~CYCCNTENA:
             raise UnmodelledAccessError(
-                f"DWT.CTRL = 0x{value:08x}: only CYCCNTENA (bit 0) is modelled"
+                f"DWT.CTRL = 0x{value:08x}: of its writable bits only CYCCNTENA (bit 0) is modelled"
             )
         self._reanchor()
-        self.ctrl = value
+        self.ctrl = value & CYCCNTENA
 
     def _write_cyccnt(self, value: int) -> None:
         self.anchor_time = self.machine.now
