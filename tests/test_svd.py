@@ -182,6 +182,13 @@ _Static_assert(TIM_CCER_CC3NE == 0x400UL, "CC3NE");
 _Static_assert(TIM_SMCR_SMS_Msk == 0x7UL, "SMS");
 _Static_assert(GPIO_CRH_CNF15_Pos == 30U, "CNF15");
 _Static_assert(TIM3_IRQn == 29, "TIM3_IRQn");
+/* the core's cycle counter, as ARMv7-M ARM C1.8.7 and C1.6.5 (and CMSIS core_cm3.h) */
+_Static_assert(offsetof(DWT_Type, CYCCNT) == 0x4, "CYCCNT");
+_Static_assert(offsetof(CoreDebug_Type, DEMCR) == 0xC, "DEMCR");
+_Static_assert(DWT_BASE == 0xE0001000UL, "DWT");
+_Static_assert(CoreDebug_BASE == 0xE000EDF0UL, "CoreDebug");
+_Static_assert(DWT_CTRL_CYCCNTENA_Msk == 0x1UL, "CYCCNTENA");
+_Static_assert(CoreDebug_DEMCR_TRCENA_Msk == 0x1000000UL, "TRCENA");
 void enable(void) { NVIC_EnableIRQ(TIM3_IRQn); TIM1->BDTR |= TIM_BDTR_MOE; }
 """
     (tmp_path / "check.c").write_text(checks, encoding="utf-8")

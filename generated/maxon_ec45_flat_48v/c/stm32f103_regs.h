@@ -11,8 +11,8 @@
  * SVD STM32F103xx v1.3
  *   codegen/data/STM32F103xx.svd (ST STM32F103xx.svd v1.3 (Apache-2.0), as shipped in pyocd's svd_data.zip)
  *   sha256 1d92b65aaf397a18a599fb6a840812015ad379cdcc0cc3687f673f63e7445367
- * by codegen/svd.py; none is typed by hand but the SysTick timer's (a core peripheral
- * the SVD does not describe: see below).
+ * by codegen/svd.py; none is typed by hand but the core peripherals the SVD does not
+ * describe (the SysTick timer, the DWT's cycle counter and CoreDebug's DEMCR: see below).
  *
  * In an STM32Cube project define USE_CMSIS_DEVICE_HEADER (and STM32F103xB or the
  * matching device macro): this file then includes Cube's own "stm32f1xx.h" instead,
