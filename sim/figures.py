@@ -252,6 +252,10 @@ def commutation_time_figure(results: Results, out: Path) -> str:
     return name
 
 
+def _count(value: int | None) -> float:
+    return np.nan if value is None else float(value)
+
+
 def switching_figure(results: Results, out: Path) -> str:
     fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.6), sharey=True)
     width = 0.2
@@ -270,8 +274,10 @@ def switching_figure(results: Results, out: Path) -> str:
             )
             for s in speeds
         ]
-        sim_on = [r[0].metrics.on_pulses_flowing if r else np.nan for r in sim_rows]
-        sim_off = [r[0].metrics.off_pulses_flowing if r else np.nan for r in sim_rows]
+        # no bar where the sweep has no such row, or the core switched nothing (a Table 4
+        # speed outside the spec's range: the safe state has no pulses to count)
+        sim_on = [_count(r[0].metrics.on_pulses_flowing) if r else np.nan for r in sim_rows]
+        sim_off = [_count(r[0].metrics.off_pulses_flowing) if r else np.nan for r in sim_rows]
         ax.bar(
             x - 1.5 * width, paper_on, width, color="tab:blue", alpha=0.5, label="paper, on phase"
         )

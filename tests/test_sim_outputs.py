@@ -3,6 +3,7 @@ what is simulated: every method of the firmware through the generated C core."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -10,7 +11,7 @@ import pytest
 from codegen.spec_loader import load_spec
 from sim import studies, sweep
 from sim.drive import Drive
-from sim.figures import all_figures, currents_figure
+from sim.figures import all_figures, currents_figure, switching_figure
 from sim.limits import limits
 from sim.report import TARGET_HIGH_RPM, TARGET_LOW_RPM, TARGET_PCT, render_report
 from sim.runs import METHODS, Controller
@@ -104,3 +105,18 @@ def test_report_should_present_improved_r_as_the_c_core(
     assert (tmp_path / names["target"]).exists() and (tmp_path / names["shapes"]).exists()
     optimum = results.optima[0].worst_pct
     assert set(optimum) == {"optimum", *METHODS, "improved_r_pp"}
+    # A Table 4 speed where the core switched nothing (the safe state: no pulses to
+    # count) draws no bar: `simulate` crashed on a motor whose speed_max is one (a
+    # period of 833.3 ticks against BLDC_PERIOD_MIN_TICKS 834)
+    table4 = {float(r.speed_rpm) for r in results.table4}
+    safe = [
+        dataclasses.replace(
+            r,
+            metrics=dataclasses.replace(r.metrics, on_pulses_flowing=None, off_pulses_flowing=None),
+        )
+        if r.speed_rpm in table4
+        else r
+        for r in results.sweep
+    ]
+    assert safe != list(results.sweep)
+    switching_figure(dataclasses.replace(results, sweep=tuple(safe)), tmp_path)
