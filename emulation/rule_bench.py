@@ -35,7 +35,13 @@ from codegen.methods.base import FixedPointError
 from codegen.methods.improved_r.design import reachable_duty_target
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
-from codegen.spec_variant import spec_with_duty_target, spec_with_method
+from codegen.spec_variant import (
+    FALLBACK_SHAPE,
+    shape_refused,
+    spec_with_duty_target,
+    spec_with_emf_shape,
+    spec_with_method,
+)
 from emulation.callgraph import reached_functions
 from emulation.figures import Figure
 from emulation.isr_bench import (
@@ -79,22 +85,41 @@ def improved_r_spec(spec_path: str | Path, folder: Path) -> Path:
     return out
 
 
-def generate_rule(spec_path: str | Path, variant: Path, generated: Path) -> str | None:
+@dataclass(frozen=True)
+class RuleVariant:
+    """What the improved_r copy of a spec was generated for, where not the spec's own."""
+
+    #: the duty target (counts) it was held to, when the spec's is out of the rule's reach
+    duty_target: str | None = None
+    #: the EMF shape it took, when the rule's firmware refuses the spec's
+    emf_shape: str | None = None
+
+
+def generate_rule(spec_path: str | Path, variant: Path, generated: Path) -> RuleVariant:
     """Generate the improved_r `variant` into `generated`. Where it is a copy (the
-    spec's own method is another) and the rule's integer design cannot meet the spec's
-    duty target, the copy is held to the bound the rule meets (to 0.01 counts up), as
-    the simulation does: that target, else None. Any other refusal is raised."""
-    try:
+    spec's own method is another), as the simulation does: a shape the rule's firmware
+    cannot take (not affine over the commutation) becomes the paper's 120 deg
+    trapezoid, and a duty target its integer design cannot meet becomes the bound it
+    meets (to 0.01 counts up). Any other refusal is raised."""
+    copy = variant != Path(spec_path)
+    shape = None
+    for _ in range(3):  # the shape, then the duty target, then done
+        try:
+            generate(variant, generated, PROJECT_ROOT)
+            return RuleVariant(emf_shape=shape)
+        except FixedPointError as error:
+            text = variant.read_text(encoding="utf-8")
+            if copy and shape is None and shape_refused(str(error)):
+                shape = FALLBACK_SHAPE
+                variant.write_text(spec_with_emf_shape(text, shape), encoding="utf-8")
+                continue
+            target = reachable_duty_target([str(error)])
+            if target is None or not copy:
+                raise
+        variant.write_text(spec_with_duty_target(text, target), encoding="utf-8")
         generate(variant, generated, PROJECT_ROOT)
-        return None
-    except FixedPointError as error:
-        target = reachable_duty_target([str(error)])
-        if target is None or variant == Path(spec_path):
-            raise
-    text = spec_with_duty_target(variant.read_text(encoding="utf-8"), target)
-    variant.write_text(text, encoding="utf-8")
-    generate(variant, generated, PROJECT_ROOT)
-    return target
+        return RuleVariant(target, shape)
+    raise AssertionError("unreachable: each refusal is handled once")
 
 
 def rule_sweep(
@@ -175,6 +200,8 @@ class RuleBench:
     sector_cycles: int
     #: the duty target (counts) the variant was held to, when the spec's is out of reach
     duty_target: str | None = None
+    #: the EMF shape the variant took, when the rule's firmware refuses the spec's
+    emf_shape: str | None = None
 
     def figures(self) -> list[Figure]:
         core, port = self.linked.get("core", 0), self.linked.get("port", 0)
@@ -224,6 +251,12 @@ class RuleBench:
     def lines(self) -> list[str]:
         name = load_spec(self.spec).name
         lines = [f"{METHOD} variant {name} ({self.spec}, generated into {self.generated})"]
+        if self.emf_shape is not None:
+            lines.append(
+                f"{METHOD}   generated for a {self.emf_shape} trapezoid EMF: the rule's firmware"
+                " holds the EMF affine over the commutation and refuses the spec's shape (the"
+                " simulation falls back the same way)"
+            )
         if self.duty_target is not None:
             lines.append(
                 f"{METHOD}   held to {self.duty_target} duty counts: its integer design cannot"
@@ -282,7 +315,7 @@ def run(spec_path: str | Path, work: Path, *, quick: bool = False) -> RuleBench:
     spec = load_spec(variant)
     generated = work / spec.name
     build_dir = work / f"{spec.name}.build"
-    duty_target = generate_rule(spec_path, variant, generated)
+    made = generate_rule(spec_path, variant, generated)
     spec = load_spec(variant)
     sizes = build(generated, build_dir)
     # The Hall edge and the commutation end do not depend on the rule: a small sweep of
@@ -322,5 +355,6 @@ def run(spec_path: str | Path, work: Path, *, quick: bool = False) -> RuleBench:
         indirect=indirect,
         core_undefined=undefined_symbols(build_dir / "core.o"),
         sector_cycles=shortest_sector_cycles(variant),
-        duty_target=duty_target,
+        duty_target=made.duty_target,
+        emf_shape=made.emf_shape,
     )

@@ -36,7 +36,13 @@ from codegen.freshness import StaleOutputError, check_fresh
 from codegen.methods.improved_r.design import reachable_duty_target, refused_duty_bound
 from codegen.render import PROJECT_ROOT
 from codegen.spec_model import Spec
-from codegen.spec_variant import spec_with_duty_target, spec_with_method
+from codegen.spec_variant import (
+    FALLBACK_SHAPE,
+    shape_refused,
+    spec_with_duty_target,
+    spec_with_emf_shape,
+    spec_with_method,
+)
 from sim.command import Command
 from sim.scenario import Case
 from sim.schedule import switch_index
@@ -141,10 +147,9 @@ def _toolchain_digest() -> str:
 
 #: The resistance-aware method, generated per EMF shape.
 SHAPED_METHOD = "improved_r"
-#: `back_emf_shape` values of the extra improved_r variants; the fallback for a shape
-#: the firmware cannot take.
+#: `back_emf_shape` of the extra improved_r variant (the fallback for a shape the
+#: firmware cannot take is `codegen.spec_variant.FALLBACK_SHAPE`).
 FLAT_SHAPE = "flat"
-FALLBACK_SHAPE = "120 deg"
 
 
 @dataclass(frozen=True)
@@ -164,39 +169,6 @@ class CoreSet:
     @cached_property
     def scaling(self) -> Scaling:
         return scaling(self.spec, derive())
-
-
-def spec_with_emf_shape(spec_text: str, shape: str) -> str:
-    """The spec YAML with motor.back_emf_shape set to `shape` (a scalar or a flow list):
-    the entry replaced (with any block-list lines under it), or added under `motor:`."""
-    lines = spec_text.splitlines(keepends=True)
-    out: list[str] = []
-    skip_indent: int | None = None
-    # an entry of the spec's own is replaced where it is; only without one is it added
-    placed = any(re.match(r"^\s+back_emf_shape:", line) for line in lines)
-    for line in lines:
-        indent = len(line) - len(line.lstrip(" "))
-        if skip_indent is not None:
-            if line.strip() and indent > skip_indent:
-                continue
-            skip_indent = None
-        match = re.match(r"^(\s+)back_emf_shape:", line)
-        if match:
-            out.append(f"{match.group(1)}back_emf_shape: {shape}\n")
-            skip_indent = len(match.group(1))
-            placed = True
-            continue
-        out.append(line)
-        if not placed and re.match(r"^motor:\s*(#.*)?$", line):
-            out.append(f"  back_emf_shape: {shape}\n")
-            placed = True
-    if not placed:
-        raise SilError("the spec has no motor: section to put back_emf_shape in")
-    return "".join(out)
-
-
-def _shape_refused(output: str) -> bool:
-    return "motor.back_emf_shape" in output
 
 
 def _is_output_of(spec: Spec, generated: Path) -> bool:
@@ -233,7 +205,7 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
     outputs = _generate_all(spec, variants, toolchain, build_dir)
     fallback = None
     refused = outputs.get((SHAPED_METHOD, None))
-    if isinstance(refused, str) and _shape_refused(refused):  # any other error: below
+    if isinstance(refused, str) and shape_refused(refused):  # any other error: below
         fallback = FALLBACK_SHAPE
         retry = {
             (SHAPED_METHOD, None): spec_with_emf_shape(variants[(SHAPED_METHOD, None)], fallback)

@@ -32,6 +32,7 @@ from emulation.callgraph import reached_functions
 from emulation.isr_bench import BUS_HANDLER, HALL_HANDLER, TIMING_HANDLER, timing_sweep
 from emulation.rule_bench import (
     METHOD,
+    RuleVariant,
     generate_rule,
     helper_names,
     improved_r_spec,
@@ -185,10 +186,29 @@ def test_a_rule_out_of_the_motors_duty_target_should_be_measured_at_the_bound_it
 
     variant = improved_r_spec(HEAVY, tmp_path)
     generated = tmp_path / "generated"
-    assert generate_rule(HEAVY, variant, generated) == "0.65"
+    assert generate_rule(HEAVY, variant, generated) == RuleVariant(duty_target="0.65")
     assert (generated / "c" / "bldc_commutation.c").is_file()
     assert "duty_counts: 0.65" in variant.read_text(encoding="utf-8")
     own = tmp_path / "own.yaml"
     own.write_text(spec_with_method(HEAVY.read_text(encoding="utf-8"), METHOD), encoding="utf-8")
     with pytest.raises(FixedPointError, match=r"duty bound 0\.646 counts"):
         generate_rule(own, own, tmp_path / "own")
+
+
+def test_a_shape_the_rule_refuses_should_be_measured_on_the_paper_trapezoid(
+    tmp_path: Path,
+) -> None:
+    """An improved-method motor with a 20 deg flat-top EMF: the rule's firmware holds
+    the EMF affine over the commutation and refuses the shape, and `bench` exited 3
+    after its other sections. The copy takes the paper's 120 deg trapezoid, as the
+    simulation's cores do, and says so."""
+    from codegen.spec_variant import spec_with_emf_shape
+
+    spec = tmp_path / "narrow_top.yaml"
+    text = spec_with_emf_shape((ROOT / "spec" / "paper_motor.yaml").read_text(), '"20 deg"')
+    spec.write_text(text.replace("name: paper_motor", "name: narrow_top", 1), encoding="utf-8")
+    variant = improved_r_spec(spec, tmp_path)
+    made = generate_rule(spec, variant, tmp_path / "generated")
+    assert made == RuleVariant(emf_shape="120 deg")
+    assert "back_emf_shape: 120 deg" in variant.read_text(encoding="utf-8")
+    assert (tmp_path / "generated" / "c" / "bldc_commutation.c").is_file()
