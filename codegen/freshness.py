@@ -43,6 +43,10 @@ def check_fresh(spec: Spec, generated: Path) -> None:
         ) from None
     except (OSError, ValueError) as exc:
         raise StaleOutputError(f"{shown(manifest_path)} is unreadable ({exc}): {fix}") from None
+    if isinstance(manifest, dict) and manifest.get("output") == "audit":
+        raise StaleOutputError(
+            f"{shown(generated)} holds only the audit's DERIVATION.md, no generated output: {fix}"
+        )
     recorded = manifest.get("spec_sha256") if isinstance(manifest, dict) else None
     if recorded != spec.sha256:
         raise StaleOutputError(

@@ -57,6 +57,30 @@ def test_audit_with_a_spec_should_write_the_same_derivation_as_generate(tmp_path
     assert (tmp_path / "DERIVATION.md").read_text(encoding="utf-8") == generated["DERIVATION.md"]
 
 
+def test_generate_should_take_over_the_derivation_an_audit_wrote_first(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`audit SPEC` writes generated/<name>/DERIVATION.md; `generate SPEC` then refused
+    the folder ("DERIVATION.md is in the way and was not written by bldc-codegen"), and
+    `all` stopped at its first step. The audit now records the file as its own."""
+    monkeypatch.chdir(tmp_path)
+    spec = str(FIXTURES[0])
+    name = FIXTURES[0].stem
+    folder = tmp_path / "generated" / name
+    (folder / "notes.txt").parent.mkdir(parents=True)
+    (folder / "notes.txt").write_text("the user's own\n", encoding="utf-8")
+    assert cli.main(["audit", spec]) == 0
+    assert cli.main(["verify", spec, "--no-progress"]) == 4
+    assert "holds only the audit's DERIVATION.md" in capsys.readouterr().err
+    assert cli.main(["generate", spec]) == 0
+    assert (folder / "c" / "bldc_commutation.c").is_file()
+    assert (folder / "notes.txt").read_text(encoding="utf-8") == "the user's own\n"
+    before = (folder / "manifest.json").read_bytes()
+    assert cli.main(["audit", spec]) == 0  # into the generated tree: its own file, in place
+    assert (folder / "manifest.json").read_bytes() == before
+    assert cli.main(["generate", spec]) == 0
+
+
 def test_two_audits_should_be_byte_identical(tmp_path: Path) -> None:
     for out in ("one", "two"):
         assert cli.main(["audit", "-o", str(tmp_path / out)]) == 0
@@ -105,7 +129,8 @@ def test_a_failing_derivation_should_exit_as_an_internal_error_and_keep_the_old_
     monkeypatch.setattr("codegen.derivation.derive", broken)
     assert cli.main(["audit", str(SPEC), "-o", str(tmp_path)]) == cli.EXIT_DERIVATION
     assert {name: (tmp_path / name).read_bytes() for name in names} == before
-    assert sorted(p.name for p in tmp_path.iterdir()) == names
+    # and the manifest that records DERIVATION.md as bldc-codegen's own
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*names, "manifest.json"])
 
 
 def test_module_and_console_entry_points_should_run() -> None:

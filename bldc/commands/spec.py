@@ -162,7 +162,7 @@ def _audit(args: argparse.Namespace) -> int:
     spec = load(args.spec) if args.spec else None  # a bad spec writes nothing
 
     from codegen.audit.latex_cache import shared_cache
-    from codegen.audit.motor_report import render_derivation
+    from codegen.audit.motor_report import publish_derivation, render_derivation
     from codegen.audit.report import counts, render_reports
     from codegen.audit.run import run_audit
     from codegen.audit.transcription import load_transcription
@@ -180,8 +180,9 @@ def _audit(args: argparse.Namespace) -> int:
         write_atomically(paper_dir / name, text)
     motor_out = None
     if spec:
-        motor_out = (Path(args.output) if args.output else output_dir(spec, None)) / "DERIVATION.md"
-        write_atomically(motor_out, motor)
+        folder = Path(args.output) if args.output else output_dir(spec, None)
+        publish_derivation(motor, folder)
+        motor_out = folder / "DERIVATION.md"
     c = counts(result)
     elapsed = time.perf_counter() - started
     print(

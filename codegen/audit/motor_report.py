@@ -10,8 +10,10 @@ values and rounded only when printed.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from fractions import Fraction
+from pathlib import Path
 
 import sympy as sp
 
@@ -19,10 +21,12 @@ from codegen.derivation import symbols as s
 from codegen.derivation.figures import spec_figures, spec_values
 from codegen.derivation.paper import Derivation
 from codegen.derivation.switching import PHASE_NAMES
-from codegen.render import provenance, render
+from codegen.publish import MANIFEST, manifest_record, publish
+from codegen.render import provenance, render, write_atomically
 from codegen.spec_model import Spec
 
 TEMPLATE = "audit/DERIVATION.md.j2"
+NAME = "DERIVATION.md"
 #: Main duties at which the fail area is tabulated, besides the operating points'.
 DUTY_GRID = tuple(Fraction(k, 10) for k in range(1, 11))
 
@@ -172,3 +176,28 @@ def render_derivation(derivation: Derivation, spec: Spec) -> str:
         fail_bands=_fail_bands(derivation, spec),
         switching=_switching(derivation, spec),
     )
+
+
+#: The manifest's mark of a folder that holds the audit's DERIVATION.md alone
+AUDIT_ONLY = "audit"
+
+
+def publish_derivation(text: str, folder: Path) -> None:
+    """Write DERIVATION.md into `folder` as bldc-codegen's own file, so that a later
+    `generate` into the same folder replaces it instead of refusing it as foreign.
+
+    In a generated tree (its manifest records a spec) the file is the tree's own and is
+    rewritten in place (the same bytes while the spec is unchanged); anywhere else it is
+    published with a manifest of its own that lists it alone, marked `"output": "audit"`
+    (`codegen.freshness` says so instead of calling the folder stale)."""
+    manifest = folder / MANIFEST
+    try:
+        recorded = json.loads(manifest.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        recorded = None
+    if isinstance(recorded, dict) and "spec_sha256" in recorded:
+        write_atomically(folder / NAME, text)
+        return
+    files = {NAME: text}
+    files[MANIFEST] = json.dumps({**manifest_record(files), "output": AUDIT_ONLY}, indent=2) + "\n"
+    publish(files, folder)
