@@ -168,6 +168,8 @@ class Commutation:
     post_duties: tuple[float, ...] = ()
     #: the rotor's speed at the end of the window (the SIL holds `speed_rpm` throughout)
     window_speed_rpm: float | None = None
+    #: the window's length from time 0, s
+    window_s: float = 0.0
     sil_worst_pct: float | None = None
     #: the host-compiled core's (D_on, D_off, ticks) for the firmware's inputs
     sil_outputs: tuple[int, int, int] | None = None
@@ -631,6 +633,7 @@ class BrakingLoop:
         applied = (during[on_channel], during[off_channel], self.com_tim3_ccr2[first + 1])
         return Commutation(
             window_speed_rpm=window[-1].speed_rpm,
+            window_s=(window[-1].end - start) / TICK_HZ,
             index=index,
             hall_tick=hall,
             com_tick=start,

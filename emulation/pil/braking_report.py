@@ -171,10 +171,16 @@ def csv_text(result: BrakingResult) -> str:
 COMPARED_FRACTION = 0.5
 
 
-#: The SIL holds the rotor's speed at time 0 through the window: where the rotor slows
-#: by more than this fraction within it (the end of a hard braking, a sector or two
-#: from the stop) the EMF it sees is not the SIL's, and the commutation is not compared
-SPEED_HELD_FRACTION = 0.02
+#: The SIL holds the rotor's speed at time 0 through the window; the chip's rotor slows.
+#: Each phase's EMF then lags the SIL's, linearly, by dE = k_e (n_0 - n_end) at the
+#: window's end; two phases' lags across 2L, at half that on average over the window T_w,
+#: move the non-commutating current by about dE T_w / (2 L) (the winding's R makes it
+#: less: the estimate runs 1.1-2 x the measured). Where it is more than the agreement
+#: itself (in % of I) the SIL's held speed alone is expected to part the two runs, and
+#: the commutation is listed, not compared: a 300 V 12 mH motor 0.3 % slower at the end
+#: of a 3.2 ms window (1.66 pp estimated, 1.43 pp measured); the fast 14-pole fixture,
+#: 2.4 % slower two sectors from its stop (2.0 and 1.22).
+SPEED_DRIFT_PP = AGREEMENT_PP
 
 
 def slowed(c: Commutation) -> float:
@@ -184,12 +190,23 @@ def slowed(c: Commutation) -> float:
     return 1.0 - c.window_speed_rpm / c.speed_rpm
 
 
+def speed_drift_pp(spec: Spec, c: Commutation) -> float:
+    """The non-commutating current's drift the SIL's held speed makes over the window,
+    percentage points of I (see SPEED_DRIFT_PP)."""
+    if c.window_speed_rpm is None or c.current_a <= 0.0:
+        return 0.0
+    k_e = float(spec.motor.back_emf_constant_v_per_rpm)
+    lag_v = k_e * max(c.speed_rpm - c.window_speed_rpm, 0.0)
+    drift_a = lag_v * c.window_s / (2.0 * float(spec.motor.phase_inductance_h))
+    return 100.0 * drift_a / c.current_a
+
+
 def held_current(result: BrakingResult, c: Commutation) -> bool:
     return c.current_a >= COMPARED_FRACTION * result.setup.current_a
 
 
 def compared(result: BrakingResult, c: Commutation) -> bool:
-    return held_current(result, c) and slowed(c) <= SPEED_HELD_FRACTION
+    return held_current(result, c) and speed_drift_pp(result.spec, c) <= SPEED_DRIFT_PP
 
 
 def zero_current_code(result: BrakingResult) -> int:
@@ -335,9 +352,9 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
                 else ""
             )
             + (
-                f" Not compared: {slowing} commutations where the rotor slows more than"
-                f" {100 * SPEED_HELD_FRACTION:g} % within the window (the SIL holds the"
-                " speed of time 0)."
+                f" Not compared: {slowing} commutations where the rotor slows enough within"
+                f" the window to move the current by more than {SPEED_DRIFT_PP:g} pp (the SIL"
+                " holds the speed of time 0)."
                 if slowing
                 else ""
             )
