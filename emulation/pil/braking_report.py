@@ -183,13 +183,6 @@ COMPARED_FRACTION = 0.5
 SPEED_DRIFT_PP = AGREEMENT_PP
 
 
-def slowed(c: Commutation) -> float:
-    """How much the rotor slowed from time 0 to the window's end, a fraction."""
-    if c.window_speed_rpm is None or c.speed_rpm <= 0.0:
-        return 0.0
-    return 1.0 - c.window_speed_rpm / c.speed_rpm
-
-
 def speed_drift_pp(spec: Spec, c: Commutation) -> float:
     """The non-commutating current's drift the SIL's held speed makes over the window,
     percentage points of I (see SPEED_DRIFT_PP)."""
