@@ -59,12 +59,13 @@ def scan(
     bit = core.constants.flags[TIME_CLAMPED]
     runs: list[tuple[int, int]] = []
     fastest: int | None = None
-    for ticks in range(shortest, longest + 1):
-        inputs["hall_period_ticks"] = ticks
-        outputs = core.commutate(inputs)
-        if fastest is None and outputs["commutation_ticks"] > 0:
+    periods = range(shortest, longest + 1)
+    for ticks, (commutation_ticks, flags) in zip(
+        periods, core.over_periods(inputs, periods), strict=True
+    ):
+        if fastest is None and commutation_ticks > 0:
             fastest = ticks
-        if outputs["flags"] & bit:
+        if flags & bit:
             if runs and runs[-1][1] == ticks - 1:
                 runs[-1] = (runs[-1][0], ticks)
             else:

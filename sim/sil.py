@@ -109,6 +109,20 @@ class CoreLibrary:
         self._function(ctypes.byref(c_in), ctypes.byref(c_out))
         return _fields(c_out)
 
+    def over_periods(self, inputs: dict[str, int], periods: range) -> list[tuple[int, int]]:
+        """(commutation_ticks, flags) of one call per Hall period of `periods`, the other
+        inputs held: the same calls as `commutate`, on one input and output structure
+        (a clamp scan makes tens of thousands)."""
+        c_in = CoreInputs(**inputs)
+        c_out = CoreOutputs()
+        function, at_in, at_out = self._function, ctypes.byref(c_in), ctypes.byref(c_out)
+        found = []
+        for ticks in periods:
+            c_in.hall_period_ticks = ticks
+            function(at_in, at_out)
+            found.append((c_out.commutation_ticks, c_out.flags))
+        return found
+
 
 def compile_core(c_dir: Path, build_dir: Path = BUILD_ROOT) -> Path:
     """gcc -O2 -fPIC -shared of the core into build_dir, cached by source hash."""

@@ -91,6 +91,27 @@ def test_conventional_core_should_flag_the_fail_area_at_4600_rpm(
     assert command.off_duty(0) == 0.0  # Eq. 16 gives -0.229, clamped
 
 
+def test_a_period_sweep_should_make_the_calls_commutate_makes(spec: Spec, cores: CoreSet) -> None:
+    """`CoreLibrary.over_periods` (the clamp scan's loop) reuses one input structure:
+    each of its results is the one a fresh `commutate` call gives at that period, across
+    the over-speed limit, the flags' changes and the counter's top."""
+    core = cores.cores["improved"]
+    inputs = {
+        "hall_code": 5,
+        "previous_hall_code": 4,
+        "hall_period_ticks": 0,
+        "bus_voltage_adc": 2800,
+        "phase_current_adc": 2600,
+        "main_duty_counts": 1500,
+    }
+    periods = range(0, 2**16, 97)
+    swept = core.over_periods(inputs, periods)
+    single = [core.commutate({**inputs, "hall_period_ticks": t}) for t in periods]
+    assert swept == [(o["commutation_ticks"], o["flags"]) for o in single]
+    assert len({flags for _, flags in swept}) > 2  # the sweep crosses the flags' changes
+    assert inputs["hall_period_ticks"] == 0  # the caller's inputs are left alone
+
+
 def _stub_core(tmp_path: Path, method: str) -> CoreLibrary:
     """A core with the same API that ignores its inputs: half duty, 100 ticks."""
     c_dir = tmp_path / "stub"
