@@ -92,13 +92,13 @@ class _Range:
     high_inclusive: bool = True
 
     def contains(self, value: float | Fraction) -> bool:
-        if self.low is not None and (
-            value < self.low or (value == self.low and not self.low_inclusive)
-        ):
+        """Against the bounds as the decimals they print as: a spec's exact 1 ms is
+        inside [0.001, 10] s, although the double 1e-3 is a little above 1/1000."""
+        low, high = _decimal(self.low), _decimal(self.high)
+        if low is not None and (value < low or (value == low and not self.low_inclusive)):
             return False
         return not (
-            self.high is not None
-            and (value > self.high or (value == self.high and not self.high_inclusive))
+            high is not None and (value > high or (value == high and not self.high_inclusive))
         )
 
     def describe(self) -> str:
@@ -107,6 +107,16 @@ class _Range:
         low = "-inf" if self.low is None else _g(self.low)
         high = "inf" if self.high is None else _g(self.high)
         return f"{left}{low}, {high}{right} {self.unit}".rstrip()
+
+
+def _decimal(bound: float | None) -> Fraction | None:
+    """A range's bound as the shortest decimal that reads back as its double (what
+    the code says and what the message shows), exactly; None stays None."""
+    if bound is None:
+        return None
+    if isinstance(bound, float) and math.isfinite(bound):
+        return Fraction(repr(bound))
+    return Fraction(bound)
 
 
 def _g(value: float | Fraction | int) -> str:

@@ -655,6 +655,32 @@ def test_out_of_range_quantity_states_value_and_allowed_range(tmp_path: Path) ->
     )
 
 
+@pytest.mark.parametrize("timeout", ["1 ms", "10 s"])
+def test_a_quantity_at_an_inclusive_bound_should_be_accepted(tmp_path: Path, timeout: str) -> None:
+    """The bounds are compared as the decimals the message prints: 1 ms is the exact
+    1/1000 s, which the double 1e-3 lies a little above, and was refused with
+    "0.001 s is out of range (allowed: [0.001, 10] s)"."""
+    path = _write(
+        tmp_path, _replace("watchdog_timeout: 20 ms", f"watchdog_timeout: {timeout}")(DEFAULT_TEXT)
+    )
+    spec = load_spec(path)
+    assert spec.firmware.watchdog_timeout_s == {"1 ms": Fraction(1, 1000), "10 s": 10}[timeout]
+
+
+def test_a_range_should_hold_both_of_its_decimal_bounds() -> None:
+    """0.1 and 0.3 as doubles lie above 1/10 and below 3/10: each end still holds its
+    exact decimal, and an open end still refuses it."""
+    from codegen.spec_loader import _Range
+
+    closed = _Range(0.1, 0.3, "s")
+    assert closed.contains(Fraction(1, 10)) and closed.contains(Fraction(3, 10))
+    assert not closed.contains(Fraction(99, 1000)) and not closed.contains(Fraction(301, 1000))
+    opened = _Range(0.1, 0.3, "s", low_inclusive=False, high_inclusive=False)
+    assert not opened.contains(Fraction(1, 10)) and not opened.contains(Fraction(3, 10))
+    assert opened.contains(Fraction(2, 10))
+    assert _Range(None, None, "").contains(Fraction(10) ** 400)
+
+
 def test_unreadable_file_is_a_spec_error(tmp_path: Path) -> None:
     missing = tmp_path / "missing.yaml"
     with pytest.raises(SpecError, match="cannot read spec") as caught:
