@@ -284,7 +284,7 @@ def unity_cases(spec: Spec) -> tuple[UnityCase, ...]:
         (
             "give_no_commutation_time_without_current",
             "zero current: t_com = 0",
-            (*forward, mid, bus, zero - 1, duty),
+            (*forward, mid, bus, max(zero - 1, 0), duty),  # the offset's code, at code 0
         ),
         (
             "flag_a_current_above_the_range",

@@ -254,6 +254,35 @@ def test_improved_r_unity_tests_should_fail_without_resistance_in_the_decay(
     assert not run.passed and any("sector" in name for name in failed), failed
 
 
+def test_a_sense_whose_zero_is_code_0_should_get_a_suite_that_builds_and_passes(
+    tmp_path: Path,
+) -> None:
+    """current_offset 0 V (a unipolar sense): the zero-current case reads code 0, not
+    the code below the offset (-1, which the suite printed as `-1u` into a uint16_t
+    field and which -Werror refused). Every case's inputs fit their fields."""
+    from codegen.generate import generate
+
+    spec_path = ROOT / "tests" / "fixtures" / "odd" / "offset_zero.yaml"
+    spec = load_spec(spec_path)
+    limits = {"hall_code": 0xFF, "previous_hall_code": 0xFF}
+    for case in unity_cases(spec):
+        for field in (
+            "hall_code",
+            "previous_hall_code",
+            "hall_period_ticks",
+            "bus_voltage_adc",
+            "phase_current_adc",
+            "main_duty_counts",
+        ):
+            assert 0 <= getattr(case, field) <= limits.get(field, 0xFFFF), (case.name, field)
+    out = tmp_path / "generated"
+    generate(spec_path, out, ROOT)
+    run = run_host(out, tmp_path / "build")
+    assert run.passed, run.stdout + run.stderr
+    zero = next(r for r in run.results if r.name.endswith("no_commutation_time_without_current"))
+    assert zero.status == "PASS"
+
+
 def test_expected_times_should_round_half_a_tick_up_as_the_core_does() -> None:
     """A 62.5-tick carrier: with no current the rule ends on the first boundary, at
     63 ticks in the core (round half up). Each case's expected time is the printed
