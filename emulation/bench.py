@@ -269,7 +269,6 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
     period_us = 1e6 / float(b.spec.inverter.pwm_frequency_hz)
     sample = float(b.spec.sensing.adc_sample_cycles)
     regular_us = (sample + 12.5) / 12.0  # one regular conversion of the bus at 12 MHz
-    injected_us = (3 + 4 * (sample + 12.5)) / 12.0  # trigger to JEOC: four conversions
     # a handler of the same priority ahead: the Hall edge, the current loop, or the Hall
     # lines' EXTI waiting out its confirmation (rare: a glitch or an unplug)
     wait = max(
@@ -287,12 +286,6 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
             how = (
                 f"ADC2's next conversion of the channel(s), continuously ({detect:.1f} us: the"
                 " sequence of current channels)"
-            )
-        elif name.startswith("current sensor"):
-            detect = period_us + injected_us
-            how = (
-                f"the backstop: the next sample, one PWM period + the injected sequence"
-                f" ({detect:.1f} us)"
             )
         elif "EXTI" in name:
             detect, how = (

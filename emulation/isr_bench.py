@@ -568,7 +568,7 @@ def current_loop_runs(
             raise AssertionError(f"{name}: the fault did not clear ({left:#x})")
         rig.prime(sc.bus_code_min, sc.current_offset_code, inputs.periods[0])
 
-    bus_ok, offset = sc.bus_code_min, sc.current_offset_code
+    offset = sc.current_offset_code
     fault(
         "over-voltage (analog watchdog)",
         lambda: rig.adc_sample(sc.bus_code_max + 1, offset, status=rig.jeoc | rig.awd),
@@ -577,11 +577,9 @@ def current_loop_runs(
         "under-voltage (analog watchdog)",
         lambda: rig.adc_sample(0, offset, status=rig.jeoc | rig.awd),
     )
-    watch = current_watch(spec)
-    if not (watch.ltr > 0 and watch.htr < 2**spec.adc.bits - 1):
-        # a rail ADC2 does not watch: the current loop's sample is the detection
-        fault("current sensor at a rail (sampled)", lambda: rig.adc_sample(bus_ok, 0))
-    fault("current sensor at a rail (ADC2 watchdog)", lambda: rig.current_rail(0))
+    # ADC2's watchdog sees each rail zero current does not read on, at every conversion
+    rail = 0 if current_watch(spec).ltr > 0 else 2**spec.adc.bits - 1
+    fault("current sensor at a rail (ADC2 watchdog)", lambda: rig.current_rail(rail))
 
     def timeout() -> CallResult:
         # the Hall counter wraps while the bridge switches: TIM3's update interrupt

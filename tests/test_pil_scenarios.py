@@ -72,3 +72,32 @@ def test_make_pil_should_refuse_a_spec_no_design_meets_in_one_line(
     err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("error:")]
     assert len(err) == 1, err
     assert "accuracy.current_loop_duty_counts" in err[0]
+
+
+def test_a_sense_whose_zero_reads_code_0_should_fault_only_at_the_other_rail(
+    tmp_path: Path,
+) -> None:
+    """current_offset 0 V: zero current reads code 0, so code 0 is a braking current of
+    0, not an open sensor. The port used to test both rails in the sampled path and
+    latched CURRENT_SENSOR at zero current (the rotor-stop, Hall-unplugged and bus-stuck
+    scenarios then failed on it); now only full scale trips, as ADC2's watchdog does."""
+    from emulation.pil.build import generate
+    from emulation.pil.scenarios import zero_current_reads_on
+
+    path = ROOT / "tests" / "fixtures" / "odd" / "offset_zero.yaml"
+    spec = load_spec(str(path))
+    assert zero_current_reads_on(spec, 0.0)
+    assert not zero_current_reads_on(spec, float(spec.adc.reference_v))
+    paper = load_spec(str(SPECS["paper_motor"]))
+    assert not zero_current_reads_on(paper, 0.0)
+    assert not zero_current_reads_on(paper, float(paper.adc.reference_v))
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    by_key = {s.key: s for s in SCENARIOS}
+    for key, expected in (
+        ("current_sensor_low", None),
+        ("current_sensor_high", "CURRENT_SENSOR"),
+        ("rotor_stops", "HALL_TIMEOUT"),
+    ):
+        outcome = run_scenario(elf, spec, by_key[key])
+        assert outcome.expected == expected, key
+        assert outcome.problems == [], (key, outcome.problems, outcome.note)

@@ -1731,8 +1731,10 @@ def test_adc2_should_watch_every_rail_zero_current_does_not_sit_on(
     tmp_path: Path, spec: Spec, offset_v: str, watched: str, ltr: int, htr: int
 ) -> None:
     """A current-sense offset at a rail reads zero current there: that rail is left out of
-    ADC2's watch, and the current loop's sample checks the rails itself (in its hot path)
-    instead; with both rails watched, it does not."""
+    ADC2's watch and out of the port's own rail test (`port_at_a_rail`, the faulted tick's
+    and the loop's out-of-line path), which flags exactly the watched rails (it flagged
+    both, and latched CURRENT_SENSOR at zero current with a 0 V offset); the current
+    loop's hot path leaves the rails to ADC2's watchdog."""
     from codegen.port_drive import current_watch
 
     variant = dataclasses.replace(
@@ -1750,7 +1752,42 @@ def test_adc2_should_watch_every_rail_zero_current_does_not_sit_on(
     source = (tmp_path / "stm32f103_port.c").read_text(encoding="utf-8")
     handler = source[source.index("void ADC1_2_IRQHandler(void)") :]
     handler = handler[: handler.index("\n}\n")]
-    sampled = "(measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)" in handler
-    assert sampled == (watched != "0 and full scale")
+    assert "port_at_a_rail" not in handler
+    helper = source[source.index("static inline uint32_t port_at_a_rail(") :]
+    helper = helper[: helper.index("\n}\n") + 3]
+    probe = tmp_path / "rail_probe.c"
+    probe.write_text(
+        "#include <stdint.h>\n#include <stdio.h>\n#define BLDC_PORT_ADC_CODE_MAX 4095u\n"
+        + helper
+        + "int main(void) { for (uint32_t c = 0u; c < 5000u; ++c) if (port_at_a_rail(c)) "
+        'printf("%u\\n", (unsigned)c); return 0; }\n',
+        encoding="utf-8",
+    )
+    built = subprocess.run(
+        [
+            "gcc",
+            "-std=c99",
+            "-Wall",
+            "-Wextra",
+            "-Wconversion",
+            "-Werror",
+            str(probe),
+            "-o",
+            str(tmp_path / "rail_probe"),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert built.returncode == 0, built.stderr
+    flagged = subprocess.run(
+        [str(tmp_path / "rail_probe")], capture_output=True, text=True, check=True
+    ).stdout.split()
+    rails = {
+        "0": {0},
+        "full scale": set(range(4095, 5000)),
+        "0 and full scale": {0, *range(4095, 5000)},
+    }
+    assert {int(c) for c in flagged} == rails[watched]
     run = _compile_arm(tmp_path)
     assert run.returncode == 0, run.stderr

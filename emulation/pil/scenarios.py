@@ -34,6 +34,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from fractions import Fraction
 from itertools import pairwise
 from pathlib import Path
 
@@ -456,6 +457,15 @@ def _after_a_sample(run: Run) -> None:
         run.machine.run_for(TICK_HZ // 2_000_000)
 
 
+def zero_current_reads_on(spec: Spec, rail_v: float) -> bool:
+    """Whether the current sense reads zero current on this rail: its offset converts
+    to code 0 (below one LSB) or to full scale. Such a rail is what a braking current of
+    0 reads (and any current beyond the sense's range on that side), not a fault."""
+    full = 2**spec.adc.bits
+    zero = Fraction(spec.adc.current_offset_v) / Fraction(spec.adc.reference_v) * full
+    return zero < 1 if rail_v == 0.0 else zero >= full - 1
+
+
 def _current_sensor(run: Run, rail_v: float, which: str) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.machine.run_for(run.sector_ticks() // 3)
@@ -463,6 +473,17 @@ def _current_sensor(run: Run, rail_v: float, which: str) -> Outcome:
     cause = run.machine.now
     channel = run.spec.sensing.current_channels[0]
     run.machine.adc1.set_input(channel, rail_v)  # ADC1 and ADC2 share the pin
+    if zero_current_reads_on(run.spec, rail_v):
+        run.machine.run_for(4 * run.board.pwm_period_ticks())
+        return run.outcome(
+            f"current sensor at {which}",
+            None,
+            None,
+            None,
+            f"the first current channel (IN{channel}) reads {which} ({rail_v:g} V), where"
+            f" zero current reads (adc.current_offset = {float(run.spec.adc.current_offset_v):g}"
+            " V): a current of 0, no fault for four PWM periods",
+        )
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
     _check_quiet_while_faulted(run)
     return run.outcome(

@@ -734,6 +734,15 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     TIM1->CR2 = port_safe_state_cr2(port.period);
 }
 
+/* 1 if a current sample `code` is at a rail that zero current does not read on (0 and full scale):
+ * the sensor is open or saturated, or the current is beyond the sensing range. A rail
+ * that zero current reads on (a current-sense offset of 0 V or of the reference) is no
+ * evidence of a fault: ADC2's watchdog leaves it out too (BLDC_PORT_CURRENT_LTR/HTR). */
+static inline uint32_t port_at_a_rail(uint32_t code)
+{
+    return (uint32_t)((code - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)); /* 0 or full scale */
+}
+
 /* 1 if `value` is 0, else 0, in two instructions and no branch: CLZ gives 32 for 0 alone
  * (ARMv7-M A7.7.24, defined for every input, unlike __builtin_clz). */
 static inline uint32_t port_is_zero(uint32_t value)
@@ -786,8 +795,8 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
         if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
             /* The Hall counter wrapped while the bridge switches: no edge for its range. */
             port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
-        } else if ((measured - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
-            port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* 0 or full scale */
+        } else if (port_at_a_rail(measured) != 0u) {
+            port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* at a watched rail */
         } else if (port.stale != 0u) {
             port.stale = 0u; /* begun before the commutation end: not I; hold I and the duty */
         } else if (port.reference <= BLDC_PORT_ADC_CODE_MAX) {
@@ -818,9 +827,9 @@ BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
     const uint32_t reference = port.reference;
     /* Either analog watchdog (AWD is bit 0 of both SRs), the bridge not in the steady
      * state, a sequence begun before the commutation end, the Hall counter wrapped, the open loop (a reference above every ADC code:
-     * bits above the code's), (a sample at a rail is ADC2's
-     * watchdog's, which sees both rails at every conversion, this sample's instant
-     * included), and a Hall code 0 or 7 is the EXTI's
+     * bits above the code's) (a sample at a rail is ADC2's watchdog's, which sees the
+     * rails zero current does not read on (0 and full scale) at every conversion,
+     * this sample's instant included), and a Hall code 0 or 7 is the EXTI's
      * (EXTI0_IRQHandler). */
     const uint32_t watchdogs = (status | PORT_AT(anchor, ADC2, ADC_TypeDef)->SR) & ADC_SR_AWD;
     const uint32_t other = watchdogs | port_is_zero(steady) | port.pending | port.stale |
@@ -989,7 +998,7 @@ static uint32_t port_present_causes(uint32_t latched)
     if ((bus < BLDC_PORT_ADC_LTR) || (now < BLDC_PORT_ADC_LTR)) {
         present |= latched & BLDC_FAULT_UNDER_VOLTAGE;
     }
-    if ((ADC1->JDR1 - 1u) > (BLDC_PORT_ADC_CODE_MAX - 2u)) {
+    if (port_at_a_rail(ADC1->JDR1) != 0u) {
         present |= latched & BLDC_FAULT_CURRENT_SENSOR;
     }
     /* ADC2's latest conversion (the sequence's last current channel), at a watched rail */
