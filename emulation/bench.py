@@ -611,7 +611,18 @@ def section_peers(b: Bench, report: Report) -> None:
 
 def section_rule(b: Bench, report: Report) -> None:
     started = time.perf_counter()
-    rule = rule_bench.run(b.spec_path, b.work / "rule", quick=b.quick)
+    try:
+        rule = rule_bench.run(b.spec_path, b.work / "rule", quick=b.quick)
+    except FixedPointError as error:
+        if b.spec.controller.method == rule_bench.METHOD:
+            raise  # the spec's own firmware: the design refusal is the spec's error
+        # a copy for comparison, which the rule's integer design cannot take on this
+        # motor: nothing to measure, and the spec's own firmware is unaffected
+        report.say(
+            f"{rule_bench.METHOD}: not measured: its copy of this motor cannot be designed"
+            f" ({' '.join(str(error).split())})"
+        )
+        return
     report.add(*rule.figures())
     report.say(*rule.lines())
     report.say(

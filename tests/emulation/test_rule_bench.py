@@ -212,3 +212,24 @@ def test_a_shape_the_rule_refuses_should_be_measured_on_the_paper_trapezoid(
     assert made == RuleVariant(emf_shape="120 deg")
     assert "back_emf_shape: 120 deg" in variant.read_text(encoding="utf-8")
     assert (tmp_path / "generated" / "c" / "bldc_commutation.c").is_file()
+
+
+def test_a_copy_the_rules_integer_design_refuses_should_be_reported_not_measured(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """At 5 kHz PWM the rule's X numerator (duty counts x Hall ticks) needs more than 32
+    bits: the improved_r copy of this improved-method motor cannot be designed, and
+    `bench` exited 3 after its other sections. It now says so (with the design's reason,
+    which used to be empty) and measures the rest; where improved_r is the spec's own
+    method the refusal is still the spec's error (exit 2)."""
+    from emulation.bench import main
+
+    spec = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_dead5us.yaml"
+    assert main([str(spec), "--quick", "--only", "rule", "--work", str(tmp_path / "a")]) == 0
+    out = capsys.readouterr().out
+    assert "improved_r: not measured: its copy of this motor cannot be designed" in out
+    assert "needs more than 32 bits even at Q6" in out
+    own = tmp_path / "own.yaml"
+    text = spec.read_text(encoding="utf-8").replace("method: improved\n", "method: improved_r\n")
+    own.write_text(text, encoding="utf-8")
+    assert main([str(own), "--quick", "--only", "rule", "--work", str(tmp_path / "b")]) == 2

@@ -149,6 +149,13 @@ def _formats(c: RuleConstants, limits: CoreLimits) -> tuple[FixedRule, tuple[Pro
                 return rule, prove_formats(rule, limits)
             except ProofError as exc:
                 reasons.append(f"Q{fc}, growth Q{fc + fs}: {exc}")
+    if not reasons:  # every format's X numerator overflowed before any was tried
+        raise RuleFormatError(
+            "no counts format fits: X's numerator K_X 2^fc / B at the lowest bus code"
+            f" ({float(c.k_x / c.bus_low):.4g} duty counts x Hall ticks, the same at every"
+            f" speed) needs more than 32 bits even at Q{DELTA_FRAC_BITS}, the easing's"
+            " resolution (a higher PWM frequency or a slower Hall clock shrinks it)"
+        )
     raise RuleFormatError("no counts format fits: " + "; ".join(reasons[-3:]))
 
 
