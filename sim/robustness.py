@@ -225,9 +225,22 @@ def run_campaign(
     from dask.distributed import Client, LocalCluster, as_completed
     from tqdm import tqdm
 
-    from sim.sil import prepare_cores
+    from sim.sil import SilError, prepare_cores
 
     core_set = prepare_cores(spec, campaign.methods)
+    left_out = [m for m in campaign.methods if core_set.cores[m].path is None]
+    if left_out:  # the rule in real arithmetic, where its integer design refuses the motor
+        kept = tuple(m for m in campaign.methods if m not in left_out)
+        if not kept:
+            raise SilError(
+                f"--methods {','.join(left_out)}: no C core on this motor ({core_set.rule_refused})"
+            )
+        print(
+            f"robustness: {', '.join(left_out)} left out: no C core on this motor"
+            f" ({core_set.rule_refused})",
+            file=sys.stderr,
+        )
+        campaign = replace(campaign, methods=kept)
     handles = tuple(
         CoreHandle(m, str(core_set.cores[m].path), core_set.cores[m].constants)
         for m in campaign.methods
@@ -326,7 +339,7 @@ def run(args: argparse.Namespace) -> int:
     runs = result.values.shape[0] * result.values.shape[1] * result.values.shape[2]
     print(
         f"robustness: {runs} runs ({args.samples} samples x {len(campaign.speeds_rpm)} speeds x"
-        f" {len(methods)} methods, {args.plant} plant) on {result.workers} workers in"
+        f" {len(result.campaign.methods)} methods, {args.plant} plant) on {result.workers} workers in"
         f" {result.seconds:.1f} s -> {shown(out)}: {', '.join(names)}"
     )
     return 0

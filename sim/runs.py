@@ -19,6 +19,7 @@ from sim.command import Command
 from sim.improved_r_pp import METHOD as IMPROVED_R_PP
 from sim.improved_r_pp import improved_r_pp_command
 from sim.metrics import CommutationMetrics, commutation_end, measure
+from sim.rule_stand_in import RuleStandIn
 from sim.scenario import Case, PlantModel, run_case
 from sim.sil import CoreLibrary, CoreSet, core_command
 from sim.trace import Trace
@@ -76,7 +77,7 @@ class Controller:
             core, self.spec, self.cores.scaling, case, self.measured_current(case), main_duty
         )
 
-    def core_for(self, method: str, case: Case) -> CoreLibrary:
+    def core_for(self, method: str, case: Case) -> CoreLibrary | RuleStandIn:
         """The method's core; for improved_r on a frozen (flat) EMF the one generated for
         that shape, when the spec's own shape is another."""
         frozen = case.emf_shape == "flat" or case.drive.emf_frozen

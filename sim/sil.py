@@ -33,8 +33,10 @@ from codegen.abi import INPUTS, OUTPUTS, ctypes_struct
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.freshness import StaleOutputError, check_fresh
+from codegen.methods.improved_r.constants import rule_constants
 from codegen.methods.improved_r.design import reachable_duty_target, refused_duty_bound
 from codegen.render import PROJECT_ROOT
+from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.spec_variant import (
     FALLBACK_SHAPE,
@@ -44,6 +46,7 @@ from codegen.spec_variant import (
     spec_with_method,
 )
 from sim.command import Command
+from sim.rule_stand_in import RuleStandIn
 from sim.scenario import Case
 from sim.schedule import switch_index
 
@@ -172,13 +175,16 @@ class CoreSet:
     flat EMF (`shaped["flat"]`) when the spec's own shape is another."""
 
     spec: Spec
-    cores: dict[str, CoreLibrary]
-    shaped: dict[str, CoreLibrary] = field(default_factory=dict)
+    cores: dict[str, CoreLibrary | RuleStandIn]
+    shaped: dict[str, CoreLibrary | RuleStandIn] = field(default_factory=dict)
     #: the shape the spec's improved_r core was generated for, when not the spec's own
     shape_fallback: str | None = None
     #: the duty target (counts) the improved_r cores were generated for, when the
     #: spec's own is out of the rule's reach (its method is another: the rule is compared)
     rule_duty_target: str | None = None
+    #: why the rule's integer design refuses this motor, when it is compared only and
+    #: its cores are the rule in real arithmetic (sim/rule_stand_in.py)
+    rule_refused: str | None = None
 
     @cached_property
     def scaling(self) -> Scaling:
@@ -242,20 +248,56 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
         if rule_duty_target is not None:
             relaxed = {k: spec_with_duty_target(variants[k], rule_duty_target) for k in refused}
             outputs.update(_generate_all(spec, relaxed, toolchain, build_dir))
+    rule_refused = None
+    if spec.controller.method != SHAPED_METHOD and isinstance(
+        outputs.get((SHAPED_METHOD, None)), str
+    ):
+        # compared only, and its integer design refuses this motor: the rule in real
+        # arithmetic stands in for its cores (sim/rule_stand_in.py), and the report says so
+        rule_refused = str(outputs[(SHAPED_METHOD, None)]).split("fixed-point design: ")[-1]
+        stand_ins = {k: variants[k] for k in outputs if k[0] == SHAPED_METHOD}
+        for key in stand_ins:
+            del outputs[key]
     for key, result in outputs.items():
         if isinstance(result, str):
             raise SilError(f"generating the {key[0]!r} core failed:\n{result}")
-    cores = {}
+    cores: dict[str, CoreLibrary | RuleStandIn] = {}
     for method in methods:
+        if rule_refused is not None and method == SHAPED_METHOD:
+            continue
         c_dir = outputs.get((method, None), checked_in)
         assert isinstance(c_dir, Path)
         cores[method] = load_core(c_dir, method, build_dir)
-    shaped = {}
+    shaped: dict[str, CoreLibrary | RuleStandIn] = {}
     if (SHAPED_METHOD, FLAT_SHAPE) in outputs:
         flat_dir = outputs[(SHAPED_METHOD, FLAT_SHAPE)]
         assert isinstance(flat_dir, Path)
         shaped[FLAT_SHAPE] = load_core(flat_dir, SHAPED_METHOD, build_dir)
-    return CoreSet(spec, cores, shaped, fallback, rule_duty_target)
+    if rule_refused is not None and SHAPED_METHOD in methods:
+        sibling = next(iter(cores.values()), None)
+        if sibling is None:  # improved_r alone was asked for: the spec's own core
+            own = spec.controller.method
+            own_dir = (
+                checked_in
+                if use_checked_in
+                else _generate_all(
+                    spec, {(own, None): spec_with_method(text, own)}, toolchain, build_dir
+                )[(own, None)]
+            )
+            if isinstance(own_dir, str):
+                raise SilError(f"generating the {own!r} core failed:\n{own_dir}")
+            sibling = load_core(own_dir, own, build_dir)
+        for (_, shape), text in stand_ins.items():
+            variant = build_dir / "specs" / f"{spec.name}-{SHAPED_METHOD}-stand-in.yaml"
+            variant.write_text(text, encoding="utf-8")
+            copy = load_spec(variant)
+            rule = rule_constants(copy, scaling(copy, derive()))
+            stand_in = RuleStandIn(sibling, rule, rule_refused)
+            if shape is None:
+                cores[SHAPED_METHOD] = stand_in
+            else:
+                shaped[shape] = stand_in
+    return CoreSet(spec, cores, shaped, fallback, rule_duty_target, rule_refused)
 
 
 def _generate_all(
@@ -321,7 +363,7 @@ def core_inputs(
 
 
 def core_command(
-    core: CoreLibrary,
+    core: CoreLibrary | RuleStandIn,
     spec: Spec,
     scale: Scaling,
     case: Case,

@@ -122,6 +122,9 @@ class Results:
     quick: bool = False  # QUICK_POINTS speeds per study, not the report's density
     #: the duty target improved_r was held to, when the spec's is out of its reach
     rule_duty_target: str | None = None
+    #: why the rule's integer design refuses this motor: its rows are the rule in real
+    #: arithmetic (sim/rule_stand_in.py), not a C core
+    rule_refused: str | None = None
 
     def rows(self, **match: object) -> list[SweepRow]:
         return [r for r in self.sweep if all(getattr(r, k) == v for k, v in match.items())]
@@ -397,4 +400,5 @@ def run_all(spec: Spec, progress: bool = True, quick: bool = False) -> Results:
         seconds=seconds,
         quick=quick,
         rule_duty_target=cores.rule_duty_target,
+        rule_refused=cores.rule_refused,
     )

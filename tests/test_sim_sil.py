@@ -231,3 +231,76 @@ def test_a_rule_out_of_the_motors_duty_target_should_be_simulated_at_the_bound_i
     assert "duty_counts: 0.65" in held
     own = (tmp_path / "build" / "specs" / "heavy_2k5_tight_duty-improved.yaml").read_text()
     assert "duty_counts: 0.6\n" in own
+
+
+def test_a_rule_its_integer_design_refuses_should_stand_in_in_real_arithmetic(
+    tmp_path: Path,
+) -> None:
+    """At 5 kHz PWM the resistance-aware rule's integer design refuses the motor (its X
+    numerator needs more than 32 bits): `simulate` failed there ("generating the
+    'improved_r' core failed") although the spec's own method is `improved`. The rule in
+    real arithmetic stands in for its cores, says why, and is what the clamp scan and
+    the commands see; robustness leaves it out (it has no library to load)."""
+    from sim.clamp import scan
+    from sim.rule_stand_in import RuleStandIn
+
+    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "pwm5k_dead5us.yaml")
+    cores = prepare_cores(spec, ("improved", "improved_r"), tmp_path / "build")
+    rule = cores.cores["improved_r"]
+    assert isinstance(rule, RuleStandIn) and rule.path is None
+    assert cores.rule_refused is not None and "needs more than 32 bits" in cores.rule_refused
+    assert isinstance(cores.shaped.get("flat", rule), RuleStandIn)
+    drive = Drive.from_spec(spec)
+    controller = Controller(spec, cores)
+    case = Case(drive, paper_edge(), 1500.0, drive.braking_current_a, "spec")
+    command = controller.command("improved_r", case, 0.42)
+    assert (
+        command.turn_on_switch is not None and 0 < command.commutation_time_s < case.sector_time_s
+    )
+    clamped = scan(controller, drive, "improved_r", drive.bus_voltage_v, drive.braking_current_a)
+    assert clamped.periods > 1000 and clamped.fastest_rpm is not None
+
+
+def test_the_rule_in_real_arithmetic_should_agree_with_its_core_where_one_exists(
+    spec: Spec, tmp_path: Path
+) -> None:
+    """The stand-in against the improved_r C core of the paper motor (which its integer
+    design takes), on the same integers: the same switches, sector and safe state (the
+    sibling core's), compare values within a count and the end within a carrier
+    period, and TIME_CLAMPED where the core sets it."""
+    from codegen.derivation import derive
+    from codegen.fixedpoint.scaling import scaling
+    from codegen.methods.improved_r.constants import rule_constants
+    from sim.rule_stand_in import RuleStandIn
+
+    cores = prepare_cores(spec, ("improved", "improved_r"), tmp_path / "build")
+    rule_spec = load_spec(ROOT / "spec" / "paper_motor_improved_r.yaml")
+    stand_in = RuleStandIn(
+        cores.cores["improved"], rule_constants(rule_spec, scaling(rule_spec, derive())), ""
+    )
+    core = cores.cores["improved_r"]
+    carrier = 72_000_000 // int(spec.inverter.pwm_frequency_hz) * 1_000_000 // 72_000_000
+    clamped = core.constants.flags["TIME_CLAMPED"]
+    compared = 0
+    for period in (1500, 2000, 4000, 9000, 20000, 50000, 60000):
+        for bus in (2400, 2800, 3300, 3500):
+            for current in (2100, 2300, 2600, 3000):
+                inputs = {
+                    "hall_code": 4,
+                    "previous_hall_code": 5,
+                    "hall_period_ticks": period,
+                    "bus_voltage_adc": bus,
+                    "phase_current_adc": current,
+                    "main_duty_counts": 1500,
+                }
+                want, got = core.commutate(inputs), stand_in.commutate(inputs)
+                for key in ("turn_on_switch", "turn_off_switch", "sector"):
+                    assert got[key] == want[key], (inputs, key)
+                if want["turn_on_switch"] == core.constants.no_switch:
+                    continue
+                compared += 1
+                assert abs(got["turn_on_compare"] - want["turn_on_compare"]) <= 1, inputs
+                assert abs(got["turn_off_compare"] - want["turn_off_compare"]) <= 1, inputs
+                assert abs(got["commutation_ticks"] - want["commutation_ticks"]) <= carrier, inputs
+                assert (got["flags"] & clamped) == (want["flags"] & clamped), inputs
+    assert compared > 60
