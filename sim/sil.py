@@ -287,9 +287,9 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
             if isinstance(own_dir, str):
                 raise SilError(f"generating the {own!r} core failed:\n{own_dir}")
             sibling = load_core(own_dir, own, build_dir)
-        for (_, shape), text in stand_ins.items():
+        for (_, shape), variant_text in stand_ins.items():
             variant = build_dir / "specs" / f"{spec.name}-{SHAPED_METHOD}-stand-in.yaml"
-            variant.write_text(text, encoding="utf-8")
+            variant.write_text(variant_text, encoding="utf-8")
             copy = load_spec(variant)
             rule = rule_constants(copy, scaling(copy, derive()))
             stand_in = RuleStandIn(sibling, rule, rule_refused)
