@@ -18,6 +18,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Protocol
 
+from codegen.methods.improved_r.constants import RuleConstants
 from codegen.methods.improved_r.reference import (
     FLAG_ABOVE_BUS,
     FLAG_BUS_CLAMPED,
@@ -52,7 +53,7 @@ class RuleStandIn:
     """`commutate` and `over_periods` as a compiled core has them (sim.sil.CoreLibrary),
     from the rule in real arithmetic; `path` is None: there is no library to load."""
 
-    def __init__(self, sibling: Core, rule: object, reason: str) -> None:
+    def __init__(self, sibling: Core, rule: RuleConstants, reason: str) -> None:
         self.method = METHOD
         self.constants = sibling.constants
         self.path: Path | None = None
@@ -74,7 +75,7 @@ class RuleStandIn:
         ]
         if switching:
             batch = reference_points(
-                self._rule,  # type: ignore[arg-type]
+                self._rule,
                 [
                     RuleInputs(periods[k], inputs["bus_voltage_adc"], inputs["phase_current_adc"])
                     for k in switching
