@@ -377,3 +377,52 @@ def test_easing_should_reach_the_room_when_a_sector_holds_one_pwm_period() -> No
         beyond_old_cap += int(ref.delta[k] * ref.shortfall[k] > old_cap)
     assert checked > 200
     assert beyond_old_cap > 10
+
+
+LOW_PWM = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_improved_r.yaml"
+
+
+def test_a_5_khz_motor_should_be_designed_in_the_bits_its_x_numerator_leaves() -> None:
+    """At 5 kHz PWM (14400 counts a period) X's numerator K_X 2^fc / B fits 32 bits only
+    up to Q5: the design stopped at Q6, the easing's resolution, and refused the motor,
+    so no improved_r firmware could be generated for it. The easing now takes the
+    counts' bits: the design proves Q5, and where the end is decided the printed rule
+    ends on the reference's boundary with its duties within the pointwise bound (which
+    counts the coarser easing). (The paper motor keeps Q7 and the easing Q6: its
+    checked-in core is unchanged, which `make check-generated` checks.)"""
+    spec = load_spec(LOW_PWM)
+    core = build_core(spec)
+    sc = core.scaling
+    c = rule_constants(spec, sc)
+    assert c.k_x * 2**6 / c.bus_low >= 2**32 > c.k_x * 2**5 / c.bus_low
+    design = design_rule(c, sc.current_code_max, core.limits)
+    rule = design.rule
+    assert (rule.counts_frac_bits, rule.delta_frac_bits) == (5, 5)
+    assert 0.75 < design.duty_bound <= float(spec.accuracy.duty_counts)
+    twin = twin_module(core)
+    grid = _grid(c, sc.current_code_max)
+    ref = reference_points(c, grid)
+    b = bounds(rule, ref)
+    checked = 0
+    for k, inputs in enumerate(grid):
+        if not b.decided[k] or ref.flags[k] & FLAG_NOT_FINISHED:
+            continue
+        on, off, ticks, _ = run_twin(twin, inputs)
+        assert ticks == min(math.floor(float(ref.ticks_exact[k]) + 0.5), inputs.period_ticks)
+        assert abs(on - ref.on_exact[k]) <= b.duty_counts[k], (inputs, on, ref.on_exact[k])
+        assert abs(off - ref.off_exact[k]) <= b.duty_counts[k], (inputs, off, ref.off_exact[k])
+        checked += 1
+    assert checked > 0.7 * len(grid)
+
+
+def test_a_5_khz_motor_held_to_a_target_its_bits_cannot_meet_should_be_refused_in_one_line(
+    tmp_path: Path,
+) -> None:
+    """The same motor with the usual 0.75-count target: the refusal names the bound."""
+    text = LOW_PWM.read_text(encoding="utf-8").replace(
+        "  duty_counts: 0.8\n", "  duty_counts: 0.75\n"
+    )
+    path = tmp_path / "tight.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(FixedPointError, match=r"duty bound 0\.75\d counts .* target 0\.75"):
+        build_core(load_spec(path))

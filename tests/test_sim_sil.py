@@ -236,19 +236,21 @@ def test_a_rule_out_of_the_motors_duty_target_should_be_simulated_at_the_bound_i
 def test_a_rule_its_integer_design_refuses_should_stand_in_in_real_arithmetic(
     tmp_path: Path,
 ) -> None:
-    """At 5 kHz PWM the resistance-aware rule's integer design refuses the motor (its X
-    numerator needs more than 32 bits): `simulate` failed there ("generating the
-    'improved_r' core failed") although the spec's own method is `improved`. The rule in
-    real arithmetic stands in for its cores, says why, and is what the clamp scan and
-    the commands see; robustness leaves it out (it has no library to load)."""
+    """The resistance-aware rule's integer design refuses a motor whose shortest sector is
+    shorter than a PWM period (16 poles, 7000 rpm, 5 kHz): `simulate` failed on such a
+    motor ("generating the 'improved_r' core failed") although its own method is
+    `improved`. The rule in real arithmetic stands in for its cores, says why, and is
+    what the clamp scan and the commands see; robustness leaves it out (it has no
+    library to load)."""
     from sim.clamp import scan
     from sim.rule_stand_in import RuleStandIn
 
-    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "pwm5k_dead5us.yaml")
+    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml")
     cores = prepare_cores(spec, ("improved", "improved_r"), tmp_path / "build")
     rule = cores.cores["improved_r"]
     assert isinstance(rule, RuleStandIn) and rule.path is None
-    assert cores.rule_refused is not None and "needs more than 32 bits" in cores.rule_refused
+    assert cores.rule_refused is not None
+    assert "shorter than one PWM period" in cores.rule_refused
     assert isinstance(cores.shaped.get("flat", rule), RuleStandIn)
     drive = Drive.from_spec(spec)
     controller = Controller(spec, cores)

@@ -217,18 +217,18 @@ def test_a_shape_the_rule_refuses_should_be_measured_on_the_paper_trapezoid(
 def test_a_copy_the_rules_integer_design_refuses_should_be_reported_not_measured(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """At 5 kHz PWM the rule's X numerator (duty counts x Hall ticks) needs more than 32
-    bits: the improved_r copy of this improved-method motor cannot be designed, and
-    `bench` exited 3 after its other sections. It now says so (with the design's reason,
-    which used to be empty) and measures the rest; where improved_r is the spec's own
-    method the refusal is still the spec's error (exit 2)."""
+    """A 16-pole motor at 7000 rpm with 5 kHz PWM: its shortest sector (179 ticks) is
+    shorter than a PWM period, so the rule, which ends a commutation on a carrier
+    boundary, cannot be designed, and `bench` exited 3 after its other sections. It now
+    says so (with the design's reason) and measures the rest; where improved_r is the
+    spec's own method the refusal is still the spec's error (exit 2)."""
     from emulation.bench import main
 
-    spec = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_dead5us.yaml"
+    spec = ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml"
     assert main([str(spec), "--quick", "--only", "rule", "--work", str(tmp_path / "a")]) == 0
     out = capsys.readouterr().out
     assert "improved_r: not measured: its copy of this motor cannot be designed" in out
-    assert "needs more than 32 bits even at Q6" in out
+    assert "is shorter than one PWM period (200 ticks)" in out
     own = tmp_path / "own.yaml"
     text = spec.read_text(encoding="utf-8").replace("method: improved\n", "method: improved_r\n")
     own.write_text(text, encoding="utf-8")

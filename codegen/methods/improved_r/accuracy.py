@@ -15,7 +15,7 @@ verifier's declared relaxation applies). Where the end is decided, the time is
 round(end tau) exactly, and the duties are within
 
     |C - C_exact| <= 1/2 + eps_Sigma + eps_delta,
-    eps_delta = eps_h / (3 (1 - e)) + |delta| eps_rel(1 - e) + 2^-4 (the easing's format)
+    eps_delta = eps_h / (3 (1 - e)) + |delta| eps_rel(1 - e) + 2^-min(6, fc) (the easing's format)
 
 (1/2 the final rounding; the clamps move a duty by no more than their operand).
 """
@@ -28,7 +28,6 @@ import numpy as np
 import numpy.typing as npt
 
 from codegen.methods.improved_r.fixed import (
-    DELTA_FRAC_BITS,
     E1_SHIFT,
     PER_TICK_BITS,
     FixedRule,
@@ -110,7 +109,7 @@ def bounds(rule: FixedRule, ref: ReferenceBatch) -> Bounds:
             finished,
             eps_h / np.maximum(shortfall, 1e-300)
             + np.abs(ref.delta) * rel_shortfall
-            + 2.0**-DELTA_FRAC_BITS,
+            + 2.0**-rule.delta_frac_bits,
             0.0,
         )
     duty = 0.5 + eps_sigma + eps_delta

@@ -1,7 +1,8 @@
 """Choose the integer rule's formats for one spec, and prove them.
 
-* fc (fraction bits of duty counts): the most that fit; the binding constraint is
-  xn = N_X / B in uint32 (precision costs nothing at run time).
+* fc (fraction bits of duty counts): the most that fit, down to whole counts; the
+  binding constraint is xn = N_X / B in uint32 (precision costs nothing at run time;
+  where few bits fit, as at low PWM frequencies, the accuracy bounds below decide).
 * fq (the ramp term's extra bits): the fewest that keep y_1 N, rho x at the sector's last
   carrier boundary, in uint32 (Y1 is y_1 in Q(32 - fq)): the most bits for the decay's
   exponent.
@@ -27,7 +28,7 @@ from codegen.core.conditioning import CoreLimits
 from codegen.ir.intervals import ProofError, ProvenRange, new_prover, prove_function
 from codegen.methods.improved_r.accuracy import bounds
 from codegen.methods.improved_r.constants import RuleConstants
-from codegen.methods.improved_r.fixed import DELTA_FRAC_BITS, FixedRule, build_fixed_rule
+from codegen.methods.improved_r.fixed import FixedRule, build_fixed_rule
 from codegen.methods.improved_r.ir import functions
 from codegen.methods.improved_r.reference import (
     FLAG_NOT_FINISHED,
@@ -36,6 +37,8 @@ from codegen.methods.improved_r.reference import (
 )
 
 MAX_COUNTS_FRAC_BITS = 12
+#: whole counts: the accuracy bounds decide whether so few bits meet the spec's targets
+MIN_COUNTS_FRAC_BITS = 0
 MAX_GROWTH_FRAC_BITS = 12
 GRID_SPEEDS = 40
 GRID_CURRENT_EIGHTHS = (1, 2, 3, 4, 6, 8)  # braking currents in eighths of the maximum
@@ -140,7 +143,7 @@ def _formats(c: RuleConstants, limits: CoreLimits) -> tuple[FixedRule, tuple[Pro
         )
     fq = _ramp_bits(c)
     reasons = []
-    for fc in range(MAX_COUNTS_FRAC_BITS, DELTA_FRAC_BITS - 1, -1):
+    for fc in range(MAX_COUNTS_FRAC_BITS, MIN_COUNTS_FRAC_BITS - 1, -1):
         if c.k_x * 2**fc / c.bus_low >= 2**32:
             continue
         for fs in range(MAX_GROWTH_FRAC_BITS, -1, -1):
@@ -153,8 +156,8 @@ def _formats(c: RuleConstants, limits: CoreLimits) -> tuple[FixedRule, tuple[Pro
         raise RuleFormatError(
             "no counts format fits: X's numerator K_X 2^fc / B at the lowest bus code"
             f" ({float(c.k_x / c.bus_low):.4g} duty counts x Hall ticks, the same at every"
-            f" speed) needs more than 32 bits even at Q{DELTA_FRAC_BITS}, the easing's"
-            " resolution (a higher PWM frequency or a slower Hall clock shrinks it)"
+            f" speed) needs more than 32 bits even in whole counts (Q{MIN_COUNTS_FRAC_BITS}; a"
+            " higher PWM frequency or a slower Hall clock shrinks it)"
         )
     raise RuleFormatError("no counts format fits: " + "; ".join(reasons[-3:]))
 

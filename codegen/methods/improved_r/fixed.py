@@ -22,7 +22,7 @@ duty counts unless it says otherwise.
           Y1 = y_1 in Q(32 - fq); int64
     n = the largest m with H_m >= 0 (H_0 = A rho >= 0); the commutation ends at m = n + 1,
     or does not end within the sector's whole periods (n = N: TIME_CLAMPED)
-  result: at m = n + 1, delta = -H / (3 (1 - e) 2^(32+fc)) in Q6 (three UDIVs), at most the
+  result: at m = n + 1, delta = -H / (3 (1 - e) 2^(32+fc)) in Q(min(6, fc)) (three UDIVs), at most the
   room min(C_on, P - C_off); C_on - delta, C_off + delta rounded to counts; ticks = round(m tau).
 """
 
@@ -36,8 +36,9 @@ import sympy as sp
 
 from codegen.methods.improved_r.constants import RuleConstants
 
-#: delta's fraction bits, and the shift that brings 3 (1 - e) (Q31) under 2^24 (the
-#: divisor of the easing's byte-wise long division: remainder 2^8 + a byte stays in 32 bits).
+#: delta's fraction bits (fewer where the counts have fewer: `FixedRule.delta_frac_bits`),
+#: and the shift that brings 3 (1 - e) (Q31) under 2^24 (the divisor of the easing's
+#: byte-wise long division: remainder 2^8 + a byte stays in 32 bits).
 DELTA_FRAC_BITS = 6
 E1_SHIFT = 9
 #: W = X per tick: fraction bits beyond the counts' (W = round(X 2^fw / T), T 2^fw < 2^32).
@@ -104,6 +105,12 @@ class FixedRule:
     @property
     def period_q(self) -> int:
         return self.constants.period_counts << self.counts_frac_bits
+
+    @property
+    def delta_frac_bits(self) -> int:
+        """The easing's fraction bits: Q6, or the counts' own where they have fewer (a
+        motor whose X numerator leaves fewer than 6 bits, such as one at 5 kHz PWM)."""
+        return min(DELTA_FRAC_BITS, self.counts_frac_bits)
 
     @property
     def periods_max(self) -> int:

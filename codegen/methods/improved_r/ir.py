@@ -61,7 +61,6 @@ from codegen.ir.nodes import (
 )
 from codegen.ir.types import I32, I64, U16, U32, U64
 from codegen.methods.improved_r.fixed import (
-    DELTA_FRAC_BITS,
     E1_SHIFT,
     PER_TICK_BITS,
     FixedRule,
@@ -576,8 +575,9 @@ def timing_function(
     else:
         total = var("sigma0", I32)
         end_on, end_off = var("held_on", I32), var("held_off", I32)
-    numerator_shift = 32 + fc - DELTA_FRAC_BITS - 31 + E1_SHIFT
-    shift_down = fc - DELTA_FRAC_BITS
+    delta_bits = rule.delta_frac_bits
+    numerator_shift = 32 + fc - delta_bits - 31 + E1_SHIFT
+    shift_down = fc - delta_bits
     room_q_max = (rule.period_q >> shift_down) + 1
     shortfall = var("shortfall", U32)
 
@@ -595,7 +595,7 @@ def timing_function(
         SLet(
             "overshoot",
             shr(cast(sub(const(0, I64), end_h), U64), numerator_shift),
-            f"-rho g / 3 in Q{DELTA_FRAC_BITS + 31 - E1_SHIFT}, > 0",
+            f"-rho g / 3 in Q{delta_bits + 31 - E1_SHIFT}, > 0",
         ),
         SLet(
             "cap",
@@ -617,7 +617,7 @@ def timing_function(
             "numerator",
             shortfall,
             room_q_max >> 16,
-            f"delta = -rho g / (3 (1 - e)) in Q{DELTA_FRAC_BITS}: ends the current at the"
+            f"delta = -rho g / (3 (1 - e)) in Q{delta_bits}: ends the current at the"
             " boundary (at most room + 1: the numerator's cap)",
         ),
         SLet(
