@@ -65,52 +65,61 @@ class Topology:
         self, emf0: np.ndarray, emf1: np.ndarray, inductance: float
     ) -> tuple[np.ndarray, np.ndarray]:
         """(c0, c1) of di/dt = c0 + c1 t - (R/L) i for every phase (0 where floating)."""
-        c0 = np.zeros(3)
-        c1 = np.zeros(3)
-        if self.count < 2:
-            return c0, c1
-        mask = self.conducting
-        neutral0 = np.mean(self.voltages[mask] - emf0[mask])
-        neutral1 = -np.mean(emf1[mask])
-        c0[mask] = (self.voltages[mask] - emf0[mask] - neutral0) / inductance
-        c1[mask] = (-emf1[mask] - neutral1) / inductance
-        return c0, c1
+        phases = [k for k, on in enumerate(self.conducting.tolist()) if on]
+        if len(phases) < 2:
+            return np.zeros(3), np.zeros(3)
+        u, e0, e1 = self.voltages.tolist(), emf0.tolist(), emf1.tolist()
+        neutral0 = sum(u[k] - e0[k] for k in phases) / len(phases)
+        neutral1 = -(sum(e1[k] for k in phases) / len(phases))
+        c0 = [0.0, 0.0, 0.0]
+        c1 = [0.0, 0.0, 0.0]
+        for k in phases:
+            c0[k] = (u[k] - e0[k] - neutral0) / inductance
+            c1[k] = (-e1[k] - neutral1) / inductance
+        return np.array(c0), np.array(c1)
 
     def floating_voltage(
         self, emf0: np.ndarray, emf1: np.ndarray, phase: int
     ) -> tuple[float, float]:
         """(v0, v1) of the floating phase's terminal voltage v = v0 + v1 t = u_n + e_x."""
-        mask = self.conducting
-        neutral0 = float(np.mean(self.voltages[mask] - emf0[mask]))
-        neutral1 = float(-np.mean(emf1[mask]))
-        return neutral0 + float(emf0[phase]), neutral1 + float(emf1[phase])
+        phases = [k for k, on in enumerate(self.conducting.tolist()) if on]
+        u, e0, e1 = self.voltages.tolist(), emf0.tolist(), emf1.tolist()
+        neutral0 = sum(u[k] - e0[k] for k in phases) / len(phases)
+        neutral1 = -(sum(e1[k] for k in phases) / len(phases))
+        return neutral0 + e0[phase], neutral1 + e1[phase]
 
 
 def resolve(legs: LegVoltages, currents: np.ndarray, emf: np.ndarray) -> Topology:
-    """Conducting set and terminal voltages for the present currents and EMFs."""
-    conducting = currents != 0.0
-    voltages = np.where(currents > 0.0, legs.positive, legs.negative)
-    voltages = np.where(conducting, voltages, 0.0)
-    if conducting.sum() < 2:
-        conducting, voltages = _start_pair(legs, emf)
-    while conducting.sum() >= 2:
-        neutral = float(np.mean(voltages[conducting] - emf[conducting]))
+    """Conducting set and terminal voltages for the present currents and EMFs (on Python
+    floats: it runs once a piece of the switched plant)."""
+    i, e = currents.tolist(), emf.tolist()
+    positive, negative = legs.positive.tolist(), legs.negative.tolist()
+    conducting = [value != 0.0 for value in i]
+    voltages = [
+        (positive[k] if i[k] > 0.0 else negative[k]) if conducting[k] else 0.0 for k in range(3)
+    ]
+    if sum(conducting) < 2:
+        start, start_voltages = _start_pair(legs, emf)
+        conducting, voltages = start.tolist(), start_voltages.tolist()
+    while sum(conducting) >= 2:
+        on = [k for k in range(3) if conducting[k]]
+        neutral = sum(voltages[k] - e[k] for k in on) / len(on)
         best, best_margin, best_voltage = -1, VOLTAGE_TOLERANCE, 0.0
-        for phase in np.flatnonzero(~conducting):
-            floating = neutral + emf[phase]
-            into = legs.positive[phase] - floating
-            out_of = floating - legs.negative[phase]
+        for phase in range(3):
+            if conducting[phase]:
+                continue
+            floating = neutral + e[phase]
+            into = positive[phase] - floating
+            out_of = floating - negative[phase]
             if into > best_margin:
-                best, best_margin, best_voltage = phase, into, legs.positive[phase]
+                best, best_margin, best_voltage = phase, into, positive[phase]
             if out_of > best_margin:
-                best, best_margin, best_voltage = phase, out_of, legs.negative[phase]
+                best, best_margin, best_voltage = phase, out_of, negative[phase]
         if best < 0:
             break
-        conducting = conducting.copy()
-        voltages = voltages.copy()
         conducting[best] = True
         voltages[best] = best_voltage
-    return Topology(conducting, voltages)
+    return Topology(np.array(conducting, dtype=bool), np.array(voltages, dtype=float))
 
 
 def _start_pair(legs: LegVoltages, emf: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -146,11 +155,14 @@ def threshold_crossing(now: float, rate: float, threshold: float, falling: bool)
 
 def balanced(currents: np.ndarray) -> np.ndarray:
     """Remove the rounding residue of sum i = 0 from the phases that carry current."""
-    carriers = currents != 0.0
-    count = int(carriers.sum())
+    i = currents.tolist()
+    carriers = [k for k in range(3) if i[k] != 0.0]
+    count = len(carriers)
     if count == 1:
         return np.zeros(3)  # a lone phase cannot carry current in a star winding
     if count >= 2:
-        currents = currents.copy()
-        currents[carriers] -= currents.sum() / count
+        residue = (i[0] + i[1] + i[2]) / count
+        for k in carriers:
+            i[k] -= residue
+        return np.array(i)
     return currents

@@ -21,7 +21,9 @@ of the table), which is what lets the switched plant integrate exactly.
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
@@ -65,9 +67,15 @@ class Waveform:
         if angle >= 180.0:
             angle -= 180.0
             sign = -1.0
-        angles = [a for a, _ in self.points]
-        values = [v for _, v in self.points]
-        return sign * float(np.interp(angle, angles, values))
+        return sign * _interp(angle, self._angles, self._values)
+
+    @cached_property
+    def _angles(self) -> tuple[float, ...]:
+        return tuple(float(a) for a, _ in self.points)
+
+    @cached_property
+    def _values(self) -> tuple[float, ...]:
+        return tuple(float(v) for _, v in self.points)
 
     def many(self, angles_deg: np.ndarray) -> np.ndarray:
         """`self(angle)` for each of `angles_deg`, the same arithmetic on arrays."""
@@ -91,6 +99,20 @@ class Waveform:
             if abs(left - right) > 1e-12:
                 out.add(angle % 360.0)
         return tuple(sorted(out))
+
+
+def _interp(x: float, xs: tuple[float, ...], ys: tuple[float, ...]) -> float:
+    """`np.interp(x, xs, ys)` for one x, in the same arithmetic (numpy's own per-call
+    overhead was a large part of the switched plant's time)."""
+    if x < xs[0]:
+        return ys[0]
+    if x >= xs[-1]:
+        return ys[-1]
+    j = bisect_right(xs, x) - 1
+    if x == xs[j]:
+        return ys[j]
+    slope = (ys[j + 1] - ys[j]) / (xs[j + 1] - xs[j])
+    return slope * (x - xs[j]) + ys[j]
 
 
 def trapezoid(sectors: tuple[Sector, ...], phase: int, angle_deg: float) -> float:
@@ -120,17 +142,19 @@ class BackEmf:
     def _angle(self, t: float) -> float:
         return self.edge.angle_deg + self._direction * 60.0 * (t + self.lead_s) / self.sector_time_s
 
+    @cached_property
+    def _rising_zeros(self) -> tuple[float, float, float]:
+        zeros = [rising_zero_deg(self.sectors, p) for p in range(3)]
+        return zeros[0], zeros[1], zeros[2]
+
     def values(self, t: float) -> np.ndarray:
         if self.shape == "flat":
             return self.amplitude_v * np.asarray(self.edge.emf_signs, dtype=float)
         # Forward: the angle grows through the edge; reverse: it falls and the EMF of
         # every phase is negated (paper 2.2).
         angle = self._angle(t)
-        return (
-            self._direction
-            * self.amplitude_v
-            * np.array([self.waveform(angle - rising_zero_deg(self.sectors, p)) for p in range(3)])
-        )
+        scale = self._direction * self.amplitude_v
+        return np.array([scale * self.waveform(angle - zero) for zero in self._rising_zeros])
 
     def values_many(self, times: np.ndarray) -> np.ndarray:
         """`values(t)` for each of `times`, one row each, the same arithmetic on arrays."""

@@ -18,6 +18,7 @@ from __future__ import annotations
 import bisect
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 from codegen.spec_model import PwmAlignment
 
@@ -67,17 +68,25 @@ class Schedule:
     def origin(self) -> float:
         return self.restarts[0]
 
+    @cached_property
+    def _starts(self) -> tuple[float, ...]:
+        return tuple(s.start for s in self.segments)
+
     def duties_at(self, t: float) -> tuple[float, ...]:
-        starts = [s.start for s in self.segments]
-        index = max(bisect.bisect_right(starts, t) - 1, 0)
+        index = max(bisect.bisect_right(self._starts, t) - 1, 0)
         return self.segments[index].duties
 
-    def _bases(self) -> list[int]:
-        """Index of the first carrier period after each restart."""
+    @cached_property
+    def _base_indices(self) -> tuple[int, ...]:
         bases = [0]
         for lo, hi in zip(self.restarts, self.restarts[1:], strict=False):
             bases.append(bases[-1] + max(math.ceil((hi - lo) / self.period - _EPS), 0))
-        return bases
+        return tuple(bases)
+
+    def _bases(self) -> tuple[int, ...]:
+        """Index of the first carrier period after each restart (computed once: the
+        schedule is immutable and the plants ask at every piece)."""
+        return self._base_indices
 
     def period_index(self, t: float) -> int:
         """Global index of the carrier period that contains t (0: first after the edge)."""
