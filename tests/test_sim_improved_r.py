@@ -172,3 +172,21 @@ def test_ipopt_optimum_should_match_the_rule_with_flat_emf(
         assert best.on_duty == pytest.approx(rule.on_duty(0), abs=2e-3)
         assert best.off_duty == pytest.approx(rule.off_duty(0), abs=2e-3)
         assert best.commutation_time_s == pytest.approx(rule.commutation_time_s, rel=0.02)
+
+
+def test_ipopt_should_solve_every_speed_of_the_sweep_to_its_tolerance(
+    spec: Spec, controller: Controller
+) -> None:
+    """The optimum column of the report: Ipopt with the exact Hessian (second-order
+    sensitivities through CVODES) ran out of iterations here at 2250 rpm, and in the
+    report's sweep stopped with Error_In_Step_Computation at 3500 rpm, where it gave a
+    worse pair as the optimum (0.338 % rms where 0.311 % is reachable). With a
+    quasi-Newton Hessian every speed solves, at least as well, in a fifth of the time."""
+    drive = Drive.from_spec(spec)
+    solved = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+    for speed in (1250.0, 2250.0, 3000.0, 3500.0, 4000.0, 4600.0):
+        case = Case(drive, paper_edge(), speed, drive.braking_current_a, "spec")
+        rule = controller.command("improved", case, case.pre_edge_duty)
+        best = optimise(case, rule.on_duty(0), rule.off_duty(0), rule.commutation_time_s)
+        assert best.solver_status in solved, (speed, best)
+        assert best.finishes
