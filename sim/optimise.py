@@ -133,8 +133,10 @@ def optimise(case: Case, guess_on: float, guess_off: float, guess_time: float) -
     _, _, mean_square = evaluate(solution, fixed)
     return Optimum(
         speed_rpm=case.speed_rpm,
-        on_duty=float(solution[0]),
-        off_duty=float(solution[1]),
+        # Ipopt may end a hair outside the bounds (bound_relax_factor, 1e-8): a duty is
+        # within [0, 1]
+        on_duty=min(max(float(solution[0]), 0.0), 1.0),
+        off_duty=min(max(float(solution[1]), 0.0), 1.0),
         commutation_time_s=float(solution[2]),
         rms_deviation_pct=100.0 * math.sqrt(max(float(mean_square), 0.0)),
         finishes=finishes,
