@@ -143,9 +143,8 @@ class BackEmf:
         return self.edge.angle_deg + self._direction * 60.0 * (t + self.lead_s) / self.sector_time_s
 
     @cached_property
-    def _rising_zeros(self) -> tuple[float, float, float]:
-        zeros = [rising_zero_deg(self.sectors, p) for p in range(3)]
-        return zeros[0], zeros[1], zeros[2]
+    def _rising_zeros(self) -> tuple[float, ...]:
+        return tuple(rising_zero_deg(self.sectors, p) for p in range(3))
 
     def values(self, t: float) -> np.ndarray:
         if self.shape == "flat":

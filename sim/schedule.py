@@ -77,30 +77,27 @@ class Schedule:
         return self.segments[index].duties
 
     @cached_property
-    def _base_indices(self) -> tuple[int, ...]:
+    def _bases(self) -> tuple[int, ...]:
+        """Index of the first carrier period after each restart (computed once: the
+        schedule is immutable and the plants ask at every piece)."""
         bases = [0]
         for lo, hi in zip(self.restarts, self.restarts[1:], strict=False):
             bases.append(bases[-1] + max(math.ceil((hi - lo) / self.period - _EPS), 0))
         return tuple(bases)
-
-    def _bases(self) -> tuple[int, ...]:
-        """Index of the first carrier period after each restart (computed once: the
-        schedule is immutable and the plants ask at every piece)."""
-        return self._base_indices
 
     def period_index(self, t: float) -> int:
         """Global index of the carrier period that contains t (0: first after the edge)."""
         j = bisect.bisect_right(self.restarts, t + _EPS * self.period) - 1
         if j < 0:
             return math.floor((t - self.origin) / self.period + _EPS)
-        return self._bases()[j] + math.floor((t - self.restarts[j]) / self.period + _EPS)
+        return self._bases[j] + math.floor((t - self.restarts[j]) / self.period + _EPS)
 
     def period_bounds(self, index: int) -> tuple[float, float]:
         """(start, end) of carrier period `index`; the end is cut by a later restart."""
         if index < 0:
             start = self.origin + index * self.period
             return start, start + self.period
-        bases = self._bases()
+        bases = self._bases
         j = bisect.bisect_right(bases, index) - 1
         start = self.restarts[j] + (index - bases[j]) * self.period
         end = start + self.period
