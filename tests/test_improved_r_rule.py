@@ -380,25 +380,33 @@ def test_easing_should_reach_the_room_when_a_sector_holds_one_pwm_period() -> No
 
 
 LOW_PWM = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_improved_r.yaml"
+WHOLE_COUNTS = ROOT / "tests" / "fixtures" / "odd" / "pwm2k25_whole_counts_ir.yaml"
 
 
-def test_a_5_khz_motor_should_be_designed_in_the_bits_its_x_numerator_leaves() -> None:
+@pytest.mark.parametrize(
+    ("path", "bits", "duty_floor"),
+    [pytest.param(LOW_PWM, 5, 0.75, id="5kHz-Q5"), pytest.param(WHOLE_COUNTS, 1, 3.0, id="Q1")],
+)
+def test_a_low_pwm_motor_should_be_designed_in_the_bits_its_x_numerator_leaves(
+    path: Path, bits: int, duty_floor: float
+) -> None:
     """At 5 kHz PWM (14400 counts a period) X's numerator K_X 2^fc / B fits 32 bits only
     up to Q5: the design stopped at Q6, the easing's resolution, and refused the motor,
     so no improved_r firmware could be generated for it. The easing now takes the
-    counts' bits: the design proves Q5, and where the end is decided the printed rule
-    ends on the reference's boundary with its duties within the pointwise bound (which
-    counts the coarser easing). (The paper motor keeps Q7 and the easing Q6: its
-    checked-in core is unchanged, which `make check-generated` checks.)"""
-    spec = load_spec(LOW_PWM)
+    counts' bits: the design proves Q5 (Q1 for a 2.25 kHz motor at the loader's
+    limits), and where the end is decided the printed rule ends on the reference's
+    boundary with its duties within the pointwise bound (which counts the coarser
+    easing). (The paper motor keeps Q7 and the easing Q6: its checked-in core is
+    unchanged, which `make check-generated` checks.)"""
+    spec = load_spec(path)
     core = build_core(spec)
     sc = core.scaling
     c = rule_constants(spec, sc)
-    assert c.k_x * 2**6 / c.bus_low >= 2**32 > c.k_x * 2**5 / c.bus_low
+    assert c.k_x * 2 ** (bits + 1) / c.bus_low >= 2**32 > c.k_x * 2**bits / c.bus_low
     design = design_rule(c, sc.current_code_max, core.limits)
     rule = design.rule
-    assert (rule.counts_frac_bits, rule.delta_frac_bits) == (5, 5)
-    assert 0.75 < design.duty_bound <= float(spec.accuracy.duty_counts)
+    assert (rule.counts_frac_bits, rule.delta_frac_bits) == (bits, bits)
+    assert duty_floor < design.duty_bound <= float(spec.accuracy.duty_counts)
     twin = twin_module(core)
     grid = _grid(c, sc.current_code_max)
     ref = reference_points(c, grid)
