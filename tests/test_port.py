@@ -22,6 +22,7 @@ from codegen import port
 from codegen.build_firmware import CFLAGS
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
+from verify.unity_run import WARNINGS as HOST_WARNINGS
 
 ROOT = Path(__file__).resolve().parents[1]
 SPEC = ROOT / "spec" / "paper_motor.yaml"
@@ -1764,17 +1765,7 @@ def test_adc2_should_watch_every_rail_zero_current_does_not_sit_on(
         encoding="utf-8",
     )
     built = subprocess.run(
-        [
-            "gcc",
-            "-std=c99",
-            "-Wall",
-            "-Wextra",
-            "-Wconversion",
-            "-Werror",
-            str(probe),
-            "-o",
-            str(tmp_path / "rail_probe"),
-        ],
+        ["gcc", *HOST_WARNINGS, "-Werror", str(probe), "-o", str(tmp_path / "rail_probe")],
         capture_output=True,
         text=True,
         check=False,
