@@ -434,3 +434,24 @@ def test_a_5_khz_motor_held_to_a_target_its_bits_cannot_meet_should_be_refused_i
     path.write_text(text, encoding="utf-8")
     with pytest.raises(FixedPointError, match=r"duty bound 0\.75\d counts .* target 0\.75"):
         build_core(load_spec(path))
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [
+        (sp.Rational(1, 2) - sp.Rational(1, 10**17), 0),  # nsimplify made it 1/2, then 1
+        (sp.Rational(3, 2) - sp.Rational(1, 10**17), 1),
+        (sp.Rational(333333333333333333, 10**18) * 3, 1),  # 0.999...9: nsimplify gave 1/3 x 3
+        (sp.Rational(5, 2), 3),  # half up
+        (sp.Rational(-5, 2), -2),
+        (sp.Rational(-7, 3), -2),
+        (sp.sqrt(2) * 1000, 1414),  # irrational: from 50 digits
+    ],
+)
+def test_the_rules_constants_should_round_their_exact_value(value: sp.Expr, expected: int) -> None:
+    """The firmware constants are round(value 2^f), half up, of the exact value: a ratio
+    of integers rounds in integers (it once went through `nsimplify`, which trades a
+    rational for a simpler one within 1e-15 and so could round 1/2 - 1e-17 up to 1)."""
+    from codegen.methods.improved_r.fixed import _round
+
+    assert _round(value) == expected

@@ -62,11 +62,16 @@ def long_division(numerator: int) -> LongDivision:
 
 
 def _round(value: sp.Expr) -> int:
-    return (
-        int(sp.floor(sp.nsimplify(value) + sp.Rational(1, 2)))
-        if value.is_rational
-        else int(sp.floor(sp.N(value, _DIGITS) + sp.Rational(1, 2)))
-    )
+    """round(value), half up: exact in integers where the value is a ratio of integers
+    (never through `nsimplify`, which may trade a rational for a nearby simpler one:
+    333333333333333333/10^18 becomes 1/3), else from 50 significant digits."""
+    numerator, denominator = sp.fraction(sp.together(value))
+    if numerator.is_Integer and denominator.is_Integer:
+        n, d = int(numerator), int(denominator)
+        if d < 0:
+            n, d = -n, -d
+        return (2 * n + d) // (2 * d)
+    return int(sp.floor(sp.N(value, _DIGITS) + sp.Rational(1, 2)))
 
 
 def _bits_for(value: sp.Expr, limit: int) -> int:
