@@ -225,23 +225,43 @@ def _copies(t: Target) -> tuple[str, ...]:
 _DEFINITION = re.compile(r"^[A-Za-z_][\w \*]*?\b(\w+)\([^;{]*\)\s*\n\{(.*?)^\}", re.M | re.S)
 
 
-def _looping(t: Target) -> frozenset[str]:
-    """The functions of the proof's sources whose body has a loop (its ACSL loop
-    annotations, which the generator prints on every loop the proof must cover)."""
-    found = set()
+def _definitions(t: Target) -> dict[str, str]:
+    """Each function defined in the proof's sources, and its body."""
+    found = {}
     for source in t.plan["sources"]:  # type: ignore[attr-defined]
         text = (t.root / str(source)).read_text(encoding="utf-8")
         for m in _DEFINITION.finditer(text):
-            body = m.group(2)
-            if "loop invariant" in body or re.search(r"\b(for|while|do)\b\s*[({]", body):
-                found.add(m.group(1))
-    return frozenset(found)
+            found[m.group(1)] = m.group(2)
+    return found
+
+
+def _looping(t: Target) -> frozenset[str]:
+    """The functions of the proof's sources whose body has a loop (its ACSL loop
+    annotations, which the generator prints on every loop the proof must cover)."""
+    return frozenset(
+        name
+        for name, body in _definitions(t).items()
+        if "loop invariant" in body or re.search(r"\b(for|while|do)\b\s*[({]", body)
+    )
+
+
+def _calling(t: Target) -> frozenset[str]:
+    """The functions of the proof's sources that call another one defined there (the
+    harness's entry points, bldc_commutate, the bus state's long division)."""
+    bodies = _definitions(t)
+    return frozenset(
+        name
+        for name, body in bodies.items()
+        if any(re.search(rf"\b{other}\s*\(", body) for other in bodies if other != name)
+    )
 
 
 def _passes(t: Target, functions: list[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """WP's two passes for a group: its functions' form (`wp_passes`); a group with a
-    looping function takes the loop's."""
-    return wp_passes(any(f in _looping(t) for f in functions))
+    looping function takes the loop's, one with a calling function the caller's."""
+    return wp_passes(
+        any(f in _looping(t) for f in functions), any(f in _calling(t) for f in functions)
+    )
 
 
 def eva_established(eva: EvaResult) -> list[str]:
@@ -437,6 +457,7 @@ def report(o: Outcome, tools: Tools) -> tuple[bool, str]:
         wp_let=" ".join(WP_LET),
         wp_no_let=" ".join(WP_NO_LET),
         looping=sorted(_looping(target)),
+        calling=sorted(_calling(target) - _looping(target)),
         partitioning=target.plan["partitioning"],
         analyses=[
             {

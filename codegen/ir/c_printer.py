@@ -8,6 +8,8 @@ follow C precedence; rounding shows as the literal half it adds.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from sympy.printing.c import C99CodePrinter
 
 from codegen.ir import acsl
@@ -289,6 +291,14 @@ class IRCPrinter(C99CodePrinter):  # type: ignore[misc]
 
 
 # ---------------------------------------------------------------- declarations
+
+
+@lru_cache(maxsize=64)
+def printer_for(pointers: frozenset[str] = frozenset()) -> IRCPrinter:
+    """One printer per set of pointer parameters, built once: building a SymPy printer
+    costs far more than printing one expression, and the interval proof prints the
+    expression of every range it records. Printing reads only `pointers`."""
+    return IRCPrinter(pointers)
 
 
 def signature(fn: Function) -> str:

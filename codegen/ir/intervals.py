@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from codegen.ir.c_printer import IRCPrinter
+from codegen.ir.c_printer import printer_for
 from codegen.ir.longdiv import DIVIDE_LONG
 from codegen.ir.nodes import (
     Expr,
@@ -148,7 +148,7 @@ class Prover:
     def _fail(self, e: Expr | None, problem: str) -> ProofError:
         fn = self._stack[-1] if self._stack else None
         pointers = frozenset(p.name for p in fn.params if p.is_pointer) if fn else frozenset()
-        text = IRCPrinter(pointers).expr(e) if e is not None else ""
+        text = printer_for(pointers).expr(e) if e is not None else ""
         return ProofError(
             f"{self._where()}: {text}: {problem}" if text else f"{self._where()}: {problem}"
         )
@@ -168,7 +168,7 @@ class Prover:
             value = value.union(Interval(known.low, known.high))
         pointers = frozenset(p.name for p in fn.params if p.is_pointer)
         self._ranges[key] = ProvenRange(
-            fn.c_name, name, ctype.name, value.lo, value.hi, IRCPrinter(pointers).expr(e)
+            fn.c_name, name, ctype.name, value.lo, value.hi, printer_for(pointers).expr(e)
         )
 
     # ------------------------------------------------------------ expressions

@@ -125,6 +125,8 @@ class Rcc(Peripheral):
         self.pll_ready_at: int | None = None
         self.hse_failure_at: int | None = None
         self.sysclk_source = 0  # SWS: 0 HSI, 1 HSE, 2 PLL
+        self._derived_key: tuple[int, int] | None = None
+        self._derived_hz = (0, 0, 0)
         self.readers = {
             "CR": self._read_cr,
             "CFGR": lambda: self.cfgr,
@@ -173,13 +175,26 @@ class Rcc(Peripheral):
 
     def timer_hz(self, apb: int) -> int:
         """RM0008 7.2 Figure 8: TIMxCLK = PCLKx, x2 when the APB prescaler is not 1."""
-        ppre = bits(self.cfgr, 8 if apb == 1 else 11, 3)
-        pclk = self.pclk1_hz if apb == 1 else self.pclk2_hz
-        return pclk * (2 if _apb_divider(ppre) > 1 else 1)
+        return self._derived()[0 if apb == 1 else 1]
 
     @property
     def adc_hz(self) -> int:
-        return self.pclk2_hz // (2 * (bits(self.cfgr, 14, 2) + 1))
+        return self._derived()[2]
+
+    def _derived(self) -> tuple[int, int, int]:
+        """TIM on APB1, TIM on APB2 and ADCCLK, recomputed only when CFGR or the system
+        clock's source has changed (the peripherals ask at every event)."""
+        key = (self.cfgr, self.sysclk_source)
+        if key != self._derived_key:
+            timers = []
+            for ppre, pclk in (
+                (bits(self.cfgr, 8, 3), self.pclk1_hz),
+                (bits(self.cfgr, 11, 3), self.pclk2_hz),
+            ):
+                timers.append(pclk * (2 if _apb_divider(ppre) > 1 else 1))
+            adc = self.pclk2_hz // (2 * (bits(self.cfgr, 14, 2) + 1))
+            self._derived_key, self._derived_hz = key, (timers[0], timers[1], adc)
+        return self._derived_hz
 
     @staticmethod
     def latency_needed(sysclk_hz: int) -> int:
