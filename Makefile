@@ -9,7 +9,7 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 CLI    := $(PY) -m codegen
 # SPEC=path/to/motor.yaml runs any target on that one spec. Without SPEC: derive,
-# generate, firmware and bench use DEFAULT_SPEC (audit takes none); verify and unity every
+# generate, firmware and bench use DEFAULT_SPEC (audit: the paper alone); verify and unity every
 # checked-in spec (SPECS); simulate each checked-in motor once (SIM_SPECS).
 DEFAULT_SPEC := spec/paper_motor.yaml
 ONE_SPEC = $(or $(SPEC),$(DEFAULT_SPEC))
@@ -65,9 +65,10 @@ setup: sysdeps $(VENV)/.installed
 derive: setup
 	$(CLI) derive $(ONE_SPEC)
 
-# The paper's audit, the same for every motor: generated/paper/AUDIT.md and AUDIT.html.
+# The paper's audit, the same for every motor: generated/paper/AUDIT.md and AUDIT.html;
+# with SPEC=, also that motor's generated/<name>/DERIVATION.md.
 audit: setup
-	$(CLI) audit
+	$(CLI) audit $(SPEC)
 
 # The README's pictures of the HTML audit, taken in headless Chromium.
 audit-screenshot: setup

@@ -457,6 +457,11 @@ def test_make_targets_honour_spec(tmp_path: Path) -> None:
         out = dry_run(target, "SPEC=my/motor.yaml")
         assert "for spec in my/motor.yaml; do" in out, (target, out)
         assert f"-m codegen {target} $spec" in out, (target, out)
+    assert "-m codegen audit my/motor.yaml" in dry_run("audit", "SPEC=my/motor.yaml")
+    assert dry_run("audit").rstrip().endswith("-m codegen audit")  # the paper's audit alone
+    assert "-m verify.prove my/motor.yaml" in dry_run("prove", "SPEC=my/motor.yaml")
+    assert "-m emulation.pil.report my/motor.yaml" in dry_run("pil", "SPEC=my/motor.yaml")
+    assert "for spec in my/motor.yaml; do" in dry_run("robustness", "SPEC=my/motor.yaml")
     assert "spec/paper_motor_improved_r.yaml" in dry_run("verify")
     assert "spec/example_maxon_ec45_flat_48v.yaml" in dry_run("simulate")
     assert "-m codegen firmware spec/paper_motor.yaml" in dry_run("firmware")
