@@ -118,7 +118,7 @@ class Reader(Protocol):
         optional: tuple[str, ...] = (),
     ) -> None: ...
     def attempt(self, read: Any) -> Any: ...
-    def raw(self, data: Mapping[str, Any], key: str, path: str) -> Any: ...
+    def raw(self, data: Mapping[str, Any], key: str, path: str, allowed: str = "") -> Any: ...
     def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError: ...
     def report(self, path: str, value: object, problem: str, allowed: str = "") -> None: ...
     def warn(self, warning_id: str, path: str, value: object, message: str) -> None: ...
@@ -159,13 +159,13 @@ def read_sensing(r: Reader, data: Mapping[str, Any], rng: Any) -> Sensing | None
         return value
 
     def current_channels() -> tuple[int, ...]:
-        raw = r.raw(sec, "current_channels", "sensing")
         wanted = {"dc_link_shunt": 1, "low_side_phase_shunts": 3}.get(str(topology), 0)
         allowed = (
             f"a list of {wanted} distinct channels ({channels_allowed})"
             if wanted
             else channels_allowed
         )
+        raw = r.raw(sec, "current_channels", "sensing", allowed)
         if not isinstance(raw, list) or (wanted and len(raw) != wanted):
             raise r.error(
                 "sensing.current_channels",
@@ -181,7 +181,10 @@ def read_sensing(r: Reader, data: Mapping[str, Any], rng: Any) -> Sensing | None
 
     currents = r.attempt(current_channels) if topology is not None else None
     bus = r.attempt(
-        lambda: channel(r.raw(sec, "bus_voltage_channel", "sensing"), "sensing.bus_voltage_channel")
+        lambda: channel(
+            r.raw(sec, "bus_voltage_channel", "sensing", channels_allowed),
+            "sensing.bus_voltage_channel",
+        )
     )
     if bus is not None and currents is not None and bus in currents:
         r.report(
@@ -203,7 +206,7 @@ def read_sensing(r: Reader, data: Mapping[str, Any], rng: Any) -> Sensing | None
 
     def sample_time() -> Fraction:
         allowed = ", ".join(_g(c) for c in ADC_SAMPLE_CYCLES) + " ADC clock cycles"
-        raw = r.raw(sec, "adc_sample_time", "sensing")
+        raw = r.raw(sec, "adc_sample_time", "sensing", allowed)
         exact = getattr(raw, "exact", None)
         value = exact if exact is not None else raw
         if isinstance(raw, bool) or not isinstance(raw, int | float):

@@ -202,17 +202,20 @@ class _Reader:
             hint = f"; did you mean '{guess[0]}'?" if guess else ""
             self.report(where, data[key], f"unknown key{hint}", ", ".join(known))
 
-    def raw(self, data: Mapping[str, Any], key: str, path: str) -> Any:
+    def raw(self, data: Mapping[str, Any], key: str, path: str, allowed: str = "") -> Any:
+        """The key's value; a missing key is an error that says what the key takes
+        (its range and unit where the caller knows them: a user's spec folder need not
+        hold an example to look it up in)."""
         where = f"{path}.{key}" if path else key
         if key not in data:
-            raise self.error(where, None, "missing required key", "see spec/paper_motor.yaml")
+            raise self.error(where, None, "missing required key", allowed)
         return data[key]
 
     def quantity(
         self, data: Mapping[str, Any], key: str, path: str, dim: units.Dimension, rng: _Range
     ) -> Fraction:
         where = f"{path}.{key}"
-        raw = self.raw(data, key, path)
+        raw = self.raw(data, key, path, f"{rng.describe()}; units: {dim.accepted()}")
         try:
             parsed = units.parse_quantity(raw, dim)
         except units.QuantityError as exc:
@@ -225,7 +228,7 @@ class _Reader:
 
     def number(self, data: Mapping[str, Any], key: str, path: str, rng: _Range) -> Fraction:
         where = f"{path}.{key}" if path else key
-        raw = self.raw(data, key, path)
+        raw = self.raw(data, key, path, f"a plain number in {rng.describe()}")
         if isinstance(raw, bool) or not isinstance(raw, (int, float)):
             raise self.error(
                 where, raw, f"must be a plain number, got {type_name(raw)}", rng.describe()
@@ -240,7 +243,7 @@ class _Reader:
 
     def integer(self, data: Mapping[str, Any], key: str, path: str, rng: _Range) -> int:
         where = f"{path}.{key}"
-        raw = self.raw(data, key, path)
+        raw = self.raw(data, key, path, f"an integer in {rng.describe()}")
         if isinstance(raw, bool) or not isinstance(raw, int):
             raise self.error(
                 where, raw, f"must be an integer, got {type_name(raw)}", rng.describe()
@@ -250,7 +253,7 @@ class _Reader:
         return raw
 
     def choice(self, data: Mapping[str, Any], key: str, path: str, options: tuple[str, ...]) -> str:
-        raw = self.raw(data, key, path)
+        raw = self.raw(data, key, path, ", ".join(options))
         if not isinstance(raw, str) or raw not in options:
             guess = (
                 difflib.get_close_matches(raw, options, n=1, cutoff=0.6)
@@ -485,9 +488,12 @@ def _any_under(r: _Reader, section: str) -> bool:
     return any(e.path == section or e.path.startswith(f"{section}.") for e in r.errors)
 
 
+_HALL_SEQUENCE_ALLOWED = "six distinct codes 1..6, consecutive codes differing in exactly one bit"
+
+
 def _hall_sequence(r: _Reader, raw: object) -> tuple[int, ...]:
     path = "hall.sequence"
-    allowed = "six distinct codes 1..6, consecutive codes differing in exactly one bit"
+    allowed = _HALL_SEQUENCE_ALLOWED
     if not isinstance(raw, list) or len(raw) != 6:
         raise r.error(path, raw, "must list the six Hall codes of Table 1", allowed)
     for index, code in enumerate(raw):
@@ -519,7 +525,9 @@ def _hall(r: _Reader, data: Mapping[str, Any]) -> HallSensor | None:
         return None
     r.only_keys(sec, _HALL_KEYS, "hall")
     bits = r.attempt(lambda: r.integer(sec, "counter_bits", "hall", _Range(16, 16, "bits")))
-    sequence = r.attempt(lambda: _hall_sequence(r, r.raw(sec, "sequence", "hall")))
+    sequence = r.attempt(
+        lambda: _hall_sequence(r, r.raw(sec, "sequence", "hall", _HALL_SEQUENCE_ALLOWED))
+    )
     clock = r.attempt(
         lambda: r.quantity(sec, "timer_clock", "hall", units.FREQUENCY, _Range(1e3, 72e6, "Hz"))
     )
@@ -708,10 +716,10 @@ _RELAXATION = ("ill_conditioned_above", "ill_conditioned_counts")
 
 
 def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoint, ...] | None:
-    raw = r.attempt(lambda: r.raw(data, "operating_points", ""))
+    allowed = f"1 to {MAX_OPERATING_POINTS} mappings {{speed, main_duty}}"
+    raw = r.attempt(lambda: r.raw(data, "operating_points", "", allowed))
     if raw is None:
         return None
-    allowed = f"1 to {MAX_OPERATING_POINTS} mappings {{speed, main_duty}}"
     if not isinstance(raw, list):
         r.report("operating_points", raw, f"must be a list, got {type_name(raw)}", allowed)
         return None
@@ -780,7 +788,7 @@ def _covered(path: str, named: set[str]) -> bool:
 
 
 def _sources(r: _Reader, data: Mapping[str, Any]) -> tuple[tuple[str, str], ...] | None:
-    raw = r.attempt(lambda: r.raw(data, "sources", ""))
+    raw = r.attempt(lambda: r.raw(data, "sources", "", "a mapping of key paths to descriptions"))
     if raw is None:
         return None
     if not isinstance(raw, Mapping):
@@ -1205,7 +1213,7 @@ def load_spec(path: str | Path) -> Spec:
         )
     r = _Reader(source, lines)
     r.only_keys(data, _TOP_KEYS, "", (*_OPTIONAL_TOP_KEYS, spec_optional.TOLERANCES_KEY))
-    name = r.attempt(lambda: r.raw(data, "name", ""))
+    name = r.attempt(lambda: r.raw(data, "name", "", "[a-z][a-z0-9_]{0,63}"))
     if "name" in data and (not isinstance(name, str) or not _NAME.match(name)):
         r.report("name", name, "must be a lower-case identifier", "[a-z][a-z0-9_]{0,63}")
     elif name == PAPER_AUDIT_NAME:
@@ -1215,7 +1223,11 @@ def load_spec(path: str | Path) -> Spec:
             "is reserved: generated/paper/ holds the paper's audit",
             "any other lower-case identifier",
         )
-    description = r.attempt(lambda: r.raw(data, "description", ""))
+    description = r.attempt(
+        lambda: r.raw(
+            data, "description", "", f"a string of <= {_MAX_DESCRIPTION_CHARS} characters"
+        )
+    )
     if "description" in data:
         if not isinstance(description, str):
             r.report("description", description, f"must be a string, got {type_name(description)}")

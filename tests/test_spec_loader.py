@@ -221,7 +221,7 @@ BAD_SPECS = [
     pytest.param(
         _edit(lambda d: d["motor"].pop("phase_inductance")),
         "motor.phase_inductance",
-        ("missing required key",),
+        ("missing required key", "(allowed: [1e-07, 1] H; units: H, mH, uH)"),
         id="missing-key",
     ),
     pytest.param(
@@ -635,6 +635,35 @@ def test_bad_spec_is_refused(
     assert message.startswith(str(path))
     for fragment in fragments:
         assert fragment in message, f"{fragment!r} not in {message!r}"
+
+
+def _required_leaves() -> list[str]:
+    """Every required key path of the default spec below a section (not the sources,
+    the optional tolerances or the optional relaxation pair)."""
+    data = yaml.safe_load(DEFAULT_TEXT)
+    return [
+        f"{section}.{key}"
+        for section, body in data.items()
+        if isinstance(body, dict) and section not in ("sources", "tolerances")
+        for key in body
+        if not key.startswith("ill_conditioned_")
+    ]
+
+
+@pytest.mark.parametrize("key_path", _required_leaves())
+def test_a_missing_key_says_what_it_takes(tmp_path: Path, key_path: str) -> None:
+    """A missing key once said only "see spec/paper_motor.yaml", a file a user's own
+    spec folder need not hold: the message states what the key takes (its range and
+    unit, its options, its form) in the same line."""
+    section, key = key_path.split(".")
+    path = _write(tmp_path, _edit(lambda d: d[section].pop(key))(DEFAULT_TEXT))
+
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+
+    message = str(caught.value).splitlines()[0]
+    assert f"{key_path} = None: missing required key (allowed: " in message, message
+    assert "paper_motor.yaml" not in message, message
 
 
 def test_out_of_range_quantity_states_value_and_allowed_range(tmp_path: Path) -> None:
