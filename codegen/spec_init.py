@@ -32,7 +32,7 @@ from codegen import units
 from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import braking_current_peak, braking_ripple, short_circuit_peak
-from codegen.spec_loader import load_spec
+from codegen.spec_loader import load_spec, out_of_range
 from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
@@ -66,7 +66,12 @@ METHOD_SOURCES = {
 }
 
 
-def _quantity(dimension: units.Dimension) -> object:
+def _quantity(dimension: units.Dimension, key: str, per_phase: bool = False) -> object:
+    """argparse type: a positive quantity whose spec value (the phase value, half of it,
+    where `per_phase` converts a line-to-line one) is within the loader's range for `key`:
+    a value no spec can hold (1e400 ohm) is said at its argument, not met later as a
+    float overflow inside init or as an error about a value derived from it."""
+
     def parse(text: str) -> tuple[Fraction, str]:
         try:
             value = units.parse_quantity(text, dimension).si_value
@@ -76,19 +81,28 @@ def _quantity(dimension: units.Dimension) -> object:
             raise argparse.ArgumentTypeError(
                 f"{text!r} is out of range (allowed: > 0, a quantity of {dimension.name})"
             )
+        why = out_of_range(key, value / 2 if per_phase else value)
+        if why is not None:
+            half = ", halved to the phase value" if per_phase else ""
+            raise argparse.ArgumentTypeError(f"{text!r}{half}: {why}")
         return value, text
 
     parse.__name__ = dimension.name  # argparse names the type in its error
     return parse
 
 
-def _positive_number(text: str) -> Fraction:
+def _kv(text: str) -> Fraction:
+    """argparse type: a speed constant in rpm/V whose line-to-line constant 1/Kv is
+    within the loader's range of motor.back_emf_constant."""
     try:
         value = Fraction(text)
     except (ValueError, ZeroDivisionError):
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if value <= 0:
         raise argparse.ArgumentTypeError(f"{text} must be positive")
+    why = out_of_range("motor.back_emf_constant", 1 / value)
+    if why is not None:
+        raise argparse.ArgumentTypeError(f"{text} rpm/V gives 1/Kv, line to line: {why}")
     return value
 
 
@@ -101,10 +115,24 @@ def spec_name(text: str) -> str:
     return text
 
 
-def _count(text: str) -> int:
-    if not text.isascii() or not text.isdigit() or not 1 <= int(text) <= 64:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number from 1 to 64")
-    return int(text)
+def _count(low: int, high: int, step: int = 1) -> object:
+    """argparse type: a whole number from `low` to `high` in steps of `step`."""
+
+    def parse(text: str) -> int:
+        if (
+            not text.isascii()
+            or not text.isdigit()
+            or not low <= int(text) <= high
+            or (int(text) - low) % step
+        ):
+            even = "an even" if step == 2 else "a"
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not {even} whole number from {low} to {high}"
+            )
+        return int(text)
+
+    parse.__name__ = "count"
+    return parse
 
 
 def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
@@ -113,76 +141,91 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
         " paper's motor, marked as assumptions)"
     )
     poles = group.add_mutually_exclusive_group()
-    poles.add_argument("--poles", type=_count, metavar="N", help="number of rotor poles")
+    poles.add_argument("--poles", type=_count(2, 128, 2), metavar="N", help="number of rotor poles")
     poles.add_argument(
-        "--pole-pairs", type=_count, metavar="N", help="number of pole pairs (poles = 2 N)"
+        "--pole-pairs",
+        type=_count(1, 64),
+        metavar="N",
+        help="number of pole pairs (poles = 2 N)",
     )
     r = group.add_mutually_exclusive_group()
     r.add_argument(
-        "--resistance", type=_quantity(units.RESISTANCE), metavar="Q", help="phase resistance"
+        "--resistance",
+        type=_quantity(units.RESISTANCE, "motor.phase_resistance"),
+        metavar="Q",
+        help="phase resistance",
     )
     r.add_argument(
         "--resistance-line-to-line",
-        type=_quantity(units.RESISTANCE),
+        type=_quantity(units.RESISTANCE, "motor.phase_resistance", per_phase=True),
         metavar="Q",
         help="terminal (line-to-line) resistance; the phase value is half",
     )
     inductance = group.add_mutually_exclusive_group()
     inductance.add_argument(
-        "--inductance", type=_quantity(units.INDUCTANCE), metavar="Q", help="phase inductance"
+        "--inductance",
+        type=_quantity(units.INDUCTANCE, "motor.phase_inductance"),
+        metavar="Q",
+        help="phase inductance",
     )
     inductance.add_argument(
         "--inductance-line-to-line",
-        type=_quantity(units.INDUCTANCE),
+        type=_quantity(units.INDUCTANCE, "motor.phase_inductance", per_phase=True),
         metavar="Q",
         help="terminal (line-to-line) inductance; the phase value is half",
     )
     emf = group.add_mutually_exclusive_group()
     emf.add_argument(
         "--ke",
-        type=_quantity(units.EMF_CONSTANT),
+        type=_quantity(units.EMF_CONSTANT, "motor.back_emf_constant"),
         metavar="Q",
         help="phase back-EMF constant k_e (E = k_e n, flat top), e.g. '2.36 V/krpm'",
     )
     emf.add_argument(
         "--ke-line-to-line",
-        type=_quantity(units.EMF_CONSTANT),
+        type=_quantity(units.EMF_CONSTANT, "motor.back_emf_constant"),
         metavar="Q",
         help="line-to-line back-EMF constant (= 2 k_e)",
     )
     emf.add_argument(
         "--kv",
-        type=_positive_number,
+        type=_kv,
         metavar="RPM_PER_V",
         help="speed constant in rpm/V; line-to-line k_e = 1/Kv",
     )
     group.add_argument(
-        "--rated-voltage", type=_quantity(units.VOLTAGE), metavar="Q", help="motor rated voltage"
+        "--rated-voltage",
+        type=_quantity(units.VOLTAGE, "motor.rated_voltage"),
+        metavar="Q",
+        help="motor rated voltage",
     )
     group.add_argument(
-        "--inertia", type=_quantity(units.INERTIA), metavar="Q", help="rotor inertia"
+        "--inertia",
+        type=_quantity(units.INERTIA, "motor.rotor_inertia"),
+        metavar="Q",
+        help="rotor inertia",
     )
     group.add_argument(
         "--bus-voltage",
-        type=_quantity(units.VOLTAGE),
+        type=_quantity(units.VOLTAGE, "inverter.bus_voltage_nominal"),
         metavar="Q",
         help="nominal DC bus voltage (range: 0.8 to 1.25 times it)",
     )
     group.add_argument(
         "--braking-current",
-        type=_quantity(units.CURRENT),
+        type=_quantity(units.CURRENT, "controller.braking_current_nominal"),
         metavar="Q",
         help="nominal braking current (range: 0 to twice it)",
     )
     group.add_argument(
         "--speed-max",
-        type=_quantity(units.SPEED),
+        type=_quantity(units.SPEED, "controller.speed_max"),
         metavar="Q",
         help="top speed (default: 95 %% of U_d/(2 k_e), where 2E reaches the bus)",
     )
     group.add_argument(
         "--pwm-frequency",
-        type=_quantity(units.FREQUENCY),
+        type=_quantity(units.FREQUENCY, "inverter.pwm_frequency"),
         metavar="Q",
         help="PWM frequency, edge-aligned",
     )

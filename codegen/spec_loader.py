@@ -330,6 +330,39 @@ _SECTIONS = {
 # Ranges: what any real drive of this kind can have, so that no value can reach the
 # arithmetic below as zero, infinity or beyond a double (1e-400 V/krpm is 0.0 in float).
 _VOLTS = _positive(1, 1000, "V")
+_POLES = _Range(2, 128, "poles")
+_EMF = _positive(1e-5, 1, "V/rpm")
+_RESISTANCE = _positive(1e-4, 100, "ohm")
+_INDUCTANCE = _positive(1e-7, 1, "H")
+_INERTIA = _positive(1e-9, 100, "kg*m^2")
+_PWM_FREQUENCY = _Range(1e3, 100e3, "Hz")
+_AMPS = _Range(0.0, 1000.0, "A")
+_SPEEDS = _positive(1, 1e6, "rpm")
+#: The ranges of the values a datasheet gives (`bldc-codegen init` holds its arguments
+#: to them: `out_of_range`), by key path; the unit is the SI one the loader converts to.
+DATASHEET_RANGES = {
+    "motor.poles": _POLES,
+    "motor.back_emf_constant": _EMF,
+    "motor.rated_voltage": _VOLTS,
+    "motor.phase_resistance": _RESISTANCE,
+    "motor.phase_inductance": _INDUCTANCE,
+    "motor.rotor_inertia": _INERTIA,
+    "inverter.bus_voltage_nominal": _VOLTS,
+    "inverter.pwm_frequency": _PWM_FREQUENCY,
+    "controller.braking_current_nominal": _AMPS,
+    "controller.speed_max": _SPEEDS,
+}
+
+
+def out_of_range(key: str, value: Fraction | int) -> str | None:
+    """Why `value` (in the SI unit) cannot be the spec's `key` of DATASHEET_RANGES, in
+    the loader's words, or None where it can."""
+    rng = DATASHEET_RANGES[key]
+    if rng.contains(value):
+        return None
+    return f"{key} = {_g(value)} {rng.unit} is out of range (allowed: {rng.describe()})"
+
+
 #: Optional motor.viscous_friction: 0 (none) up to what would stop a large hub motor
 #: within milliseconds.
 _FRICTION_KEY = "viscous_friction"
@@ -352,7 +385,7 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
         )
 
     def poles() -> int:
-        count = r.integer(sec, "poles", "motor", _Range(2, 128, "poles"))
+        count = r.integer(sec, "poles", "motor", _POLES)
         if count % 2:
             raise r.error(
                 "motor.poles", count, "a rotor has an even number of poles", "2, 4, 6, ... 128"
@@ -362,29 +395,17 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
     convention = r.attempt(
         lambda: r.choice(sec, "back_emf_convention", "motor", ("phase", "line_to_line"))
     )
-    k_e = r.attempt(
-        lambda: r.quantity(
-            sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _positive(1e-5, 1, "V/rpm")
-        )
-    )
+    k_e = r.attempt(lambda: r.quantity(sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _EMF))
     values = (
         r.attempt(lambda: r.quantity(sec, "rated_voltage", "motor", units.VOLTAGE, _VOLTS)),
         r.attempt(
-            lambda: r.quantity(
-                sec, "phase_resistance", "motor", units.RESISTANCE, _positive(1e-4, 100, "ohm")
-            )
+            lambda: r.quantity(sec, "phase_resistance", "motor", units.RESISTANCE, _RESISTANCE)
         ),
         r.attempt(
-            lambda: r.quantity(
-                sec, "phase_inductance", "motor", units.INDUCTANCE, _positive(1e-7, 1, "H")
-            )
+            lambda: r.quantity(sec, "phase_inductance", "motor", units.INDUCTANCE, _INDUCTANCE)
         ),
         r.attempt(poles),
-        r.attempt(
-            lambda: r.quantity(
-                sec, "rotor_inertia", "motor", units.INERTIA, _positive(1e-9, 100, "kg*m^2")
-            )
-        ),
+        r.attempt(lambda: r.quantity(sec, "rotor_inertia", "motor", units.INERTIA, _INERTIA)),
     )
     if convention is None or k_e is None or friction is None or any(v is None for v in values):
         return None
@@ -423,9 +444,7 @@ def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter | None:
         lambda: r.quantity(sec, "timer_clock", "inverter", units.FREQUENCY, _Range(1e6, 72e6, "Hz"))
     )
     f_pwm = r.attempt(
-        lambda: r.quantity(
-            sec, "pwm_frequency", "inverter", units.FREQUENCY, _Range(1e3, 100e3, "Hz")
-        )
+        lambda: r.quantity(sec, "pwm_frequency", "inverter", units.FREQUENCY, _PWM_FREQUENCY)
     )
     alignment = r.attempt(lambda: r.choice(sec, "pwm_alignment", "inverter", ("edge", "center")))
     # Both switches of a leg conducting at once short the bus: a bridge needs a dead time.
@@ -585,7 +604,7 @@ def _controller(r: _Reader, data: Mapping[str, Any]) -> Controller | None:
     if sec is None:
         return None
     r.only_keys(sec, _CONTROLLER_KEYS, "controller")
-    amps = _Range(0.0, 1000.0, "A")
+    amps = _AMPS
     method = r.attempt(lambda: r.choice(sec, "method", "controller", COMMUTATION_METHODS))
     i_min = r.attempt(
         lambda: r.quantity(sec, "braking_current_min", "controller", units.CURRENT, amps)
@@ -596,7 +615,7 @@ def _controller(r: _Reader, data: Mapping[str, Any]) -> Controller | None:
     i_max = r.attempt(
         lambda: r.quantity(sec, "braking_current_max", "controller", units.CURRENT, amps)
     )
-    speeds = _positive(1, 1e6, "rpm")
+    speeds = _SPEEDS
     n_min = r.attempt(lambda: r.quantity(sec, "speed_min", "controller", units.SPEED, speeds))
     n_max = r.attempt(lambda: r.quantity(sec, "speed_max", "controller", units.SPEED, speeds))
     if i_min is not None and i_max is not None and not i_min < i_max:

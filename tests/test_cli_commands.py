@@ -247,6 +247,47 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
 
 
 @pytest.mark.parametrize(
+    ("option", "value", "line"),
+    [
+        ("--kv", "1e400", "motor.back_emf_constant = 1e-400 V/rpm is out of range"),
+        ("--kv", "1e-400", "motor.back_emf_constant = 1e+400 V/rpm is out of range"),
+        ("--resistance", "1e400 ohm", "motor.phase_resistance = 1e+400 ohm is out of range"),
+        (
+            "--resistance-line-to-line",
+            "1e-400 ohm",
+            "halved to the phase value: motor.phase_resistance = 5e-401 ohm is out of range",
+        ),
+        ("--rated-voltage", "1e400 V", "motor.rated_voltage = 1e+400 V is out of range"),
+        ("--pwm-frequency", "1e-400 Hz", "inverter.pwm_frequency = 1e-400 Hz is out of range"),
+        ("--ke", "1e-9 V/krpm", "motor.back_emf_constant = 1e-12 V/rpm is out of range"),
+        ("--poles", "1000", "'1000' is not an even whole number from 2 to 128"),
+        ("--poles", "3", "'3' is not an even whole number from 2 to 128"),
+    ],
+)
+def test_init_should_refuse_a_value_no_spec_can_hold_at_its_argument(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    option: str,
+    value: str,
+    line: str,
+) -> None:
+    """`--kv 1e400` (or 1e400 ohm, 1e-400 Hz) was an internal error, a float overflow in
+    init (exit 70); `--ke 1e-9 V/krpm` wrote a spec refused for a top speed of 1e13 rpm
+    derived from it; `--poles 1000` said 'from 1 to 64'. A datasheet value is held to
+    the loader's range of the key it becomes, at its argument, in one line."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as caught:
+        cli.main(["init", "m", option, value])
+    assert caught.value.code == ExitCode.USAGE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith(f"bldc-codegen init: error: argument {option}: "), err[-1]
+    assert line in err[-1]
+    assert "(allowed: " in err[-1] or "whole number" in err[-1]
+    assert not (tmp_path / "spec").exists()
+
+
+@pytest.mark.parametrize(
     ("argv", "line"),
     [
         (["verify", "SPEC", "--seed", "-1"], "argument --seed: -1 is out of range"),
