@@ -69,7 +69,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="every study at a few speeds (a first look; the report says so)",
     )
     args = parser.parse_args(argv)
-    from sim.sil import SilError
+    from sim.sil import SilError, SpecRefusedError
 
     try:
         return simulate_spec(
@@ -81,6 +81,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except DerivationError as exc:
         print(f"derivation failed: {exc}", file=sys.stderr)
         return EXIT_DERIVATION
+    except SpecRefusedError as exc:  # what `generate SPEC` says of it
+        for line in str(exc).splitlines():
+            print(f"error: {line}", file=sys.stderr)
+        return EXIT_SPEC
     except SilError as exc:
         print(f"software in the loop failed: {exc}", file=sys.stderr)
         return EXIT_SIL

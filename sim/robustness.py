@@ -21,7 +21,8 @@ Runs on Dask: a `dask.distributed.LocalCluster` of `--workers` processes, or an
 existing scheduler (`--scheduler tcp://host:8786`) whose workers see the same checkout
 and build/ folder (the compiled cores are loaded from there by path).
 
-Exit status: 0 success, 2 bad spec or arguments, 4 the cores cannot be built.
+Exit status: 0 success, 2 bad spec or arguments, 3 the generator refuses the spec (its
+own method's design, as `generate SPEC` says), 4 the cores cannot be built.
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ from sim.drive import Drive
 from sim.robustness_args import add_campaign_arguments
 
 EXIT_SPEC = 2
+EXIT_REFUSED = 3
 EXIT_SIL = 4
 REPORT_NAME = "ROBUSTNESS.md"
 #: Relative (low, high) used when the spec declares no `tolerances` section.
@@ -311,7 +313,7 @@ def run(args: argparse.Namespace) -> int:
     and no_progress), its report written; the exit status."""
     from sim.robustness_report import write_report
     from sim.runs import METHODS
-    from sim.sil import SilError
+    from sim.sil import SilError, SpecRefusedError
 
     methods = tuple(m for m in args.methods.split(",") if m)
     bad = [m for m in methods if m not in METHODS]
@@ -330,6 +332,10 @@ def run(args: argparse.Namespace) -> int:
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_SPEC
+    except SpecRefusedError as exc:  # what `generate SPEC` says of it
+        for line in str(exc).splitlines():
+            print(f"error: {line}", file=sys.stderr)
+        return EXIT_REFUSED
     except SilError as exc:
         print(f"software in the loop failed: {exc}", file=sys.stderr)
         return EXIT_SIL

@@ -59,6 +59,12 @@ class SilError(RuntimeError):
     """The core could not be generated, compiled or loaded."""
 
 
+class SpecRefusedError(SilError):
+    """The generator refuses the spec itself: its own method's core has no design (a
+    fixed-point target no format meets, the current loop's among them), which is what
+    `generate SPEC` says. A bad spec, in the same one line, not a failed simulation."""
+
+
 #: bldc_inputs_t and bldc_outputs_t, from the ABI's one definition (codegen.abi)
 CoreInputs = ctypes_struct(INPUTS)
 CoreOutputs = ctypes_struct(OUTPUTS)
@@ -258,6 +264,9 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
         stand_ins = {k: variants[k] for k in outputs if k[0] == SHAPED_METHOD}
         for key in stand_ins:
             del outputs[key]
+    own_result = outputs.get((spec.controller.method, None))
+    if isinstance(own_result, str):
+        raise _refused(spec, spec.controller.method, own_result, build_dir)
     for key, result in outputs.items():
         if isinstance(result, str):
             raise SilError(f"generating the {key[0]!r} core failed:\n{result}")
@@ -285,7 +294,7 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
                 )[(own, None)]
             )
             if isinstance(own_dir, str):
-                raise SilError(f"generating the {own!r} core failed:\n{own_dir}")
+                raise _refused(spec, own, own_dir, build_dir)
             sibling = load_core(own_dir, own, build_dir)
         for (_, shape), variant_text in stand_ins.items():
             variant = build_dir / "specs" / f"{spec.name}-{SHAPED_METHOD}-stand-in.yaml"
@@ -298,6 +307,19 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
             else:
                 shaped[shape] = stand_in
     return CoreSet(spec, cores, shaped, fallback, rule_duty_target, rule_refused)
+
+
+def _variant_spec(spec: Spec, tag: str, build_dir: Path) -> Path:
+    """Where the text of one variant of the spec is written to be generated."""
+    return build_dir / "specs" / f"{spec.name}-{tag}.yaml"
+
+
+def _refused(spec: Spec, method: str, error: str, build_dir: Path) -> SpecRefusedError:
+    """The error of the spec's own method's variant, said of the spec itself (the
+    variant's text is the spec's: the same lines, the method spelled out)."""
+    variant = str(_variant_spec(spec, method, build_dir))
+    lines = error.replace(variant, spec.source_path).splitlines()
+    return SpecRefusedError("\n".join(" ".join(line.split()) for line in lines))
 
 
 def _generate_all(
@@ -330,7 +352,7 @@ def _generate_all(
         for stale in build_dir.glob(f"{spec.name}-{tag}-*"):
             if own.fullmatch(stale.name):  # not improved_r-flat's for improved_r's
                 shutil.rmtree(stale, ignore_errors=True)  # variants of an older toolchain
-        variant_spec = build_dir / "specs" / f"{spec.name}-{tag}.yaml"
+        variant_spec = _variant_spec(spec, tag, build_dir)
         variant_spec.parent.mkdir(parents=True, exist_ok=True)
         variant_spec.write_text(text, encoding="utf-8")
         try:

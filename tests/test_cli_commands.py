@@ -389,6 +389,39 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
     assert not (tmp_path / "generated" / "strict").exists()
 
 
+REFUSED = ROOT / "tests" / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["simulate", "--quick", "--no-progress"],
+        ["robustness", "--samples", "2", "--speeds", "2", "--no-progress"],
+        ["bench", "--quick", "--report-only"],
+    ],
+    ids=["simulate", "robustness", "bench"],
+)
+def test_a_spec_no_design_meets_is_a_bad_spec_for_every_command(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    command: list[str],
+) -> None:
+    """A valid spec whose current loop no fixed-point format meets: `generate` refuses
+    it (exit 3, one line naming the key). `simulate` and `robustness` said 'software in
+    the loop failed' about a variant in build/sim/specs/ and exited 5 (the environment),
+    `bench` exited 2 (a usage error); each says what `generate` says, exit 3."""
+    monkeypatch.chdir(tmp_path)
+    code = cli.main([command[0], str(REFUSED), *command[1:]])
+    err = [line for line in capsys.readouterr().err.splitlines() if not line.startswith("warn")]
+    assert code == ExitCode.SPEC, err
+    assert len(err) == 1, err
+    assert f"{REFUSED}: accuracy.current_loop_duty_counts: fixed-point design: " in err[0]
+    assert "(allowed: >= 1.002 counts)" in err[0]
+    assert "build/sim" not in err[0]
+    assert not (tmp_path / "generated").exists()
+
+
 @pytest.mark.parametrize(
     ("name", "datasheet", "edit"),
     [

@@ -250,8 +250,11 @@ def _robustness(args: argparse.Namespace) -> int:
     if not args.output:
         args.output = str(Path("generated") / spec.name / "robustness")
     code = robustness_run(args)
-    # sim.robustness: 2 a bad argument (the spec loaded above), 4 software in the loop.
-    return {0: 0, 2: int(ExitCode.USAGE)}.get(code, int(ExitCode.ENVIRONMENT))
+    # sim.robustness: 2 a bad argument (the spec loaded above), 3 the generator refuses
+    # the spec, 4 software in the loop.
+    return {0: 0, 2: int(ExitCode.USAGE), 3: int(ExitCode.SPEC)}.get(
+        code, int(ExitCode.ENVIRONMENT)
+    )
 
 
 def _robustness_arguments(parser: argparse.ArgumentParser) -> None:
@@ -291,7 +294,9 @@ def _bench(args: argparse.Namespace) -> int:
     flags = ["--report-only"] if args.report_only else []
     flags += ["--quick"] if args.quick else []
     flags += ["--only", args.only] if args.only is not None else []  # "" is refused there
-    return bench_main([args.spec, *flags])
+    code = bench_main([args.spec, *flags])
+    # emulation.bench: 2 a bad spec (loaded above: the design refuses it, as generate does)
+    return int(ExitCode.SPEC) if code == 2 else code
 
 
 def _bench_arguments(parser: argparse.ArgumentParser) -> None:
