@@ -284,6 +284,18 @@ def test_prove_should_exit_with_one_line_on_a_bad_spec(
     assert len(err) == 1 and "poles" in err[0]
 
 
+def test_prove_should_exit_with_one_line_on_a_spec_no_design_meets(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A valid spec whose current loop no fixed-point format meets: generating it for
+    the proof raised FixedPointError through main(), a traceback (exit 1)."""
+    refused = Path(__file__).parent / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
+    assert main([str(refused), "--build", str(tmp_path / "build")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("prove: accuracy.current_loop_duty_counts = 1 counts: ")
+
+
 def test_prove_should_fail_when_frama_c_is_missing(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -35,6 +35,7 @@ from pathlib import Path
 from codegen.argtypes import whole_number
 from codegen.errors import SpecError
 from codegen.generate import render_all, write_tree
+from codegen.methods.base import FixedPointError
 from codegen.render import PROJECT_ROOT, project_relative, render, write_atomically
 from codegen.spec_loader import load_spec
 from verify.frama_c import (
@@ -504,7 +505,7 @@ def main(argv: list[str] | None = None) -> int:
     start = time.monotonic()
     try:
         targets = [target_for(s, args.build) for s in args.specs]
-    except SpecError as exc:
+    except (SpecError, FixedPointError) as exc:  # the design's refusal names its key
         print(f"prove: {exc}", file=sys.stderr)
         return EXIT_SPEC
     try:
