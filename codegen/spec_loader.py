@@ -30,6 +30,7 @@ from codegen import spec_drive, spec_optional, units
 from codegen.errors import MultiSpecError, SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
+    LOOP_DUTY_COUNTS_MAX,
     Accuracy,
     Adc,
     BackEmfShape,
@@ -687,7 +688,7 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
             sec,
             "current_loop_duty_counts",
             "accuracy",
-            _Range(0.5, 16, "TIM1 counts", low_inclusive=False),
+            _Range(0.5, LOOP_DUTY_COUNTS_MAX, "TIM1 counts", low_inclusive=False),
         )
     )
     present = tuple(k for k in _RELAXATION if k in sec)

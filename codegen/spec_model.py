@@ -275,6 +275,9 @@ class Spec:
 
 #: The closed-loop time constants a braking-current step response takes to settle.
 STEP_RESPONSE_TIME_CONSTANTS = 5
+#: The largest accuracy.current_loop_duty_counts a spec may ask for (the loader's range):
+#: an error budget of a few counts, not a description of an inaccurate loop.
+LOOP_DUTY_COUNTS_MAX = 16
 
 
 def loop_periods_per_step_response(spec: Spec) -> float:

@@ -75,3 +75,29 @@ def test_a_loop_with_ki_above_kp_should_get_the_clamp_form() -> None:
         d.fraction_bits, d.ki_q, d.kp_q, state_max, d.code_max, d.gains
     )
     assert {"upper", "lower"} <= _lets(integrate)
+
+
+@pytest.mark.parametrize(("bandwidth", "found"), [("1 Hz", "2.5 Hz"), ("2 Hz", "2.5 Hz")])
+def test_a_loop_too_slow_for_any_allowed_accuracy_should_name_the_bandwidth(
+    tmp_path: Path, bandwidth: str, found: str
+) -> None:
+    """The paper motor with the loader's lowest bandwidth: a step response of 15915 PWM
+    periods drifts its PI's integrator 25.2 counts. The refusal named
+    accuracy.current_loop_duty_counts with '(allowed: >= 25.248 counts)', a value the
+    loader refuses (at most 16): a dead end. It names the bandwidth, and one that meets
+    the spec's accuracy, found by designing it."""
+    from codegen.methods.base import FixedPointError
+
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    assert "  bandwidth: 1 kHz\n" in text
+    path = tmp_path / "slow_loop.yaml"
+    path.write_text(text.replace("  bandwidth: 1 kHz\n", f"  bandwidth: {bandwidth}\n"))
+    with pytest.raises(FixedPointError) as caught:
+        current_loop.design(load_spec(path))
+    assert caught.value.key == "current_loop.bandwidth"
+    message = str(caught.value)
+    assert message.startswith(f"current_loop.bandwidth = {bandwidth}: ")
+    assert f"accuracy.current_loop_duty_counts = 1 counts: e.g. {found} meets it)" in message
+    met = path.read_text().replace(f"  bandwidth: {bandwidth}\n", f"  bandwidth: {found}\n")
+    path.write_text(met)
+    current_loop.design(load_spec(path))  # the bandwidth named does meet it

@@ -69,7 +69,9 @@ from codegen.ir.nodes import (
 )
 from codegen.ir.types import I32, U32, U64
 from codegen.methods.base import FixedPointError
+from codegen.spec_drive import BANDWIDTH_MAX_PER_PWM
 from codegen.spec_model import (
+    LOOP_DUTY_COUNTS_MAX,
     Spec,
     integrator_step_tolerance_counts,
     loop_periods_per_step_response,
@@ -369,12 +371,64 @@ def _claims(
     return duty_error, integrator_error
 
 
+#: Bandwidths `_faster_bandwidth` tries, per decade of Hz (a step response's integrator
+#: drift follows how k_i rounds in its format, not the bandwidth monotonically).
+_NICE_BANDWIDTHS = (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8)
+
+
+def _faster_bandwidth(spec: Spec) -> Fraction | None:
+    """The lowest bandwidth above the spec's, of a few per decade up to the loader's
+    limit (f_pwm / 10, 20 kHz), whose PI meets the spec's current_loop_duty_counts in
+    its widest format; None where none does."""
+    from dataclasses import replace
+
+    bandwidth = spec.current_loop.bandwidth_hz
+    top = min(Fraction(20_000), BANDWIDTH_MAX_PER_PWM * spec.inverter.pwm_frequency_hz)
+    candidates = sorted(
+        {
+            Fraction(str(nice)) * 10**decade
+            for decade in range(5)
+            for nice in _NICE_BANDWIDTHS
+            if bandwidth < Fraction(str(nice)) * 10**decade <= top
+        }
+    )
+    for candidate in candidates:
+        trial = replace(spec, current_loop=replace(spec.current_loop, bandwidth_hz=candidate))
+        try:
+            met = accuracy_needed(widest_design(trial)) <= spec.accuracy.current_loop_duty_counts
+        except FixedPointError:
+            continue
+        if met:
+            return candidate
+    return None
+
+
 def _hold_claims(d: LoopDesign) -> None:
     """The widest format's error bounds against what the spec allows: a design that
-    would fail `verify` is refused here, naming the key to change."""
+    would fail `verify` is refused here, naming the key to change: the accuracy, or,
+    where the accuracy it would need is beyond what a spec may ask (a slow loop's step
+    response accumulates the integrator's error over many periods), the bandwidth."""
     allowed = d.spec.accuracy.current_loop_duty_counts
     periods = loop_periods_per_step_response(d.spec)
     step = float(d.integrator_claim)
+    if accuracy_needed(d) > LOOP_DUTY_COUNTS_MAX:
+        bandwidth = d.spec.current_loop.bandwidth_hz
+        faster = _faster_bandwidth(d.spec)
+        meets = (
+            f"e.g. {float(faster):g} Hz meets it"
+            if faster is not None
+            else "none up to the loader's limit in the PI's widest format"
+        )
+        raise FixedPointError(
+            f"current_loop.bandwidth = {float(bandwidth):g} Hz: a braking-current step"
+            f" response takes {periods:.1f} PWM periods, over which the PI's integrator,"
+            f" off by up to {step:.4f} counts a period in its widest format"
+            f" (Q{d.fraction_bits}), drifts {step * periods:.4f} counts, more than the"
+            f" {LOOP_DUTY_COUNTS_MAX} counts accuracy.current_loop_duty_counts may be"
+            f" (allowed: a bandwidth whose PI meets accuracy.current_loop_duty_counts ="
+            f" {float(allowed):g} counts: {meets})",
+            "current_loop.bandwidth",
+        )
     if d.duty_claim > allowed or step > integrator_step_tolerance_counts(d.spec):
         raise FixedPointError(
             f"accuracy.current_loop_duty_counts = {float(allowed):g} counts: the"
