@@ -127,24 +127,44 @@ def _signed_extreme(values: np.ndarray) -> float:
     return float(values[np.argmax(np.abs(values))])
 
 
+def _periods(
+    trace: Trace, end: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(starts, ends, mean currents, mean power, window mask) of the periods measured.
+    Where the sector ends inside the first carrier period after the edge (a sector
+    shorter than a PWM period), no whole period lies in the window: the period the next
+    Hall edge's carrier restart cuts short, averaged over its own length as every cut
+    period is, is the window then."""
+    starts, ends = trace.period_starts, trace.period_ends
+    currents, power = trace.period_currents, trace.period_power
+    window = window_periods(trace, end)
+    cut = trace.cut_period
+    if not window.any() and cut is not None and cut[0] < end - _SLACK and cut[1] > _SLACK:
+        starts, ends = np.append(starts, cut[0]), np.append(ends, cut[1])
+        currents = np.vstack([currents.reshape(-1, 3), cut[2]])
+        power = np.append(power, cut[3])
+        window = np.append(np.zeros(trace.period_starts.shape, dtype=bool), True)
+    return starts, ends, currents, power, window
+
+
 def measure(case: Case, command: Command, trace: Trace) -> CommutationMetrics:
     end, zero = commutation_end(case, command, trace)
     period = case.drive.pwm_period_s
-    window = window_periods(trace, end)
+    starts, ends, currents, power, window = _periods(trace, end)
     nc = case.edge.non_commutating
     sign = case.edge.current_signs[nc]
     current = case.current_a
-    deviation = (sign * trace.period_currents[window, nc] - current) / current * 100
-    stop = float(trace.period_ends[window].max()) if window.any() else end
+    deviation = (sign * currents[window, nc] - current) / current * 100
+    stop = float(ends[window].max()) if window.any() else end
     during = (trace.times >= 0.0) & (trace.times <= stop + _SLACK)
     instantaneous = (sign * trace.currents[during, nc] - current) / current * 100
     omega = case.drive.mechanical_speed_rad_s(case.speed_rpm)
-    full = np.abs(trace.period_ends - trace.period_starts - period) < 1e-9 * period
-    before = np.flatnonzero(full & (trace.period_ends <= _SLACK))
+    full = np.abs(ends - starts - period) < 1e-9 * period
+    before = np.flatnonzero(full & (ends <= _SLACK))
     with_reference = window.copy()
     if before.size:
         with_reference[before[-1]] = True
-    torque = trace.period_power[with_reference] / omega
+    torque = power[with_reference] / omega
     ripple = float((torque.max() - torque.min()) / abs(torque.mean()) * 100)
     counts: list[int | None] = [None] * 6
     if trace.model == "switched" and command.turn_on_switch is not None:

@@ -41,6 +41,9 @@ class Trace:
     period_power: np.ndarray  # (K,) mean of sum e_x i_x, W
     events: tuple[Event, ...]
     transitions: tuple[Transition, ...]
+    #: The last carrier period the run covers in part (it ends inside it): start, end of
+    #: the coverage, mean currents (3,) and power over the part covered; None if none.
+    cut_period: tuple[float, float, np.ndarray, float] | None = None
 
     def current_at(self, t: float) -> np.ndarray:
         return np.array([np.interp(t, self.times, self.currents[:, k]) for k in range(3)])
@@ -99,6 +102,17 @@ class TraceBuilder:
         ends = np.array([bounds[k][1] for k in full])
         mean_i = np.array([self._charge[k] / length[k] for k in full]).reshape(-1, 3)
         power = np.array([self._energy[k] / length[k] for k in full])
+        cut = None
+        part = [k for k, d in self._covered.items() if d > slack and k not in full]
+        if part and max(part) > max(full, default=max(part) - 1):
+            k = max(part)
+            covered = self._covered[k]
+            cut = (
+                bounds[k][0],
+                bounds[k][0] + covered,
+                self._charge[k] / covered,
+                self._energy[k] / covered,
+            )
         return Trace(
             model=self.model,
             times=np.array(self.times),
@@ -109,4 +123,5 @@ class TraceBuilder:
             period_power=power,
             events=tuple(self.events),
             transitions=tuple(self.transitions),
+            cut_period=cut,
         )

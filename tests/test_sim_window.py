@@ -13,6 +13,7 @@ import pytest
 from codegen.spec_loader import load_spec
 from sim.analytic import commutation_dip
 from sim.drive import Drive
+from sim.metrics import window_periods
 from sim.runs import Controller, Run, simulate
 from sim.scenario import Case, paper_edge
 from sim.sil import prepare_cores
@@ -109,3 +110,33 @@ def _old_window_worst(run: Run) -> float:
     sign = case.edge.current_signs[nc]
     deviation = (sign * trace.period_currents[inside, nc] - case.current_a) / case.current_a * 100
     return float(deviation[np.argmax(np.abs(deviation))])
+
+
+@pytest.mark.parametrize("model", ["switched", "averaged"])
+def test_a_sector_shorter_than_a_pwm_period_is_measured_over_the_period_it_cuts(
+    model: str,
+) -> None:
+    """The 16-pole 5 kHz fixture at its top speed, 7000 rpm: a 179 us sector against a
+    200 us carrier period, which the commutation (commanded to the whole sector) does
+    not restart, so no whole period lies after the edge within the sector. The window was
+    empty and `measure` failed (argmax of an empty sequence): `simulate` and
+    `robustness` ended in an internal error. The period the next Hall edge's carrier
+    restart cuts short, averaged over its own length as every cut period is, is the
+    window."""
+    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml")
+    drive = Drive.from_spec(spec)
+    controller = Controller(spec, prepare_cores(spec, ("none",)))
+    case = Case(drive, paper_edge(), 7000.0, drive.braking_current_a, "spec")
+    assert case.sector_time_s < drive.pwm_period_s
+    run = simulate(case, controller.command("none", case, case.pre_edge_duty), model)
+    cut = run.trace.cut_period
+    assert cut is not None
+    assert (cut[0], cut[1]) == pytest.approx((0.0, case.sector_time_s))
+    assert not window_periods(run.trace, case.sector_time_s).any()
+    assert run.metrics.periods == 1
+    nc = case.edge.non_commutating
+    mean = case.edge.current_signs[nc] * cut[2][nc]
+    expected = (mean - case.current_a) / case.current_a * 100
+    assert run.metrics.period_deviations_pct == pytest.approx((expected,))
+    assert run.metrics.deviation_worst_pct == pytest.approx(expected)
+    assert np.isfinite(run.metrics.torque_ripple_pct)
