@@ -69,6 +69,8 @@ FIRMWARE_KEYS = (
     "cpu_load_budget",
     "current_loop_budget",
 )
+#: The HSE crystal's typical start-up time (DS5319 Table 22, t_SU(HSE)), seconds.
+HSE_STARTUP_TYPICAL_S = 2e-3
 SECTIONS = {
     "sensing": SENSING_KEYS,
     "current_loop": CURRENT_LOOP_KEYS,
@@ -273,9 +275,16 @@ def read_firmware(r: Reader, data: Mapping[str, Any], rng: Any) -> Firmware | No
         return None
     r.only_keys(sec, FIRMWARE_KEYS, "firmware")
     integration = r.attempt(lambda: r.choice(sec, "integration", "firmware", INTEGRATIONS))
+    # The 8 MHz crystal starts in 2 ms typically (DS5319 Table 22, t_SU(HSE)): a shorter
+    # timeout latches BLDC_FAULT_CLOCK at every start on a typical part, and the bridge
+    # never arms (a 100 us timeout did, in `make pil`).
     hse = r.attempt(
         lambda: r.quantity(
-            sec, "hse_startup_timeout", "firmware", units.TIME, rng(100e-6, 1.0, "s")
+            sec,
+            "hse_startup_timeout",
+            "firmware",
+            units.TIME,
+            rng(HSE_STARTUP_TYPICAL_S, 1.0, "s (at least the HSE crystal's typical start-up)"),
         )
     )
     # The IWDG counts the LSI (30..60 kHz, DS5319 Table 30) through a prescaler of 4..256

@@ -230,6 +230,12 @@ BAD_SPECS = [
         ("recursive alias *x",),
         id="recursive-alias",
     ),
+    pytest.param(
+        _replace("hse_startup_timeout: 10 ms", "hse_startup_timeout: 1 ms"),
+        "firmware.hse_startup_timeout",
+        ("0.001 s is out of range", "(allowed: [0.002, 1] s (at least the HSE crystal's typical"),
+        id="hse-timeout-below-the-crystals-start-up",  # latched CLOCK at every start (PIL)
+    ),
     # ---- quantities and units
     pytest.param(
         _replace("0.56 mH", "0.56 mF"),
