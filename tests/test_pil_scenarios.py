@@ -74,6 +74,22 @@ def test_make_pil_should_refuse_a_spec_no_design_meets_in_one_line(
     assert "accuracy.current_loop_duty_counts" in err[0]
 
 
+def test_make_pil_should_generate_a_users_motor_named_like_a_checked_in_one(
+    tmp_path: Path,
+) -> None:
+    """A copy of spec/paper_motor.yaml, edited and keeping its name: `make pil` took the
+    checked-in generated/paper_motor/ (another motor) and stopped, asking to regenerate
+    over it (`-o generated/paper_motor`). The checked-in output serves its own spec only;
+    another is generated, as `prove` and `simulate` do."""
+    paper = ROOT / "spec" / "paper_motor.yaml"
+    assert checked_in(paper) == ROOT / "generated" / "paper_motor"
+    text = paper.read_text(encoding="utf-8")
+    assert "  watchdog_timeout: 20 ms\n" in text
+    edited = tmp_path / "paper_motor.yaml"
+    edited.write_text(text.replace("  watchdog_timeout: 20 ms\n", "  watchdog_timeout: 30 ms\n"))
+    assert checked_in(edited) is None
+
+
 def test_a_sense_whose_zero_reads_code_0_should_fault_only_at_the_other_rail(
     tmp_path: Path,
 ) -> None:

@@ -19,6 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from codegen.build_firmware import build as build_sources
+from codegen.freshness import StaleOutputError, check_fresh
 from codegen.spec_loader import load_spec
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -67,9 +68,17 @@ def generate(spec: Path, generated: Path) -> Path:
 
 def checked_in(spec: Path) -> Path | None:
     """The spec's checked-in generated folder (kept fresh by `make check-generated`),
-    if it has one."""
-    folder = ROOT / "generated" / load_spec(str(spec)).name
-    return folder if (folder / "manifest.json").is_file() else None
+    where it holds this spec's current output: a user's motor may share its name with a
+    checked-in one (a copy of spec/paper_motor.yaml, edited), or the spec may have been
+    edited since; then None, and the caller generates it (`make pil` stopped instead,
+    asking to regenerate it over the checked-in folder)."""
+    loaded = load_spec(str(spec))
+    folder = ROOT / "generated" / loaded.name
+    try:
+        check_fresh(loaded, folder)
+    except StaleOutputError:
+        return None
+    return folder
 
 
 def build_firmware(spec: Path, folder: Path, generated: Path | None = None) -> Path:
