@@ -69,6 +69,12 @@ FIRMWARE_KEYS = (
     "cpu_load_budget",
     "current_loop_budget",
 )
+#: PWM periods the watchdog's time-out must hold at least (main() refreshes it once a
+#: period, after the current loop's run), on the slowest clock the PWM runs from.
+WATCHDOG_PWM_PERIODS = 2
+#: How much slower the PWM runs on the 8 MHz HSI than on the 72 MHz PLL: the clock the
+#: firmware keeps where the HSE crystal never starts.
+HSI_SLOWDOWN = 9
 #: The HSE crystal's typical start-up time (DS5319 Table 22, t_SU(HSE)), seconds.
 HSE_STARTUP_TYPICAL_S = 2e-3
 SECTIONS = {
@@ -545,6 +551,7 @@ def check_drive(
     sensing: Sensing,
     current_loop: CurrentLoop,
     protection: Protection,
+    firmware: Firmware,
 ) -> None:
     """Cross-key physics of the drive sections: exact arithmetic, floats in messages."""
 
@@ -573,6 +580,23 @@ def check_drive(
             " sample applies in the next, a delay that costs 360 deg x f_c / f_pwm of phase"
             " margin",
             f"<= {_g(f_pwm / 10)} Hz",
+        )
+    # main() refreshes the watchdog after a current-loop run, once a PWM period: the
+    # time-out (at the fastest LSI, as the firmware sets it) must hold two periods, the
+    # period and the wait for main's turn, on the clock the PWM may run from: the HSI
+    # where the crystal never starts (BLDC_FAULT_CLOCK), 9 times slower than the PLL
+    # (a 1 ms time-out at 1125 Hz starved it in `make pil`, and 1.8 ms did on the HSI).
+    hsi_period = HSI_SLOWDOWN / f_pwm
+    shortest = WATCHDOG_PWM_PERIODS * hsi_period
+    if firmware.watchdog_timeout_s < shortest:
+        r.report(
+            "firmware.watchdog_timeout",
+            raw("firmware.watchdog_timeout"),
+            "main() refreshes the watchdog once a PWM period, after the current loop's run;"
+            " on the 8 MHz HSI, where a crystal that never starts leaves the clock"
+            f" (BLDC_FAULT_CLOCK), a period takes {_g(hsi_period)} s: a time-out under"
+            f" {WATCHDOG_PWM_PERIODS} of them starves the watchdog and the chip resets",
+            f">= {_g(shortest)} s at {_g(f_pwm)} Hz",
         )
     # The sample window.
     centre = inverter.pwm_alignment == "center"

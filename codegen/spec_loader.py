@@ -1294,6 +1294,7 @@ def load_spec(path: str | Path) -> Spec:
         sensing=sensing,
         current_loop=current_loop,
         protection=protection,
+        firmware=firmware,
     )
     if r.errors:
         raise MultiSpecError(r.errors)

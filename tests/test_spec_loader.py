@@ -236,6 +236,18 @@ BAD_SPECS = [
         ("0.001 s is out of range", "(allowed: [0.002, 1] s (at least the HSE crystal's typical"),
         id="hse-timeout-below-the-crystals-start-up",  # latched CLOCK at every start (PIL)
     ),
+    pytest.param(
+        lambda t: _replace("watchdog_timeout: 20 ms", "watchdog_timeout: 10 ms")(
+            _replace("pwm_frequency: 20 kHz", "pwm_frequency: 1.5 kHz")(
+                _replace("pwm_alignment: edge", "pwm_alignment: center")(
+                    _replace("  bandwidth: 1 kHz", "  bandwidth: 100 Hz")(t)
+                )
+            )
+        ),
+        "firmware.watchdog_timeout",
+        ("a period takes 0.006 s", "(allowed: >= 0.012 s at 1500 Hz)"),
+        id="watchdog-shorter-than-two-pwm-periods-on-the-hsi",  # starved in `make pil`
+    ),
     # ---- quantities and units
     pytest.param(
         _replace("0.56 mH", "0.56 mF"),
