@@ -18,7 +18,11 @@ from codegen.yaml12 import type_name
 # ASCII digits only: Python's \d and int() also accept other scripts' digits, and a
 # spec that reads "٢٤ V" as 24 V is not what its author can see at a glance.
 _NUMBER = r"[-+]?(?:[0-9]{1,30}\.?[0-9]{0,30}|\.[0-9]{1,30})(?:[eE][-+]?[0-9]{1,3})?"
-_QUANTITY = re.compile(rf"^[ \t]*(?P<number>{_NUMBER})[ \t]*(?P<unit>\S.*?)?[ \t]*$", re.ASCII)
+#: What reads as the number: every character a number could continue with (no unit
+#: starts with one), so that '1e999999 V' or '2_4 V' is a bad number, not a bad unit.
+_TOKEN = r"[-+]?[0-9.][0-9._/eE+-]*"
+_QUANTITY = re.compile(rf"^[ \t]*(?P<number>{_TOKEN})[ \t]*(?P<unit>\S.*?)?[ \t]*$", re.ASCII)
+_NUMBER_ONLY = re.compile(rf"{_NUMBER}\Z", re.ASCII)
 _MAX_QUANTITY_CHARS = 80
 
 _RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
@@ -125,6 +129,12 @@ def parse_quantity(raw: object, dimension: Dimension) -> ParsedQuantity:
     if match is None:
         raise QuantityError(
             f"not a number (ASCII digits) followed by a unit (units: {dimension.accepted()})"
+        )
+    if _NUMBER_ONLY.match(match.group("number")) is None:
+        raise QuantityError(
+            f"'{match.group('number')}' is not a decimal number (ASCII digits, at most 30"
+            f" before and after the point, an exponent of at most 3 digits; no '_' or '/')"
+            f" (units: {dimension.accepted()})"
         )
     unit = match.group("unit")
     if unit is None:

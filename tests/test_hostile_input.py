@@ -133,6 +133,16 @@ CASES = [
         id="binary-input",
     ),
     pytest.param(
+        replace("rated_voltage: 24 V", "rated_voltage: 1e999999999 V"),
+        ("motor.rated_voltage", "'1e999999999' is not a decimal number", "(allowed: [1, 1000] V)"),
+        id="exponent-of-9-digits",  # was: unit '999999 V' is not a voltage unit
+    ),
+    pytest.param(
+        replace("rated_voltage: 24 V", "rated_voltage: 2_4 V"),
+        ("motor.rated_voltage", "'2_4' is not a decimal number", "no '_'"),
+        id="digit-separator",  # was: unit '_4 V' is not a voltage unit
+    ),
+    pytest.param(
         replace("0.56 mH", "0.56 mh"),
         ("motor.phase_inductance", "did you mean 'mH'?"),
         id="unit-typo-suggestion",
