@@ -363,7 +363,8 @@ def _key_near(text: str, line: int) -> str:
     """The block-mapping key path in force at `line` (1-based), read from indentation:
     a best guess for naming the key of a syntax error, '' if none is found."""
     stack: list[tuple[int, str]] = []
-    key_line = re.compile(r"^(?P<indent> *)(?P<key>[A-Za-z_][A-Za-z0-9_.\[\]]*)\s*:(?:\s|$)")
+    # a tab in the indentation is what PyYAML refuses there: count it as one column
+    key_line = re.compile(r"^(?P<indent>[ \t]*)(?P<key>[A-Za-z_][A-Za-z0-9_.\[\]]*)\s*:(?:\s|$)")
     for number, content in enumerate(text.splitlines()[:line], start=1):
         match = key_line.match(content)
         if match is None:

@@ -180,6 +180,12 @@ BAD_SPECS = [
         id="malformed-yaml-cites-line-and-key",
     ),
     pytest.param(
+        _replace("  poles: 2\n", "\tpoles: 2\n"),
+        "motor.poles",
+        ("malformed YAML", "found character '\\t'", f"bad.yaml:{POLES_LINE}"),
+        id="tab-indent-names-its-key",  # was: motor.phase_inductance, the line above
+    ),
+    pytest.param(
         _replace("  poles: 2\n", "  poles: 2\n  poles: 4\n"),
         "motor.poles",
         (
