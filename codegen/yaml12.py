@@ -381,7 +381,10 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
     """The document's value and, for each key path, the 1-based line of its value."""
     if len(raw) > limits.max_bytes:
         raise YamlError(
-            f"the file has {len(raw)} bytes; a spec has at most {limits.max_bytes}", None
+            # the loader reads one byte past the limit, never the whole of a huge file
+            f"the file has more than {limits.max_bytes} bytes; a spec has at most"
+            f" {limits.max_bytes}",
+            None,
         )
     try:
         text = raw.decode("utf-8-sig")

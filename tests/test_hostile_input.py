@@ -180,6 +180,18 @@ def test_a_hostile_spec_exits_3_with_one_line_per_error_and_writes_nothing(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
 
 
+def test_an_endless_file_is_refused_after_the_limit_in_one_line(tmp_path: Path) -> None:
+    """/dev/zero as the spec: read up to one byte past the limit, and said so (the
+    message once claimed the file had 262145 bytes)."""
+    result = run_generate(Path("/dev/zero"), tmp_path / "out")
+    assert result.returncode == ExitCode.SPEC
+    assert result.stderr.strip().splitlines() == [
+        "error: /dev/zero: <document> = None: the file has more than 262144 bytes; a spec"
+        " has at most 262144"
+    ]
+    assert not (tmp_path / "out").exists()
+
+
 def test_output_into_the_file_system_root_is_refused_in_one_line(tmp_path: Path) -> None:
     result = run_generate(SPEC, "/")
     assert result.returncode == ExitCode.ENVIRONMENT
