@@ -254,6 +254,20 @@ BAD_SPECS = [
         ("a period takes 0.006 s", "(allowed: >= 0.012 s at 1500 Hz)"),
         id="watchdog-shorter-than-two-pwm-periods-on-the-hsi",  # starved in `make pil`
     ),
+    pytest.param(
+        lambda t: _replace("  poles: 2\n", "  poles: 32\n")(
+            _replace("pwm_frequency: 20 kHz", "pwm_frequency: 5 kHz")(
+                _replace("  bandwidth: 1 kHz", "  bandwidth: 400 Hz")(t)
+            )
+        ),
+        "controller.speed_max",
+        (
+            "its 60 deg sector (125 us) ends before the current loop's first sample after the"
+            " Hall edge restarts the carrier (202.694 us, edge-aligned at 5000 Hz)",
+            "(allowed: < 3083.46 rpm, or a higher PWM frequency or centre alignment)",
+        ),
+        id="sector-shorter-than-the-first-current-sample",  # never sampled: no braking (PIL)
+    ),
     # ---- quantities and units
     pytest.param(
         _replace("0.56 mH", "0.56 mF"),
