@@ -315,8 +315,7 @@ def os_error_line(exc: OSError) -> str:
             f"error: {target}: cannot publish there: {words} when creating its lock file"
             f" {lock.name} beside it (give a folder in a writable place)"
         )
-    name = f" {exc.filename}" if exc.filename else ""
-    return f"error:{name}: {words}"
+    return f"error: {exc.filename}: {words}" if exc.filename else f"error: {words}"
 
 
 def check_target(target: Path) -> Path:

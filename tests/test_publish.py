@@ -302,3 +302,14 @@ def test_a_lock_that_cannot_be_made_should_name_the_output_folder(tmp_path: Path
     line = os_error_line(FileNotFoundError(2, "No such file or directory", str(lock)))
     assert line.startswith(f"error: {tmp_path / 'gone' / 'out'}: cannot publish there:"), line
     assert "\n" not in line and ".out.bldc-codegen.lock" in line
+
+
+def test_an_os_error_without_a_file_is_one_plain_line() -> None:
+    """A Dask scheduler that cannot be reached (`robustness --scheduler ...`) raises an
+    OSError with no file name: its line read 'error:: Timed out trying to connect'."""
+    from codegen.publish import os_error_line
+
+    line = os_error_line(OSError("Timed out trying to connect to tcp://127.0.0.1:1 after 30 s"))
+    assert line == "error: Timed out trying to connect to tcp://127.0.0.1:1 after 30 s"
+    named = os_error_line(PermissionError(13, "Permission denied", "/x/y"))
+    assert named == "error: /x/y: Permission denied"
