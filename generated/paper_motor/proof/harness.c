@@ -5,7 +5,7 @@
  * Each prove_<function>() gives every parameter, or every field of an input struct,
  * every value of its C type: nothing is assumed away. The `split` annotations only
  * partition that input space so EVA keeps the partitions apart; they cover it whole.
- * Partitioning: the IR's interval proof leaves timing.turn_on_compare in [0, 7027], above the PWM period 3600: a relational contract, so one partition per bus code and the period split at bus.period_min, bus.high_speed_period.
+ * Partitioning: the IR's interval proof leaves timing.turn_on_compare in [0, 7027], above the PWM period 3600: a relational contract, so one partition per bus code and the period split at bus.high_speed_period.
  * Analysed only by Frama-C: not part of the firmware.
  */
 #include <stdint.h>
@@ -44,7 +44,6 @@ void prove_bldc_commutation_timing(void)
     }
     const bldc_bus_t bus = bldc_bus_condition(bus_code);
     uint32_t period_ticks = Frama_C_unsigned_int_interval(0u, 4294967295u);
-    //@ split period_ticks < bus.period_min;
     //@ split period_ticks < bus.high_speed_period;
     uint32_t current_adc = Frama_C_unsigned_int_interval(0u, 4294967295u);
     uint32_t main_duty_counts = Frama_C_unsigned_int_interval(0u, 4294967295u);
