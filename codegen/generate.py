@@ -44,17 +44,44 @@ class Generated:
     files: dict[str, str]
 
 
+def _core_files(spec: Spec, core: Core) -> dict[str, str]:
+    context = core_context(core)
+    return {
+        out: render(template, provenance=provenance(f"templates/{template}", spec), **context)
+        for out, template in CORE_FILES.items()
+    }
+
+
+def render_core(spec_path: str | Path) -> Generated:
+    """The core's files alone (CORE_FILES), exactly as `render_all` renders them, and a
+    manifest that says so (`"output": "core"`): what the simulation compiles for a
+    method's variant, without the port, firmware, tests, proof harness and DERIVATION.md
+    it never reads (0.45 s of each variant's 0.75 s)."""
+    spec = load_spec(spec_path)
+    core = build_core(spec)
+    files = _core_files(spec, core)
+    record = manifest_record(files)
+    manifest = {
+        "generator": record["generator"],
+        "generator_version": __version__,
+        "output": "core",
+        "spec": project_relative(spec.source_path),
+        "spec_sha256": spec.sha256,
+        "core": manifest_entry(core),
+        "folders": record["folders"],
+        "files": record["files"],
+    }
+    files[MANIFEST] = json.dumps(manifest, indent=2) + "\n"
+    return Generated(spec, core, files)
+
+
 def render_all(spec_path: str | Path) -> Generated:
     spec = load_spec(spec_path)
     derivation = derive()
     # The paper's audit is one report for every motor (`audit`, generated/paper/).
     files: dict[str, str] = {"DERIVATION.md": render_derivation(derivation, spec)}
     core = build_core(spec)
-    context = core_context(core)
-    for out, template in CORE_FILES.items():
-        files[out] = render(
-            template, provenance=provenance(f"templates/{template}", spec), **context
-        )
+    files.update(_core_files(spec, core))
     files.update(current_loop.render_loop_files(spec))
     files.update(render_proof_files(core))
     files.update({f"c/{name}": text for name, text in render_port_files(spec).items()})

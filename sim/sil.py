@@ -8,8 +8,9 @@ commutation time (Hall ticks) become the plant's gate schedule. Nothing of the c
 arithmetic is re-implemented here, so a change in the C changes the simulation.
 
 The checked-in core implements the spec's `controller.method` only. For the other
-methods the spec is copied with the method changed and `python -m codegen generate`
-renders that variant into build/sim/; variants and libraries are cached by content.
+methods the spec is copied with the method changed and the generator renders that
+variant's core (`codegen.generate.render_core`: the files `generate` writes for it)
+into build/sim/; variants and libraries are cached by content.
 
 The resistance-aware core is generated for an EMF shape (`motor.back_emf_shape`): the
 one of the spec, and the paper's frozen (flat) EMF, so that a commutation on the flat
@@ -331,12 +332,13 @@ def _generate_all(
     """Generate each variant text (cached by content); its c/ folder, or the error of a
     variant the generator refused (a spec or fixed-point design error, which names its
     key). One after the other in this process, through the generator's own
-    `generate()` (what `codegen generate` runs): the derivation, the device description
-    and the imports are loaded once for all of them, which takes less time than
-    one process per variant on two cores. An error of any other kind is a bug and is
-    raised as it is."""
+    `render_core()` (the core files `codegen generate` writes, and only those: the
+    simulation compiles nothing else): the derivation, the device description and the
+    imports are loaded once for all of them, which takes less time than one process
+    per variant on two cores. An error of any other kind is a bug and is raised as it
+    is."""
     from codegen.errors import SpecError
-    from codegen.generate import generate
+    from codegen.generate import render_core, write_tree
     from codegen.methods.base import FixedPointError
 
     out: dict[tuple[str, str | None], Path | str] = {}
@@ -356,7 +358,7 @@ def _generate_all(
         variant_spec.parent.mkdir(parents=True, exist_ok=True)
         variant_spec.write_text(text, encoding="utf-8")
         try:
-            generate(variant_spec, folder, PROJECT_ROOT)
+            write_tree(render_core(variant_spec).files, folder)
         except FixedPointError as exc:
             out[key] = f"{variant_spec}: {exc.key}: fixed-point design: {exc}"
         except SpecError as exc:

@@ -52,6 +52,18 @@ def _header_fields(header: str, type_name: str) -> list[str]:
     return re.findall(r"uint\d+_t (\w+);", body.group(1))
 
 
+def test_a_variants_core_should_be_the_one_generate_writes(tmp_path: Path) -> None:
+    """The simulation renders a method's variant with `render_core`, not the whole tree:
+    its core files are byte for byte those `generate` writes for the same spec."""
+    from codegen.generate import CORE_FILES, render_all, render_core
+
+    variant = tmp_path / "paper_motor.yaml"
+    variant.write_text(spec_with_method(SPEC.read_text(encoding="utf-8"), "conventional"))
+    core, whole = render_core(variant).files, render_all(variant).files
+    assert {name: core[name] for name in CORE_FILES} == {name: whole[name] for name in CORE_FILES}
+    assert sorted(core) == sorted([*CORE_FILES, "manifest.json"])
+
+
 def test_ctypes_structs_should_follow_the_generated_header() -> None:
     text = (ROOT / "generated" / "paper_motor" / "c" / CORE_HEADER).read_text(encoding="utf-8")
     assert _header_fields(text, "bldc_inputs_t") == [name for name, _ in CoreInputs._fields_]
