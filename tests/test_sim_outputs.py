@@ -65,7 +65,7 @@ def test_spec_duty_should_run_at_the_current_it_holds_not_as_a_step(point: Opera
     )
 
 
-@pytest.mark.heavy(seconds=9)
+@pytest.mark.heavy(seconds=7)
 def test_report_should_present_improved_r_as_the_c_core(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
