@@ -38,6 +38,7 @@ from codegen.generate import render_all, write_tree
 from codegen.methods.base import FixedPointError
 from codegen.render import PROJECT_ROOT, project_relative, render, write_atomically
 from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
 from verify.frama_c import (
     EVA_POLICY,
     MACHDEP,
@@ -79,9 +80,8 @@ class Target:
     plan: dict[str, object]
 
 
-def target_for(spec_path: str, build: Path) -> Target:
-    """The shipped output of this spec, or a fresh generation of it in build/."""
-    spec = load_spec(spec_path)
+def shipped_output(spec: Spec) -> Path | None:
+    """generated/<name>/ when it holds this spec's current output, else None."""
     shipped = PROJECT_ROOT / "generated" / spec.name
     manifest = shipped / "manifest.json"
     current = (
@@ -89,11 +89,18 @@ def target_for(spec_path: str, build: Path) -> Target:
         and json.loads(manifest.read_text(encoding="utf-8")).get("spec_sha256") == spec.sha256
         and (shipped / "proof" / "plan.json").is_file()
     )
-    root = shipped
-    if not current:
+    return shipped if current else None
+
+
+def target_for(spec_path: str, build: Path) -> Target:
+    """The shipped output of this spec, or a fresh generation of it in build/."""
+    spec = load_spec(spec_path)
+    root = shipped_output(spec)
+    if root is None:
         root = build / spec.name
         write_tree(render_all(spec_path).files, root)
-    return target_at(root, spec.name, project_relative(spec_path), current)
+        return target_at(root, spec.name, project_relative(spec_path), False)
+    return target_at(root, spec.name, project_relative(spec_path), True)
 
 
 def target_at(root: Path, name: str, spec: str, shipped: bool = False) -> Target:
