@@ -218,6 +218,8 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
     # The checked-in core only where it is this spec's output (a user's motor may share
     # a name with a checked-in one, or the spec may have been edited since).
     use_checked_in = _is_output_of(spec, checked_in.parent)
+    if not use_checked_in:
+        _refuse_without_loop(spec)
     toolchain = _toolchain_digest()
     text = spec_path.read_text(encoding="utf-8")
     variants: dict[tuple[str, str | None], str] = {}
@@ -313,6 +315,21 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
 def _variant_spec(spec: Spec, tag: str, build_dir: Path) -> Path:
     """Where the text of one variant of the spec is written to be generated."""
     return build_dir / "specs" / f"{spec.name}-{tag}.yaml"
+
+
+def _refuse_without_loop(spec: Spec) -> None:
+    """The spec's own firmware holds the braking-current loop, which the core files the
+    simulation generates leave out: where no format of the loop meets the spec,
+    `generate` refuses the spec, and so does the simulation (a check of the spec, not of
+    a variant, so a cached variant does not skip it)."""
+    from codegen.control import current_loop
+    from codegen.methods.base import FixedPointError
+
+    try:
+        current_loop.design(spec)
+    except FixedPointError as exc:
+        where = f"{spec.source_path}: {exc.key}: fixed-point design: {exc}"
+        raise SpecRefusedError(" ".join(where.split())) from None
 
 
 def _refused(spec: Spec, method: str, error: str, build_dir: Path) -> SpecRefusedError:
