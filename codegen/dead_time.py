@@ -1,17 +1,30 @@
-"""TIM1's dead-time generator: the BDTR.DTG code of a dead time (RM0008 TIMx_BDTR).
+"""TIM1's dead-time generator: the BDTR.DTG code of a dead time (RM0008 TIMx_BDTR), and
+the guard the dead time asks of a commutation's end.
 
-Used by the port (the register value) and by the current-sensing design (the dead time
-TIM1 really inserts, which the sample window keeps clear of).
+Used by the port (the register value), by the current-sensing design (the dead time
+TIM1 really inserts, which the sample window keeps clear of) and by the core's limits
+(`commutation_guard_ticks`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
 #: RM0008 TIMx_BDTR.DTG: the largest dead time, in t_DTS, of the last range
 #: (DTG[7:5] = 111: (32 + 31) x 16).
 DTG_MAX_TICKS = 1008
+
+#: How much later, at most, a commutation end's switch-off can come after its TIM3 match
+#: than the next Hall edge's switch-on after that edge: the end may wait for one handler
+#: of the Hall edge's priority (213 cycles on the paper motor, `make bench`'s fault
+#: paths) and then runs its own path to the CCER write, where the edge's own path to its
+#: CCER write is never shorter than about 60 cycles: about 2.8 us at 72 MHz, taken as
+#: 4 us, which also covers the DTG code's rounding up (at most 16 t_DTS, 0.22 us). On the
+#: HSI fallback the CPU and both timers slow down together, so the guard in Hall ticks
+#: holds there too. `make bench` prints the measured figure against it.
+COMMUTATION_END_ALLOWANCE_S = Fraction(4, 1_000_000)
 
 
 @dataclass(frozen=True)
@@ -41,6 +54,21 @@ def dtg_dead_time_ticks(dtg: int) -> int:
     if dtg >> 5 == 0b110:
         return (32 + (dtg & 0x1F)) * 8
     return (32 + (dtg & 0x1F)) * 16
+
+
+def commutation_guard_ticks(dead_time_s: Fraction, hall_clock_hz: Fraction) -> int:
+    """Hall ticks by which a commutation ends before its sector does at the latest:
+    ceil((dead time + COMMUTATION_END_ALLOWANCE_S) f_hall).
+
+    The commutation end switches the outgoing phase's switch off; the next Hall edge
+    switches the other switch of the same leg on, the leg's only output then enabled,
+    so TIM1 inserts no dead time between the two (RM0008: dead time is inserted only
+    between the complementary outputs of one channel, both enabled). The time between
+    them is the guard, at a constant or falling speed: a braking motor's next sector is
+    no shorter than the one its timing was computed for."""
+    return math.ceil(
+        (Fraction(dead_time_s) + COMMUTATION_END_ALLOWANCE_S) * Fraction(hall_clock_hz)
+    )
 
 
 def encode_dead_time(dead_time_s: Fraction, timer_clock_hz: Fraction) -> DeadTime:

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from codegen import spec_drive, spec_optional, units
+from codegen.dead_time import COMMUTATION_END_ALLOWANCE_S, commutation_guard_ticks
 from codegen.errors import MultiSpecError, SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
@@ -940,6 +941,22 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"its 60 deg Hall period is only {_f1(fastest)} ticks: speed resolution worse than"
             " 1.6 %",
             f"<= {_f1(ticks_per_rpm_60deg / 64)} rpm at {_g(hall.timer_clock_hz)} Hz",
+        )
+    # A commutation ends at least the guard before its sector does (the next edge switches
+    # on the other switch of the leg the end switched off): a sector no longer than the
+    # guard leaves no commutation at all.
+    guard = commutation_guard_ticks(inverter.dead_time_s, hall.timer_clock_hz)
+    if fastest >= 64 and math.ceil(fastest) <= guard:
+        guard_s = inverter.dead_time_s + COMMUTATION_END_ALLOWANCE_S
+        r.report(
+            "controller.speed_max",
+            _raw(data, "controller.speed_max"),
+            f"its 60 deg sector ({_f1(fastest)} Hall ticks) is not longer than the {guard}-tick"
+            f" guard a commutation ends by before its sector does (inverter.dead_time"
+            f" {_g(inverter.dead_time_s)} s + {_g(COMMUTATION_END_ALLOWANCE_S)} s of the end's"
+            " latency): no commutation could last",
+            f"< {_f1(ticks_per_rpm_60deg / (guard + 1))} rpm, or a shorter dead time"
+            f" (the guard: {_g(guard_s)} s)",
         )
     # The Hall timer measures the speed to a tick, and a rotor at a steady speed reads
     # intervals a tick apart: a range of a few ticks reads as over-speed (an interval

@@ -154,6 +154,7 @@ class Oracle:
             self.emf,
             float(self.u.hall_hz),
             float(self.u.carrier_ticks),
+            self.u.end_guard_ticks,
         )
 
 

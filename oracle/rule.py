@@ -15,10 +15,11 @@ g is the turn-off phase's current (in counts) after x sectors under the pair hel
 Sigma(x). Its zero z (g(0) = A >= 0, one sign change) is where the current reaches zero.
 The commutation ends on a carrier boundary x_m = m tau / T_s (tau = one PWM period,
 where the port restarts the carrier): the first one after z, m = floor(z T_s / tau) + 1,
-if m <= N = floor(T_s / tau); there the pair is eased so the current ends exactly on
-it, C_on - delta, C_off + delta with delta = -g(x_m) / (3 x_m psi1(rho x_m)) clamped
-to [0, min(C_on, P - C_off)]. If the current remains at x_N the commutation does not
-end within the sector: the pair at Sigma(x_N), uneased, for the whole sector.
+if m <= N = floor((T_s - G) / tau), G the guard a commutation ends by before its sector
+does (`oracle.units`); there the pair is eased so the current ends exactly on it,
+C_on - delta, C_off + delta with delta = -g(x_m) / (3 x_m psi1(rho x_m)) clamped to
+[0, min(C_on, P - C_off)]. If the current remains at x_N the commutation does not end
+within the sector: the pair at Sigma(x_N), uneased, for the whole sector less G.
 
 `shift` adds a number of counts to g (the change a duty error of that many counts held
 over one sector makes): the verifier asks which ends an error of that size would give.
@@ -80,6 +81,7 @@ class Commutation:
     emf: EdgeEmf
     sector_ticks: Floats  # T_s in Hall ticks
     carrier_ticks: float  # tau
+    guard_ticks: int  # G: the commutation ends at least G before the sector does
 
     def duty_sum(self, fraction: Floats) -> Floats:
         return 2 * self.p + self.y - self.x / 4 * self.emf.hold(fraction)
@@ -115,8 +117,9 @@ class Commutation:
 
     @property
     def periods(self) -> Ints:
-        """N: whole carrier periods in the sector."""
-        return np.floor(self.sector_ticks / self.carrier_ticks + 1e-9).astype(np.int64)
+        """N: whole carrier periods in the sector, less the guard at its end."""
+        usable = self.sector_ticks - self.guard_ticks
+        return np.floor(usable / self.carrier_ticks + 1e-9).astype(np.int64)
 
     def end_after(self, ticks: Floats) -> Ints:
         """The carrier boundary m that ends a commutation whose current reaches zero at
@@ -153,9 +156,10 @@ def commutation(
     shape: EdgeEmf,
     hall_hz: float,
     carrier_ticks: float,
+    guard_ticks: int,
 ) -> Commutation:
     x = 4 * p * emf_volts / u_d
     y = 3 * p * resistance * amps / u_d
     a = 3 * p * inductance * amps / (u_d * sector_s)
     rho = resistance * sector_s / inductance
-    return Commutation(x, y, a, rho, p, shape, sector_s * hall_hz, carrier_ticks)
+    return Commutation(x, y, a, rho, p, shape, sector_s * hall_hz, carrier_ticks, guard_ticks)

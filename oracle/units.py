@@ -10,6 +10,12 @@ Every conversion is one line of physics, in exact rationals:
   TIM1 counts -> duty   D = counts / P, P = f_timer / f_pwm (halved when centre-aligned:
                         the counter runs up and down)
   carrier period        tau = f_hall / f_pwm Hall ticks (one PWM period, up and down)
+  end guard             G = ceil((t_dead + 4 us) f_hall) Hall ticks: a commutation ends
+                        at least G before its sector does (README, "The commutation's
+                        end and the next edge"): the next edge switches on the other
+                        switch of the leg the end switched off, with no dead time of
+                        TIM1's between them, and the end may lag its match by up to
+                        4 us more than the edge lags its own
 
 and every limit is the exact set of codes whose physical value lies in the spec's range.
 Nothing here is imported from the generator: tests compare these with values worked
@@ -22,6 +28,9 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from codegen.spec_model import Spec
+
+#: the drive's allowance for the commutation end's latency beyond the Hall edge's (README)
+END_LATENCY_ALLOWANCE_S = Fraction(4, 1_000_000)
 
 
 def _ceil(x: Fraction) -> int:
@@ -43,6 +52,7 @@ class Units:
     adc_max: int  # the ADC's full-scale code
     hall_counter_max: int  # the Hall timer's largest count
     carrier_ticks: Fraction  # Hall ticks per PWM period: f_hall / f_pwm
+    end_guard_ticks: int  # G: a commutation ends at least G before its sector does
 
     # ------------------------------------------------------------ conversions
 
@@ -99,6 +109,10 @@ def units(spec: Spec) -> Units:
         adc_max=full - 1,
         hall_counter_max=2**spec.hall.counter_bits - 1,
         carrier_ticks=Fraction(spec.hall.timer_clock_hz) / spec.inverter.pwm_frequency_hz,
+        end_guard_ticks=_ceil(
+            (spec.inverter.dead_time_s + END_LATENCY_ALLOWANCE_S)
+            * Fraction(spec.hall.timer_clock_hz)
+        ),
     )
 
 

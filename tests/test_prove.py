@@ -103,7 +103,7 @@ PROOF_MUTANTS = [
     (
         "paper_motor",
         "dropped_time_clamp",
-        "        ticks = (ticks > period) ? period : ticks; /* at most the sector */\n",
+        "        ticks = (ticks > latest) ? latest : ticks; /* at most the sector, less the guard */\n",
         "",
         "bldc_commutate",
         "alarm",
@@ -111,10 +111,10 @@ PROOF_MUTANTS = [
     (
         "paper_motor_improved_r",
         "unclamped_late_time",
-        ".commutation_ticks = (uint16_t)((ticks > measured) ? measured : ticks),",
+        ".commutation_ticks = (uint16_t)((ticks > latest) ? latest : ticks),",
         ".commutation_ticks = (uint16_t)(ticks + CARRIER_NUM),",
         "bldc_commutation_timing",
-        "commutation_within_period",
+        "commutation_ends_the_guard_early",
     ),
     (
         # the issue's overflow: Eq. 20's product for current codes of 5492 and above

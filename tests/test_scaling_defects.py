@@ -32,6 +32,9 @@ AMPS_PER_CODE = V_REF / (GAIN * 2**BITS)
 VOLTS_PER_CODE = V_REF * DIVIDER / 2**BITS
 FORWARD = (5, 1)  # Hall codes (code, previous): sector 0 -> 1 of [1, 5, 4, 6, 2, 3]
 INPUT_SATURATED, TIME_CLAMPED = 0x04, 0x10
+DEAD_TIME = Fraction(400, 10**9)
+#: a commutation ends (dead time + 4 us) f_hall, rounded up, before its sector does
+END_GUARD = -(-(DEAD_TIME + Fraction(4, 10**6)) * HALL_HZ // 1)
 
 
 def amps(code: int, zero: Fraction = ZERO_CODE) -> Fraction:
@@ -83,14 +86,16 @@ def test_a_current_just_above_zero_should_take_the_whole_sector_where_w_is_negat
     core: ctypes.CDLL,
 ) -> None:
     """Defect 1: code 683 is +2.4 mA; at 1500 rpm and D_on 0.6 Eq. 20's denominator is
-    negative, so the current never reaches zero: t_com is the sector, not 0."""
+    negative, so the current never reaches zero: t_com is the sector (less the end
+    guard), not 0."""
     assert amps(683) > 0 and abs(amps(683) - Fraction(244, 100000)) < Fraction(1, 10000)
     ticks = 3333  # 1500 rpm
     out = run(core, ticks, 2048, 683, 1350)
     u_d, e = 2048 * VOLTS_PER_CODE, K_E * rpm(ticks)
     d_off = Fraction(out.turn_off_compare, P)
     assert u_d * (1 + Fraction(out.turn_on_compare, P) - 2 * d_off) - 2 * e < 0
-    assert out.commutation_ticks == ticks and out.flags & TIME_CLAMPED
+    assert END_GUARD == 9  # 8.8 ticks at 2 MHz
+    assert out.commutation_ticks == ticks - END_GUARD and out.flags & TIME_CLAMPED
 
 
 def test_the_range_edges_should_be_decided_exactly(core: ctypes.CDLL) -> None:

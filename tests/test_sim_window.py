@@ -117,26 +117,31 @@ def test_a_sector_shorter_than_a_pwm_period_is_measured_over_the_period_it_cuts(
     model: str,
 ) -> None:
     """The 16-pole 5 kHz fixture at its top speed, 7000 rpm: a 179 us sector against a
-    200 us carrier period, which the commutation (commanded to the whole sector) does
-    not restart, so no whole period lies after the edge within the sector. The window was
-    empty and `measure` failed (argmax of an empty sequence): `simulate` and
-    `robustness` ended in an internal error. The period the next Hall edge's carrier
-    restart cuts short, averaged over its own length as every cut period is, is the
-    window."""
+    200 us carrier period. The window was empty and `measure` failed (argmax of an empty
+    sequence): `simulate` and `robustness` ended in an internal error, when the
+    commutation, commanded to the whole sector, did not restart the carrier. It now ends
+    the end guard early (1 us dead time + 4 us at 1 MHz: 5 ticks), and its carrier
+    restart cuts the period after the edge at 174 us: that period, averaged over its own
+    length as every cut period is, is the window; the period from the restart to the
+    next edge, which that edge cuts again, is kept as the trace's cut period."""
     spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml")
     drive = Drive.from_spec(spec)
     controller = Controller(spec, prepare_cores(spec, ("none",)))
     case = Case(drive, paper_edge(), 7000.0, drive.braking_current_a, "spec")
     assert case.sector_time_s < drive.pwm_period_s
     run = simulate(case, controller.command("none", case, case.pre_edge_duty), model)
-    cut = run.trace.cut_period
+    guard_s = 5e-6
+    trace = run.trace
+    cut = trace.cut_period
     assert cut is not None
-    assert (cut[0], cut[1]) == pytest.approx((0.0, case.sector_time_s))
-    assert not window_periods(run.trace, case.sector_time_s).any()
-    assert run.metrics.periods == 1
+    assert cut[0] == pytest.approx(case.sector_time_s - guard_s, abs=1e-6)  # the end's restart
+    assert cut[1] == pytest.approx(case.sector_time_s)
+    window = window_periods(trace, case.sector_time_s)
+    assert window.sum() == 1 and run.metrics.periods == 1
+    k = int(np.flatnonzero(window)[0])
+    assert trace.period_starts[k] == pytest.approx(0.0, abs=1e-12)
+    assert trace.period_ends[k] == pytest.approx(cut[0])
     nc = case.edge.non_commutating
-    mean = case.edge.current_signs[nc] * cut[2][nc]
+    mean = case.edge.current_signs[nc] * trace.period_currents[k, nc]
     expected = (mean - case.current_a) / case.current_a * 100
     assert run.metrics.period_deviations_pct == pytest.approx((expected,))
-    assert run.metrics.deviation_worst_pct == pytest.approx(expected)
-    assert np.isfinite(run.metrics.torque_ripple_pct)

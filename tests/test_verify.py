@@ -231,12 +231,22 @@ def _cut_off_moved_at_one_bus_code(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(paper_method, "bus_condition_function", wrong)
 
 
+def _end_guard_left_out(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The core's limits without the dead-time guard: commutations clamped to the whole
+    sector, ending as the next edge switches the same leg's other switch on. Within the
+    time target (5 ticks on an 8-tick target): only the exact guard check sees it."""
+    import codegen.fixedpoint.scaling as scaling
+
+    monkeypatch.setattr(scaling, "commutation_guard_ticks", lambda dead_time_s, hall_hz: 0)
+
+
 GENERATOR_MUTANTS: list[tuple[str, Callable[[pytest.MonkeyPatch], None], str]] = [
     ("bus_divider_one_percent_high", _bus_divider_one_percent_high, "turn_off"),
     ("current_offset_one_code_off", _current_offset_one_code_off, "commutation_time"),
     ("rounding_that_floors", _rounding_that_floors, "turn_off"),
     ("inflated_error_bound", _inflated_error_bound, "claims"),
     ("cut_off_moved_at_one_bus_code", _cut_off_moved_at_one_bus_code, "flags"),
+    ("end_guard_left_out", _end_guard_left_out, "end_guard"),
 ]
 
 

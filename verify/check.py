@@ -9,8 +9,9 @@ where it happened, the bound, and a verdict; a point outside its bound is a fail
   exact;
 * duties: |C - exact| <= accuracy.duty_counts;
 * commutation time, against the exact value at the duties the core emitted (Eq. 20 for
-  the paper's methods, the rule's zero for improved_r), saturated to the sector as the
-  contract says: within accuracy.commutation_time_ticks; where the spec declares a
+  the paper's methods, the rule's zero for improved_r), saturated to the sector less the
+  end guard (`oracle.units`) as the contract says: within
+  accuracy.commutation_time_ticks; where the spec declares a
   relaxation and the time is ill-conditioned there (one count of duty moves it by more
   than `ill_conditioned_above` ticks), within the target of the exact value for some
   duty error up to `ill_conditioned_counts` counts (its window), reported as the share
@@ -124,6 +125,13 @@ def new_checks(tol: Tolerances) -> dict[str, OutputCheck]:
         )
     checks.update(
         {
+            "end_guard": OutputCheck(
+                "t_com ends the guard before the sector does",
+                "ticks over",
+                None,
+                note="t_com <= min(T, counter) - G exactly, G = ceil((dead time + 4 us) f_hall):"
+                " the next edge switches on the other switch of the leg the end switched off",
+            ),
             "pattern": OutputCheck("switch pattern and sector", "mismatches", None),
             "safe_state": OutputCheck("safe state: zero duties and time", "mismatches", None),
             "flags": OutputCheck("flags", "mismatches", None),
@@ -181,6 +189,10 @@ def check_set(
     t_err = np.zeros(inputs.size)
     relaxed_mask = np.zeros(inputs.size, dtype=bool)
     if n:
+        # exact, not within the time target: a safety bound of the bridge, not an accuracy
+        latest = np.minimum(period[act], o.u.hall_counter_max) - o.u.end_guard_ticks
+        over = np.maximum(ticks_c[act] - latest, 0).astype(np.float64)
+        checks["end_guard"].add(over, over > 0, inputs[act])
         sub = _ActiveSet(o, tol, f, dec, act, cols, on_c, off_c, ticks_c, flags_c)
         result = sub.evaluate()
         on_err[act], off_err[act], t_err[act] = result.on_err, result.off_err, result.t_forward
@@ -256,7 +268,7 @@ class _ActiveSet:
         on, off, high, fail = o.duties(self.period, self.bus, self.main)
         on_err, off_err = np.abs(self.on_c - on), np.abs(self.off_c - off)
         t, w = o.eq20(self.period, self.bus, self.current, self.on_c, self.off_c)
-        limit = self.period.astype(np.float64)
+        limit = (self.period - o.u.end_guard_ticks).astype(np.float64)  # the latest end
         t_sat = np.minimum(t, limit)
         forward = np.abs(self.ticks_c - t_sat)
         lo, hi = t - tol.time_ticks, t + tol.time_ticks
@@ -339,7 +351,7 @@ class _ActiveSet:
         n_rows = periods[rows]
         core_end = np.where(clamped, n_rows + 1, np.rint(self.ticks_c / tau).astype(np.int64))
         on_grid = np.abs(self.ticks_c - core_end * tau) <= 0.5 + SLACK
-        limit = self.measured.astype(np.float64)
+        limit = (self.measured - o.u.end_guard_ticks).astype(np.float64)  # the latest end
         core_time = np.where(clamped, limit, self.ticks_c)
         expected_time = np.where(
             exact_end[rows] > n_rows, limit, np.minimum(exact_end[rows] * tau, limit)

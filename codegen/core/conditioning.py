@@ -24,6 +24,7 @@ from fractions import Fraction
 import sympy as sp
 
 from codegen.abi import flag_const, value_const
+from codegen.dead_time import COMMUTATION_END_ALLOWANCE_S
 from codegen.fixedpoint.scaling import Scaling
 from codegen.ir.nodes import (
     Expr,
@@ -57,6 +58,8 @@ class CoreLimits:
     period_min: IConst  # the Hall period at speed_max
     period_max: IConst  # the Hall period at speed_min
     period_cap: IConst  # the Hall counter's range
+    #: a commutation ends at least this many Hall ticks before its sector's end
+    period_guard: IConst
     period_never: IConst
     bus_min: IConst
     bus_max: IConst
@@ -71,6 +74,7 @@ class CoreLimits:
             self.period_min,
             self.period_max,
             self.period_cap,
+            self.period_guard,
             self.bus_min,
             self.bus_max,
             self.adc_max,
@@ -110,6 +114,15 @@ def core_limits(spec: object, sc: Scaling) -> CoreLimits:
             sc.period_cap_ticks,
             "BLDC_PERIOD_CAP_TICKS",
             doc="the Hall counter's range: longer periods saturate",
+        ),
+        period_guard=IConst(
+            U32,
+            sc.commutation_guard_ticks,
+            "BLDC_COMMUTATION_GUARD_TICKS",
+            doc=f"a commutation ends at least this long before its sector does: dead time"
+            f" {float(spec.inverter.dead_time_s) * 1e6:g} us + {float(COMMUTATION_END_ALLOWANCE_S) * 1e6:g} us"
+            " of the end's latency (the next edge switches on the other switch of the leg"
+            " the end switched off)",
         ),
         period_never=value_const("PERIOD_NEVER"),
         bus_min=IConst(

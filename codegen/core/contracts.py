@@ -154,7 +154,11 @@ def timing_contract() -> Contract:
         ),
         ensures=(
             *(_ensures(name, text.format(o=r)) for name, text in IN_PERIOD),
-            _ensures("commutation_within_period", f"{r}commutation_ticks <= period_ticks"),
+            _ensures(
+                "commutation_ends_the_guard_early",
+                f"{r}commutation_ticks == 0"
+                f" || {r}commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks",
+            ),
             _ensures("applies_at_most_from_bus_minimum", f"{r}period_min >= bus->period_min"),
         ),
     )
@@ -192,8 +196,9 @@ def commutate_contract() -> Contract:
         ensures=(
             *(_ensures(name, text.format(o=o)) for name, text in IN_PERIOD),
             _ensures(
-                "commutation_within_period",
-                f"{o}commutation_ticks <= \\old(inputs->hall_period_ticks)",
+                "commutation_ends_the_guard_early",
+                f"{o}commutation_ticks == 0 || {o}commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS"
+                " <= \\old(inputs->hall_period_ticks)",
             ),
             _ensures("over_speed_or_voltage_no_switch", f"{over} ==> {NO_SWITCH.format(o=o)}"),
         ),

@@ -21,6 +21,7 @@ from fractions import Fraction
 
 import sympy as sp
 
+from codegen.dead_time import commutation_guard_ticks
 from codegen.derivation import symbols as s
 from codegen.derivation.paper import Derivation
 from codegen.errors import DerivationError
@@ -54,6 +55,9 @@ class Scaling:
     period_min_ticks: int  # T at speed_max (rounded up)
     period_max_ticks: int  # T at speed_min (rounded down)
     period_cap_ticks: int  # largest period the Hall counter can report (its full range)
+    #: a commutation ends at least this many ticks before its sector's end (the bridge's
+    #: dead time and the end's latency: `codegen.dead_time.commutation_guard_ticks`)
+    commutation_guard_ticks: int
     bus_code_min: int
     bus_code_max: int
     #: raw ADC codes of the braking-current range, decided exactly:
@@ -148,6 +152,9 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
         period_min_ticks=int(sp.ceiling(ticks_per_rpm / n_max)),
         period_max_ticks=int(sp.floor(ticks_per_rpm / n_min)),
         period_cap_ticks=2**spec.hall.counter_bits - 1,
+        commutation_guard_ticks=commutation_guard_ticks(
+            spec.inverter.dead_time_s, spec.hall.timer_clock_hz
+        ),
         bus_code_min=int(sp.ceiling(bus_min)),
         bus_code_max=int(sp.floor(bus_max)),
         current_code_low=int(sp.ceiling(i_min)),

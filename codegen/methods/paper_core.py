@@ -231,6 +231,7 @@ def timing_function(
 ) -> Function:
     f = fmt.x_frac_bits
     period = var("period", U32)
+    latest = var("latest", U32)
     x_q, x_c = var("x_q", U32), var("x_c", I32)
     current = var("current", I32)
     on, off = var("on", I32), var("off", I32)
@@ -263,13 +264,13 @@ def timing_function(
         ),
         # Saturated without a branch (a flag OR and a select): from flash every branch
         # fetches its target.
-        flag_if(cmp(">", var("ticks", U32), period), "TIME_CLAMPED"),
-        SAssign("ticks", minimum(var("ticks", U32), period), "at most the sector"),
+        flag_if(cmp(">", var("ticks", U32), latest), "TIME_CLAMPED"),
+        SAssign("ticks", minimum(var("ticks", U32), latest), "at most the sector, less the guard"),
     )
     never = (
         SIf(
             cmp(">", current, const(0, I32)),
-            (SAssign("ticks", period), SOrAssign("flags", flag_const("TIME_CLAMPED"))),
+            (SAssign("ticks", latest), SOrAssign("flags", flag_const("TIME_CLAMPED"))),
             comment="unless there is no current to commutate",
         ),
     )
@@ -306,6 +307,13 @@ def timing_function(
             "w_q",
             sub(mul(duty_sum, scale), cast(x_q, I32)),
             "Eq. 20's denominator at the emitted duties, Q{f}".replace("{f}", str(f)),
+        ),
+        SLet(
+            "latest",
+            sub(period, limits.period_guard),
+            "the latest end: the guard before the sector's end (period >= the minimum"
+            " period > the guard here), so the next edge switches the other switch of the"
+            " leg on at least the dead time after this end switched its partner off",
         ),
         SVar("ticks", U32, const(0)),
         SIf(

@@ -61,6 +61,8 @@ class RuleConstants:
     time_target_ticks: sp.Rational
     duty_target_counts: sp.Rational
     carrier_ticks: sp.Rational  # tau = f_hall / f_pwm: Hall ticks per PWM period
+    #: a commutation ends at least this many ticks before its sector's end
+    guard_ticks: int
     shape: ShapeTerms  # sigma(x), phi(x) of the spec's EMF over the sector
 
     @property
@@ -83,8 +85,9 @@ class RuleConstants:
         return -sp.Rational(self.shape.force1) / 4
 
     def periods(self, period_ticks: int) -> int:
-        """N: the whole carrier periods in a sector of `period_ticks`."""
-        return int(sp.floor(period_ticks / self.carrier_ticks))
+        """N: the whole carrier periods in a sector of `period_ticks`, less the guard at
+        its end (a commutation ends at least the guard before the sector does)."""
+        return int(sp.floor((period_ticks - self.guard_ticks) / self.carrier_ticks))
 
 
 def rule_current_format(sc: Scaling) -> CurrentFormat:
@@ -138,5 +141,6 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
         time_target_ticks=_q(spec.accuracy.commutation_time_ticks),
         duty_target_counts=_q(spec.accuracy.duty_counts),
         carrier_ticks=sc.hall_clock_hz / _q(spec.inverter.pwm_frequency_hz),
+        guard_ticks=sc.commutation_guard_ticks,
         shape=affine_terms(spec.motor.back_emf_shape, derive().switching),
     )

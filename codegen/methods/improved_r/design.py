@@ -137,7 +137,8 @@ def _ramp_bits(c: RuleConstants) -> int:
 def _formats(c: RuleConstants, limits: CoreLimits) -> tuple[FixedRule, tuple[ProvenRange, ...]]:
     if c.periods(c.period_low) < 1:
         raise RuleFormatError(
-            f"the shortest sector ({c.period_low} ticks) is shorter than one PWM period"
+            f"the shortest sector ({c.period_low} ticks), less the {c.guard_ticks}-tick guard"
+            " a commutation ends by before the sector does, is shorter than one PWM period"
             f" ({float(c.carrier_ticks):g} ticks): the commutation cannot end on a carrier"
             " boundary"
         )

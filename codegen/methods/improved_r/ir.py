@@ -401,6 +401,13 @@ def timing_function(
             minimum(measured, limits.period_max),
             "the rule's constants cover the speed range",
         ),
+        SLet(
+            "latest",
+            sub(measured, limits.period_guard),
+            "the latest end: the guard before the sector's end (measured >= the minimum"
+            " period > the guard here), so the next edge switches the other switch of the"
+            " leg on at least the dead time after this end switched its partner off",
+        ),
         *current_statements(limits, current, var("current_adc", U32)),
         SLet(
             "i",
@@ -423,8 +430,8 @@ def timing_function(
         ),
         SLet(
             "periods",
-            div(mul(period, k.periods_num), k.periods_den),
-            "N: whole PWM periods in the sector",
+            div(mul(sub(period, limits.period_guard), k.periods_num), k.periods_den),
+            "N: whole PWM periods in the sector, less the guard at its end",
         ),
         SLet(
             "sigma0",
@@ -661,10 +668,11 @@ def timing_function(
             "ticks",
             select(
                 unfinished,
-                measured,
+                var("latest", U32),
                 div(add(mul(end, k.periods_den), const(rule.periods_num // 2)), k.periods_num),
             ),
-            "round(end tau), a carrier boundary; the whole sector when the current remains",
+            "round(end tau), a carrier boundary; the whole sector less the guard when the"
+            " current remains",
         ),
         SStruct(
             "timing",
@@ -673,7 +681,7 @@ def timing_function(
                 ("period_min", fld("bus", "period_min", U32)),
                 ("turn_on_compare", cast(round_shr(var("on", U32), fc), U16)),
                 ("turn_off_compare", cast(round_shr(var("off", U32), fc), U16)),
-                ("commutation_ticks", cast(minimum(var("ticks", U32), measured), U16)),
+                ("commutation_ticks", cast(minimum(var("ticks", U32), var("latest", U32)), U16)),
                 ("flags", cast(var("flags", U32), U16)),
             ),
         ),

@@ -6,7 +6,8 @@ constants, in duty counts and fractions x of the sector:
 1. clamp T to the speed range and B to the bus range (flagged), i = C - offset
    clamped to [0, ADC full scale];
 2. X = K_X/(T B), Y = K_Y i/B, A = kappa i X, rho = K_rho T; the carrier grid
-   x_m = m tau / T, m = 0..N, N = floor(T / tau);
+   x_m = m tau / T, m = 0..N, N = floor((T - G) / tau), G the guard a commutation ends
+   by before its sector does (`codegen.dead_time.commutation_guard_ticks`);
 3. the held duty sum for a commutation of x sectors, Sigma(x) = 2P + Y - (X/4) mu(x),
    mu(x) = sigma_0 + sigma_1 theta x (the minimax constant of the EMF's sigma over
    [0, x]); split as the paper does: C_on = clamp(Sigma, 0, P), C_off = clamp(Sigma - P, 0, P);
@@ -14,7 +15,8 @@ constants, in duty counts and fractions x of the sector:
    g(x) = A e^{-rho x} + F_0 x psi1(rho x) + (X/4) phi_1 x^2/2 psi2(rho x),
    F_0 = 2 C_off - C_on - P + (X/4) phi_0;
 5. the end: the first grid point m >= 1 with g(x_m) < 0 (the current has reached zero),
-   or none by m = N (flagged; the pair held at x_N, uneased, the time the whole sector);
+   or none by m = N (flagged; the pair held at x_N, uneased, the time the whole sector
+   less G);
 6. the easing delta = -g / (3 x psi1(rho x)) at the end, at most min(C_on, P - C_off):
    C_on - delta, C_off + delta end the current exactly on the boundary;
 7. outputs: the eased pair rounded to counts, round(m tau) ticks.
@@ -91,11 +93,13 @@ class ReferenceBatch:
     a_rho: FloatArray
     rho: FloatArray
 
-    def outputs(self, k: int, measured_period: int) -> RuleOutputs:
+    def outputs(self, k: int, latest: int) -> RuleOutputs:
+        """Point k's outputs, the time at most `latest` (the measured period less the
+        guard)."""
         return RuleOutputs(
             on_counts=round(float(self.on_exact[k])),
             off_counts=round(float(self.off_exact[k])),
-            commutation_ticks=min(math.floor(float(self.ticks_exact[k]) + 0.5), measured_period),
+            commutation_ticks=min(math.floor(float(self.ticks_exact[k]) + 0.5), latest),
             flags=int(self.flags[k]),
         )
 
@@ -157,7 +161,7 @@ def reference_batch(
     rho = float(c.k_rho) * t
     edge = _Edge(c, x, y, a_rho, rho, t)
     tau = c.carrier_ticks
-    periods = np.floor(t * int(tau.q) / int(tau.p)).astype(np.int64)
+    periods = np.floor((t - c.guard_ticks) * int(tau.q) / int(tau.p)).astype(np.int64)
     # binary lifting over the grid: n = the last m with rho g >= 0
     n = np.zeros_like(periods)
     steps = int(periods.max()).bit_length()
@@ -176,7 +180,7 @@ def reference_batch(
     with np.errstate(divide="ignore", invalid="ignore"):
         eased = np.where(shortfall > 0, -h_end / shortfall, 0.0)
     delta = np.where(finished, np.clip(eased, 0.0, room), 0.0)
-    ticks = np.where(finished, end * float(tau), t.astype(np.float64))
+    ticks = np.where(finished, end * float(tau), (t - c.guard_ticks).astype(np.float64))
     flags |= np.where(finished, 0, FLAG_NOT_FINISHED)
     flags |= np.where(total > 2 * p, FLAG_CANNOT_HOLD, 0) | np.where(total < 0, FLAG_ABOVE_BUS, 0)
     return ReferenceBatch(
@@ -214,7 +218,7 @@ def reference_points(c: RuleConstants, points: Sequence[RuleInputs]) -> Referenc
 
 def reference(c: RuleConstants, inputs: RuleInputs) -> RuleOutputs:
     batch = reference_points(c, [inputs])
-    return batch.outputs(0, min(inputs.period_ticks, 2**31))
+    return batch.outputs(0, min(inputs.period_ticks, 2**31) - c.guard_ticks)
 
 
 def decay(c: RuleConstants, periods: int) -> float:

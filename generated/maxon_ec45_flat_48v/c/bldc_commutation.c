@@ -181,19 +181,20 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
         off = ((int32_t)BLDC_PWM_PERIOD_COUNTS - x_c < 0) ? 0 : (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c; /* D_off = 1 - 4E/U_d */
     }
     const int32_t w_q = (2 * (int32_t)BLDC_PWM_PERIOD_COUNTS + 2 * on - 4 * off) * 1024 - (int32_t)x_q; /* Eq. 20's denominator at the emitted duties, Q10 */
+    const uint32_t latest = period - BLDC_COMMUTATION_GUARD_TICKS; /* the latest end: the guard before the sector's end (period >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off */
     uint32_t ticks = 0u;
     if (w_q <= 0) { /* the turn-off current never reaches zero: the whole sector */
         if (current > 0) { /* unless there is no current to commutate */
-            ticks = period;
+            ticks = latest;
             flags |= BLDC_FLAG_TIME_CLAMPED;
         }
     } else {
         const int32_t t = (bus->time_numerator * current + (w_q >> 1)) / w_q; /* Eq. 20 */
         ticks = (uint32_t)((t < 0) ? 0 : t); /* a negative current: nothing to commutate */
-        if (ticks > period) {
+        if (ticks > latest) {
             flags |= BLDC_FLAG_TIME_CLAMPED;
         }
-        ticks = (ticks > period) ? period : ticks; /* at most the sector */
+        ticks = (ticks > latest) ? latest : ticks; /* at most the sector, less the guard */
     }
     const bldc_timing_t timing = {
         .period_min = bus->period_min,

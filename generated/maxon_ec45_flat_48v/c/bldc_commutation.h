@@ -74,12 +74,13 @@
  *   bldc_commutation_timing: on: int32_t in [0, 7181] (18.2 bits spare)
  *   bldc_commutation_timing: off: int32_t in [0, 3581] (19.2 bits spare)
  *   bldc_commutation_timing: w_q: int32_t in [-15852780, 22060127] (6.6 bits spare)
+ *   bldc_commutation_timing: latest: uint32_t in [223, 65530] (16.0 bits spare)
  *   bldc_commutation_timing: ticks: uint32_t in [0, 2032880621] (1.1 bits spare)
  *   bldc_commutation_timing: t: int32_t in [-2022838272, 2032880621] (0.1 bits spare)
  *   bldc_commutation_timing: timing.period_min: uint32_t in [228, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
- *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 65535] (-0.0 bits spare)
+ *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 65530] (0.0 bits spare)
  *   bldc_commutation_timing: timing.flags: uint16_t in [0, 31] (11.0 bits spare)
  *   bldc_commutate: hall_code: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: previous_hall_code: uint32_t in [0, 255] (24.0 bits spare)
@@ -88,7 +89,7 @@
  *   bldc_commutate: sector: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: out.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutate: out.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
- *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 65535] (-0.0 bits spare)
+ *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 65530] (0.0 bits spare)
  *   bldc_commutate: out.turn_on_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.turn_off_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.sector: uint8_t in [0, 255] (-0.0 bits spare)
@@ -111,6 +112,7 @@
 #define BLDC_PERIOD_MIN_TICKS 228u /* 5500 rpm: a shorter period is over-speed */
 #define BLDC_PERIOD_MAX_TICKS 8333u /* 150 rpm: a longer period is flagged */
 #define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
+#define BLDC_COMMUTATION_GUARD_TICKS 5u /* a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) */
 #define BLDC_BUS_CODE_MIN 2306u /* 39 V (39.02 V) */
 #define BLDC_BUS_CODE_MAX 3546u /* 60 V (59.99 V): above it over-voltage */
 #define BLDC_ADC_CODE_MAX 4095u /* 12-bit ADC full scale */
@@ -209,7 +211,7 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code);
     assigns \nothing;
     ensures turn_on_compare_in_period: \result.turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
     ensures turn_off_compare_in_period: \result.turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
-    ensures commutation_within_period: \result.commutation_ticks <= period_ticks;
+    ensures commutation_ends_the_guard_early: \result.commutation_ticks == 0 || \result.commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks;
     ensures applies_at_most_from_bus_minimum: \result.period_min >= bus->period_min;
 */
 bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts);
@@ -221,7 +223,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     assigns *out;
     ensures turn_on_compare_in_period: out->turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
     ensures turn_off_compare_in_period: out->turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
-    ensures commutation_within_period: out->commutation_ticks <= \old(inputs->hall_period_ticks);
+    ensures commutation_ends_the_guard_early: out->commutation_ticks == 0 || out->commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= \old(inputs->hall_period_ticks);
     ensures over_speed_or_voltage_no_switch: \old(inputs->hall_period_ticks) < BLDC_PERIOD_MIN_TICKS || \old(inputs->bus_voltage_adc) > BLDC_BUS_CODE_MAX ==> out->turn_on_switch == BLDC_NO_SWITCH && out->turn_off_switch == BLDC_NO_SWITCH;
     behavior invalid_hall:
       assumes !bldc_valid_hall_pair(inputs->previous_hall_code, inputs->hall_code);

@@ -31,6 +31,7 @@ BLDC_CURRENT_CODE_HIGH = 3239  # last code at or below 2.4 A (2.399 A)
 CURRENT_OFFSET_Q = 2048  # zero current: 2048 codes x 1
 BLDC_FLAG_HIGH_SPEED = 1  # Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off)
 BLDC_PWM_PERIOD_COUNTS = 3600  # TIM1 counts per PWM period: duty 1
+BLDC_COMMUTATION_GUARD_TICKS = 5  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off)
 BLDC_FLAG_TIME_CLAMPED = 16  # the commutation does not finish within the sector: clamped to it
 BLDC_EDGE_NONE = 255  # no valid commutation: every switch off
 BLDC_INVALID_SECTOR = 255  # the sector of Hall code 000 or 111
@@ -244,17 +245,18 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
         on = BLDC_PWM_PERIOD_COUNTS  # the turn-on phase fully on
         off = 0 if BLDC_PWM_PERIOD_COUNTS - x_c < 0 else BLDC_PWM_PERIOD_COUNTS - x_c  # D_off = 1 - 4E/U_d
     w_q = (2 * BLDC_PWM_PERIOD_COUNTS + 2 * on - 4 * off) * 1024 - x_q  # Eq. 20's denominator at the emitted duties, Q10
+    latest = period - BLDC_COMMUTATION_GUARD_TICKS  # the latest end: the guard before the sector's end (period >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off
     ticks = 0
     if w_q <= 0:  # the turn-off current never reaches zero: the whole sector
         if current > 0:  # unless there is no current to commutate
-            ticks = period
+            ticks = latest
             flags |= BLDC_FLAG_TIME_CLAMPED
     else:
         t = _c_div(bus.time_numerator * current + (w_q >> 1), w_q)  # Eq. 20
         ticks = 0 if t < 0 else t  # a negative current: nothing to commutate
-        if ticks > period:
+        if ticks > latest:
             flags |= BLDC_FLAG_TIME_CLAMPED
-        ticks = period if ticks > period else ticks  # at most the sector
+        ticks = latest if ticks > latest else ticks  # at most the sector, less the guard
     timing = Timing(bus.period_min, on, off, ticks, flags)
     return timing
 

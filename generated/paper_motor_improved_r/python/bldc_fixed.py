@@ -22,6 +22,7 @@ N_X_SHIFT = 11
 KYX_Q = 1891788  # K_Y / K_X in Q44: Y per unit = x_numerator K_Y/K_X
 BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
 BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm: a longer period is flagged
+BLDC_COMMUTATION_GUARD_TICKS = 5  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off)
 BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
 BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
 BLDC_CURRENT_CODE_HIGH = 2668  # last code at or below 10 A (9.99 A)
@@ -248,6 +249,7 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     if measured > BLDC_PERIOD_MAX_TICKS:  # below the minimum speed
         flags |= BLDC_FLAG_INPUT_SATURATED
     period = BLDC_PERIOD_MAX_TICKS if measured > BLDC_PERIOD_MAX_TICKS else measured  # the rule's constants cover the speed range
+    latest = measured - BLDC_COMMUTATION_GUARD_TICKS  # the latest end: the guard before the sector's end (measured >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off
     current_code = BLDC_ADC_CODE_MAX if current_adc > BLDC_ADC_CODE_MAX else current_adc  # above the ADC's range: full scale
     if current_adc < BLDC_CURRENT_CODE_LOW or current_adc > BLDC_CURRENT_CODE_HIGH:  # outside the braking-current range
         flags |= BLDC_FLAG_INPUT_SATURATED
@@ -256,7 +258,7 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     x = (bus.x_numerator + (period >> 1)) // period  # X in Q7 counts
     y = (bus.y_numerator * i + 4096) >> 13  # Y = 3 P R I / U_d, Q7
     a_rho = y  # A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7 (= Y: the same constant and format)
-    periods = period * CARRIER_DEN // CARRIER_NUM  # N: whole PWM periods in the sector
+    periods = (period - BLDC_COMMUTATION_GUARD_TICKS) * CARRIER_DEN // CARRIER_NUM  # N: whole PWM periods in the sector, less the guard at its end
     sigma0 = 2 * PERIOD_Q + y - x  # Sigma(0) = 2P + Y - (sigma_0/4) X: the held duty sum at the edge's EMFs
     per_tick = divide_long(x, 0, 15, period)  # X / T in Q22
     q = per_tick * RAMP_Q >> 30  # q = (-phi_1/4) X / rho: the EMF ramp's forcing, Q12
@@ -308,8 +310,8 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
         flags |= BLDC_FLAG_FAIL_AREA_CLAMPED
     if end_total < PERIOD_Q:  # the upper segment: the turn-off phase at most eased, the turn-on one modulated
         flags |= BLDC_FLAG_HIGH_SPEED
-    ticks = measured if n >= periods else (end * CARRIER_NUM + 0) // CARRIER_DEN  # round(end tau), a carrier boundary; the whole sector when the current remains
-    timing = Timing(bus.period_min, (on + 64) >> 7, (off + 64) >> 7, measured if ticks > measured else ticks, flags)
+    ticks = latest if n >= periods else (end * CARRIER_NUM + 0) // CARRIER_DEN  # round(end tau), a carrier boundary; the whole sector less the guard when the current remains
+    timing = Timing(bus.period_min, (on + 64) >> 7, (off + 64) >> 7, latest if ticks > latest else ticks, flags)
     return timing
 
 
