@@ -54,6 +54,7 @@ from pathlib import Path
 from codegen.build_firmware import ELF, Sizes, budgets, build, linked_flash
 from codegen.build_firmware import stack as stack_report
 from codegen.core.module import build_core
+from codegen.dead_time import COMMUTATION_END_ALLOWANCE_S, encode_dead_time
 from codegen.derivation import derive
 from codegen.errors import SpecError
 from codegen.fixedpoint.scaling import scaling
@@ -263,6 +264,30 @@ def _stack_figures(b: Bench, stats: Stats) -> list[Figure]:
     return figures
 
 
+def _end_guard_figure(b: Bench, stats: Stats, wait: int) -> Figure:
+    """The allowance in the commutation end guard (`codegen.dead_time`): how much later
+    the end's switch-off can follow its TIM3 match than the next Hall edge's switch-on
+    follows that edge, both at their COM event (the TIM1 EGR write), with a handler of
+    the same priority ahead of the end; plus what the DTG code adds to the dead time."""
+    sc = scaling(b.spec, derive())
+    dead = encode_dead_time(b.spec.inverter.dead_time_s, b.spec.inverter.timer_clock_hz)
+    rounding_us = float(dead.programmed_s - dead.requested_s) * 1e6
+    lag = wait + stats.end_switch_worst - stats.edge_switch_best
+    lag_us = lag / 72.0 + rounding_us
+    return Figure(
+        "commutation end's switch-off lag past the Hall edge's switch-on lag, worst",
+        lag_us,
+        "us",
+        target=float(COMMUTATION_END_ALLOWANCE_S) * 1e6,
+        decimals=2,
+        detail=f"a handler of the same priority ahead ({wait} cycles) + the end's entry to its"
+        f" COM event ({stats.end_switch_worst}) - the edge's shortest ({stats.edge_switch_best})"
+        f" + the DTG code's rounding up ({rounding_us:.3f} us): the allowance a commutation"
+        f" ends by, with the dead time, before its sector does"
+        f" (BLDC_COMMUTATION_GUARD_TICKS = {sc.commutation_guard_ticks} Hall ticks)",
+    )
+
+
 def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
     """Each fault path's handler from its entry to the store that clears MOE, and the
     time from the fault to that store derived from how each is detected."""
@@ -316,6 +341,7 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
                 f" {period_us:.1f} us",
             )
         )
+    figures.append(_end_guard_figure(b, stats, wait))
     if worst is not None:
         figures.append(
             Figure(

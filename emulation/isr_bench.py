@@ -414,6 +414,10 @@ class Stats:
     hall_lines: HandlerStats  # the EXTI handler on a valid code (every Hall edge)
     fault_paths: dict[str, Sample]  # the handler that detects each fault, one run
     fault_to_moe: dict[str, int]  # cycles from its entry to the store that clears MOE
+    #: cycles from entry to the COM event (TIM1 EGR) that switches the outputs: the
+    #: Hall edge's shortest run, and the commutation end's longest
+    edge_switch_best: int = 0
+    end_switch_worst: int = 0
     #: (Hall period in ticks, worst timing run at it, either path), by period: each run
     #: counts at the period of the last Hall edge, the one the handler computes with
     timing_by_period: tuple[tuple[int, int], ...] = ()
@@ -450,6 +454,8 @@ def bench(
     bus_part: list[Sample] = []
     timing_part: list[Sample] = []
     commutation_end: list[Sample] = []
+    switches_on: list[int] = []  # Hall edge: entry to its COM event
+    switches_off: list[int] = []  # commutation end: entry to its COM event
     worst_at: dict[int, int] = {}
     at_period = [inputs.periods[0]]  # the last Hall edge's period (rig.prime's first)
 
@@ -493,13 +499,17 @@ def bench(
                             refused.append(rig.cost(edge))
                         else:
                             hall_edge.append(rig.cost(edge))
+                            switches_on.append(_cycles_to_store(rig, edge, rig.tim1_egr))
                         # The timing depends on the period, bus, current and duty only,
                         # the same for every edge of this loop: after the first edge
                         # (and its commutation end) a rerun would publish the same
                         # values, so it is skipped.
                         if index == 0:
                             measure_timing(rig.timing())
-                        commutation_end.append(rig.cost(rig.commutation_end()))
+                        end = rig.commutation_end()
+                        commutation_end.append(rig.cost(end))
+                        if _stores_to(end, rig.tim1_egr):  # it ended a commutation
+                            switches_off.append(_cycles_to_store(rig, end, rig.tim1_egr))
                         if rig.com_event() and index == 0:
                             measure_timing(rig.timing())
     lines = [rig.cost(rig.hall_lines(code)) for code in spec.hall.sequence]
@@ -516,8 +526,14 @@ def bench(
         hall_lines=_stats(f"{HALL_LINES_HANDLER} (a valid code)", lines),
         fault_paths=faults,
         fault_to_moe=to_moe,
+        edge_switch_best=min(switches_on),
+        end_switch_worst=max(switches_off),
         timing_by_period=tuple(sorted(worst_at.items())),
     )
+
+
+def _stores_to(result: CallResult, address: int) -> bool:
+    return any(a.write and a.address == address for step in result.trace for a in step.accesses)
 
 
 def _cycles_to_store(rig: PortRig, result: CallResult, address: int) -> int:
@@ -533,7 +549,7 @@ def _cycles_to_store(rig: PortRig, result: CallResult, address: int) -> int:
                 after_exception=True,
             )
             return entry_cycles(part, result.trace[0].address) + part.cycles
-    raise AssertionError("the handler never cleared MOE")
+    raise AssertionError(f"the handler never stored to 0x{address:08x}")
 
 
 def current_loop_runs(

@@ -70,6 +70,9 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
     safe = next(f for f in report.figures if f.name.startswith("fault to the safe state"))
     period_us = 1e6 / float(load_spec(str(spec)).inverter.pwm_frequency_hz)
     assert safe.target == pytest.approx(period_us) and safe.meets, safe.line()
+    # the commutation end guard's allowance holds what the handlers take
+    lag = next(f for f in report.figures if f.name.startswith("commutation end's switch-off lag"))
+    assert lag.target == pytest.approx(4.0) and lag.meets and lag.value > 1.0, lag.line()
     for figure in report.figures:
         assert (math.isfinite(figure.value) and figure.value >= 0) or figure.name.startswith(
             "Hall edge from flash"
