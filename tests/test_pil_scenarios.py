@@ -117,3 +117,23 @@ def test_a_sense_whose_zero_reads_code_0_should_fault_only_at_the_other_rail(
         outcome = run_scenario(elf, spec, by_key[key])
         assert outcome.expected == expected, key
         assert outcome.problems == [], (key, outcome.problems, outcome.note)
+
+
+def test_a_commutation_filling_its_sector_should_leave_the_next_edge_the_dead_time(
+    tmp_path: Path,
+) -> None:
+    """A 40 000 rpm conventional motor on a 2 us dead-time bridge, whose commutations fill
+    their sectors at the scenarios' speed: the commutation end switches the outgoing
+    phase's switch off, and the next Hall edge the other switch of that leg on, each the
+    leg's only output enabled, so TIM1 inserts no dead time between them. Before the
+    end guard (a commutation ends at least dead time + 4 us before its sector does) the
+    edge came 1.9 us after the end, and every scenario but the HSE's failed on 'phase C
+    lower switch on 137 ticks after its partner turned off (dead time 144)'."""
+    from emulation.pil.build import generate
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "fast40k_dead2us.yaml"
+    spec = load_spec(str(path))
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    for scenario in SCENARIOS:
+        outcome = run_scenario(elf, spec, scenario)
+        assert outcome.problems == [], (scenario.key, outcome.problems)
