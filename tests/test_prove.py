@@ -23,6 +23,7 @@ from pathlib import Path
 import pytest
 
 from codegen.core.module import build_core
+from codegen.errors import ExitCode
 from codegen.proof.harness import INTERVAL, SIGNED_INTERVAL, clz_model, proof_plan
 from codegen.spec_loader import load_spec
 from verify.frama_c import (
@@ -283,7 +284,7 @@ def test_prove_should_exit_with_one_line_on_a_bad_spec(
     text = SPECS["paper_motor"].read_text(encoding="utf-8")
     assert "\n  poles: 2\n" in text
     bad.write_text(text.replace("\n  poles: 2\n", "\n  poles: 3\n"), encoding="utf-8")
-    assert main([str(bad), "--build", str(tmp_path / "build")]) == 2
+    assert main([str(bad), "--build", str(tmp_path / "build")]) == ExitCode.SPEC == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "poles" in err[0]
 
@@ -294,7 +295,7 @@ def test_prove_should_exit_with_one_line_on_a_spec_no_design_meets(
     """A valid spec whose current loop no fixed-point format meets: generating it for
     the proof raised FixedPointError through main(), a traceback (exit 1)."""
     refused = Path(__file__).parent / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
-    assert main([str(refused), "--build", str(tmp_path / "build")]) == 2
+    assert main([str(refused), "--build", str(tmp_path / "build")]) == ExitCode.SPEC
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
     assert err[0].startswith("prove: accuracy.current_loop_duty_counts = 1 counts: ")
@@ -304,7 +305,9 @@ def test_prove_should_fail_when_frama_c_is_missing(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setenv("PATH", str(tmp_path))  # no frama-c, no why3
-    assert main([str(SPECS["paper_motor"]), "--build", str(tmp_path / "build")]) == 3
+    assert main([str(SPECS["paper_motor"]), "--build", str(tmp_path / "build")]) == (
+        ExitCode.ENVIRONMENT
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "frama-c" in err[0] and "make sysdeps" in err[0]
 

@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 
 from codegen.core.module import build_core
+from codegen.errors import ExitCode
 from codegen.generate import render_all, write_tree
 from verify.run import VerifyResult, verify
 
@@ -288,11 +289,11 @@ def test_verify_should_catch_every_generator_mutant(
 def test_verify_should_refuse_a_missing_spec_or_core_clearly(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from verify.__main__ import EXIT_SPEC, main
+    from verify.__main__ import main
 
-    assert main([str(tmp_path / "absent.yaml")]) == EXIT_SPEC
+    assert main([str(tmp_path / "absent.yaml")]) == ExitCode.SPEC == 3  # as bldc-codegen
     assert "cannot read spec" in capsys.readouterr().err
-    assert main([str(SPECS["paper_motor"]), "--generated", str(tmp_path)]) == EXIT_SPEC
+    assert main([str(SPECS["paper_motor"]), "--generated", str(tmp_path)]) == ExitCode.STALE
     assert "no generated core" in capsys.readouterr().err
 
 

@@ -8,13 +8,17 @@ import tempfile
 from pathlib import Path
 
 from codegen.argtypes import POINTS, SEED
-from codegen.errors import SpecError
+from codegen.errors import ExitCode, SpecError
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, StaleOutputError, plot, table, verify, write_json
 
-EXIT_FAILED = 1
-EXIT_SPEC = 2
-EXIT_STALE = 4
+#: the exit statuses of bldc-codegen (codegen.errors.ExitCode): a point out of tolerance,
+#: the spec refused, no generated core or not this spec's (regenerate)
+EXIT_FAILED, EXIT_SPEC, EXIT_STALE = (
+    int(ExitCode.CHECK_FAILED),
+    int(ExitCode.SPEC),
+    int(ExitCode.STALE),
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -45,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
             f"verify: no generated core in {generated}: run `make generate SPEC={args.spec}`",
             file=sys.stderr,
         )
-        return EXIT_SPEC
+        return EXIT_STALE
     try:
         with tempfile.TemporaryDirectory() as build:
             result, evaluated, tol, o = verify(

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen.argtypes import whole_number
-from codegen.errors import SpecError
+from codegen.errors import ExitCode, SpecError
 from codegen.generate import render_all, write_tree
 from codegen.methods.base import FixedPointError
 from codegen.render import PROJECT_ROOT, project_relative, render, write_atomically
@@ -60,7 +60,9 @@ from verify.frama_c import (
     wp_passes,
 )
 
-EXIT_FAILED, EXIT_SPEC, EXIT_TOOL = 1, 2, 3
+#: the exit statuses of bldc-codegen (codegen.errors.ExitCode): a proof failed, the spec
+#: (or its design) refused, Frama-C or a prover missing or failing
+EXIT_FAILED, EXIT_SPEC, EXIT_TOOL = ExitCode.CHECK_FAILED, ExitCode.SPEC, ExitCode.ENVIRONMENT
 #: the clause kinds a function's contract is made of (the report's rows)
 CONTRACT_KINDS = (
     "postcondition",
@@ -514,13 +516,13 @@ def main(argv: list[str] | None = None) -> int:
         targets = [target_for(s, args.build) for s in args.specs]
     except (SpecError, FixedPointError) as exc:  # the design's refusal names its key
         print(f"prove: {exc}", file=sys.stderr)
-        return EXIT_SPEC
+        return int(EXIT_SPEC)
     try:
         tools = find_tools(args.build)
         outcomes = prove(targets, tools, args.build, max(1, args.jobs))
     except ToolError as exc:
         print(f"prove: {exc}", file=sys.stderr)
-        return EXIT_TOOL
+        return int(EXIT_TOOL)
     status = 0
     for o in outcomes:
         proven, text = report(o, tools)
@@ -534,7 +536,7 @@ def main(argv: list[str] | None = None) -> int:
             f"EVA {times}; WP {wp_time} s -> {project_relative(out)}"
         )
         if not proven:
-            status = EXIT_FAILED
+            status = int(EXIT_FAILED)
     print(f"prove: {len(targets)} spec(s) in {time.monotonic() - start:.1f} s")
     return status
 
