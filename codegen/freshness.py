@@ -33,6 +33,11 @@ def regenerate_command(spec: Spec, generated: Path) -> str:
 
 def check_fresh(spec: Spec, generated: Path) -> None:
     """Raise StaleOutputError unless `generated` holds this spec's current output."""
+    if generated.exists() and not generated.is_dir():
+        raise StaleOutputError(
+            f"{shown(generated)} is a file, not a generated folder: give the folder"
+            f" `bldc-codegen generate` wrote (generated/{spec.name} by default)"
+        )
     fix = f"regenerate with `{regenerate_command(spec, generated)}`"
     manifest_path = generated / MANIFEST
     try:

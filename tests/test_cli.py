@@ -264,3 +264,17 @@ def test_generate_killed_after_its_atomic_exchange_leaves_a_complete_tree(tmp_pa
         "motor",
         "other.yaml",
     ]
+
+
+@pytest.mark.parametrize("command", ["verify", "unity", "firmware"])
+def test_a_file_given_as_the_generated_folder_should_be_named_not_offered_as_an_output(
+    command: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--generated README.md` had said `regenerate with bldc-codegen generate ... -o
+    README.md`: advice to write a generated tree over a file the tool did not write."""
+    note = tmp_path / "notes.md"
+    note.write_text("mine\n")
+    assert cli.main([command, str(SPEC), "--generated", str(note)]) == 4
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is a file, not a generated folder" in err[0], err
+    assert " -o " not in err[0] and note.read_text() == "mine\n"
