@@ -18,6 +18,7 @@ from __future__ import annotations
 import difflib
 import hashlib
 import math
+import os
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -1215,8 +1216,19 @@ def _check_plausible(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
 
 
 def _read_bytes(file: Path, source: str) -> bytes:
+    """Up to one byte past the size limit. The file is opened without blocking: a named
+    pipe nothing writes to had held open() for ever; it now reads as empty (a pipe with
+    a writer, `cat spec.yaml | bldc-codegen generate /dev/stdin`, reads as before)."""
     try:
-        with file.open("rb") as stream:
+        descriptor = os.open(file, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        try:
+            if hasattr(os, "set_blocking"):
+                os.set_blocking(descriptor, True)
+            stream = os.fdopen(descriptor, "rb")
+        except BaseException:
+            os.close(descriptor)
+            raise
+        with stream:
             raw = stream.read(DEFAULT_LIMITS.max_bytes + 1)
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__

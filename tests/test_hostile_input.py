@@ -8,6 +8,7 @@ nothing. A time limit guards against hangs (it is a guard, not a speed measureme
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from collections.abc import Callable
@@ -189,6 +190,17 @@ def test_an_endless_file_is_refused_after_the_limit_in_one_line(tmp_path: Path) 
         "error: /dev/zero: <document> = None: the file has more than 262144 bytes; a spec"
         " has at most 262144"
     ]
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_named_pipe_nothing_writes_to_is_refused_not_waited_on(tmp_path: Path) -> None:
+    """A FIFO as the spec, no writer: open() had blocked until the hang guard."""
+    fifo = tmp_path / "spec.yaml"
+    os.mkfifo(fifo)
+    result = run_generate(fifo, tmp_path / "out")
+    assert result.returncode == ExitCode.SPEC
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "the spec must be a YAML mapping" in lines[0], lines
     assert not (tmp_path / "out").exists()
 
 
