@@ -686,3 +686,33 @@ def test_a_fast_low_inductance_motor_should_agree_with_the_sil_within_a_point(
     worst = max(c.difference_pp or 0.0 for c in measured)
     assert worst <= 0.5, [(c.index, round(c.difference_pp or 0.0, 2)) for c in measured]
     assert all(c.com_tick - c.hall_tick > 50 for c in measured)  # the lead is there to take
+
+
+def test_the_comparator_should_see_the_braking_current_and_never_trip_the_paper_run(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    loop, result = paper_run
+    trip = float(loop.spec.protection.over_current_a)
+    nominal = float(loop.spec.controller.braking_current_nominal_a)
+    assert 0.8 * nominal < result.peak_current_a < trip
+    assert result.comparator_trips == [] and loop.machine.tim1.moe_cleared_at is None
+
+
+def test_a_phase_current_at_the_comparators_trip_should_latch_over_current_within_a_period(
+    paper_firmware: tuple[Path, Path],
+) -> None:
+    """The comparator's trip set below the braking current's peak (4 A against the 5 A
+    run): the plant's current crosses it, the pin goes active within one PWM period of
+    the crossing, TIM1 clears MOE at that tick in hardware and the run ends with
+    OVER_CURRENT latched."""
+    spec = load_spec(str(PAPER))
+    elf, port = paper_firmware
+    loop = BrakingLoop(elf, port, spec, braking_setup(spec, short=False))
+    loop.comparator.trip_a = 0.8 * float(spec.controller.braking_current_nominal_a)
+    result = loop.run_braking()
+    assert result.outcome.fault_names == ["OVER_CURRENT"]
+    cause, at, peak = result.comparator_trips[0]
+    assert peak >= loop.comparator.trip_a
+    assert 0 <= at - cause < loop.run.board.pwm_period_ticks()
+    assert loop.machine.tim1.moe_cleared_at == at
+    assert any("over-current comparator having seen" in p for p in braking_report.problems(result))

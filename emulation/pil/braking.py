@@ -40,6 +40,7 @@ from unicorn import UC_HOOK_MEM_READ, UC_HOOK_MEM_WRITE
 from codegen.control.sensing import steady_signals
 from codegen.spec_model import Spec
 from emulation.pil.bus import PilError, svd_interrupt
+from emulation.pil.comparator import OverCurrentComparator
 from emulation.pil.plant import LoadTorque, Mechanics, MotorPlant, PeriodRecord
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, Run
@@ -238,6 +239,10 @@ class BrakingResult:
     #: why the Hall edges after the settling ones that were not measured were not
     #: (reason -> edges)
     unmeasured: dict[str, int] = field(default_factory=dict)
+    #: the largest |phase current| of the run, A, and the comparator's trips (the
+    #: crossing's tick, the pin's tick, the peak so far A)
+    peak_current_a: float = 0.0
+    comparator_trips: list[tuple[int, int, float]] = field(default_factory=list)
 
     @property
     def emulated_s(self) -> float:
@@ -265,6 +270,13 @@ class BrakingLoop:
             trace_seconds=setup.trace_seconds,
         )
         self._couple_sensing()
+        #: the board's over-current comparator on BKIN, its input the plant's currents
+        self.comparator = OverCurrentComparator(
+            float(spec.protection.over_current_a),
+            lambda active, at: self.run.board.set_break(active, at),
+            lambda: self.machine.now,
+        )
+        self.plant.current_watchers.append(self.comparator.observe)
         self.machine.write_symbol_u32("app_braking_current_ma", round(setup.current_a * 1000))
         self.com_ticks: list[int] = []
         #: TIM1 CCR1..CCR3 in force from each COM event on
@@ -471,11 +483,18 @@ class BrakingLoop:
             if setup.max_edges is not None and len(self.edges) >= setup.max_edges:
                 break
             if machine.tim1.moe_cleared_at is not None:
+                saw = self.comparator.trips
+                over = (
+                    f", the over-current comparator having seen {saw[0][2]:.1f} A"
+                    f" (trip {self.comparator.trip_a:g} A, protection.over_current)"
+                    if saw
+                    else ""
+                )
                 self.run._note(
                     f"the braking run ended at Hall edge {len(self.edges)},"
                     f" {plant.speed_rpm:.0f} rpm, {(machine.now - self.start_tick) / TICK_HZ * 1e3:.2f} ms"
                     f" after the attach: the bridge tripped (MOE cleared at tick"
-                    f" {machine.tim1.moe_cleared_at}), a fault latched"
+                    f" {machine.tim1.moe_cleared_at}), a fault latched{over}"
                 )
                 self._await_faults()
                 break
@@ -528,6 +547,8 @@ class BrakingLoop:
             len(self.edges),
             time.perf_counter() - self.run.wall,
             dict(self.unmeasured),
+            self.comparator.peak_a,
+            list(self.comparator.trips),
         )
 
     # ------------------------------------------------------------------ measurement

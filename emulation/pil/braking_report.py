@@ -327,6 +327,20 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
         " included).",
         f"* CPU load from emulated cycles (2 flash wait states): {100 * result.outcome.cpu_load:.2f} %"
         f" of the run; faults latched: {', '.join(result.outcome.fault_names) or 'none'}.",
+        f"* Largest phase current {result.peak_current_a:.2f} A; the over-current comparator"
+        f" on BKIN (its input the plant's phase currents, emulation/pil/comparator.py) trips at"
+        f" {float(result.spec.protection.over_current_a):g} A:"
+        + (
+            " "
+            + "; ".join(
+                f"tripped at {(cause - result.start_tick) / TICK_HZ * 1e3:.3f} ms"
+                f" ({peak:.1f} A), the pin active {(at - cause) / TICK_HZ * 1e6:.2f} us later"
+                for cause, at, peak in result.comparator_trips
+            )
+            + "."
+            if result.comparator_trips
+            else " never tripped."
+        ),
         f"* Invariants (every step, as in the fault scenarios):"
         f" {'kept' if not result.outcome.violations else '; '.join(result.outcome.violations[:5])}.",
         f"* Commutations measured: {len(result.commutations)} (the first"

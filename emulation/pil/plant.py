@@ -166,6 +166,11 @@ class MotorPlant:
     events: list[tuple[float, str, int]] = field(init=False, default_factory=list)
     #: (s, phase currents) of every piece end within `trace_seconds` of the attach
     trace: list[tuple[float, np.ndarray]] = field(init=False, default_factory=list)
+    #: called with the (s, phase currents) points of every piece integrated (the board's
+    #: over-current comparator, emulation/pil/comparator.py)
+    current_watchers: list[Callable[[list[tuple[float, np.ndarray]]], None]] = field(
+        init=False, default_factory=list
+    )
 
     def __post_init__(self) -> None:
         self.drive = Drive.from_spec(self.spec)
@@ -346,6 +351,8 @@ class MotorPlant:
                 self.events.append((event.time * TICK_HZ, event.kind, event.phase))
             for point in recorder.points:
                 self._history.append(point)
+            for watcher in self.current_watchers:
+                watcher(recorder.points)
             if recorder.points and recorder.points[0][0] * TICK_HZ < self._trace_end:
                 self.trace.extend(recorder.points)
             if len(self._history) > 2 * _HISTORY:

@@ -83,7 +83,7 @@ def _break_input(loop: BrakingLoop) -> Outcome:
     _settle(loop)
     loop.advance_to(loop.machine.now + _third_of_sector(loop))
     cause = loop.machine.now
-    loop.run.board.set_break(True)
+    loop.comparator.force(True)  # fires whatever the currents: the pin goes active now
     _until_tripped(loop, loop.run.board.pwm_period_ticks())
     return loop.run.outcome(
         "BKIN over-current (motor in the loop)",

@@ -54,11 +54,16 @@ class DriveBoard:
             else:
                 gpio.drive_at(pin, bool(code >> bit & 1), at)
 
-    def set_break(self, over_current: bool) -> None:
-        """The comparator's output: active (over-current) or idle, at the spec's polarity."""
+    def set_break(self, over_current: bool, at: int | None = None) -> None:
+        """The comparator's output: active (over-current) or idle, at the spec's polarity;
+        now, or from tick `at` exactly (`Gpio.drive_at`)."""
         active_level = self.spec.protection.break_polarity == "active_high"
         port, pin = BREAK_PIN
-        getattr(self.machine, port).drive(pin, active_level if over_current else not active_level)
+        level = active_level if over_current else not active_level
+        if at is None:
+            getattr(self.machine, port).drive(pin, level)
+        else:
+            getattr(self.machine, port).drive_at(pin, level, at)
 
     def set_bus_voltage(self, volts: float | Callable[[int], float]) -> None:
         divider = float(self.spec.adc.bus_voltage_divider)
