@@ -71,6 +71,52 @@ def commutation_guard_ticks(dead_time_s: Fraction, hall_clock_hz: Fraction) -> i
     )
 
 
+#: `hall.sector_shortening` when the spec leaves it out, percent: a Hall placement error
+#: of 0.75 electrical degrees (one sensor early, its neighbours late: 4 x 0.75 / 60)
+SECTOR_SHORTENING_DEFAULT_PERCENT = 5
+#: the largest `hall.sector_shortening` a spec may give, percent
+SECTOR_SHORTENING_MAX_PERCENT = 25
+
+
+#: the largest shift of the margin: T (2^k - 1) stays within 32 bits for a 16-bit T, and
+#: from 2^-16 down the margin is one tick at every T
+SECTOR_MARGIN_SHIFT_MAX = 16
+
+
+def sector_margin_shift(shortening: Fraction) -> int | None:
+    """k of the margin ceil(T / 2^k) a commutation ends by, beyond the guard, before a
+    sector of T measured Hall ticks: the largest k with 2^-k >= `shortening` (5 % -> 4,
+    1/16), at most SECTOR_MARGIN_SHIFT_MAX; None for 0. The margin is at least
+    shortening x T.
+
+    The guard holds where a sector is as long as the one its timing was computed from
+    (two sectors before it: the timing runs after an edge on the interval that edge
+    ends, for the next edge). It is not when a Hall sensor sits off its 60 deg mark (a
+    sector up to 4 x the error shorter: 6.7 % per electrical degree) or the rotor
+    speeds up: the next edge then comes that much earlier, up to onto the end, and
+    switches on the partner of the switch the end has just switched off with no dead
+    time (`make pil`, a 2 us bridge whose commutations fill their sectors, sectors each
+    a little shorter than the one before: a lower switch on 137 TIM1 ticks after its
+    partner turned off, dead time 144). In the core the latest end is
+    T (2^k - 1) / 2^k - G (`codegen.core.conditioning.CoreLimits.latest_end`)."""
+    if shortening <= 0:
+        return None
+    if shortening > 1:
+        raise ValueError(f"a sector cannot be shorter by more than itself: {shortening}")
+    k = 0
+    while k < SECTOR_MARGIN_SHIFT_MAX and Fraction(1, 2 ** (k + 1)) >= shortening:
+        k += 1
+    return k
+
+
+def latest_end_ticks(period_ticks: int, guard_ticks: int, shift: int | None) -> int:
+    """The latest commutation end in a sector of `period_ticks`: the guard and the
+    sector-shortening margin ceil(T / 2^k) before its end."""
+    if shift is None:
+        return period_ticks - guard_ticks
+    return ((period_ticks * (2**shift - 1)) >> shift) - guard_ticks
+
+
 def encode_dead_time(dead_time_s: Fraction, timer_clock_hz: Fraction) -> DeadTime:
     """The DTG code of the shortest encodable dead time not shorter than requested.
 

@@ -28,7 +28,14 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from codegen import spec_drive, spec_optional, units
-from codegen.dead_time import COMMUTATION_END_ALLOWANCE_S, commutation_guard_ticks
+from codegen.dead_time import (
+    COMMUTATION_END_ALLOWANCE_S,
+    SECTOR_SHORTENING_DEFAULT_PERCENT,
+    SECTOR_SHORTENING_MAX_PERCENT,
+    commutation_guard_ticks,
+    latest_end_ticks,
+    sector_margin_shift,
+)
 from codegen.errors import MultiSpecError, SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
@@ -545,17 +552,30 @@ def _hall(r: _Reader, data: Mapping[str, Any]) -> HallSensor | None:
     sec = r.section(data, "hall")
     if sec is None:
         return None
-    r.only_keys(sec, _HALL_KEYS, "hall")
+    r.only_keys(sec, _HALL_KEYS, "hall", ("sector_shortening",))
     bits = r.attempt(lambda: r.integer(sec, "counter_bits", "hall", _Range(16, 16, "bits")))
+    shortening: Fraction | None = Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100)
+    if "sector_shortening" in sec:
+        percent = r.attempt(
+            lambda: r.number(
+                sec,
+                "sector_shortening",
+                "hall",
+                _Range(0, SECTOR_SHORTENING_MAX_PERCENT, "percent of the sector measured"),
+            )
+        )
+        shortening = None if percent is None else Fraction(percent) / 100
     sequence = r.attempt(
         lambda: _hall_sequence(r, r.raw(sec, "sequence", "hall", _HALL_SEQUENCE_ALLOWED))
     )
     clock = r.attempt(
         lambda: r.quantity(sec, "timer_clock", "hall", units.FREQUENCY, _Range(1e3, 72e6, "Hz"))
     )
-    if bits is None or sequence is None or clock is None:
+    if bits is None or sequence is None or clock is None or shortening is None:
         return None
-    return HallSensor(sequence=sequence, timer_clock_hz=clock, counter_bits=bits)
+    return HallSensor(
+        sequence=sequence, timer_clock_hz=clock, counter_bits=bits, sector_shortening=shortening
+    )
 
 
 def _adc(r: _Reader, data: Mapping[str, Any]) -> Adc | None:
@@ -947,16 +967,20 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
     # on the other switch of the leg the end switched off): a sector no longer than the
     # guard leaves no commutation at all.
     guard = commutation_guard_ticks(inverter.dead_time_s, hall.timer_clock_hz)
-    if fastest >= 64 and math.ceil(fastest) <= guard:
+    shift = sector_margin_shift(hall.sector_shortening)
+    shortest = math.ceil(fastest)
+    if fastest >= 64 and latest_end_ticks(shortest, guard, shift) <= 0:
         guard_s = inverter.dead_time_s + COMMUTATION_END_ALLOWANCE_S
+        lasting = next(t for t in range(shortest, 2**20) if latest_end_ticks(t, guard, shift) > 0)
+        margin = "" if shift is None else f" and its 1/{2**shift} margin (hall.sector_shortening)"
         r.report(
             "controller.speed_max",
             _raw(data, "controller.speed_max"),
             f"its 60 deg sector ({_f1(fastest)} Hall ticks) is not longer than the {guard}-tick"
             f" guard a commutation ends by before its sector does (inverter.dead_time"
             f" {_g(inverter.dead_time_s)} s + {_g(COMMUTATION_END_ALLOWANCE_S)} s of the end's"
-            " latency): no commutation could last",
-            f"< {_f1(ticks_per_rpm_60deg / (guard + 1))} rpm, or a shorter dead time"
+            f" latency){margin}: no commutation could last",
+            f"<= {_f1(ticks_per_rpm_60deg / lasting)} rpm, or a shorter dead time"
             f" (the guard: {_g(guard_s)} s)",
         )
     # The Hall timer measures the speed to a tick, and a rotor at a steady speed reads

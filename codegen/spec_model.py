@@ -127,6 +127,11 @@ class HallSensor:
     sequence: tuple[int, ...]
     timer_clock_hz: Fraction
     counter_bits: int
+    #: the most a 60 deg sector may be shorter than the one its commutation's timing was
+    #: computed from (two sectors before it), as a fraction (`hall.sector_shortening`,
+    #: percent in the spec: a Hall sensor off its mark, 6.7 % per electrical degree,
+    #: and acceleration)
+    sector_shortening: Fraction = Fraction(5, 100)
 
 
 @dataclass(frozen=True)

@@ -134,7 +134,7 @@ class _CaseMaker:
         offs = range(
             max(math.ceil(off[0] - self.duty), 0), min(math.floor(off[0] + self.duty), p) + 1
         )
-        limit = float(period[0] - o.u.end_guard_ticks)  # the latest end
+        limit = float(o.u.latest_end(int(period[0])))  # the latest end
         lows, highs = [], []
         for a in ons:
             for b in offs:
@@ -184,7 +184,7 @@ class _CaseMaker:
         first = int(com.end_after(np.array([max(lo, 0.0)]))[0])
         last = int(com.end_after(np.array([hi]))[0])
         periods = int(com.periods[0])
-        limit = float(measured - o.u.end_guard_ticks)  # the latest end
+        limit = float(o.u.latest_end(int(measured)))  # the latest end
         ends = list(range(first, last + 1))
         # round(m tau) half up, as the core rounds it: a carrier of 62.5 ticks ends the
         # first period at 63 (Python's round() would give the even 62)

@@ -154,7 +154,7 @@ class Oracle:
             self.emf,
             float(self.u.hall_hz),
             float(self.u.carrier_ticks),
-            self.u.end_guard_ticks,
+            self.u.latest_end(np.asarray(period, dtype=np.int64)).astype(np.float64),
         )
 
 

@@ -81,7 +81,9 @@ class Commutation:
     emf: EdgeEmf
     sector_ticks: Floats  # T_s in Hall ticks
     carrier_ticks: float  # tau
-    guard_ticks: int  # G: the commutation ends at least G before the sector does
+    #: L(T): the latest end, the guard and the sector-shortening margin before the
+    #: sector's end (`oracle.units.Units.latest_end`), Hall ticks
+    latest_ticks: Floats
 
     def duty_sum(self, fraction: Floats) -> Floats:
         return 2 * self.p + self.y - self.x / 4 * self.emf.hold(fraction)
@@ -117,8 +119,8 @@ class Commutation:
 
     @property
     def periods(self) -> Ints:
-        """N: whole carrier periods in the sector, less the guard at its end."""
-        usable = self.sector_ticks - self.guard_ticks
+        """N: whole carrier periods in the sector, less the guard and the margin at its end."""
+        usable = self.latest_ticks
         return np.floor(usable / self.carrier_ticks + 1e-9).astype(np.int64)
 
     def end_after(self, ticks: Floats) -> Ints:
@@ -156,10 +158,10 @@ def commutation(
     shape: EdgeEmf,
     hall_hz: float,
     carrier_ticks: float,
-    guard_ticks: int,
+    latest_ticks: Floats,
 ) -> Commutation:
     x = 4 * p * emf_volts / u_d
     y = 3 * p * resistance * amps / u_d
     a = 3 * p * inductance * amps / (u_d * sector_s)
     rho = resistance * sector_s / inductance
-    return Commutation(x, y, a, rho, p, shape, sector_s * hall_hz, carrier_ticks, guard_ticks)
+    return Commutation(x, y, a, rho, p, shape, sector_s * hall_hz, carrier_ticks, latest_ticks)

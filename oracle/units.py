@@ -16,6 +16,11 @@ Every conversion is one line of physics, in exact rationals:
                         switch of the leg the end switched off, with no dead time of
                         TIM1's between them, and the end may lag its match by up to
                         4 us more than the edge lags its own
+  latest end            L(T) = T - ceil(T / 2^k) - G for a sector measured at T ticks:
+                        beyond the guard, a margin of 2^-k of the sector, 2^-k the
+                        smallest power of two not below hall.sector_shortening (at
+                        most 16 halvings; none for 0 %): the next sector may be that
+                        much shorter (a Hall sensor off its mark, the rotor speeding up)
 
 and every limit is the exact set of codes whose physical value lies in the spec's range.
 Nothing here is imported from the generator: tests compare these with values worked
@@ -26,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Any
 
 from codegen.spec_model import Spec
 
@@ -53,6 +59,16 @@ class Units:
     hall_counter_max: int  # the Hall timer's largest count
     carrier_ticks: Fraction  # Hall ticks per PWM period: f_hall / f_pwm
     end_guard_ticks: int  # G: a commutation ends at least G before its sector does
+    #: k of the latest end's margin ceil(T / 2^k) (None: hall.sector_shortening 0)
+    end_margin_shift: int | None = None
+
+    def latest_end(self, period: Any) -> Any:
+        """L(T) = T - ceil(T / 2^k) - G: the latest a commutation may end in a sector
+        measured at `period` Hall ticks (an int or an integer array)."""
+        k = self.end_margin_shift
+        if k is None:
+            return period - self.end_guard_ticks
+        return period - (-((-period) // 2**k)) - self.end_guard_ticks
 
     # ------------------------------------------------------------ conversions
 
@@ -113,7 +129,22 @@ def units(spec: Spec) -> Units:
             (spec.inverter.dead_time_s + END_LATENCY_ALLOWANCE_S)
             * Fraction(spec.hall.timer_clock_hz)
         ),
+        end_margin_shift=_halvings(spec.hall.sector_shortening),
     )
+
+
+#: the margin's finest fraction: 2^-16 of a sector
+_MARGIN_HALVINGS_MAX = 16
+
+
+def _halvings(shortening: Fraction) -> int | None:
+    """k: the most halvings of a sector that stay at least `shortening` of it."""
+    if shortening <= 0:
+        return None
+    k = 0
+    while k < _MARGIN_HALVINGS_MAX and 2 * shortening * 2**k <= 1:
+        k += 1
+    return k
 
 
 def limits(spec: Spec, u: Units) -> Limits:

@@ -67,20 +67,28 @@ def _first_misfit(
     return high
 
 
+def _evaluate(drive: Drive, expr: sp.Expr, n: float) -> float:
+    result = complex(expr.subs(_values(drive)).subs(s.E, drive.emf_v(n)).evalf())
+    return result.real if abs(result.imag) < 1e-12 else math.nan
+
+
+def paper_time_s(drive: Drive, n: float) -> float:
+    """Eq. 20 at speed `n` under the paper's improved duties (its low or high row),
+    seconds (R = 0, as printed)."""
+    row = "improved_low" if n <= drive.boundary_speed_rpm else "improved_high"
+    return _evaluate(drive, derive()["20"].row(row), n)
+
+
 def limits(drive: Drive) -> Limits:
     rule = derive_resistance_rule()
-    paper = derive()["20"]
-    values = _values(drive)
     boundary = drive.boundary_speed_rpm
     upper = drive.upper_speed_rpm
 
     def evaluate(expr: sp.Expr, n: float) -> float:
-        result = complex(expr.subs(values).subs(s.E, drive.emf_v(n)).evalf())
-        return result.real if abs(result.imag) < 1e-12 else math.nan
+        return _evaluate(drive, expr, n)
 
     def paper_time(n: float) -> float:
-        row = "improved_low" if n <= boundary else "improved_high"
-        return evaluate(paper.row(row), n)
+        return paper_time_s(drive, n)
 
     boundary_r = _speed(rule.boundary_emf, drive)
 

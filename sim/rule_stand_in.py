@@ -82,7 +82,7 @@ class RuleStandIn:
                 ],
             )
             for j, k in enumerate(switching):
-                rule = batch.outputs(j, periods[k] - self._rule.guard_ticks)
+                rule = batch.outputs(j, self._rule.latest_end(periods[k]))
                 outs[k] = {
                     **outs[k],
                     "turn_on_compare": rule.on_counts,

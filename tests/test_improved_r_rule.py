@@ -154,7 +154,7 @@ def test_printed_rule_should_end_where_the_reference_ends_within_its_bounds(
         on, off, ticks, flags = run_twin(twin, inputs)
         finished = not ref.flags[k] & FLAG_NOT_FINISHED
         if b.decided[k]:
-            latest = inputs.period_ticks - c.guard_ticks  # the sector less the end guard
+            latest = c.latest_end(inputs.period_ticks)  # the sector less the guard and margin
             expected = math.floor(float(ref.ticks_exact[k]) + 0.5) if finished else latest
             assert ticks == min(expected, latest), inputs
             assert abs(on - ref.on_exact[k]) <= b.duty_counts[k], inputs
@@ -204,7 +204,7 @@ def test_commutation_should_end_on_a_carrier_boundary_with_the_current_eased_to_
         inputs = RuleInputs(int(period), bus, nominal)
         on, off, ticks, flags = run_twin(twin, inputs)
         if flags & twin.FLAG_TIME_CLAMPED:  # type: ignore[attr-defined]
-            assert ticks == period - c.guard_ticks  # the sector less the end guard
+            assert ticks == c.latest_end(period)  # the sector less the guard and margin
             continue
         periods = Fraction(ticks) / tau
         assert abs(periods - round(periods)) <= Fraction(1, 2) / tau

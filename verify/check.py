@@ -126,11 +126,13 @@ def new_checks(tol: Tolerances) -> dict[str, OutputCheck]:
     checks.update(
         {
             "end_guard": OutputCheck(
-                "t_com ends the guard before the sector does",
+                "t_com ends the guard and the margin before the sector does",
                 "ticks over",
                 None,
-                note="t_com <= min(T, counter) - G exactly, G = ceil((dead time + 4 us) f_hall):"
-                " the next edge switches on the other switch of the leg the end switched off",
+                note="t_com <= L(min(T, counter)) exactly, L(T) = T - ceil(T / 2^k) - G,"
+                " G = ceil((dead time + 4 us) f_hall), 2^-k >= hall.sector_shortening:"
+                " the next edge, up to that much early, switches on the other switch of the"
+                " leg the end switched off",
             ),
             "pattern": OutputCheck("switch pattern and sector", "mismatches", None),
             "safe_state": OutputCheck("safe state: zero duties and time", "mismatches", None),
@@ -190,7 +192,7 @@ def check_set(
     relaxed_mask = np.zeros(inputs.size, dtype=bool)
     if n:
         # exact, not within the time target: a safety bound of the bridge, not an accuracy
-        latest = np.minimum(period[act], o.u.hall_counter_max) - o.u.end_guard_ticks
+        latest = o.u.latest_end(np.minimum(period[act], o.u.hall_counter_max).astype(np.int64))
         over = np.maximum(ticks_c[act] - latest, 0).astype(np.float64)
         checks["end_guard"].add(over, over > 0, inputs[act])
         sub = _ActiveSet(o, tol, f, dec, act, cols, on_c, off_c, ticks_c, flags_c)
@@ -268,7 +270,7 @@ class _ActiveSet:
         on, off, high, fail = o.duties(self.period, self.bus, self.main)
         on_err, off_err = np.abs(self.on_c - on), np.abs(self.off_c - off)
         t, w = o.eq20(self.period, self.bus, self.current, self.on_c, self.off_c)
-        limit = (self.period - o.u.end_guard_ticks).astype(np.float64)  # the latest end
+        limit = o.u.latest_end(self.period.astype(np.int64)).astype(np.float64)  # the latest end
         t_sat = np.minimum(t, limit)
         forward = np.abs(self.ticks_c - t_sat)
         lo, hi = t - tol.time_ticks, t + tol.time_ticks
@@ -351,7 +353,7 @@ class _ActiveSet:
         n_rows = periods[rows]
         core_end = np.where(clamped, n_rows + 1, np.rint(self.ticks_c / tau).astype(np.int64))
         on_grid = np.abs(self.ticks_c - core_end * tau) <= 0.5 + SLACK
-        limit = (self.measured - o.u.end_guard_ticks).astype(np.float64)  # the latest end
+        limit = o.u.latest_end(self.measured.astype(np.int64)).astype(np.float64)  # the latest end
         core_time = np.where(clamped, limit, self.ticks_c)
         expected_time = np.where(
             exact_end[rows] > n_rows, limit, np.minimum(exact_end[rows] * tau, limit)

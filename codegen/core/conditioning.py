@@ -36,6 +36,7 @@ from codegen.ir.nodes import (
     cast,
     cmp,
     const,
+    div,
     lor,
     minimum,
     mul,
@@ -66,6 +67,22 @@ class CoreLimits:
     adc_max: IConst  # the ADC's full-scale code
     current_low: IConst  # raw codes of the braking-current range
     current_high: IConst
+    #: k of the sector-shortening margin ceil(T / 2^k) (None: no margin)
+    margin_shift: int | None = None
+
+    def latest_end(self, period: Expr) -> Expr:
+        """The latest commutation end in a sector of `period` Hall ticks: the guard and
+        the margin ceil(T / 2^k) before its end, T - ceil(T / 2^k) - G, as
+        T (2^k - 1) / 2^k - G: a product by a constant, a shift and a subtraction, each
+        a function of T alone, so that an interval analysis (the IR's, EVA's) bounds it
+        at T's ends (T - ((T + c) >> k), one instruction fewer, holds T twice: EVA
+        raised an unsigned-overflow alarm on it), and a division by the constant 2^k
+        (the compiler shifts), from which WP proves t + G <= T (it timed out on the
+        shift's bit-level model)."""
+        k = self.margin_shift
+        if k is None:
+            return sub(period, self.period_guard)
+        return sub(div(mul(period, const(2**k - 1)), const(2**k)), self.period_guard)
 
     @property
     def public(self) -> tuple[IConst, ...]:
@@ -157,6 +174,7 @@ def core_limits(spec: object, sc: Scaling) -> CoreLimits:
             doc=f"last code at or below {float(spec.controller.braking_current_max_a):g} A "
             f"({(sc.current_code_high - offset) * amps:.4g} A)",
         ),
+        margin_shift=sc.sector_margin_shift,
     )
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from codegen.dead_time import sector_margin_shift
 from codegen.ir.acsl import Behavior, Clause, Contract, Predicate, term
 from codegen.ir.intervals import ProvenRange
 from codegen.ir.nodes import Expr, Function, IConst, IVar, SAssign, SLet, SReturn, SStruct, SVar
@@ -145,7 +146,19 @@ def bus_condition_contract() -> Contract:
     )
 
 
-def timing_contract() -> Contract:
+#: the Hall period `bldc_commutate` was given
+OLD_PERIOD = "\\old(inputs->hall_period_ticks)"
+
+
+def _latest_end(period: str, shift: int | None) -> str:
+    """The latest end in ACSL: the sector less the margin (`hall.sector_shortening`,
+    T (2^k - 1) / 2^k in integers), the guard being on the other side."""
+    if shift is None:
+        return period
+    return f"{period} * {2**shift - 1} / {2**shift}"
+
+
+def timing_contract(shift: int | None = None) -> Contract:
     r = "\\result."
     return Contract(
         requires=(
@@ -157,7 +170,8 @@ def timing_contract() -> Contract:
             _ensures(
                 "commutation_ends_the_guard_early",
                 f"{r}commutation_ticks == 0"
-                f" || {r}commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks",
+                f" || {r}commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS"
+                f" <= {_latest_end('period_ticks', shift)}",
             ),
             _ensures("applies_at_most_from_bus_minimum", f"{r}period_min >= bus->period_min"),
         ),
@@ -179,7 +193,7 @@ def edge_of_contract() -> Contract:
     )
 
 
-def commutate_contract() -> Contract:
+def commutate_contract(shift: int | None = None) -> Contract:
     o = "out->"
     pair = f"{VALID_PAIR}(inputs->previous_hall_code, inputs->hall_code)"
     over = (
@@ -198,7 +212,7 @@ def commutate_contract() -> Contract:
             _ensures(
                 "commutation_ends_the_guard_early",
                 f"{o}commutation_ticks == 0 || {o}commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS"
-                " <= \\old(inputs->hall_period_ticks)",
+                f" <= {_latest_end(OLD_PERIOD, shift)}",
             ),
             _ensures("over_speed_or_voltage_no_switch", f"{over} ==> {NO_SWITCH.format(o=o)}"),
         ),
@@ -215,12 +229,8 @@ def commutate_contract() -> Contract:
     )
 
 
-PUBLIC = {
-    "bldc_bus_condition": bus_condition_contract,
-    "bldc_commutation_timing": timing_contract,
-    "bldc_edge_of": edge_of_contract,
-    "bldc_commutate": commutate_contract,
-}
+#: the public functions, each with its contract (`api_contracts`)
+PUBLIC = ("bldc_bus_condition", "bldc_commutation_timing", "bldc_edge_of", "bldc_commutate")
 
 
 def helper_contract(fn: Function) -> Contract:
@@ -238,10 +248,18 @@ def helper_contract(fn: Function) -> Contract:
 def api_contracts(
     spec: Spec, functions: list[Function], bus_condition: Function, ranges: tuple[ProvenRange, ...]
 ) -> ApiContracts:
+    shift = sector_margin_shift(spec.hall.sector_shortening)
+    public = {
+        "bldc_bus_condition": bus_condition_contract(),
+        "bldc_commutation_timing": timing_contract(shift),
+        "bldc_edge_of": edge_of_contract(),
+        "bldc_commutate": commutate_contract(shift),
+    }
+    assert tuple(public) == PUBLIC
     contracts: dict[str, Contract] = {}
     for fn in functions:
-        if fn.c_name in PUBLIC:
-            contracts[fn.c_name] = PUBLIC[fn.c_name]()
+        if fn.c_name in public:
+            contracts[fn.c_name] = public[fn.c_name]
         elif fn.static and not fn.inline:
             if any(p.is_pointer and not p.const for p in fn.params):
                 raise ValueError(f"{fn.c_name}: a helper that writes through a pointer")

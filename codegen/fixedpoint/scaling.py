@@ -21,7 +21,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from codegen.dead_time import commutation_guard_ticks
+from codegen.dead_time import commutation_guard_ticks, sector_margin_shift
 from codegen.derivation import symbols as s
 from codegen.derivation.paper import Derivation
 from codegen.errors import DerivationError
@@ -58,6 +58,9 @@ class Scaling:
     #: a commutation ends at least this many ticks before its sector's end (the bridge's
     #: dead time and the end's latency: `codegen.dead_time.commutation_guard_ticks`)
     commutation_guard_ticks: int
+    #: k of the sector-shortening margin ceil(T / 2^k) beyond the guard
+    #: (`codegen.dead_time.sector_margin_shift`; None: no margin)
+    sector_margin_shift: int | None
     bus_code_min: int
     bus_code_max: int
     #: raw ADC codes of the braking-current range, decided exactly:
@@ -155,6 +158,7 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
         commutation_guard_ticks=commutation_guard_ticks(
             spec.inverter.dead_time_s, spec.hall.timer_clock_hz
         ),
+        sector_margin_shift=sector_margin_shift(spec.hall.sector_shortening),
         bus_code_min=int(sp.ceiling(bus_min)),
         bus_code_max=int(sp.floor(bus_max)),
         current_code_low=int(sp.ceiling(i_min)),

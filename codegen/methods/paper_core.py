@@ -289,6 +289,14 @@ def timing_function(
         ),
         *current_statements(limits, fmt.current, var("current_adc", U32)),
         SLet(
+            "latest",
+            limits.latest_end(period),
+            "the latest end: the guard and the sector-shortening margin before the sector's"
+            " end (positive from the minimum period on), so the next edge, up to"
+            " hall.sector_shortening early, switches the other switch of the leg on at"
+            " least the dead time after this end switched its partner off",
+        ),
+        SLet(
             "x_q",
             div(fld("bus", "x_numerator", U32), period, "nearest"),
             f"X = P 4E/U_d in Q{f} counts (Eqs. 3, 9)",
@@ -307,13 +315,6 @@ def timing_function(
             "w_q",
             sub(mul(duty_sum, scale), cast(x_q, I32)),
             "Eq. 20's denominator at the emitted duties, Q{f}".replace("{f}", str(f)),
-        ),
-        SLet(
-            "latest",
-            sub(period, limits.period_guard),
-            "the latest end: the guard before the sector's end (period >= the minimum"
-            " period > the guard here), so the next edge switches the other switch of the"
-            " leg on at least the dead time after this end switched its partner off",
         ),
         SVar("ticks", U32, const(0)),
         SIf(

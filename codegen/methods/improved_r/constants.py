@@ -20,6 +20,7 @@ e^-rho x_m = D^m, D = e^-y_1: constants. The EMF shape enters through sigma(x) a
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
 
@@ -64,6 +65,16 @@ class RuleConstants:
     #: a commutation ends at least this many ticks before its sector's end
     guard_ticks: int
     shape: ShapeTerms  # sigma(x), phi(x) of the spec's EMF over the sector
+    #: k of the sector-shortening margin ceil(T / 2^k) beyond the guard (None: none)
+    margin_shift: int | None = None
+
+    def latest_end(self, period_ticks: Any) -> Any:
+        """The latest end in a sector of `period_ticks` (an int or an int array): the
+        guard and the margin before its end (`codegen.dead_time.latest_end_ticks`)."""
+        k = self.margin_shift
+        if k is None:
+            return period_ticks - self.guard_ticks
+        return ((period_ticks * (2**k - 1)) >> k) - self.guard_ticks
 
     @property
     def rho_max(self) -> sp.Rational:
@@ -86,8 +97,8 @@ class RuleConstants:
 
     def periods(self, period_ticks: int) -> int:
         """N: the whole carrier periods in a sector of `period_ticks`, less the guard at
-        its end (a commutation ends at least the guard before the sector does)."""
-        return int(sp.floor((period_ticks - self.guard_ticks) / self.carrier_ticks))
+        its end (a commutation ends at least the guard and the margin before the sector does)."""
+        return int(sp.floor(self.latest_end(period_ticks) / self.carrier_ticks))
 
 
 def rule_current_format(sc: Scaling) -> CurrentFormat:
@@ -142,5 +153,6 @@ def rule_constants(spec: Spec, sc: Scaling) -> RuleConstants:
         duty_target_counts=_q(spec.accuracy.duty_counts),
         carrier_ticks=sc.hall_clock_hz / _q(spec.inverter.pwm_frequency_hz),
         guard_ticks=sc.commutation_guard_ticks,
+        margin_shift=sc.sector_margin_shift,
         shape=affine_terms(spec.motor.back_emf_shape, derive().switching),
     )

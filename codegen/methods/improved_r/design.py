@@ -138,7 +138,8 @@ def _formats(c: RuleConstants, limits: CoreLimits) -> tuple[FixedRule, tuple[Pro
     if c.periods(c.period_low) < 1:
         raise RuleFormatError(
             f"the shortest sector ({c.period_low} ticks), less the {c.guard_ticks}-tick guard"
-            " a commutation ends by before the sector does, is shorter than one PWM period"
+            " and the hall.sector_shortening margin a commutation ends by before the sector"
+            " does, is shorter than one PWM period"
             f" ({float(c.carrier_ticks):g} ticks): the commutation cannot end on a carrier"
             " boundary"
         )

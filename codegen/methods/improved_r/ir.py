@@ -403,10 +403,11 @@ def timing_function(
         ),
         SLet(
             "latest",
-            sub(measured, limits.period_guard),
-            "the latest end: the guard before the sector's end (measured >= the minimum"
-            " period > the guard here), so the next edge switches the other switch of the"
-            " leg on at least the dead time after this end switched its partner off",
+            limits.latest_end(measured),
+            "the latest end: the guard and the sector-shortening margin before the sector's"
+            " end (positive from the minimum period on), so the next edge, up to"
+            " hall.sector_shortening early, switches the other switch of the leg on at"
+            " least the dead time after this end switched its partner off",
         ),
         *current_statements(limits, current, var("current_adc", U32)),
         SLet(
@@ -430,8 +431,8 @@ def timing_function(
         ),
         SLet(
             "periods",
-            div(mul(sub(period, limits.period_guard), k.periods_num), k.periods_den),
-            "N: whole PWM periods in the sector, less the guard at its end",
+            div(mul(limits.latest_end(period), k.periods_num), k.periods_den),
+            "N: whole PWM periods in the sector, less the guard and the margin at its end",
         ),
         SLet(
             "sigma0",

@@ -6,8 +6,9 @@ constants, in duty counts and fractions x of the sector:
 1. clamp T to the speed range and B to the bus range (flagged), i = C - offset
    clamped to [0, ADC full scale];
 2. X = K_X/(T B), Y = K_Y i/B, A = kappa i X, rho = K_rho T; the carrier grid
-   x_m = m tau / T, m = 0..N, N = floor((T - G) / tau), G the guard a commutation ends
-   by before its sector does (`codegen.dead_time.commutation_guard_ticks`);
+   x_m = m tau / T, m = 0..N, N = floor(L(T) / tau), L(T) = floor(T (2^k - 1) / 2^k) - G
+   the latest end: the guard G and the sector-shortening margin a commutation ends by
+   before its sector does (`codegen.dead_time`);
 3. the held duty sum for a commutation of x sectors, Sigma(x) = 2P + Y - (X/4) mu(x),
    mu(x) = sigma_0 + sigma_1 theta x (the minimax constant of the EMF's sigma over
    [0, x]); split as the paper does: C_on = clamp(Sigma, 0, P), C_off = clamp(Sigma - P, 0, P);
@@ -161,7 +162,7 @@ def reference_batch(
     rho = float(c.k_rho) * t
     edge = _Edge(c, x, y, a_rho, rho, t)
     tau = c.carrier_ticks
-    periods = np.floor((t - c.guard_ticks) * int(tau.q) / int(tau.p)).astype(np.int64)
+    periods = np.floor(c.latest_end(t) * int(tau.q) / int(tau.p)).astype(np.int64)
     # binary lifting over the grid: n = the last m with rho g >= 0
     n = np.zeros_like(periods)
     steps = int(periods.max()).bit_length()
@@ -180,7 +181,7 @@ def reference_batch(
     with np.errstate(divide="ignore", invalid="ignore"):
         eased = np.where(shortfall > 0, -h_end / shortfall, 0.0)
     delta = np.where(finished, np.clip(eased, 0.0, room), 0.0)
-    ticks = np.where(finished, end * float(tau), (t - c.guard_ticks).astype(np.float64))
+    ticks = np.where(finished, end * float(tau), c.latest_end(t).astype(np.float64))
     flags |= np.where(finished, 0, FLAG_NOT_FINISHED)
     flags |= np.where(total > 2 * p, FLAG_CANNOT_HOLD, 0) | np.where(total < 0, FLAG_ABOVE_BUS, 0)
     return ReferenceBatch(
@@ -218,7 +219,7 @@ def reference_points(c: RuleConstants, points: Sequence[RuleInputs]) -> Referenc
 
 def reference(c: RuleConstants, inputs: RuleInputs) -> RuleOutputs:
     batch = reference_points(c, [inputs])
-    return batch.outputs(0, min(inputs.period_ticks, 2**31) - c.guard_ticks)
+    return batch.outputs(0, c.latest_end(min(inputs.period_ticks, 2**31)))
 
 
 def decay(c: RuleConstants, periods: int) -> float:

@@ -68,19 +68,19 @@
  *   bldc_commutation_timing: safe.flags: uint16_t in [4, 7] (13.2 bits spare)
  *   bldc_commutation_timing: current_code: uint32_t in [0, 4095] (20.0 bits spare)
  *   bldc_commutation_timing: current: int32_t in [-2048, 2047] (20.0 bits spare)
+ *   bldc_commutation_timing: latest: uint32_t in [208, 61434] (16.1 bits spare)
  *   bldc_commutation_timing: x_q: uint32_t in [19361, 8557804] (9.0 bits spare)
  *   bldc_commutation_timing: x_c: int32_t in [19, 8357] (18.0 bits spare)
  *   bldc_commutation_timing: high_speed: uint32_t in [0, 1] (32.0 bits spare)
  *   bldc_commutation_timing: on: int32_t in [0, 7181] (18.2 bits spare)
  *   bldc_commutation_timing: off: int32_t in [0, 3581] (19.2 bits spare)
  *   bldc_commutation_timing: w_q: int32_t in [-15852780, 22060127] (6.6 bits spare)
- *   bldc_commutation_timing: latest: uint32_t in [223, 65530] (16.0 bits spare)
  *   bldc_commutation_timing: ticks: uint32_t in [0, 2032880621] (1.1 bits spare)
  *   bldc_commutation_timing: t: int32_t in [-2022838272, 2032880621] (0.1 bits spare)
  *   bldc_commutation_timing: timing.period_min: uint32_t in [228, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
- *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 65530] (0.0 bits spare)
+ *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 61434] (0.1 bits spare)
  *   bldc_commutation_timing: timing.flags: uint16_t in [0, 31] (11.0 bits spare)
  *   bldc_commutate: hall_code: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: previous_hall_code: uint32_t in [0, 255] (24.0 bits spare)
@@ -89,7 +89,7 @@
  *   bldc_commutate: sector: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: out.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutate: out.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
- *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 65530] (0.0 bits spare)
+ *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 61434] (0.1 bits spare)
  *   bldc_commutate: out.turn_on_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.turn_off_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.sector: uint8_t in [0, 255] (-0.0 bits spare)
@@ -211,7 +211,7 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code);
     assigns \nothing;
     ensures turn_on_compare_in_period: \result.turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
     ensures turn_off_compare_in_period: \result.turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
-    ensures commutation_ends_the_guard_early: \result.commutation_ticks == 0 || \result.commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks;
+    ensures commutation_ends_the_guard_early: \result.commutation_ticks == 0 || \result.commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks * 15 / 16;
     ensures applies_at_most_from_bus_minimum: \result.period_min >= bus->period_min;
 */
 bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts);
@@ -223,7 +223,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     assigns *out;
     ensures turn_on_compare_in_period: out->turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
     ensures turn_off_compare_in_period: out->turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
-    ensures commutation_ends_the_guard_early: out->commutation_ticks == 0 || out->commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= \old(inputs->hall_period_ticks);
+    ensures commutation_ends_the_guard_early: out->commutation_ticks == 0 || out->commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= \old(inputs->hall_period_ticks) * 15 / 16;
     ensures over_speed_or_voltage_no_switch: \old(inputs->hall_period_ticks) < BLDC_PERIOD_MIN_TICKS || \old(inputs->bus_voltage_adc) > BLDC_BUS_CODE_MAX ==> out->turn_on_switch == BLDC_NO_SWITCH && out->turn_off_switch == BLDC_NO_SWITCH;
     behavior invalid_hall:
       assumes !bldc_valid_hall_pair(inputs->previous_hall_code, inputs->hall_code);

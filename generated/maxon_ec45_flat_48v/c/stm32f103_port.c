@@ -662,7 +662,11 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
      * compiler drops their arithmetic from this copy of the core (status computes them
      * from the same inputs with the same function). Stored before the core runs, so
      * nothing holds them in a register through it. */
-    const uint32_t current = port.current;
+    /* A 12-bit ADC code (the current loop stores JDRx, right-aligned, no offset): the
+     * mask says so to the compiler, which then drops the core's clamp to the ADC's full
+     * scale (four instructions for one; the core still takes and is proven for every
+     * uint32_t). */
+    const uint32_t current = port.current & BLDC_PORT_ADC_CODE_MAX;
     port.timed_period = (uint16_t)period;
     port.timed_current = (uint16_t)current;
     const uint32_t duty = port.main_duty; /* not used by the method's duties (a load the compiler drops) */

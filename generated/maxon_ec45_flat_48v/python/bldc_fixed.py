@@ -29,9 +29,9 @@ BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
 BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
 BLDC_CURRENT_CODE_HIGH = 3239  # last code at or below 2.4 A (2.399 A)
 CURRENT_OFFSET_Q = 2048  # zero current: 2048 codes x 1
+BLDC_COMMUTATION_GUARD_TICKS = 5  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off)
 BLDC_FLAG_HIGH_SPEED = 1  # Eq. 18 high-speed segment: 4E > U_d (the turn-off phase is off)
 BLDC_PWM_PERIOD_COUNTS = 3600  # TIM1 counts per PWM period: duty 1
-BLDC_COMMUTATION_GUARD_TICKS = 5  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off)
 BLDC_FLAG_TIME_CLAMPED = 16  # the commutation does not finish within the sector: clamped to it
 BLDC_EDGE_NONE = 255  # no valid commutation: every switch off
 BLDC_INVALID_SECTOR = 255  # the sector of Hall code 000 or 111
@@ -231,6 +231,7 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     if current_adc < BLDC_CURRENT_CODE_LOW or current_adc > BLDC_CURRENT_CODE_HIGH:  # outside the braking-current range
         flags |= BLDC_FLAG_INPUT_SATURATED
     current = current_code - CURRENT_OFFSET_Q  # I in codes, offset removed
+    latest = period * 15 // 16 - BLDC_COMMUTATION_GUARD_TICKS  # the latest end: the guard and the sector-shortening margin before the sector's end (positive from the minimum period on), so the next edge, up to hall.sector_shortening early, switches the other switch of the leg on at least the dead time after this end switched its partner off
     x_q = (bus.x_numerator + (period >> 1)) // period  # X = P 4E/U_d in Q10 counts (Eqs. 3, 9)
     x_c = (x_q + 512) >> 10  # X in counts
     high_speed = 1 if period < bus.high_speed_period else 0  # Eq. 18: 4E > U_d, exactly
@@ -245,7 +246,6 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
         on = BLDC_PWM_PERIOD_COUNTS  # the turn-on phase fully on
         off = 0 if BLDC_PWM_PERIOD_COUNTS - x_c < 0 else BLDC_PWM_PERIOD_COUNTS - x_c  # D_off = 1 - 4E/U_d
     w_q = (2 * BLDC_PWM_PERIOD_COUNTS + 2 * on - 4 * off) * 1024 - x_q  # Eq. 20's denominator at the emitted duties, Q10
-    latest = period - BLDC_COMMUTATION_GUARD_TICKS  # the latest end: the guard before the sector's end (period >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off
     ticks = 0
     if w_q <= 0:  # the turn-off current never reaches zero: the whole sector
         if current > 0:  # unless there is no current to commutate

@@ -165,6 +165,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
         flags |= BLDC_FLAG_INPUT_SATURATED;
     }
     const int32_t current = (int32_t)current_code - CURRENT_OFFSET_Q; /* I in codes, offset removed */
+    const uint32_t latest = period * 15u / 16u - BLDC_COMMUTATION_GUARD_TICKS; /* the latest end: the guard and the sector-shortening margin before the sector's end (positive from the minimum period on), so the next edge, up to hall.sector_shortening early, switches the other switch of the leg on at least the dead time after this end switched its partner off */
     const uint32_t x_q = (bus->x_numerator + (period >> 1)) / period; /* X = P 4E/U_d in Q6 counts (Eqs. 3, 9) */
     const int32_t x_c = (int32_t)((x_q + 32u) >> 6u); /* X in counts */
     const uint32_t high_speed = (period < bus->high_speed_period) ? 1u : 0u; /* Eq. 18: 4E > U_d, exactly */
@@ -181,7 +182,6 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
         off = ((int32_t)BLDC_PWM_PERIOD_COUNTS - x_c < 0) ? 0 : (int32_t)BLDC_PWM_PERIOD_COUNTS - x_c; /* D_off = 1 - 4E/U_d */
     }
     const int32_t w_q = (2 * (int32_t)BLDC_PWM_PERIOD_COUNTS + 2 * on - 4 * off) * 64 - (int32_t)x_q; /* Eq. 20's denominator at the emitted duties, Q6 */
-    const uint32_t latest = period - BLDC_COMMUTATION_GUARD_TICKS; /* the latest end: the guard before the sector's end (period >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off */
     uint32_t ticks = 0u;
     if (w_q <= 0) { /* the turn-off current never reaches zero: the whole sector */
         if (current > 0) { /* unless there is no current to commutate */

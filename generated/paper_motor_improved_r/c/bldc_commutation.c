@@ -181,7 +181,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
         flags |= BLDC_FLAG_INPUT_SATURATED;
     }
     const uint32_t period = (measured > BLDC_PERIOD_MAX_TICKS) ? BLDC_PERIOD_MAX_TICKS : measured; /* the rule's constants cover the speed range */
-    const uint32_t latest = measured - BLDC_COMMUTATION_GUARD_TICKS; /* the latest end: the guard before the sector's end (measured >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off */
+    const uint32_t latest = measured * 15u / 16u - BLDC_COMMUTATION_GUARD_TICKS; /* the latest end: the guard and the sector-shortening margin before the sector's end (positive from the minimum period on), so the next edge, up to hall.sector_shortening early, switches the other switch of the leg on at least the dead time after this end switched its partner off */
     const uint32_t current_code = (current_adc > BLDC_ADC_CODE_MAX) ? BLDC_ADC_CODE_MAX : current_adc; /* above the ADC's range: full scale */
     if (current_adc < BLDC_CURRENT_CODE_LOW || current_adc > BLDC_CURRENT_CODE_HIGH) { /* outside the braking-current range */
         flags |= BLDC_FLAG_INPUT_SATURATED;
@@ -191,7 +191,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     const uint32_t x = (bus->x_numerator + (period >> 1)) / period; /* X in Q7 counts */
     const uint32_t y = (bus->y_numerator * i + 4096u) >> 13u; /* Y = 3 P R I / U_d, Q7 */
     const uint32_t a_rho = y; /* A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7 (= Y: the same constant and format) */
-    const uint32_t periods = (period - BLDC_COMMUTATION_GUARD_TICKS) * CARRIER_DEN / CARRIER_NUM; /* N: whole PWM periods in the sector, less the guard at its end */
+    const uint32_t periods = (period * 15u / 16u - BLDC_COMMUTATION_GUARD_TICKS) * CARRIER_DEN / CARRIER_NUM; /* N: whole PWM periods in the sector, less the guard and the margin at its end */
     const int32_t sigma0 = 2 * PERIOD_Q + (int32_t)y - (int32_t)x; /* Sigma(0) = 2P + Y - (sigma_0/4) X: the held duty sum at the edge's EMFs */
     const uint32_t per_tick = bldc_divide_long(x, 0u, 15u, period); /* X / T in Q22 */
     const uint32_t q = (uint32_t)(((uint64_t)per_tick * (uint64_t)RAMP_Q) >> 30u); /* q = (-phi_1/4) X / rho: the EMF ramp's forcing, Q12 */
@@ -204,7 +204,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     uint32_t e = 2147483648u;
     int64_t end_h = (-1ll);
     uint32_t end_e = 0u;
-    /*@ loop invariant step_kept: 0 <= step <= 10; loop invariant n_kept: 0 <= n <= 999; loop invariant e_kept: 0 <= e <= 2147483648; loop invariant end_h_kept: -9223372036854775807 <= end_h <= -1; loop invariant end_e_kept: 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
+    /*@ loop invariant step_kept: 0 <= step <= 10; loop invariant n_kept: 0 <= n <= 937; loop invariant e_kept: 0 <= e <= 2147483648; loop invariant end_h_kept: -9223372036854775807 <= end_h <= -1; loop invariant end_e_kept: 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
     for (uint32_t step = first; step < 10u; ++step) { /* binary lifting: n = the last carrier boundary at which the current remains */
         const uint32_t m = n + (512u >> step); /* the next candidate: n + 2^k, 2^k = 2^9 >> step */
         if (m <= periods) {

@@ -41,7 +41,7 @@
  *   each step one table product and the sign of 2^(32+fc) rho g in int64; the easing
  *   by two 32-bit divides. No exponential, no psi table, no divide in the loop.
  *   Period clamped to [BLDC_PERIOD_MIN_TICKS, BLDC_PERIOD_MAX_TICKS]; current clamped at 0.
- * Claimed bounds over the design grid (1760 points, the end decided at 1638):
+ * Claimed bounds over the design grid (1760 points, the end decided at 1617):
  *   duties <= 0.641 counts, t_com <= 0.0 ticks of the rule's carrier boundary.
  * Flags: HIGH_SPEED when Sigma < P; FAIL_AREA_CLAMPED when no pair in [0, 1] holds the
  * current (Sigma > 2P or Sigma < 0); TIME_CLAMPED when the turn-off current does not
@@ -80,14 +80,14 @@
  *   bldc_commutation_timing: safe.commutation_ticks: uint16_t in [0, 0] (inf bits spare)
  *   bldc_commutation_timing: safe.flags: uint16_t in [4, 7] (13.2 bits spare)
  *   bldc_commutation_timing: period: uint32_t in [2000, 50000] (16.4 bits spare)
- *   bldc_commutation_timing: latest: uint32_t in [1995, 65530] (16.0 bits spare)
+ *   bldc_commutation_timing: latest: uint32_t in [1870, 61434] (16.1 bits spare)
  *   bldc_commutation_timing: current_code: uint32_t in [0, 4095] (20.0 bits spare)
  *   bldc_commutation_timing: current: int32_t in [-2048, 2047] (20.0 bits spare)
  *   bldc_commutation_timing: i: uint32_t in [0, 2047] (21.0 bits spare)
  *   bldc_commutation_timing: x: uint32_t in [29000, 1087379] (11.9 bits spare)
  *   bldc_commutation_timing: y: uint32_t in [0, 478715] (13.1 bits spare)
  *   bldc_commutation_timing: a_rho: uint32_t in [0, 478715] (13.1 bits spare)
- *   bldc_commutation_timing: periods: uint32_t in [39, 999] (22.0 bits spare)
+ *   bldc_commutation_timing: periods: uint32_t in [37, 937] (22.1 bits spare)
  *   bldc_commutation_timing: sigma0: int32_t in [-165779, 1371315] (10.6 bits spare)
  *   bldc_commutation_timing: per_tick: uint32_t in [0, 18612220] (7.9 bits spare)
  *   bldc_commutation_timing: q: uint32_t in [0, 48469322] (6.5 bits spare)
@@ -96,18 +96,18 @@
  *   bldc_commutation_timing: cb: int32_t in [14500, 2058356] (10.0 bits spare)
  *   bldc_commutation_timing: skipped: int32_t in [0, 4] (29.0 bits spare)
  *   bldc_commutation_timing: first: uint32_t in [0, 4] (30.0 bits spare)
- *   bldc_commutation_timing: n: uint32_t in [0, 999] (22.0 bits spare)
+ *   bldc_commutation_timing: n: uint32_t in [0, 937] (22.1 bits spare)
  *   bldc_commutation_timing: e: uint32_t in [0, 2147483648] (1.0 bits spare)
- *   bldc_commutation_timing: end_h: int64_t in [-140291203639359812, -1] (6.0 bits spare)
+ *   bldc_commutation_timing: end_h: int64_t in [-132728628194920764, -1] (6.1 bits spare)
  *   bldc_commutation_timing: end_e: uint32_t in [0, 2107593468] (1.0 bits spare)
- *   bldc_commutation_timing: m: uint32_t in [1, 1511] (21.4 bits spare)
+ *   bldc_commutation_timing: m: uint32_t in [1, 1449] (21.5 bits spare)
  *   bldc_commutation_timing: em: uint32_t in [0, 2107593468] (1.0 bits spare)
- *   bldc_commutation_timing: total: int32_t in [-165779, 7247263] (8.2 bits spare)
+ *   bldc_commutation_timing: total: int32_t in [-165779, 6882589] (8.3 bits spare)
  *   bldc_commutation_timing: held: int32_t in [0, 921600] (11.2 bits spare)
  *   bldc_commutation_timing: fd: int32_t in [-1382400, 921600] (10.6 bits spare)
- *   bldc_commutation_timing: h: int64_t in [-140291203639359812, 20582640987340616] (6.0 bits spare)
- *   bldc_commutation_timing: end: uint32_t in [1, 999] (22.0 bits spare)
- *   bldc_commutation_timing: end_total: int32_t in [-165779, 7247263] (8.2 bits spare)
+ *   bldc_commutation_timing: h: int64_t in [-132728628194920764, 20582640987340616] (6.1 bits spare)
+ *   bldc_commutation_timing: end: uint32_t in [1, 937] (22.1 bits spare)
+ *   bldc_commutation_timing: end_total: int32_t in [-165779, 6882589] (8.3 bits spare)
  *   bldc_commutation_timing: end_held: int32_t in [0, 921600] (11.2 bits spare)
  *   bldc_commutation_timing: end_on: int32_t in [0, 460800] (12.2 bits spare)
  *   bldc_commutation_timing: end_off: int32_t in [0, 460800] (12.2 bits spare)
@@ -125,11 +125,11 @@
  *   bldc_commutation_timing: eased_off: int32_t in [0, 921600] (11.2 bits spare)
  *   bldc_commutation_timing: on: uint32_t in [0, 460800] (13.2 bits spare)
  *   bldc_commutation_timing: off: uint32_t in [0, 460800] (13.2 bits spare)
- *   bldc_commutation_timing: ticks: uint32_t in [50, 65530] (16.0 bits spare)
+ *   bldc_commutation_timing: ticks: uint32_t in [50, 61434] (16.1 bits spare)
  *   bldc_commutation_timing: timing.period_min: uint32_t in [2000, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 3600] (4.2 bits spare)
  *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3600] (4.2 bits spare)
- *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [50, 65530] (0.0 bits spare)
+ *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [50, 61434] (0.1 bits spare)
  *   bldc_commutation_timing: timing.flags: uint16_t in [0, 31] (11.0 bits spare)
  *   bldc_commutate: hall_code: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: previous_hall_code: uint32_t in [0, 255] (24.0 bits spare)
@@ -138,7 +138,7 @@
  *   bldc_commutate: sector: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: out.turn_on_compare: uint16_t in [0, 3600] (4.2 bits spare)
  *   bldc_commutate: out.turn_off_compare: uint16_t in [0, 3600] (4.2 bits spare)
- *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 65530] (0.0 bits spare)
+ *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 61434] (0.1 bits spare)
  *   bldc_commutate: out.turn_on_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.turn_off_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.sector: uint8_t in [0, 255] (-0.0 bits spare)
@@ -259,7 +259,7 @@ bldc_bus_t bldc_bus_condition(uint32_t bus_code);
     assigns \nothing;
     ensures turn_on_compare_in_period: \result.turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
     ensures turn_off_compare_in_period: \result.turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
-    ensures commutation_ends_the_guard_early: \result.commutation_ticks == 0 || \result.commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks;
+    ensures commutation_ends_the_guard_early: \result.commutation_ticks == 0 || \result.commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= period_ticks * 15 / 16;
     ensures applies_at_most_from_bus_minimum: \result.period_min >= bus->period_min;
 */
 bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_ticks, uint32_t current_adc, uint32_t main_duty_counts);
@@ -271,7 +271,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     assigns *out;
     ensures turn_on_compare_in_period: out->turn_on_compare <= BLDC_PWM_PERIOD_COUNTS;
     ensures turn_off_compare_in_period: out->turn_off_compare <= BLDC_PWM_PERIOD_COUNTS;
-    ensures commutation_ends_the_guard_early: out->commutation_ticks == 0 || out->commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= \old(inputs->hall_period_ticks);
+    ensures commutation_ends_the_guard_early: out->commutation_ticks == 0 || out->commutation_ticks + BLDC_COMMUTATION_GUARD_TICKS <= \old(inputs->hall_period_ticks) * 15 / 16;
     ensures over_speed_or_voltage_no_switch: \old(inputs->hall_period_ticks) < BLDC_PERIOD_MIN_TICKS || \old(inputs->bus_voltage_adc) > BLDC_BUS_CODE_MAX ==> out->turn_on_switch == BLDC_NO_SWITCH && out->turn_off_switch == BLDC_NO_SWITCH;
     behavior invalid_hall:
       assumes !bldc_valid_hall_pair(inputs->previous_hall_code, inputs->hall_code);

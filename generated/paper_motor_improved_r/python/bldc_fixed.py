@@ -249,7 +249,7 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     if measured > BLDC_PERIOD_MAX_TICKS:  # below the minimum speed
         flags |= BLDC_FLAG_INPUT_SATURATED
     period = BLDC_PERIOD_MAX_TICKS if measured > BLDC_PERIOD_MAX_TICKS else measured  # the rule's constants cover the speed range
-    latest = measured - BLDC_COMMUTATION_GUARD_TICKS  # the latest end: the guard before the sector's end (measured >= the minimum period > the guard here), so the next edge switches the other switch of the leg on at least the dead time after this end switched its partner off
+    latest = measured * 15 // 16 - BLDC_COMMUTATION_GUARD_TICKS  # the latest end: the guard and the sector-shortening margin before the sector's end (positive from the minimum period on), so the next edge, up to hall.sector_shortening early, switches the other switch of the leg on at least the dead time after this end switched its partner off
     current_code = BLDC_ADC_CODE_MAX if current_adc > BLDC_ADC_CODE_MAX else current_adc  # above the ADC's range: full scale
     if current_adc < BLDC_CURRENT_CODE_LOW or current_adc > BLDC_CURRENT_CODE_HIGH:  # outside the braking-current range
         flags |= BLDC_FLAG_INPUT_SATURATED
@@ -258,7 +258,7 @@ def commutation_timing(bus: Bus, period_ticks: int, current_adc: int, main_duty_
     x = (bus.x_numerator + (period >> 1)) // period  # X in Q7 counts
     y = (bus.y_numerator * i + 4096) >> 13  # Y = 3 P R I / U_d, Q7
     a_rho = y  # A rho = 3 P R I / U_d x (L / (R T_s)) rho: the current at the edge, Q7 (= Y: the same constant and format)
-    periods = (period - BLDC_COMMUTATION_GUARD_TICKS) * CARRIER_DEN // CARRIER_NUM  # N: whole PWM periods in the sector, less the guard at its end
+    periods = (period * 15 // 16 - BLDC_COMMUTATION_GUARD_TICKS) * CARRIER_DEN // CARRIER_NUM  # N: whole PWM periods in the sector, less the guard and the margin at its end
     sigma0 = 2 * PERIOD_Q + y - x  # Sigma(0) = 2P + Y - (sigma_0/4) X: the held duty sum at the edge's EMFs
     per_tick = divide_long(x, 0, 15, period)  # X / T in Q22
     q = per_tick * RAMP_Q >> 30  # q = (-phi_1/4) X / rho: the EMF ramp's forcing, Q12
