@@ -402,6 +402,18 @@ def sense_window(
     )
 
 
+def first_sample_s(
+    window: SenseWindow, *, timer_clock_hz: Fraction, adc_sample_cycles: Fraction
+) -> Fraction:
+    """Seconds from the carrier's restart (every Hall edge: COM with UG) to the end of
+    the injected sequence that follows (the current(s), then the bus): the current
+    loop's first sample after an edge. A sector shorter than that is never sampled."""
+    per_adc_cycle = Fraction(timer_clock_hz) / ADC_CLOCK_HZ
+    conversion = adc_sample_cycles + ADC_CONVERSION_CYCLES
+    sequence = INJECTED_LATENCY_CYCLES + (window.current_samples + 1) * conversion
+    return (window.trigger_time_counts + sequence * per_adc_cycle) / Fraction(timer_clock_hz)
+
+
 def current_samples(topology: str) -> int:
     """Current conversions at the head of the injected sequence: the DC-link shunt, or
     the three phase shunts (A, B, C)."""
@@ -616,10 +628,11 @@ def check_drive(
     # commutation time. The loop then never runs above that speed: no braking current,
     # and no watchdog refresh (make pil: a 16-pole 5 kHz edge-aligned motor at 6440 rpm
     # coasted until the watchdog reset the chip; a 128-pole 1125 Hz one did not slow).
-    per_adc_cycle = inverter.timer_clock_hz / ADC_CLOCK_HZ
-    conversion = sensing.adc_sample_cycles + ADC_CONVERSION_CYCLES
-    sequence = INJECTED_LATENCY_CYCLES + (window.current_samples + 1) * conversion
-    sampled_s = (window.trigger_time_counts + sequence * per_adc_cycle) / inverter.timer_clock_hz
+    sampled_s = first_sample_s(
+        window,
+        timer_clock_hz=inverter.timer_clock_hz,
+        adc_sample_cycles=sensing.adc_sample_cycles,
+    )
     sector_s = 60 / (controller.speed_max_rpm * motor.pole_pairs * 6)
     if sector_s <= sampled_s:
         fastest = 60 / (sampled_s * motor.pole_pairs * 6)

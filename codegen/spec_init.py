@@ -31,7 +31,14 @@ from pathlib import Path
 from codegen import units
 from codegen.errors import SpecError
 from codegen.render import write_atomically
-from codegen.spec_drive import braking_current_peak, braking_ripple, short_circuit_peak
+from codegen.spec_drive import (
+    braking_current_peak,
+    braking_ripple,
+    current_samples,
+    first_sample_s,
+    sense_window,
+    short_circuit_peak,
+)
 from codegen.spec_loader import load_spec, out_of_range
 from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
 
@@ -53,6 +60,8 @@ HALL_CLOCKS_HZ = (
     72_000_000,
 )
 ADC_REFERENCE_V = Fraction(33, 10)
+#: the ADC sample time written (sensing.adc_sample_time), ADC clock cycles
+SAMPLE_CYCLES = Fraction(15, 2)
 COUNTER_MAX = 65535
 
 
@@ -382,6 +391,23 @@ def _round_up(value: Fraction, step: int) -> Fraction:
     return Fraction(math.ceil(value / step) * step)
 
 
+def _first_sample_s(pwm_hz: Fraction, dead_ns: Fraction) -> Fraction:
+    """The loader's time from a Hall edge to the current loop's first sample, for the
+    drive `render_spec` writes: edge-aligned TIM1 at 72 MHz, one DC-link current sample
+    of 7.5 ADC cycles after a 1 us settling time."""
+    clock = Fraction(TIMER_CLOCK_HZ)
+    window = sense_window(
+        alignment="edge",
+        period_counts=int(clock / pwm_hz),
+        timer_clock_hz=clock,
+        dead_time_counts=math.ceil(dead_ns * clock / 10**9),
+        settling_time_s=Fraction(1, 10**6),
+        adc_sample_cycles=SAMPLE_CYCLES,
+        current_samples=current_samples("dc_link_shunt"),
+    )
+    return first_sample_s(window, timer_clock_hz=clock, adc_sample_cycles=SAMPLE_CYCLES)
+
+
 def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)) -> str:
     """The spec text for `name` from the datasheet values (see the module docstring);
     `loop_counts` is accuracy.current_loop_duty_counts (`write_new_spec` raises it where
@@ -398,13 +424,28 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
     v_min, v_max = _round_down(bus * 8, 1) / 10, _round_up(bus * 125, 1) / 100
     divider = max(1, math.ceil(v_max * Fraction(11, 10) / ADC_REFERENCE_V))
     n_limit = bus / (2 * si["ke"])
+    pole_pairs = si["pole_pairs"]
+    pwm = sheet.pwm_frequency[0] if sheet.pwm_frequency else Fraction(20_000)
+    dead_ns = min(Fraction(500), _round_down(Fraction(10**9, 100) / pwm, 10))
     if sheet.speed_max is not None:
         n_max = sheet.speed_max[0]
         n_max_source = f"datasheet/application: top speed {sheet.speed_max[1]}"
     else:
         n_max = max(Fraction(10), _round_down(n_limit * Fraction(95, 100), 10))
         n_max_source = f"{derived} 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm, rounded down"
-    pole_pairs = si["pole_pairs"]
+        # every Hall edge restarts the carrier: the shortest sector must outlast the
+        # current loop's first sample after it (the loader refuses a speed_max whose
+        # sector does not), so a many-pole motor's top speed may sit below 95 %
+        n_sampled = 60 / (_first_sample_s(pwm, dead_ns) * pole_pairs * 6)
+        n_cap = max(Fraction(10), _round_down(n_sampled * Fraction(95, 100), 10))
+        if n_cap < n_max:
+            n_max = n_cap
+            n_max_source = (
+                f"{derived} 95 % of {_num(n_sampled)} rpm, rounded down, the speed whose"
+                " 60 deg sector lasts until the current loop's first sample after the Hall"
+                " edge (edge-aligned PWM; below 95 % of U_d/(2 k_e) ="
+                f" {_num(n_limit)} rpm); raise the PWM frequency or centre-align it for more"
+            )
     hall_clock = next(
         (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),
         HALL_CLOCKS_HZ[-1],
@@ -412,8 +453,6 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
     fastest = Fraction(hall_clock * 10) / (pole_pairs * n_max)
     slowest_rpm = Fraction(hall_clock * 10) / (pole_pairs * COUNTER_MAX)
     n_min = max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), 5))
-    pwm = sheet.pwm_frequency[0] if sheet.pwm_frequency else Fraction(20_000)
-    dead_ns = min(Fraction(500), _round_down(Fraction(10**9, 100) / pwm, 10))
     e_top = si["ke"] * n_max
     if sheet.braking_current is not None:
         i_nom = sheet.braking_current[0]
@@ -627,7 +666,7 @@ sensing:
   current_channels: [0]
   bus_voltage_channel: 1
   settling_time: 1 us
-  adc_sample_time: 7.5
+  adc_sample_time: {_num(SAMPLE_CYCLES)}
 
 current_loop:
   bandwidth: {_num(bandwidth_hz)} Hz

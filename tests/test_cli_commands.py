@@ -351,6 +351,29 @@ def test_init_should_put_the_lower_operating_point_where_the_current_can_be_held
     assert [float(p.speed_rpm) for p in spec.operating_points] == [150.0, 270.0]
 
 
+def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sectors(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """50 pole pairs on the paper motor's k_e and 24 V: 95 % of U_d/(2 k_e) is 4830 rpm,
+    whose 41.4 us sector ends before the current loop's first sample after the Hall edge
+    (52.7 us at 20 kHz, edge-aligned), and init wrote a spec its own loader refused
+    (exit 3). init now takes 95 % of the fastest sampled speed (3795 rpm): 3600 rpm,
+    says why in `sources`, and the spec loads."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["init", "hub50pp", "--pole-pairs", "50"]) == 0
+    captured = capsys.readouterr()
+    assert "error" not in captured.err
+    spec = load_spec(tmp_path / "spec" / "hub50pp.yaml")
+    assert spec.controller.speed_max_rpm == 3600
+    assert "first sample after the Hall edge" in dict(spec.sources)["controller.speed_max"]
+    # a motor the sector does not limit keeps 95 % of U_d/(2 k_e)
+    assert cli.main(["init", "pp7", "--pole-pairs", "7", "-o", "pp7.yaml"]) == 0
+    capsys.readouterr()
+    assert load_spec(tmp_path / "pp7.yaml").controller.speed_max_rpm == 4830
+
+
 HEAVY_L = [
     *("init", "heavy_l", "--pole-pairs", "2", "--resistance", "1.5 ohm", "--inductance"),
     *("2 mH", "--ke", "0.05 V/rpm", "--bus-voltage", "24 V", "--braking-current", "3 A"),
