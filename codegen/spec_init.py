@@ -60,6 +60,8 @@ HALL_CLOCKS_HZ = (
     72_000_000,
 )
 ADC_REFERENCE_V = Fraction(33, 10)
+#: the smallest braking_current_nominal init writes (its sensing: at most 500 mV/A)
+BRAKING_CURRENT_MIN_A = Fraction(1, 10)
 #: the ADC sample time written (sensing.adc_sample_time), ADC clock cycles
 SAMPLE_CYCLES = Fraction(15, 2)
 COUNTER_MAX = 65535
@@ -75,11 +77,18 @@ METHOD_SOURCES = {
 }
 
 
-def _quantity(dimension: units.Dimension, key: str, per_phase: bool = False) -> object:
+def _quantity(
+    dimension: units.Dimension,
+    key: str,
+    per_phase: bool = False,
+    minimum: tuple[Fraction, str, str] | None = None,
+) -> object:
     """argparse type: a positive quantity whose spec value (the phase value, half of it,
     where `per_phase` converts a line-to-line one) is within the loader's range for `key`:
     a value no spec can hold (1e400 ohm) is said at its argument, not met later as a
-    float overflow inside init or as an error about a value derived from it."""
+    float overflow inside init or as an error about a value derived from it. `minimum`
+    (SI value, as shown, why) is init's own lower bound, where it would write another
+    value than the one given."""
 
     def parse(text: str) -> tuple[Fraction, str]:
         try:
@@ -89,6 +98,10 @@ def _quantity(dimension: units.Dimension, key: str, per_phase: bool = False) -> 
         if value <= 0:  # every datasheet value init takes is a positive quantity
             raise argparse.ArgumentTypeError(
                 f"{text!r} is out of range (allowed: > 0, a quantity of {dimension.name})"
+            )
+        if minimum is not None and value < minimum[0]:
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is below {minimum[1]}, {minimum[2]} (allowed: >= {minimum[1]})"
             )
         why = out_of_range(key, value / 2 if per_phase else value)
         if why is not None:
@@ -222,7 +235,15 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--braking-current",
-        type=_quantity(units.CURRENT, "controller.braking_current_nominal"),
+        type=_quantity(
+            units.CURRENT,
+            "controller.braking_current_nominal",
+            minimum=(
+                BRAKING_CURRENT_MIN_A,
+                f"{_num(BRAKING_CURRENT_MIN_A)} A",
+                "the smallest nominal braking current init sizes the current sensing for",
+            ),
+        ),
         metavar="Q",
         help="nominal braking current (range: 0 to twice it)",
     )
@@ -458,12 +479,14 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
         i_nom = sheet.braking_current[0]
         i_source = f"datasheet/application: nominal braking current {sheet.braking_current[1]}"
     else:
-        i_nom = min(Fraction(5), _round_down(e_top / si["r"] * 5, 1) / 10)
+        i_nom = max(
+            BRAKING_CURRENT_MIN_A, min(Fraction(5), _round_down(e_top / si["r"] * 5, 1) / 10)
+        )
         i_source = (
             f"{derived} 5 A, or half of E(speed_max)/R = {_num(e_top / si['r'])} A (what"
-            " the back-EMF can drive in braking) if less"
+            f" the back-EMF can drive in braking) if less, {_num(BRAKING_CURRENT_MIN_A)} A"
+            " at least"
         )
-    i_nom = max(i_nom, Fraction(1, 10))
     i_max = 2 * i_nom
     # the current the sensing must read and the comparator let through: braking_current_max
     # plus the PWM ripple above the loop's sample (edge-aligned, the default: a whole ripple)

@@ -262,6 +262,8 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
         ("--ke", "1e-9 V/krpm", "motor.back_emf_constant = 1e-12 V/rpm is out of range"),
         ("--poles", "1000", "'1000' is not an even whole number from 2 to 128"),
         ("--poles", "3", "'3' is not an even whole number from 2 to 128"),
+        # init wrote 0.1 A under the source 'nominal braking current 1e-3 A'
+        ("--braking-current", "1e-3 A", "'1e-3 A' is below 0.1 A, the smallest nominal"),
     ],
 )
 def test_init_should_refuse_a_value_no_spec_can_hold_at_its_argument(
