@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from fractions import Fraction
-from typing import Any, Protocol
+from typing import Any, Protocol, TypeVar
 
 from codegen.errors import SpecError
 from codegen.spec_model import BackEmfShape, Inverter, Tolerances
@@ -37,10 +37,13 @@ _WIDTH_ALLOWED = (
 )
 _TABLE_ALLOWED = "[[0, 0], ..., [180, 0]]: angles rising from 0 to 180 deg, |e/E| <= 2"
 _PERCENT_LOW, _PERCENT_HIGH = -90.0, 400.0
+T = TypeVar("T")
 
 
 class _Errors(Protocol):
     def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError: ...
+
+    def attempt(self, read: Callable[[], T]) -> T | None: ...
 
 
 def _plain(value: object) -> bool:
@@ -97,8 +100,9 @@ def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
     return BackEmfShape(tuple(points), None)
 
 
-def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances:
-    """`tolerances` (raw YAML value) -> relative (low, high) per parameter."""
+def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances | None:
+    """`tolerances` (raw YAML value) -> relative (low, high) per parameter; None once
+    every bad key's error is recorded through `r.attempt`."""
     allowed = f"[low %, high %] with {_PERCENT_LOW:g} < low <= high <= {_PERCENT_HIGH:g}"
     if not isinstance(raw, Mapping):
         raise r.error(TOLERANCES_KEY, raw, "must map parameters to [low %, high %]", allowed)
@@ -107,8 +111,8 @@ def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances:
             raise r.error(
                 f"{TOLERANCES_KEY}.{key}", raw[key], "unknown key", ", ".join(TOLERANCE_KEYS)
             )
-    pairs: dict[str, tuple[Fraction, Fraction]] = {}
-    for key in TOLERANCE_KEYS:
+
+    def pair(key: str) -> tuple[Fraction, Fraction]:
         path = f"{TOLERANCES_KEY}.{key}"
         if key not in raw:
             raise r.error(path, None, "missing required key", allowed)
@@ -118,7 +122,13 @@ def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances:
         low, high = float(item[0]), float(item[1])
         if not _PERCENT_LOW < low <= high <= _PERCENT_HIGH:
             raise r.error(path, item, "percent range empty, inverted or out of range", allowed)
-        pairs[key] = (Fraction(str(item[0])) / 100, Fraction(str(item[1])) / 100)
+        return (Fraction(str(item[0])) / 100, Fraction(str(item[1])) / 100)
+
+    # every key is read (and every bad one reported) before the section is given up
+    read = {key: r.attempt(lambda key=key: pair(key)) for key in TOLERANCE_KEYS}
+    pairs = {key: value for key, value in read.items() if value is not None}
+    if len(pairs) < len(TOLERANCE_KEYS):
+        return None  # each error is recorded
     nominal = inverter.bus_voltage_nominal_v
     low_v, high_v = (nominal * (1 + p) for p in pairs["bus_voltage"])
     if low_v < inverter.bus_voltage_min_v or high_v > inverter.bus_voltage_max_v:

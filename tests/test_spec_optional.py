@@ -167,3 +167,16 @@ def test_bad_tolerances_should_name_the_key_and_the_allowed_range(
         load_spec(_with_tolerances(tmp_path, TOLERANCES.replace(old, new)))
     message = str(error.value)
     assert all(f in message for f in fragments), message
+
+
+def test_every_bad_tolerance_should_be_listed_not_only_the_first(tmp_path: Path) -> None:
+    """Exit 3 lists every error of a spec, one per line: three ranges out of bounds
+    were reported one at a time (the section stopped at the first)."""
+    section = TOLERANCES.replace("[-10, 40]", "[-99, 900]").replace("[-15, 15]", "[-99, 900]")
+    section = section.replace("[-10, 10]", "[-99, 900]")
+    with pytest.raises(SpecError) as error:
+        load_spec(_with_tolerances(tmp_path, section))
+    lines = str(error.value).splitlines()
+    for key in ("phase_resistance", "phase_inductance", "back_emf_constant"):
+        assert sum(f"tolerances.{key} = [-99, 900]" in line for line in lines) == 1, lines
+    assert len(lines) == 3, lines
