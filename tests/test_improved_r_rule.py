@@ -425,14 +425,19 @@ def test_a_low_pwm_motor_should_be_designed_in_the_bits_its_x_numerator_leaves(
 def test_a_5_khz_motor_held_to_a_target_its_bits_cannot_meet_should_be_refused_in_one_line(
     tmp_path: Path,
 ) -> None:
-    """The same motor with the usual 0.75-count target: the refusal names the bound."""
+    """The same motor with the usual 0.75-count target: the refusal names the bound, and
+    the key to change with the value the formats meet (it named controller.method and
+    allowed 'a spec whose accuracy targets ... the formats can meet')."""
     text = LOW_PWM.read_text(encoding="utf-8").replace(
         "  duty_counts: 0.8\n", "  duty_counts: 0.75\n"
     )
     path = tmp_path / "tight.yaml"
     path.write_text(text, encoding="utf-8")
-    with pytest.raises(FixedPointError, match=r"duty bound 0\.75\d counts .* target 0\.75"):
+    with pytest.raises(FixedPointError, match=r"duty bound 0\.75\d counts .* target 0\.75") as err:
         build_core(load_spec(path))
+    assert err.value.key == "accuracy.duty_counts"
+    assert str(err.value).startswith("accuracy.duty_counts = 0.75 counts: ")
+    assert "(allowed: >= 0.76 counts for controller.method improved_r" in str(err.value)
 
 
 @pytest.mark.parametrize(

@@ -19,7 +19,11 @@ from codegen.derivation.shape_terms import ShapeError
 from codegen.fixedpoint.scaling import Scaling
 from codegen.methods.base import Claims, CoreDesign, FixedPointError
 from codegen.methods.improved_r.constants import rule_constants
-from codegen.methods.improved_r.design import RuleFormatError, design_rule
+from codegen.methods.improved_r.design import (
+    RuleFormatError,
+    design_rule,
+    reachable_duty_target,
+)
 from codegen.methods.improved_r.ir import BUS, functions
 from codegen.methods.paper_method import round_up
 from codegen.spec_model import Spec
@@ -42,6 +46,18 @@ class ImprovedR:
         try:
             design = design_rule(c, sc.current_code_max, limits)
         except RuleFormatError as exc:
+            # a target the formats miss is named as such, with the value they do meet
+            # (the "duty bound ... exceeds the target" wording stays: the simulation and
+            # the bench read the bound back from it)
+            reachable = reachable_duty_target([str(exc)])
+            if reachable is not None:
+                raise FixedPointError(
+                    f"accuracy.duty_counts = {float(spec.accuracy.duty_counts):g} counts: the"
+                    f" improved_r rule's {exc}: its integer formats meet no less (allowed:"
+                    f" >= {reachable} counts for controller.method improved_r, or another"
+                    " method)",
+                    "accuracy.duty_counts",
+                ) from None
             raise FixedPointError(
                 f"controller.method = 'improved_r': {exc} (allowed: a spec whose accuracy targets "
                 "and ranges the rule's integer formats can meet)",
