@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -39,7 +40,7 @@ from codegen.spec_drive import (
     sense_window,
     short_circuit_peak,
 )
-from codegen.spec_loader import load_spec, out_of_range
+from codegen.spec_loader import PERIOD_COUNTS_MAX, load_spec, out_of_range
 from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
@@ -82,7 +83,7 @@ def _quantity(
     key: str,
     per_phase: bool = False,
     minimum: tuple[Fraction, str, str] | None = None,
-) -> object:
+) -> Callable[[str], tuple[Fraction, str]]:
     """argparse type: a positive quantity whose spec value (the phase value, half of it,
     where `per_phase` converts a line-to-line one) is within the loader's range for `key`:
     a value no spec can hold (1e400 ohm) is said at its argument, not met later as a
@@ -111,6 +112,42 @@ def _quantity(
 
     parse.__name__ = dimension.name  # argparse names the type in its error
     return parse
+
+
+def _terminating(value: Fraction) -> bool:
+    """Whether `value` has a finite decimal expansion (a spec can write it exactly)."""
+    d = value.denominator
+    for p in (2, 5):
+        while d % p == 0:
+            d //= p
+    return d == 1
+
+
+_PWM_QUANTITY = _quantity(units.FREQUENCY, "inverter.pwm_frequency")
+
+
+def _pwm_frequency(text: str) -> tuple[Fraction, str]:
+    """argparse type: a PWM frequency the written spec can hold: init writes an
+    edge-aligned TIM1 at 72 MHz, whose period must be a whole number of counts in
+    [256, PERIOD_COUNTS_MAX] (the loader's rule); a frequency between two of them is
+    refused with its neighbours, not written into a spec the loader then refuses."""
+    value, shown = _PWM_QUANTITY(text)
+    counts = Fraction(TIMER_CLOCK_HZ) / value
+    low, high = 256, PERIOD_COUNTS_MAX
+    if low <= counts <= high and counts.denominator == 1:
+        return value, shown
+    # the nearest periods either side whose frequency a spec can write exactly (a
+    # terminating decimal: 72 MHz / 10285 counts is 7000.486... Hz and has none)
+    exact = [n for n in range(low, high + 1) if _terminating(Fraction(TIMER_CLOCK_HZ, n))]
+    below = [n for n in exact if n <= counts]
+    above = [n for n in exact if n >= counts]
+    near = sorted({*below[-1:], *above[:1]})
+    options = " or ".join(f"{_num(Fraction(TIMER_CLOCK_HZ, n), 12)} Hz ({n} counts)" for n in near)
+    raise argparse.ArgumentTypeError(
+        f"{text!r} gives {_num(counts)} TIM1 counts per period at 72 MHz (edge-aligned);"
+        f" the period must be a whole number of counts in [{low}, {high}]"
+        f" (allowed: 72 MHz / N for a whole N in [{low}, {high}], e.g. {options})"
+    )
 
 
 def _kv(text: str) -> Fraction:
@@ -255,7 +292,7 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--pwm-frequency",
-        type=_quantity(units.FREQUENCY, "inverter.pwm_frequency"),
+        type=_pwm_frequency,
         metavar="Q",
         help="PWM frequency, edge-aligned",
     )

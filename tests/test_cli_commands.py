@@ -264,6 +264,9 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
         ("--poles", "3", "'3' is not an even whole number from 2 to 128"),
         # init wrote 0.1 A under the source 'nominal braking current 1e-3 A'
         ("--braking-current", "1e-3 A", "'1e-3 A' is below 0.1 A, the smallest nominal"),
+        # a spec the loader refused (10285.7 counts, not whole): its exact neighbours
+        ("--pwm-frequency", "7 kHz", "e.g. 7031.25 Hz (10240 counts) or 6400 Hz (11250 counts)"),
+        ("--pwm-frequency", "2 kHz", "36000 TIM1 counts per period at 72 MHz"),
     ],
 )
 def test_init_should_refuse_a_value_no_spec_can_hold_at_its_argument(
