@@ -802,6 +802,21 @@ def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoi
             points.append(OperatingPoint(speed_rpm=speed, main_duty=duty))
     if len(points) != len(raw):
         return None
+    # the Unity tests, the audit and the simulation name each point by its speed in whole
+    # rpm: two points at one speed (another main duty) wrote two Unity tests of one name
+    # (the suite did not compile) and one figure over the other
+    for j, later in enumerate(points):
+        for i, earlier in enumerate(points[:j]):
+            if abs(later.speed_rpm - earlier.speed_rpm) < 1:
+                r.report(
+                    f"operating_points[{j}].speed",
+                    raw[j].get("speed"),
+                    f"within 1 rpm of operating_points[{i}].speed"
+                    f" ({_g(earlier.speed_rpm)} rpm): the Unity tests, the audit and the"
+                    " simulation name each point by its speed in whole rpm",
+                    "a speed at least 1 rpm from every other operating point's",
+                )
+                break
     return tuple(points)
 
 

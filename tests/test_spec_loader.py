@@ -612,6 +612,14 @@ BAD_SPECS = [
         id="operating-point-speed-outside-range",
     ),
     pytest.param(
+        # a second duty at one speed: two Unity tests of one name (the suite did not
+        # compile) and one simulation figure over the other
+        _replace("{speed: 4600 rpm, main_duty: 0.42}", "{speed: 1500.5 rpm, main_duty: 0.6}"),
+        "operating_points[1].speed",
+        ("within 1 rpm of operating_points[0].speed (1500 rpm)", "at least 1 rpm from every"),
+        id="operating-points-at-one-speed",
+    ),
+    pytest.param(
         _replace("{speed: 1500 rpm, main_duty: 0.42}", "{speed: 1500 rpm, main_duty: 1.5}"),
         "operating_points[0].main_duty",
         ("out of range", "[0, 1]"),
