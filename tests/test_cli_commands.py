@@ -379,6 +379,30 @@ def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sector
     assert load_spec(tmp_path / "pp7.yaml").controller.speed_max_rpm == 4830
 
 
+def test_init_should_never_replace_a_folder_or_a_fifo_even_with_force(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`init -o FOLDER --force` failed on its temporary file ('.specs.tmp-123: Is a
+    directory'), and with --force the atomic rename put a spec in place of a FIFO (or,
+    as root, of /dev/null). Only a regular file is ever replaced: anything else is
+    refused in one line (exit 5) and left as it was."""
+    import os
+    import stat
+
+    monkeypatch.chdir(tmp_path)
+    folder = tmp_path / "specs"
+    folder.mkdir()
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    for target, kind in ((folder, "is a folder"), (fifo, "is not a regular file")):
+        assert cli.main(["init", "m", "-o", str(target), "--force"]) == ExitCode.ENVIRONMENT
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and kind in err[0] and "-o takes the spec FILE" in err[0], err
+    assert list(folder.iterdir()) == []
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe", "specs"]
+
+
 HEAVY_L = [
     *("init", "heavy_l", "--pole-pairs", "2", "--resistance", "1.5 ohm", "--inductance"),
     *("2 mH", "--ke", "0.05 V/rpm", "--bus-voltage", "24 V", "--braking-current", "3 A"),

@@ -26,6 +26,15 @@ def _init(args: argparse.Namespace) -> int:
     from codegen.spec_init import Datasheet, write_new_spec
 
     path = Path(args.output) if args.output else Path("spec") / f"{args.name}.yaml"
+    if path.exists() and not path.is_file():
+        # --force replaces a file; a folder, a device (/dev/null) or a FIFO is never
+        # replaced (the atomic rename would put a spec in place of /dev/null as root)
+        kind = "a folder" if path.is_dir() else "not a regular file"
+        print(
+            f"error: {shown(path)} is {kind}: -o takes the spec FILE to write",
+            file=sys.stderr,
+        )
+        return int(ExitCode.ENVIRONMENT)
     if path.exists() and not args.force:
         print(
             f"error: {shown(path)} exists; choose another -o FILE or pass --force",
