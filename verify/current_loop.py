@@ -317,7 +317,7 @@ def windup_periods(model: LoopModel, emf_v: float, top: int) -> int:
     or longer where the exact loop needs longer to saturate, so that it has been at D_max
     for WINDUP_HELD periods before the drop. From rest the current stays at zero until
     the duty passes 1 - 2E/U_d, and a motor of small R has a small K_i (2 R w_c / U_d):
-    a 2-pole 15 mohm 5 uH motor at 50 kHz took 570 periods to saturate and the check,
+    a 2-pole 15 mohm 5 uH motor at 50 kHz took 555 periods to saturate and the check,
     asserting saturation at period 400, failed on a loop the C met exactly (and once
     at D_max the duty dips below it while the current rises and the integrator catches
     up: held right up to the drop, not first reached; a 0.3 A fan motor, saturated on
