@@ -30,6 +30,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from codegen import units
+from codegen.dead_time import SECTOR_SHORTENING_DEFAULT_PERCENT
 from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import (
@@ -588,6 +589,11 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
             f"{derived} the slowest 72 MHz / N giving >= 500 ticks per 60 deg at speed_max"
         ),
         "hall.counter_bits": "STM32F103 general-purpose timers are 16 bit",
+        "hall.sector_shortening": (
+            "assumption: bldc-codegen init default, a sector up to 5 % shorter than the one"
+            " its timing was measured on (a Hall sensor 0.75 electrical degrees off its mark,"
+            " or acceleration); measure your motor's six sector lengths"
+        ),
         "adc.bits": "STM32F103 ADC resolution",
         "adc.reference": "assumption: VREF+ = 3.3 V",
         "adc.bus_voltage_divider": f"{derived} full scale at least 1.1 x bus_voltage_max",
@@ -685,6 +691,9 @@ hall:
   sequence: [5, 4, 6, 2, 3, 1]
   timer_clock: {_num(Fraction(hall_clock) / 1000)} kHz
   counter_bits: 16
+  # percent: how much shorter a sector may be than the one its commutation timing was
+  # computed from; a commutation ends that much (rounded up to 1/2^k) before its sector
+  sector_shortening: {SECTOR_SHORTENING_DEFAULT_PERCENT}
 
 adc:
   bits: 12
