@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Any
 
 #: RM0008 TIMx_BDTR.DTG: the largest dead time, in t_DTS, of the last range
 #: (DTG[7:5] = 111: (32 + 31) x 16).
@@ -109,9 +110,10 @@ def sector_margin_shift(shortening: Fraction) -> int | None:
     return k
 
 
-def latest_end_ticks(period_ticks: int, guard_ticks: int, shift: int | None) -> int:
-    """The latest commutation end in a sector of `period_ticks`: the guard and the
-    sector-shortening margin ceil(T / 2^k) before its end."""
+def latest_end_ticks(period_ticks: Any, guard_ticks: int, shift: int | None) -> Any:
+    """The latest commutation end in a sector of `period_ticks` (an int or an integer
+    array): the guard and the sector-shortening margin ceil(T / 2^k) before its end, as
+    the core computes it (`CoreLimits.latest_end`)."""
     if shift is None:
         return period_ticks - guard_ticks
     return ((period_ticks * (2**shift - 1)) >> shift) - guard_ticks

@@ -25,6 +25,7 @@ from typing import Any
 import sympy as sp
 
 from codegen.core.conditioning import CurrentFormat, current_formats
+from codegen.dead_time import latest_end_ticks
 from codegen.derivation import derive
 from codegen.derivation import symbols as s
 from codegen.derivation.constant_pair import A_c, P, T_s, X_c, Y_c, derive_firmware_rule
@@ -71,10 +72,7 @@ class RuleConstants:
     def latest_end(self, period_ticks: Any) -> Any:
         """The latest end in a sector of `period_ticks` (an int or an int array): the
         guard and the margin before its end (`codegen.dead_time.latest_end_ticks`)."""
-        k = self.margin_shift
-        if k is None:
-            return period_ticks - self.guard_ticks
-        return ((period_ticks * (2**k - 1)) >> k) - self.guard_ticks
+        return latest_end_ticks(period_ticks, self.guard_ticks, self.margin_shift)
 
     @property
     def rho_max(self) -> sp.Rational:
