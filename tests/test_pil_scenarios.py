@@ -137,3 +137,33 @@ def test_a_commutation_filling_its_sector_should_leave_the_next_edge_the_dead_ti
     for scenario in SCENARIOS:
         outcome = run_scenario(elf, spec, scenario)
         assert outcome.problems == [], (scenario.key, outcome.problems)
+
+
+def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scenario(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The generator without the hall.sector_shortening margin (the guard alone): on the
+    2 us fixture, sectors a little shorter than the one their timing was computed from
+    bring the edge within the dead time of the end (a switch on 137 TIM1 ticks after its
+    partner turned off, dead time 144); the scenario must see it."""
+    import codegen.fixedpoint.scaling as scaling
+    from codegen.core.module import build_core
+    from codegen.generate import render_all, write_tree
+    from emulation.pil.build import link_mutant
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "fast40k_dead2us.yaml"
+    spec = load_spec(str(path))
+    monkeypatch.setattr(scaling, "sector_margin_shift", lambda shortening: None)
+    build_core.cache_clear()
+    try:
+        source = tmp_path / "generated"
+        write_tree(render_all(path).files, source)
+    finally:
+        monkeypatch.undo()
+        build_core.cache_clear()
+    text = (source / "c" / "bldc_commutation.c").read_text(encoding="utf-8")
+    assert "latest = period - BLDC_COMMUTATION_GUARD_TICKS;" in text  # no margin
+    elf = link_mutant(source, tmp_path / "mutant", lambda folder: None)
+    scenario = next(s for s in SCENARIOS if s.key == "hall_off_marks")
+    problems = run_scenario(elf, spec, scenario).problems
+    assert any("after its partner turned off (dead time 144)" in p for p in problems), problems

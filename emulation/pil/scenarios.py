@@ -201,18 +201,21 @@ class Run:
 
     def turn(self, sectors: int) -> None:
         """`sectors` Hall steps at `rpm`; each must change the enables in force."""
-        pole_pairs = self.spec.motor.poles // 2
-        sector_ticks = round(TICK_HZ * 60 / (self.rpm * pole_pairs * 6))
         for _ in range(sectors):
-            before = self.machine.tim1.ccer
-            self.sector = (self.sector + 1) % 6
-            self.board.set_hall(self.spec.hall.sequence[self.sector])
-            self.machine.run_for(sector_ticks)
-            if self.machine.tim1.moe and self.machine.tim1.ccer == before and self._armed_edges:
-                self._note(
-                    f"a Hall edge to code {self.spec.hall.sequence[self.sector]} did not commutate"
-                )
-            self._armed_edges += 1
+            self.step(self.sector_ticks())
+
+    def step(self, ticks: int) -> None:
+        """One Hall step, then `ticks` in the new sector; the edge must change the
+        enables in force."""
+        before = self.machine.tim1.ccer
+        self.sector = (self.sector + 1) % 6
+        self.board.set_hall(self.spec.hall.sequence[self.sector])
+        self.machine.run_for(ticks)
+        if self.machine.tim1.moe and self.machine.tim1.ccer == before and self._armed_edges:
+            self._note(
+                f"a Hall edge to code {self.spec.hall.sequence[self.sector]} did not commutate"
+            )
+        self._armed_edges += 1
 
     def sector_ticks(self) -> int:
         pole_pairs = self.spec.motor.poles // 2
@@ -401,14 +404,7 @@ def _hall_off_marks(run: Run) -> Outcome:
     for half in halves:
         factors = [(1.0 - half) ** k for k in range(1, 7)]
         for factor in (*factors, 1.0):
-            before = run.machine.tim1.ccer
-            run.sector = (run.sector + 1) % 6
-            run.board.set_hall(run.spec.hall.sequence[run.sector])
-            run.machine.run_for(round(base * factor))
-            if run.machine.tim1.moe and run.machine.tim1.ccer == before:
-                run._note(
-                    f"a Hall edge to code {run.spec.hall.sequence[run.sector]} did not commutate"
-                )
+            run.step(round(base * factor))
     return run.outcome(
         "Hall sensors off their marks",
         None,
