@@ -648,15 +648,44 @@ def check_drive(
             + (" or centre alignment" if inverter.pwm_alignment == "edge" else ""),
         )
     if window.duty_max_counts < int(period) // 4:
-        r.report(
-            "sensing.settling_time",
-            raw("sensing.settling_time"),
+        # the key to change: the ADC's sample time where a shorter one leaves the 25 %
+        # (a 239.5-cycle sample was reported under the settling time), else the settling
+        fitting = [
+            c
+            for c in ADC_SAMPLE_CYCLES
+            if sense_window(
+                alignment=inverter.pwm_alignment,
+                period_counts=int(period),
+                timer_clock_hz=inverter.timer_clock_hz,
+                dead_time_counts=_ceil(inverter.dead_time_s * inverter.timer_clock_hz),
+                settling_time_s=sensing.settling_time_s,
+                adc_sample_cycles=c,
+                current_samples=current_samples(sensing.topology),
+            ).duty_max_counts
+            >= int(period) // 4
+        ]
+        problem = (
             f"with the dead time and the ADC's {_g(sensing.adc_sample_cycles)}-cycle samples"
             f" the current sample needs {window.span_counts + window.guard_counts} of the"
             f" {int(period)} TIM1 counts of a period, leaving a largest braking duty of"
-            f" {window.duty_max_counts} counts",
-            "a sample window that leaves a duty of at least 25 %",
+            f" {window.duty_max_counts} counts"
         )
+        if fitting:
+            r.report(
+                "sensing.adc_sample_time",
+                raw("sensing.adc_sample_time"),
+                problem,
+                f"<= {_g(max(fitting))} ADC clock cycles at sensing.settling_time"
+                f" {_g(sensing.settling_time_s)} s (a sample window that leaves a duty of at"
+                " least 25 %)",
+            )
+        else:
+            r.report(
+                "sensing.settling_time",
+                raw("sensing.settling_time"),
+                problem,
+                "a sample window that leaves a duty of at least 25 %",
+            )
     else:
         d_max = Fraction(window.duty_max_counts, int(period))
         u_d = inverter.bus_voltage_nominal_v

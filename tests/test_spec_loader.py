@@ -844,3 +844,22 @@ def test_low_side_phase_shunts_should_read_the_trip_below_their_offset(tmp_path:
     assert set(found) == {"adc.current_offset"}
     assert found["adc.current_offset"].allowed == ">= 1.44 V (with the gain 400 mV/A)"
     assert "3 A below zero current" in found["adc.current_offset"].problem
+
+
+def test_a_too_long_adc_sample_should_name_the_sample_time_and_the_longest_that_fits(
+    tmp_path: Path,
+) -> None:
+    """Phase shunts at 239.5 ADC cycles a sample: the window leaves no duty. The refusal
+    named sensing.settling_time, which no value could fix; it names the sample time and
+    the longest that leaves 25 %, and that one loads."""
+    hub = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
+    text = hub.read_text(encoding="utf-8")
+    assert text.count("adc_sample_time: 13.5") == 1
+    path = _write(tmp_path, text.replace("adc_sample_time: 13.5", "adc_sample_time: 239.5"))
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+    lines = str(caught.value).splitlines()
+    assert len(lines) == 1 and "sensing.adc_sample_time = 239.5" in lines[0], lines
+    assert "(allowed: <= 71.5 ADC clock cycles" in lines[0], lines
+    fits = _write(tmp_path, text.replace("adc_sample_time: 13.5", "adc_sample_time: 71.5"))
+    assert load_spec(fits).sensing.adc_sample_cycles == Fraction(143, 2)
