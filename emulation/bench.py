@@ -82,9 +82,9 @@ from emulation.isr_bench import (
 )
 from emulation.memory import ASSUMPTIONS, STM32F103_72MHZ
 from emulation.reciprocal_bench import ReciprocalChoice, table_option
+from emulation.sections import SECTIONS, unknown_sections
 from emulation.stack import EXCEPTION_FRAME_BYTES, read_frames, static_depth
 
-SECTIONS = ("size", "handlers", "placement", "peers", "rule", "reciprocal", "times", "pil")
 DEFAULT_SPEC = "spec/paper_motor.yaml"
 DEFAULT_WORK = Path("build") / "bench"
 
@@ -877,7 +877,7 @@ def parse(argv: Sequence[str]) -> argparse.Namespace:
         help=f"where each spec is generated and built (default {DEFAULT_WORK})",
     )
     args = parser.parse_args(argv)
-    unknown = set(args.only.split(",")) - set(SECTIONS)
+    unknown = unknown_sections(args.only)
     if unknown:
         named = ", ".join(repr(s) if s else "'' (an empty name)" for s in sorted(unknown))
         parser.error(

@@ -25,6 +25,7 @@ from bldc.commands.common import (
 from codegen.argtypes import POINTS, SEED
 from codegen.errors import ExitCode
 from codegen.shown import shown
+from emulation.sections import SECTIONS, unknown_sections
 from sim.robustness_args import add_campaign_arguments
 
 
@@ -310,9 +311,22 @@ def _bench_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--only",
         metavar="SECTIONS",
+        type=_sections,
         help="comma-separated sections to run (default: all; an unknown one is refused with"
-        " the list): size, handlers, placement, peers, rule, reciprocal, times, pil",
+        f" the list): {', '.join(SECTIONS)}",
     )
+
+
+def _sections(only: str) -> str:
+    """`--only`, checked here so that an unknown section is refused under this command's
+    name and usage (it was refused under `python -m emulation`'s)."""
+    unknown = unknown_sections(only)
+    if unknown:
+        named = ", ".join(repr(s) if s else "'' (an empty name)" for s in unknown)
+        raise argparse.ArgumentTypeError(
+            f"unknown section {named} (allowed: {', '.join(SECTIONS)})"
+        )
+    return only
 
 
 register(

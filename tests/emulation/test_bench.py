@@ -236,3 +236,4 @@ def test_an_unknown_or_empty_section_should_be_refused_by_name(
     assert exited.value.code == 2
     last = capsys.readouterr().err.strip().splitlines()[-1]  # argparse: usage, then the error
     assert "unknown section" in last and "allowed: size," in last, last
+    assert last.startswith("bldc-codegen bench: error: argument --only:"), last  # its own name
