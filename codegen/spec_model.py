@@ -131,7 +131,7 @@ class HallSensor:
     #: computed from (two sectors before it), as a fraction (`hall.sector_shortening`,
     #: percent in the spec: a Hall sensor off its mark, 6.7 % per electrical degree,
     #: and acceleration)
-    sector_shortening: Fraction = Fraction(5, 100)
+    sector_shortening: Fraction
 
 
 @dataclass(frozen=True)
