@@ -125,6 +125,17 @@ RULE_MUTANTS = [
         "#define RAMP_Q 1398101334u",
         "turn_off",
     ),
+    # the rule's constants cover the speed range only: computed at a slower period's own
+    # X and N the pair is wrong. The points past period_max share one oracle row (the
+    # rule runs at period_max); the C's different ends there made the verifier raise
+    # (ValueError: a subset of the rule's points kept every point's latest end) instead
+    # of failing the duties
+    (
+        "period_not_clamped_to_the_range",
+        "const uint32_t period = (measured > BLDC_PERIOD_MAX_TICKS) ? BLDC_PERIOD_MAX_TICKS : measured;",
+        "const uint32_t period = measured;",
+        "turn_on",
+    ),
 ]
 
 

@@ -410,6 +410,7 @@ def _subset(com: Commutation, index: Ints) -> Commutation:
         a=com.a[index],
         rho=com.rho[index],
         sector_ticks=com.sector_ticks[index],
+        latest_ticks=com.latest_ticks[index],
     )
 
 
