@@ -12,11 +12,15 @@ A green verify proves nothing unless it goes red when something is wrong, so:
 
 from __future__ import annotations
 
+import json
 import shutil
+import subprocess
+import sys
 from collections.abc import Callable, Iterator
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from codegen.core.module import build_core
@@ -156,6 +160,131 @@ def test_verify_should_catch_every_c_mutant(
     result = _verify(spec, generated, tmp_path, stride=9)
     assert not result.passed
     assert result.checks[caught_by].verdict == "FAIL", _failures(result)
+
+
+#: C mutants only points on the decisions' edges reach (none of them was caught before
+#: the threshold set put points there): (spec, mutant, original, replacement, the check
+#: that must fail); a spec of tests/fixtures/specs is generated first
+FIXTURES = ROOT / "tests" / "fixtures" / "specs"
+EDGE_MUTANTS = [
+    # beyond W = 0 (2E >= U_d, reached at 20 V above 4237 rpm) a zero current (code
+    # 2048, 0 A, in the braking range) commutates for the whole sector
+    (
+        "paper_motor",
+        "zero_current_clamped_to_the_sector",
+        "if (current > 0) {",
+        "if (current >= 0) {",
+        "commutation_time",
+    ),
+    # Eq. 16's D_off exactly 0 (X = 2P - M a whole count: T B (2P - M) = K_X) or 1
+    # flagged as the fail area
+    (
+        "offset_conventional",
+        "fail_area_at_d_off_exactly_0",
+        "K_X_NUM > (uint64_t)(period * bus->bus_code) * K_X_DEN * (uint64_t)(2u * BLDC_PWM_PERIOD_COUNTS - main_duty)",
+        "K_X_NUM >= (uint64_t)(period * bus->bus_code) * K_X_DEN * (uint64_t)(2u * BLDC_PWM_PERIOD_COUNTS - main_duty)",
+        "flags",
+    ),
+    (
+        "offset_conventional",
+        "fail_area_at_d_off_exactly_1",
+        "K_X_NUM < (uint64_t)(period * bus->bus_code) * K_X_DEN * (uint64_t)(BLDC_PWM_PERIOD_COUNTS - main_duty)",
+        "K_X_NUM <= (uint64_t)(period * bus->bus_code) * K_X_DEN * (uint64_t)(BLDC_PWM_PERIOD_COUNTS - main_duty)",
+        "flags",
+    ),
+    # where the current remains through the sector the pair is the one at x_N; taken at
+    # x_(N+1) it differs just below a period at which N steps (1476 ticks: N = 10, at
+    # 1477 11), at the ADC's full-scale current
+    (
+        "fast_14p_12v",
+        "clamped_pair_one_period_late",
+        "(n + 1u > periods) ? periods : n + 1u",
+        "n + 1u",
+        "turn_off",
+    ),
+]
+
+
+def _generated_copy(spec: str, tmp_path: Path) -> tuple[Path, Path]:
+    """(spec file, a copy of its generated folder)."""
+    generated = tmp_path / "generated"
+    if spec in SPECS:
+        shutil.copytree(ROOT / "generated" / spec, generated)
+        return SPECS[spec], generated
+    path = FIXTURES / f"{spec}.yaml"
+    write_tree(render_all(path).files, generated)
+    return path, generated
+
+
+def _plant(generated: Path, original: str, replacement: str) -> None:
+    source = generated / "c" / "bldc_commutation.c"
+    text = source.read_text(encoding="utf-8")
+    assert text.count(original) == 1, "the pattern no longer matches the printed C"
+    source.write_text(text.replace(original, replacement), encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    ("spec", "mutant", "original", "replacement", "caught_by"),
+    EDGE_MUTANTS,
+    ids=[m[1] for m in EDGE_MUTANTS],
+)
+def test_verify_should_catch_c_mutants_on_the_edges_of_its_decisions(
+    tmp_path: Path, spec: str, mutant: str, original: str, replacement: str, caught_by: str
+) -> None:
+    path, generated = _generated_copy(spec, tmp_path)
+    _plant(generated, original, replacement)
+    result, _, _, _ = verify(
+        path,
+        generated,
+        tmp_path / "build",
+        seed=20261121,
+        random_count=3000,
+        exhaustive_stride=9,
+        show_progress=False,
+    )
+    assert not result.passed
+    assert result.checks[caught_by].verdict == "FAIL", _failures(result)
+
+
+def test_verify_should_reach_eq20_denominator_zero(tmp_path: Path) -> None:
+    """W = 0 exactly in the core's own arithmetic: X_q = 2P in Q6 at bus code 2655 and
+    2006 ticks (the upper speed limit 2E = U_d, 2005.99 ticks there). A core that
+    divides only where W < 0 divides by zero there (SIGFPE on the host; on the
+    Cortex-M3 SDIV gives 0: no commutation time where the current never reaches zero).
+    No point reached it; the threshold set's periods on both sides of W = 0 at every
+    bus code do, and verify, run in a process of its own, must not pass."""
+    from codegen.spec_loader import load_spec
+    from oracle.model import oracle
+    from verify import points
+    from verify.host_core import dtype_of
+
+    o = oracle(load_spec(SPECS["paper_motor"]))
+    manifest = json.loads((ROOT / "generated" / "paper_motor" / "manifest.json").read_text())
+    rows = points.thresholds(o, dtype_of(manifest["core"]["abi"]["structs"]["bldc_inputs_t"]))
+    assert np.any((rows["hall_period_ticks"] == 2006) & (rows["bus_voltage_adc"] == 2655))
+    _, generated = _generated_copy("paper_motor", tmp_path)
+    _plant(generated, "if (w_q <= 0) {", "if (w_q < 0) {")
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "verify",
+            str(SPECS["paper_motor"]),
+            "--generated",
+            str(generated),
+            "--seed",
+            "1",
+            "--random",
+            "100",
+            "--no-progress",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert run.returncode != 0, run.stdout[-2000:]
 
 
 # ------------------------------------------------------------------ generator mutants

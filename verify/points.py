@@ -4,8 +4,11 @@ Every limit comes from the oracle (`oracle.units.limits`), never from the genera
 The threshold set puts points on both sides of every decision the core makes, at
 every bus code: Eq. 18's cut-off, the over-speed period, the over-voltage and
 under-voltage codes, every current code of the 16-bit field, the conventional
-method's fail area (D_off = 0 and D_off = 1), the time clamp (t_com = T), and every
-pair of 8-bit Hall codes.
+method's fail area (D_off = 0 and D_off = 1), Eq. 20's denominator W = 0 (with the
+currents at zero and at the range's ends), the exact ties where X is a whole count,
+and every pair of 8-bit Hall codes; the time-clamp set those of t_com = T and, for
+the resistance-aware rule, the steps of the sector's whole PWM periods where the
+current remains through it.
 """
 
 from __future__ import annotations
@@ -111,6 +114,105 @@ def _fail_area_periods(o: Oracle, bus: int, duty: int) -> list[int]:
     return out
 
 
+def _currents_at_the_ends(o: Oracle) -> list[int]:
+    """Current codes on both sides of zero current and of the braking range's ends, and
+    the ADC's full scale (a code above it saturates there)."""
+    zero = o.u.zero_current_code
+    codes = {
+        math.floor(zero),
+        math.ceil(zero),
+        o.lim.current_low - 1,
+        o.lim.current_low,
+        o.lim.current_high,
+        o.lim.current_high + 1,
+        o.u.adc_max,
+    }
+    return sorted(c for c in codes if 0 <= c <= 0xFFFF)
+
+
+def _denominator_zero_rows(
+    o: Oracle, forward: tuple[int, int], duty: int
+) -> list[tuple[int, int, int, int, int, int]]:
+    """At every bus code of the range: the top speed's periods, and (the paper's
+    methods) the periods on both sides of W = 0, where Eq. 20's denominator at the exact
+    duties changes sign (found by bisection on the oracle's own Eq. 16/18 and 20; for
+    the methods that take a main duty, at none and at the operating point's), each at
+    the currents of `_currents_at_the_ends`. Beyond W = 0 the turn-off current never
+    reaches zero: the whole sector where there is current, nothing where there is
+    none; and at W = 0 exactly the core must not divide by it. The resistance-aware
+    rule has no W: its top speed's periods, where the current remains through the
+    sector, are the ones it shares."""
+    buses = np.arange(o.lim.bus_min, o.lim.bus_max + 1)
+    currents = _currents_at_the_ends(o)
+    periods: list[npt.NDArray[np.int64]] = [
+        np.full(buses.size, o.lim.period_min),
+        np.full(buses.size, o.lim.period_min + 1),
+    ]
+    if o.method != "improved_r":
+        amps = np.full(buses.size, o.lim.current_high)
+
+        def w_positive(period: npt.NDArray[np.int64], main: int) -> npt.NDArray[np.bool_]:
+            m = np.full(buses.size, main)
+            on, off, _, _ = o.duties(period, buses, m)
+            _, w = o.eq20(period, buses, amps, on, off)
+            return w > 0
+
+        for main in sorted({0, duty} if o.uses_main_duty else {duty}):
+            lo = np.full(buses.size, o.lim.period_min, dtype=np.int64)
+            hi = np.full(buses.size, o.lim.period_max, dtype=np.int64)
+            at_lo = w_positive(lo, main)
+            crosses = at_lo != w_positive(hi, main)
+            for _ in range(int(o.lim.period_max - o.lim.period_min).bit_length()):
+                mid = (lo + hi) // 2
+                same = w_positive(mid, main) == at_lo
+                lo = np.where(same, mid, lo)
+                hi = np.where(same, hi, mid)
+            for shift in (-2, -1, 0, 1):
+                periods.append(np.where(crosses, hi + shift, o.lim.period_min))
+    mains = sorted({0, duty} if o.uses_main_duty else {duty})
+    rows = []
+    for column in periods:
+        for b, t in sorted({(int(b), int(t)) for b, t in zip(buses, column, strict=True)}):
+            if o.lim.period_min <= t <= o.u.hall_counter_max:
+                for c in currents:
+                    for main in mains:
+                        rows.append((forward[1], forward[0], t, b, c, main))
+    return rows
+
+
+def _exact_tie_rows(
+    o: Oracle, forward: tuple[int, int]
+) -> list[tuple[int, int, int, int, int, int]]:
+    """Where X = P 4E/U_d = c / (T B) is a whole number of counts (c a rational of the
+    spec), the duties' decisions can tie exactly: Eq. 16's D_off exactly 0 or 1 at the
+    main duty 2P - X or P - X, W = 0 at the main duty (X - 2P) / 2, Eq. 18's segments at
+    X = P and 2P. Every such period and bus code of the range, at those main duties and
+    the braking range's currents. (A motor whose c has a large numerator has none.)"""
+    p = o.u.pwm_counts
+    c = 4 * p * o.motor.k_e * o.u.rpm(1) / o.u.volts(1)
+    num, den = c.numerator, c.denominator
+    periods = np.arange(o.lim.period_min, o.lim.period_max + 1, dtype=np.int64)
+    _, current, duty = operating_codes(o)
+    rows = []
+    if den * int(periods[-1]) >= 2**62:
+        return rows
+    for bus in range(o.lim.bus_min, o.lim.bus_max + 1):
+        if num % bus or num // bus >= 2**62:
+            continue
+        per_bus = num // bus
+        tie = periods[per_bus % (den * periods) == 0]
+        for t in tie:
+            x = per_bus // (den * int(t))
+            mains = {2 * p - x, p - x, duty}
+            if (x - 2 * p) % 2 == 0:
+                mains.add((x - 2 * p) // 2)
+            for m in sorted(mains):
+                if 0 <= m <= p:
+                    for amps in (current, o.lim.current_low, o.lim.current_high):
+                        rows.append((forward[1], forward[0], int(t), bus, amps, m))
+    return rows
+
+
 def thresholds(o: Oracle, dtype: np.dtype) -> Inputs:
     bus_nominal, current, duty = operating_codes(o)
     forward = valid_edges(o)[0]
@@ -133,6 +235,8 @@ def thresholds(o: Oracle, dtype: np.dtype) -> Inputs:
                     for period in (t - 1, t, t + 1, t + 2):
                         if o.lim.period_min <= period <= cap:
                             rows.append((forward[1], forward[0], period, bus, current, m))
+    rows.extend(_denominator_zero_rows(o, forward, duty))
+    rows.extend(_exact_tie_rows(o, forward))
     for code in range(0, 65536):
         rows.append((forward[1], forward[0], mid, bus_nominal, code, duty))
     for period in range(0, 65536, 7):
@@ -145,14 +249,38 @@ def thresholds(o: Oracle, dtype: np.dtype) -> Inputs:
     return make(dtype, *np.array(rows).T)
 
 
+def _carrier_step_periods(o: Oracle) -> list[int]:
+    """The resistance-aware rule's periods on both sides of each step of N, the whole
+    PWM periods before the latest end, where the current remains through the sector
+    (TIME_CLAMPED) at the ADC's full-scale current at some bus code of a sample (every
+    16th and the range's ends; the oracle's rule decides)."""
+    t = np.arange(o.lim.period_min, o.lim.period_max + 1, dtype=np.int64)
+    n = np.floor(o.u.latest_end(t) / o.u.carrier_ticks + 1e-9).astype(np.int64)
+    steps = t[1:][np.diff(n) != 0]
+    candidates = np.unique(np.concatenate([steps - 1, steps]))
+    sample = np.unique(np.r_[np.arange(o.lim.bus_min, o.lim.bus_max + 1, 16), o.lim.bus_max])
+    period = np.repeat(candidates, sample.size)
+    bus = np.tile(sample, candidates.size)
+    com = o.rule(period, bus, np.full(period.size, o.u.adc_max))
+    x, _ = com.zero()
+    clamped = com.end_after(x * period) > com.periods
+    return sorted({int(p) for p in period[clamped]})
+
+
 def time_clamp_points(o: Oracle, dtype: np.dtype, duties: object) -> Inputs:
-    """Periods on both sides of t_com = T at every bus code of the range and three
-    braking currents (found by bisection on the oracle's own Eq. 20 or rule)."""
+    """Periods on both sides of t_com = T at every bus code of the range, three
+    braking currents and the ADC's full scale (found by bisection on the oracle's own
+    Eq. 20 or rule); for the resistance-aware rule also `_carrier_step_periods`."""
     _, current, duty = operating_codes(o)
     forward = valid_edges(o)[0]
     buses = np.arange(o.lim.bus_min, o.lim.bus_max + 1)
     rows = []
-    for amps_code in (current, (current + o.lim.current_high) // 2, o.lim.current_high):
+    for amps_code in (
+        current,
+        (current + o.lim.current_high) // 2,
+        o.lim.current_high,
+        o.u.adc_max,
+    ):
         lo = np.full(buses.size, o.lim.period_min, dtype=np.int64)
         hi = np.full(buses.size, o.lim.period_max, dtype=np.int64)
         f = duties  # callable (period, bus, current) -> (t_ticks) from the verifier's model
@@ -167,6 +295,16 @@ def time_clamp_points(o: Oracle, dtype: np.dtype, duties: object) -> Inputs:
             for period in (t - 2, t - 1, t, t + 1):
                 if o.lim.period_min <= period <= o.lim.period_max:
                     rows.append((forward[1], forward[0], int(period), int(b), amps_code, duty))
+    if o.method == "improved_r":
+        # where the current remains through the sector, the pair is the one at its last
+        # whole PWM period N: both sides of every step of N where that happens, at every
+        # 8th bus code and the range's ends, at the braking range's top and the ADC's
+        # full scale
+        every_8th = np.unique(np.r_[buses[::8], o.lim.bus_max])
+        for period in _carrier_step_periods(o):
+            for b in every_8th:
+                for amps_code in (o.lim.current_high, o.u.adc_max):
+                    rows.append((forward[1], forward[0], period, int(b), amps_code, duty))
     if not rows:
         return make(dtype, *np.zeros((6, 0), dtype=np.int64))
     return make(dtype, *np.array(rows).T)
