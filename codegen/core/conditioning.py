@@ -23,27 +23,33 @@ from fractions import Fraction
 
 import sympy as sp
 
-from codegen.abi import flag_const, value_const
+from codegen.abi import TIMING, flag_const, value_const
 from codegen.dead_time import COMMUTATION_END_ALLOWANCE_S
 from codegen.fixedpoint.scaling import Scaling
 from codegen.ir.nodes import (
     Expr,
+    IBin,
     IConst,
+    SAssign,
     SIf,
     SLet,
     SOrAssign,
+    SReturn,
+    SStruct,
     Stmt,
+    SVar,
     cast,
     cmp,
     const,
     div,
+    fld,
     lor,
     minimum,
     mul,
     sub,
     var,
 )
-from codegen.ir.types import I32, U32
+from codegen.ir.types import I32, U16, U32
 
 
 def _fraction(value: sp.Rational | Fraction | int) -> Fraction:
@@ -266,3 +272,76 @@ def period_statements(limits: CoreLimits, period_ticks: Expr) -> tuple[Stmt, ...
 
 def zero(ctype: object = U32) -> IConst:
     return const(0, ctype)  # type: ignore[arg-type]
+
+
+def bus_code_statements(limits: CoreLimits) -> tuple[Stmt, ...]:
+    """Defines `code` (the bus code saturated to the spec's range), `period_min` (the
+    shortest Hall period braking is controlled at: none above the range, over-voltage)
+    and `flags` (INPUT_SATURATED outside the range): the start of every method's
+    `bldc_bus_condition`."""
+    code = var("code", U32)
+    return (
+        SVar("code", U32, var("bus_code", U32)),
+        SVar("period_min", U32, limits.period_min),
+        SVar("flags", U32, const(0)),
+        SIf(
+            cmp(">", code, limits.bus_max),
+            (
+                SAssign("code", limits.bus_max),
+                SAssign(
+                    "period_min",
+                    limits.period_never,
+                    "over-voltage: every edge goes to the safe state",
+                ),
+                SAssign("flags", flag_const("INPUT_SATURATED")),
+            ),
+            (
+                SIf(
+                    cmp("<", code, limits.bus_min),
+                    (
+                        SAssign("code", limits.bus_min),
+                        SAssign("flags", flag_const("INPUT_SATURATED")),
+                    ),
+                ),
+            ),
+        ),
+    )
+
+
+def safe_state_statements(limits: CoreLimits, period: Expr) -> SIf:
+    """Return the safe state's timing (no switch applied: period_min never reached, the
+    compares and the time 0, INPUT_SATURATED) when `period` is shorter than the bus
+    state's `period_min`: above the top speed, or over-voltage."""
+    return SIf(
+        cmp("<", period, fld("bus", "period_min", U32)),
+        (
+            SStruct(
+                "safe",
+                TIMING,
+                (
+                    ("period_min", limits.period_never),
+                    ("turn_on_compare", const(0, U16)),
+                    ("turn_off_compare", const(0, U16)),
+                    ("commutation_ticks", const(0, U16)),
+                    (
+                        "flags",
+                        cast(IBin(U32, "|", var("flags", U32), flag_const("INPUT_SATURATED")), U16),
+                    ),
+                ),
+            ),
+            SReturn(var("safe", U32)),
+        ),
+        comment="above the top speed or over-voltage: braking is no longer controlled",
+    )
+
+
+def latest_statement(limits: CoreLimits, period: Expr) -> SLet:
+    """Defines `latest`: the latest commutation end in a sector of `period` ticks."""
+    return SLet(
+        "latest",
+        limits.latest_end(period),
+        "the latest end: the guard and the sector-shortening margin before the sector's"
+        " end (positive from the minimum period on), so the next edge, up to"
+        " hall.sector_shortening early, switches the other switch of the leg on at"
+        " least the dead time after this end switched its partner off",
+    )

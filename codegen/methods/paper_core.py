@@ -31,14 +31,16 @@ from codegen.abi import TIMING, flag_const
 from codegen.core.conditioning import (
     CoreLimits,
     CurrentFormat,
+    bus_code_statements,
     current_statements,
     flag_if,
+    latest_statement,
     period_statements,
+    safe_state_statements,
 )
 from codegen.ir.nodes import (
     Expr,
     Function,
-    IBin,
     IConst,
     ILongDiv,
     IVar,
@@ -165,30 +167,7 @@ def bus_condition_function(limits: CoreLimits, c: PaperConstants, fmt: PaperForm
         returns=BUS,
         doc="Saturate a bus code and precompute its reciprocals (pure, reentrant)",
         body=(
-            SVar("code", U32, var("bus_code", U32)),
-            SVar("period_min", U32, limits.period_min),
-            SVar("flags", U32, const(0)),
-            SIf(
-                cmp(">", code, limits.bus_max),
-                (
-                    SAssign("code", limits.bus_max),
-                    SAssign(
-                        "period_min",
-                        limits.period_never,
-                        "over-voltage: every edge goes to the safe state",
-                    ),
-                    SAssign("flags", flag_const("INPUT_SATURATED")),
-                ),
-                (
-                    SIf(
-                        cmp("<", code, limits.bus_min),
-                        (
-                            SAssign("code", limits.bus_min),
-                            SAssign("flags", flag_const("INPUT_SATURATED")),
-                        ),
-                    ),
-                ),
-            ),
+            *bus_code_statements(limits),
             SStruct(
                 "bus",
                 BUS,
@@ -203,26 +182,6 @@ def bus_condition_function(limits: CoreLimits, c: PaperConstants, fmt: PaperForm
             ),
             SReturn(var("bus", U32)),
         ),
-    )
-
-
-def _safe_state(limits: CoreLimits) -> tuple[Stmt, ...]:
-    return (
-        SStruct(
-            "safe",
-            TIMING,
-            (
-                ("period_min", limits.period_never),
-                ("turn_on_compare", const(0, U16)),
-                ("turn_off_compare", const(0, U16)),
-                ("commutation_ticks", const(0, U16)),
-                (
-                    "flags",
-                    cast(IBin(U32, "|", var("flags", U32), flag_const("INPUT_SATURATED")), U16),
-                ),
-            ),
-        ),
-        SReturn(var("safe", U32)),
     )
 
 
@@ -277,25 +236,14 @@ def timing_function(
     body: tuple[Stmt, ...] = (
         SVar("flags", U32, fld("bus", "flags", U32)),
         *period_statements(limits, var("period_ticks", U32)),
-        SIf(
-            cmp("<", period, fld("bus", "period_min", U32)),
-            _safe_state(limits),
-            comment="above the top speed or over-voltage: braking is no longer controlled",
-        ),
+        safe_state_statements(limits, period),
         flag_if(
             cmp(">", period, limits.period_max),
             "INPUT_SATURATED",
             "below the minimum speed: still exact",
         ),
         *current_statements(limits, fmt.current, var("current_adc", U32)),
-        SLet(
-            "latest",
-            limits.latest_end(period),
-            "the latest end: the guard and the sector-shortening margin before the sector's"
-            " end (positive from the minimum period on), so the next edge, up to"
-            " hall.sector_shortening early, switches the other switch of the leg on at"
-            " least the dead time after this end switched its partner off",
-        ),
+        latest_statement(limits, period),
         SLet(
             "x_q",
             div(fld("bus", "x_numerator", U32), period, "nearest"),

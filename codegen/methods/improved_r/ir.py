@@ -17,13 +17,20 @@ from fractions import Fraction
 
 import sympy as sp
 
-from codegen.abi import TIMING, flag_const
-from codegen.core.conditioning import CoreLimits, CurrentFormat, current_statements, flag_if
+from codegen.abi import TIMING
+from codegen.core.conditioning import (
+    CoreLimits,
+    CurrentFormat,
+    bus_code_statements,
+    current_statements,
+    flag_if,
+    latest_statement,
+    safe_state_statements,
+)
 from codegen.ir.longdiv import DIVIDE_LONG, bytewise_quotient
 from codegen.ir.nodes import (
     Expr,
     Function,
-    IBin,
     IBitLength,
     ICall,
     IConst,
@@ -230,30 +237,7 @@ def bus_condition_function(rule: FixedRule, limits: CoreLimits, k: RuleConsts) -
         returns=BUS,
         doc="Saturate a bus code and precompute its reciprocals (pure, reentrant)",
         body=(
-            SVar("code", U32, var("bus_code", U32)),
-            SVar("period_min", U32, limits.period_min),
-            SVar("flags", U32, const(0)),
-            SIf(
-                cmp(">", code, limits.bus_max),
-                (
-                    SAssign("code", limits.bus_max),
-                    SAssign(
-                        "period_min",
-                        limits.period_never,
-                        "over-voltage: every edge goes to the safe state",
-                    ),
-                    SAssign("flags", flag_const("INPUT_SATURATED")),
-                ),
-                (
-                    SIf(
-                        cmp("<", code, limits.bus_min),
-                        (
-                            SAssign("code", limits.bus_min),
-                            SAssign("flags", flag_const("INPUT_SATURATED")),
-                        ),
-                    ),
-                ),
-            ),
+            *bus_code_statements(limits),
             SLet("xn", ILongDiv(U32, k.n_x, code), "round(N_X / B)"),
             SLet(
                 "yn",
@@ -341,26 +325,6 @@ def _split(k: RuleConsts, tag: str, total: Expr) -> list[Stmt]:
     ]
 
 
-def _safe_state(limits: CoreLimits) -> tuple[Stmt, ...]:
-    return (
-        SStruct(
-            "safe",
-            TIMING,
-            (
-                ("period_min", limits.period_never),
-                ("turn_on_compare", const(0, U16)),
-                ("turn_off_compare", const(0, U16)),
-                ("commutation_ticks", const(0, U16)),
-                (
-                    "flags",
-                    cast(IBin(U32, "|", var("flags", U32), flag_const("INPUT_SATURATED")), U16),
-                ),
-            ),
-        ),
-        SReturn(var("safe", U32)),
-    )
-
-
 def timing_function(
     rule: FixedRule, limits: CoreLimits, current: CurrentFormat, k: RuleConsts, table: Table
 ) -> Function:
@@ -388,11 +352,7 @@ def timing_function(
             minimum(var("period_ticks", U32), limits.period_cap),
             "the Hall counter's range",
         ),
-        SIf(
-            cmp("<", measured, fld("bus", "period_min", U32)),
-            _safe_state(limits),
-            comment="above the top speed or over-voltage: braking is no longer controlled",
-        ),
+        safe_state_statements(limits, measured),
         flag_if(
             cmp(">", measured, limits.period_max), "INPUT_SATURATED", "below the minimum speed"
         ),
@@ -401,14 +361,7 @@ def timing_function(
             minimum(measured, limits.period_max),
             "the rule's constants cover the speed range",
         ),
-        SLet(
-            "latest",
-            limits.latest_end(measured),
-            "the latest end: the guard and the sector-shortening margin before the sector's"
-            " end (positive from the minimum period on), so the next edge, up to"
-            " hall.sector_shortening early, switches the other switch of the leg on at"
-            " least the dead time after this end switched its partner off",
-        ),
+        latest_statement(limits, measured),
         *current_statements(limits, current, var("current_adc", U32)),
         SLet(
             "i",
