@@ -30,7 +30,6 @@ Checks:
 from __future__ import annotations
 
 import ctypes
-import importlib.util
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -42,7 +41,7 @@ import numpy.typing as npt
 from codegen.spec_model import Spec, loop_periods_per_step_response
 from oracle.current_loop import LoopModel, loop_model
 from verify.check import SLACK, OutputCheck
-from verify.host_core import compile_with_shim
+from verify.host_core import compile_with_shim, load_twin
 
 SHIM = """\
 /* Batch entry for the verifier: not part of the firmware. */
@@ -133,16 +132,6 @@ def build_host_loop(c_dir: Path, build_dir: Path, fraction_bits: int) -> HostLoo
     for name in ("loop_batch", "loop_run", "loop_reference"):
         getattr(dll, name).restype = None
     return HostLoop(dll, fraction_bits)
-
-
-def load_twin(generated: Path) -> ModuleType:
-    path = generated / "python" / "bldc_current_loop.py"
-    spec = importlib.util.spec_from_file_location(f"bldc_current_loop_{abs(hash(path))}", path)
-    if spec is None or spec.loader is None:
-        raise FileNotFoundError(path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 # ------------------------------------------------------------------ input sets
@@ -495,7 +484,7 @@ def verify_loop(
     checks = step_checks(model, host, tol, integrator_tol, seed)
     checks.update(trajectory_checks(spec, model, host, tol))
     checks["loop_reference"] = reference_check(model, host)
-    checks["loop_twin"] = twin_check(load_twin(generated), model, host, seed)
+    checks["loop_twin"] = twin_check(load_twin(generated, "bldc_current_loop"), model, host, seed)
     checks["loop_claims"] = claims_check(info["claims"], tol, integrator_tol, checks)  # type: ignore[arg-type]
     dmax = OutputCheck("current loop: D_max (the sample window's)", "counts", None)
     dmax.points = 1

@@ -9,9 +9,11 @@ manifest's ABI (`dtype_of`) and checked against sizeof() at load time.
 from __future__ import annotations
 
 import ctypes
+import importlib.util
 import subprocess
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import numpy.typing as npt
@@ -31,6 +33,18 @@ void verify_batch(const bldc_inputs_t *in, bldc_outputs_t *out, size_t n)
 }
 """
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wconversion", "-Werror", "-fPIC", "-shared"]
+
+
+def load_twin(generated: Path, name: str = "bldc_fixed") -> ModuleType:
+    """The generated Python twin `python/<name>.py` of an output folder, imported under
+    a name of its own (two folders' twins do not share a module)."""
+    path = generated / "python" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"{name}_{abs(hash(path))}", path)
+    if spec is None or spec.loader is None:
+        raise FileNotFoundError(path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def dtype_of(layout: list[dict[str, object]]) -> np.dtype:

@@ -9,7 +9,6 @@ stale: verify stops and says how to regenerate.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import sys
 import time
@@ -34,7 +33,7 @@ from verify.check import (
     tolerances,
 )
 from verify.current_loop import verify_loop
-from verify.host_core import build_host_core, dtype_of
+from verify.host_core import build_host_core, dtype_of, load_twin
 
 DEFAULT_RANDOM_POINTS = 20_000
 TWIN_SAMPLE = 8_000  # points per set run through the Python twin (it is printed from the same IR)
@@ -83,16 +82,6 @@ def read_manifest(generated: Path, spec: Spec, spec_arg: str) -> dict[str, objec
             f"{generated} predates the manifest's core section: regenerate with `make generate SPEC={spec_arg}`"
         )
     return manifest
-
-
-def load_twin(generated: Path) -> ModuleType:
-    path = generated / "python" / "bldc_fixed.py"
-    spec = importlib.util.spec_from_file_location(f"bldc_fixed_{abs(hash(path))}", path)
-    if spec is None or spec.loader is None:
-        raise FileNotFoundError(path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def _sample(n: int, count: int) -> np.ndarray:
