@@ -116,6 +116,42 @@ MUTANTS = (
         "break_input",
         "dead time",
     ),
+    Mutant(
+        "over-voltage threshold off by much: the analog watchdog misses a bus 10 % over",
+        HEADER,
+        "#define BLDC_PORT_ADC_HTR ",
+        "#define BLDC_PORT_ADC_HTR 3900u /* mutant */",
+        PAPER,
+        "over_voltage_between_samples",
+        "latency",
+    ),
+    Mutant(
+        "safe-state region inverted: all-off where it rectifies, the short where all-off is preferred",
+        PORT,
+        "return (uint32_t)((period - port.all_off_from) >= port.all_off_span);",
+        "return (uint32_t)((period - port.all_off_from) < port.all_off_span);",
+        PAPER,
+        "under_voltage",
+        "not the short circuit",
+    ),
+    Mutant(
+        "watchdog refreshed whether or not the current loop runs",
+        "firmware/main.c",
+        "        if (bldc_port_alive() != 0u) {\n            bldc_system_watchdog_refresh();\n        }",
+        "        (void)bldc_port_alive();\n        bldc_system_watchdog_refresh();",
+        PAPER,
+        "current_loop_stalls",
+        "no watchdog reset",
+    ),
+    Mutant(
+        "current loop below the Hall edge: ADC1_2 at the timing handler's priority",
+        PORT,
+        "NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);",
+        "NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_TIMING_PRIORITY);",
+        PAPER,
+        "hall_off_marks",
+        "share one level",
+    ),
 )
 
 

@@ -13,14 +13,21 @@ over the whole run:
 * the timing handler (TIM1_TRG_COM) never runs above the Hall edge (TIM3), the Hall
   lines' EXTI (EXTI0, EXTI9_5) or the current loop (ADC1_2): it is never active while a
   later-entered one of those is below it (the port's priority plan: those preempt the
-  timing);
+  timing); and none of the Hall edge, the Hall lines' EXTI, the current loop and the
+  break interrupt preempts another of them (they share one level, so none interrupts
+  another half way through a TIM1 update);
 * with a bus or current fault latched and its cause still there, nothing trips again:
   the timing handler stays idle for ten PWM periods;
 * every Hall edge of the turning rotor commutates: the enables in force (TIM1 CCER)
   change within the sector that follows it, while the bridge is armed;
 * no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
-  `WatchdogResetError`), the longest gap between refreshes reported against the
-  watchdog's time-out at the fastest LSI (60 kHz, where it is shortest).
+  `WatchdogResetError`), the longest gap between refreshes (from the run's start, or
+  the last refresh before it, to now) reported against the watchdog's time-out at the
+  fastest LSI (60 kHz, where it is shortest);
+* a fault's safe state is the spec's at the run's speed and bus: the short circuit
+  where the peak line EMF (sim's waveform of the spec's EMF) reaches the bus, all-off
+  where it does not and protection.safe_state prefers it (the break input after the
+  dead time, the under-voltage near the top speed one PWM period on).
 
 The inputs are set by the scenario (Hall code, comparator, bus and current through the
 spec's sensing chain, `runner.DriveBoard`), not yet by a motor model: the current read
@@ -33,10 +40,12 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from itertools import pairwise
 from pathlib import Path
+
+import numpy as np
 
 from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
@@ -47,6 +56,7 @@ from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
 from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import gate_violations
+from sim.emf import Waveform
 
 FAULT = {f.name: f.value for f in FAULTS}
 #: The fastest LSI of the datasheet's range: the watchdog's time-out is shortest there
@@ -120,6 +130,9 @@ class Run:
             IRQ_BASE + svd_interrupt("EXTI", "EXTI0"),
             IRQ_BASE + svd_interrupt("EXTI", "EXTI9_5"),
         }
+        # the one level none of which may interrupt another half way through a TIM1 update
+        # (README, Braking current and fault API: the priority plan)
+        self._one_level = self._urgent | {IRQ_BASE + svd_interrupt("TIM1", "TIM1_BRK_TIM9")}
         self.machine.listeners.append(self._check_duties)
         self.machine.listeners.append(self._check_preload)
         self.machine.listeners.append(self._check_nesting)
@@ -185,6 +198,11 @@ class Run:
         for below, above in pairwise(active):
             if above == self._timing and below in self._urgent:
                 self._note(f"the timing handler preempted exception {below} at {self.machine.now}")
+            elif above in self._one_level and below in self._one_level:
+                self._note(
+                    f"exception {above} preempted exception {below} at {self.machine.now}: the"
+                    " Hall edge, the Hall lines, the current loop and the break share one level"
+                )
 
     def turn_until(self, reached: Callable[[], bool], sectors: int) -> bool:
         """Turn up to `sectors` sectors, stopping at the first 0.5 us step where
@@ -254,7 +272,14 @@ class Run:
         latency = None
         if cleared is not None and cause is not None and cleared >= cause:
             latency = cleared - cause
-        refreshes = [t for t in machine.iwdg.refresh_log if t >= self.start] + [machine.now]
+        # from the last refresh before the run (or the run's start) to now: a firmware that
+        # stops refreshing shows a gap up to now, not none
+        before = [t for t in machine.iwdg.refresh_log if t < self.start]
+        refreshes = (
+            [before[-1] if before else self.start]
+            + [t for t in machine.iwdg.refresh_log if t >= self.start]
+            + [machine.now]
+        )
         gap = max((b - a for a, b in pairwise(refreshes)), default=0)
         return Outcome(
             name=name,
@@ -271,6 +296,44 @@ class Run:
             wall_s=time.perf_counter() - self.wall,
             note=note,
             published_ticks=self.published_after,
+        )
+
+
+#: The gates of each safe state, (CH1, CH1N, CH2, CH2N, CH3, CH3N), upper switches on CHx
+ALL_OFF, SHORT_CIRCUIT = (False,) * 6, (False, True) * 3
+
+
+def peak_line_emf_v(spec: Spec, rpm: float) -> float:
+    """The peak line-to-line EMF at `rpm` from the spec's phase EMF (sim's waveform of
+    motor.back_emf_shape, E = k_e n at its flat top): e_a - e_b at its largest."""
+    wave = Waveform(tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points))
+    angles = np.linspace(0.0, 360.0, 3601)
+    line = np.abs(wave.many(angles) - wave.many(angles - 120.0)).max()
+    return float(spec.motor.back_emf_constant_v_per_rpm) * rpm * float(line)
+
+
+def required_safe_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:
+    """The safe state the spec requires at `rpm` and the bus `bus_v`: the short circuit
+    where all-off rectifies (the peak line EMF at or above the bus: the six diodes
+    conduct into it), all-off where it does not and protection.safe_state prefers it;
+    None where the spec prefers the short and all-off is also valid (whether the short
+    is within protection.short_circuit_current_max there is not worked out here)."""
+    if peak_line_emf_v(spec, rpm) >= bus_v:
+        return SHORT_CIRCUIT
+    return ALL_OFF if spec.protection.safe_state == "all_off" else None
+
+
+def _check_safe_state(run: Run, at: int, bus_v: float, what: str) -> None:
+    """The gates at `at` are a safe state, the one the spec requires at the run's speed."""
+    gates = run.machine.tim1.gates(at)
+    required = required_safe_state(run.spec, run.rpm, bus_v)
+    if gates not in (ALL_OFF, SHORT_CIRCUIT):
+        run.violations.append(f"gates {gates} {what}: no safe state")
+    elif required is not None and gates != required:
+        name = "the short circuit" if required == SHORT_CIRCUIT else "all off"
+        run.violations.append(
+            f"gates {gates} {what}: not {name}, the spec's safe state at {run.rpm:.0f} rpm and"
+            f" {bus_v:g} V (peak line EMF {peak_line_emf_v(run.spec, run.rpm):.1f} V)"
         )
 
 
@@ -295,6 +358,49 @@ def _over_voltage(run: Run) -> Outcome:
     )
 
 
+def _bus_step_after_a_sample(run: Run, volts: float) -> int:
+    """The bus steps to `volts` just after an injected sequence: the instant a bus the
+    sampled path alone would see waits longest (a whole PWM period) for the next
+    sample, so only the analog watchdog on every conversion meets the limit. The cause."""
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 3)
+    _after_a_sample(run)
+    cause = run.machine.now
+    run.board.set_bus_voltage(volts)
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    return cause
+
+
+def _over_voltage_between_samples(run: Run) -> Outcome:
+    high = 1.1 * float(run.spec.inverter.bus_voltage_max_v)
+    cause = _bus_step_after_a_sample(run, high)
+    return run.outcome(
+        "over-voltage between samples",
+        "OVER_VOLTAGE",
+        cause,
+        run.board.pwm_period_ticks(),
+        "bus 10 % above inverter.bus_voltage_max from just after an injected sample (the"
+        " sampled path's worst instant): the analog watchdog's next bus conversion",
+    )
+
+
+def _under_voltage(run: Run) -> Outcome:
+    """Near the top speed, where all-off rectifies into a bus this low: the safe state
+    must be the short circuit, one PWM period after the cause."""
+    low = 0.9 * float(run.spec.inverter.bus_voltage_min_v)
+    run.rpm = 0.98 * float(run.spec.controller.speed_max_rpm)
+    cause = _bus_step_after_a_sample(run, low)
+    _check_safe_state(run, cause + run.board.pwm_period_ticks(), low, "one PWM period on")
+    return run.outcome(
+        "under-voltage near the top speed",
+        "UNDER_VOLTAGE",
+        cause,
+        run.board.pwm_period_ticks(),
+        "bus 10 % below inverter.bus_voltage_min from just after an injected sample, at 98 %"
+        " of controller.speed_max; the safe state one period on is the spec's at that bus",
+    )
+
+
 def _break_input(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.machine.run_for(run.sector_ticks() // 3)
@@ -310,9 +416,8 @@ def _break_input(run: Run) -> Outcome:
     # the safe state after the dead time: every switch off, or the three lower switches
     # on (the short circuit, where all-off would rectify into the bus); gates are
     # (CH1, CH1N, CH2, CH2N, CH3, CH3N), the upper switches on CHx
-    after = tim1.gates(cause + tim1.dead_time_ticks())
-    if after not in ((False,) * 6, (False, True) * 3):
-        run.violations.append(f"gates {after} after the dead time: no safe state")
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    _check_safe_state(run, cause + tim1.dead_time_ticks(), nominal, "after the dead time")
     return run.outcome(
         "BKIN over-current",
         "OVER_CURRENT",
@@ -600,6 +705,65 @@ def _over_speed(run: Run) -> Outcome:
     )
 
 
+def _current_loop_stalls(run: Run) -> Outcome:
+    """The watchdog guards the current loop: braking for longer than
+    firmware.watchdog_timeout, it must not reset (the firmware refreshes it); then the
+    ADC's injected trigger is lost (TIM1's TRGO no longer reaches ADC1: the current
+    loop's interrupt stops), and it must reset within firmware.watchdog_timeout (the LSI
+    runs at its fastest here, so the firmware's time-out is at most the spec's)."""
+    timeout = round(float(run.spec.firmware.watchdog_timeout_s) * TICK_HZ)
+    run.turn(SETTLE_SECTORS)
+    while run.machine.now - run.start < 1.2 * timeout:
+        run.turn(1)
+    alive = run.outcome(
+        "current loop stalls",
+        None,
+        None,
+        None,
+        "braking for 1.2 x firmware.watchdog_timeout, then the ADC's injected trigger lost:"
+        " the watchdog resets the chip within firmware.watchdog_timeout",
+    )
+    adc1 = run.machine.adc1
+    run.machine.tim1.trgo_listeners.remove(adc1._tim1_trgo)
+    stalled = run.machine.now
+    reset = None
+    try:
+        while run.machine.now - stalled <= timeout + run.board.pwm_period_ticks():
+            run.turn(1)
+    except WatchdogResetError:
+        reset = run.machine.now
+    extra = []
+    if reset is None:
+        extra.append(
+            f"no watchdog reset within {timeout} ticks (firmware.watchdog_timeout) of the"
+            " current loop's stall"
+        )
+    return replace(alive, violations=alive.violations + tuple(extra))
+
+
+def _reversal(run: Run) -> Outcome:
+    """The rotor turns back (it oscillates as it stops, or is driven backwards): after
+    the settling sectors the Hall code steps back one sector mid-sector, then on
+    backwards. A reverse edge is valid (no fault), but a phase whose other switch is on
+    now must not hand over from one switch to the other in one COM event: TIM1 inserts
+    no dead time between the two outputs of a channel enabled one at a time (RM0008
+    Table 83), so the gate invariant sees it."""
+    run.turn(SETTLE_SECTORS)
+    run.machine.run_for(run.sector_ticks() // 2)
+    for _ in range(6):
+        run.sector = (run.sector - 1) % 6
+        run.board.set_hall(run.spec.hall.sequence[run.sector])
+        run.machine.run_for(run.sector_ticks())
+    return run.outcome(
+        "direction reversal",
+        None,
+        None,
+        None,
+        "the Hall code steps back one sector mid-sector and turns on backwards for six"
+        " sectors: no fault, no switch-over within a leg without the dead time",
+    )
+
+
 def _hse_fails(run: Run) -> Outcome:
     run.machine.run_for(run.board.pwm_period_ticks() * 20)
     if run.machine.tim1.moe or run.machine.tim1.moe_cleared_at is not None:
@@ -622,6 +786,8 @@ class Scenario:
 
 SCENARIOS = (
     Scenario("over_voltage", _over_voltage),
+    Scenario("over_voltage_between_samples", _over_voltage_between_samples),
+    Scenario("under_voltage", _under_voltage),
     Scenario("break_input", _break_input),
     Scenario("hall_unplugged", _hall_unplugged),
     Scenario("hall_glitch", _hall_glitch),
@@ -633,6 +799,8 @@ SCENARIOS = (
     Scenario("over_speed", _over_speed),
     Scenario("rotor_stops", _rotor_stops),
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
+    Scenario("reversal", _reversal),
+    Scenario("current_loop_stalls", _current_loop_stalls),
     Scenario("hse_fails", _hse_fails, hse_fails=True),
 )
 
