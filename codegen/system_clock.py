@@ -11,7 +11,9 @@ on: an HSE failure later raises the NMI.
 
 Independent watchdog (RM0008 19): the LSI is 30..60 kHz (DS5319 Table 30); the
 prescaler and reload are chosen so that even at 60 kHz the timeout is at least
-`firmware.watchdog_timeout` (at 30 kHz it is twice that).
+`firmware.watchdog_timeout` (at 30 kHz it is twice that). They reach the LSI domain up
+to 5 LSI cycles after they are written (19.4.4): the firmware starts the watchdog first,
+writes them, and reloads once SR.PVU and SR.RVU have cleared (a bounded wait).
 """
 
 from __future__ import annotations
@@ -39,6 +41,17 @@ LSI_MIN_HZ = Fraction(30_000)
 IWDG_RELOAD_MAX = 4095
 #: Bound of the wait for the switch to the PLL (SWS), in loop iterations.
 SWITCH_WAIT_LOOPS = 100_000
+#: LSI cycles PR and RLR take into the watchdog's domain (RM0008 19.4.4: up to 5), one more
+IWDG_UPDATE_LSI_CYCLES = 6
+#: Cycles of one poll of IWDG_SR at the fewest: a load, a test, a compare, a branch
+POLL_CYCLES_MIN = 4
+
+
+def iwdg_wait_loops() -> int:
+    """Polls of IWDG_SR that last at least twice IWDG_UPDATE_LSI_CYCLES at the slowest LSI
+    on the 72 MHz SYSCLK (on the 8 MHz HSI, after a clock fault, each lasts longer)."""
+    cycles = 2 * IWDG_UPDATE_LSI_CYCLES * SYSCLK_HZ / LSI_MIN_HZ
+    return int(-(-cycles // POLL_CYCLES_MIN))
 
 
 def watchdog_setting(timeout_s: Fraction) -> tuple[int, int]:
@@ -69,6 +82,9 @@ def system_context(spec: Spec) -> dict[str, object]:
         "switch_wait_loops": SWITCH_WAIT_LOOPS,
         "iwdg_pr": code,
         "iwdg_rlr": reload,
+        "iwdg_wait_loops": iwdg_wait_loops(),
+        "iwdg_wait_text": f"twice {IWDG_UPDATE_LSI_CYCLES} LSI cycles at 30 kHz, at"
+        f" {POLL_CYCLES_MIN} SYSCLK cycles a poll or more",
         "iwdg_text": f"prescaler {divider}, reload {reload}: {float(shortest) * 1e3:.1f} ms at 60 kHz,"
         f" {float(longest) * 1e3:.1f} ms at 30 kHz (firmware.watchdog_timeout ="
         f" {float(fw.watchdog_timeout_s) * 1e3:g} ms)",

@@ -166,6 +166,21 @@ def test_the_watchdog_should_never_starve(elf: Path, spec: Spec) -> None:
     assert max(gaps) < machine.iwdg.timeout_ticks() / 4
 
 
+def test_the_watchdog_should_count_the_specs_timeout_from_its_start(elf: Path, spec: Spec) -> None:
+    """From the firmware's first sleep on, the running count is the one of the spec's
+    firmware.watchdog_timeout: at most the time-out at the fastest LSI and at least it
+    (RM0008 19.4.4: a reload issued while RVU is set loads the reset value, 4096 x 4 LSI
+    cycles, 273 ms: the firmware reloaded before the new RLR had arrived until this was
+    found, so a hang before main's first refresh after the update took 273 ms, not 20)."""
+    for lsi_hz in (30_000, 60_000):
+        board = booted(elf, spec, lsi_hz=lsi_hz)
+        iwdg = board.machine.iwdg
+        assert iwdg.running and iwdg.expires_at is not None and iwdg.last_reload is not None
+        counting = (iwdg.expires_at - iwdg.last_reload) / TICK_HZ
+        timeout = float(spec.firmware.watchdog_timeout_s)
+        assert timeout <= counting * lsi_hz / 60_000 <= timeout * 1.01, (lsi_hz, counting)
+
+
 def test_a_hse_that_never_starts_should_latch_the_clock_fault(elf: Path, spec: Spec) -> None:
     board = booted(elf, spec, hse_fails=True)
     machine = board.machine

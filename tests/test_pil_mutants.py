@@ -144,6 +144,15 @@ MUTANTS = (
         "no watchdog reset",
     ),
     Mutant(
+        "watchdog never refreshed: the first time-out must already be the spec's",
+        "firmware/main.c",
+        "            bldc_system_watchdog_refresh();\n",
+        "            (void)0;\n",
+        PAPER,
+        "current_loop_stalls",
+        "WatchdogResetError",
+    ),
+    Mutant(
         "current loop below the Hall edge: ADC1_2 at the timing handler's priority",
         PORT,
         "NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);",

@@ -19,6 +19,7 @@
 #define BLDC_SYSTEM_SWITCH_WAIT_LOOPS 100000u
 #define BLDC_SYSTEM_IWDG_PR 0u   /* prescaler 4, reload 299: 20.0 ms at 60 kHz, 40.0 ms at 30 kHz (firmware.watchdog_timeout = 20 ms) */
 #define BLDC_SYSTEM_IWDG_RLR 299u
+#define BLDC_SYSTEM_IWDG_WAIT_LOOPS 7200u
 #define BLDC_SYSTEM_IWDG_UNLOCK 0x5555u  /* RM0008 19.4.1 IWDG_KR keys */
 #define BLDC_SYSTEM_IWDG_RELOAD 0xAAAAu
 #define BLDC_SYSTEM_IWDG_START 0xCCCCu
@@ -68,13 +69,25 @@ uint32_t bldc_system_clock_init(void)
     return 0u;
 }
 
+/* PR and RLR reach the watchdog's LSI domain up to 5 LSI cycles after they are written
+ * (SR.PVU, SR.RVU read 1 meanwhile), and a reload before that loads the value already
+ * there (RM0008 19.4.4): reloaded at once, the first time-out would be the reset
+ * value's (4096 x 4 LSI cycles, 273 ms at 60 kHz). So the watchdog is started first
+ * (the start key turns the LSI on, counting from the reset value), then PR and RLR are
+ * written and the reload waits for both to arrive, at most
+ * BLDC_SYSTEM_IWDG_WAIT_LOOPS polls (twice 6 LSI cycles at 30 kHz, at 4 SYSCLK cycles a poll or more). */
 void bldc_system_watchdog_start(void)
 {
+    IWDG->KR = BLDC_SYSTEM_IWDG_START;
     IWDG->KR = BLDC_SYSTEM_IWDG_UNLOCK;
     IWDG->PR = BLDC_SYSTEM_IWDG_PR;
     IWDG->RLR = BLDC_SYSTEM_IWDG_RLR;
+    uint32_t spins = 0u;
+    while (((IWDG->SR & (IWDG_SR_PVU | IWDG_SR_RVU)) != 0u) &&
+           (spins < BLDC_SYSTEM_IWDG_WAIT_LOOPS)) {
+        ++spins;
+    }
     IWDG->KR = BLDC_SYSTEM_IWDG_RELOAD;
-    IWDG->KR = BLDC_SYSTEM_IWDG_START;
 }
 
 void bldc_system_watchdog_refresh(void)
