@@ -45,7 +45,7 @@ from emulation.pil.braking import (
     speed_change_per_sector,
     with_sil,
 )
-from emulation.pil.build import build_firmware, checked_in, generate
+from emulation.pil.build import build_firmware, checked_in, generate, link_mutant
 from emulation.pil.bus import svd_interrupt
 from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.plant import Mechanics, MotorPlant
@@ -58,7 +58,7 @@ from sim.schedule import OFF, Schedule, Segment
 from sim.switched import simulate_switched
 
 #: the whole module (its motors braking share module-scoped runs): one queued unit
-pytestmark = pytest.mark.heavy(seconds=40)
+pytestmark = pytest.mark.heavy(seconds=50)
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
@@ -281,6 +281,32 @@ def paper_firmware(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path
     assert generated is not None
     elf = build_firmware(PAPER, tmp_path_factory.mktemp("paper_firmware"), generated)
     return elf, generated / "c" / "stm32f103_port.c"
+
+
+def test_a_current_loop_that_stores_another_jdr_should_fail_the_braking_run(
+    tmp_path: Path,
+) -> None:
+    """A port mutant whose current loop keeps JDR2 (the bus) as I: the loop then holds
+    3.3 A of the 5 A command, and the braking run still agreed with the SIL (which is
+    handed the chip's duties). The timing handler's current must be a conversion of
+    sensing.current_channels; the unmutated port's is (the other runs here)."""
+    generated = checked_in(PAPER)
+    assert generated is not None
+    line = "const uint32_t measured = adc->JDR1;"
+
+    def mutate(copy: Path) -> None:
+        port = copy / "c" / "stm32f103_port.c"
+        text = port.read_text(encoding="utf-8")
+        assert text.count(line) == 1
+        port.write_text(text.replace(line, line.replace("JDR1", "JDR2")), encoding="utf-8")
+
+    elf = link_mutant(generated, tmp_path / "mutant", mutate)
+    spec = load_spec(str(PAPER))
+    setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES)
+    result = brake(elf, tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c", spec, setup)
+    assert any(
+        "no conversion of the current channel(s) [0]" in v for v in result.outcome.violations
+    ), result.outcome.violations
 
 
 def test_a_fault_latched_in_a_full_braking_run_should_end_it_at_once(

@@ -158,6 +158,8 @@ class Adc(Peripheral):
         self.injected_sequences = 0
         self.ignored_triggers = 0
         self.sample_log: list[tuple[int, int, int]] = []  # (tick sampled, channel, raw)
+        #: called at the end of every injected conversion: (tick sampled, channel, JDRx)
+        self.injected_listeners: list[Callable[[int, int, int], None]] = []
         self.keep_sample_log = False
         self.readers = {
             "SR": self._read_sr,
@@ -521,6 +523,8 @@ class Adc(Peripheral):
             self.sample_log.append((conversion.sampled, conversion.channel, raw))
         if conversion.injected:
             self.jdr[conversion.slot - 1] = (raw - self.jofr[conversion.slot - 1]) & 0xFFFF
+            for listener in self.injected_listeners:
+                listener(conversion.sampled, conversion.channel, self.jdr[conversion.slot - 1])
             if conversion.last:
                 self.sr |= SR_JEOC
                 self._alarm_known = False

@@ -30,7 +30,7 @@ from __future__ import annotations
 import bisect
 import math
 import time
-from collections import Counter
+from collections import Counter, deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -270,6 +270,18 @@ class BrakingLoop:
             trace_seconds=setup.trace_seconds,
         )
         self._couple_sensing()
+        #: (tick sampled, code) of every injected conversion of a current channel since
+        #: the third Hall edge back: what the firmware's I may be
+        self._current_codes: deque[tuple[int, int]] = deque()
+        self._foreign_current_noted = False
+        #: the port has stored a sample in `current` (before, it reads its reset value)
+        self._current_stored = False
+        current_channels = frozenset(spec.sensing.current_channels)
+        self.machine.adc1.injected_listeners.append(
+            lambda tick, channel, code: (
+                self._current_codes.append((tick, code)) if channel in current_channels else None
+            )
+        )
         #: the board's over-current comparator on BKIN, its input the plant's currents
         self.comparator = OverCurrentComparator(
             float(spec.protection.over_current_a),
@@ -356,10 +368,36 @@ class BrakingLoop:
             record = self.timing_runs[-1][1]
             record[name] = word & ((1 << (8 * size)) - 1)
             record[READS] = record.get(READS, 0) + 1
+            if name == "current":
+                self._check_current_source(record[name])
+
+    def _check_current_source(self, code: int) -> None:
+        """The current the timing handler reads must be a conversion of one of the spec's
+        current channels (sensing.current_channels) from this sector or the two before
+        (the loop holds its last sample through a commutation, which may fill a sector):
+        a port that stored another JDRx (the bus) or a stale sample gives the core a
+        current the braking does not have."""
+        if self._foreign_current_noted or not self._current_stored:
+            return
+        since = self.edges[-3][0] if len(self.edges) >= 3 else self.start_tick
+        while self._current_codes and self._current_codes[0][0] < since:
+            self._current_codes.popleft()
+        if not any(code == sampled for _, sampled in self._current_codes):
+            self._foreign_current_noted = True
+            self.run._note(
+                f"the timing handler read the current code {code} at tick {self.machine.now},"
+                " which no conversion of the current channel(s)"
+                f" {list(self.spec.sensing.current_channels)} (sensing.current_channels) gave"
+                " since the third Hall edge back: another signal, or a sample older than"
+                " two sectors (the loop sampled nothing since: commutations that fill their"
+                " sectors)"
+            )
 
     def _on_port_write(
         self, _uc: object, _access: int, address: int, size: int, value: int, name: str
     ) -> None:
+        if name == "current":
+            self._current_stored = True
         if self._timing_reading():
             offset, field_size = self._layout[name]
             shift = 8 * (self._port + offset - address)  # the field's bytes in the access
