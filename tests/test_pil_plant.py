@@ -749,3 +749,26 @@ def test_a_ripple_larger_than_the_current_should_brake_without_problems(tmp_path
     ]
     assert held, "no compared commutation was timed from a held zero: the fixture lost its point"
     assert braking_report.problems(result) == []
+
+
+def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_to_itself(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """1 pole pair at 60 000 rpm, conventional: Eq. 20 has no end for most main duties
+    down to the 10 000 rpm stop speed, every commutation fills its sector and `make pil`
+    measured none of 4106 edges, then said 'the full run (`make pil`) compares them at
+    the lower speeds it brakes to' of itself. The short run still says so; the full run
+    says where it stopped."""
+    _, result = paper_run
+    reason = (
+        "a carrier restart (the previous commutation's end) within the 2 whole PWM periods"
+        " before it: the commutation fills its sector at this speed"
+    )
+    none = replace(result, commutations=[], unmeasured={reason: 4106})
+    assert result.setup.max_edges is not None
+    (short,) = braking_report.problems(none)
+    assert "the full run (`make pil`) compares them" in short
+    full = replace(none, setup=replace(result.setup, max_edges=None))
+    (problem,) = braking_report.problems(full)
+    assert "the full run" not in problem
+    assert f"down to the run's stop speed, {result.setup.stop_rpm:g} rpm" in problem

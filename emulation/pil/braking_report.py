@@ -268,8 +268,14 @@ def problems(result: BrakingResult) -> list[str]:
             )
     if not result.commutations:
         why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
-        if "fills its sector" in why:
+        if "fills its sector" in why and result.setup.max_edges is not None:
             why += "; the full run (`make pil`) compares them at the lower speeds it brakes to"
+        elif "fills its sector" in why:
+            why += (
+                f"; down to the run's stop speed, {result.setup.stop_rpm:g} rpm, every"
+                " commutation left fewer than the 2 whole PWM periods before the next edge"
+                " that the SIL's pre-edge state needs"
+            )
         out.append("no commutation was measured" + (f" ({why})" if why else ""))
     return out
 
