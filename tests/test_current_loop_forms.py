@@ -101,3 +101,31 @@ def test_a_loop_too_slow_for_any_allowed_accuracy_should_name_the_bandwidth(
     met = path.read_text().replace(f"  bandwidth: {bandwidth}\n", f"  bandwidth: {found}\n")
     path.write_text(met)
     current_loop.design(load_spec(path))  # the bandwidth named does meet it
+
+
+def test_a_loop_no_bandwidth_helps_should_name_the_current_gain_that_does(tmp_path: Path) -> None:
+    """50 mH sensed at 50 mV/A: k_p of 1520 counts per code leaves the PI Q8, whose
+    integrator drifts 116 counts over a step response at every bandwidth. The refusal
+    said 'none up to the loader's limit' and stopped there; it names the gain (and the
+    accuracy) that does build, found by designing it."""
+    from codegen.methods.base import FixedPointError
+
+    path = ROOT / "tests" / "fixtures" / "refused" / "l50mh_wide_sense.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        current_loop.design(load_spec(path))
+    assert caught.value.key == "current_loop.bandwidth"
+    message = str(caught.value)
+    named = (
+        "a current code of fewer amperes does: adc.current_gain = 500 mV/A with"
+        " accuracy.current_loop_duty_counts >= 1.155 counts)"
+    )
+    assert named in message, message
+    text = path.read_text(encoding="utf-8")
+    assert "  current_gain: 50 mV/A\n" in text and "  current_loop_duty_counts: 1.0\n" in text
+    met = tmp_path / "met.yaml"
+    met.write_text(
+        text.replace("  current_gain: 50 mV/A\n", "  current_gain: 500 mV/A\n").replace(
+            "  current_loop_duty_counts: 1.0\n", "  current_loop_duty_counts: 1.155\n"
+        )
+    )
+    current_loop.design(load_spec(met))  # the gain named does build

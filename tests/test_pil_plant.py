@@ -275,6 +275,23 @@ def test_a_compared_commutation_timed_from_no_current_should_fail_the_braking_ru
     assert any(f"at or below {zero}, the code of 0 A): 1 of 2" in line for line in lines)
 
 
+def test_a_timing_from_no_current_the_port_held_should_not_fail_the_braking_run(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """The timing is a sector old: where the steady sample at the edge before read 0 A
+    (a ripple as large as the current, 20 uH at 100 V and 100 kHz: the sampled valley is
+    zero while the mean rises past half the command), the zero read is the current the
+    port held, not a sample of the commutating bridge."""
+    _, result = paper_run
+    zero = braking_report.zero_current_code(result)
+    first = result.commutations[0]
+    assert first.previous_sampled_code is not None and first.previous_sampled_code > zero
+    read = {**first.firmware_inputs, "current": zero}
+    held = replace(first, firmware_inputs=read, previous_sampled_code=zero)
+    found = braking_report.problems(replace(result, commutations=[held]))
+    assert not any("(0 A)" in p for p in found), found
+
+
 @pytest.fixture(scope="module")
 def paper_firmware(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     generated = checked_in(PAPER)
@@ -742,3 +759,42 @@ def test_a_phase_current_at_the_comparators_trip_should_latch_over_current_withi
     assert 0 <= at - cause < loop.run.board.pwm_period_ticks()
     assert loop.machine.tim1.moe_cleared_at == at
     assert any("over-current comparator having seen" in p for p in braking_report.problems(result))
+
+
+def test_a_ripple_larger_than_the_current_should_brake_without_problems(tmp_path: Path) -> None:
+    """20 uH at 100 V on a 100 kHz PWM: the sampled valley reads 0 A while the loop ramps
+    the mean past half the command; the timing read a sector later is that zero, which
+    the run once failed as a sample of the commutating bridge."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "l20uh_100v_100k.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, braking_setup(spec, short=True))
+    held = [
+        c for c in braking_report.zero_current_reads(result) if braking_report.compared(result, c)
+    ]
+    assert held, "no compared commutation was timed from a held zero: the fixture lost its point"
+    assert braking_report.problems(result) == []
+
+
+def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_to_itself(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """1 pole pair at 60 000 rpm, conventional: Eq. 20 has no end for most main duties
+    down to the 10 000 rpm stop speed, every commutation fills its sector and `make pil`
+    measured none of 4106 edges, then said 'the full run (`make pil`) compares them at
+    the lower speeds it brakes to' of itself. The short run still says so; the full run
+    says where it stopped."""
+    _, result = paper_run
+    reason = (
+        "a carrier restart (the previous commutation's end) within the 2 whole PWM periods"
+        " before it: the commutation fills its sector at this speed"
+    )
+    none = replace(result, commutations=[], unmeasured={reason: 4106})
+    assert result.setup.max_edges is not None
+    (short,) = braking_report.problems(none)
+    assert "the full run (`make pil`) compares them" in short
+    full = replace(none, setup=replace(result.setup, max_edges=None))
+    (problem,) = braking_report.problems(full)
+    assert "the full run" not in problem
+    assert f"down to the run's stop speed, {result.setup.stop_rpm:g} rpm" in problem

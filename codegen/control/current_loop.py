@@ -403,6 +403,47 @@ def _faster_bandwidth(spec: Spec) -> Fraction | None:
     return None
 
 
+def _larger_gain(spec: Spec) -> tuple[Fraction, Fraction] | None:
+    """The lowest current-sense gain above the spec's, of a few per decade, whose PI
+    meets the spec's current_loop_duty_counts in its widest format and whose sensing
+    still reads `protection.over_current` (both ways with phase shunts), with the
+    accuracy it needs; else the one needing the least accuracy a spec may ask; None
+    where none does. A current code of fewer amperes shrinks k_p in counts per code, and so widens
+    the format in which k_i rounds: the integrator's drift over a step response, which
+    no bandwidth changes (k_p and the periods of a step response scale inversely), falls
+    with the gain."""
+    from dataclasses import replace
+
+    adc = spec.adc
+    room = adc.reference_v - adc.current_offset_v
+    if spec.sensing.topology == "low_side_phase_shunts":
+        room = min(room, adc.current_offset_v)
+    if room <= 0:
+        return None
+    top = room / spec.protection.over_current_a
+    gain = adc.current_gain_v_per_a
+    candidates = sorted(
+        {
+            Fraction(str(nice)) * Fraction(10) ** decade
+            for decade in range(-3, 3)
+            for nice in _NICE_BANDWIDTHS
+            if gain < Fraction(str(nice)) * Fraction(10) ** decade <= top
+        }
+    )
+    best: tuple[Fraction, Fraction] | None = None
+    for candidate in candidates:
+        trial = replace(spec, adc=replace(adc, current_gain_v_per_a=candidate))
+        try:
+            needed = accuracy_needed(widest_design(trial))
+        except FixedPointError:
+            continue
+        if needed <= spec.accuracy.current_loop_duty_counts:
+            return candidate, needed
+        if needed <= LOOP_DUTY_COUNTS_MAX and (best is None or needed < best[1]):
+            best = (candidate, needed)
+    return best
+
+
 def _hold_claims(d: LoopDesign) -> None:
     """The widest format's error bounds against what the spec allows: a design that
     would fail `verify` is refused here, naming the key to change: the accuracy, or,
@@ -414,11 +455,23 @@ def _hold_claims(d: LoopDesign) -> None:
     if accuracy_needed(d) > LOOP_DUTY_COUNTS_MAX:
         bandwidth = d.spec.current_loop.bandwidth_hz
         faster = _faster_bandwidth(d.spec)
-        meets = (
-            f"e.g. {float(faster):g} Hz meets it"
-            if faster is not None
-            else "none up to the loader's limit in the PI's widest format"
-        )
+        if faster is not None:
+            meets = f"e.g. {float(faster):g} Hz meets it"
+        else:
+            found = _larger_gain(d.spec)
+            meets = "none up to the loader's limit in the PI's widest format"
+            if found is not None:
+                gain, needed = found
+                meets += (
+                    f"; a current code of fewer amperes does: adc.current_gain ="
+                    f" {float(gain) * 1000:g} mV/A"
+                    + (
+                        " meets it"
+                        if needed <= allowed
+                        else " with accuracy.current_loop_duty_counts >="
+                        f" {math.ceil(float(needed) * 1000) / 1000:g} counts"
+                    )
+                )
         raise FixedPointError(
             f"current_loop.bandwidth = {float(bandwidth):g} Hz: a braking-current step"
             f" response takes {periods:.1f} PWM periods, over which the PI's integrator,"

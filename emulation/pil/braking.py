@@ -184,6 +184,10 @@ class Commutation:
     #: no suppression, the end no event in the plant), decided with the SIL's command
     physical_period_deviations_pct: tuple[float, ...] = ()
     physical_commutation_s: float = 0.0
+    #: the firmware's latest sample at the Hall edge before this one (`sampled_code` of
+    #: the edge before): the steady I the port holds through that edge's commutation,
+    #: which the timing run at its end, the last before this edge, reads
+    previous_sampled_code: int | None = None
 
     @property
     def compared_periods(self) -> int:
@@ -702,6 +706,7 @@ class BrakingLoop:
             current_a=current,
             main_duty=duty,
             sampled_code=self.sampled_codes[index],
+            previous_sampled_code=self.sampled_codes[index - 1] if index > 0 else None,
             start_currents=before[origin].start_currents,
             pre_duties=tuple(p.compares[steady_channel - 1] / counts for p in before[origin:]),
             firmware_inputs=runs[-1],
