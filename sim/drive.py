@@ -12,6 +12,19 @@ from dataclasses import dataclass, replace
 from codegen.spec_model import PwmAlignment, Spec
 from sim.emf import TRAPEZOID_120
 
+#: The plant is simulated one PWM period after another, so a sector's cost grows with its
+#: carrier periods: the simulation starts no lower than the speed whose 60 deg sector
+#: spans this many (a whole second at 20 kHz; the paper motor's slowest sector spans 1000)
+MAX_SECTOR_PERIODS = 20_000
+
+
+def simulated_speed_min_rpm(spec_min_rpm: float, pole_pairs: int, pwm_frequency_hz: float) -> float:
+    """The lowest speed the simulation runs at: the spec's speed_min, or the speed whose
+    sector spans MAX_SECTOR_PERIODS carrier periods where that is higher (rounded up to
+    a whole rpm)."""
+    floor = 10.0 * pwm_frequency_hz / (MAX_SECTOR_PERIODS * pole_pairs)
+    return spec_min_rpm if floor <= spec_min_rpm else float(math.ceil(floor))
+
 
 @dataclass(frozen=True)
 class Drive:
@@ -25,6 +38,8 @@ class Drive:
     pwm_frequency_hz: float
     pwm_alignment: PwmAlignment
     braking_current_a: float
+    #: the lowest speed simulated: the spec's speed_min, or higher where a sector there
+    #: spans more than MAX_SECTOR_PERIODS carrier periods (`spec_speed_min_rpm` keeps it)
     speed_min_rpm: float
     speed_max_rpm: float
     #: The phase EMF's half period, (deg from the rising zero crossing, e/E) points.
@@ -34,6 +49,8 @@ class Drive:
     #: The spec's `back_emf_shape: flat`: the paper's EMFs, frozen at their edge values
     #: through the commutation (the plant's "spec" shape is then the "flat" one).
     emf_frozen: bool = False
+    #: the spec's controller.speed_min (0: the same as speed_min_rpm)
+    spec_speed_min_rpm: float = 0.0
 
     @staticmethod
     def from_spec(spec: Spec) -> Drive:
@@ -47,11 +64,19 @@ class Drive:
             pwm_frequency_hz=float(spec.inverter.pwm_frequency_hz),
             pwm_alignment=spec.inverter.pwm_alignment,
             braking_current_a=float(spec.controller.braking_current_nominal_a),
-            speed_min_rpm=float(spec.controller.speed_min_rpm),
+            speed_min_rpm=min(
+                simulated_speed_min_rpm(
+                    float(spec.controller.speed_min_rpm),
+                    spec.motor.pole_pairs,
+                    float(spec.inverter.pwm_frequency_hz),
+                ),
+                float(spec.controller.speed_max_rpm),
+            ),
             speed_max_rpm=float(spec.controller.speed_max_rpm),
             emf_points=tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points),
             emf_description=spec.motor.back_emf_shape.describe(),
             emf_frozen=spec.motor.back_emf_shape.frozen,
+            spec_speed_min_rpm=float(spec.controller.speed_min_rpm),
         )
 
     def with_pwm_frequency(self, frequency_hz: float) -> Drive:

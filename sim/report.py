@@ -18,7 +18,7 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.render import PROJECT_ROOT, environment, project_relative
 from codegen.spec_loader import load_spec
 from sim.clamp import ClampScan
-from sim.drive import Drive
+from sim.drive import MAX_SECTOR_PERIODS, Drive
 from sim.limits import Limits
 from sim.metrics import CommutationMetrics, acts_like_main_duty
 from sim.resistance import derive_resistance_rule
@@ -795,7 +795,12 @@ def render_report(results: Results, limits: Limits, figure_names: dict[str, str]
             "alignment": drive.pwm_alignment,
             "upper": f"{drive.upper_speed_rpm:.0f}",
             "speed_max": f"{drive.speed_max_rpm:g}",
-            "speed_min": f"{drive.speed_min_rpm:g}",
+            "speed_min": f"{drive.spec_speed_min_rpm or drive.speed_min_rpm:g}",
+            "simulated_from": ""
+            if drive.speed_min_rpm <= drive.spec_speed_min_rpm
+            else f"; simulated from {drive.speed_min_rpm:g} rpm up: below it a sector spans"
+            f" more than {MAX_SECTOR_PERIODS} PWM periods, which the plants simulate one by"
+            " one",
             "emf_shape": drive.emf_description,
         },
         "sweep_low": f"{min(r.speed_rpm for r in results.sweep):g}",

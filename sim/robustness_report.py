@@ -19,6 +19,7 @@ import numpy as np
 
 from codegen.render import environment, project_relative, write_atomically
 from codegen.spec_model import Spec
+from sim.drive import MAX_SECTOR_PERIODS, Drive
 from sim.robustness import CARRIER_PHASE, REPORT_NAME, CampaignResult
 
 TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
@@ -167,6 +168,14 @@ def write_report(spec: Spec, result: CampaignResult, out: Path) -> list[str]:
         }
         for p in parameters
     ]
+    drive = Drive.from_spec(spec)
+    floor_note = (
+        ""
+        if drive.speed_min_rpm <= drive.spec_speed_min_rpm
+        else f" (from {drive.speed_min_rpm:g} rpm, above controller.speed_min"
+        f" {drive.spec_speed_min_rpm:g} rpm: below it a sector spans more than"
+        f" {MAX_SECTOR_PERIODS} PWM periods, which the plant simulates one by one)"
+    )
     text = (
         environment(TEMPLATE_DIR)
         .get_template(TEMPLATE)
@@ -177,6 +186,7 @@ def write_report(spec: Spec, result: CampaignResult, out: Path) -> list[str]:
             template=f"sim/templates/{TEMPLATE}",
             samples=len(campaign.samples),
             speeds=", ".join(f"{s:g}" for s in campaign.speeds_rpm),
+            floor_note=floor_note,
             methods=", ".join(campaign.methods),
             plant=campaign.plant,
             seed=campaign.seed,

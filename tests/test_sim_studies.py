@@ -11,7 +11,7 @@ import pytest
 from codegen.audit.transcription import load_transcription
 from codegen.spec_loader import load_spec
 from sim.current_loop import held_current, settle
-from sim.drive import Drive
+from sim.drive import MAX_SECTOR_PERIODS, Drive
 from sim.regions import regions
 from sim.runs import Controller, simulate
 from sim.scenario import Case, paper_edge
@@ -67,6 +67,21 @@ def test_sweep_should_span_the_specs_own_speed_range(path: str) -> None:
     speeds = sweep_speeds(drive, ())
     assert speeds[0] == drive.speed_min_rpm and speeds[-1] == drive.speed_max_rpm
     assert 10 <= len(speeds) <= 30
+
+
+def test_a_sector_of_more_periods_than_the_plants_simulate_should_raise_the_lowest_speed() -> None:
+    """At 1 rpm on one pole pair a sector spans 200 000 periods of the 20 kHz PWM, each
+    simulated: the simulation starts where a sector spans MAX_SECTOR_PERIODS (10 rpm),
+    and the report keeps the spec's own speed_min. A spec whose slowest sector is within
+    it (the paper motor's 1000 periods) keeps its range."""
+    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "hall1125_1rpm.yaml")
+    drive = Drive.from_spec(spec)
+    assert drive.spec_speed_min_rpm == 1.0 and drive.speed_min_rpm == 10.0
+    periods = drive.sector_time_s(drive.speed_min_rpm) / drive.pwm_period_s
+    assert periods == pytest.approx(MAX_SECTOR_PERIODS)
+    assert sweep_speeds(drive, ())[0] == 10.0
+    paper = Drive.from_spec(load_spec(ROOT / "spec" / "paper_motor.yaml"))
+    assert paper.speed_min_rpm == paper.spec_speed_min_rpm == 200.0
 
 
 def test_table4_should_be_reproduced_at_3_amperes_and_20_khz(
