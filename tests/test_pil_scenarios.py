@@ -167,3 +167,30 @@ def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scena
     scenario = next(s for s in SCENARIOS if s.key == "hall_off_marks")
     problems = run_scenario(elf, spec, scenario).problems
     assert any("after its partner turned off (dead time 144)" in p for p in problems), problems
+
+
+def test_a_long_wait_for_the_hall_timeout_should_be_shortened_and_still_latch_in_time(
+    tmp_path: Path,
+) -> None:
+    """The paper motor with its Hall timer at 250 kHz: TIM3's range is 0.26 s after the
+    last edge, longer than QUIET_WAIT_TICKS, so the rotor-stop scenario moves the counter
+    on to 0.2 s before its wrap (a 1125 Hz Hall clock waits 58 s; make pil had run for
+    over 20 minutes). The wrap still latches HALL_TIMEOUT within one PWM period."""
+    from emulation.pil.build import generate
+
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    path = tmp_path / "hall250k.yaml"
+    path.write_text(
+        text.replace("name: paper_motor", "name: hall250k").replace(
+            "  timer_clock: 1 MHz", "  timer_clock: 250 kHz"
+        ),
+        encoding="utf-8",
+    )
+    spec = load_spec(str(path))
+    elf = build_firmware(path, tmp_path / "build", generate(path, tmp_path / "generated"))
+    scenario = next(s for s in SCENARIOS if s.key == "rotor_stops")
+    outcome = run_scenario(elf, spec, scenario)
+    assert outcome.problems == [], outcome.problems
+    # the counter's range less 0.2 s and the sector since the last edge (2600 rpm)
+    skipped = 65536 / 250e3 - 0.2 - 10 / ((200 + 5000) / 2)
+    assert f"the quiet wait shortened by {skipped:.3g} s" in outcome.note, outcome.note
