@@ -769,7 +769,9 @@ def test_a_ripple_larger_than_the_current_should_brake_without_problems(tmp_path
     spec = load_spec(path)
     generated = generate(path, tmp_path / "generated")
     elf = build_firmware(path, tmp_path, generated)
-    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, braking_setup(spec, short=True))
+    # the held zero comes at commutation 10: six edges past the settling ones suffice
+    setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES + 6)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
     held = [
         c for c in braking_report.zero_current_reads(result) if braking_report.compared(result, c)
     ]
