@@ -308,6 +308,18 @@ def test_tim1_gate_record_should_log_each_edge_and_check_the_dead_time() -> None
         )
 
 
+def test_a_switch_over_at_one_instant_should_break_the_dead_time_either_way() -> None:
+    """One output of a phase off and the other on in the same record (a COM event that
+    hands a leg over in single-output mode): a turn-on 0 ticks after its partner, whichever
+    of the two is the upper. The check once took the upper's turn-on before the lower's
+    turn-off and missed the lower-to-upper switch-over."""
+    for before, after in (((True, False), (False, True)), ((False, True), (True, False))):
+        idle = (None, None, None, None)
+        log = [(0, (False, False, *idle)), (50, (*before, *idle)), (100, (*after, *idle))]
+        (violation,) = gate_violations(log, 10)
+        assert "switch on 0 ticks after its partner turned off" in violation, violation
+
+
 def test_tim1_single_output_should_follow_ocxref_and_ossr_should_hold_the_other() -> None:
     """RM0008 Table 83: CCxE = 1, CCxNE = 0: OCx = OCxREF (no dead time); OSSR = 1
     drives the disabled OCxN at its inactive level, OSSR = 0 leaves it undriven."""

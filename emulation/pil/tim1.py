@@ -354,11 +354,16 @@ def gate_violations(
             upper, lower = gates[2 * phase] is True, gates[2 * phase + 1] is True
             if upper and lower:
                 violations.append(f"tick {tick}: phase {'ABC'[phase]} has both switches on")
+            # turn-offs first: a switch-over at one instant (one output off, the other
+            # on, in either order of the two) is a turn-on 0 ticks after its partner
             for switch in (0, 1):
                 was = previous[2 * phase + switch] is True
                 now = gates[2 * phase + switch] is True
                 if was and not now:
                     off_since[phase][switch] = tick
+            for switch in (0, 1):
+                was = previous[2 * phase + switch] is True
+                now = gates[2 * phase + switch] is True
                 if now and not was:
                     other = off_since[phase][1 - switch]
                     if other is not None and tick - other < dead_time_ticks:
