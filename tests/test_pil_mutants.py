@@ -153,6 +153,15 @@ MUTANTS = (
         "WatchdogResetError",
     ),
     Mutant(
+        "reversal refusal dropped: a reverse edge hands a leg over in one COM event",
+        PORT,
+        "const uint32_t refused = too_fast | (tim1->CCER & PORT_RECORD_FORBIDDEN(record));",
+        "const uint32_t refused = too_fast | (0u & tim1->CCER & PORT_RECORD_FORBIDDEN(record));",
+        HUB,
+        "reversal",
+        "ticks after its partner turned off",
+    ),
+    Mutant(
         "current loop below the Hall edge: ADC1_2 at the timing handler's priority",
         PORT,
         "NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);",

@@ -762,6 +762,12 @@ def _current_loop_stalls(run: Run) -> Outcome:
     return replace(alive, violations=alive.violations + tuple(extra))
 
 
+#: A second reversal at this fraction of the speed range: where the rule's turn-off
+#: switch is modulated (D_off > 0, the paper's low-speed segment), a reverse edge that
+#: hands a leg over from its PWM switch to the other in one COM event is a shoot-through
+REVERSAL_LOW_FRACTION = 0.2
+
+
 def _reversal(run: Run) -> Outcome:
     """The rotor turns back (it oscillates as it stops, or is driven backwards): after
     the settling sectors the Hall code steps back one sector mid-sector, then on
@@ -769,19 +775,25 @@ def _reversal(run: Run) -> Outcome:
     now must not hand over from one switch to the other in one COM event: TIM1 inserts
     no dead time between the two outputs of a channel enabled one at a time (RM0008
     Table 83), so the gate invariant sees it."""
-    run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 2)
-    for _ in range(6):
-        run.sector = (run.sector - 1) % 6
-        run.board.set_hall(run.spec.hall.sequence[run.sector])
-        run.machine.run_for(run.sector_ticks())
+    low = float(run.spec.controller.speed_min_rpm)
+    high = float(run.spec.controller.speed_max_rpm)
+    for rpm in (run.rpm, low + REVERSAL_LOW_FRACTION * (high - low)):
+        run.rpm = rpm
+        run.turn(SETTLE_SECTORS)
+        run.machine.run_for(run.sector_ticks() // 2)
+        for _ in range(6):
+            run.sector = (run.sector - 1) % 6
+            run.board.set_hall(run.spec.hall.sequence[run.sector])
+            run.machine.run_for(run.sector_ticks())
     return run.outcome(
         "direction reversal",
         None,
         None,
         None,
         "the Hall code steps back one sector mid-sector and turns on backwards for six"
-        " sectors: no fault, no switch-over within a leg without the dead time",
+        f" sectors, at the scenarios' speed and at {REVERSAL_LOW_FRACTION:g} of the speed"
+        " range, each after turning forwards again: no fault, no switch-over within a leg"
+        " without the dead time",
     )
 
 
