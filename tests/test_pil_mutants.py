@@ -162,6 +162,15 @@ MUTANTS = (
         "ticks after its partner turned off",
     ),
     Mutant(
+        "Hall time-out interrupt never enabled: the current loop's next look finds the wrap",
+        PORT,
+        "    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE;\n}",
+        "    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS;\n}",
+        PAPER,
+        "rotor_stops",
+        "found by the current loop",
+    ),
+    Mutant(
         "current loop below the Hall edge: ADC1_2 at the timing handler's priority",
         PORT,
         "NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);",

@@ -573,6 +573,7 @@ def _rotor_stops(run: Run) -> Outcome:
             f" (TIM3's counter moved on to {QUIET_WAIT_TICKS / TICK_HZ:g} s before its wrap)"
         )
     run.run_until_tripped(wrap - run.machine.now + 2 * run.board.pwm_period_ticks())
+    _check_timeout_source(run, wrap)
     return run.outcome(
         "rotor stops",
         "HALL_TIMEOUT",
@@ -581,6 +582,26 @@ def _rotor_stops(run: Run) -> Outcome:
         "the Hall code stops changing while the bridge switches; latency from TIM3's wrap"
         " (the Hall time-out, its counter's range after the last edge)" + note,
     )
+
+
+def _check_timeout_source(run: Run, wrap: int) -> None:
+    """The Hall time-out must be TIM3's own event: the current loop, which looks at the
+    wrap once a PWM period, finds it up to a whole period after it and then needs its
+    path to MOE, so it misses the one-period limit at the worst phase of the wrap (which
+    is fixed per motor: the carrier restarts at each COM event, so a scenario cannot
+    steer it there)."""
+    cleared = run.machine.tim1.moe_cleared_at
+    if cleared is None or cleared < wrap:
+        return
+    # the handler that cleared MOE: the last one entered by then
+    entries = [(t, e) for t, e in run.machine.entry_log if wrap <= t <= cleared]
+    loop = IRQ_BASE + svd_interrupt("ADC1", "ADC")
+    if entries and entries[-1][1] == loop:
+        run.violations.append(
+            f"the Hall time-out was found by the current loop {entries[-1][0] - wrap} ticks"
+            " after TIM3 wrapped, not by TIM3's own interrupt: at the worst phase a whole"
+            f" PWM period ({run.board.pwm_period_ticks()} ticks) and its path to MOE"
+        )
 
 
 #: PWM periods watched after a latched fault with its cause still present
