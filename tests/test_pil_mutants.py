@@ -171,6 +171,15 @@ MUTANTS = (
         "found by the current loop",
     ),
     Mutant(
+        "timing slot published before it is filled: an edge in between applies a torn timing",
+        PORT,
+        "    bldc_timing_t *const next = port_other_slot(published);\n",
+        "    bldc_timing_t *const next = port_other_slot(published);\n    port.timing = next;\n",
+        PAPER,
+        "over_voltage",
+        "in the slot published then",
+    ),
+    Mutant(
         "current loop below the Hall edge: ADC1_2 at the timing handler's priority",
         PORT,
         "NVIC_SetPriority(ADC1_2_IRQn, BLDC_PORT_HALL_PRIORITY);",

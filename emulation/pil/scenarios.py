@@ -46,6 +46,7 @@ from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
+from unicorn import UC_HOOK_MEM_WRITE
 
 from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
@@ -140,6 +141,7 @@ class Run:
         self._updates = -1
         for channel in (1, 2, 3):
             self._watch_compare_writes(channel)
+        self._watch_publication()
         self.wall = time.perf_counter()
         self.board.boot()
         self.start = self.machine.now
@@ -150,6 +152,38 @@ class Run:
         self.rpm = default_rpm(spec)
         self.published_after: int | None = None
         self._armed_edges = 0  # the first edge after boot only arms the measurement
+
+    def _watch_publication(self) -> None:
+        """The timing handler fills the slot the Hall edge is not reading, then publishes
+        it (`port.timing`, the state's first word): it must never write the slot
+        published at that moment, which a Hall edge preempting it may be applying (a
+        torn timing: some fields new, some old). Watched on every write the timing
+        handler makes to the two slots (`port_slots`, PORT_SLOT_BYTES each)."""
+        machine = self.machine
+        if "port_slots" not in machine.image.symbols:
+            raise PilError(f"{machine.image.path}: no symbol 'port_slots' (the timing slots)")
+        slots, state = machine.symbol("port_slots"), machine.symbol("port")
+
+        def written(_uc: object, _access: int, address: int, size: int, *_: object) -> None:
+            active = machine.nvic.active
+            if not active or active[-1] != self._timing:
+                return
+            published = machine.read_u32(state)
+            if published not in (slots, slots + PORT_SLOT_BYTES):
+                raise PilError(
+                    f"port.timing = 0x{published:08x} is neither timing slot (0x{slots:08x},"
+                    f" {PORT_SLOT_BYTES} bytes each): the port's layout is not the one watched"
+                )
+            if published <= address < published + PORT_SLOT_BYTES and len(self.violations) < 20:
+                self.violations.append(
+                    f"tick {machine.now}: the timing handler wrote {size} bytes at"
+                    f" 0x{address:08x}, in the slot published then (0x{published:08x}): a Hall"
+                    " edge preempting it would apply a torn timing"
+                )
+
+        machine.uc.hook_add(
+            UC_HOOK_MEM_WRITE, written, None, slots, slots + 2 * PORT_SLOT_BYTES - 1
+        )
 
     def _check_duties(self, machine: object) -> None:
         tim1 = self.machine.tim1
@@ -603,6 +637,9 @@ def _check_timeout_source(run: Run, wrap: int) -> None:
             f" PWM period ({run.board.pwm_period_ticks()} ticks) and its path to MOE"
         )
 
+
+#: Bytes of one timing slot of the port (`PORT_SLOT_BYTES`, port_slots[0] and [1])
+PORT_SLOT_BYTES = 16
 
 #: PWM periods watched after a latched fault with its cause still present
 QUIET_PERIODS = 10
