@@ -683,6 +683,10 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
     next->turn_off_compare = timing.turn_off_compare;
     BLDC_PORT_SEQUENCE();
     next->commutation_ticks = timing.commutation_ticks;
+    /* Every field stored before the slot is published: without this the compiler may
+     * put the publishing store first (GCC did, ahead of commutation_ticks), and a Hall
+     * edge between the two applied a torn timing (the PIL's publication check). */
+    BLDC_PORT_SEQUENCE();
     port.timing = next;
 }
 
