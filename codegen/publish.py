@@ -54,7 +54,7 @@ import json
 import os
 import signal
 import sys
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -527,6 +527,12 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
                 f"{path} is in the way and was not written by bldc-codegen (its manifest"
                 " does not list it): move it away or choose another output folder"
             )
+
+
+def refuse_foreign(target: Path, names: Iterable[str]) -> None:
+    """PublishError when publishing `names` into `target` would replace a file
+    bldc-codegen did not write: for a command to check before its long work."""
+    _check_target(_paths(target), dict.fromkeys(names, ""))
 
 
 def publish(files: Mapping[str, str], target: Path) -> PublishResult:

@@ -170,3 +170,61 @@ def test_a_republished_folder_keeps_its_mode_and_as_root_its_owner(tmp_path: Pat
     assert (info.st_uid, info.st_gid) == owner
     assert info.st_mode & 0o7777 == 0o750
     assert owned_part(read_tree(target)) == NEW
+
+
+def test_audit_into_a_folder_with_a_hand_written_report_writes_nothing(tmp_path: Path) -> None:
+    """Was: `audit -o DIR` replaced a hand-written AUDIT.md (exit 0); with a SPEC and a
+    hand-written DERIVATION.md it wrote AUDIT.md and AUDIT.html, then refused (exit 5)."""
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "AUDIT.md").write_text("my notes\n")
+    proc = cli("audit", "-o", str(mine))
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    assert f"{mine / 'AUDIT.md'} is in the way" in one_error_line(proc)
+    assert [(p.name, p.read_text()) for p in mine.iterdir()] == [("AUDIT.md", "my notes\n")]
+
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "DERIVATION.md").write_text("my derivation\n")
+    proc = cli("audit", str(SPEC), "-o", str(other))
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    assert f"{other / 'DERIVATION.md'} is in the way" in one_error_line(proc)
+    assert [(p.name, p.read_text()) for p in other.iterdir()] == [
+        ("DERIVATION.md", "my derivation\n")
+    ]
+
+
+def test_audit_replaces_its_own_reports_and_keeps_the_users_files(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine\n")
+    for _ in range(2):
+        proc = cli("audit", str(SPEC), "-o", str(out))
+        assert proc.returncode == 0, proc.stderr
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["AUDIT.html", "AUDIT.md", "DERIVATION.md", "manifest.json", "notes.txt"]
+    assert (out / "notes.txt").read_text() == "mine\n"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["generate", str(SPEC), "-o", ""],
+        ["generate", ""],
+        ["verify", str(SPEC), "--generated", ""],
+        ["firmware", str(SPEC), "--build", ""],
+        ["simulate", str(SPEC), "-o", ""],
+        ["init", "x_motor", "-o", ""],
+    ],
+    ids=["generate-o", "spec", "generated", "build", "simulate-o", "init-o"],
+)
+def test_an_empty_path_is_a_usage_error_not_the_default_folder(
+    tmp_path: Path, argv: list[str]
+) -> None:
+    """Was: `generate SPEC -o "$OUT"` with OUT unset wrote generated/<name> in the
+    current folder (exit 0), as if -o had not been given."""
+    proc = cli(*argv, cwd=tmp_path)
+    assert proc.returncode == ExitCode.USAGE, proc.stderr
+    assert "is an empty path" in proc.stderr.splitlines()[-1]
+    assert "Traceback" not in proc.stderr
+    assert list(tmp_path.iterdir()) == []
