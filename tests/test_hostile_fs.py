@@ -228,3 +228,33 @@ def test_an_empty_path_is_a_usage_error_not_the_default_folder(
     assert "is an empty path" in proc.stderr.splitlines()[-1]
     assert "Traceback" not in proc.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_make_refuses_a_spec_path_with_a_space_in_one_line(tmp_path: Path) -> None:
+    """Was: `make generate SPEC="my motors/m.yaml"` ran `generate my motors/m.yaml`, a
+    usage error about an unrecognized argument. make cannot quote it: it says so."""
+    folder = tmp_path / "my motors"
+    folder.mkdir()
+    spec = folder / "m.yaml"
+    spec.write_bytes(SPEC.read_bytes())
+    proc = subprocess.run(
+        ["make", "-n", "-C", str(ROOT), "generate", f"SPEC={spec}"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert f'no file "{tmp_path / "my"}": make splits SPEC at spaces' in proc.stderr
+    assert "-m codegen generate" not in proc.stdout
+    # several specs, each a file, still go through
+    two = f"SPEC={SPEC} {ROOT / 'spec' / 'example_maxon_ec45_flat_48v.yaml'}"
+    proc = subprocess.run(
+        ["make", "-n", "-C", str(ROOT), "verify", two],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "example_maxon_ec45_flat_48v.yaml; do" in proc.stdout
