@@ -13,6 +13,12 @@ CLI    := $(PY) -m codegen
 # checked-in spec (SPECS); simulate each checked-in motor once (SIM_SPECS).
 DEFAULT_SPEC := spec/paper_motor.yaml
 ONE_SPEC = $(or $(SPEC),$(DEFAULT_SPEC))
+# make splits SPEC at spaces (several specs are SPEC="a.yaml b.yaml"), so a path with a
+# space in it cannot go through make: SPEC="my motors/m.yaml" ran `generate /my` and
+# `motors/m.yaml`. A SPEC of several words one of which is no file stops here, in one line.
+ifneq ($(word 2,$(SPEC)),)
+$(foreach s,$(SPEC),$(if $(wildcard $(s)),,$(error SPEC="$(SPEC)": no file "$(s)": make splits SPEC at spaces, so a path with a space cannot go through make; run the CLI: $(VENV)/bin/python -m codegen COMMAND "path with spaces.yaml")))
+endif
 
 # Debian packages the project needs. Installed by `make sysdeps` (root or sudo).
 # chromium renders the HTML audit in its browser test; fonts-lmodern gives it a math font.

@@ -45,3 +45,17 @@ def decimal_number(low: float, high: float) -> Callable[[str], float]:
 
     parse.__name__ = "number"
     return parse
+
+
+def path_text(text: str) -> str:
+    """A path given on the command line: not empty. `-o "$OUT"` with OUT unset passed
+    '' and the command wrote to its default folder instead, as if -o had not been given."""
+    if not text:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is an empty path (an unset shell variable?): give a path or leave"
+            " the option out"
+        )
+    return text
+
+
+path_text.__name__ = "path"

@@ -33,8 +33,15 @@ Fault injection for tests: with BLDC_CODEGEN_TEST_KILL_AT_STEP=k in the environm
 process SIGKILLs itself at its k-th file-system step (every write, fsync, mkdir, rename,
 exchange, unlink and rmdir here is one); BLDC_CODEGEN_TEST_STEP_LOG=FILE appends each
 step's label to FILE; BLDC_CODEGEN_TEST_KILL_AT_LABEL=PREFIX kills at the first step whose
-label starts with PREFIX ("exchange", "write AUDIT.md"). BLDC_CODEGEN_NO_EXCHANGE=1
+label starts with PREFIX ("exchange", "write AUDIT.md"); BLDC_CODEGEN_TEST_KILL_SIGNAL=
+INT, TERM or HUP sends that signal there instead of SIGKILL. BLDC_CODEGEN_NO_EXCHANGE=1
 forces the two-rename fallback.
+
+SIGINT, SIGTERM and SIGHUP (Ctrl-C, `kill`, a closed terminal) are held back while the
+lock is held and delivered when the publish is done (`_signals_deferred`): one arriving
+mid-publish ends the run with the new tree whole and the user's files in place, instead
+of leaving them in the hidden `-old` folder until the next run. Only SIGKILL (and a
+power cut) can stop a publish half-way, and the next run's recovery handles those.
 """
 
 from __future__ import annotations
@@ -47,7 +54,7 @@ import json
 import os
 import signal
 import sys
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -67,6 +74,8 @@ class PublishResult:
     recovered: list[str] = field(default_factory=list)
     carried_over: list[str] = field(default_factory=list)
     left_behind: list[str] = field(default_factory=list)
+    #: one line for each thing the user must know: a file left in a hidden folder
+    notes: list[str] = field(default_factory=list)
 
 
 # --------------------------------------------------------------------- fault injection
@@ -85,7 +94,8 @@ def _step(label: str) -> None:
     kill_at = os.environ.get("BLDC_CODEGEN_TEST_KILL_AT_STEP")
     kill_label = os.environ.get("BLDC_CODEGEN_TEST_KILL_AT_LABEL")
     if (kill_at and int(kill_at) == _steps) or (kill_label and label.startswith(kill_label)):
-        os.kill(os.getpid(), signal.SIGKILL)
+        name = os.environ.get("BLDC_CODEGEN_TEST_KILL_SIGNAL", "KILL")
+        os.kill(os.getpid(), getattr(signal, f"SIG{name}"))
 
 
 # --------------------------------------------------------------------- file system steps
@@ -249,6 +259,39 @@ def _locked(lock_path: Path) -> Iterator[None]:
         os.close(fd)  # releases the lock
 
 
+#: the signals that end a run politely; held back while a publish is under way
+_DEFERRED_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold back SIGINT, SIGTERM and SIGHUP until the block is done, then deliver the
+    first that came (its own handler runs: KeyboardInterrupt, or the process ends). In a
+    thread other than the main one handlers cannot be set and nothing is deferred."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    arrived: list[int] = []
+
+    def hold(signum: int, _frame: object) -> None:
+        arrived.append(signum)
+
+    previous = {}
+    try:
+        for signum in _DEFERRED_SIGNALS:
+            previous[signum] = signal.signal(signum, hold)
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        if arrived:
+            os.kill(os.getpid(), arrived[0])
+
+
 # --------------------------------------------------------------------- paths
 
 
@@ -262,11 +305,19 @@ class _Paths:
 
 def _paths(target: Path) -> _Paths:
     target = Path(os.path.abspath(target))
-    if target.is_symlink():
-        target = target.resolve()  # publish into the folder the link points to
-    if target.parent == target:
-        raise PublishError(f"{target} is a file-system root: choose a folder inside it")
-    parent = target.parent.resolve()
+    try:
+        if target.is_symlink():
+            target = target.resolve()  # publish into the folder the link points to
+        if target.parent == target:
+            raise PublishError(f"{target} is a file-system root: choose a folder inside it")
+        parent = target.parent.resolve()
+    except (RuntimeError, OSError) as exc:  # RuntimeError: Python < 3.13's symlink loop
+        if isinstance(exc, PublishError):
+            raise
+        raise PublishError(
+            f"{target}: a symbolic link on the way points back to itself (a link loop):"
+            " give a real folder"
+        ) from None
     name = target.name
     return _Paths(
         parent / name,
@@ -318,10 +369,29 @@ def os_error_line(exc: OSError) -> str:
     return f"error: {exc.filename}: {words}" if exc.filename else f"error: {words}"
 
 
+def _refuse_the_working_folder(target: Path) -> None:
+    """PublishError when `target` is the current folder or one above it: the publish
+    puts a new folder in the target's place and removes the old one once emptied, so
+    `-o .` pulled the working folder out from under the run (and the user's shell)."""
+    try:
+        here = Path.cwd().resolve()
+    except OSError:
+        return
+    if target == here or target in here.parents:
+        which = "the current folder" if target == here else "a folder above the current one"
+        raise PublishError(
+            f"{target} is {which}: the output folder is replaced by a new one at each run,"
+            " which would pull it out from under this shell; give a folder below it"
+            " (e.g. generated/NAME) or run from elsewhere"
+        )
+
+
 def check_target(target: Path) -> Path:
     """The absolute target folder, or PublishError if it can never hold the output (a
-    file-system root, a file): cheap, so a command can fail before it does any work."""
+    file-system root, a file, the working folder): cheap, so a command can fail before
+    it does any work."""
     p = _paths(target)
+    _refuse_the_working_folder(p.target)
     if p.target.exists() and not p.target.is_dir():
         raise PublishError(f"{p.target} exists and is not a folder")
     blocker = file_in_the_way(p.target)
@@ -358,22 +428,33 @@ def _carry_over(old: Path, new: Path, result: PublishResult) -> bool:
                 result.left_behind.append(str(entry))
                 continue
             missing = [folder for folder in destination.parents if not folder.exists()]
-            for folder in reversed(missing):
-                _mkdir(folder)
-            _rename(entry, destination)
+            try:
+                for folder in reversed(missing):
+                    _mkdir(folder)
+                _rename(entry, destination)
+            except OSError as exc:
+                # One entry that cannot move (immutable, a mount point) must not strand
+                # every entry after it in the hidden folder: it stays, and is named.
+                result.left_behind.append(str(entry))
+                result.notes.append(
+                    f"{entry} could not be moved back into {new / name}"
+                    f" ({exc.strerror or exc}): it is still there, move it yourself"
+                )
+                continue
             result.carried_over.append(name)
 
     visit("")
-    for name in sorted(owned.files - {MANIFEST}):
-        path = old / name
-        if path.is_symlink() or path.is_file():
-            _unlink(path)
-    for folder in sorted(merged, key=lambda path: -len(path.parts)):
-        if folder.is_dir() and not any(folder.iterdir()):
-            _rmdir(folder)
-    manifest = old / MANIFEST
-    if MANIFEST in owned.files and manifest.is_file():
-        _unlink(manifest)
+    with contextlib.suppress(OSError):  # what cannot go stays, and `old` with it
+        for name in sorted(owned.files - {MANIFEST}):
+            path = old / name
+            if path.is_symlink() or path.is_file():
+                _unlink(path)
+        for folder in sorted(merged, key=lambda path: -len(path.parts)):
+            if folder.is_dir() and not any(folder.iterdir()):
+                _rmdir(folder)
+        manifest = old / MANIFEST
+        if MANIFEST in owned.files and manifest.is_file():
+            _unlink(manifest)
     if any(old.iterdir()):
         return False
     _rmdir(old)
@@ -414,7 +495,7 @@ def recover(target: Path) -> PublishResult:
     result = PublishResult(p.target, atomic_exchange=False)
     if not p.target.parent.is_dir():
         return result
-    with _locked(p.lock):
+    with _locked(p.lock), _signals_deferred():
         _recover(p, result)
     return result
 
@@ -448,6 +529,12 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
             )
 
 
+def refuse_foreign(target: Path, names: Iterable[str]) -> None:
+    """PublishError when publishing `names` into `target` would replace a file
+    bldc-codegen did not write: for a command to check before its long work."""
+    _check_target(_paths(target), dict.fromkeys(names, ""))
+
+
 def publish(files: Mapping[str, str], target: Path) -> PublishResult:
     """Replace bldc-codegen's files in `target` by `files` (path -> text, '/'-separated,
     including manifest.json), atomically, keeping everything else in `target`."""
@@ -457,16 +544,31 @@ def publish(files: Mapping[str, str], target: Path) -> PublishResult:
         if name.startswith("/") or ".." in name.split("/") or name.endswith("/"):
             raise ValueError(f"unsafe output path {name!r}")
     p = _paths(target)
+    _refuse_the_working_folder(p.target)
     p.target.parent.mkdir(parents=True, exist_ok=True)
     result = PublishResult(p.target, atomic_exchange=False)
-    with _locked(p.lock):
+    with _locked(p.lock), _signals_deferred():
         _recover(p, result)
+        for leftover in (p.staging, p.retired):
+            if leftover.exists() or leftover.is_symlink():
+                raise PublishError(
+                    f"{leftover} is left from an earlier run and holds files that could not"
+                    f" be moved back into {p.target}: move them where they belong, delete"
+                    " it and run again"
+                )
         _check_target(p, files)
-        _stage(p.staging, files)
+        _mkdir(p.staging)  # fails on a leftover recovery had to keep: never discarded
+        try:
+            _stage(p.staging, files)
+            if p.target.exists():
+                _take_over_metadata(p.staging, p.target)
+                result.atomic_exchange = _exchange(p.staging, p.target)
+        except OSError:
+            # Nothing is published (a full disk, a target that cannot be replaced): the
+            # staged tree, all of it ours, goes, instead of waiting for the next run.
+            _discard(p.staging)
+            raise
         if p.target.exists():
-            with contextlib.suppress(OSError):
-                os.chmod(p.staging, p.target.stat().st_mode & 0o7777)
-            result.atomic_exchange = _exchange(p.staging, p.target)
             if result.atomic_exchange:
                 _rename(p.staging, p.retired)
             else:
@@ -475,14 +577,46 @@ def publish(files: Mapping[str, str], target: Path) -> PublishResult:
             _fsync_dir(p.target.parent)
             if not _carry_over(p.retired, p.target, result):
                 result.left_behind.append(str(p.retired))
+                if not result.notes:
+                    result.notes.append(
+                        f"{p.retired} keeps what could not be moved back into {p.target}"
+                    )
         else:
             _rename(p.staging, p.target)
             _fsync_dir(p.target.parent)
+    for note in result.notes:
+        print(f"warning: {note}", file=sys.stderr)
     return result
 
 
+def _take_over_metadata(staging: Path, target: Path) -> None:
+    """Give the staged folder the target's mode and, where allowed (as root), its owner:
+    `sudo bldc-codegen generate -o ~/motor` left ~/motor owned by root, its user unable
+    to add a file to it."""
+    info = target.stat()
+    with contextlib.suppress(OSError):
+        os.chmod(staging, info.st_mode & 0o7777)
+    if hasattr(os, "chown") and (info.st_uid, info.st_gid) != (os.getuid(), os.getgid()):
+        with contextlib.suppress(OSError):
+            os.chown(staging, info.st_uid, info.st_gid)
+
+
+def _discard(staging: Path) -> None:
+    """Remove a staging folder this run made (every entry in it is this run's)."""
+    if not staging.is_dir() or staging.is_symlink():
+        return
+    for entry in sorted(staging.rglob("*"), key=lambda path: -len(path.parts)):
+        with contextlib.suppress(OSError):
+            if entry.is_dir() and not entry.is_symlink():
+                entry.rmdir()
+            else:
+                entry.unlink()
+    with contextlib.suppress(OSError):
+        staging.rmdir()
+
+
 def _stage(staging: Path, files: Mapping[str, str]) -> None:
-    _mkdir(staging)
+    """Write `files` into the (new, empty) folder `staging`."""
     ordered = [MANIFEST, *sorted(name for name in files if name != MANIFEST)]
     made: set[Path] = {staging}
     for name in ordered:

@@ -22,7 +22,7 @@ from bldc.commands.common import (
     fresh_generated,
     load,
 )
-from codegen.argtypes import POINTS, SEED
+from codegen.argtypes import POINTS, SEED, path_text
 from codegen.errors import ExitCode
 from codegen.shown import shown
 from emulation.sections import SECTIONS, unknown_sections
@@ -83,7 +83,9 @@ def _firmware(args: argparse.Namespace) -> int:
 def _firmware_arguments(parser: argparse.ArgumentParser) -> None:
     add_spec(parser)
     add_generated(parser)
-    parser.add_argument("--build", metavar="DIR", help="build folder (default: build/<spec name>)")
+    parser.add_argument(
+        "--build", metavar="DIR", type=path_text, help="build folder (default: build/<spec name>)"
+    )
     add_json(parser)
 
 
@@ -178,7 +180,9 @@ def _unity(args: argparse.Namespace) -> int:
 def _unity_arguments(parser: argparse.ArgumentParser) -> None:
     add_spec(parser)
     add_generated(parser)
-    parser.add_argument("--build", metavar="DIR", help="build folder (default: a temporary folder)")
+    parser.add_argument(
+        "--build", metavar="DIR", type=path_text, help="build folder (default: a temporary folder)"
+    )
 
 
 register(
@@ -218,6 +222,7 @@ def _simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "-o",
         "--output",
         metavar="DIR",
+        type=path_text,
         help="report folder (default: generated/<spec name>/simulation in the current folder)",
     )
     parser.add_argument(
@@ -265,6 +270,7 @@ def _robustness_arguments(parser: argparse.ArgumentParser) -> None:
         "-o",
         "--output",
         metavar="DIR",
+        type=path_text,
         help="report folder (default: generated/<spec name>/robustness in the current folder)",
     )
     add_progress(parser)

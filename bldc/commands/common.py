@@ -7,6 +7,7 @@ import json
 import sys
 from pathlib import Path
 
+from codegen.argtypes import path_text
 from codegen.freshness import check_fresh
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -16,6 +17,7 @@ def add_spec(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "spec",
         metavar="SPEC",
+        type=path_text,
         help="motor spec YAML (relative to the current folder), e.g. spec/paper_motor.yaml",
     )
 
@@ -24,6 +26,7 @@ def add_generated(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--generated",
         metavar="DIR",
+        type=path_text,
         help="the spec's generated output to use (default: generated/<spec name> in the"
         " current folder); it must be from this spec and tool version, else exit 4",
     )
@@ -34,6 +37,7 @@ def add_output(parser: argparse.ArgumentParser, what: str) -> None:
         "-o",
         "--output",
         metavar="DIR",
+        type=path_text,
         help=f"{what} (default: generated/<spec name> in the current folder)",
     )
 

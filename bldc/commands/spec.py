@@ -16,6 +16,7 @@ from bldc.commands.common import (
     load,
     output_dir,
 )
+from codegen.argtypes import path_text
 from codegen.errors import ExitCode
 from codegen.publish import check_target
 from codegen.render import PROJECT_ROOT, write_atomically
@@ -74,7 +75,11 @@ def _init_arguments(parser: argparse.ArgumentParser) -> None:
         help="the motor's name: a lower-case identifier, e.g. my_motor",
     )
     parser.add_argument(
-        "-o", "--output", metavar="FILE", help="where to write the spec (default: spec/NAME.yaml)"
+        "-o",
+        "--output",
+        metavar="FILE",
+        type=path_text,
+        help="where to write the spec (default: spec/NAME.yaml)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
     add_json(parser)
@@ -171,25 +176,40 @@ def _audit(args: argparse.Namespace) -> int:
     spec = load(args.spec) if args.spec else None  # a bad spec writes nothing
 
     from codegen.audit.latex_cache import shared_cache
-    from codegen.audit.motor_report import publish_derivation, render_derivation
+    from codegen.audit.motor_report import (
+        publish_derivation,
+        refuse_foreign_reports,
+        render_derivation,
+    )
     from codegen.audit.report import counts, render_reports
     from codegen.audit.run import run_audit
     from codegen.audit.transcription import load_transcription
     from codegen.derivation import derive
     from codegen.spec_loader import PAPER_AUDIT_NAME
 
+    paper_dir = Path(args.output) if args.output else Path.cwd() / "generated" / PAPER_AUDIT_NAME
+    folder = None  # where DERIVATION.md goes, with a spec
+    if spec is not None:
+        folder = Path(args.output) if args.output else output_dir(spec, None)
+    reports = ("AUDIT.md", "AUDIT.html")
+
+    def refuse_foreign() -> None:  # before the work, and again just before writing
+        refuse_foreign_reports(paper_dir, reports, derivation=folder == paper_dir)
+        if folder is not None and folder != paper_dir:
+            refuse_foreign_reports(folder, (), derivation=True)
+
+    refuse_foreign()
     derivation = derive()
     transcription = load_transcription()
     result = run_audit(transcription, derivation)
     files = render_reports(result, transcription)
     motor = render_derivation(derivation, spec) if spec else ""
     shared_cache().save()
-    paper_dir = Path(args.output) if args.output else Path.cwd() / "generated" / PAPER_AUDIT_NAME
+    refuse_foreign()
     for name, text in files.items():
         write_atomically(paper_dir / name, text)
     motor_out = None
-    if spec:
-        folder = Path(args.output) if args.output else output_dir(spec, None)
+    if spec and folder is not None:
         publish_derivation(motor, folder)
         motor_out = folder / "DERIVATION.md"
     c = counts(result)
@@ -211,6 +231,7 @@ def _audit_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "spec",
         nargs="?",
+        type=path_text,
         help="optional motor spec YAML: also write its DERIVATION.md (generated/<name>/)",
     )
     add_output(parser, "one folder for everything (default generated/paper/)")

@@ -21,7 +21,7 @@ from codegen.derivation import symbols as s
 from codegen.derivation.figures import spec_figures, spec_values
 from codegen.derivation.paper import Derivation
 from codegen.derivation.switching import PHASE_NAMES
-from codegen.publish import MANIFEST, manifest_record, publish
+from codegen.publish import MANIFEST, PublishError, manifest_record, publish, refuse_foreign
 from codegen.render import provenance, render, write_atomically
 from codegen.spec_model import Spec
 
@@ -180,6 +180,42 @@ def render_derivation(derivation: Derivation, spec: Spec) -> str:
 
 #: The manifest's mark of a folder that holds the audit's DERIVATION.md alone
 AUDIT_ONLY = "audit"
+
+
+#: what the first lines of AUDIT.md and AUDIT.html say when bldc-codegen wrote them
+AUDIT_MARKER = "Generated from template templates/audit/AUDIT."
+
+
+def refuse_foreign_reports(folder: Path, names: tuple[str, ...], derivation: bool) -> None:
+    """PublishError when writing the paper audit's `names` (AUDIT.md, AUDIT.html) or,
+    with `derivation`, DERIVATION.md into `folder` would replace a file bldc-codegen did
+    not write: `audit -o DIR` overwrote a hand-written AUDIT.md there. An audit report
+    is the tool's when its head carries AUDIT_MARKER (the audit writes no manifest)."""
+    for name in names:
+        path = folder / name
+        if not (path.exists() or path.is_symlink()):
+            continue
+        head = ""
+        if path.is_file() and not path.is_symlink():
+            try:
+                with open(path, encoding="utf-8", errors="replace") as stream:
+                    head = stream.read(1000)
+            except OSError:
+                head = ""
+        if AUDIT_MARKER not in head:
+            raise PublishError(
+                f"{path} is in the way and was not written by bldc-codegen (it lacks the"
+                " audit's 'Generated from template' header): move it away or choose"
+                " another output folder"
+            )
+    if derivation:
+        manifest = folder / MANIFEST
+        try:
+            recorded = json.loads(manifest.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            recorded = None
+        if not (isinstance(recorded, dict) and "spec_sha256" in recorded):
+            refuse_foreign(folder, (NAME, MANIFEST))
 
 
 def publish_derivation(text: str, folder: Path) -> None:

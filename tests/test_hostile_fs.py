@@ -1,0 +1,260 @@
+"""Hostile file-system and command-line conditions around the output folder.
+
+Each case was seen to fail before its fix: a traceback-like internal error, a
+published tree followed by exit 5, the user's files stranded in the hidden `-old`
+folder, a staged tree left behind, or a stranger's file overwritten. Root does not
+stop at chmod, so the cases that need a file-system refusal inject it (monkeypatch) or
+use a file where a folder is expected; the one case that needs root says so.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from test_publish import FOREIGN, NEW, OLD, _run_publish, leftovers, owned_part, read_tree
+from test_publish import write_foreign as _write_foreign
+
+from codegen import publish as publish_module
+from codegen.errors import ExitCode
+from codegen.publish import PublishError, publish
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC = ROOT / "spec" / "paper_motor.yaml"
+
+
+def cli(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    return subprocess.run(
+        [sys.executable, "-m", "codegen", *args],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+
+
+def one_error_line(proc: subprocess.CompletedProcess[str]) -> str:
+    assert "Traceback" not in proc.stderr, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("error: "), lines[0]
+    return lines[0]
+
+
+def test_an_output_path_that_is_a_symlink_loop_is_one_line_exit_5(tmp_path: Path) -> None:
+    """Was: exit 70, `internal error ... RuntimeError: Symlink loop from ...`."""
+    loop = tmp_path / "loop"
+    loop.symlink_to("loop")
+    for output in (loop, loop / "below"):
+        proc = cli("generate", str(SPEC), "-o", str(output))
+        assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+        assert "link loop" in one_error_line(proc)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["loop"]
+
+
+@pytest.mark.parametrize("output", [".", ".."], ids=["dot", "dot-dot"])
+def test_the_working_folder_as_output_is_refused_and_left_as_it_was(
+    tmp_path: Path, output: str
+) -> None:
+    """Was: `-o .` exchanged the working folder for the new tree, removed the old one
+    and then failed with `error: No such file or directory` (exit 5 after publishing)."""
+    here = tmp_path / "work"
+    here.mkdir()
+    (here / "notes.txt").write_text("mine\n")
+    inode = here.stat().st_ino
+    proc = cli("generate", str(SPEC), "-o", output, cwd=here)
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    assert "the current" in one_error_line(proc)
+    assert here.stat().st_ino == inode
+    assert sorted(p.name for p in here.iterdir()) == ["notes.txt"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["work"]
+
+
+@pytest.mark.parametrize("name", ["INT", "TERM", "HUP"])
+@pytest.mark.parametrize("label", ["write bldc_commutation.c", "exchange", "rename ", "unlink "])
+def test_a_polite_signal_mid_publish_ends_with_the_new_tree_and_the_users_files_in_place(
+    tmp_path: Path, name: str, label: str
+) -> None:
+    """Was: SIGTERM or Ctrl-C after the exchange left the user's files in the hidden
+    `.motor.bldc-codegen-old` until the next run. Now the signal waits for the publish."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    _write_foreign(target)
+    env = {"BLDC_CODEGEN_TEST_KILL_AT_LABEL": label, "BLDC_CODEGEN_TEST_KILL_SIGNAL": name}
+    code = _run_publish(NEW, target, env)
+    # SIGINT is KeyboardInterrupt in Python (the forked child exits 1); the others end it
+    assert code == (1 if name == "INT" else -getattr(signal, f"SIG{name}")), code
+    content = read_tree(target)
+    assert owned_part(content) == NEW
+    assert {k: content.get(k) for k in FOREIGN} == FOREIGN
+    assert leftovers(tmp_path, target) == []
+
+
+def _refuse_renaming(monkeypatch: pytest.MonkeyPatch, name: str) -> None:
+    real = publish_module._rename
+
+    def rename(src: Path, dst: Path) -> None:
+        if src.name == name:
+            raise PermissionError(errno.EPERM, os.strerror(errno.EPERM), str(src))
+        real(src, dst)
+
+    monkeypatch.setattr(publish_module, "_rename", rename)
+
+
+def test_a_users_file_that_cannot_be_moved_back_strands_no_other_and_is_named(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Was (chattr +i on one file of the -o folder): exit 5 naming the hidden folder,
+    with that file and every one after it left in `.motor.bldc-codegen-old`."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    _write_foreign(target)
+    (target / "a_first.txt").write_text("a\n")
+    (target / "z_last.txt").write_text("z\n")
+    _refuse_renaming(monkeypatch, "NOTES.txt")
+    result = publish(NEW, target)
+    content = read_tree(target)
+    moved = {k: v for k, v in FOREIGN.items() if k != "NOTES.txt"}
+    expected = {**NEW, **moved, "a_first.txt": "a\n", "z_last.txt": "z\n"}
+    assert content == expected
+    retired = tmp_path / ".motor.bldc-codegen-old"
+    assert (retired / "NOTES.txt").read_text() == FOREIGN["NOTES.txt"]
+    assert sorted(p.name for p in retired.iterdir()) == ["NOTES.txt"]
+    assert str(retired / "NOTES.txt") in result.left_behind
+    err = capsys.readouterr().err
+    assert f"warning: {retired / 'NOTES.txt'} could not be moved back" in err
+    # The next run does not exchange over the leftover: it stops first, in one line.
+    with pytest.raises(PublishError, match="left from an earlier run"):
+        publish(OLD, target)
+    assert read_tree(target) == expected
+
+
+def test_a_target_that_cannot_be_replaced_leaves_no_staged_tree(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Was (chattr +i on the -o folder): exit 5, and `.motor.bldc-codegen-new` stayed."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    _write_foreign(target)
+
+    def refuse(a: Path, b: Path) -> bool:
+        raise PermissionError(errno.EPERM, os.strerror(errno.EPERM), str(b))
+
+    monkeypatch.setattr(publish_module, "_exchange", refuse)
+    with pytest.raises(PermissionError):
+        publish(NEW, target)
+    assert owned_part(read_tree(target)) == OLD
+    assert leftovers(tmp_path, target) == []
+
+
+def test_a_republished_folder_keeps_its_mode_and_as_root_its_owner(tmp_path: Path) -> None:
+    """Was: `sudo ... generate -o ~/motor` replaced ~/motor by a folder owned by root,
+    its user unable to add a file to it. Not root: the owner cannot be given away, so
+    the mode (kept before too) and the runner's own ownership are what is checked."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    os.chmod(target, 0o750)
+    owner = (4242, 4343) if os.geteuid() == 0 else (os.getuid(), os.getgid())
+    if os.geteuid() == 0:
+        os.chown(target, *owner)
+    publish(NEW, target)
+    info = target.stat()
+    assert (info.st_uid, info.st_gid) == owner
+    assert info.st_mode & 0o7777 == 0o750
+    assert owned_part(read_tree(target)) == NEW
+
+
+def test_audit_into_a_folder_with_a_hand_written_report_writes_nothing(tmp_path: Path) -> None:
+    """Was: `audit -o DIR` replaced a hand-written AUDIT.md (exit 0); with a SPEC and a
+    hand-written DERIVATION.md it wrote AUDIT.md and AUDIT.html, then refused (exit 5)."""
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "AUDIT.md").write_text("my notes\n")
+    proc = cli("audit", "-o", str(mine))
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    assert f"{mine / 'AUDIT.md'} is in the way" in one_error_line(proc)
+    assert [(p.name, p.read_text()) for p in mine.iterdir()] == [("AUDIT.md", "my notes\n")]
+
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "DERIVATION.md").write_text("my derivation\n")
+    proc = cli("audit", str(SPEC), "-o", str(other))
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    assert f"{other / 'DERIVATION.md'} is in the way" in one_error_line(proc)
+    assert [(p.name, p.read_text()) for p in other.iterdir()] == [
+        ("DERIVATION.md", "my derivation\n")
+    ]
+
+
+def test_audit_replaces_its_own_reports_and_keeps_the_users_files(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine\n")
+    for _ in range(2):
+        proc = cli("audit", str(SPEC), "-o", str(out))
+        assert proc.returncode == 0, proc.stderr
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["AUDIT.html", "AUDIT.md", "DERIVATION.md", "manifest.json", "notes.txt"]
+    assert (out / "notes.txt").read_text() == "mine\n"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["generate", str(SPEC), "-o", ""],
+        ["generate", ""],
+        ["verify", str(SPEC), "--generated", ""],
+        ["firmware", str(SPEC), "--build", ""],
+        ["simulate", str(SPEC), "-o", ""],
+        ["init", "x_motor", "-o", ""],
+    ],
+    ids=["generate-o", "spec", "generated", "build", "simulate-o", "init-o"],
+)
+def test_an_empty_path_is_a_usage_error_not_the_default_folder(
+    tmp_path: Path, argv: list[str]
+) -> None:
+    """Was: `generate SPEC -o "$OUT"` with OUT unset wrote generated/<name> in the
+    current folder (exit 0), as if -o had not been given."""
+    proc = cli(*argv, cwd=tmp_path)
+    assert proc.returncode == ExitCode.USAGE, proc.stderr
+    assert "is an empty path" in proc.stderr.splitlines()[-1]
+    assert "Traceback" not in proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_make_refuses_a_spec_path_with_a_space_in_one_line(tmp_path: Path) -> None:
+    """Was: `make generate SPEC="my motors/m.yaml"` ran `generate my motors/m.yaml`, a
+    usage error about an unrecognized argument. make cannot quote it: it says so."""
+    folder = tmp_path / "my motors"
+    folder.mkdir()
+    spec = folder / "m.yaml"
+    spec.write_bytes(SPEC.read_bytes())
+    proc = subprocess.run(
+        ["make", "-n", "-C", str(ROOT), "generate", f"SPEC={spec}"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert f'no file "{tmp_path / "my"}": make splits SPEC at spaces' in proc.stderr
+    assert "-m codegen generate" not in proc.stdout
+    # several specs, each a file, still go through
+    two = f"SPEC={SPEC} {ROOT / 'spec' / 'example_maxon_ec45_flat_48v.yaml'}"
+    proc = subprocess.run(
+        ["make", "-n", "-C", str(ROOT), "verify", two],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "example_maxon_ec45_flat_48v.yaml; do" in proc.stdout
