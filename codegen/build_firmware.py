@@ -133,8 +133,11 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
     are written beside it (-fstack-usage `<name>.su`, -fcallgraph-info `<name>.ci`); the
     image as ELF, binary, Intel hex and a link map."""
     build_dir.mkdir(parents=True, exist_ok=True)
-    for stale in (*build_dir.glob("*.su"), *build_dir.glob("*.ci")):
-        stale.unlink()
+    # the reports of every object this build may write (a Cube-style one of a former
+    # build included), and no other file: the folder may hold the user's own
+    for name in (*SOURCES, CUBE_SOURCE[0]):
+        for stale in (build_dir / f"{name}.su", build_dir / f"{name}.ci"):
+            stale.unlink(missing_ok=True)
     objects = {}
     for name, source in sources(generated).items():
         obj = build_dir / f"{name}.o"

@@ -56,6 +56,19 @@ def test_firmware_should_link_with_the_handler_in_the_vector_table(
     assert int(slots.split()[0], 16) % 32 == 0
 
 
+def test_a_build_folder_should_keep_the_users_own_stack_reports(tmp_path: Path) -> None:
+    """`firmware --build DIR` removes its own objects' .su and .ci before it compiles
+    (a stale Cube-style `it` report too), and no other file: it had removed every *.su
+    and *.ci in DIR."""
+    mine = {tmp_path / "notes.su": "user", tmp_path / "graph.ci": "user"}
+    for path, text in mine.items():
+        path.write_text(text)
+    (tmp_path / "it.su").write_text("stale")  # a former Cube-style build's
+    build(ROOT / "generated" / "paper_motor", tmp_path)
+    assert all(path.read_text() == text for path, text in mine.items())
+    assert not (tmp_path / "it.su").exists() and (tmp_path / "core.su").is_file()
+
+
 # ------------------------------------------------------------ Cube integration
 
 CUBE_SPEC = ROOT / "tests" / "fixtures" / "specs" / "offset_conventional.yaml"
