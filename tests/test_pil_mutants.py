@@ -153,6 +153,15 @@ MUTANTS = (
         "WatchdogResetError",
     ),
     Mutant(
+        "watchdog sized at the slowest LSI: half the spec's time-out at the fastest",
+        "firmware/system_stm32f103.c",
+        "#define BLDC_SYSTEM_IWDG_RLR 299u",
+        "#define BLDC_SYSTEM_IWDG_RLR 149u /* mutant */",
+        PAPER,
+        "current_loop_stalls",
+        "sooner than firmware.watchdog_timeout",
+    ),
+    Mutant(
         "reversal refusal dropped: a reverse edge hands a leg over in one COM event",
         PORT,
         "const uint32_t refused = too_fast | (tim1->CCER & PORT_RECORD_FORBIDDEN(record));",

@@ -326,6 +326,40 @@ def test_a_current_loop_that_stores_another_jdr_should_fail_the_braking_run(
     ), result.outcome.violations
 
 
+def test_a_current_loop_whose_integrator_never_moves_should_fail_the_braking_run(
+    tmp_path: Path, paper_run: tuple[BrakingLoop, BrakingResult]
+) -> None:
+    """A port mutant that computes the PI's next integrator and drops it (a proportional
+    loop): the paper motor then holds 4.4 A of the 5 A command, 44 codes low, and agreed
+    with the SIL, which is handed the chip's duties. The mean of the loop's steady
+    samples must be the command's code (from the spec), within 3 % of the command and
+    the integrator's lag behind the rising duty; the unmutated port's is 2 codes off."""
+    _, result = paper_run
+    held = braking_report.held_current_check(result)
+    assert held is not None and abs(held.error_codes) <= held.allowed_codes
+    generated = checked_in(PAPER)
+    assert generated is not None
+    line = "    port.integrator = bldc_current_loop_integrate(state, reference, measured);\n"
+
+    def mutate(copy: Path) -> None:
+        port = copy / "c" / "stm32f103_port.c"
+        text = port.read_text(encoding="utf-8")
+        assert text.count(line) == 1
+        dropped = "    (void)bldc_current_loop_integrate(state, reference, measured);\n"
+        port.write_text(text.replace(line, dropped), encoding="utf-8")
+
+    elf = link_mutant(generated, tmp_path / "mutant", mutate)
+    spec = load_spec(str(PAPER))
+    mutant = brake(
+        elf,
+        tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c",
+        spec,
+        braking_setup(spec, short=True),
+    )
+    found = braking_report.problems(mutant)
+    assert any("does not hold the commanded braking current" in p for p in found), found
+
+
 def test_a_fault_latched_in_a_full_braking_run_should_end_it_at_once(
     paper_firmware: tuple[Path, Path],
 ) -> None:

@@ -188,6 +188,10 @@ class Commutation:
     #: the edge before): the steady I the port holds through that edge's commutation,
     #: which the timing run at its end, the last before this edge, reads
     previous_sampled_code: int | None = None
+    #: every injected conversion of the sector's current signal (the JDRx the port reads
+    #: I from there) sampled from the previous commutation's end to this Hall edge: the
+    #: samples the current loop closes on, ADC codes
+    steady_codes: tuple[int, ...] = ()
 
     @property
     def compared_periods(self) -> int:
@@ -286,6 +290,15 @@ class BrakingLoop:
                 self._current_codes.append((tick, code)) if channel in current_channels else None
             )
         )
+        #: (tick sampled, channel, code) of every injected conversion of a current channel
+        self._current_samples: list[tuple[int, int, int]] = []
+        self.machine.adc1.injected_listeners.append(
+            lambda tick, channel, code: (
+                self._current_samples.append((tick, channel, code))
+                if channel in current_channels
+                else None
+            )
+        )
         #: the board's over-current comparator on BKIN, its input the plant's currents
         self.comparator = OverCurrentComparator(
             float(spec.protection.over_current_a),
@@ -307,6 +320,8 @@ class BrakingLoop:
         self.edges: list[tuple[int, int, tuple[int, ...], int]] = []
         #: the braking current's latest injected sample (the firmware's I) at each edge
         self.sampled_codes: list[int] = []
+        #: the ADC channel of that JDRx at each edge (the injected sequence as programmed)
+        self.sampled_channels: list[int] = []
         #: JDRx index holding I in each sector (forward), as the port reads it
         self._slots = {s.sector: s.slot for s in steady_signals(spec) if s.direction == "forward"}
         self.speed_trace: list[tuple[int, float]] = []
@@ -471,6 +486,8 @@ class BrakingLoop:
         self._ccer_at_edge = before
         leaving = self.plant.sector_before_edge()
         code = self.machine.adc1.jdr[self._slots[leaving]]
+        channels = {slot - 1: ch for slot, ch in self.machine.adc1.injected_channels()}
+        self.sampled_channels.append(channels.get(self._slots[leaving], -1))
         self.run.board.set_hall(self.plant.hall_code)
         self.edges.append(
             (self.machine.now, self.plant.sector, tuple(tim1.ccr_preload[1:4]), tim1.arr)
@@ -607,6 +624,24 @@ class BrakingLoop:
                 self.unmeasured[measured] += 1
         return out
 
+    def _steady_codes(self, index: int) -> tuple[int, ...]:
+        """The conversions of the current signal the port reads in the sector Hall edge
+        `index` ends, sampled from a PWM period after the end of the previous edge's
+        commutation (none where it filled its sector) to the edge."""
+        hall = self.edges[index][0]
+        previous = edge_coms(self.com_ticks, self.com_ccers, self.edges[index - 1][0], hall)
+        if previous is None or previous[1] is None:
+            return ()
+        # the sequence triggered before the end, sampled up to a period after it, is the
+        # commutating bridge's (the port discards it)
+        since = self.com_ticks[previous[1]] + self.run.board.pwm_period_ticks()
+        channel = self.sampled_channels[index]
+        return tuple(
+            code
+            for tick, ch, code in self._current_samples
+            if ch == channel and since <= tick < hall
+        )
+
     def _measure(self, index: int) -> Commutation | str:
         """The commutation of Hall edge `index`, or why it cannot be compared."""
         hall, sector, compares, arr = self.edges[index]
@@ -706,6 +741,7 @@ class BrakingLoop:
             current_a=current,
             main_duty=duty,
             sampled_code=self.sampled_codes[index],
+            steady_codes=self._steady_codes(index),
             previous_sampled_code=self.sampled_codes[index - 1] if index > 0 else None,
             start_currents=before[origin].start_currents,
             pre_duties=tuple(p.compares[steady_channel - 1] / counts for p in before[origin:]),

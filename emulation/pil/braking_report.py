@@ -6,6 +6,8 @@ deviation on the chip (PIL) against the SIL simulation of the same firmware."""
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 
 import matplotlib
@@ -15,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from codegen.spec_model import Spec
+from codegen.spec_model import Spec, loop_periods_per_step_response
 from emulation.pil.braking import (
     BRAKING_EDGES,
     BRAKING_MOTOR_S,
@@ -29,6 +31,8 @@ from emulation.pil.braking import (
     worst_difference,
 )
 from emulation.pil.rcc import TICK_HZ
+from oracle.current_loop import loop_model
+from oracle.units import units
 from sim.scenario import switching_table
 
 DPI = 110
@@ -202,6 +206,74 @@ def compared(result: BrakingResult, c: Commutation) -> bool:
     return held_current(result, c) and speed_drift_pp(result.spec, c) <= SPEED_DRIFT_PP
 
 
+#: How far the mean of the samples the current loop closes on may lie from the code of
+#: the command beyond the integrator's ramp lag (below), as a fraction of the command:
+#: the PI's integrator drives that mean to the reference (+2.3 codes of a 310-code
+#: command on the paper motor's short run; a port whose integrator never moved held
+#: 4.4 A of 5 A, 44 codes low, and agreed with the SIL, which is handed its duties)
+HELD_FRACTION = 0.03
+#: ... and never less than this many codes (the ADC's rounding)
+HELD_CODES_MIN = 2.0
+
+
+@dataclass(frozen=True)
+class HeldCurrent:
+    """The current loop's steady samples against the command, over the commutations
+    whose steady switch stayed inside (0, D_max) before the edge: the loop holds I there.
+
+    As the rotor slows, the duty that holds I rises by 2 k_e dn / U_d (the averaged
+    plant, 2E - 2RI = (1 - D) U_d); the integrator climbs that far only from errors, so
+    the samples' mean lags the reference by the climb over k_i and the samples
+    (`lag_codes`), k_i the exact design's (`oracle.current_loop`): the hub motor's short
+    run, 10 counts of duty a sector over 21 samples, lags 8 codes."""
+
+    reference_code: int  # the nearest code of the command (ties up), from the spec's chain
+    zero_code: Fraction  # the code of 0 A
+    mean_code: float
+    samples: int
+    lag_codes: float
+
+    @property
+    def error_codes(self) -> float:
+        return self.mean_code - self.reference_code
+
+    @property
+    def allowed_codes(self) -> float:
+        command = float(abs(self.reference_code - self.zero_code))
+        return max(HELD_CODES_MIN, HELD_FRACTION * command) + self.lag_codes
+
+
+def held_current_check(result: BrakingResult) -> HeldCurrent | None:
+    """The mean steady sample against the command's code; None where there is nothing
+    to judge: fewer samples than the loop's step response takes (5 / w_c PWM periods),
+    so the integrator has not converged (the Maxon's short run: one sample a sector).
+    The command, its code, D_max and k_i come from the spec alone (`oracle`)."""
+    spec = result.spec
+    u = units(spec)
+    loop = loop_model(spec)
+    judged = [
+        c
+        for c in result.commutations
+        if c.steady_codes
+        and min(c.pre_duties, default=0.0) > 0
+        and max(c.pre_duties) * u.pwm_counts < loop.duty_max
+    ]
+    codes = [code for c in judged for code in c.steady_codes]
+    if len(codes) < loop_periods_per_step_response(spec):
+        return None
+    slowed = abs(float(judged[0].speed_rpm) - float(judged[-1].speed_rpm))
+    climb = 2 * float(spec.motor.back_emf_constant_v_per_rpm) * slowed * u.pwm_counts
+    climb /= float(spec.inverter.bus_voltage_nominal_v)
+    milliamps = round(result.setup.current_a * 1000)
+    return HeldCurrent(
+        reference_code=u.current_code(Fraction(milliamps, 1000)),
+        zero_code=u.zero_current_code,
+        mean_code=sum(codes) / len(codes),
+        samples=len(codes),
+        lag_codes=float(climb / (float(loop.ki) * len(codes))),
+    )
+
+
 def zero_current_code(result: BrakingResult) -> int:
     """The code the spec's sensing chain gives for 0 A (an ideal ADC: floor(V / VREF x
     2^bits), as `emulation.pil.adc` converts)."""
@@ -266,6 +338,14 @@ def problems(result: BrakingResult) -> list[str]:
                 f"commutation {c.index}: windows of {c.window_lengths[0]} (PIL) and"
                 f" {c.window_lengths[1]} (SIL) PWM periods"
             )
+    held = held_current_check(result)
+    if held is not None and abs(held.error_codes) > held.allowed_codes:
+        out.append(
+            f"the current loop held a mean of {held.mean_code:.1f} codes over {held.samples}"
+            f" steady samples, {held.error_codes:+.1f} from the command's {held.reference_code}"
+            f" ({result.setup.current_a:g} A; allowed {held.allowed_codes:.1f} codes): it does"
+            " not hold the commanded braking current"
+        )
     if not result.commutations:
         why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
         if "fills its sector" in why and result.setup.max_edges is not None:

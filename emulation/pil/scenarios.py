@@ -817,6 +817,15 @@ def _current_loop_stalls(run: Run) -> Outcome:
             f"no watchdog reset within {timeout} ticks (firmware.watchdog_timeout) of the"
             " current loop's stall"
         )
+    else:
+        # and not sooner than the spec's time-out after the last refresh, even at the
+        # fastest LSI: a watchdog sized at the slowest (30 kHz) reset after half of it
+        last = max((t for t in run.machine.iwdg.refresh_log if t <= reset), default=stalled)
+        if reset - last < timeout:
+            extra.append(
+                f"the watchdog reset {reset - last} ticks after its last refresh, sooner than"
+                f" firmware.watchdog_timeout ({timeout} ticks) at the fastest LSI"
+            )
     return replace(alive, violations=alive.violations + tuple(extra))
 
 
