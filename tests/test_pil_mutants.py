@@ -35,6 +35,24 @@ class Mutant:
 
 MUTANTS = (
     Mutant(
+        "Hall timer's prescaler one low: TIM3 ticks 1.4 % fast, every speed read slow",
+        HEADER,
+        "#define BLDC_PORT_TIM3_PSC ",
+        "#define BLDC_PORT_TIM3_PSC 70u /* mutant: 72 MHz / 71 */",
+        PAPER,
+        "over_voltage",
+        "TIM3 ticks every 71 ticks",
+    ),
+    Mutant(
+        "PWM period one count long: 3601 counts at 20 kHz's 3600",
+        HEADER,
+        "#define BLDC_PORT_TIM1_ARR ",
+        "#define BLDC_PORT_TIM1_ARR 3600u /* mutant: one count long */",
+        PAPER,
+        "over_voltage",
+        "duty 1 is 3601 counts",
+    ),
+    Mutant(
         "invalid-Hall safe state dropped (the EXTI's trip on code 0/7 without an edge)",
         PORT,
         "port_trip(anchor, BLDC_FAULT_HALL_INVALID);",

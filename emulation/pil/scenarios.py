@@ -20,6 +20,10 @@ over the whole run:
   the timing handler stays idle for ten PWM periods;
 * every Hall edge of the turning rotor commutates: the enables in force (TIM1 CCER)
   change within the sector that follows it, while the bridge is armed;
+* the timers as the spec sets them, read from the booted machine: TIM1 counting at
+  inverter.timer_clock, P counts a PWM period (the oracle's `units`: duty 1) in the
+  spec's alignment, so one PWM period at inverter.pwm_frequency; TIM3 ticking at
+  hall.timer_clock over hall.counter_bits (`configuration_problems`);
 * no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
   `WatchdogResetError`), the longest gap between refreshes (from the run's start, or
   the last refresh before it, to now) reported against the watchdog's time-out at the
@@ -52,11 +56,12 @@ from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
 from emulation.pil.bus import PilError, svd_interrupt
 from emulation.pil.iwdg import WatchdogResetError
-from emulation.pil.machine import MachineOptions
+from emulation.pil.machine import Machine, MachineOptions
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
 from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import gate_violations
+from oracle.units import units
 from sim.emf import Waveform
 
 FAULT = {f.name: f.value for f in FAULTS}
@@ -109,6 +114,57 @@ class Outcome:
         return out
 
 
+def configuration_problems(machine: Machine, spec: Spec) -> list[str]:
+    """The booted machine's timers against the spec (the yardsticks: the spec and the
+    oracle's own unit conversions, never the port's constants): TIM1 counts at
+    inverter.timer_clock, P of its counts make duty 1 (ARR = P centre-aligned, P - 1
+    edge-aligned) in the spec's alignment, and so one PWM period lasts 1 / pwm_frequency;
+    TIM3 ticks at hall.timer_clock and counts over hall.counter_bits. A prescaler off by
+    one (a 1.4 % slow Hall clock: every speed and commutation time off by as much, the
+    over-speed threshold too) kept every other invariant."""
+    u = units(spec)
+    tim1, tim3 = machine.tim1, machine.tim3
+    out = []
+    timer_ticks = Fraction(TICK_HZ) / spec.inverter.timer_clock_hz
+    if tim1.ticks_per_count() != timer_ticks:
+        out.append(
+            f"TIM1 counts every {tim1.ticks_per_count()} ticks of 72 MHz (PSC = {tim1.psc}):"
+            f" inverter.timer_clock {float(spec.inverter.timer_clock_hz):g} Hz is every"
+            f" {float(timer_ticks):g}"
+        )
+    centre = spec.inverter.pwm_alignment == "center"
+    if bool(tim1.centre_aligned) != centre:
+        out.append(
+            f"TIM1 counts {'up and down' if tim1.centre_aligned else 'up'} (CR1.CMS ="
+            f" {tim1.centre_aligned}): inverter.pwm_alignment is {spec.inverter.pwm_alignment!r}"
+        )
+    full = tim1.arr if centre else tim1.arr + 1
+    if full != u.pwm_counts:
+        out.append(
+            f"TIM1 ARR = {tim1.arr}: duty 1 is {full} counts, the spec's PWM period"
+            f" {u.pwm_counts} (inverter.pwm_frequency {float(spec.inverter.pwm_frequency_hz):g} Hz)"
+        )
+    period = tim1.cycle_counts() * tim1.ticks_per_count()
+    if period != Fraction(TICK_HZ) / spec.inverter.pwm_frequency_hz:
+        out.append(
+            f"one PWM period lasts {period} ticks of 72 MHz: inverter.pwm_frequency"
+            f" {float(spec.inverter.pwm_frequency_hz):g} Hz is"
+            f" {float(Fraction(TICK_HZ) / spec.inverter.pwm_frequency_hz):g}"
+        )
+    hall_ticks = Fraction(TICK_HZ) / u.hall_hz
+    if tim3.ticks_per_count() != hall_ticks:
+        out.append(
+            f"TIM3 ticks every {tim3.ticks_per_count()} ticks of 72 MHz (PSC = {tim3.psc}):"
+            f" hall.timer_clock {float(u.hall_hz):g} Hz is every {float(hall_ticks):g}"
+        )
+    if tim3.arr != u.hall_counter_max:
+        out.append(
+            f"TIM3 ARR = {tim3.arr}: hall.counter_bits {spec.hall.counter_bits} count to"
+            f" {u.hall_counter_max}"
+        )
+    return out
+
+
 class Run:
     """A booted board braking at `rpm`, with the invariants watched at every step."""
 
@@ -144,6 +200,7 @@ class Run:
         self._watch_publication()
         self.wall = time.perf_counter()
         self.board.boot()
+        self.violations += configuration_problems(self.machine, spec)
         self.start = self.machine.now
         self.handler_start = self.machine.handler_ticks
         self.board.set_current(float(spec.controller.braking_current_nominal_a) / 2)
