@@ -53,6 +53,35 @@ MUTANTS = (
         "duty 1 is 3601 counts",
     ),
     Mutant(
+        "current sample 2 counts late: the trigger (CCR4) at 3538 of 3600",
+        HEADER,
+        "#define BLDC_PORT_TIM1_CCR4 ",
+        "#define BLDC_PORT_TIM1_CCR4 3538u /* mutant: 2 counts late */",
+        PAPER,
+        "over_voltage",
+        "inside the window as the chip may take it",
+    ),
+    Mutant(
+        "current sample time 13.5 ADC cycles, not the spec's 7.5",
+        HEADER,
+        "#define BLDC_PORT_ADC_SMPR2 ",
+        "#define BLDC_PORT_ADC_SMPR2 ((2u << ADC_SMPR2_SMP0_Pos) | (1u << ADC_SMPR2_SMP1_Pos))"
+        " /* mutant: 13.5 cycles on the current channel */",
+        PAPER,
+        "over_voltage",
+        "the current loop's sample of channel 0",
+    ),
+    Mutant(
+        "current sample time 1.5 ADC cycles, not the spec's 7.5: a clean but short window",
+        HEADER,
+        "#define BLDC_PORT_ADC_SMPR2 ",
+        "#define BLDC_PORT_ADC_SMPR2 ((0u << ADC_SMPR2_SMP0_Pos) | (1u << ADC_SMPR2_SMP1_Pos))"
+        " /* mutant: 1.5 cycles on the current channel */",
+        PAPER,
+        "over_voltage",
+        "ADC1 samples channel 0 for 1.5 ADC cycles",
+    ),
+    Mutant(
         "invalid-Hall safe state dropped (the EXTI's trip on code 0/7 without an edge)",
         PORT,
         "port_trip(anchor, BLDC_FAULT_HALL_INVALID);",

@@ -198,6 +198,7 @@ def test_the_short_braking_run_should_agree_with_sil_within_one_point(
     assert all(c.sil_outputs == c.applied for c in result.commutations)  # ticks too
     assert result.end_rpm < result.setup.start_rpm
     assert result.outcome.faults == 0 and result.outcome.violations == ()
+    assert result.outcome.samples_checked >= 100  # every steady sample in a clean window
 
 
 def test_the_host_core_should_be_handed_what_the_timing_handler_read(

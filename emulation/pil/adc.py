@@ -57,6 +57,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from emulation.pil.bus import NotYetKnownError, Peripheral, PilError, bits, svd_interrupt
@@ -315,6 +316,11 @@ class Adc(Peripheral):
     def _sample_half_cycles(self, channel: int) -> int:
         register, index = (0, channel - 10) if channel >= 10 else (1, channel)
         return SAMPLE_HALF_CYCLES[bits(self.smpr[register], 3 * index, 3)]
+
+    def sample_ticks(self, channel: int) -> Fraction:
+        """The channel's sampling time (SMPRx, 11.12.4/5) at the ADCCLK in force, in
+        72 MHz ticks, exact."""
+        return Fraction(self._sample_half_cycles(channel) * TICK_HZ, 2 * self.machine.rcc.adc_hz)
 
     def _schedule(self, channels: list[tuple[int, int]], injected: bool) -> None:
         elapsed = 0  # half ADC cycles

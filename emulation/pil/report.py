@@ -69,7 +69,8 @@ def render(
         limit = o.watchdog_ticks * 1e3 / TICK_HZ
         lines.append(
             f"* **{o.name}**: {o.note}. Longest gap between watchdog refreshes {gap:.2f} ms"
-            f" (time-out {limit:.1f} ms at the fastest LSI)."
+            f" (time-out {limit:.1f} ms at the fastest LSI); {o.samples_checked} current"
+            " samples the loop closed on, each window checked."
             + (
                 f" app_faults published by main within {_us(o.published_ticks)} of MOE cleared"
                 " (looked at two periods after, then once a period)."
@@ -82,8 +83,10 @@ def render(
         "Invariants checked at every step: no shoot-through and no dead time shorter than"
         " the spec's (every gate edge), CCR1..CCR3 within the PWM period and changed only"
         " at an update event (preload), the timing handler never above the Hall edge or"
-        " the current loop, every Hall edge commutating, no hard fault, no watchdog"
-        " reset. CPU load: time in handlers (entry and exit included, the emulator's"
+        " the current loop, every Hall edge commutating, every current sample the loop"
+        " closes on taken in a clean window (no gate edge inside its sampling window, with"
+        " the datasheet's injection latency, nor within sensing.settling_time before it),"
+        " no hard fault, no watchdog reset. CPU load: time in handlers (entry and exit included, the emulator's"
         " cycle model) over emulated time, from boot's end.",
         "",
         f"Emulation: {emulated * 1e3:.1f} ms emulated in {wall:.1f} s wall"

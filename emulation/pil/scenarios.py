@@ -23,7 +23,11 @@ over the whole run:
 * the timers as the spec sets them, read from the booted machine: TIM1 counting at
   inverter.timer_clock, P counts a PWM period (the oracle's `units`: duty 1) in the
   spec's alignment, so one PWM period at inverter.pwm_frequency; TIM3 ticking at
-  hall.timer_clock over hall.counter_bits (`configuration_problems`);
+  hall.timer_clock over hall.counter_bits; each current channel sampled for
+  sensing.adc_sample_time ADC cycles (`configuration_problems`);
+* every current sample the current loop closes on is taken in a clean window: no gate
+  edge inside its sampling window (the ADC's SMPRx, plus the datasheet's injection
+  latency) and none less than sensing.settling_time before it (`sample_window`);
 * no hard fault (the machine raises `PilError`) and no watchdog reset (`Iwdg` raises
   `WatchdogResetError`), the longest gap between refreshes (from the run's start, or
   the last refresh before it, to now) reported against the watchdog's time-out at the
@@ -59,6 +63,7 @@ from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import Machine, MachineOptions
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
+from emulation.pil.sample_window import LoopSampleWatch, sample_window_lines
 from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import gate_violations
 from oracle.units import units
@@ -90,6 +95,8 @@ class Outcome:
     wall_s: float
     note: str
     published_ticks: int | None = None  # MOE cleared to app_faults set by main
+    #: the current samples the loop closed on whose sampling window was checked
+    samples_checked: int = 0
 
     @property
     def fault_names(self) -> list[str]:
@@ -119,7 +126,8 @@ def configuration_problems(machine: Machine, spec: Spec) -> list[str]:
     oracle's own unit conversions, never the port's constants): TIM1 counts at
     inverter.timer_clock, P of its counts make duty 1 (ARR = P centre-aligned, P - 1
     edge-aligned) in the spec's alignment, and so one PWM period lasts 1 / pwm_frequency;
-    TIM3 ticks at hall.timer_clock and counts over hall.counter_bits. A prescaler off by
+    TIM3 ticks at hall.timer_clock and counts over hall.counter_bits; ADC1 and ADC2
+    sample each current channel for sensing.adc_sample_time. A prescaler off by
     one (a 1.4 % slow Hall clock: every speed and commutation time off by as much, the
     over-speed threshold too) kept every other invariant."""
     u = units(spec)
@@ -157,11 +165,30 @@ def configuration_problems(machine: Machine, spec: Spec) -> list[str]:
             f"TIM3 ticks every {tim3.ticks_per_count()} ticks of 72 MHz (PSC = {tim3.psc}):"
             f" hall.timer_clock {float(u.hall_hz):g} Hz is every {float(hall_ticks):g}"
         )
+    out += _sample_time_problems(machine, spec)
     if tim3.arr != u.hall_counter_max:
         out.append(
             f"TIM3 ARR = {tim3.arr}: hall.counter_bits {spec.hall.counter_bits} count to"
             f" {u.hall_counter_max}"
         )
+    return out
+
+
+def _sample_time_problems(machine: Machine, spec: Spec) -> list[str]:
+    """Each current channel sampled for sensing.adc_sample_time ADC cycles (SMPRx) on
+    ADC1, which the loop reads, and ADC2: a longer sample runs into the next switching
+    edge (the sample-window invariant sees that), a shorter one leaves the amplifier's
+    settling of the sample capacitor to chance and no other invariant sees it."""
+    out = []
+    wanted = spec.sensing.adc_sample_cycles
+    for adc in (machine.adc1, machine.adc2):
+        for channel in spec.sensing.current_channels:
+            cycles = adc.sample_ticks(channel) * machine.rcc.adc_hz / TICK_HZ
+            if cycles != wanted:
+                out.append(
+                    f"{adc.svd_name} samples channel {channel} for {float(cycles):g} ADC cycles"
+                    f" (SMPRx): sensing.adc_sample_time is {float(wanted):g}"
+                )
     return out
 
 
@@ -200,11 +227,13 @@ class Run:
         self._watch_publication()
         self.wall = time.perf_counter()
         self.board.boot()
-        self.violations += configuration_problems(self.machine, spec)
+        if not hse_fails:  # on the HSI every rate is the crystal's / 9: the bridge never arms
+            self.violations += configuration_problems(self.machine, spec)
         self.start = self.machine.now
         self.handler_start = self.machine.handler_ticks
         self.board.set_current(float(spec.controller.braking_current_nominal_a) / 2)
         self.machine.tim1.record_gates()
+        self.samples = LoopSampleWatch(self.machine, spec)
         self.sector = 0
         self.rpm = default_rpm(spec)
         self.published_after: int | None = None
@@ -359,6 +388,7 @@ class Run:
         dead = round(self.spec.inverter.dead_time_s * TICK_HZ)
         log = machine.tim1.gate_log or []
         violations = self.violations + [str(v) for v in gate_violations(log, dead)[:10]]
+        violations += sample_window_lines(self.samples.violations(log))
         cleared = machine.tim1.moe_cleared_at
         latency = None
         if cleared is not None and cause is not None and cleared >= cause:
@@ -387,6 +417,7 @@ class Run:
             wall_s=time.perf_counter() - self.wall,
             note=note,
             published_ticks=self.published_after,
+            samples_checked=len(self.samples.used),
         )
 
 
