@@ -58,6 +58,7 @@ from codegen.yaml12 import (
     child_path,
     read_yaml,
     type_name,
+    unreadable_values,
 )
 
 _NAME = re.compile(r"[a-z][a-z0-9_]{0,63}\Z")
@@ -1344,6 +1345,13 @@ def load_spec(path: str | Path) -> Spec:
         tolerances = r.attempt(
             lambda: spec_optional.tolerances(r, data[spec_optional.TOLERANCES_KEY], inverter)
         )
+    reported = {error.path for error in r.errors}
+    for where, value in unreadable_values(data):
+        # a value too long to read that no reader refused under its own key
+        if not any(
+            where == path or where.startswith((f"{path}.", f"{path}[")) for path in reported
+        ):
+            r.report(where, value, f"is {value.problem}")
     if r.errors:
         raise MultiSpecError(r.errors)
     parts = _Parts(motor, inverter, hall, adc, controller, accuracy, points)  # type: ignore[arg-type]

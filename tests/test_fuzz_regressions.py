@@ -1,0 +1,85 @@
+"""Regressions found by the seeded hostile-input fuzzer (tests/fuzz_hostile.py).
+
+One case per class of bug; each replays in-process or in one short CLI run. The fuzzer's
+case that found it is named beside it (`python tests/fuzz_hostile.py load --seed S --only N`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from codegen.errors import MultiSpecError, SpecError
+from codegen.spec_loader import load_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+TEXT = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+
+
+def refusal(tmp_path: Path, text: str) -> list[str]:
+    spec = tmp_path / "fuzz.yaml"
+    spec.write_text(text, encoding="utf-8")
+    with pytest.raises(SpecError) as caught:
+        load_spec(spec)
+    error = caught.value
+    lines = [str(one) for one in (error.errors if isinstance(error, MultiSpecError) else [error])]
+    for line in lines:
+        assert "\n" not in line and len(line) < 600, line
+        assert line.startswith(str(spec)), line
+    return lines
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "fragments"),
+    [
+        # [1:960]: `= None: number 9e-1000 has an exponent beyond +-999`, no range
+        (
+            "commutation_time_ticks: 8",
+            "commutation_time_ticks: 9e-1000",
+            (
+                "accuracy.commutation_time_ticks = '9e-1000'",
+                "exponent beyond +-999",
+                "(allowed: (0.5, 64] Hall timer ticks)",
+            ),
+        ),
+        # [1:885]: `adc.bits = None: a number of 3003 characters (at most 64)`, no range
+        (
+            "  poles: 2\n",
+            "  poles: 0." + "0" * 3000 + "1\n",
+            ("motor.poles = '0.000", "a number of 3003 characters (at most 64)", "[2, 128] poles"),
+        ),
+        # [1:164]: `motor.phase_inductance = None: a value of 5000 characters`, no unit or range
+        (
+            "phase_inductance: 0.56 mH",
+            "phase_inductance: " + "x" * 5000,
+            (
+                "motor.phase_inductance = 'xxx",
+                "an inductance",
+                "5000 characters (at most 4096)",
+                "(allowed: [1e-07, 1] H)",
+            ),
+        ),
+        # the same value under a key no reader takes a number at
+        (
+            "\nmotor:\n",
+            "\nmotor:\n  colour: 1e99999\n",
+            ("motor.colour = '1e99999': unknown key", "rated_voltage"),
+        ),
+    ],
+    ids=["exponent", "many-digits", "long-string", "unknown-key"],
+)
+def test_a_value_too_long_to_read_is_named_with_its_key_value_and_range(
+    tmp_path: Path, old: str, new: str, fragments: tuple[str, ...]
+) -> None:
+    assert TEXT.count(old) == 1
+    lines = refusal(tmp_path, TEXT.replace(old, new))
+    assert len(lines) == 1, lines
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+
+
+def test_a_100_000_character_key_is_cut_in_the_message(tmp_path: Path) -> None:
+    # [1:286]: the key path was echoed whole, a message line of 100 kB
+    lines = refusal(tmp_path, TEXT.replace("\nmotor:\n", f"\nmotor:\n  {'k' * 100_000}: 1\n", 1))
+    assert any(f"motor.{'k' * 61}..." in line for line in lines), lines
