@@ -41,7 +41,7 @@ from codegen.spec_drive import (
     sense_window,
     short_circuit_peak,
 )
-from codegen.spec_loader import PERIOD_COUNTS_MAX, load_spec, out_of_range
+from codegen.spec_loader import PAPER_AUDIT_NAME, PERIOD_COUNTS_MAX, load_spec, out_of_range
 from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
@@ -171,6 +171,11 @@ def spec_name(text: str) -> str:
     if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", text):
         raise argparse.ArgumentTypeError(
             f"{text!r} is not a lower-case identifier ([a-z][a-z0-9_]{{0,63}}), e.g. my_motor"
+        )
+    if text == PAPER_AUDIT_NAME:
+        # the loader refuses it: init wrote a spec that did not load (exit 3)
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is reserved: generated/{text}/ holds the paper's audit; choose another name"
         )
     return text
 

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from codegen.errors import MultiSpecError, SpecError
+from bldc.cli import main
+from codegen.errors import ExitCode, MultiSpecError, SpecError
 from codegen.spec_loader import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -83,3 +84,24 @@ def test_a_100_000_character_key_is_cut_in_the_message(tmp_path: Path) -> None:
     # [1:286]: the key path was echoed whole, a message line of 100 kB
     lines = refusal(tmp_path, TEXT.replace("\nmotor:\n", f"\nmotor:\n  {'k' * 100_000}: 1\n", 1))
     assert any(f"motor.{'k' * 61}..." in line for line in lines), lines
+
+
+def test_init_refuses_the_reserved_name_at_the_argument(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # `init paper` wrote a spec the loader then refused (name 'paper' is reserved), exit 3
+    with pytest.raises(SystemExit) as caught:
+        main(["init", "paper", "-o", str(tmp_path / "paper.yaml")])
+    assert caught.value.code == ExitCode.USAGE
+    assert "argument NAME: 'paper' is reserved" in capsys.readouterr().err
+    assert not (tmp_path / "paper.yaml").exists()
+
+
+def test_a_spec_file_that_cannot_be_written_is_named_not_its_temporary_file(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # `init m -o /proc/x.yaml` said "error: /proc/.x.yaml.tmp-29017: No such file ..."
+    assert main(["init", "m", "-o", "/proc/x.yaml"]) == ExitCode.ENVIRONMENT
+    err = capsys.readouterr().err
+    assert err.startswith("error: /proc/x.yaml: "), err
+    assert ".tmp-" not in err and len(err.splitlines()) == 1, err
