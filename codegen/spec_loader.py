@@ -148,6 +148,13 @@ def _f1(value: Fraction) -> str:
     return f"{float(value):.1f}"
 
 
+def _got(raw: object) -> str:
+    """What a value that should be a number is: its type, and for a string that is a
+    number written the usual wrong way ('0,75'), how to write it."""
+    misread = units.misread_number(raw) if isinstance(raw, str) else None
+    return f"{type_name(raw)} ({misread})" if misread else type_name(raw)
+
+
 class _Reader:
     """Reads one parsed document, collecting every error and warning with its YAML line."""
 
@@ -241,9 +248,7 @@ class _Reader:
         where = f"{path}.{key}" if path else key
         raw = self.raw(data, key, path, f"a plain number in {rng.describe()}")
         if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-            raise self.error(
-                where, raw, f"must be a plain number, got {type_name(raw)}", rng.describe()
-            )
+            raise self.error(where, raw, f"must be a plain number, got {_got(raw)}", rng.describe())
         if isinstance(raw, float) and not math.isfinite(raw):
             raise self.error(where, raw, "must be a finite number", rng.describe())
         exact = raw.exact if isinstance(raw, ExactFloat) else None
@@ -256,9 +261,7 @@ class _Reader:
         where = f"{path}.{key}"
         raw = self.raw(data, key, path, f"an integer in {rng.describe()}")
         if isinstance(raw, bool) or not isinstance(raw, int):
-            raise self.error(
-                where, raw, f"must be an integer, got {type_name(raw)}", rng.describe()
-            )
+            raise self.error(where, raw, f"must be an integer, got {_got(raw)}", rng.describe())
         if not rng.contains(raw):
             raise self.error(where, raw, "out of range", rng.describe())
         return raw

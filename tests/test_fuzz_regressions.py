@@ -105,3 +105,30 @@ def test_a_spec_file_that_cannot_be_written_is_named_not_its_temporary_file(
     err = capsys.readouterr().err
     assert err.startswith("error: /proc/x.yaml: "), err
     assert ".tmp-" not in err and len(err.splitlines()) == 1, err
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "fragment"),
+    [
+        # the number read as 0 and the "unit" ',56 mH'
+        ("0.56 mH", "0,56 mH", "a decimal comma: write '0.56 mH'"),
+        ("0.56 mH", "1,000 mH", "write '1000 mH' (thousands) or '1.000 mH' (decimal comma)"),
+        ("0.56 mH", "1 000 uH", "digits in groups"),
+        ("0.56 mH", "0x10 uH", "a number in another base"),
+        ("0.56 mH", "\u22120.56 mH", "(U+2212) is not a minus sign: use '-'"),
+        # µH was answered "did you mean 'H'?", Ω with no suggestion
+        ("0.56 mH", "560 \u00b5H", "did you mean 'uH'?"),
+        ("0.56 mH", "560 \u03bcH", "did you mean 'uH'?"),
+        ("0.21 ohm", "210 m\u2126", "did you mean 'mohm'?"),
+        ("0.21 ohm", "0.21 \u03a9", "did you mean 'ohm'?"),
+        ("0.00119 kg*m^2", "0.00119 kg\u00b7m\u00b2", "did you mean 'kg*m^2'?"),
+        ("duty_counts: 0.75", "duty_counts: 0,75", "got a string (a decimal comma: write '0.75')"),
+    ],
+)
+def test_a_number_or_unit_written_the_usual_wrong_way_says_how_to_write_it(
+    tmp_path: Path, old: str, new: str, fragment: str
+) -> None:
+    assert TEXT.count(old) == 1
+    lines = refusal(tmp_path, TEXT.replace(old, new))
+    assert len(lines) == 1 and fragment in lines[0], lines
+    assert "(allowed: " in lines[0], lines[0]
