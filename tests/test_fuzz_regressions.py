@@ -6,13 +6,18 @@ case that found it is named beside it (`python tests/fuzz_hostile.py load --seed
 
 from __future__ import annotations
 
+import json
+import re
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+import yaml
 
 from bldc.cli import main
 from codegen.errors import ExitCode, MultiSpecError, SpecError
 from codegen.spec_loader import load_spec
+from codegen.spec_variant import spec_with_duty_target, spec_with_emf_shape, spec_with_method
 
 ROOT = Path(__file__).resolve().parents[1]
 TEXT = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
@@ -132,3 +137,51 @@ def test_a_number_or_unit_written_the_usual_wrong_way_says_how_to_write_it(
     lines = refusal(tmp_path, TEXT.replace(old, new))
     assert len(lines) == 1 and fragment in lines[0], lines
     assert "(allowed: " in lines[0], lines[0]
+
+
+def _quoted_keys(text: str) -> str:
+    return re.sub(r"^(\s*)([a-z_]+):", r'\1"\2":', text, flags=re.M)
+
+
+@pytest.mark.parametrize(
+    "layout",
+    [
+        # [5:21]: simulate refused a valid spec with quoted keys, "controller.method =
+        # None: no line to replace" (a line pattern found the method to rewrite)
+        _quoted_keys,
+        lambda text: text.replace("method: improved", 'method: "improved"'),
+        lambda text: text.replace("method: improved", "method: !!str improved # paper"),
+        lambda text: json.dumps(yaml.safe_load(text)),
+        lambda text: yaml.safe_dump(yaml.safe_load(text), default_flow_style=True),
+        lambda text: text.replace("description: Table", "description: &m improved #").replace(
+            "method: improved", "method: *m"
+        ),
+    ],
+    ids=["quoted-keys", "quoted-value", "tagged-value", "json", "flow", "alias"],
+)
+def test_the_methods_variants_of_a_valid_spec_in_any_layout_load(
+    tmp_path: Path, layout: Callable[[str], str]
+) -> None:
+    text = layout(TEXT)
+    variant = spec_with_method(text, "none", "variant")
+    variant = spec_with_emf_shape(variant, "[[0, 0], [30, 1], [150, 1], [180, 0]]")
+    variant = spec_with_duty_target(variant, "2")
+    path = tmp_path / "variant.yaml"
+    path.write_text(variant, encoding="utf-8")
+    spec = load_spec(path)
+    original = tmp_path / "original.yaml"
+    original.write_text(text, encoding="utf-8")
+    base = load_spec(original)
+    assert (spec.name, spec.controller.method, spec.accuracy.duty_counts) == ("variant", "none", 2)
+    assert spec.motor.back_emf_shape != base.motor.back_emf_shape
+    assert (spec.motor.phase_inductance_h, spec.operating_points) == (
+        base.motor.phase_inductance_h,
+        base.operating_points,
+    )
+
+
+def test_a_variant_that_would_change_another_key_through_an_anchor_is_refused() -> None:
+    text = TEXT.replace("name: paper_motor", "name: &n paper_motor", 1)
+    text = re.sub(r"(?m)^description: .*$", "description: *n", text)
+    with pytest.raises(SpecError, match="other keys take its value through an alias"):
+        spec_with_method(text, "none", "renamed")
