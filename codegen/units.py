@@ -53,10 +53,9 @@ def misread_number(raw: str) -> str | None:
         return f"a decimal comma: write '{whole}.{fraction}{unit}'"
     if _GROUPED.match(raw):
         return "digits in groups: write the number without separators, e.g. '1000'"
-    if raw.lstrip(" \t")[:1] in _NOT_ASCII_MINUS:
-        return (
-            f"'{raw.lstrip(' ')[0]}' (U+{ord(raw.lstrip(' ')[0]):04X}) is not a minus sign: use '-'"
-        )
+    first = raw.lstrip(" \t")[:1]
+    if first and first in _NOT_ASCII_MINUS:
+        return f"'{first}' (U+{ord(first):04X}) is not a minus sign: use '-'"
     if _RADIX.match(raw):
         return "a number in another base: write it in decimal"
     return None

@@ -128,6 +128,9 @@ def test_a_spec_file_that_cannot_be_written_is_named_not_its_temporary_file(
         ("0.21 ohm", "0.21 \u03a9", "did you mean 'ohm'?"),
         ("0.00119 kg*m^2", "0.00119 kg\u00b7m\u00b2", "did you mean 'kg*m^2'?"),
         ("duty_counts: 0.75", "duty_counts: 0,75", "got a string (a decimal comma: write '0.75')"),
+        # the fuzzer's [7:1396]: an empty string crashed the typographic-minus check
+        ("0.56 mH", '""', "not a number (ASCII digits) followed by a unit"),
+        ("0.56 mH", '"  "', "not a number (ASCII digits) followed by a unit"),
     ],
 )
 def test_a_number_or_unit_written_the_usual_wrong_way_says_how_to_write_it(
