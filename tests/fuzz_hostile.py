@@ -2,7 +2,7 @@
 
     .venv/bin/python tests/fuzz_hostile.py load  --seed 1 --count 3000
     .venv/bin/python tests/fuzz_hostile.py cli   --seed 1 --count 40 --commands derive,generate
-    .venv/bin/python tests/fuzz_hostile.py args  --seed 1
+    .venv/bin/python tests/fuzz_hostile.py layout --commands generate,simulate --layouts json
 
 `load` mutates the checked-in specs (spec/*.yaml, tests/fixtures/**/*.yaml) in their text,
 line by line, so comments and layout stay real: every value replaced by wrong types,
@@ -17,8 +17,9 @@ accepted, through everything `generate` derives from it. Outcomes are classified
 * accepted (and designed, or refused by the fixed-point design);
 * crash (another exception) and slow (over the case's time limit).
 
-`cli` runs the real CLI in subprocesses on a sample of the same cases; `args` on hostile
-command lines (unknown flags, missing arguments, odd paths, unwritable output). Each
+`cli` runs the real CLI in subprocesses on a sample of the same cases (`--accepted-only`:
+the ones the loader accepts, for the later commands); `layout` runs every command on
+valid specs written another way (CRLF, BOM, JSON, flow style, quoted keys, ...). Each
 finding is printed with the seed and case number that replays it (`--only N`).
 
 tests/test_spec_fuzz.py is the Hypothesis fuzzer the suite runs; the regressions this
@@ -39,7 +40,7 @@ import tempfile
 import time
 import traceback
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -539,16 +540,9 @@ def cli_phase(
             if accepted_only and not accepted:
                 continue
             for command in commands:
-                argv = [command, str(spec)]
-                if command in ("generate", "audit", "simulate"):
-                    argv += ["-o", str(folder / "out")]
-                if command == "simulate":
-                    argv += ["--quick", "--no-progress"]
+                argv = _argv(command, spec, folder)
                 if command in ("firmware", "verify", "unity"):
                     run(["generate", str(spec), "-o", str(folder / "gen")], folder)
-                    argv += ["--generated", str(folder / "gen")]
-                if command == "verify":
-                    argv += ["--random", "200", "--no-progress"]
                 rc, _, err, seconds = run(argv, folder)
                 verdict = cli_verdict(rc, err)
                 counts[f"{command} {'accepted' if accepted else 'refused'}: {verdict}"] += 1
@@ -570,9 +564,77 @@ def cli_phase(
     return 1 if bad else 0
 
 
+def _layouts() -> dict[str, Callable[[str], str | bytes]]:
+    import json
+
+    import yaml
+
+    return {
+        "crlf": lambda t: t.replace("\n", "\r\n"),
+        "bom": lambda t: "\ufeff" + t,
+        "doc-markers": lambda t: "%YAML 1.2\n---\n" + t + "...\n",
+        "quoted-keys": lambda t: re.sub(r"^(\s*)([a-z_]+):", r'\1"\2":', t, flags=re.M),
+        "json": lambda t: json.dumps(yaml.safe_load(t), indent=1),
+        "flow": lambda t: yaml.safe_dump(yaml.safe_load(t), default_flow_style=True),
+        "no-comments": lambda t: re.sub(r"(?m)^\s*#.*\n", "", t),
+        "indent-4": lambda t: re.sub(r"(?m)^( +)", lambda m: m.group(1) * 2, t),
+    }
+
+
+def layout_phase(commands: list[str], bases: list[str], only: list[str] | None) -> int:
+    """Valid specs in other layouts (same values): every command must take them."""
+    from codegen.spec_loader import load_spec
+
+    bad = 0
+    for base in bases:
+        text = (ROOT / base).read_text(encoding="utf-8")
+        for label, layout in _layouts().items():
+            if only and label not in only:
+                continue
+            raw = layout(text)
+            with tempfile.TemporaryDirectory(prefix="bldc layout ") as scratch:
+                folder = Path(scratch)
+                spec = folder / "spec.yaml"
+                spec.write_bytes(raw if isinstance(raw, bytes) else raw.encode())
+                try:
+                    load_spec(spec)
+                except Exception as error:  # the layout must not matter
+                    bad += 1
+                    print(f"{base} {label}: refused: {str(error)[:300]}")
+                    continue
+                for command in commands:
+                    argv = _argv(command, spec, folder)
+                    if command in ("firmware", "verify", "unity"):
+                        run(["generate", str(spec), "-o", str(folder / "gen")], folder)
+                    rc, _, err, seconds = run(argv, folder)
+                    verdict = cli_verdict(rc, err)
+                    print(f"{base} {label} {command}: {verdict} ({seconds:.1f} s)")
+                    if rc != 0:
+                        bad += 1
+                        print("    " + err.strip().replace("\n", "\n    ")[-1500:])
+    return 1 if bad else 0
+
+
+def _argv(command: str, spec: Path, folder: Path) -> list[str]:
+    argv = [command, str(spec)]
+    if command in ("generate", "audit", "simulate"):
+        argv += ["-o", str(folder / "out")]
+    if command == "simulate":
+        argv += ["--quick", "--no-progress"]
+    if command in ("firmware", "verify", "unity"):
+        argv += ["--generated", str(folder / "gen")]
+    if command == "verify":
+        argv += ["--random", "200", "--no-progress"]
+    if command == "bench":
+        argv += ["--quick"]
+    return argv
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("phase", choices=["load", "cli"])
+    parser.add_argument("phase", choices=["load", "cli", "layout"])
+    parser.add_argument("--bases", default="spec/paper_motor.yaml", help="layout: specs")
+    parser.add_argument("--layouts", default="", help="layout: which (default all)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--count", type=int, default=500)
     parser.add_argument("--only", type=int, default=None, help="replay one case number")
@@ -585,6 +647,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.dump is not None and args.only is not None:
         args.dump.write_bytes(make_case(args.only, args.seed).raw)
         return 0
+    if args.phase == "layout":
+        layouts = args.layouts.split(",") if args.layouts else None
+        return layout_phase(args.commands.split(","), args.bases.split(","), layouts)
     if args.phase == "load":
         return load_phase(args.seed, args.count, args.only, args.limit, not args.no_design)
     return cli_phase(args.seed, args.count, args.commands.split(","), args.only, args.accepted_only)
