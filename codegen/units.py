@@ -172,6 +172,12 @@ def parse_quantity(raw: object, dimension: Dimension) -> ParsedQuantity:
             f"expected {dimension.a_name} such as '1.5 {dimension.scales[0][0]}', "
             f"got {type_name(raw)}"
         )
+    if isinstance(raw, float) and not math.isfinite(raw):
+        # not "write e.g. 'nan Hz'"
+        raise QuantityError(
+            f"expected {dimension.a_name}: a finite number and a unit such as"
+            f" '1.5 {dimension.scales[0][0]}' (units: {dimension.accepted()})"
+        )
     if isinstance(raw, (int, float)):
         raise QuantityError(
             f"missing unit for {dimension.a_name}; write e.g. '{raw} {dimension.scales[0][0]}' "

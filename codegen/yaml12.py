@@ -331,6 +331,9 @@ class _Builder:
                         child,
                     )
                 first_line[key] = key_node.start_mark.line + 1
+                if value_node.start_mark.index < key_node.end_mark.index:
+                    # an alias: its node is the anchor's; cite the key that uses it
+                    self.lines.setdefault(child, key_node.start_mark.line + 1)
                 out[key] = self.build(value_node, child, depth + 1)
             return out
         raise YamlError(f"unexpected YAML node {type(node).__name__}", None, path)

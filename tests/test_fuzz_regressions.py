@@ -188,3 +188,18 @@ def test_a_variant_that_would_change_another_key_through_an_anchor_is_refused() 
     text = re.sub(r"(?m)^description: .*$", "description: *n", text)
     with pytest.raises(SpecError, match="other keys take its value through an alias"):
         spec_with_method(text, "none", "renamed")
+
+
+@pytest.mark.parametrize("value", [".nan", ".inf", "-.inf"])
+def test_a_non_finite_quantity_is_not_told_to_add_a_unit(tmp_path: Path, value: str) -> None:
+    # `hall.timer_clock = nan: missing unit for a frequency; write e.g. 'nan Hz'`
+    lines = refusal(tmp_path, TEXT.replace("timer_clock: 1 MHz", f"timer_clock: {value}"))
+    assert len(lines) == 1 and "a finite number and a unit" in lines[0], lines
+    assert "(allowed: " in lines[0] and f"{value.lstrip('-.')} Hz" not in lines[0], lines
+
+
+def test_an_alias_is_cited_at_the_key_that_uses_it(tmp_path: Path) -> None:
+    # the unknown key `copy: *m` at the end was cited at the anchor's line, 17
+    text = TEXT.replace("\nmotor:", "\nmotor: &m", 1) + "copy: *m\n"
+    lines = refusal(tmp_path, text)
+    assert lines == [line for line in lines if f":{text.count(chr(10))}: copy = " in line], lines
