@@ -337,9 +337,21 @@ class Datasheet:
 
 
 @dataclass(frozen=True)
+class DesignRefusal:
+    """The fixed-point design refused a spec that loads: the one line `generate` prints."""
+
+    source: str
+    key: str
+    problem: str
+
+    def __str__(self) -> str:
+        return f"{self.source}: {self.key}: fixed-point design: {self.problem}"
+
+
+@dataclass(frozen=True)
 class Written:
     path: Path
-    error: SpecError | None
+    error: SpecError | DesignRefusal | None
     warnings: tuple[SpecWarning, ...]
 
 
@@ -777,18 +789,20 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
     except SpecError as exc:
         return Written(path, exc, ())
     # the loop's design imports the IR and its prover: only once the spec loads
-    from codegen.control.current_loop import accuracy_needed, widest_design
+    from codegen.control.current_loop import accuracy_needed, design, widest_design
     from codegen.methods.base import FixedPointError
 
     try:
         needed = accuracy_needed(widest_design(spec))
-    except FixedPointError:
-        needed = Fraction(1)  # no format at all: generate names the key
-    if needed > spec.accuracy.current_loop_duty_counts:
-        # the PI's widest format cannot meet 1 count: the spec says what it does meet
-        write_atomically(path, render_spec(name, sheet, _round_up(needed * 100, 1) / 100))
-        try:
+        if needed > spec.accuracy.current_loop_duty_counts:
+            # the PI's widest format cannot meet 1 count: the spec says what it does meet
+            write_atomically(path, render_spec(name, sheet, _round_up(needed * 100, 1) / 100))
             spec = load_spec(path)
-        except SpecError as exc:
-            return Written(path, exc, ())
+        design(spec)
+    except SpecError as exc:
+        return Written(path, exc, ())
+    except FixedPointError as exc:
+        # no format at all (a k_i below one LSB): said now, not by `generate` after
+        # "init: next: ... generate" (a 1 mohm, 500 mH motor)
+        return Written(path, DesignRefusal(str(path), exc.key, str(exc)), ())
     return Written(path, None, spec.warnings)

@@ -630,9 +630,79 @@ def _argv(command: str, spec: Path, folder: Path) -> list[str]:
     return argv
 
 
+_INIT_OPTIONS = {
+    "--pole-pairs": ["1", "2", "4", "7", "23", "64", "0", "65", "2.5", "-1", "x"],
+    "--poles": ["2", "3", "14", "46", "128", "130"],
+    "--resistance": ["0.001 ohm", "0.21 ohm", "5 ohm", "50 ohm", "100 ohm", "0 ohm", "1e-9 ohm"],
+    "--resistance-line-to-line": ["0.2 ohm", "0.02 ohm", "12 ohm"],
+    "--inductance": ["1 uH", "20 uH", "0.56 mH", "10 mH", "500 mH", "0.1 uH"],
+    "--inductance-line-to-line": ["30 uH", "2 mH", "0.3 uH"],
+    "--ke": ["0.01 V/krpm", "2.36 V/krpm", "100 V/krpm", "1 V/rpm", "1e-6 V/rpm"],
+    "--kv": ["1", "30", "625", "5000", "20000", "0.001", "1e6"],
+    "--rated-voltage": ["3 V", "12 V", "48 V", "400 V", "1000 V"],
+    "--inertia": ["1e-9 kg*m^2", "1e-6 kg*m^2", "0.01 kg*m^2", "10 kg*m^2"],
+    "--bus-voltage": ["1 V", "6 V", "12 V", "48 V", "100 V", "400 V", "800 V", "1000 V"],
+    "--braking-current": ["0.1 A", "1 A", "5 A", "100 A", "500 A", "1000 A"],
+    "--speed-max": ["1 rpm", "100 rpm", "3000 rpm", "60000 rpm", "1e6 rpm"],
+    "--pwm-frequency": ["1 kHz", "2 kHz", "5 kHz", "7031.25 Hz", "20 kHz", "40 kHz", "100 kHz"],
+    "--method": ["improved", "conventional", "none"],
+}
+
+
+def init_phase(seed: int, count: int, only: int | None) -> int:
+    """`init` on random datasheet values; a spec it writes that loads must design."""
+    import contextlib as _c
+    import io
+
+    from bldc.cli import main as cli_main
+    from codegen.errors import SpecError
+    from codegen.spec_loader import load_spec
+
+    counts: Counter[str] = Counter()
+    bad = 0
+    scratch = Path(tempfile.mkdtemp(prefix="bldc-init-"))
+    for number in [only] if only is not None else range(count):
+        rng = random.Random(f"init:{seed}:{number}")
+        options = rng.sample(sorted(_INIT_OPTIONS), rng.randint(1, 6))
+        argv = ["init", "m", "-o", str(scratch / f"m{number}.yaml"), "--force"]
+        for option in options:
+            argv += [option, rng.choice(_INIT_OPTIONS[option])]
+        err = io.StringIO()
+        try:
+            with _c.redirect_stderr(err), _c.redirect_stdout(io.StringIO()):
+                rc = cli_main(argv)
+        except SystemExit as exit_:
+            rc = exit_.code if isinstance(exit_.code, int) else 2
+        except Exception as error:
+            rc = -1
+            err.write(f"CRASH {type(error).__name__}: {error}")
+        text = err.getvalue()
+        verdict = f"exit {rc}"
+        if rc in (-1, 70) or "Traceback" in text:
+            verdict = "crash"
+        elif rc == 0:
+            try:
+                with time_limit(60):
+                    verdict = "written, " + design(load_spec(scratch / f"m{number}.yaml"))
+            except SpecError as error:
+                verdict = "written but refused"
+                text += str(error)
+            except Exception as error:
+                verdict = "crash after init"
+                text += f"{type(error).__name__}: {error}"
+        counts[verdict] += 1
+        if verdict.startswith(("crash", "written but", "written, design refused")) or (
+            rc not in (0, 2, 3) and verdict != "crash"
+        ):
+            bad += 1
+            print(f"[init {seed}:{number}] {verdict}: {' '.join(argv[4:])}\n    {text[-800:]}")
+    print("outcomes:", dict(counts))
+    return 1 if bad else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("phase", choices=["load", "cli", "layout"])
+    parser.add_argument("phase", choices=["load", "cli", "layout", "init"])
     parser.add_argument("--bases", default="spec/paper_motor.yaml", help="layout: specs")
     parser.add_argument("--layouts", default="", help="layout: which (default all)")
     parser.add_argument("--seed", type=int, default=1)
@@ -647,6 +717,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.dump is not None and args.only is not None:
         args.dump.write_bytes(make_case(args.only, args.seed).raw)
         return 0
+    if args.phase == "init":
+        return init_phase(args.seed, args.count, args.only)
     if args.phase == "layout":
         layouts = args.layouts.split(",") if args.layouts else None
         return layout_phase(args.commands.split(","), args.bases.split(","), layouts)

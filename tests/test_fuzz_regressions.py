@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import re
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -203,3 +204,33 @@ def test_an_alias_is_cited_at_the_key_that_uses_it(tmp_path: Path) -> None:
     text = TEXT.replace("\nmotor:", "\nmotor: &m", 1) + "copy: *m\n"
     lines = refusal(tmp_path, text)
     assert lines == [line for line in lines if f":{text.count(chr(10))}: copy = " in line], lines
+
+
+def test_init_says_when_the_pi_it_writes_cannot_integrate(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # [init 1:22]: a 1 mohm, 500 mH motor: init exited 0 ("next: generate"), and generate
+    # refused it with "k_i = 0.00069 ... below one LSB ... (Q6)": no value, no range
+    spec = tmp_path / "m.yaml"
+    argv = ["init", "m", "-o", str(spec), "--resistance", "0.001 ohm", "--inductance", "500 mH"]
+    assert main(argv) == ExitCode.SPEC
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith(f"error: {spec}: current_loop.bandwidth: fixed-point design: "), err
+    assert "current_loop.bandwidth = 1000 Hz: k_i" in err[0] and "(allowed: " in err[0], err
+    assert "fixed-point design does not fit" in err[1], err
+
+
+def test_a_k_i_below_one_lsb_is_refused_at_once_at_any_bandwidth(tmp_path: Path) -> None:
+    # the search for a bandwidth that fits ran its own search in each trial: at 50 Hz,
+    # generate ran for minutes
+    from codegen.control.current_loop import widest_design
+    from codegen.methods.base import FixedPointError
+
+    spec = tmp_path / "m.yaml"
+    argv = ["init", "m", "-o", str(spec), "--resistance", "0.001 ohm", "--inductance", "500 mH"]
+    main(argv)
+    spec.write_text(spec.read_text().replace("bandwidth: 1000 Hz", "bandwidth: 50 Hz"))
+    start = time.monotonic()
+    with pytest.raises(FixedPointError, match=r"bandwidth = 50 Hz: .*\(allowed: "):
+        widest_design(load_spec(spec))
+    assert time.monotonic() - start < 20
