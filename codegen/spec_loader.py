@@ -39,6 +39,7 @@ from codegen.dead_time import (
 from codegen.errors import MultiSpecError, SpecError
 from codegen.spec_model import (
     COMMUTATION_METHODS,
+    COMMUTATION_TICKS_MAX,
     LOOP_DUTY_COUNTS_MAX,
     Accuracy,
     Adc,
@@ -706,7 +707,7 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
             sec,
             "commutation_time_ticks",
             "accuracy",
-            _Range(0.5, 64, "Hall timer ticks", low_inclusive=False),
+            _Range(0.5, COMMUTATION_TICKS_MAX, "Hall timer ticks", low_inclusive=False),
         )
     )
     loop = r.attempt(

@@ -234,3 +234,25 @@ def test_a_k_i_below_one_lsb_is_refused_at_once_at_any_bandwidth(tmp_path: Path)
     with pytest.raises(FixedPointError, match=r"bandwidth = 50 Hz: .*\(allowed: "):
         widest_design(load_spec(spec))
     assert time.monotonic() - start < 20
+
+
+def test_an_unreachable_commutation_time_target_names_the_target_that_is_reached(
+    tmp_path: Path,
+) -> None:
+    # [init 2:182]: "no format from Q0 to Q12 is both safe and accurate enough for
+    # accuracy.commutation_time_ticks = 8.0: Q7, current x256: bldc_divide_long: q_high
+    # << shift: value spans [...]": internal overflows, no range (64 ticks designed)
+    from codegen.core.module import build_core
+    from codegen.methods.base import FixedPointError
+
+    spec = tmp_path / "m.yaml"
+    datasheet = ["--inductance", "20 uH", "--kv", "30", "--resistance-line-to-line", "0.02 ohm"]
+    drive = ["--braking-current", "0.1 A", "--bus-voltage", "6 V"]
+    assert main(["init", "m", "-o", str(spec), *datasheet, *drive]) == 0
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(spec))
+    assert caught.value.key == "accuracy.commutation_time_ticks"
+    message = str(caught.value)
+    assert message.startswith("accuracy.commutation_time_ticks = 8 ticks: "), message
+    assert message.endswith("(allowed: >= 45.993 ticks)"), message
+    assert "bldc_divide_long" not in message, message
