@@ -256,3 +256,24 @@ def test_an_unreachable_commutation_time_target_names_the_target_that_is_reached
     assert message.startswith("accuracy.commutation_time_ticks = 8 ticks: "), message
     assert message.endswith("(allowed: >= 45.993 ticks)"), message
     assert "bldc_divide_long" not in message, message
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "fragment"),
+    [
+        # MemoryError (exit 70, "internal error") allocating 7.28 TiB
+        ("--samples", "999999999999", "(allowed: [2, 100000])"),
+        ("--speeds", "999999999999", "(allowed: [1, 100])"),
+        # started LocalCluster worker processes until it was killed
+        ("--workers", "100000", "4 per core"),
+    ],
+)
+def test_a_robustness_campaign_too_large_to_run_is_a_usage_error(
+    capsys: pytest.CaptureFixture[str], option: str, value: str, fragment: str
+) -> None:
+    spec = str(ROOT / "spec" / "paper_motor.yaml")
+    with pytest.raises(SystemExit) as caught:
+        main(["robustness", spec, option, value])
+    assert caught.value.code == ExitCode.USAGE
+    err = capsys.readouterr().err.splitlines()[-1]
+    assert f"argument {option}: {value} is out of range" in err and fragment in err, err
