@@ -37,6 +37,7 @@ from codegen.dead_time import (
     sector_margin_shift,
 )
 from codegen.errors import MultiSpecError, SpecError
+from codegen.shown import on_one_line
 from codegen.spec_model import (
     COMMUTATION_METHODS,
     COMMUTATION_TICKS_MAX,
@@ -1283,7 +1284,9 @@ def _read_bytes(file: Path, source: str) -> bytes:
 def load_spec(path: str | Path) -> Spec:
     """Load, validate and freeze a spec file; MultiSpecError lists every problem found."""
     file = Path(path)
-    source = str(path)
+    # every error starts with the file, on the one line that is the error's: a name
+    # with a line break in it ('bad\nspec.yaml') is quoted, as Python writes it
+    source = on_one_line(str(path))
     raw_bytes = _read_bytes(file, source)
     try:
         data, lines = read_yaml(raw_bytes)
@@ -1382,7 +1385,7 @@ def load_spec(path: str | Path) -> Spec:
     return Spec(
         name=name,  # type: ignore[arg-type]
         description=description,  # type: ignore[arg-type]
-        source_path=source,
+        source_path=str(path),
         sha256=hashlib.sha256(raw_bytes).hexdigest(),
         motor=parts.motor,
         inverter=parts.inverter,

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import json
 import re
+import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -277,3 +279,26 @@ def test_a_robustness_campaign_too_large_to_run_is_a_usage_error(
     assert caught.value.code == ExitCode.USAGE
     err = capsys.readouterr().err.splitlines()[-1]
     assert f"argument {option}: {value} is out of range" in err and fragment in err, err
+
+
+def test_a_spec_path_with_a_line_break_stays_on_the_errors_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # `generate $'bad\nspec.yaml'` printed "error: bad" and "error: spec.yaml:59: ..."
+    spec = tmp_path / "bad\nspec.yaml"
+    spec.write_text(TEXT.replace("commutation_time_ticks: 8", "commutation_time_ticks: 99"))
+    assert main(["generate", str(spec), "-o", str(tmp_path / "out")]) == ExitCode.SPEC
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"error: {str(spec)!r}:"), err
+    assert "accuracy.commutation_time_ticks = 99" in err[0], err
+
+
+def test_a_reader_that_stops_reading_is_no_error() -> None:
+    # `derive SPEC | head -1` printed "error: Broken pipe"
+    command = [sys.executable, "-m", "codegen", "derive", str(ROOT / "spec" / "paper_motor.yaml")]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.close()  # before it writes
+    err = process.stderr.read().decode()
+    assert process.wait(timeout=60) == 141
+    assert err == "", err
