@@ -293,6 +293,15 @@ def test_a_spec_path_with_a_line_break_stays_on_the_errors_one_line(
     assert "accuracy.commutation_time_ticks = 99" in err[0], err
 
 
+def test_an_output_path_with_a_line_break_stays_on_the_errors_one_line(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    spec = str(ROOT / "spec" / "paper_motor.yaml")
+    assert main(["generate", spec, "-o", "/proc/a\nb"]) == ExitCode.ENVIRONMENT
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("error: '/proc/a\\nb': cannot publish"), err
+
+
 def test_a_reader_that_stops_reading_is_no_error() -> None:
     # `derive SPEC | head -1` printed "error: Broken pipe"
     command = [sys.executable, "-m", "codegen", "derive", str(ROOT / "spec" / "paper_motor.yaml")]
