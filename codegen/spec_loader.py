@@ -200,7 +200,13 @@ class _Reader:
             return None
         value = data[key]
         if not isinstance(value, Mapping):
-            self.report(key, value, f"must be a mapping of keys, got {type_name(value)}")
+            keys = _SECTIONS.get(key, ())
+            self.report(
+                key,
+                value,
+                f"must be a mapping of keys, got {type_name(value)}",
+                f"a mapping of {', '.join(keys)}" if keys else "a mapping",
+            )
             return None
         return value
 
@@ -1326,7 +1332,12 @@ def load_spec(path: str | Path) -> Spec:
     )
     if "description" in data:
         if not isinstance(description, str):
-            r.report("description", description, f"must be a string, got {type_name(description)}")
+            r.report(
+                "description",
+                description,
+                f"must be a string, got {type_name(description)}",
+                f"a string of <= {_MAX_DESCRIPTION_CHARS} characters",
+            )
         elif len(description) > _MAX_DESCRIPTION_CHARS:
             r.report(
                 "description",

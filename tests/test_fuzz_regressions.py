@@ -311,3 +311,18 @@ def test_a_reader_that_stops_reading_is_no_error() -> None:
     err = process.stderr.read().decode()
     assert process.wait(timeout=60) == 141
     assert err == "", err
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "fragment"),
+    [
+        ("\nhall:\n", "\nhall: ~\nhall_was:\n", "(allowed: a mapping of sequence, timer_clock,"),
+        ("description: Table", "description: [Table] #", "(allowed: a string of <= 500 char"),
+    ],
+    ids=["section-null", "description-list"],
+)
+def test_a_section_or_description_of_the_wrong_type_names_what_it_takes(
+    tmp_path: Path, old: str, new: str, fragment: str
+) -> None:
+    lines = refusal(tmp_path, TEXT.replace(old, new, 1))
+    assert any(fragment in line for line in lines), lines
