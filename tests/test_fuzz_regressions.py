@@ -326,3 +326,23 @@ def test_a_section_or_description_of_the_wrong_type_names_what_it_takes(
 ) -> None:
     lines = refusal(tmp_path, TEXT.replace(old, new, 1))
     assert any(fragment in line for line in lines), lines
+
+
+@pytest.mark.heavy(seconds=5)
+def test_the_hostile_fuzzers_seeded_sample_finds_nothing(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # tests/fuzz_hostile.py's `load` phase, without the design: 250 text mutations of the
+    # checked-in specs (a few seconds); every refusal one clear line, no crash, no hang
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "fuzz_hostile", ROOT / "tests" / "fuzz_hostile.py"
+    )
+    assert spec is not None and spec.loader is not None
+    fuzzer = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault("fuzz_hostile", fuzzer)  # its dataclass looks itself up there
+    spec.loader.exec_module(fuzzer)
+    status = fuzzer.load_phase(seed=1, count=250, only=None, limit=10.0, do_design=False)
+    out = capsys.readouterr().out
+    assert status == 0, out
