@@ -30,6 +30,7 @@ missing or failing external tool), 70 internal error (a bug; the message says wh
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import subprocess
 import sys
@@ -43,6 +44,7 @@ from codegen.errors import DerivationError, ExitCode, SpecError, internal_error_
 from codegen.freshness import StaleOutputError
 from codegen.publish import PublishError, os_error_line
 from codegen.render import PROJECT_ROOT
+from codegen.shown import on_one_line
 
 PROG = "bldc-codegen"
 EXIT_SPEC = int(ExitCode.SPEC)
@@ -125,7 +127,7 @@ def _report(exc: BaseException, args: argparse.Namespace) -> int:
     # they are loaded (an exception of theirs was raised), so a bad spec stays fast.
     base = sys.modules.get("codegen.methods.base")
     FixedPointError = getattr(base, "FixedPointError", ()) if base else ()
-    spec = getattr(args, "spec", "")
+    spec = on_one_line(str(getattr(args, "spec", "") or ""))
     if isinstance(exc, SpecError):
         for line in str(exc).splitlines():
             print(f"error: {line}", file=sys.stderr)
@@ -165,6 +167,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # whoever read stdout has gone (`derive SPEC | head -2`): nothing to tell, and
+        # no "error: Broken pipe"; the status a shell gives a command SIGPIPE ended
+        with contextlib.suppress(OSError, ValueError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 128 + 13
     except Exception as exc:
         if args.traceback or os.environ.get("BLDC_CODEGEN_TRACEBACK"):
             raise

@@ -58,6 +58,8 @@ from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from codegen.shown import on_one_line
+
 GENERATOR = "bldc-codegen"
 MANIFEST = "manifest.json"
 _TAG = "bldc-codegen"
@@ -355,7 +357,8 @@ def os_error_line(exc: OSError) -> str:
     )
     if blocker is not None:
         return (
-            f"error: {exc.filename}: {blocker} is a file, not a folder (a folder is needed"
+            f"error: {on_one_line(str(exc.filename))}: {on_one_line(str(blocker))} is a file,"
+            " not a folder (a folder is needed"
             " there: give another path, or move the file)"
         )
     words = exc.strerror or str(exc).splitlines()[0]
@@ -363,10 +366,13 @@ def os_error_line(exc: OSError) -> str:
     if lock is not None and lock.name.startswith(".") and lock.name.endswith(f".{_TAG}.lock"):
         target = lock.parent / lock.name[1 : -len(f".{_TAG}.lock")]
         return (
-            f"error: {target}: cannot publish there: {words} when creating its lock file"
-            f" {lock.name} beside it (give a folder in a writable place)"
+            f"error: {on_one_line(str(target))}: cannot publish there: {words} when creating"
+            f" its lock file {on_one_line(lock.name)} beside it (give a folder in a writable"
+            " place)"
         )
-    return f"error: {exc.filename}: {words}" if exc.filename else f"error: {words}"
+    if not exc.filename:
+        return f"error: {words}"
+    return f"error: {on_one_line(str(exc.filename))}: {words}"
 
 
 def _refuse_the_working_folder(target: Path) -> None:

@@ -86,6 +86,10 @@ def write_atomically(path: Path, text: str) -> None:
     try:
         tmp.write_text(text, encoding="utf-8", newline="\n")
         os.replace(tmp, path)
+    except OSError as exc:
+        # name the file the user asked for, not the temporary one beside it
+        # (`init -o /proc/x.yaml` said "/proc/.x.yaml.tmp-29017: No such file ...")
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
     finally:
         if tmp.exists():
             tmp.unlink()

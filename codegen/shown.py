@@ -14,3 +14,9 @@ def shown(path: str | Path) -> str:
         return resolved.relative_to(Path.cwd().resolve()).as_posix() or "."
     except ValueError:
         return str(resolved)
+
+
+def on_one_line(text: str) -> str:
+    """`text` as it is when every character prints, else quoted with Python's escapes
+    (a path with a line break or an escape sequence in it, in a one-line message)."""
+    return text if text.isprintable() else repr(text)

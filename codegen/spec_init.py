@@ -41,7 +41,7 @@ from codegen.spec_drive import (
     sense_window,
     short_circuit_peak,
 )
-from codegen.spec_loader import PERIOD_COUNTS_MAX, load_spec, out_of_range
+from codegen.spec_loader import PAPER_AUDIT_NAME, PERIOD_COUNTS_MAX, load_spec, out_of_range
 from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
@@ -171,6 +171,11 @@ def spec_name(text: str) -> str:
     if not re.fullmatch(r"[a-z][a-z0-9_]{0,63}", text):
         raise argparse.ArgumentTypeError(
             f"{text!r} is not a lower-case identifier ([a-z][a-z0-9_]{{0,63}}), e.g. my_motor"
+        )
+    if text == PAPER_AUDIT_NAME:
+        # the loader refuses it: init wrote a spec that did not load (exit 3)
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is reserved: generated/{text}/ holds the paper's audit; choose another name"
         )
     return text
 
@@ -332,9 +337,21 @@ class Datasheet:
 
 
 @dataclass(frozen=True)
+class DesignRefusal:
+    """The fixed-point design refused a spec that loads: the one line `generate` prints."""
+
+    source: str
+    key: str
+    problem: str
+
+    def __str__(self) -> str:
+        return f"{self.source}: {self.key}: fixed-point design: {self.problem}"
+
+
+@dataclass(frozen=True)
 class Written:
     path: Path
-    error: SpecError | None
+    error: SpecError | DesignRefusal | None
     warnings: tuple[SpecWarning, ...]
 
 
@@ -772,18 +789,20 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
     except SpecError as exc:
         return Written(path, exc, ())
     # the loop's design imports the IR and its prover: only once the spec loads
-    from codegen.control.current_loop import accuracy_needed, widest_design
+    from codegen.control.current_loop import accuracy_needed, design, widest_design
     from codegen.methods.base import FixedPointError
 
     try:
         needed = accuracy_needed(widest_design(spec))
-    except FixedPointError:
-        needed = Fraction(1)  # no format at all: generate names the key
-    if needed > spec.accuracy.current_loop_duty_counts:
-        # the PI's widest format cannot meet 1 count: the spec says what it does meet
-        write_atomically(path, render_spec(name, sheet, _round_up(needed * 100, 1) / 100))
-        try:
+        if needed > spec.accuracy.current_loop_duty_counts:
+            # the PI's widest format cannot meet 1 count: the spec says what it does meet
+            write_atomically(path, render_spec(name, sheet, _round_up(needed * 100, 1) / 100))
             spec = load_spec(path)
-        except SpecError as exc:
-            return Written(path, exc, ())
+        design(spec)
+    except SpecError as exc:
+        return Written(path, exc, ())
+    except FixedPointError as exc:
+        # no format at all (a k_i below one LSB): said now, not by `generate` after
+        # "init: next: ... generate" (a 1 mohm, 500 mH motor)
+        return Written(path, DesignRefusal(str(path), exc.key, str(exc)), ())
     return Written(path, None, spec.warnings)

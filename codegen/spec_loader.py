@@ -37,8 +37,10 @@ from codegen.dead_time import (
     sector_margin_shift,
 )
 from codegen.errors import MultiSpecError, SpecError
+from codegen.shown import on_one_line
 from codegen.spec_model import (
     COMMUTATION_METHODS,
+    COMMUTATION_TICKS_MAX,
     LOOP_DUTY_COUNTS_MAX,
     Accuracy,
     Adc,
@@ -58,6 +60,7 @@ from codegen.yaml12 import (
     child_path,
     read_yaml,
     type_name,
+    unreadable_values,
 )
 
 _NAME = re.compile(r"[a-z][a-z0-9_]{0,63}\Z")
@@ -147,6 +150,13 @@ def _f1(value: Fraction) -> str:
     return f"{float(value):.1f}"
 
 
+def _got(raw: object) -> str:
+    """What a value that should be a number is: its type, and for a string that is a
+    number written the usual wrong way ('0,75'), how to write it."""
+    misread = units.misread_number(raw) if isinstance(raw, str) else None
+    return f"{type_name(raw)} ({misread})" if misread else type_name(raw)
+
+
 class _Reader:
     """Reads one parsed document, collecting every error and warning with its YAML line."""
 
@@ -190,7 +200,13 @@ class _Reader:
             return None
         value = data[key]
         if not isinstance(value, Mapping):
-            self.report(key, value, f"must be a mapping of keys, got {type_name(value)}")
+            keys = _SECTIONS.get(key, ())
+            self.report(
+                key,
+                value,
+                f"must be a mapping of keys, got {type_name(value)}",
+                f"a mapping of {', '.join(keys)}" if keys else "a mapping",
+            )
             return None
         return value
 
@@ -240,9 +256,7 @@ class _Reader:
         where = f"{path}.{key}" if path else key
         raw = self.raw(data, key, path, f"a plain number in {rng.describe()}")
         if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-            raise self.error(
-                where, raw, f"must be a plain number, got {type_name(raw)}", rng.describe()
-            )
+            raise self.error(where, raw, f"must be a plain number, got {_got(raw)}", rng.describe())
         if isinstance(raw, float) and not math.isfinite(raw):
             raise self.error(where, raw, "must be a finite number", rng.describe())
         exact = raw.exact if isinstance(raw, ExactFloat) else None
@@ -255,9 +269,7 @@ class _Reader:
         where = f"{path}.{key}"
         raw = self.raw(data, key, path, f"an integer in {rng.describe()}")
         if isinstance(raw, bool) or not isinstance(raw, int):
-            raise self.error(
-                where, raw, f"must be an integer, got {type_name(raw)}", rng.describe()
-            )
+            raise self.error(where, raw, f"must be an integer, got {_got(raw)}", rng.describe())
         if not rng.contains(raw):
             raise self.error(where, raw, "out of range", rng.describe())
         return raw
@@ -702,7 +714,7 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
             sec,
             "commutation_time_ticks",
             "accuracy",
-            _Range(0.5, 64, "Hall timer ticks", low_inclusive=False),
+            _Range(0.5, COMMUTATION_TICKS_MAX, "Hall timer ticks", low_inclusive=False),
         )
     )
     loop = r.attempt(
@@ -1278,7 +1290,9 @@ def _read_bytes(file: Path, source: str) -> bytes:
 def load_spec(path: str | Path) -> Spec:
     """Load, validate and freeze a spec file; MultiSpecError lists every problem found."""
     file = Path(path)
-    source = str(path)
+    # every error starts with the file, on the one line that is the error's: a name
+    # with a line break in it ('bad\nspec.yaml') is quoted, as Python writes it
+    source = on_one_line(str(path))
     raw_bytes = _read_bytes(file, source)
     try:
         data, lines = read_yaml(raw_bytes)
@@ -1318,7 +1332,12 @@ def load_spec(path: str | Path) -> Spec:
     )
     if "description" in data:
         if not isinstance(description, str):
-            r.report("description", description, f"must be a string, got {type_name(description)}")
+            r.report(
+                "description",
+                description,
+                f"must be a string, got {type_name(description)}",
+                f"a string of <= {_MAX_DESCRIPTION_CHARS} characters",
+            )
         elif len(description) > _MAX_DESCRIPTION_CHARS:
             r.report(
                 "description",
@@ -1344,6 +1363,13 @@ def load_spec(path: str | Path) -> Spec:
         tolerances = r.attempt(
             lambda: spec_optional.tolerances(r, data[spec_optional.TOLERANCES_KEY], inverter)
         )
+    reported = {error.path for error in r.errors}
+    for where, value in unreadable_values(data):
+        # a value too long to read that no reader refused under its own key
+        if not any(
+            where == path or where.startswith((f"{path}.", f"{path}[")) for path in reported
+        ):
+            r.report(where, value, f"is {value.problem}")
     if r.errors:
         raise MultiSpecError(r.errors)
     parts = _Parts(motor, inverter, hall, adc, controller, accuracy, points)  # type: ignore[arg-type]
@@ -1370,7 +1396,7 @@ def load_spec(path: str | Path) -> Spec:
     return Spec(
         name=name,  # type: ignore[arg-type]
         description=description,  # type: ignore[arg-type]
-        source_path=source,
+        source_path=str(path),
         sha256=hashlib.sha256(raw_bytes).hexdigest(),
         motor=parts.motor,
         inverter=parts.inverter,

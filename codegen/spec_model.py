@@ -283,6 +283,8 @@ STEP_RESPONSE_TIME_CONSTANTS = 5
 #: The largest accuracy.current_loop_duty_counts a spec may ask for (the loader's range):
 #: an error budget of a few counts, not a description of an inaccurate loop.
 LOOP_DUTY_COUNTS_MAX = 16
+#: The loosest accuracy.commutation_time_ticks a spec may ask for.
+COMMUTATION_TICKS_MAX = 64
 
 
 def loop_periods_per_step_response(spec: Spec) -> float:

@@ -27,6 +27,39 @@ _MAX_QUANTITY_CHARS = 80
 
 _RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 
+#: Numbers as people write them that the pattern above splits into a number and a
+#: "unit" (`0,56 mH` read as 0 and the unit ',56 mH'), and what to write instead.
+_DECIMAL_COMMA = re.compile(
+    r"[ \t]*(?P<int>[-+]?[0-9][0-9.]*),(?P<frac>[0-9]+)[ \t]*(?P<unit>.*)\Z"
+)
+_GROUPED = re.compile(r"[ \t]*[-+]?[0-9]{1,3}(?:[,' \u00a0\u2009\u202f][0-9]{3})+(?:[.,][0-9]+)?")
+_NOT_ASCII_MINUS = "\u2212\u2010\u2011\u2012\u2013\u2014\ufe63\uff0d"
+_RADIX = re.compile(r"[ \t]*[-+]?0[xXoObB][0-9a-fA-F]")
+
+
+def misread_number(raw: str) -> str | None:
+    """Why `raw` does not start with a number its author meant, if it is one of the
+    usual ways (decimal comma, digit groups, a typographic minus, hex); else None."""
+    if match := _DECIMAL_COMMA.match(raw):
+        whole, fraction = match.group("int"), match.group("frac")
+        unit = f" {match.group('unit').strip()}".rstrip()
+        if "." in whole:
+            return "a comma in the number: write it with a decimal point and no separators"
+        if len(fraction) == 3:  # 1,000: a thousand, or one with a decimal comma
+            return (
+                f"a comma in the number: write '{whole}{fraction}{unit}' (thousands)"
+                f" or '{whole}.{fraction}{unit}' (decimal comma)"
+            )
+        return f"a decimal comma: write '{whole}.{fraction}{unit}'"
+    if _GROUPED.match(raw):
+        return "digits in groups: write the number without separators, e.g. '1000'"
+    first = raw.lstrip(" \t")[:1]
+    if first and first in _NOT_ASCII_MINUS:
+        return f"'{first}' (U+{ord(first):04X}) is not a minus sign: use '-'"
+    if _RADIX.match(raw):
+        return "a number in another base: write it in decimal"
+    return None
+
 
 @dataclass(frozen=True)
 class Dimension:
@@ -52,15 +85,38 @@ class Dimension:
         return None
 
     def suggest(self, unit: str) -> str | None:
-        """The accepted spelling a typo most likely meant: the same letters in another
-        case (`mh` -> `mH`, never guessing between mV and MV), else the closest one."""
+        """The accepted spelling a typo most likely meant: the ASCII spelling of the
+        same unit (`µH` -> `uH`, `mΩ` -> `mohm`, `kg·m²` -> `kg*m^2`), the same letters
+        in another case (`mh` -> `mH`, never guessing between mV and MV), else the
+        closest one."""
         spellings = [known for known, _ in self.scales]
+        ascii_unit = "".join(_ASCII_SPELLING.get(char, char) for char in unit).strip()
+        if ascii_unit != unit and ascii_unit in spellings:
+            return ascii_unit
+        unit = ascii_unit
         same_letters = [known for known in spellings if known.lower() == unit.lower()]
         if len(same_letters) == 1:
             return same_letters[0]
         close = difflib.get_close_matches(unit, spellings, n=1, cutoff=0.6)
         return close[0] if close else None
 
+
+#: Unicode spellings of unit symbols and their ASCII ones in the spec's units (a
+#: datasheet's `µH` or `Ω` was answered "did you mean 'H'?", or nothing).
+_ASCII_SPELLING = {
+    "\u00b5": "u",  # MICRO SIGN
+    "\u03bc": "u",  # GREEK SMALL LETTER MU
+    "\u2126": "ohm",  # OHM SIGN
+    "\u03a9": "ohm",  # GREEK CAPITAL LETTER OMEGA
+    "\u00b7": "*",  # MIDDLE DOT
+    "\u22c5": "*",  # DOT OPERATOR
+    "\u00d7": "*",  # MULTIPLICATION SIGN
+    "\u00b2": "^2",  # SUPERSCRIPT TWO
+    "\u2215": "/",  # DIVISION SLASH
+    "\u00a0": " ",  # NO-BREAK SPACE
+    "\u2009": " ",  # THIN SPACE
+    "\u202f": " ",  # NARROW NO-BREAK SPACE
+}
 
 VOLTAGE = Dimension("voltage", "V", (("V", "1.0"), ("mV", "1e-3"), ("kV", "1e3")))
 RESISTANCE = Dimension(
@@ -116,6 +172,12 @@ def parse_quantity(raw: object, dimension: Dimension) -> ParsedQuantity:
             f"expected {dimension.a_name} such as '1.5 {dimension.scales[0][0]}', "
             f"got {type_name(raw)}"
         )
+    if isinstance(raw, float) and not math.isfinite(raw):
+        # not "write e.g. 'nan Hz'"
+        raise QuantityError(
+            f"expected {dimension.a_name}: a finite number and a unit such as"
+            f" '1.5 {dimension.scales[0][0]}' (units: {dimension.accepted()})"
+        )
     if isinstance(raw, (int, float)):
         raise QuantityError(
             f"missing unit for {dimension.a_name}; write e.g. '{raw} {dimension.scales[0][0]}' "
@@ -126,6 +188,11 @@ def parse_quantity(raw: object, dimension: Dimension) -> ParsedQuantity:
             f"{dimension.a_name} of {len(raw)} characters is not a number and a unit"
         )
     match = _QUANTITY.match(raw)
+    misread = misread_number(raw)
+    if misread is not None and (
+        match is None or dimension.scale(match.group("unit") or "") is None
+    ):
+        raise QuantityError(f"{misread} (units: {dimension.accepted()})")
     if match is None:
         raise QuantityError(
             f"not a number (ASCII digits) followed by a unit (units: {dimension.accepted()})"

@@ -19,7 +19,10 @@ Hostile input is stopped before it can cost time or memory, in this order: the s
 the document, its characters (YAML's printable set), the nesting depth while composing,
 recursive aliases, and the number of values after alias expansion while building.
 Every failure is a YamlError with one line of text, the YAML line and, where known, the
-key path it concerns.
+key path it concerns. A value too long to convert (a string past max_scalar_chars, a
+number past max_number_chars or max_exponent) is the one exception: it stays in place as
+an Unreadable, which says what it is, so that the spec's reader names it under its key
+with the value and the range the key allows (a YamlError knows neither).
 """
 
 from __future__ import annotations
@@ -65,6 +68,38 @@ class YamlError(ValueError):
         super().__init__(self.problem)
 
 
+@dataclass(frozen=True)
+class Unreadable:
+    """A scalar the reader would not convert: `text` is its start, `problem` what it is
+    ("a number of 3003 characters (at most 64)"). Shown as its text, so a message quotes
+    the value the user wrote."""
+
+    text: str
+    problem: str
+
+    def __repr__(self) -> str:
+        return repr(self.text)
+
+
+def unreadable_values(data: Any, path: str = "") -> list[tuple[str, Unreadable]]:
+    """Every Unreadable in a built document, with its key path."""
+    if isinstance(data, Unreadable):
+        return [(path, data)]
+    if isinstance(data, dict):
+        return [
+            found
+            for key, value in data.items()
+            for found in unreadable_values(value, child_path(path, key))
+        ]
+    if isinstance(data, list):
+        return [
+            found
+            for index, value in enumerate(data)
+            for found in unreadable_values(value, f"{path}[{index}]")
+        ]
+    return []
+
+
 class ExactFloat(float):
     """A YAML float that remembers its exact decimal value (None for inf and nan)."""
 
@@ -80,6 +115,8 @@ def type_name(value: object) -> str:
     """What a value is, in the spec author's (YAML's) words."""
     if value is None:
         return "an empty value (null)"
+    if isinstance(value, Unreadable):
+        return value.problem
     if isinstance(value, bool):
         return "a boolean"
     if isinstance(value, int):
@@ -98,9 +135,21 @@ def type_name(value: object) -> str:
 _PLAIN_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_.\-]*\Z")
 
 
+#: Longest key shown whole in a key path; a longer one is cut (a 100 000-character key
+#: made a message line of 100 kB).
+_MAX_KEY_CHARS = 64
+
+
+def _short_key(key: str) -> str:
+    return key if len(key) <= _MAX_KEY_CHARS else key[: _MAX_KEY_CHARS - 3] + "..."
+
+
 def child_path(parent: str, key: object) -> str:
     """The key path of `key` under `parent`: `motor.poles`; a key that is not a plain
-    name (empty, a number, spaces, quotes) is shown as `motor['']`, `[1]`."""
+    name (empty, a number, spaces, quotes) is shown as `motor['']`, `[1]`, a key longer
+    than _MAX_KEY_CHARS cut to them ending in `...`."""
+    if isinstance(key, str) and len(key) > _MAX_KEY_CHARS:
+        return f"{parent}[{_short_key(key)!r}]"
     if isinstance(key, str) and _PLAIN_KEY.match(key):
         return f"{parent}.{key}" if parent else key
     return f"{parent}[{key!r}]"
@@ -268,6 +317,10 @@ class _Builder:
                         path,
                     )
                 key = self.scalar(key_node, path)
+                if isinstance(key, Unreadable):
+                    raise YamlError(
+                        f"a mapping key that is {key.problem}", key_node.start_mark.line + 1, path
+                    )
                 if isinstance(key, float) and key != key:
                     raise YamlError("a mapping key cannot be .nan", key_node.start_mark.line + 1)
                 child = child_path(path, key)
@@ -278,6 +331,9 @@ class _Builder:
                         child,
                     )
                 first_line[key] = key_node.start_mark.line + 1
+                if value_node.start_mark.index < key_node.end_mark.index:
+                    # an alias: its node is the anchor's; cite the key that uses it
+                    self.lines.setdefault(child, key_node.start_mark.line + 1)
                 out[key] = self.build(value_node, child, depth + 1)
             return out
         raise YamlError(f"unexpected YAML node {type(node).__name__}", None, path)
@@ -295,10 +351,9 @@ class _Builder:
         text: str = node.value
         line = node.start_mark.line + 1
         if len(text) > self.limits.max_scalar_chars:
-            raise YamlError(
+            return Unreadable(
+                text[:80],
                 f"a value of {len(text)} characters (at most {self.limits.max_scalar_chars})",
-                line,
-                path,
             )
         tag = node.tag
         if tag == _STR:
@@ -318,7 +373,8 @@ class _Builder:
         elif _TRUE_RE.match(text) or _FALSE_RE.match(text):
             value, kind = bool(_TRUE_RE.match(text)), _BOOL
         elif _INT10_RE.match(text) or _INT8_RE.match(text) or _INT16_RE.match(text):
-            self._check_length(text, line, path)
+            if len(text) > self.limits.max_number_chars:
+                return self._too_long(text)
             if text.startswith("0o"):
                 value = int(text[2:], 8)
             elif text.startswith("0x"):
@@ -327,13 +383,12 @@ class _Builder:
                 value = int(text, 10)
             kind = _INT
         elif match := _FLOAT_RE.match(text):
-            self._check_length(text, line, path)
+            if len(text) > self.limits.max_number_chars:
+                return self._too_long(text)
             exponent = match.group("exp")
             if exponent is not None and abs(int(exponent)) > self.limits.max_exponent:
-                raise YamlError(
-                    f"number {text} has an exponent beyond +-{self.limits.max_exponent}",
-                    line,
-                    path,
+                return Unreadable(
+                    text, f"a number with an exponent beyond +-{self.limits.max_exponent}"
                 )
             value, kind = ExactFloat(text, Fraction(text)), _FLOAT
         elif _INF_RE.match(text):
@@ -350,13 +405,11 @@ class _Builder:
             f"{text!r} is not a valid {strict.rsplit(':', 1)[-1]} for its explicit tag", line, path
         )
 
-    def _check_length(self, text: str, line: int, path: str) -> None:
-        if len(text) > self.limits.max_number_chars:
-            raise YamlError(
-                f"a number of {len(text)} characters (at most {self.limits.max_number_chars})",
-                line,
-                path,
-            )
+    def _too_long(self, text: str) -> Unreadable:
+        return Unreadable(
+            text[:80],
+            f"a number of {len(text)} characters (at most {self.limits.max_number_chars})",
+        )
 
 
 def _key_near(text: str, line: int) -> str:
@@ -372,7 +425,7 @@ def _key_near(text: str, line: int) -> str:
         indent = len(match.group("indent"))
         while stack and stack[-1][0] >= indent:
             stack.pop()
-        stack.append((indent, match.group("key")))
+        stack.append((indent, _short_key(match.group("key"))))
         del number
     return ".".join(key for _, key in stack)
 

@@ -6,7 +6,16 @@ from fractions import Fraction
 
 import pytest
 
-from codegen.yaml12 import ExactFloat, Limits, YamlError, read_yaml
+from codegen.yaml12 import (
+    ExactFloat,
+    Limits,
+    Unreadable,
+    YamlError,
+    child_path,
+    read_yaml,
+    type_name,
+    unreadable_values,
+)
 
 
 def value(text: str) -> object:
@@ -77,8 +86,7 @@ def test_floats_keep_their_exact_decimal_value() -> None:
         (b"a: !!int 1.5\n", "'1.5' is not a valid int", "a"),
         (b"a: 1\nb: 2\na: 3\n", "duplicate key 'a' (first defined on line 1)", "a"),
         (b"? [a, b]\n: 1\n", "a mapping key must be a plain value", ""),
-        (b"a: " + b"9" * 100 + b"\n", "a number of 100 characters", "a"),
-        (b"a: 1e99999\n", "exponent beyond +-999", "a"),
+        (b"? " + b"k" * 5000 + b"\n: 1\n", "a mapping key that is a value of 5000 char", ""),
         (b"a: 1\nb: \x07\n", "character U+0007 is not allowed", "b"),
         (b"a: 1\n---\nb: 2\n", "expected a single document", "a"),
         (b"m:\n  x: 1\n  y: 2: 3\n", "mapping values are not allowed here", "m.y"),
@@ -94,6 +102,29 @@ def test_hostile_documents_are_refused_in_one_line(
     assert fragment in caught.value.problem
     assert "\n" not in caught.value.problem
     assert caught.value.path == path
+
+
+@pytest.mark.parametrize(
+    ("text", "shown", "problem"),
+    [
+        ("9" * 100, "9" * 80, "a number of 100 characters (at most 64)"),
+        ("1e99999", "1e99999", "a number with an exponent beyond +-999"),
+        ("x" * 5000, "x" * 80, "a value of 5000 characters (at most 4096)"),
+    ],
+)
+def test_a_value_too_long_to_read_stays_in_place_for_the_spec_reader(
+    text: str, shown: str, problem: str
+) -> None:
+    # the spec's reader refuses it under its key, with the range the key allows
+    got = value(text)
+    assert got == Unreadable(shown, problem)
+    assert repr(got) == repr(shown)
+    assert type_name(got) == problem
+    assert unreadable_values({"a": [1, got]}) == [("a[1]", got)]
+
+
+def test_a_long_key_is_cut_in_its_key_path() -> None:
+    assert child_path("motor", "k" * 100) == f"motor[{'k' * 61 + '...'!r}]"
 
 
 def test_an_alias_bomb_is_stopped_by_the_expansion_limit() -> None:

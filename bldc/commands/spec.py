@@ -17,7 +17,7 @@ from bldc.commands.common import (
     output_dir,
 )
 from codegen.argtypes import path_text
-from codegen.errors import ExitCode
+from codegen.errors import ExitCode, SpecError
 from codegen.publish import check_target
 from codegen.render import PROJECT_ROOT, write_atomically
 from codegen.shown import shown
@@ -51,10 +51,10 @@ def _init(args: argparse.Namespace) -> int:
     if written.error is not None:
         for line in str(written.error).splitlines():
             print(f"error: {line}", file=sys.stderr)
-        print(
-            f"init: {shown(written.path)} does not load yet: edit the values above",
-            file=sys.stderr,
-        )
+        state = "does not load yet" if isinstance(written.error, SpecError) else "loads, but"
+        if not isinstance(written.error, SpecError):
+            state += " its fixed-point design does not fit"
+        print(f"init: {shown(written.path)} {state}: edit the values above", file=sys.stderr)
         return int(ExitCode.SPEC)
     for warning in written.warnings:
         print(f"warning: {warning}", file=sys.stderr)

@@ -403,6 +403,47 @@ def _faster_bandwidth(spec: Spec) -> Fraction | None:
     return None
 
 
+def _integrator_below_one_lsb(spec: Spec, g: LoopGains, f: int) -> FixedPointError:
+    """The refusal of a PI whose k_i rounds to 0 in its widest format (the integrator
+    would never move), naming the bandwidth, its value and one that fits, if any."""
+    from dataclasses import replace
+
+    bandwidth = spec.current_loop.bandwidth_hz
+    top = min(Fraction(20_000), BANDWIDTH_MAX_PER_PWM * spec.inverter.pwm_frequency_hz)
+    candidates = sorted(
+        {
+            Fraction(str(nice)) * 10**decade
+            for decade in range(5)
+            for nice in _NICE_BANDWIDTHS
+            if bandwidth < Fraction(str(nice)) * 10**decade <= top
+        }
+    )
+    fits = None
+    for candidate in candidates:
+        trial = replace(spec, current_loop=replace(spec.current_loop, bandwidth_hz=candidate))
+        try:
+            _widest_design(trial, explain=False)
+        except FixedPointError:
+            continue
+        fits = candidate
+        break
+    m = spec.motor
+    allowed = (
+        f"e.g. {float(fits):g} Hz fits"
+        if fits is not None
+        else f"none up to the loader's limit {float(top):g} Hz: k_i / k_p = R / L ="
+        f" {float(m.phase_resistance_ohm / m.phase_inductance_h):.3g} /s is too small for"
+        " the PI's fixed point; check motor.phase_resistance and motor.phase_inductance"
+    )
+    return FixedPointError(
+        f"current_loop.bandwidth = {float(bandwidth):g} Hz: k_i = 2 R omega_c / U_d ="
+        f" {float(g.ki_counts_per_code):.3g} counts per code per period is below one LSB"
+        f" of the braking-current PI's widest format that fits (Q{f}), so its integrator"
+        f" would never move (allowed: a bandwidth whose k_i is at least one LSB: {allowed})",
+        "current_loop.bandwidth",
+    )
+
+
 def _larger_gain(spec: Spec) -> tuple[Fraction, Fraction] | None:
     """The lowest current-sense gain above the spec's, of a few per decade, whose PI
     meets the spec's current_loop_duty_counts in its widest format and whose sensing
@@ -514,6 +555,12 @@ def design(spec: Spec) -> LoopDesign:
 def widest_design(spec: Spec) -> LoopDesign:
     """The PI in the widest Q format whose every intermediate is proven to fit, with its
     error bounds (not yet held to the spec's accuracy: `design` does)."""
+    return _widest_design(spec, explain=True)
+
+
+def _widest_design(spec: Spec, explain: bool) -> LoopDesign:
+    """widest_design; `explain` searches a bandwidth that fits for the refusal of a k_i
+    below one LSB (the search's own trials do not: one level, not one per candidate)."""
     g = gains(spec)
     code_max = 2**spec.adc.bits - 1
     if g.duty_max_counts <= 0:
@@ -532,11 +579,9 @@ def widest_design(spec: Spec) -> LoopDesign:
             last = exc
             continue
         if ki_q < 1:
-            raise FixedPointError(
-                f"k_i = {float(g.ki_counts_per_code):.3g} counts per code per period is below"
-                f" one LSB of the widest format that fits (Q{f})",
-                "current_loop.bandwidth",
-            )
+            if not explain:
+                raise FixedPointError("k_i below one LSB", "current_loop.bandwidth")
+            raise _integrator_below_one_lsb(spec, g, f)
         reference, shift, scale, offset, ma_min, ma_max = _reference_function(spec, g)
         ranges += _prove((reference,))
         duty_claim, integrator_claim = _claims(duty, integrate, f, state_max)

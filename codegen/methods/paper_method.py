@@ -22,6 +22,7 @@ commutation time meets the spec's target. The bounds come from the IR's error an
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -41,7 +42,7 @@ from codegen.methods.paper_core import (
     paper_numerators,
     timing_function,
 )
-from codegen.spec_model import Spec
+from codegen.spec_model import COMMUTATION_TICKS_MAX, Spec
 
 MAX_FRACTION_BITS = 12
 
@@ -149,6 +150,8 @@ class PaperMethod:
         duty_target = _fraction(spec.accuracy.duty_counts)
         time_target = _fraction(spec.accuracy.commutation_time_ticks)
         reasons: list[str] = []
+        #: the tightest t_com bound any format that fits reaches (at the widest W)
+        reach: tuple[Fraction, int] | None = None
         for f in range(MAX_FRACTION_BITS, -1, -1):
             best: tuple[Fraction, _Candidate] | None = None
             for current in current_formats(sc):
@@ -160,6 +163,9 @@ class PaperMethod:
                     continue
                 w_ok = self._w_ok(sc, cand, time_target)
                 if w_ok is None:
+                    bound = self._time_bound(sc, cand, Fraction(4 * sc.period_counts))
+                    if reach is None or bound < reach[0]:
+                        reach = (bound, f)
                     continue
                 key = w_ok
                 if best is None or key < best[0]:
@@ -174,6 +180,22 @@ class PaperMethod:
                     "accuracy.duty_counts",
                 )
             return self._finish(spec, sc, limits, c, cand, w_ok)
+        if reach is not None:
+            # formats fit, none meets the target: say what they do meet (the internal
+            # overflows of the ones that do not fit said nothing a user could act on)
+            least = math.ceil(float(reach[0]) * 1000) / 1000
+            allowed = (
+                f">= {least:g} ticks"
+                if least <= COMMUTATION_TICKS_MAX
+                else f"none up to the loader's limit {COMMUTATION_TICKS_MAX} ticks"
+            )
+            raise FixedPointError(
+                f"accuracy.commutation_time_ticks = {float(time_target):g} ticks: no format"
+                f" from Q0 to Q{MAX_FRACTION_BITS} is both safe and accurate enough; the"
+                f" best, Q{reach[1]}, bounds the commutation time's error by"
+                f" {float(reach[0]):.4g} Hall timer ticks (allowed: {allowed})",
+                "accuracy.commutation_time_ticks",
+            )
         detail = "; ".join(reversed(reasons[-3:])) if reasons else "the time target is out of reach"
         raise FixedPointError(
             f"no format from Q0 to Q{MAX_FRACTION_BITS} is both safe and accurate enough for "
