@@ -5,10 +5,16 @@ and verified against the oracle."""
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
+from codegen.audit.transcription import load_transcription
 from codegen.generate import render_all, write_tree
+from codegen.spec_loader import load_spec
+from sim import report
+from sim.drive import Drive
+from sim.table4 import table4_study
 from verify.run import verify
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -37,3 +43,23 @@ def test_an_unusual_motor_should_regenerate_identically_and_verify(
     )
     failed = [f"{k}: {c.note}" for k, c in result.checks.items() if c.verdict != "PASS"]
     assert result.passed, failed
+
+
+def test_claims_on_table4_speeds_outside_the_range_should_say_not_tested() -> None:
+    """A motor whose speed range holds none of Table 4's speeds (1000-2500 rpm): claims
+    4 and 5 are neither reproduced nor refuted, and the section says why (`simulate`
+    reported both 'refuted' with an empty evidence and printed empty tables)."""
+    spec = load_spec(ODD / "pp1_150k_centre_conv.yaml")
+    drive = Drive.from_spec(spec)
+    rows = load_transcription().table4
+    # no Table 4 speed inside: no commutation is simulated, so no controller is needed
+    study = table4_study(None, drive, rows)  # type: ignore[arg-type]
+    assert study.spec_improved == () and study.spec_conventional == ()
+    results = SimpleNamespace(table4_study=study, table4=rows, drive=drive)
+    claims = report._table4_claims(results)  # type: ignore[arg-type]
+    assert [c["verdict"] for c in claims] == [report.NOT_TESTED, report.NOT_TESTED]
+    for claim in claims:
+        assert "1000-2500 rpm" in claim["evidence"], claim
+        assert "10000-150000 rpm" in claim["evidence"], claim
+    assert "outside the simulated speed range" in report._table4(results)["outside"]  # type: ignore[arg-type,operator]
+
