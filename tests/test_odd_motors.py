@@ -12,6 +12,7 @@ import pytest
 from codegen.audit.transcription import load_transcription
 from codegen.generate import render_all, write_tree
 from codegen.spec_loader import load_spec
+from emulation.pil.report import summary_line
 from sim import report
 from sim.drive import Drive
 from sim.table4 import table4_study
@@ -63,3 +64,13 @@ def test_claims_on_table4_speeds_outside_the_range_should_say_not_tested() -> No
         assert "10000-150000 rpm" in claim["evidence"], claim
     assert "outside the simulated speed range" in report._table4(results)["outside"]  # type: ignore[arg-type,operator]
 
+
+def test_pil_summary_should_count_the_braking_run() -> None:
+    """`make pil` printed '22/22 scenarios pass' for a spec whose braking run failed
+    (and exited 1): the summary names the braking run's verdict too."""
+    failed = summary_line("m", 22, 22, object(), ["the rotor did not reach 15000 rpm"])  # type: ignore[arg-type]
+    assert failed == "pil: m: 22/22 fault scenarios pass, braking run FAILS"
+    assert summary_line("m", 22, 22, object(), []).endswith("braking run passes")  # type: ignore[arg-type]
+    assert summary_line("m", 21, 22, None, []).endswith(
+        "21/22 fault scenarios pass, braking run off"
+    )
