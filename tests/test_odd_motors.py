@@ -10,7 +10,9 @@ from types import SimpleNamespace
 import pytest
 
 from codegen.audit.transcription import load_transcription
+from codegen.core.module import build_core
 from codegen.generate import render_all, write_tree
+from codegen.methods.base import FixedPointError
 from codegen.spec_loader import load_spec
 from emulation.pil.report import summary_line
 from sim import report
@@ -74,3 +76,26 @@ def test_pil_summary_should_count_the_braking_run() -> None:
     assert summary_line("m", 21, 22, None, []).endswith(
         "21/22 fault scenarios pass, braking run off"
     )
+
+
+def test_a_hall_clock_that_overflows_every_format_should_be_named(tmp_path: Path) -> None:
+    """A 72 MHz Hall clock against a 2.25 kHz PWM: Eq. 20's product overflows int32_t
+    in every format, Q0 included. The refusal named accuracy.commutation_time_ticks,
+    which no value could meet; it names hall.timer_clock and a clock that designs."""
+    path = ROOT / "tests" / "fixtures" / "refused" / "hall72m_pwm2k25_centre.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(path))
+    assert caught.value.key == "hall.timer_clock"
+    message = str(caught.value)
+    assert message.startswith("hall.timer_clock = 72000000 Hz: no format from Q0 to Q12 is safe")
+    assert message.endswith("(allowed: <= 2.74884e+07 Hz, 72000000 Hz / N for N >= 3: 24000000 Hz)")
+    text = path.read_text(encoding="utf-8")
+    assert text.count("  timer_clock: 72 MHz\n") == 2  # TIM1's and TIM3's
+    named = tmp_path / "named.yaml"
+    named.write_text(
+        text.replace(
+            "  timer_clock: 72 MHz\n  counter_bits", "  timer_clock: 24 MHz\n  counter_bits"
+        )
+    )
+    assert "  timer_clock: 24 MHz\n" in named.read_text()
+    build_core(load_spec(named))  # the clock named does design

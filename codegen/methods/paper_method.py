@@ -69,6 +69,26 @@ class _Candidate:
     time_numerator_error: Fraction
 
 
+def _numerator_overflow(sc: Scaling, c: PaperConstants, timer: Fraction, reason: str) -> str:
+    """Why no format is safe where even Q0 overflows: Eq. 20's product K_G I / B (Hall
+    ticks x W, in Q0) at the lowest bus code and the current code farthest from the
+    offset, and the Hall clock it scales with down to int32_t."""
+    offset = _fraction(sc.current_offset_exact)
+    current = max(offset, sc.adc_full_scale - offset)
+    peak = c.k_g * current / sc.bus_code_min
+    clock = _fraction(sc.hall_clock_hz)
+    limit = clock * (2**31 - 1) / peak
+    divider = -(-timer // limit)
+    return (
+        f"hall.timer_clock = {float(clock):.10g} Hz: no format from Q0 to Q{MAX_FRACTION_BITS}"
+        " is safe, whatever the time target: Eq. 20's numerator times the current code"
+        f" (K_G I / B, Hall ticks x W) reaches {float(peak):.4g} at the lowest bus code and"
+        f" the current code farthest from the offset, beyond int32_t ({reason}); it scales"
+        f" with the Hall clock (allowed: <= {float(limit):.6g} Hz, {float(timer):.10g} Hz / N"
+        f" for N >= {divider}: {float(timer / divider):.10g} Hz)"
+    )
+
+
 class PaperMethod:
     def __init__(self, rule: DutyRule) -> None:
         self.rule = rule
@@ -149,6 +169,7 @@ class PaperMethod:
         duty_target = _fraction(spec.accuracy.duty_counts)
         time_target = _fraction(spec.accuracy.commutation_time_ticks)
         reasons: list[str] = []
+        safe = False
         for f in range(MAX_FRACTION_BITS, -1, -1):
             best: tuple[Fraction, _Candidate] | None = None
             for current in current_formats(sc):
@@ -158,6 +179,7 @@ class PaperMethod:
                 except ProofError as exc:
                     reasons.append(f"Q{f}, current x{current.scale}: {exc}")
                     continue
+                safe = True
                 w_ok = self._w_ok(sc, cand, time_target)
                 if w_ok is None:
                     continue
@@ -174,6 +196,14 @@ class PaperMethod:
                     "accuracy.duty_counts",
                 )
             return self._finish(spec, sc, limits, c, cand, w_ok)
+        if not safe:
+            # Not the time target: no format is safe at all, Q0 included (a 72 MHz Hall
+            # clock's Eq. 20 numerator times the current code overflows int32_t, and the
+            # message blamed accuracy.commutation_time_ticks, which no value could meet).
+            timer = _fraction(spec.inverter.timer_clock_hz)
+            raise FixedPointError(
+                _numerator_overflow(sc, c, timer, reasons[-1]), "hall.timer_clock"
+            )
         detail = "; ".join(reversed(reasons[-3:])) if reasons else "the time target is out of reach"
         raise FixedPointError(
             f"no format from Q0 to Q{MAX_FRACTION_BITS} is both safe and accurate enough for "
