@@ -4,6 +4,7 @@ and verified against the oracle."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -99,3 +100,35 @@ def test_a_hall_clock_that_overflows_every_format_should_be_named(tmp_path: Path
     )
     assert "  timer_clock: 24 MHz\n" in named.read_text()
     build_core(load_spec(named))  # the clock named does design
+
+
+def test_a_flat_emf_spec_should_rotate_the_plant_and_the_sil_alike() -> None:
+    """The spec's `flat` freezes the EMFs at an edge, which no rotating motor does: the
+    emulated drive's plant turns the 120 deg trapezoid it idealises, and the SIL it holds
+    each commutation to must turn the same one (`Drive.rotating`)."""
+    drive = Drive.from_spec(load_spec(ODD / "pp24_flat_ir.yaml"))
+    assert drive.emf_frozen
+    rotating = drive.rotating()
+    assert not rotating.emf_frozen
+    assert rotating.emf_points == drive.with_flat_top(120.0).emf_points
+    other = Drive.from_spec(load_spec(ROOT / "spec" / "paper_motor.yaml"))
+    assert other.rotating() == other  # every other shape is its own
+
+
+@pytest.mark.heavy(seconds=10)
+def test_a_flat_emf_motor_should_brake_in_the_pil_as_in_the_sil(tmp_path: Path) -> None:
+    """24 pole pairs, flat EMF, improved_r: the first Hall edges of `make pil`'s braking
+    run. The SIL froze the EMFs at the edge while the chip's plant turned them: every
+    commutation read 3 to 9 pp apart (required: 1 pp)."""
+    from emulation.pil.braking import SETTLING_EDGES, brake, braking_setup
+    from emulation.pil.braking_report import problems
+    from emulation.pil.build import build_firmware, generate
+
+    path = ODD / "pp24_flat_ir.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES + 4)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+    assert len(result.commutations) >= 3
+    assert problems(result) == []

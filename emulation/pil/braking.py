@@ -740,7 +740,10 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
     cores = prepare_cores(spec, (method,))
     core, scale = cores.cores[method], cores.scaling
     per_code = float(scale.amps_per_current_code)
-    drive = Drive.from_spec(spec)
+    # the plant's EMF (`Drive.rotating`): with the spec's `flat`, Case's "spec" shape froze
+    # the EMFs at the edge while the chip's plant turned them (a 24-pole flat-EMF motor
+    # read 9 pp apart at every commutation)
+    drive = Drive.from_spec(spec).rotating()
     out = []
     for c in commutations:
         edge = switching_table().edge_into(c.sector_to, "forward")
