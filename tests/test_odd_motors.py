@@ -132,3 +132,25 @@ def test_a_flat_emf_motor_should_brake_in_the_pil_as_in_the_sil(tmp_path: Path) 
     result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
     assert len(result.commutations) >= 3
     assert problems(result) == []
+
+
+def test_a_braking_run_should_stop_above_where_the_saturated_loop_holds_no_current() -> None:
+    """An 80 kHz motor whose sample window leaves its loop a D_max of 0.84: below 2573 rpm
+    the loop saturates and its current, (2E - (1 - D_max) U_d) / 2R, is gone at 1933 rpm.
+    `make pil` braked towards a tenth of its top speed, 1140 rpm, which the rotor never
+    reaches (over half an hour of emulation): the run stops at 1.25 x the hold speed."""
+    from codegen.control.sensing import sense_design
+    from emulation.pil.braking import HOLD_MARGIN, braking_setup, held_down_to_rpm
+
+    spec = load_spec(ODD / "lv12_3uh_80k.yaml")
+    window = sense_design(spec).window
+    d_max = window.duty_max_counts / window.period_counts
+    assert d_max < 0.84
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    k_e = float(spec.motor.back_emf_constant_v_per_rpm)
+    gone = (1.0 - d_max) * bus / (2.0 * k_e)  # no current left at all
+    held = held_down_to_rpm(spec, 40.0)
+    assert 1900 < gone < held < 2600
+    setup = braking_setup(spec, short=False)
+    assert setup.stop_rpm == pytest.approx(HOLD_MARGIN * held)
+    assert setup.stop_rpm > held > 0.1 * float(spec.controller.speed_max_rpm)
