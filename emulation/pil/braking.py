@@ -834,7 +834,7 @@ EDGE_BUDGET = 3.0
 SHORT_EDGES = SETTLING_EDGES + 12
 
 
-#: Hall edges a full braking run takes at most: about 2.6 times the paper motor's (573
+#: Hall edges a full braking run takes at most: about 2.7 times the paper motor's (558
 #: with its own inertia), so `make pil` stays within minutes on any spec; and at least,
 #: so that a strong brake on a light rotor still gives commutations to compare (the
 #: Maxon's own inertia takes about 160)
@@ -849,7 +849,7 @@ def _deceleration(spec: Spec, current_a: float, inertia_scale: float) -> float:
 
 
 #: Motor time a full braking run takes at most, seconds: a little above the paper motor's
-#: (2.3 s with its own inertia; the emulation with the plant runs about 5 ms of motor
+#: (2.1 s with its own inertia; the emulation with the plant runs about 5 ms of motor
 #: time a wall second), so that a slow motor's long sectors do not take `make pil` an hour
 BRAKING_MOTOR_S = 2.5
 
@@ -898,7 +898,7 @@ def held_down_to_rpm(spec: Spec, current_a: float) -> float:
 def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
     speed) at its nominal braking current, with its own rotor inertia: for the paper
-    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). Where that would take
+    motor 4600 rpm down to 860 rpm at 5 A (issue 13, scenario 1). Where that would take
     more Hall edges than BRAKING_EDGES allows (a weak motor on a heavy rotor) or fewer (a
     strong brake on a light one), the inertia is scaled to take about the limit: the
     report says so, with how much the speed then changes over a sector. The short
