@@ -93,6 +93,15 @@ class Drive:
             emf_frozen=False,
         )
 
+    def rotating(self) -> Drive:
+        """The drive whose EMFs turn with the rotor, as a motor's do over many sectors
+        (the emulated drive's plant, emulation/pil/plant.py, and the SIL commutations it
+        is held to): the spec's `flat` is the paper's idealisation of one commutation
+        (the EMFs frozen at their edge values), which no rotating motor has; the motor
+        it idealises is the 120 deg trapezoid whose edge values they are. Every other
+        shape is its own."""
+        return self.with_flat_top(120.0) if self.emf_frozen else self
+
     def with_frozen_emf(self) -> Drive:
         """The same drive with the paper's frozen (flat) EMF as its own shape."""
         return replace(

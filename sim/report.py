@@ -44,6 +44,10 @@ PAPER_FIGURES = {
     (1, "improved", STEADY): 14,
 }
 REPRODUCED, REFUTED, CONDITIONAL = "reproduced", "refuted", "only under stated conditions"
+#: A claim about speeds this motor's range does not reach: neither reproduced nor
+#: refuted (the paper's Table 4 speeds on a 10 000-150 000 rpm motor, the low segment
+#: of a motor whose whole range is above its cut-off).
+NOT_TESTED = "not tested on this motor"
 
 
 def _environment() -> jinja2.Environment:
@@ -271,62 +275,33 @@ def _claims(results: Results, lookup: _Lookup) -> list[dict[str, str]]:
         r.on_duty == 1.0 and r.metrics.on_transitions is not None and r.metrics.on_transitions <= 1
         for r in low
     )
+    boundary = results.drive.boundary_speed_rpm
+    if not low:
+        verdict3 = NOT_TESTED
+        evidence3 = (
+            f"no swept speed lies in the low segment (at or below {boundary:g} rpm): the speed"
+            f" range starts at {results.drive.speed_min_rpm:g} rpm"
+        )
+    elif static:
+        verdict3 = REPRODUCED
+        evidence3 = (
+            "D_on = 1 and at most one turn-on transition at every swept low-segment speed"
+            f" ({low[0].speed_rpm:g}-{low[-1].speed_rpm:g} rpm)"
+        )
+    else:
+        verdict3 = REFUTED
+        evidence3 = "not at every low-segment speed"
     out.append(
         _claim(
             3,
             "At low speed the improved method only modulates the turn-off phase; the turn-on"
             " transistor stays on (Fig. 15).",
-            REPRODUCED if static else REFUTED,
-            f"D_on = 1 and at most one turn-on transition at every swept low-segment speed"
-            f" ({low[0].speed_rpm:g}-{low[-1].speed_rpm:g} rpm)"
-            if low and static
-            else "not at every low-segment speed",
+            verdict3,
+            evidence3,
             "sweep (C core outputs), switching counts",
         )
     )
-    # 4 and 5. Table 4.
-    study = results.table4_study
-    fewer = []
-    holds = True
-    for row in results.table4:
-        speed = float(row.speed_rpm)
-        found_i = [c for c in study.spec_improved if c.speed_rpm == speed]
-        found_c = [c for c in study.spec_conventional if c.speed_rpm == speed]
-        if not found_i or not found_c:
-            continue
-        total_i = found_i[0].on_pulses + found_i[0].off_pulses
-        total_c = found_c[0].on_pulses + found_c[0].off_pulses
-        holds &= total_i < total_c
-        fewer.append(f"{speed:g} rpm: improved {total_i}, conventional {total_c}")
-    out.append(
-        _claim(
-            4,
-            "The improved method switches less than the conventional one (Table 4).",
-            REPRODUCED if holds and fewer else REFUTED,
-            "pulses of both transistors while the turn-off current flows, at the spec's"
-            f" {results.drive.braking_current_a:g} A: " + "; ".join(fewer),
-            "Table 4 section",
-        )
-    )
-    reproducing = ", ".join(f"{a:g} A" for a in study.reproducing_a)
-    out.append(
-        _claim(
-            5,
-            "Table 4's counts (improved on 1 / off 7, 5, 4 at 1000, 1500, 2000 rpm;"
-            " conventional 13, 10, 9).",
-            CONDITIONAL if study.reproducing_a else REFUTED,
-            (
-                f"improved reproduces the paper's low-segment rows exactly at {reproducing} and"
-                f" {study.pwm_frequency_hz / 1e3:g} kHz (the count scales with I f);"
-                if study.reproducing_a
-                else "no braking current reproduces the improved counts;"
-            )
-            + " the conventional counts need a main duty above the one a current loop"
-            " settles at (table below); the 2500 rpm row shows the high-segment pattern below"
-            " the paper's own cut-off",
-            "Table 4 section",
-        )
-    )
+    out += _table4_claims(results)
     # 6. Wide speed range.
     swept = [
         r
@@ -366,6 +341,77 @@ def _claims(results: Results, lookup: _Lookup) -> list[dict[str, str]]:
         )
     )
     return out
+
+
+def _table4_claims(results: Results) -> list[dict[str, str]]:
+    """Claims 4 and 5 (Table 4's switching counts): not tested where none of its
+    speeds is in the simulated range."""
+    out: list[dict[str, str]] = []
+    study = results.table4_study
+    fewer = []
+    holds = True
+    for row in results.table4:
+        speed = float(row.speed_rpm)
+        found_i = [c for c in study.spec_improved if c.speed_rpm == speed]
+        found_c = [c for c in study.spec_conventional if c.speed_rpm == speed]
+        if not found_i or not found_c:
+            continue
+        total_i = found_i[0].on_pulses + found_i[0].off_pulses
+        total_c = found_c[0].on_pulses + found_c[0].off_pulses
+        holds &= total_i < total_c
+        fewer.append(f"{speed:g} rpm: improved {total_i}, conventional {total_c}")
+    outside = _table4_outside(results)
+    out.append(
+        _claim(
+            4,
+            "The improved method switches less than the conventional one (Table 4).",
+            NOT_TESTED if not fewer else REPRODUCED if holds else REFUTED,
+            outside
+            if not fewer
+            else "pulses of both transistors while the turn-off current flows, at the spec's"
+            f" {results.drive.braking_current_a:g} A: " + "; ".join(fewer),
+            "Table 4 section",
+        )
+    )
+    reproducing = ", ".join(f"{a:g} A" for a in study.reproducing_a)
+    out.append(
+        _claim(
+            5,
+            "Table 4's counts (improved on 1 / off 7, 5, 4 at 1000, 1500, 2000 rpm;"
+            " conventional 13, 10, 9).",
+            NOT_TESTED
+            if not study.spec_improved
+            else CONDITIONAL
+            if study.reproducing_a
+            else REFUTED,
+            outside
+            if not study.spec_improved
+            else (
+                f"improved reproduces the paper's low-segment rows exactly at {reproducing} and"
+                f" {study.pwm_frequency_hz / 1e3:g} kHz (the count scales with I f);"
+                if study.reproducing_a
+                else "no braking current reproduces the improved counts;"
+            )
+            + " the conventional counts need a main duty above the one a current loop"
+            " settles at (table below); the 2500 rpm row shows the high-segment pattern below"
+            " the paper's own cut-off",
+            "Table 4 section",
+        )
+    )
+    return out
+
+
+def _table4_outside(results: Results) -> str:
+    """Why Table 4 is not compared on this motor, or "" where some of its speeds are in
+    the spec's range."""
+    if results.table4_study.spec_improved:
+        return ""
+    speeds = [float(r.speed_rpm) for r in results.table4]
+    drive = results.drive
+    return (
+        f"the paper's Table 4 speeds ({min(speeds):g}-{max(speeds):g} rpm) all lie outside"
+        f" the simulated speed range ({drive.speed_min_rpm:g}-{drive.speed_max_rpm:g} rpm)"
+    )
 
 
 def _table4(results: Results) -> dict[str, object]:
@@ -411,6 +457,7 @@ def _table4(results: Results) -> dict[str, object]:
         "reproducing": ", ".join(f"{a:g} A" for a in study.reproducing_a) or "none",
         "reference": "-" if reference is None else f"{reference:g}",
         "khz": f"{study.pwm_frequency_hz / 1e3:g}",
+        "outside": _table4_outside(results),
     }
 
 

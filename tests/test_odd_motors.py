@@ -1,14 +1,24 @@
 """Unusual motors every command was run on (generate, firmware, verify, unity, prove on
 two, simulate, the PIL's fault scenarios): here each is generated twice (byte-identical)
-and verified against the oracle."""
+and verified against the oracle; and one test for each bug the later ones exposed."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
+from codegen.audit.transcription import load_transcription
+from codegen.core.module import build_core
 from codegen.generate import render_all, write_tree
+from codegen.methods.base import FixedPointError
+from codegen.spec_loader import load_spec
+from emulation.pil.report import summary_line
+from sim import report
+from sim.drive import Drive
+from sim.table4 import table4_study
 from verify.run import verify
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -37,3 +47,110 @@ def test_an_unusual_motor_should_regenerate_identically_and_verify(
     )
     failed = [f"{k}: {c.note}" for k, c in result.checks.items() if c.verdict != "PASS"]
     assert result.passed, failed
+
+
+def test_claims_on_table4_speeds_outside_the_range_should_say_not_tested() -> None:
+    """A motor whose speed range holds none of Table 4's speeds (1000-2500 rpm): claims
+    4 and 5 are neither reproduced nor refuted, and the section says why (`simulate`
+    reported both 'refuted' with an empty evidence and printed empty tables)."""
+    spec = load_spec(ODD / "pp1_150k_centre_conv.yaml")
+    drive = Drive.from_spec(spec)
+    rows = load_transcription().table4
+    # no Table 4 speed inside: no commutation is simulated, so no controller is needed
+    study = table4_study(None, drive, rows)  # type: ignore[arg-type]
+    assert study.spec_improved == () and study.spec_conventional == ()
+    results = SimpleNamespace(table4_study=study, table4=rows, drive=drive)
+    claims = report._table4_claims(results)  # type: ignore[arg-type]
+    assert [c["verdict"] for c in claims] == [report.NOT_TESTED, report.NOT_TESTED]
+    for claim in claims:
+        assert "1000-2500 rpm" in claim["evidence"], claim
+        assert "10000-150000 rpm" in claim["evidence"], claim
+    assert "outside the simulated speed range" in report._table4(results)["outside"]  # type: ignore[arg-type,operator]
+
+
+def test_pil_summary_should_count_the_braking_run() -> None:
+    """`make pil` printed '22/22 scenarios pass' for a spec whose braking run failed
+    (and exited 1): the summary names the braking run's verdict too."""
+    failed = summary_line("m", 22, 22, object(), ["the rotor did not reach 15000 rpm"])  # type: ignore[arg-type]
+    assert failed == "pil: m: 22/22 fault scenarios pass, braking run FAILS"
+    assert summary_line("m", 22, 22, object(), []).endswith("braking run passes")  # type: ignore[arg-type]
+    assert summary_line("m", 21, 22, None, []).endswith(
+        "21/22 fault scenarios pass, braking run off"
+    )
+
+
+def test_a_hall_clock_that_overflows_every_format_should_be_named(tmp_path: Path) -> None:
+    """A 72 MHz Hall clock against a 2.25 kHz PWM: Eq. 20's product overflows int32_t
+    in every format, Q0 included. The refusal named accuracy.commutation_time_ticks,
+    which no value could meet; it names hall.timer_clock and a clock that designs."""
+    path = ROOT / "tests" / "fixtures" / "refused" / "hall72m_pwm2k25_centre.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(path))
+    assert caught.value.key == "hall.timer_clock"
+    message = str(caught.value)
+    assert message.startswith("hall.timer_clock = 72000000 Hz: no format from Q0 to Q12 is safe")
+    assert message.endswith("(allowed: <= 2.74884e+07 Hz, 72000000 Hz / N for N >= 3: 24000000 Hz)")
+    text = path.read_text(encoding="utf-8")
+    assert text.count("  timer_clock: 72 MHz\n") == 2  # TIM1's and TIM3's
+    named = tmp_path / "named.yaml"
+    named.write_text(
+        text.replace(
+            "  timer_clock: 72 MHz\n  counter_bits", "  timer_clock: 24 MHz\n  counter_bits"
+        )
+    )
+    assert "  timer_clock: 24 MHz\n" in named.read_text()
+    build_core(load_spec(named))  # the clock named does design
+
+
+def test_a_flat_emf_spec_should_rotate_the_plant_and_the_sil_alike() -> None:
+    """The spec's `flat` freezes the EMFs at an edge, which no rotating motor does: the
+    emulated drive's plant turns the 120 deg trapezoid it idealises, and the SIL it holds
+    each commutation to must turn the same one (`Drive.rotating`)."""
+    drive = Drive.from_spec(load_spec(ODD / "pp24_flat_ir.yaml"))
+    assert drive.emf_frozen
+    rotating = drive.rotating()
+    assert not rotating.emf_frozen
+    assert rotating.emf_points == drive.with_flat_top(120.0).emf_points
+    other = Drive.from_spec(load_spec(ROOT / "spec" / "paper_motor.yaml"))
+    assert other.rotating() == other  # every other shape is its own
+
+
+@pytest.mark.heavy(seconds=6)
+def test_a_flat_emf_motor_should_brake_in_the_pil_as_in_the_sil(tmp_path: Path) -> None:
+    """24 pole pairs, flat EMF, improved_r: the first Hall edges of `make pil`'s braking
+    run. The SIL froze the EMFs at the edge while the chip's plant turned them: every
+    commutation read 3 to 9 pp apart (required: 1 pp)."""
+    from emulation.pil.braking import SETTLING_EDGES, brake, braking_setup
+    from emulation.pil.braking_report import problems
+    from emulation.pil.build import build_firmware, generate
+
+    path = ODD / "pp24_flat_ir.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES + 4)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+    assert len(result.commutations) >= 3
+    assert problems(result) == []
+
+
+def test_a_braking_run_should_stop_above_where_the_saturated_loop_holds_no_current() -> None:
+    """An 80 kHz motor whose sample window leaves its loop a D_max of 0.84: below 2573 rpm
+    the loop saturates and its current, (2E - (1 - D_max) U_d) / 2R, is gone at 1933 rpm.
+    `make pil` braked towards a tenth of its top speed, 1140 rpm, which the rotor never
+    reaches (over half an hour of emulation): the run stops at 1.25 x the hold speed."""
+    from codegen.control.sensing import sense_design
+    from emulation.pil.braking import HOLD_MARGIN, braking_setup, held_down_to_rpm
+
+    spec = load_spec(ODD / "lv12_3uh_80k.yaml")
+    window = sense_design(spec).window
+    d_max = window.duty_max_counts / window.period_counts
+    assert d_max < 0.84
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    k_e = float(spec.motor.back_emf_constant_v_per_rpm)
+    gone = (1.0 - d_max) * bus / (2.0 * k_e)  # no current left at all
+    held = held_down_to_rpm(spec, 40.0)
+    assert 1900 < gone < held < 2600
+    setup = braking_setup(spec, short=False)
+    assert setup.stop_rpm == pytest.approx(HOLD_MARGIN * held)
+    assert setup.stop_rpm > held > 0.1 * float(spec.controller.speed_max_rpm)

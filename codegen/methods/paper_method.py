@@ -70,6 +70,26 @@ class _Candidate:
     time_numerator_error: Fraction
 
 
+def _numerator_overflow(sc: Scaling, c: PaperConstants, timer: Fraction, reason: str) -> str:
+    """Why no format is safe where even Q0 overflows: Eq. 20's product K_G I / B (Hall
+    ticks x W, in Q0) at the lowest bus code and the current code farthest from the
+    offset, and the Hall clock it scales with down to int32_t."""
+    offset = _fraction(sc.current_offset_exact)
+    current = max(offset, sc.adc_full_scale - offset)
+    peak = c.k_g * current / sc.bus_code_min
+    clock = _fraction(sc.hall_clock_hz)
+    limit = clock * (2**31 - 1) / peak
+    divider = -(-timer // limit)
+    return (
+        f"hall.timer_clock = {float(clock):.10g} Hz: no format from Q0 to Q{MAX_FRACTION_BITS}"
+        " is safe, whatever the time target: Eq. 20's numerator times the current code"
+        f" (K_G I / B, Hall ticks x W) reaches {float(peak):.4g} at the lowest bus code and"
+        f" the current code farthest from the offset, beyond int32_t ({reason}); it scales"
+        f" with the Hall clock (allowed: <= {float(limit):.6g} Hz, {float(timer):.10g} Hz / N"
+        f" for N >= {divider}: {float(timer / divider):.10g} Hz)"
+    )
+
+
 class PaperMethod:
     def __init__(self, rule: DutyRule) -> None:
         self.rule = rule
@@ -152,6 +172,7 @@ class PaperMethod:
         reasons: list[str] = []
         #: the tightest t_com bound any format that fits reaches (at the widest W)
         reach: tuple[Fraction, int] | None = None
+        safe = False  # some format proven free of overflow
         for f in range(MAX_FRACTION_BITS, -1, -1):
             best: tuple[Fraction, _Candidate] | None = None
             for current in current_formats(sc):
@@ -161,6 +182,7 @@ class PaperMethod:
                 except ProofError as exc:
                     reasons.append(f"Q{f}, current x{current.scale}: {exc}")
                     continue
+                safe = True
                 w_ok = self._w_ok(sc, cand, time_target)
                 if w_ok is None:
                     bound = self._time_bound(sc, cand, Fraction(4 * sc.period_counts))
@@ -180,6 +202,14 @@ class PaperMethod:
                     "accuracy.duty_counts",
                 )
             return self._finish(spec, sc, limits, c, cand, w_ok)
+        if not safe:
+            # Not the time target: no format is safe at all, Q0 included (a 72 MHz Hall
+            # clock's Eq. 20 numerator times the current code overflows int32_t, and the
+            # message blamed accuracy.commutation_time_ticks, which no value could meet).
+            timer = _fraction(spec.inverter.timer_clock_hz)
+            raise FixedPointError(
+                _numerator_overflow(sc, c, timer, reasons[-1]), "hall.timer_clock"
+            )
         if reach is not None:
             # formats fit, none meets the target: say what they do meet (the internal
             # overflows of the ones that do not fit said nothing a user could act on)

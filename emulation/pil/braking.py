@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 from unicorn import UC_HOOK_MEM_READ, UC_HOOK_MEM_WRITE
 
-from codegen.control.sensing import steady_signals
+from codegen.control.sensing import sense_design, steady_signals
 from codegen.spec_model import Spec
 from emulation.pil.bus import PilError, svd_interrupt
 from emulation.pil.comparator import OverCurrentComparator
@@ -776,7 +776,10 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
     cores = prepare_cores(spec, (method,))
     core, scale = cores.cores[method], cores.scaling
     per_code = float(scale.amps_per_current_code)
-    drive = Drive.from_spec(spec)
+    # the plant's EMF (`Drive.rotating`): with the spec's `flat`, Case's "spec" shape froze
+    # the EMFs at the edge while the chip's plant turned them (a 24-pole flat-EMF motor
+    # read 9 pp apart at every commutation)
+    drive = Drive.from_spec(spec).rotating()
     out = []
     for c in commutations:
         edge = switching_table().edge_into(c.sector_to, "forward")
@@ -867,7 +870,7 @@ EDGE_BUDGET = 3.0
 SHORT_EDGES = SETTLING_EDGES + 12
 
 
-#: Hall edges a full braking run takes at most: about 2.6 times the paper motor's (573
+#: Hall edges a full braking run takes at most: about 2.7 times the paper motor's (558
 #: with its own inertia), so `make pil` stays within minutes on any spec; and at least,
 #: so that a strong brake on a light rotor still gives commutations to compare (the
 #: Maxon's own inertia takes about 160)
@@ -882,7 +885,7 @@ def _deceleration(spec: Spec, current_a: float, inertia_scale: float) -> float:
 
 
 #: Motor time a full braking run takes at most, seconds: a little above the paper motor's
-#: (2.3 s with its own inertia; the emulation with the plant runs about 5 ms of motor
+#: (2.1 s with its own inertia; the emulation with the plant runs about 5 ms of motor
 #: time a wall second), so that a slow motor's long sectors do not take `make pil` an hour
 BRAKING_MOTOR_S = 2.5
 
@@ -909,37 +912,54 @@ def braking_edges(
     return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
 
 
-#: How far above the speed where E = R x I_nominal a braking run stops: the loop holds
-#: the current there with a duty near 1 / HOLD_MARGIN, clear of its sample window's limit
+#: How far above the lowest speed that holds I_nominal (`held_down_to_rpm`) a braking
+#: run stops: the loop's duty there is clear of its ceiling D_max
 HOLD_MARGIN = 1.25
+
+
+def held_down_to_rpm(spec: Spec, current_a: float) -> float:
+    """The lowest speed at which the loop holds `current_a` on the nominal bus: steady
+    braking (1 - D) U_d = 2E - 2RI at the port's largest duty D_max (its sample window,
+    `sense_design`), E = k_e n. With D_max = 1 it is E = R I, where only the back-EMF
+    drives the current; a D_max well below 1 (an 80 kHz PWM's 0.84) lifts it: below it
+    the loop saturates, the current and the torque fall with the speed and the rotor
+    slows exponentially (a run to its stop speed under it took over half an hour)."""
+    window = sense_design(spec).window
+    d_max = window.duty_max_counts / window.period_counts
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    r_i = float(spec.motor.phase_resistance_ohm) * current_a
+    return ((1.0 - d_max) * bus / 2.0 + r_i) / float(spec.motor.back_emf_constant_v_per_rpm)
 
 
 def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
     speed) at its nominal braking current, with its own rotor inertia: for the paper
-    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). Where that would take
+    motor 4600 rpm down to 860 rpm at 5 A (issue 13, scenario 1). Where that would take
     more Hall edges than BRAKING_EDGES allows (a weak motor on a heavy rotor) or fewer (a
     strong brake on a light one), the inertia is scaled to take about the limit: the
     report says so, with how much the speed then changes over a sector. The short
     version stops after SHORT_EDGES Hall edges.
 
-    In braking only the back-EMF drives the current, at most E/R: below the speed where
-    E = R I the braking current, and the torque, fall with the speed, which the
-    constant-torque estimate leaves out (the rotor then slows exponentially and the run
-    would take many times its estimate). So where that speed is above the stop speed,
-    the run stops at HOLD_MARGIN times it instead, while that leaves at least half the
-    starting speed to brake through."""
+    In braking only the back-EMF drives the current, at most E/R, and the loop's duty
+    stops at D_max: below the speed where (1 - D_max) U_d = 2E - 2RI (`held_down_to_rpm`;
+    E = R I where D_max = 1) the braking current, and the torque, fall with the speed,
+    which the constant-torque estimate leaves out (the rotor then slows exponentially and the run
+    would take many times its estimate, or never end where the saturated current falls
+    to zero above the stop). So where that speed is above the stop speed, the run stops
+    at HOLD_MARGIN times it instead, or at half the starting speed if that is lower."""
     top = float(spec.controller.speed_max_rpm)
     low = float(spec.controller.speed_min_rpm)
     current = float(spec.controller.braking_current_nominal_a)
     start, stop = 0.92 * top, max(low, 0.1 * top)
-    held_down_to = (
-        float(spec.motor.phase_resistance_ohm)
-        * current
-        / float(spec.motor.back_emf_constant_v_per_rpm)
-    )
-    if stop < held_down_to and HOLD_MARGIN * held_down_to <= 0.5 * start:
-        stop = HOLD_MARGIN * held_down_to
+    held_down_to = held_down_to_rpm(spec, current)
+    if stop < held_down_to:
+        # at most half the starting speed, so that the run brakes through half of it: the
+        # loop then saturates over its last part, with the current falling towards the
+        # speed where (1 - D_max) U_d = 2E - 2RI leaves none, which is below the hold
+        # speed. A stop under that one is never reached: a 310 V servo's 300 rpm (its
+        # current gone at 707 rpm) and an 80 kHz motor's 1140 rpm (gone at 1933 rpm) ran
+        # to the edge budget and motor-time limit, over half an hour of emulation.
+        stop = min(HOLD_MARGIN * held_down_to, 0.5 * start)
     edges = braking_edges(spec, start, stop, current)
     fewest, most = BRAKING_EDGES
     scale = min(max(1.0, fewest / edges), most / edges) if 0 < edges < math.inf else 1.0

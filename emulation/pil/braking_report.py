@@ -33,6 +33,7 @@ from emulation.pil.braking import (
 from emulation.pil.rcc import TICK_HZ
 from oracle.current_loop import loop_model
 from oracle.units import units
+from sim.drive import Drive
 from sim.scenario import switching_table
 
 DPI = 110
@@ -410,7 +411,15 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
         f" loop at {setup.current_a:g} A (app_braking_current_ma). Rotor inertia"
         f" {inertia:.6g} kg m^2 ({setup.inertia_scale:g} x the spec's), viscous friction"
         f" {friction:g} N m s/rad, load torque {load if not callable(load) else 'a function of time'} N m;"
-        f" the bus a stiff {float(spec.inverter.bus_voltage_nominal_v):g} V."
+        f" the bus a stiff {float(spec.inverter.bus_voltage_nominal_v):g} V; the phase EMF"
+        f" {Drive.from_spec(spec).rotating().emf_description}"
+        + (
+            " (the spec's `flat` is the paper's EMFs frozen at an edge, which no rotating"
+            " motor has: the plant and the SIL turn the trapezoid they idealise)"
+            if spec.motor.back_emf_shape.frozen
+            else ""
+        )
+        + "."
         + inertia_note(spec, setup)
         + (
             f" Short version: the first {setup.max_edges} Hall edges."

@@ -17,7 +17,8 @@ after a later event) is answered by re-running the exact piece from the last
 recorded point before it.
 
 Rotor: the electrical angle advances at the mechanical speed times the pole pairs;
-the phase EMFs are the spec's waveform (`motor.back_emf_shape`, placed on the Hall
+the phase EMFs are the spec's waveform (`motor.back_emf_shape`; `flat`, the paper's EMFs frozen
+at an edge, as the 120 deg trapezoid they idealise: `Drive.rotating`; placed on the Hall
 sectors as `sim.emf` places them, forward rotation) times k_e n. Within a piece the
 speed is held (the mechanical time constant is many PWM periods) and the piece is
 split at every EMF corner and every Hall sector boundary, so the EMFs are affine in
@@ -173,7 +174,9 @@ class MotorPlant:
     )
 
     def __post_init__(self) -> None:
-        self.drive = Drive.from_spec(self.spec)
+        # the rotor turns the EMFs: the spec's `flat` (frozen at an edge) has no rotating
+        # motor but the 120 deg trapezoid it idealises (`Drive.rotating`)
+        self.drive = Drive.from_spec(self.spec).rotating()
         if self.bus_voltage_v is None:
             self.bus_voltage_v = self.drive.bus_voltage_v
         self.waveform = Waveform(self.drive.emf_points)

@@ -190,22 +190,40 @@ def main(argv: list[str] | None = None) -> int:
         )
         bad = [o for o in outcomes if o.problems]
         failed |= bool(bad)
+        braking_problems = [] if result is None else braking_report.problems(result)
+        failed |= bool(braking_problems)
         if result is not None:
-            braking_problems = braking_report.problems(result)
-            failed |= bool(braking_problems)
             print(
                 f"pil:   braking: {result.emulated_s * 1e3:.1f} ms, {result.setup.start_rpm:.0f}"
                 f" -> {result.end_rpm:.0f} rpm, {len(result.commutations)} commutations;"
                 f" {'; '.join(braking_problems[:3]) or 'pass'}"
             )
         print(
-            f"pil: {spec.name}: {len(outcomes) - len(bad)}/{len(outcomes)} scenarios pass -> {target.relative_to(ROOT)}"
+            summary_line(
+                spec.name, len(outcomes) - len(bad), len(outcomes), result, braking_problems
+            )
+            + f" -> {target.relative_to(ROOT)}"
         )
         for o in outcomes:
             print(
                 f"pil:   {o.name}: latency {_us(o.latency_ticks)} (limit {_us(o.limit_ticks)}); {'; '.join(o.problems) or 'pass'}"
             )
     return 1 if failed else 0
+
+
+def summary_line(
+    name: str, passed: int, total: int, braking: BrakingResult | None, braking_problems: list[str]
+) -> str:
+    """The run's one-line verdict: the fault scenarios and the braking run, which is no
+    scenario of the table (a spec whose braking failed read '22/22 scenarios pass' and
+    exited 1)."""
+    if braking is None:
+        run = "braking run off"
+    elif braking_problems:
+        run = "braking run FAILS"
+    else:
+        run = "braking run passes"
+    return f"pil: {name}: {passed}/{total} fault scenarios pass, {run}"
 
 
 if __name__ == "__main__":
