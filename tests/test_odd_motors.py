@@ -138,9 +138,10 @@ def test_a_braking_run_should_stop_above_where_the_saturated_loop_holds_no_curre
     """An 80 kHz motor whose sample window leaves its loop a D_max of 0.84: below 2573 rpm
     the loop saturates and its current, (2E - (1 - D_max) U_d) / 2R, is gone at 1933 rpm.
     `make pil` braked towards a tenth of its top speed, 1140 rpm, which the rotor never
-    reaches (over half an hour of emulation): the run stops at 1.25 x the hold speed."""
+    reaches (over half an hour of emulation): the run stops where the saturated loop still
+    drives half the current, 2253 rpm."""
     from codegen.control.sensing import sense_design
-    from emulation.pil.braking import HOLD_MARGIN, braking_setup, held_down_to_rpm
+    from emulation.pil.braking import HELD_SHARE, braking_setup, held_down_to_rpm
 
     spec = load_spec(ODD / "lv12_3uh_80k.yaml")
     window = sense_design(spec).window
@@ -152,5 +153,5 @@ def test_a_braking_run_should_stop_above_where_the_saturated_loop_holds_no_curre
     held = held_down_to_rpm(spec, 40.0)
     assert 1900 < gone < held < 2600
     setup = braking_setup(spec, short=False)
-    assert setup.stop_rpm == pytest.approx(HOLD_MARGIN * held)
-    assert setup.stop_rpm > held > 0.1 * float(spec.controller.speed_max_rpm)
+    assert setup.stop_rpm == pytest.approx(gone + HELD_SHARE * (held - gone))
+    assert held > setup.stop_rpm > gone > 0.1 * float(spec.controller.speed_max_rpm)

@@ -912,9 +912,9 @@ def braking_edges(
     return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
 
 
-#: How far above the lowest speed that holds I_nominal (`held_down_to_rpm`) a braking
-#: run stops: the loop's duty there is clear of its ceiling D_max
-HOLD_MARGIN = 1.25
+#: The share of I_nominal the saturated loop still drives where a braking run that
+#: reaches below the hold speed (`held_down_to_rpm`) stops at the latest
+HELD_SHARE = 0.5
 
 
 def held_down_to_rpm(spec: Spec, current_a: float) -> float:
@@ -931,10 +931,19 @@ def held_down_to_rpm(spec: Spec, current_a: float) -> float:
     return ((1.0 - d_max) * bus / 2.0 + r_i) / float(spec.motor.back_emf_constant_v_per_rpm)
 
 
+def current_gone_rpm(spec: Spec) -> float:
+    """The speed below which the loop, saturated at its D_max, drives no braking current
+    on the nominal bus: (1 - D_max) U_d = 2E, E = k_e n."""
+    window = sense_design(spec).window
+    d_max = window.duty_max_counts / window.period_counts
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    return (1.0 - d_max) * bus / 2.0 / float(spec.motor.back_emf_constant_v_per_rpm)
+
+
 def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     """From 92 % of the spec's top speed down to a tenth of it (at least its lowest
     speed) at its nominal braking current, with its own rotor inertia: for the paper
-    motor 4600 rpm down to 860 rpm at 5 A (issue 13, scenario 1). Where that would take
+    motor 4600 rpm down to 500 rpm at 5 A (issue 13, scenario 1). Where that would take
     more Hall edges than BRAKING_EDGES allows (a weak motor on a heavy rotor) or fewer (a
     strong brake on a light one), the inertia is scaled to take about the limit: the
     report says so, with how much the speed then changes over a sector. The short
@@ -946,20 +955,23 @@ def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
     which the constant-torque estimate leaves out (the rotor then slows exponentially and the run
     would take many times its estimate, or never end where the saturated current falls
     to zero above the stop). So where that speed is above the stop speed, the run stops
-    at HOLD_MARGIN times it instead, or at half the starting speed if that is lower."""
+    at the latest where the saturated loop still drives HELD_SHARE of the current."""
     top = float(spec.controller.speed_max_rpm)
     low = float(spec.controller.speed_min_rpm)
     current = float(spec.controller.braking_current_nominal_a)
-    start, stop = 0.92 * top, max(low, 0.1 * top)
+    # within the speed range: a narrow one (4000..4100 rpm) would start below its minimum
+    start, stop = max(0.92 * top, 0.5 * (low + top)), max(low, 0.1 * top)
     held_down_to = held_down_to_rpm(spec, current)
     if stop < held_down_to:
-        # at most half the starting speed, so that the run brakes through half of it: the
-        # loop then saturates over its last part, with the current falling towards the
-        # speed where (1 - D_max) U_d = 2E - 2RI leaves none, which is below the hold
-        # speed. A stop under that one is never reached: a 310 V servo's 300 rpm (its
-        # current gone at 707 rpm) and an 80 kHz motor's 1140 rpm (gone at 1933 rpm) ran
-        # to the edge budget and motor-time limit, over half an hour of emulation.
-        stop = min(HOLD_MARGIN * held_down_to, 0.5 * start)
+        # below the hold speed the saturated loop's current falls linearly to none at
+        # `current_gone_rpm`: a stop under that one is never reached (a 310 V servo's
+        # 300 rpm, its current gone at 707 rpm, and an 80 kHz motor's 1140 rpm, gone at
+        # 1933 rpm, ran to the edge budget and the motor-time limit, over half an hour
+        # of emulation). The run brakes on to where HELD_SHARE of the current is left:
+        # the paper motor to its 500 rpm (issue 13, scenario 1: 58 % of 5 A left there,
+        # 573 commutations, every one within the SIL's point), the 80 kHz motor to 2253.
+        gone = current_gone_rpm(spec)
+        stop = max(stop, gone + HELD_SHARE * (held_down_to - gone))
     edges = braking_edges(spec, start, stop, current)
     fewest, most = BRAKING_EDGES
     scale = min(max(1.0, fewest / edges), most / edges) if 0 < edges < math.inf else 1.0

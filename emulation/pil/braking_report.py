@@ -215,6 +215,10 @@ def compared(result: BrakingResult, c: Commutation) -> bool:
 HELD_FRACTION = 0.03
 #: ... and never less than this many codes (the ADC's rounding)
 HELD_CODES_MIN = 2.0
+#: How far (counts) the steady duty may rise over the judged commutations, beyond twice
+#: the rise the slowing rotor asks, before a loop that never reached the command is
+#: taken as still climbing towards it (not judged) rather than settled off it
+CLIMBING_COUNTS = 4.0
 
 
 @dataclass(frozen=True)
@@ -245,9 +249,15 @@ class HeldCurrent:
 
 
 def held_current_check(result: BrakingResult) -> HeldCurrent | None:
-    """The mean steady sample against the command's code; None where there is nothing
-    to judge: fewer samples than the loop's step response takes (5 / w_c PWM periods),
-    so the integrator has not converged (the Maxon's short run: one sample a sector).
+    """The mean steady sample against the command's code, from the first commutation
+    whose samples reach the command (within the allowance) on: the loop's ramp to it is
+    no steady state. None where there is nothing to judge: fewer samples than the loop's
+    step response takes (5 / w_c PWM periods), so the integrator has not converged (the
+    Maxon's short run: one sample a sector); or the samples never reach the command while
+    the duty still climbs beyond what the slowing rotor asks (`CLIMBING_COUNTS`): the
+    integrator is on its way (a 100 kHz motor whose ripple exceeds its current ramps from
+    a valley read at 0 A for its whole short run, 0.22 to 0.34 of the period). A loop
+    that settles off the command (a proportional one) has a duty that stops climbing.
     The command, its code, D_max and k_i come from the spec alone (`oracle`)."""
     spec = result.spec
     u = units(spec)
@@ -259,16 +269,27 @@ def held_current_check(result: BrakingResult) -> HeldCurrent | None:
         and min(c.pre_duties, default=0.0) > 0
         and max(c.pre_duties) * u.pwm_counts < loop.duty_max
     ]
+    milliamps = round(result.setup.current_a * 1000)
+    reference = u.current_code(Fraction(milliamps, 1000))
+    zero = u.zero_current_code
+    tolerance = max(HELD_CODES_MIN, HELD_FRACTION * float(abs(reference - zero)))
+    means = [sum(c.steady_codes) / len(c.steady_codes) for c in judged]
+    first = next((k for k, m in enumerate(means) if abs(m - reference) <= tolerance), None)
+    if first is not None:
+        judged = judged[first:]
     codes = [code for c in judged for code in c.steady_codes]
     if len(codes) < loop_periods_per_step_response(spec):
         return None
     slowed = abs(float(judged[0].speed_rpm) - float(judged[-1].speed_rpm))
     climb = 2 * float(spec.motor.back_emf_constant_v_per_rpm) * slowed * u.pwm_counts
     climb /= float(spec.inverter.bus_voltage_nominal_v)
-    milliamps = round(result.setup.current_a * 1000)
+    if first is None:
+        duties = [sum(c.pre_duties) / len(c.pre_duties) * u.pwm_counts for c in judged]
+        if duties[-1] - duties[0] > 2 * climb + CLIMBING_COUNTS:
+            return None
     return HeldCurrent(
-        reference_code=u.current_code(Fraction(milliamps, 1000)),
-        zero_code=u.zero_current_code,
+        reference_code=reference,
+        zero_code=zero,
         mean_code=sum(codes) / len(codes),
         samples=len(codes),
         lag_codes=float(climb / (float(loop.ki) * len(codes))),
