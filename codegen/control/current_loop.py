@@ -376,15 +376,15 @@ def _claims(
 _NICE_BANDWIDTHS = (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8)
 
 
-def _faster_bandwidth(spec: Spec) -> Fraction | None:
-    """The lowest bandwidth above the spec's, of a few per decade up to the loader's
-    limit (f_pwm / 10, 20 kHz), whose PI meets the spec's current_loop_duty_counts in
-    its widest format; None where none does."""
-    from dataclasses import replace
+def _bandwidth_top(spec: Spec) -> Fraction:
+    """The loader's largest current-loop bandwidth for this PWM frequency."""
+    return min(Fraction(20_000), BANDWIDTH_MAX_PER_PWM * spec.inverter.pwm_frequency_hz)
 
-    bandwidth = spec.current_loop.bandwidth_hz
-    top = min(Fraction(20_000), BANDWIDTH_MAX_PER_PWM * spec.inverter.pwm_frequency_hz)
-    candidates = sorted(
+
+def _faster_bandwidths(spec: Spec) -> list[Fraction]:
+    """Bandwidths above the spec's, a few per decade, up to the loader's limit."""
+    bandwidth, top = spec.current_loop.bandwidth_hz, _bandwidth_top(spec)
+    return sorted(
         {
             Fraction(str(nice)) * 10**decade
             for decade in range(5)
@@ -392,7 +392,15 @@ def _faster_bandwidth(spec: Spec) -> Fraction | None:
             if bandwidth < Fraction(str(nice)) * 10**decade <= top
         }
     )
-    for candidate in candidates:
+
+
+def _faster_bandwidth(spec: Spec) -> Fraction | None:
+    """The lowest bandwidth above the spec's, of a few per decade up to the loader's
+    limit (f_pwm / 10, 20 kHz), whose PI meets the spec's current_loop_duty_counts in
+    its widest format; None where none does."""
+    from dataclasses import replace
+
+    for candidate in _faster_bandwidths(spec):
         trial = replace(spec, current_loop=replace(spec.current_loop, bandwidth_hz=candidate))
         try:
             met = accuracy_needed(widest_design(trial)) <= spec.accuracy.current_loop_duty_counts
@@ -409,15 +417,8 @@ def _integrator_below_one_lsb(spec: Spec, g: LoopGains, f: int) -> FixedPointErr
     from dataclasses import replace
 
     bandwidth = spec.current_loop.bandwidth_hz
-    top = min(Fraction(20_000), BANDWIDTH_MAX_PER_PWM * spec.inverter.pwm_frequency_hz)
-    candidates = sorted(
-        {
-            Fraction(str(nice)) * 10**decade
-            for decade in range(5)
-            for nice in _NICE_BANDWIDTHS
-            if bandwidth < Fraction(str(nice)) * 10**decade <= top
-        }
-    )
+    top = _bandwidth_top(spec)
+    candidates = _faster_bandwidths(spec)
     fits = None
     for candidate in candidates:
         trial = replace(spec, current_loop=replace(spec.current_loop, bandwidth_hz=candidate))
