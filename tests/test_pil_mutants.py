@@ -35,6 +35,24 @@ class Mutant:
 
 MUTANTS = (
     Mutant(
+        "clock security system never enabled: a crystal failing while braking stops the chip",
+        "firmware/system_stm32f103.c",
+        "    RCC->CR |= RCC_CR_CSSON;",
+        "    (void)0; /* mutant: no CSS */",
+        PAPER,
+        "hse_fails_running",
+        "CSSON = 0",
+    ),
+    Mutant(
+        "the clock failure not recorded: the NMI leaves no fault for the application",
+        PORT,
+        "    port_request_trip(BLDC_FAULT_CLOCK);",
+        "    (void)0; /* mutant: no CLOCK fault */",
+        PAPER,
+        "hse_fails_running",
+        "expected CLOCK",
+    ),
+    Mutant(
         "Hall timer's prescaler one low: TIM3 ticks 1.4 % fast, every speed read slow",
         HEADER,
         "#define BLDC_PORT_TIM3_PSC ",

@@ -965,6 +965,30 @@ def _hse_fails(run: Run) -> Outcome:
     )
 
 
+def _hse_fails_running(run: Run) -> Outcome:
+    """The crystal stops while the bridge brakes: the clock security system switches
+    SYSCLK to the HSI (8 MHz, a ninth of the PLL's 72 MHz: every timer slows as much)
+    and raises the NMI, whose handler must reach the safe state within one PWM period
+    of the failure, the spec's safe state at the run's speed and bus."""
+    run.turn(SETTLE_SECTORS)
+    cause = run.next_update() + run.board.pwm_period_ticks() // 3
+    run.machine.rcc.fail_hse(cause)
+    run.run_until_tripped(20 * run.board.pwm_period_ticks())
+    cleared = run.machine.tim1.moe_cleared_at
+    if cleared is not None:  # TIM1's break takes the clock failure (RM0008 7.2.7)
+        dead = round(run.spec.inverter.dead_time_s * TICK_HZ)
+        bus = float(run.spec.inverter.bus_voltage_nominal_v)
+        _check_safe_state(run, cleared + dead + 1, bus, "after the dead time")
+    return run.outcome(
+        "HSE fails while braking",
+        "CLOCK",
+        cause,
+        run.board.pwm_period_ticks(),
+        "the crystal stops a third of a PWM period after an update while the bridge"
+        " brakes: the CSS moves SYSCLK to the HSI and raises the NMI",
+    )
+
+
 @dataclass(frozen=True)
 class Scenario:
     key: str
@@ -990,6 +1014,7 @@ SCENARIOS = (
     Scenario("reversal", _reversal),
     Scenario("current_loop_stalls", _current_loop_stalls),
     Scenario("hse_fails", _hse_fails, hse_fails=True),
+    Scenario("hse_fails_running", _hse_fails_running),
 )
 
 
