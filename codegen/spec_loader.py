@@ -89,6 +89,8 @@ WARNINGS: dict[str, str] = {
     " braking_current_nominal",
     "improved-r-time-not-relaxed": "controller.method improved_r, a PWM period longer than"
     " accuracy.commutation_time_ticks and no declared relaxation",
+    "conventional-fills-sectors": "controller.method conventional above 20 R/(p L) rpm, where"
+    " its commutation, L/(2R) with the loop's steady duty, fills the sector",
 }
 
 T = TypeVar("T")
@@ -1121,6 +1123,22 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
     # over a PWM period; an RL circuit with L/R below one period relaxes almost fully
     # within it (1 - e^-1 = 63 %), so the model, and the commutation times, do not hold.
     tau = motor.phase_inductance_h / r_ohm
+    # Eq. 20 (conventional), t_com = I L / (D U_d + 2E - U_d), at the loop's steady
+    # braking duty D = 1 - (2E - 2RI)/U_d: L / (2R) at every speed and current; a sector
+    # lasts 10 / (p n) s, so commutations fill the sectors above n = 20 R / (p L)
+    filled_above = 20 / (motor.pole_pairs * tau)
+    if controller.method == "conventional" and controller.speed_max_rpm > filled_above:
+        r.warn(
+            "conventional-fills-sectors",
+            "controller.speed_max",
+            _raw(data, "controller.speed_max"),
+            f"with the braking-current loop's steady duty D = 1 - (2E - 2RI)/U_d, Eq. 20"
+            f" gives the conventional commutation t_com = L/(2R) = {_g(tau / 2)} s at every"
+            f" speed, a whole sector above about 20 R/(p L) = {_g(filled_above)} rpm: there"
+            " each commutation fills its sector, the loop takes no current sample and the"
+            " commutation duties alone set the current (`make pil`'s braking run fails);"
+            " controller.method improved ends its commutations within the sector",
+        )
     period = 1 / inverter.pwm_frequency_hz
     if tau <= period:
         r.report(

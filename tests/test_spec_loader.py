@@ -863,3 +863,20 @@ def test_a_too_long_adc_sample_should_name_the_sample_time_and_the_longest_that_
     assert "(allowed: <= 71.5 ADC clock cycles" in lines[0], lines
     fits = _write(tmp_path, text.replace("adc_sample_time: 13.5", "adc_sample_time: 71.5"))
     assert load_spec(fits).sensing.adc_sample_cycles == Fraction(143, 2)
+
+
+def test_a_conventional_drive_whose_commutations_fill_the_sectors_should_be_warned_of() -> None:
+    """Eq. 20 (conventional) at the loop's steady braking duty is L/(2R) at every speed:
+    the 0.3 A fan motor's 2.5 ms fills its sectors above 20 R/(p L) = 1000 rpm, far below
+    its 27 360 rpm top (its braking run loses every current sample there); a conventional
+    motor whose top speed stays below that line, and the paper's improved rule, are not
+    warned."""
+    odd = Path(__file__).resolve().parent / "fixtures" / "odd"
+    warnings = load_spec(odd / "fan8p_windup_dips.yaml").warnings
+    assert [w.id for w in warnings] == ["conventional-fills-sectors"]
+    line = str(warnings[0])
+    assert "controller.speed_max = '27360 rpm'" in line
+    assert "t_com = L/(2R) = 0.0025 s" in line and "20 R/(p L) = 1000 rpm" in line
+    below = load_spec(odd / "rev_hall_centre_shunts_sc.yaml")
+    assert below.controller.method == "conventional" and below.warnings == ()
+    assert load_spec(DEFAULT_SPEC).warnings == ()
