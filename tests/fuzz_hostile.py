@@ -33,16 +33,17 @@ import contextlib
 import os
 import random
 import re
-import signal
 import subprocess
 import sys
 import tempfile
 import time
 import traceback
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+
+from fuzz_limits import time_limit
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -354,20 +355,6 @@ def make_case(number: int, seed: int) -> Case:
 # ------------------------------------------------------------------------ load phase
 
 
-@contextlib.contextmanager
-def time_limit(seconds: float) -> Iterator[None]:
-    def expire(*_: object) -> None:
-        raise TimeoutError(f"over {seconds} s")
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
-
 #: Problems about the document's syntax, not a value: no range to name.
 _NOT_A_VALUE = (
     "malformed YAML", "duplicate key", "YAML tag", "not UTF-8", "expands to", "nested deeper",
@@ -540,10 +527,7 @@ def cli_phase(
             if accepted_only and not accepted:
                 continue
             for command in commands:
-                argv = _argv(command, spec, folder)
-                if command in ("firmware", "verify", "unity"):
-                    run(["generate", str(spec), "-o", str(folder / "gen")], folder)
-                rc, _, err, seconds = run(argv, folder)
+                rc, _, err, seconds = run_command(command, spec, folder)
                 verdict = cli_verdict(rc, err)
                 counts[f"{command} {'accepted' if accepted else 'refused'}: {verdict}"] += 1
                 suspicious = (
@@ -603,16 +587,21 @@ def layout_phase(commands: list[str], bases: list[str], only: list[str] | None) 
                     print(f"{base} {label}: refused: {str(error)[:300]}")
                     continue
                 for command in commands:
-                    argv = _argv(command, spec, folder)
-                    if command in ("firmware", "verify", "unity"):
-                        run(["generate", str(spec), "-o", str(folder / "gen")], folder)
-                    rc, _, err, seconds = run(argv, folder)
+                    rc, _, err, seconds = run_command(command, spec, folder)
                     verdict = cli_verdict(rc, err)
                     print(f"{base} {label} {command}: {verdict} ({seconds:.1f} s)")
                     if rc != 0:
                         bad += 1
                         print("    " + err.strip().replace("\n", "\n    ")[-1500:])
     return 1 if bad else 0
+
+
+def run_command(command: str, spec: Path, folder: Path) -> tuple[int, str, str, float]:
+    """One CLI command on `spec` in `folder` (`run`), the tree it reads generated first
+    where it reads one (firmware, verify, unity)."""
+    if command in ("firmware", "verify", "unity"):
+        run(["generate", str(spec), "-o", str(folder / "gen")], folder)
+    return run(_argv(command, spec, folder), folder)
 
 
 def _argv(command: str, spec: Path, folder: Path) -> list[str]:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Callable
 from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
@@ -304,6 +305,18 @@ def paper_firmware(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path
     return elf, generated / "c" / "stm32f103_port.c"
 
 
+def _port_line_replaced(line: str, new: str) -> Callable[[Path], None]:
+    """A port mutant for `link_mutant`: the generated port's one `line` becomes `new`."""
+
+    def mutate(copy: Path) -> None:
+        port = copy / "c" / "stm32f103_port.c"
+        text = port.read_text(encoding="utf-8")
+        assert text.count(line) == 1
+        port.write_text(text.replace(line, new), encoding="utf-8")
+
+    return mutate
+
+
 def test_a_current_loop_that_stores_another_jdr_should_fail_the_braking_run(
     tmp_path: Path,
 ) -> None:
@@ -315,13 +328,9 @@ def test_a_current_loop_that_stores_another_jdr_should_fail_the_braking_run(
     assert generated is not None
     line = "const uint32_t measured = adc->JDR1;"
 
-    def mutate(copy: Path) -> None:
-        port = copy / "c" / "stm32f103_port.c"
-        text = port.read_text(encoding="utf-8")
-        assert text.count(line) == 1
-        port.write_text(text.replace(line, line.replace("JDR1", "JDR2")), encoding="utf-8")
-
-    elf = link_mutant(generated, tmp_path / "mutant", mutate)
+    elf = link_mutant(
+        generated, tmp_path / "mutant", _port_line_replaced(line, line.replace("JDR1", "JDR2"))
+    )
     spec = load_spec(str(PAPER))
     setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES)
     result = brake(elf, tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c", spec, setup)
@@ -345,12 +354,8 @@ def test_a_current_loop_whose_integrator_never_moves_should_fail_the_braking_run
     assert generated is not None
     line = "    port.integrator = bldc_current_loop_integrate(state, reference, measured);\n"
 
-    def mutate(copy: Path) -> None:
-        port = copy / "c" / "stm32f103_port.c"
-        text = port.read_text(encoding="utf-8")
-        assert text.count(line) == 1
-        dropped = "    (void)bldc_current_loop_integrate(state, reference, measured);\n"
-        port.write_text(text.replace(line, dropped), encoding="utf-8")
+    dropped = "    (void)bldc_current_loop_integrate(state, reference, measured);\n"
+    mutate = _port_line_replaced(line, dropped)
 
     elf = link_mutant(generated, tmp_path / "mutant", mutate)
     spec = load_spec(str(PAPER))
