@@ -25,7 +25,7 @@ import argparse
 import math
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from pathlib import Path
 
@@ -42,7 +42,7 @@ from codegen.spec_drive import (
     short_circuit_peak,
 )
 from codegen.spec_loader import PAPER_AUDIT_NAME, PERIOD_COUNTS_MAX, load_spec, out_of_range
-from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, SpecWarning
+from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, Spec, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
 #: Hall timer clocks that divide the 72 MHz timer clock, slowest first.
@@ -353,6 +353,8 @@ class Written:
     path: Path
     error: SpecError | DesignRefusal | None
     warnings: tuple[SpecWarning, ...]
+    #: targets raised to what a design meets (`codegen.init_design`)
+    notes: tuple[str, ...] = ()
 
 
 def _num(value: Fraction, digits: int = 6) -> str:
@@ -484,10 +486,20 @@ def _first_sample_s(pwm_hz: Fraction, dead_ns: Fraction) -> Fraction:
     return first_sample_s(window, timer_clock_hz=clock, adc_sample_cycles=SAMPLE_CYCLES)
 
 
-def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)) -> str:
-    """The spec text for `name` from the datasheet values (see the module docstring);
-    `loop_counts` is accuracy.current_loop_duty_counts (`write_new_spec` raises it where
-    the PI's widest fixed-point format needs more than one count)."""
+@dataclass(frozen=True)
+class Targets:
+    """The accuracy targets init writes: its defaults, or what a fixed-point design meets
+    where the default is out of its reach (`codegen.init_design` raises them)."""
+
+    loop_counts: Fraction = Fraction(1)  # accuracy.current_loop_duty_counts
+    duty_counts: Fraction = Fraction(1)  # accuracy.duty_counts
+    time_ticks: Fraction | None = None  # accuracy.commutation_time_ticks; None: the budget
+
+
+def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> str:
+    """The spec text for `name` from the datasheet values (see the module docstring),
+    with `targets` as its accuracy targets."""
+    loop_counts = targets.loop_counts
     motor, motor_sources, si = _motor(sheet)
     method = sheet.method or "improved"
     derived = "assumption: bldc-codegen init, derived:"
@@ -557,7 +569,8 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
         alignment="edge",
     )
     peak = braking_current_peak(i_max, ripple)
-    budget = min(Fraction(8), _round_down(fastest / 20, 1))
+    default_budget = min(Fraction(8), _round_down(fastest / 20, 1))
+    budget = default_budget if targets.time_ticks is None else targets.time_ticks
     # In braking only the back-EMF drives the current, at most E/R: the lower point sits
     # where E is 1.5 x R x braking_current_nominal (a duty near 2/3), if 30 % is below it.
     n_hold = _round_up(si["r"] * i_nom / si["ke"] * Fraction(3, 2), 10)
@@ -629,9 +642,17 @@ def render_spec(name: str, sheet: Datasheet, loop_counts: Fraction = Fraction(1)
             f"{derived} 1.1 x the speed whose 60 deg Hall period fills the 16-bit counter"
         ),
         "controller.speed_max": n_max_source,
-        "accuracy.duty_counts": "assumption: 1 TIM1 count error budget for D_on and D_off",
+        "accuracy.duty_counts": (
+            "assumption: 1 TIM1 count error budget for D_on and D_off"
+            if targets.duty_counts == 1
+            else f"{derived} {_num(targets.duty_counts)} TIM1 counts, what the {method}"
+            " commutation core's integer design meets on this motor (1 count is out of reach)"
+        ),
         "accuracy.commutation_time_ticks": (
-            f"{derived} 8 Hall ticks, at most 5 % of the shortest 60 deg sector"
+            f"{derived} {_num(budget)} Hall ticks, at most 8 and 5 % of the shortest sector"
+            if targets.time_ticks is None
+            else f"{derived} {_num(budget)} Hall ticks, what the {method} commutation core's"
+            f" integer design meets on this motor ({_num(default_budget)} is out of reach)"
         ),
         "operating_points": (
             f"{derived} 90 % of speed_max, and 30 % or where E = 1.5 x R x"
@@ -728,7 +749,7 @@ controller:
   speed_max: {_num(n_max)} rpm
 
 accuracy:
-  duty_counts: 1.0
+  duty_counts: {_num(targets.duty_counts) if targets.duty_counts != 1 else "1.0"}
   commutation_time_ticks: {_num(budget)}
   current_loop_duty_counts: {_num(loop_counts) if loop_counts != 1 else "1.0"}
   # Declared relaxation (as in spec/paper_motor.yaml): where the commutation time is
@@ -782,27 +803,41 @@ def _yaml_string(text: str) -> str:
 
 
 def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
-    """Write the spec and load it once: the caller reports what still does not fit."""
-    write_atomically(path, render_spec(name, sheet))
+    """Write the spec and run `generate`'s fixed-point designs on it (the current loop's,
+    then the commutation core's): a target a design cannot meet becomes the one it meets
+    (`codegen.init_design`), with a note; the caller reports what still does not fit."""
+    targets = Targets()
+    write_atomically(path, render_spec(name, sheet, targets))
     try:
         spec = load_spec(path)
     except SpecError as exc:
         return Written(path, exc, ())
-    # the loop's design imports the IR and its prover: only once the spec loads
+    # the designs import the IR and its prover: only once the spec loads
     from codegen.control.current_loop import accuracy_needed, design, widest_design
+    from codegen.init_design import meet_core_targets
     from codegen.methods.base import FixedPointError
+
+    notes: tuple[str, ...] = ()
+
+    def rewrite(raised: Targets) -> Spec:
+        write_atomically(path, render_spec(name, sheet, raised))
+        return load_spec(path)
 
     try:
         needed = accuracy_needed(widest_design(spec))
         if needed > spec.accuracy.current_loop_duty_counts:
             # the PI's widest format cannot meet 1 count: the spec says what it does meet
-            write_atomically(path, render_spec(name, sheet, _round_up(needed * 100, 1) / 100))
-            spec = load_spec(path)
+            targets = replace(targets, loop_counts=_round_up(needed * 100, 1) / 100)
+            spec = rewrite(targets)
         design(spec)
+        checked = meet_core_targets(spec, targets, rewrite)
+        spec, notes = checked.spec, checked.notes
+        if checked.refusal is not None:
+            raise checked.refusal
     except SpecError as exc:
-        return Written(path, exc, ())
+        return Written(path, exc, (), notes)
     except FixedPointError as exc:
-        # no format at all (a k_i below one LSB): said now, not by `generate` after
-        # "init: next: ... generate" (a 1 mohm, 500 mH motor)
-        return Written(path, DesignRefusal(str(path), exc.key, str(exc)), ())
-    return Written(path, None, spec.warnings)
+        # no format at all (a k_i below one LSB, a core no target rescues): said now, not
+        # by `generate` after "init: next: ... generate" (a 1 mohm, 500 mH motor)
+        return Written(path, DesignRefusal(str(path), exc.key, str(exc)), (), notes)
+    return Written(path, None, spec.warnings, notes)

@@ -441,6 +441,79 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
     assert not (tmp_path / "generated" / "strict").exists()
 
 
+#: a 4-pole-pair Kv-30 motor on 6 V: 10 mohm and 2.5 uH a phase, 40 kHz, method none
+KV30_NONE = [
+    *("--pole-pairs", "4", "--kv", "30", "--resistance-line-to-line", "0.02 ohm"),
+    *("--inductance-line-to-line", "5 uH", "--bus-voltage", "6 V", "--method", "none"),
+    *("--pwm-frequency", "40 kHz"),
+]
+
+
+@pytest.mark.parametrize(
+    ("argv", "key", "written"),
+    [
+        (KV30_NONE, "accuracy.commutation_time_ticks", Fraction(15075, 1000)),
+        (
+            [
+                *("--pole-pairs", "1", "--kv", "100", "--resistance-line-to-line", "0.1 ohm"),
+                *("--inductance-line-to-line", "5 mH", "--bus-voltage", "48 V"),
+                *("--method", "improved_r", "--pwm-frequency", "16 kHz"),
+            ],
+            "accuracy.duty_counts",
+            Fraction(14, 10),
+        ),
+    ],
+    ids=["none-time", "improved_r-duty"],
+)
+def test_init_should_write_the_commutation_accuracy_its_core_can_meet(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    argv: list[str],
+    key: str,
+    written: Fraction,
+) -> None:
+    """init ran the current loop's design but not the commutation core's: on these
+    motors it said "next: generate", and `generate` refused (the none core's best
+    format bounds t_com by 15.07 ticks against init's 8; the improved_r rule's duty bound
+    is 1.39 counts against 1). init now runs the core's design too, writes the target it
+    meets, says so in `sources` and in a note, and `generate`'s design accepts the spec."""
+    from codegen.core.module import build_core
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["init", "own", *argv]) == 0
+    err = capsys.readouterr().err.splitlines()
+    notes = [line for line in err if line.startswith("init: note:")]
+    assert len(notes) == 1 and key in notes[0] and "out of its reach" in notes[0], err
+    assert err[-1].startswith("init: next: edit it, then"), err
+    spec = load_spec(tmp_path / "spec" / "own.yaml")
+    attribute = key.removeprefix("accuracy.")
+    assert getattr(spec.accuracy, attribute) == written
+    assert "out of reach" in dict(spec.sources)[key]
+    build_core(spec)  # the design `generate` runs: no refusal
+
+
+def test_init_should_refuse_in_one_line_a_motor_whose_core_meets_no_spec_target(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The improved_r rule's duty bound on a 2.5 mH, 10 mohm motor is 46.68 counts, beyond
+    the 16 a spec may ask: init keeps the target it wrote and reports `generate`'s
+    refusal (exit 3), which names the bound and another method, instead of writing a
+    spec its own loader refuses."""
+    argv = [
+        *("init", "slow_l", "--pole-pairs", "4", "--kv", "300"),
+        *("--resistance-line-to-line", "0.02 ohm", "--inductance-line-to-line", "5 mH"),
+        *("--bus-voltage", "24 V", "--method", "improved_r"),
+    ]
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(argv) == ExitCode.SPEC
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("error: spec/slow_l.yaml: accuracy.duty_counts: fixed-point"), err
+    assert "(allowed: >= 46.68 counts for controller.method improved_r, or another" in err[0]
+    assert "duty_counts: 1.0\n" in (tmp_path / "spec" / "slow_l.yaml").read_text()
+
+
 REFUSED = ROOT / "tests" / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
 
 

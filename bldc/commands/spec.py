@@ -48,6 +48,8 @@ def _init(args: argparse.Namespace) -> int:
         emit_json({"spec": shown(written.path), "valid": written.error is None})
     else:
         print(f"init: wrote {shown(written.path)}")
+    for note in written.notes:
+        print(f"init: note: {note}", file=sys.stderr)
     if written.error is not None:
         for line in str(written.error).splitlines():
             print(f"error: {line}", file=sys.stderr)
