@@ -30,7 +30,11 @@ from fractions import Fraction
 from pathlib import Path
 
 from codegen import units
-from codegen.dead_time import SECTOR_SHORTENING_DEFAULT_PERCENT
+from codegen.dead_time import (
+    COMMUTATION_END_ALLOWANCE_S,
+    SECTOR_SHORTENING_DEFAULT_PERCENT,
+    sector_margin_shift,
+)
 from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import (
@@ -496,6 +500,17 @@ class Targets:
     time_ticks: Fraction | None = None  # accuracy.commutation_time_ticks; None: the budget
 
 
+def _rule_sector_s(pwm_hz: Fraction, dead_ns: Fraction) -> Fraction:
+    """The shortest sector, in seconds, in which the resistance-aware rule can end a
+    commutation on a carrier boundary: T (2^k - 1)/2^k - G >= one PWM period, with G the
+    end's guard (`codegen.dead_time.commutation_guard_ticks`) and 2^-k the default
+    sector-shortening margin."""
+    shift = sector_margin_shift(Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100))
+    keep = Fraction(1) if shift is None else Fraction(2**shift - 1, 2**shift)
+    guard = dead_ns / 10**9 + COMMUTATION_END_ALLOWANCE_S
+    return (1 / pwm_hz + guard) / keep
+
+
 def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> str:
     """The spec text for `name` from the datasheet values (see the module docstring),
     with `targets` as its accuracy targets."""
@@ -533,6 +548,19 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
                 " 60 deg sector lasts until the current loop's first sample after the Hall"
                 " edge (edge-aligned PWM; below 95 % of U_d/(2 k_e) ="
                 f" {_num(n_limit)} rpm); raise the PWM frequency or centre-align it for more"
+            )
+        n_carrier = 60 / (_rule_sector_s(pwm, dead_ns) * pole_pairs * 6)
+        n_cap = max(Fraction(10), _round_down(n_carrier * Fraction(95, 100), 10))
+        if method == "improved_r" and n_cap < n_max:
+            # the resistance-aware rule ends a commutation on a carrier boundary: the
+            # shortest sector, less the end's guard and margin, must hold a PWM period
+            n_max = n_cap
+            n_max_source = (
+                f"{derived} 95 % of {_num(n_carrier)} rpm, rounded down, the speed whose"
+                " 60 deg sector, less the commutation end's guard and margin, holds one PWM"
+                " period (the resistance-aware rule ends a commutation on a carrier boundary;"
+                f" below 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm); raise the PWM frequency"
+                " for more"
             )
     hall_clock = next(
         (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),

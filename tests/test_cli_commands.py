@@ -514,6 +514,28 @@ def test_init_should_refuse_in_one_line_a_motor_whose_core_meets_no_spec_target(
     assert "duty_counts: 1.0\n" in (tmp_path / "spec" / "slow_l.yaml").read_text()
 
 
+def test_init_should_keep_the_rules_shortest_sector_longer_than_a_pwm_period(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 15-pole-pair Kv-700 motor on 60 V at 8 kHz with `--method improved_r`: init wrote
+    4780 rpm, whose 539-tick sector less the 18-tick guard and the 1/16 margin (487
+    ticks) holds no 500-tick PWM period, and the rule's design refused it (exit 3). init
+    now caps the top speed where that sector holds one period (95 % of 4826 rpm: 4580)
+    and says why in `sources`."""
+    from codegen.spec_loader import load_spec
+
+    argv = [
+        *("init", "pp15", "--pole-pairs", "15", "--kv", "700", "--method", "improved_r"),
+        *("--resistance-line-to-line", "0.6 ohm", "--inductance-line-to-line", "12 mH"),
+        *("--bus-voltage", "60 V", "--pwm-frequency", "8 kHz"),
+    ]
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    spec = load_spec(tmp_path / "spec" / "pp15.yaml")
+    assert spec.controller.speed_max_rpm == 4580
+    assert "holds one PWM period" in dict(spec.sources)["controller.speed_max"]
+
+
 REFUSED = ROOT / "tests" / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
 
 
