@@ -57,18 +57,28 @@ def dtg_dead_time_ticks(dtg: int) -> int:
     return (32 + (dtg & 0x1F)) * 16
 
 
-def commutation_guard_ticks(dead_time_s: Fraction, hall_clock_hz: Fraction) -> int:
+def commutation_guard_ticks(
+    dead_time_s: Fraction, hall_clock_hz: Fraction, sample_room_s: Fraction
+) -> int:
     """Hall ticks by which a commutation ends before its sector does at the latest:
-    ceil((dead time + COMMUTATION_END_ALLOWANCE_S) f_hall).
+    ceil((dead time + COMMUTATION_END_ALLOWANCE_S + sample room) f_hall).
 
     The commutation end switches the outgoing phase's switch off; the next Hall edge
     switches the other switch of the same leg on, the leg's only output then enabled,
     so TIM1 inserts no dead time between the two (RM0008: dead time is inserted only
     between the complementary outputs of one channel, both enabled). The time between
     them is the guard, at a constant or falling speed: a braking motor's next sector is
-    no shorter than the one its timing was computed for."""
+    no shorter than the one its timing was computed for.
+
+    The sample room (`codegen.spec_drive.end_sample_room_s`) keeps one current sample
+    between the end and the next edge: the braking-current loop samples only outside
+    commutations, so a commutation that filled its sector (a conventional one at its
+    steady duty lasts L/(2R) at any speed; the improved rule's high segment grows
+    without bound near the braking limit) left the loop with no sample, and the timing
+    with a current several sectors old."""
     return math.ceil(
-        (Fraction(dead_time_s) + COMMUTATION_END_ALLOWANCE_S) * Fraction(hall_clock_hz)
+        (Fraction(dead_time_s) + COMMUTATION_END_ALLOWANCE_S + Fraction(sample_room_s))
+        * Fraction(hall_clock_hz)
     )
 
 

@@ -402,6 +402,18 @@ def sense_window(
     )
 
 
+def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -> Fraction:
+    """Seconds a commutation's end leaves before the next Hall edge for one current
+    sample (part of the end's guard, `codegen.dead_time.commutation_guard_ticks`): the
+    end restarts the carrier, the loop's trigger comes within one PWM period whatever
+    the alignment, and the injected sequence (its latency and INJECTED_CONVERSIONS
+    conversions) ends before JEOC runs the loop."""
+    sequence = INJECTED_LATENCY_CYCLES + INJECTED_CONVERSIONS * (
+        Fraction(adc_sample_cycles) + ADC_CONVERSION_CYCLES
+    )
+    return 1 / Fraction(pwm_frequency_hz) + sequence / ADC_CLOCK_HZ
+
+
 def first_sample_s(
     window: SenseWindow, *, timer_clock_hz: Fraction, adc_sample_cycles: Fraction
 ) -> Fraction:
@@ -622,31 +634,6 @@ def check_drive(
         adc_sample_cycles=sensing.adc_sample_cycles,
         current_samples=current_samples(sensing.topology),
     )
-    # Every Hall edge restarts the carrier (COM with UG), so the current loop's first
-    # sample after an edge comes a whole injected sequence (the current(s), then the bus)
-    # after the trigger: a sector shorter than that is never sampled, at any duty or
-    # commutation time. The loop then never runs above that speed: no braking current,
-    # and no watchdog refresh (make pil: a 16-pole 5 kHz edge-aligned motor at 6440 rpm
-    # coasted until the watchdog reset the chip; a 128-pole 1125 Hz one did not slow).
-    sampled_s = first_sample_s(
-        window,
-        timer_clock_hz=inverter.timer_clock_hz,
-        adc_sample_cycles=sensing.adc_sample_cycles,
-    )
-    sector_s = 60 / (controller.speed_max_rpm * motor.pole_pairs * 6)
-    if sector_s <= sampled_s:
-        fastest = 60 / (sampled_s * motor.pole_pairs * 6)
-        r.report(
-            "controller.speed_max",
-            raw("controller.speed_max"),
-            f"its 60 deg sector ({_g(sector_s * 1_000_000)} us) ends before the current"
-            f" loop's first sample after the Hall edge restarts the carrier"
-            f" ({_g(sampled_s * 1_000_000)} us, {inverter.pwm_alignment}-aligned at"
-            f" {_g(f_pwm)} Hz): the braking current is never sampled there, the drive"
-            " does not brake and the watchdog starves",
-            f"< {_g(fastest)} rpm, or a higher PWM frequency"
-            + (" or centre alignment" if inverter.pwm_alignment == "edge" else ""),
-        )
     if window.duty_max_counts < int(period) // 4:
         # the key to change: the ADC's sample time where a shorter one leaves the 25 %
         # (a 239.5-cycle sample was reported under the settling time), else the settling

@@ -40,9 +40,7 @@ from codegen.render import write_atomically
 from codegen.spec_drive import (
     braking_current_peak,
     braking_ripple,
-    current_samples,
-    first_sample_s,
-    sense_window,
+    end_sample_room_s,
     short_circuit_peak,
 )
 from codegen.spec_loader import PAPER_AUDIT_NAME, PERIOD_COUNTS_MAX, load_spec, out_of_range
@@ -473,23 +471,6 @@ def _round_up(value: Fraction, step: int) -> Fraction:
     return Fraction(math.ceil(value / step) * step)
 
 
-def _first_sample_s(pwm_hz: Fraction, dead_ns: Fraction) -> Fraction:
-    """The loader's time from a Hall edge to the current loop's first sample, for the
-    drive `render_spec` writes: edge-aligned TIM1 at 72 MHz, one DC-link current sample
-    of 7.5 ADC cycles after a 1 us settling time."""
-    clock = Fraction(TIMER_CLOCK_HZ)
-    window = sense_window(
-        alignment="edge",
-        period_counts=int(clock / pwm_hz),
-        timer_clock_hz=clock,
-        dead_time_counts=math.ceil(dead_ns * clock / 10**9),
-        settling_time_s=Fraction(1, 10**6),
-        adc_sample_cycles=SAMPLE_CYCLES,
-        current_samples=current_samples("dc_link_shunt"),
-    )
-    return first_sample_s(window, timer_clock_hz=clock, adc_sample_cycles=SAMPLE_CYCLES)
-
-
 @dataclass(frozen=True)
 class Targets:
     """The accuracy targets init writes: its defaults, or what a fixed-point design meets
@@ -500,15 +481,17 @@ class Targets:
     time_ticks: Fraction | None = None  # accuracy.commutation_time_ticks; None: the budget
 
 
-def _rule_sector_s(pwm_hz: Fraction, dead_ns: Fraction) -> Fraction:
-    """The shortest sector, in seconds, in which the resistance-aware rule can end a
-    commutation on a carrier boundary: T (2^k - 1)/2^k - G >= one PWM period, with G the
-    end's guard (`codegen.dead_time.commutation_guard_ticks`) and 2^-k the default
-    sector-shortening margin."""
+def _guarded_sector_s(pwm_hz: Fraction, dead_ns: Fraction, method: str) -> Fraction:
+    """The shortest sector, in seconds, that outlasts the commutation end's guard (the
+    loader refuses a shorter one) and, for the resistance-aware rule, which ends a
+    commutation on a carrier boundary, holds one PWM period more: T (2^k - 1)/2^k - G
+    >= 0 (or one period), G the guard (`codegen.dead_time.commutation_guard_ticks`, with
+    its current sample) and 2^-k the default sector-shortening margin."""
     shift = sector_margin_shift(Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100))
     keep = Fraction(1) if shift is None else Fraction(2**shift - 1, 2**shift)
-    guard = dead_ns / 10**9 + COMMUTATION_END_ALLOWANCE_S
-    return (1 / pwm_hz + guard) / keep
+    guard = dead_ns / 10**9 + COMMUTATION_END_ALLOWANCE_S + end_sample_room_s(pwm_hz, SAMPLE_CYCLES)
+    carrier = 1 / pwm_hz if method == "improved_r" else Fraction(0)
+    return (carrier + guard) / keep
 
 
 def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> str:
@@ -536,31 +519,26 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     else:
         n_max = max(Fraction(10), _round_down(n_limit * Fraction(95, 100), 10))
         n_max_source = f"{derived} 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm, rounded down"
-        # every Hall edge restarts the carrier: the shortest sector must outlast the
-        # current loop's first sample after it (the loader refuses a speed_max whose
-        # sector does not), so a many-pole motor's top speed may sit below 95 %
-        n_sampled = 60 / (_first_sample_s(pwm, dead_ns) * pole_pairs * 6)
-        n_cap = max(Fraction(10), _round_down(n_sampled * Fraction(95, 100), 10))
+        # the shortest sector must outlast the commutation end's guard, which holds one
+        # current sample (the loader refuses a speed_max whose sector does not, and the
+        # loop's first sample after an edge comes within it), so a many-pole motor's top
+        # speed may sit below 95 %
+        n_guarded = 60 / (_guarded_sector_s(pwm, dead_ns, method) * pole_pairs * 6)
+        n_cap = max(Fraction(10), _round_down(n_guarded * Fraction(95, 100), 10))
         if n_cap < n_max:
             n_max = n_cap
             n_max_source = (
-                f"{derived} 95 % of {_num(n_sampled)} rpm, rounded down, the speed whose"
-                " 60 deg sector lasts until the current loop's first sample after the Hall"
-                " edge (edge-aligned PWM; below 95 % of U_d/(2 k_e) ="
-                f" {_num(n_limit)} rpm); raise the PWM frequency or centre-align it for more"
-            )
-        n_carrier = 60 / (_rule_sector_s(pwm, dead_ns) * pole_pairs * 6)
-        n_cap = max(Fraction(10), _round_down(n_carrier * Fraction(95, 100), 10))
-        if method == "improved_r" and n_cap < n_max:
-            # the resistance-aware rule ends a commutation on a carrier boundary: the
-            # shortest sector, less the end's guard and margin, must hold a PWM period
-            n_max = n_cap
-            n_max_source = (
-                f"{derived} 95 % of {_num(n_carrier)} rpm, rounded down, the speed whose"
-                " 60 deg sector, less the commutation end's guard and margin, holds one PWM"
-                " period (the resistance-aware rule ends a commutation on a carrier boundary;"
-                f" below 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm); raise the PWM frequency"
-                " for more"
+                f"{derived} 95 % of {_num(n_guarded)} rpm, rounded down, the speed whose"
+                " 60 deg sector outlasts the commutation end's guard and margin (the end"
+                " leaves room for one current sample before the next edge)"
+                + (
+                    " by one PWM period (the resistance-aware rule ends a commutation on a"
+                    " carrier boundary)"
+                    if method == "improved_r"
+                    else ""
+                )
+                + f"; below 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm; raise the PWM"
+                " frequency for more"
             )
     hall_clock = next(
         (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),

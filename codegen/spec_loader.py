@@ -50,6 +50,7 @@ from codegen.spec_model import (
     Inverter,
     Motor,
     OperatingPoint,
+    Sensing,
     Spec,
     SpecWarning,
 )
@@ -957,7 +958,7 @@ def _raw(data: Mapping[str, Any], path: str) -> object:
     return data[section][key]
 
 
-def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
+def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sensing) -> None:
     """Cross-key consistency: what makes a spec physically impossible. Exact arithmetic."""
     motor, inverter, hall, adc, controller = p.motor, p.inverter, p.hall, p.adc, p.controller
     k_e = motor.back_emf_constant_v_per_rpm
@@ -993,13 +994,19 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"<= {_f1(ticks_per_rpm_60deg / 64)} rpm at {_g(hall.timer_clock_hz)} Hz",
         )
     # A commutation ends at least the guard before its sector does (the next edge switches
-    # on the other switch of the leg the end switched off): a sector no longer than the
-    # guard leaves no commutation at all.
-    guard = commutation_guard_ticks(inverter.dead_time_s, hall.timer_clock_hz)
+    # on the other switch of the leg the end switched off, and the current loop takes one
+    # sample in between): a sector no longer than the guard leaves no commutation at all.
+    # The guard's sample (a whole PWM period and four conversions) outlasts the loop's
+    # first sample after the edge, which the edge's carrier restart sets: a sector shorter
+    # than that was never sampled, so the loop never ran, did not brake and starved the
+    # watchdog (make pil: a 16-pole 5 kHz edge-aligned motor at 6440 rpm coasted until
+    # the watchdog reset the chip; a 128-pole 1125 Hz one did not slow).
+    room_s = spec_drive.end_sample_room_s(inverter.pwm_frequency_hz, sensing.adc_sample_cycles)
+    guard = commutation_guard_ticks(inverter.dead_time_s, hall.timer_clock_hz, room_s)
     shift = sector_margin_shift(hall.sector_shortening)
     shortest = math.ceil(fastest)
     if fastest >= 64 and latest_end_ticks(shortest, guard, shift) <= 0:
-        guard_s = inverter.dead_time_s + COMMUTATION_END_ALLOWANCE_S
+        guard_s = inverter.dead_time_s + COMMUTATION_END_ALLOWANCE_S + room_s
         lasting = next(t for t in range(shortest, 2**20) if latest_end_ticks(t, guard, shift) > 0)
         margin = "" if shift is None else f" and its 1/{2**shift} margin (hall.sector_shortening)"
         r.report(
@@ -1008,9 +1015,10 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"its 60 deg sector ({_f1(fastest)} Hall ticks) is not longer than the {guard}-tick"
             f" guard a commutation ends by before its sector does (inverter.dead_time"
             f" {_g(inverter.dead_time_s)} s + {_g(COMMUTATION_END_ALLOWANCE_S)} s of the end's"
-            f" latency){margin}: no commutation could last",
-            f"<= {_f1(ticks_per_rpm_60deg / lasting)} rpm, or a shorter dead time"
-            f" (the guard: {_g(guard_s)} s)",
+            f" latency + {_g(room_s)} s for one current sample: a PWM period and the ADC's"
+            f" injected sequence){margin}: no commutation could last",
+            f"<= {_f1(ticks_per_rpm_60deg / lasting)} rpm, or a higher PWM frequency or a"
+            f" shorter dead time (the guard: {_g(guard_s)} s)",
         )
     # The Hall timer measures the speed to a tick, and a rotor at a steady speed reads
     # intervals a tick apart: a range of a few ticks reads as over-speed (an interval
@@ -1391,10 +1399,10 @@ def load_spec(path: str | Path) -> Spec:
     if r.errors:
         raise MultiSpecError(r.errors)
     parts = _Parts(motor, inverter, hall, adc, controller, accuracy, points)  # type: ignore[arg-type]
-    _check_physics(r, data, parts)
+    assert sensing and current_loop and protection and firmware  # else r.errors
+    _check_physics(r, data, parts, sensing)
     if r.errors:
         raise MultiSpecError(r.errors)
-    assert sensing and current_loop and protection and firmware  # else r.errors
     spec_drive.check_drive(
         r,
         data,

@@ -10,12 +10,17 @@ Every conversion is one line of physics, in exact rationals:
   TIM1 counts -> duty   D = counts / P, P = f_timer / f_pwm (halved when centre-aligned:
                         the counter runs up and down)
   carrier period        tau = f_hall / f_pwm Hall ticks (one PWM period, up and down)
-  end guard             G = ceil((t_dead + 4 us) f_hall) Hall ticks: a commutation ends
-                        at least G before its sector does (README, "The commutation's
-                        end and the next edge"): the next edge switches on the other
-                        switch of the leg the end switched off, with no dead time of
-                        TIM1's between them, and the end may lag its match by up to
-                        4 us more than the edge lags its own
+  end guard             G = ceil((t_dead + 4 us + t_sample) f_hall) Hall ticks: a
+                        commutation ends at least G before its sector does (README,
+                        "The commutation's end and the next edge"): the next edge
+                        switches on the other switch of the leg the end switched off,
+                        with no dead time of TIM1's between them, the end may lag its
+                        match by up to 4 us more than the edge lags its own, and the
+                        braking-current loop, which samples only outside commutations,
+                        takes one sample in between: t_sample = 1/f_pwm (the end
+                        restarts the carrier; its trigger comes within a period) + the
+                        injected sequence, 3 + 4 (t_s + 12.5) cycles of the 12 MHz ADC
+                        clock (RM0008 11.6; the port converts four injected channels)
   latest end            L(T) = T - ceil(T / 2^k) - G for a sector measured at T ticks:
                         beyond the guard, a margin of 2^-k of the sector, 2^-k the
                         smallest power of two not below hall.sector_shortening (at
@@ -37,6 +42,20 @@ from codegen.spec_model import Spec
 
 #: the drive's allowance for the commutation end's latency beyond the Hall edge's (README)
 END_LATENCY_ALLOWANCE_S = Fraction(4, 1_000_000)
+#: the ADC clock (72 MHz / 6), the injected trigger's latency and a conversion's cycles
+#: beyond its sample time (DS5319 Table 46, RM0008 11.6), and the port's four injected
+#: conversions (JL = 3): the current loop's sample, which the end's guard leaves room for
+ADC_CLOCK_HZ = Fraction(12_000_000)
+INJECTED_LATENCY_CYCLES = 3
+CONVERSION_CYCLES = Fraction(25, 2)
+INJECTED_CONVERSIONS = 4
+
+
+def sample_room_s(spec: Spec) -> Fraction:
+    """One current sample after a commutation's end: a PWM period and the sequence."""
+    conversion = spec.sensing.adc_sample_cycles + CONVERSION_CYCLES
+    sequence = INJECTED_LATENCY_CYCLES + INJECTED_CONVERSIONS * conversion
+    return 1 / spec.inverter.pwm_frequency_hz + sequence / ADC_CLOCK_HZ
 
 
 def _ceil(x: Fraction) -> int:
@@ -126,7 +145,7 @@ def units(spec: Spec) -> Units:
         hall_counter_max=2**spec.hall.counter_bits - 1,
         carrier_ticks=Fraction(spec.hall.timer_clock_hz) / spec.inverter.pwm_frequency_hz,
         end_guard_ticks=_ceil(
-            (spec.inverter.dead_time_s + END_LATENCY_ALLOWANCE_S)
+            (spec.inverter.dead_time_s + END_LATENCY_ALLOWANCE_S + sample_room_s(spec))
             * Fraction(spec.hall.timer_clock_hz)
         ),
         end_margin_shift=_halvings(spec.hall.sector_shortening),

@@ -362,8 +362,10 @@ def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sector
     """50 pole pairs on the paper motor's k_e and 24 V: 95 % of U_d/(2 k_e) is 4830 rpm,
     whose 41.4 us sector ends before the current loop's first sample after the Hall edge
     (52.7 us at 20 kHz, edge-aligned), and init wrote a spec its own loader refused
-    (exit 3). init now takes 95 % of the fastest sampled speed (3795 rpm): 3600 rpm,
-    says why in `sources`, and the spec loads."""
+    (exit 3). init now takes 95 % of the fastest speed whose sector, less its 1/16
+    margin, outlasts the commutation end's guard (0.5 us dead time + 4 us + one current
+    sample, a 50 us period and 6.9 us of the ADC's sequence: 3053 rpm): 2900 rpm, says
+    why in `sources`, and the spec loads."""
     from codegen.spec_loader import load_spec
 
     monkeypatch.chdir(tmp_path)
@@ -371,8 +373,8 @@ def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sector
     captured = capsys.readouterr()
     assert "error" not in captured.err
     spec = load_spec(tmp_path / "spec" / "hub50pp.yaml")
-    assert spec.controller.speed_max_rpm == 3600
-    assert "first sample after the Hall edge" in dict(spec.sources)["controller.speed_max"]
+    assert spec.controller.speed_max_rpm == 2900
+    assert "outlasts the commutation end's guard" in dict(spec.sources)["controller.speed_max"]
     # a motor the sector does not limit keeps 95 % of U_d/(2 k_e)
     assert cli.main(["init", "pp7", "--pole-pairs", "7", "-o", "pp7.yaml"]) == 0
     capsys.readouterr()
@@ -520,8 +522,9 @@ def test_init_should_keep_the_rules_shortest_sector_longer_than_a_pwm_period(
     """A 15-pole-pair Kv-700 motor on 60 V at 8 kHz with `--method improved_r`: init wrote
     4780 rpm, whose 539-tick sector less the 18-tick guard and the 1/16 margin (487
     ticks) holds no 500-tick PWM period, and the rule's design refused it (exit 3). init
-    now caps the top speed where that sector holds one period (95 % of 4826 rpm: 4580)
-    and says why in `sources`."""
+    now caps the top speed where that sector, less the guard with its room for a
+    current sample (a PWM period and the ADC's sequence), holds one period more (95 % of
+    2391 rpm: 2270) and says why in `sources`."""
     from codegen.spec_loader import load_spec
 
     argv = [
@@ -532,8 +535,8 @@ def test_init_should_keep_the_rules_shortest_sector_longer_than_a_pwm_period(
     monkeypatch.chdir(tmp_path)
     assert cli.main(argv) == 0, capsys.readouterr().err
     spec = load_spec(tmp_path / "spec" / "pp15.yaml")
-    assert spec.controller.speed_max_rpm == 4580
-    assert "holds one PWM period" in dict(spec.sources)["controller.speed_max"]
+    assert spec.controller.speed_max_rpm == 2270
+    assert "by one PWM period" in dict(spec.sources)["controller.speed_max"]
 
 
 REFUSED = ROOT / "tests" / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"

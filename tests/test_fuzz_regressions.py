@@ -251,8 +251,16 @@ def test_an_unreachable_commutation_time_target_names_the_target_that_is_reached
     datasheet = ["--inductance", "20 uH", "--kv", "30", "--resistance-line-to-line", "0.02 ohm"]
     drive = ["--braking-current", "0.1 A", "--bus-voltage", "6 V"]
     assert main(["init", "m", "-o", str(spec), *datasheet, *drive]) == 0
+    # init now writes the target the core meets (tests/test_cli_commands.py); the spec
+    # asks for init's default 8 ticks again
+    text = spec.read_text(encoding="utf-8")
+    assert "  commutation_time_ticks: 45.993\n" in text
+    strict = tmp_path / "strict.yaml"
+    strict.write_text(
+        text.replace("  commutation_time_ticks: 45.993\n", "  commutation_time_ticks: 8\n")
+    )
     with pytest.raises(FixedPointError) as caught:
-        build_core(load_spec(spec))
+        build_core(load_spec(strict))
     assert caught.value.key == "accuracy.commutation_time_ticks"
     message = str(caught.value)
     assert message.startswith("accuracy.commutation_time_ticks = 8 ticks: "), message

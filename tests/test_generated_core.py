@@ -152,11 +152,13 @@ def test_inputs_beyond_the_spec_but_within_their_type_should_stay_exact_and_flag
 
 
 def test_commutation_time_should_clamp_to_the_sector_near_top_speed(twin: ModuleType) -> None:
-    """At most the sector less the end guard and the margin: 0.5 us of dead time and 4 us
-    of the end's latency at the 1 MHz Hall clock, 5 ticks, and 1/16 of the sector (the
-    default hall.sector_shortening, 5 %), 125 ticks."""
+    """At most the sector less the end guard and the margin: 0.5 us of dead time, 4 us
+    of the end's latency and one current sample (a 50 us PWM period and the ADC's
+    injected sequence, 3 + 4 x (7.5 + 12.5) cycles at 12 MHz: 6.92 us) at the 1 MHz Hall
+    clock, 62 ticks, and 1/16 of the sector (the default hall.sector_shortening, 5 %),
+    125 ticks."""
     out = twin.commutate(twin.Inputs(4, 5, ticks(5000), 2700, 2048 + 620, 0))
-    assert out.commutation_ticks == ticks(5000) - 125 - 5 and out.flags & twin.FLAG_TIME_CLAMPED
+    assert out.commutation_ticks == ticks(5000) - 125 - 62 and out.flags & twin.FLAG_TIME_CLAMPED
 
 
 def _core_of(tmp_path: Path, text: str) -> object:

@@ -144,10 +144,12 @@ def test_a_commutation_filling_its_sector_should_leave_the_next_edge_the_dead_ti
 def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scenario(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The generator without the hall.sector_shortening margin (the guard alone): on the
-    2 us fixture, sectors a little shorter than the one their timing was computed from
-    bring the edge within the dead time of the end (a switch on 137 TIM1 ticks after its
-    partner turned off, dead time 144); the scenario must see it."""
+    """The generator without the hall.sector_shortening margin and without the guard's
+    room for a current sample (the dead time and the end's latency alone): on the 2 us
+    fixture, sectors a little shorter than the one their timing was computed from bring
+    the edge within the dead time of the end (a switch on 137 TIM1 ticks after its
+    partner turned off, dead time 144); the scenario must see it. (With the sample room
+    the edge comes that much later: there the margin keeps the loop's sample.)"""
     import codegen.fixedpoint.scaling as scaling
     from codegen.core.module import build_core
     from codegen.generate import render_all, write_tree
@@ -156,6 +158,7 @@ def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scena
     path = ROOT / "tests" / "fixtures" / "pil" / "fast40k_dead2us.yaml"
     spec = load_spec(str(path))
     monkeypatch.setattr(scaling, "sector_margin_shift", lambda shortening: None)
+    monkeypatch.setattr(scaling, "end_sample_room_s", lambda *_: 0)
     build_core.cache_clear()
     try:
         source = tmp_path / "generated"

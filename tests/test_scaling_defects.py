@@ -33,8 +33,12 @@ VOLTS_PER_CODE = V_REF * DIVIDER / 2**BITS
 FORWARD = (5, 1)  # Hall codes (code, previous): sector 0 -> 1 of [1, 5, 4, 6, 2, 3]
 INPUT_SATURATED, TIME_CLAMPED = 0x04, 0x10
 DEAD_TIME = Fraction(400, 10**9)
-#: a commutation ends (dead time + 4 us) f_hall, rounded up, before its sector does
-END_GUARD = -(-(DEAD_TIME + Fraction(4, 10**6)) * HALL_HZ // 1)
+#: the current loop's sample after a commutation's end: a 16 kHz PWM period, then the
+#: ADC's injected sequence, 3 + 4 x (1.5 + 12.5) cycles of its 12 MHz clock
+SAMPLE_ROOM = Fraction(1, 16_000) + Fraction(3 + 4 * 14, 12_000_000)
+#: a commutation ends (dead time + 4 us + the sample) f_hall, rounded up, before its
+#: sector does
+END_GUARD = -(-(DEAD_TIME + Fraction(4, 10**6) + SAMPLE_ROOM) * HALL_HZ // 1)
 
 
 def amps(code: int, zero: Fraction = ZERO_CODE) -> Fraction:
@@ -94,7 +98,7 @@ def test_a_current_just_above_zero_should_take_the_whole_sector_where_w_is_negat
     u_d, e = 2048 * VOLTS_PER_CODE, K_E * rpm(ticks)
     d_off = Fraction(out.turn_off_compare, P)
     assert u_d * (1 + Fraction(out.turn_on_compare, P) - 2 * d_off) - 2 * e < 0
-    assert END_GUARD == 9  # 8.8 ticks at 2 MHz
+    assert END_GUARD == 144  # 143.6 ticks at 2 MHz
     margin = -(-ticks // 16)  # hall.sector_shortening 5 % (the default): 1/16, rounded up
     assert out.commutation_ticks == ticks - margin - END_GUARD and out.flags & TIME_CLAMPED
 

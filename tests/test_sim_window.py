@@ -113,37 +113,43 @@ def _old_window_worst(run: Run) -> float:
 
 
 @pytest.mark.parametrize("model", ["switched", "averaged"])
-def test_a_sector_shorter_than_a_pwm_period_is_measured_over_the_period_it_cuts(
+def test_a_commutation_ended_inside_the_first_pwm_period_is_measured_over_the_periods_it_cuts(
     model: str,
 ) -> None:
-    """The 16-pole 5 kHz fixture at its top speed, 7000 rpm: a 179 us sector against a
-    200 us carrier period. The window was empty and `measure` failed (argmax of an empty
-    sequence): `simulate` and `robustness` ended in an internal error, when the
-    commutation, commanded to the whole sector, did not restart the carrier. It now ends
-    the end guard and the margin early (1 us dead time + 4 us at 1 MHz: 5 ticks; 1/16 of
-    the sector: 12), and its carrier restart cuts the period after the edge at 162 us: that period, averaged over its own
-    length as every cut period is, is the window; the period from the restart to the
-    next edge, which that edge cuts again, is kept as the trace's cut period."""
+    """The 16-pole 5 kHz fixture at its top speed, 5000 rpm: a 250 us sector against a
+    200 us carrier period. (At 7000 rpm, as the fixture was, its 179 us sector was shorter
+    than a period: the window was empty and `measure` failed, argmax of an empty
+    sequence, when the commutation, commanded to the whole sector, did not restart the
+    carrier; such a sector is now shorter than the end's guard and refused at load.) The
+    commutation ends the guard (1 us dead time + 4 us + one current sample: a 200 us
+    period and the ADC's sequence, 212 ticks at 1 MHz) and the margin (1/16 of the
+    sector, 16 ticks) early, 22 us after the edge: its carrier restart cuts the period
+    after the edge there. That cut period, averaged over its own length as every cut
+    period is, and the whole period after it are the window; the period from there to
+    the next edge, which that edge cuts, is kept as the trace's cut period."""
     spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml")
     drive = Drive.from_spec(spec)
     controller = Controller(spec, prepare_cores(spec, ("none",)))
-    case = Case(drive, paper_edge(), 7000.0, drive.braking_current_a, "spec")
-    assert case.sector_time_s < drive.pwm_period_s
-    run = simulate(case, controller.command("none", case, case.pre_edge_duty), model)
-    # the guard, 5 ticks, and the margin of the default 5 % sector shortening: 1/16 of
-    # the 179-tick sector measured, rounded up, 12 ticks (1 MHz)
-    guard_s = 5e-6 + 12e-6
+    case = Case(drive, paper_edge(), 5000.0, drive.braking_current_a, "spec")
+    early_s = 212e-6 + 16e-6  # the guard and the margin
+    assert case.sector_time_s - early_s < drive.pwm_period_s
+    command = controller.command("none", case, case.pre_edge_duty)
+    assert command.commutation_time_s == pytest.approx(case.sector_time_s - early_s, abs=1e-9)
+    run = simulate(case, command, model)
     trace = run.trace
+    restart = case.sector_time_s - early_s
     cut = trace.cut_period
     assert cut is not None
-    assert cut[0] == pytest.approx(case.sector_time_s - guard_s, abs=1e-6)  # the end's restart
+    assert cut[0] == pytest.approx(restart + drive.pwm_period_s, abs=1e-9)
     assert cut[1] == pytest.approx(case.sector_time_s)
     window = window_periods(trace, case.sector_time_s)
-    assert window.sum() == 1 and run.metrics.periods == 1
-    k = int(np.flatnonzero(window)[0])
-    assert trace.period_starts[k] == pytest.approx(0.0, abs=1e-12)
-    assert trace.period_ends[k] == pytest.approx(cut[0])
+    assert window.sum() == 2 and run.metrics.periods == 2
+    first, second = (int(k) for k in np.flatnonzero(window))
+    assert trace.period_starts[first] == pytest.approx(0.0, abs=1e-12)
+    assert trace.period_ends[first] == pytest.approx(restart)  # the end's restart
+    assert trace.period_starts[second] == pytest.approx(restart)
+    assert trace.period_ends[second] == pytest.approx(cut[0])
     nc = case.edge.non_commutating
-    mean = case.edge.current_signs[nc] * trace.period_currents[k, nc]
+    mean = case.edge.current_signs[nc] * trace.period_currents[[first, second], nc]
     expected = (mean - case.current_a) / case.current_a * 100
-    assert run.metrics.period_deviations_pct == pytest.approx((expected,))
+    assert run.metrics.period_deviations_pct == pytest.approx(tuple(expected))

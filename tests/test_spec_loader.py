@@ -262,11 +262,14 @@ BAD_SPECS = [
         ),
         "controller.speed_max",
         (
-            "its 60 deg sector (125 us) ends before the current loop's first sample after the"
-            " Hall edge restarts the carrier (202.694 us, edge-aligned at 5000 Hz)",
-            "(allowed: < 3083.46 rpm, or a higher PWM frequency or centre alignment)",
+            "its 60 deg sector (125.0 Hall ticks) is not longer than the 212-tick guard a"
+            " commutation ends by before its sector does",
+            "for one current sample: a PWM period and the ADC's injected sequence",
+            "(allowed: <= 2741.2 rpm, or a higher PWM frequency or a shorter dead time",
         ),
-        id="sector-shorter-than-the-first-current-sample",  # never sampled: no braking (PIL)
+        # the guard keeps a current sample after each commutation's end, and so covers
+        # the loop's first sample after the edge: never sampled, no braking (PIL)
+        id="sector-shorter-than-the-end-guard-and-its-current-sample",
     ),
     # ---- quantities and units
     pytest.param(

@@ -373,12 +373,13 @@ def _cut_off_moved_at_one_bus_code(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def _end_guard_left_out(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The core's limits without the dead-time guard: commutations clamped to the whole
-    sector, ending as the next edge switches the same leg's other switch on. Within the
-    time target (5 ticks on an 8-tick target): only the exact guard check sees it."""
+    """The core's limits without the end guard: commutations clamped to the whole sector
+    (less the margin), ending as the next edge switches the same leg's other switch on,
+    with no current sample between. Only the exact guard check sees it where the guard
+    is within the time target."""
     import codegen.fixedpoint.scaling as scaling
 
-    monkeypatch.setattr(scaling, "commutation_guard_ticks", lambda dead_time_s, hall_hz: 0)
+    monkeypatch.setattr(scaling, "commutation_guard_ticks", lambda *_: 0)
 
 
 def _sector_margin_left_out(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -145,7 +145,8 @@ def core_limits(spec: object, sc: Scaling) -> CoreLimits:
             doc=f"a commutation ends at least this long before its sector does: dead time"
             f" {float(spec.inverter.dead_time_s) * 1e6:g} us + {float(COMMUTATION_END_ALLOWANCE_S) * 1e6:g} us"
             " of the end's latency (the next edge switches on the other switch of the leg"
-            " the end switched off)",
+            " the end switched off) + one current sample (a PWM period and the ADC's"
+            " injected sequence: the braking-current loop samples between commutations)",
         ),
         period_never=value_const("PERIOD_NEVER"),
         bus_min=IConst(

@@ -25,6 +25,7 @@ from codegen.dead_time import commutation_guard_ticks, sector_margin_shift
 from codegen.derivation import symbols as s
 from codegen.derivation.paper import Derivation
 from codegen.errors import DerivationError
+from codegen.spec_drive import end_sample_room_s
 from codegen.spec_model import Spec
 
 # Integer-domain symbols of the firmware.
@@ -156,7 +157,9 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
         period_max_ticks=int(sp.floor(ticks_per_rpm / n_min)),
         period_cap_ticks=2**spec.hall.counter_bits - 1,
         commutation_guard_ticks=commutation_guard_ticks(
-            spec.inverter.dead_time_s, spec.hall.timer_clock_hz
+            spec.inverter.dead_time_s,
+            spec.hall.timer_clock_hz,
+            end_sample_room_s(spec.inverter.pwm_frequency_hz, spec.sensing.adc_sample_cycles),
         ),
         sector_margin_shift=sector_margin_shift(spec.hall.sector_shortening),
         bus_code_min=int(sp.ceiling(bus_min)),

@@ -68,7 +68,7 @@
  *   bldc_commutation_timing: safe.flags: uint16_t in [4, 7] (13.2 bits spare)
  *   bldc_commutation_timing: current_code: uint32_t in [0, 4095] (20.0 bits spare)
  *   bldc_commutation_timing: current: int32_t in [-2048, 2047] (20.0 bits spare)
- *   bldc_commutation_timing: latest: uint32_t in [208, 61434] (16.1 bits spare)
+ *   bldc_commutation_timing: latest: uint32_t in [151, 61377] (16.1 bits spare)
  *   bldc_commutation_timing: x_q: uint32_t in [19361, 8557804] (9.0 bits spare)
  *   bldc_commutation_timing: x_c: int32_t in [19, 8357] (18.0 bits spare)
  *   bldc_commutation_timing: high_speed: uint32_t in [0, 1] (32.0 bits spare)
@@ -80,7 +80,7 @@
  *   bldc_commutation_timing: timing.period_min: uint32_t in [228, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
- *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 61434] (0.1 bits spare)
+ *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 61377] (0.1 bits spare)
  *   bldc_commutation_timing: timing.flags: uint16_t in [0, 31] (11.0 bits spare)
  *   bldc_commutate: hall_code: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: previous_hall_code: uint32_t in [0, 255] (24.0 bits spare)
@@ -89,7 +89,7 @@
  *   bldc_commutate: sector: uint32_t in [0, 255] (24.0 bits spare)
  *   bldc_commutate: out.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutate: out.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
- *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 61434] (0.1 bits spare)
+ *   bldc_commutate: out.commutation_ticks: uint16_t in [0, 61377] (0.1 bits spare)
  *   bldc_commutate: out.turn_on_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.turn_off_switch: uint8_t in [0, 255] (-0.0 bits spare)
  *   bldc_commutate: out.sector: uint8_t in [0, 255] (-0.0 bits spare)
@@ -112,7 +112,7 @@
 #define BLDC_PERIOD_MIN_TICKS 228u /* 5500 rpm: a shorter period is over-speed */
 #define BLDC_PERIOD_MAX_TICKS 8333u /* 150 rpm: a longer period is flagged */
 #define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
-#define BLDC_COMMUTATION_GUARD_TICKS 5u /* a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) */
+#define BLDC_COMMUTATION_GUARD_TICKS 62u /* a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) + one current sample (a PWM period and the ADC's injected sequence: the braking-current loop samples between commutations) */
 #define BLDC_BUS_CODE_MIN 2306u /* 39 V (39.02 V) */
 #define BLDC_BUS_CODE_MAX 3546u /* 60 V (59.99 V): above it over-voltage */
 #define BLDC_ADC_CODE_MAX 4095u /* 12-bit ADC full scale */

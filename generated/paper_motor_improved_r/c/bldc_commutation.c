@@ -204,7 +204,7 @@ bldc_timing_t bldc_commutation_timing(const bldc_bus_t *bus, uint32_t period_tic
     uint32_t e = 2147483648u;
     int64_t end_h = (-1ll);
     uint32_t end_e = 0u;
-    /*@ loop invariant step_kept: 0 <= step <= 10; loop invariant n_kept: 0 <= n <= 937; loop invariant e_kept: 0 <= e <= 2147483648; loop invariant end_h_kept: -9223372036854775807 <= end_h <= -1; loop invariant end_e_kept: 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
+    /*@ loop invariant step_kept: 0 <= step <= 10; loop invariant n_kept: 0 <= n <= 936; loop invariant e_kept: 0 <= e <= 2147483648; loop invariant end_h_kept: -9223372036854775807 <= end_h <= -1; loop invariant end_e_kept: 0 <= end_e <= 2107593468; loop assigns n, e, end_h, end_e, step; loop variant 10 - step; */
     for (uint32_t step = first; step < 10u; ++step) { /* binary lifting: n = the last carrier boundary at which the current remains */
         const uint32_t m = n + (512u >> step); /* the next candidate: n + 2^k, 2^k = 2^9 >> step */
         if (m <= periods) {

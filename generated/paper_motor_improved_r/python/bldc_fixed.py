@@ -22,7 +22,7 @@ N_X_SHIFT = 11
 KYX_Q = 1891788  # K_Y / K_X in Q44: Y per unit = x_numerator K_Y/K_X
 BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
 BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm: a longer period is flagged
-BLDC_COMMUTATION_GUARD_TICKS = 5  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off)
+BLDC_COMMUTATION_GUARD_TICKS = 62  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) + one current sample (a PWM period and the ADC's injected sequence: the braking-current loop samples between commutations)
 BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
 BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
 BLDC_CURRENT_CODE_HIGH = 2668  # last code at or below 10 A (9.99 A)
