@@ -1143,8 +1143,8 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             f"with the braking-current loop's steady duty D = 1 - (2E - 2RI)/U_d, Eq. 20"
             f" gives the conventional commutation t_com = L/(2R) = {_g(tau / 2)} s at every"
             f" speed, a whole sector above about 20 R/(p L) = {_g(filled_above)} rpm: there"
-            " each commutation fills its sector, the loop takes no current sample and the"
-            " commutation duties alone set the current (`make pil`'s braking run fails);"
+            " each commutation runs to the end's guard and is cut there (TIME_CLAMPED), its"
+            " outgoing current still flowing, and the loop samples once a sector;"
             " controller.method improved ends its commutations within the sector",
         )
     period = 1 / inverter.pwm_frequency_hz

@@ -871,7 +871,7 @@ def test_a_too_long_adc_sample_should_name_the_sample_time_and_the_longest_that_
 def test_a_conventional_drive_whose_commutations_fill_the_sectors_should_be_warned_of() -> None:
     """Eq. 20 (conventional) at the loop's steady braking duty is L/(2R) at every speed:
     the 0.3 A fan motor's 2.5 ms fills its sectors above 20 R/(p L) = 1000 rpm, far below
-    its 27 360 rpm top (its braking run loses every current sample there); a conventional
+    its 27 360 rpm top (its commutations are cut at the end's guard there); a conventional
     motor whose top speed stays below that line, and the paper's improved rule, are not
     warned."""
     odd = Path(__file__).resolve().parent / "fixtures" / "odd"
