@@ -207,11 +207,15 @@ class RuleBench:
         core, port = self.linked.get("core", 0), self.linked.get("port", 0)
         code = core + port
         table, table_bytes = largest_table(self.sizes["core"])
+        # judged as the paper method's timing handler is (`emulation.bench`): on the cached
+        # bus state; a bus change (its handler, then the timing it pends) is a figure of
+        # its own, without a target, and in the CPU-load budget
         paths = [self.within.stats, self.saturated.stats]
-        paths += [p for p in (self.within.bus_change_stats, self.handlers.timing_bus) if p]
         if self.handlers.timing is not None:
             paths.append(self.handlers.timing)
         worst = max(paths, key=lambda p: p.cycles_worst)
+        changes = [p for p in (self.within.bus_change_stats, self.handlers.timing_bus) if p]
+        change = max(changes, key=lambda p: p.cycles_worst, default=None)
         helpers = helper_names(self.reached) | helper_names(self.core_undefined)
         return [
             Figure(
@@ -231,11 +235,25 @@ class RuleBench:
                 "entry and exit included",
             ),
             Figure(
-                f"{METHOD} {TIMING_HANDLER} worst",
+                f"{METHOD} {TIMING_HANDLER} worst, bus state cached",
                 worst.cycles_worst,
                 "cycles",
                 TIMING_TARGET_CYCLES,
                 f"{worst.name}{sector_share(worst.cycles_worst, self.sector_cycles)}",
+            ),
+            *(
+                [
+                    Figure(
+                        f"{METHOD} {change.name} worst",
+                        change.cycles_worst,
+                        "cycles",
+                        None,
+                        "both handlers' entry and exit included; in the CPU-load budget"
+                        f"{sector_share(change.cycles_worst, self.sector_cycles)}",
+                    )
+                ]
+                if change is not None
+                else []
             ),
             Figure(
                 f"{METHOD} library helpers reachable from {TIMING_HANDLER} and {BUS_HANDLER}",

@@ -48,6 +48,8 @@ def test_bench_should_measure_an_unusual_motor(spec: Path, tmp_path: Path) -> No
         "arithmetic ours worst, bus state cached",
         "ours (bus state cached) / plain fixed point (all its work every run)",
         "improved_r Hall edge worst",
+        "improved_r TIM1_TRG_COM_IRQHandler worst, bus state cached",
+        "improved_r bus change (TIM1_UP_IRQHandler, then TIM1_TRG_COM_IRQHandler) worst",
         "improved_r library helpers reachable from TIM1_TRG_COM_IRQHandler and TIM1_UP_IRQHandler",
     ):
         assert expected in names, expected
