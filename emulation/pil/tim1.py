@@ -225,11 +225,9 @@ class AdvancedTimer(Timer):
         value = self.ccr[channel]
         cycle = self.cycle_counts()
         base = (pos // cycle) * cycle
-        candidates = []
-        for start in (base - cycle, base):
-            offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
-            candidates.extend(start + offset for offset in offsets)
-        for candidate in sorted((c for c in candidates if c <= pos), reverse=True):
+        offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
+        candidates = [start + offset for start in (base - cycle, base) for offset in offsets]
+        for candidate in sorted([c for c in candidates if c <= pos], reverse=True):
             before = self._ref_at_position(channel, candidate - 1)
             after = self._ref_at_position(channel, candidate)
             if before != after and after == level:
@@ -330,7 +328,7 @@ class AdvancedTimer(Timer):
                     tick = anchor_time + (position - anchor_pos) * tpc
                     ticks.add(tick)
                     ticks.add(tick + dead)
-        return sorted(t for t in ticks if start < t <= end)
+        return sorted([t for t in ticks if start < t <= end])
 
     def _flush(self, until: int) -> None:
         """Log the changes up to `until` that the state in force makes by itself."""
