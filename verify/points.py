@@ -274,7 +274,7 @@ def _carrier_step_periods(o: Oracle) -> list[int]:
     (TIME_CLAMPED) at the ADC's full-scale current at some bus code of a sample (every
     16th and the range's ends; the oracle's rule decides)."""
     t = np.arange(o.lim.period_min, o.lim.period_max + 1, dtype=np.int64)
-    n = np.floor(o.u.latest_end(t) / o.u.carrier_ticks + 1e-9).astype(np.int64)
+    n = np.floor(_over_carrier(o, o.u.latest_end(t)) + 1e-9).astype(np.int64)
     steps = t[1:][np.diff(n) != 0]
     candidates = np.unique(np.concatenate([steps - 1, steps]))
     sample = np.unique(np.r_[np.arange(o.lim.bus_min, o.lim.bus_max + 1, 16), o.lim.bus_max])
@@ -284,6 +284,15 @@ def _carrier_step_periods(o: Oracle) -> list[int]:
     x, _ = com.zero()
     clamped = com.end_after(x * period) > com.periods
     return sorted({int(p) for p in period[clamped]})
+
+
+def _over_carrier(o: Oracle, ticks: npt.NDArray[np.int64]) -> npt.NDArray[np.float64]:
+    """float(T / carrier_ticks) of each of `ticks`: the ratio of two integers, which
+    Python's integer division rounds to the nearest float exactly as float() of the
+    Fraction does (dividing the array by the Fraction made one Fraction an element)."""
+    carrier = Fraction(o.u.carrier_ticks)
+    num, den = carrier.numerator, carrier.denominator
+    return np.array([int(t) * den / num for t in ticks], dtype=np.float64)
 
 
 def time_clamp_points(o: Oracle, dtype: np.dtype, duties: object) -> Inputs:
