@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import re
+from functools import lru_cache
 from pathlib import Path
 
 import jinja2
@@ -75,8 +76,17 @@ def provenance(template: str, spec: Spec) -> str:
     )
 
 
+@lru_cache(maxsize=8)
+def shared_environment(template_dir: Path = TEMPLATE_DIR) -> jinja2.Environment:
+    """`environment(template_dir)`, one per process: Jinja2 compiles each template once
+    per environment (and again when its file changes), where a new environment per
+    render compiled every template at every use. Not to be changed: `environment()`
+    gives one to adapt."""
+    return environment(template_dir)
+
+
 def render(template: str, **context: object) -> str:
-    return environment().get_template(template).render(**context)
+    return shared_environment().get_template(template).render(**context)
 
 
 def write_atomically(path: Path, text: str) -> None:

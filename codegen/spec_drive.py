@@ -39,6 +39,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 from typing import Any, Protocol
 
 from codegen import units
@@ -463,10 +464,12 @@ def rectifying_speed(bus_voltage_v: Fraction, k_e: Fraction, shape: BackEmfShape
     return Fraction(bus_voltage_v) / (line_to_line_peak(shape) * k_e)
 
 
+@lru_cache(maxsize=4096)
 def emf_harmonic(shape: BackEmfShape, h: int) -> float:
     """b_h of the per-unit phase EMF (odd h; half-wave symmetry makes the even ones 0):
     (2/pi) times the integral of e sin(h theta) over the half period, segment by segment
-    in closed form."""
+    in closed form. Kept per shape and h: the short-circuit bound sums hundreds of them
+    at each speed it checks, for every spec loaded."""
     total = 0.0
     points = [(math.radians(float(a)), float(e)) for a, e in shape.points]
     for (t0, e0), (t1, e1) in itertools.pairwise(points):

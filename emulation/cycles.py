@@ -403,7 +403,7 @@ def estimate_cycles(
             Executed(
                 address=step.address,
                 size=step.size,
-                accesses=tuple((a.address, a.size, a.write) for a in step.accesses),
+                accesses=tuple(step.accesses),  # (address, size, write) each
                 cycles=cost,
                 jumps=jumps,
                 target=None

@@ -23,7 +23,7 @@ included) it can reach.
 from __future__ import annotations
 
 import statistics
-from collections import Counter
+from collections import Counter, OrderedDict
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -169,6 +169,10 @@ def sweep(spec: Spec, sc: Scaling, period_points: int = BENCH_PERIOD_POINTS) -> 
     )
 
 
+#: traces a rig keeps priced (`PortRig._price`)
+PRICED_TRACES = 256
+
+
 class PortRig:
     """The linked image in unicorn, with the timers, the ADC and the NVIC played around
     it. Peripheral registers are plain memory here, so the rig writes each status
@@ -180,6 +184,10 @@ class PortRig:
         self.spec = spec
         self.memory_timing = timing
         self.sim = CortexM3Sim(load_elf(elf))
+        #: the last PRICED_TRACES traces priced (`_price`), by trace and mode
+        self._priced: OrderedDict[tuple[tuple[Step, ...], UdivMode, bool], CycleBreakdown] = (
+            OrderedDict()
+        )
         context = port_context(spec)
         self.pins = context["hall_pins"]
         bkin = context["bkin"]
@@ -346,23 +354,38 @@ class PortRig:
         """Instructions and cycles of a handler call, exception entry and exit included."""
         entry = result.trace[0].address
 
-        def body(mode: UdivMode) -> CycleBreakdown:
-            return estimate_cycles(
-                result.trace,
-                self.sim,
-                udiv_mode=mode,
-                timing=self.memory_timing,
-                after_exception=True,
-            )
-
-        worst = body("worst")
+        worst = self._price(result.trace, "worst", after_exception=True)
         return Sample(
             result.instructions,
             isr_cycles(worst, entry),
-            isr_cycles(body("estimate"), entry),
+            isr_cycles(self._price(result.trace, "estimate", after_exception=True), entry),
             result.stack_bytes,
             worst.peripheral_accesses,
         )
+
+    def _price(
+        self, trace: Sequence[Step], mode: UdivMode, *, after_exception: bool = False
+    ) -> CycleBreakdown:
+        """`estimate_cycles` of a trace on this rig's image and memory timing, kept for
+        the last PRICED_TRACES traces: a sweep runs the same path with the same divide
+        operands again and again (two thirds of a rule sweep's traces), and the same
+        steps on the same code cost the same."""
+        key = (tuple(trace), mode, after_exception)
+        known = self._priced.get(key)
+        if known is not None:
+            self._priced.move_to_end(key)
+            return known
+        priced = estimate_cycles(
+            trace,
+            self.sim,
+            udiv_mode=mode,
+            timing=self.memory_timing,
+            after_exception=after_exception,
+        )
+        self._priced[key] = priced
+        if len(self._priced) > PRICED_TRACES:
+            self._priced.popitem(last=False)
+        return priced
 
     def total(self, runs: Iterable[CallResult]) -> Sample:
         """The cost of handler runs one after the other (each with its entry and exit):
@@ -383,10 +406,8 @@ class PortRig:
         ]
         return Sample(
             len(inside),
-            estimate_cycles(inside, self.sim, udiv_mode="worst", timing=self.memory_timing).cycles,
-            estimate_cycles(
-                inside, self.sim, udiv_mode="estimate", timing=self.memory_timing
-            ).cycles,
+            self._price(inside, "worst").cycles,
+            self._price(inside, "estimate").cycles,
         )
 
     def entries(self, trace: Iterable[Step]) -> Counter[str]:

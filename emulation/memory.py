@@ -361,7 +361,9 @@ def memory_stalls(
     for index, step in enumerate(trace):
         first_word = step.address // WORD_BYTES
         last_word = (step.address + step.size - 1) // WORD_BYTES
-        ready = max(prefetch.word(w) for w in range(first_word, last_word + 1))
+        ready = prefetch.word(first_word)  # a 32-bit instruction may span two words
+        if last_word != first_word:
+            ready = max(ready, *(prefetch.word(w) for w in range(first_word + 1, last_word + 1)))
         start = max(time, ready + 1)  # decoded the cycle its last word arrives
         stall = start - time
         result.fetch += stall

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import cached_property
 
 import numpy as np
 import numpy.typing as npt
@@ -44,6 +45,7 @@ PI = Fraction("3.1415926535897932384626433832795028841972")
 ADC_HZ = Fraction(12_000_000)
 LATENCY_CYCLES = 3
 CONVERSION_EXTRA_CYCLES = Fraction(25, 2)
+_ZERO = Fraction(0)
 
 
 def _ceil(x: Fraction) -> int:
@@ -112,16 +114,38 @@ class LoopModel:
         """(duty, next integrator), counts, exact."""
         r, m = min(reference, self.code_max), min(measured, self.code_max)
         e = r - m
-        x = min(max(Fraction(x), Fraction(0)), Fraction(self.duty_max))
+        top = self._top
+        x = min(max(Fraction(x), _ZERO), top)
         v = self.kp * e + x
-        duty = min(max(v, Fraction(0)), Fraction(self.duty_max))
+        duty = min(max(v, _ZERO), top)
         if (v > self.duty_max and e > 0) or (v < 0 and e < 0):
             return duty, x
-        return duty, min(max(x + self.ki * e, Fraction(0)), Fraction(self.duty_max))
+        return duty, min(max(x + self.ki * e, _ZERO), top)
+
+    @cached_property
+    def _top(self) -> Fraction:
+        """D_max as a Fraction, the integrator's and the duty's upper clamp."""
+        return Fraction(self.duty_max)
 
     def reference_code(self, milliamps: int) -> int:
+        """floor(zero + held codes_per_ma + 1/2), on the integers of one common
+        denominator (exact: the same floor as in Fractions, without a gcd per call;
+        the verifier asks for every mA of the range)."""
         held = min(max(milliamps, self.ma_min), self.ma_max)
-        return _floor(self.zero_code + held * self.codes_per_ma + Fraction(1, 2))
+        zero_num, per_ma_num, half_num, denominator = self._reference_terms
+        return (zero_num + held * per_ma_num + half_num) // denominator
+
+    @cached_property
+    def _reference_terms(self) -> tuple[int, int, int, int]:
+        """zero_code, codes_per_ma and 1/2 over their common (positive) denominator."""
+        z, c = Fraction(self.zero_code), Fraction(self.codes_per_ma)
+        denominator = 2 * z.denominator * c.denominator
+        return (
+            z.numerator * 2 * c.denominator,
+            c.numerator * 2 * z.denominator,
+            z.denominator * c.denominator,
+            denominator,
+        )
 
     # ------------------------------------------------------------ float64 sweeps
 

@@ -45,15 +45,21 @@ SERIES_BELOW = 1e-2
 
 
 def psi(y: Floats) -> tuple[Floats, Floats]:
-    """(psi1, psi2) elementwise; Taylor series below 0.01 (no cancellation)."""
+    """(psi1, psi2) elementwise; Taylor series below 0.01 (no cancellation), evaluated
+    on those elements only (the bisection of `zero` calls this dozens of times a point)."""
+    y = np.asarray(y)
     small = y < SERIES_BELOW
     z = np.where(small, 1.0, y)
     em1 = np.expm1(-z)  # e^{-y} - 1
-    closed1 = -em1 / z
-    closed2 = 2.0 * (z + em1) / (z * z)
-    s1 = 1 - y / 2 + y**2 / 6 - y**3 / 24 + y**4 / 120
-    s2 = 1 - y / 3 + y**2 / 12 - y**3 / 60 + y**4 / 360
-    return np.where(small, s1, closed1), np.where(small, s2, closed2)
+    psi1 = -em1 / z
+    psi2 = 2.0 * (z + em1) / (z * z)
+    if np.ndim(psi1) == 0:  # one value: as an array, so that the series can go in
+        psi1, psi2 = np.asarray(psi1), np.asarray(psi2)
+    if small.any():
+        s = y[small]
+        psi1[small] = 1 - s / 2 + s**2 / 6 - s**3 / 24 + s**4 / 120
+        psi2[small] = 1 - s / 3 + s**2 / 12 - s**3 / 60 + s**4 / 360
+    return psi1, psi2
 
 
 @dataclass(frozen=True)

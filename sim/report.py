@@ -15,7 +15,7 @@ import sympy as sp
 
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
-from codegen.render import PROJECT_ROOT, environment, project_relative
+from codegen.render import PROJECT_ROOT, project_relative, shared_environment
 from codegen.spec_loader import load_spec
 from sim.clamp import ClampScan
 from sim.drive import MAX_SECTOR_PERIODS, Drive
@@ -51,7 +51,7 @@ NOT_TESTED = "not tested on this motor"
 
 
 def _environment() -> jinja2.Environment:
-    return environment(TEMPLATE_DIR)
+    return shared_environment(TEMPLATE_DIR)
 
 
 def pct(value: float | None) -> str:

@@ -137,15 +137,10 @@ def test_the_hall_sector_should_change_at_the_sector_angles() -> None:
 
 
 @pytest.fixture(scope="module")
-def paper_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[BrakingLoop, BrakingResult]:
+def paper_run(paper_firmware: tuple[Path, Path]) -> tuple[BrakingLoop, BrakingResult]:
     spec = load_spec(str(PAPER))
-    folder = tmp_path_factory.mktemp("paper_plant")
-    generated = checked_in(PAPER)
-    assert generated is not None
-    elf = build_firmware(PAPER, folder, generated)
-    loop = BrakingLoop(
-        elf, generated / "c" / "stm32f103_port.c", spec, braking_setup(spec, short=True)
-    )
+    elf, port = paper_firmware  # the checked-in paper motor's firmware, built once
+    loop = BrakingLoop(elf, port, spec, braking_setup(spec, short=True))
     adc = loop.machine.adc1
     adc.keep_sample_log = True
     channel = spec.sensing.current_channels[0]

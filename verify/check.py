@@ -214,11 +214,21 @@ def check_set(
         flags_wrong[act] |= result.flags_wrong
     _mismatch(checks, "flags", flags_wrong, inputs)
     speed = (
-        np.array([float(o.u.rpm(max(int(t), 1))) for t in period])
+        _exact_speeds(o, period)
         if period.size < 50_000
         else (float(60 * o.u.hall_hz / (6 * o.u.pole_pairs)) / np.maximum(period, 1))
     )
     return Evaluated(speed, on_err, off_err, t_err, relaxed_mask)
+
+
+def _exact_speeds(o: Oracle, period: Ints) -> Floats:
+    """float(o.u.rpm(max(T, 1))) of each period: 60 f_hall / (6 p T) is a ratio of two
+    integers, which Python's integer division rounds to the nearest float exactly as
+    float() of that Fraction does (without a Fraction a point)."""
+    hall_hz = Fraction(o.u.hall_hz)
+    numerator = 60 * hall_hz.numerator
+    per_tick = 6 * o.u.pole_pairs * hall_hz.denominator
+    return np.array([numerator / (per_tick * max(int(t), 1)) for t in period], dtype=np.float64)
 
 
 @dataclass(frozen=True)

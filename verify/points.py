@@ -237,16 +237,35 @@ def thresholds(o: Oracle, dtype: np.dtype) -> Inputs:
                             rows.append((forward[1], forward[0], period, bus, current, m))
     rows.extend(_denominator_zero_rows(o, forward, duty))
     rows.extend(_exact_tie_rows(o, forward))
-    for code in range(0, 65536):
-        rows.append((forward[1], forward[0], mid, bus_nominal, code, duty))
-    for period in range(0, 65536, 7):
-        rows.append((forward[1], forward[0], period, bus_nominal, current, duty))
-    for m in (0, o.u.pwm_counts - 1, o.u.pwm_counts, o.u.pwm_counts + 1, 0xFFFF):
-        rows.append((forward[1], forward[0], mid, bus_nominal, current, m))
-    for code in range(256):
-        for previous in range(256):
-            rows.append((code, previous, mid, bus_nominal, current, duty))
-    return make(dtype, *np.array(rows).T)
+    sweeps = _threshold_sweeps(o, forward, mid, bus_nominal, current, duty)
+    listed = np.array(rows, dtype=np.int64).reshape(-1, len(FIELDS))
+    return make(dtype, *np.concatenate([listed, sweeps]).T)
+
+
+def _rows(*columns: npt.ArrayLike) -> npt.NDArray[np.int64]:
+    """Rows (code, previous, period, bus, current, main duty) of the columns broadcast
+    together (each a value or a sweep)."""
+    arrays = np.broadcast_arrays(*(np.asarray(c, dtype=np.int64) for c in columns))
+    return np.stack(arrays, axis=1).reshape(-1, len(FIELDS))
+
+
+def _threshold_sweeps(
+    o: Oracle, forward: tuple[int, int], mid: int, bus: int, current: int, duty: int
+) -> npt.NDArray[np.int64]:
+    """The threshold set's sweeps at the nominal bus, as rows (built as arrays: a
+    Python list of their 200 000 tuples was most of the set's time): every current
+    code, every 7th period, the main duty's ends, then every pair of Hall codes."""
+    previous, code = forward
+    ends = [0, o.u.pwm_counts - 1, o.u.pwm_counts, o.u.pwm_counts + 1, 0xFFFF]
+    pairs = np.arange(256 * 256)
+    return np.concatenate(
+        [
+            _rows(code, previous, mid, bus, np.arange(65536), duty),
+            _rows(code, previous, np.arange(0, 65536, 7), bus, current, duty),
+            _rows(code, previous, mid, bus, current, ends),
+            _rows(pairs // 256, pairs % 256, mid, bus, current, duty),
+        ]
+    )
 
 
 def _carrier_step_periods(o: Oracle) -> list[int]:
@@ -255,7 +274,7 @@ def _carrier_step_periods(o: Oracle) -> list[int]:
     (TIME_CLAMPED) at the ADC's full-scale current at some bus code of a sample (every
     16th and the range's ends; the oracle's rule decides)."""
     t = np.arange(o.lim.period_min, o.lim.period_max + 1, dtype=np.int64)
-    n = np.floor(o.u.latest_end(t) / o.u.carrier_ticks + 1e-9).astype(np.int64)
+    n = np.floor(_over_carrier(o, o.u.latest_end(t)) + 1e-9).astype(np.int64)
     steps = t[1:][np.diff(n) != 0]
     candidates = np.unique(np.concatenate([steps - 1, steps]))
     sample = np.unique(np.r_[np.arange(o.lim.bus_min, o.lim.bus_max + 1, 16), o.lim.bus_max])
@@ -265,6 +284,15 @@ def _carrier_step_periods(o: Oracle) -> list[int]:
     x, _ = com.zero()
     clamped = com.end_after(x * period) > com.periods
     return sorted({int(p) for p in period[clamped]})
+
+
+def _over_carrier(o: Oracle, ticks: npt.NDArray[np.int64]) -> npt.NDArray[np.float64]:
+    """float(T / carrier_ticks) of each of `ticks`: the ratio of two integers, which
+    Python's integer division rounds to the nearest float exactly as float() of the
+    Fraction does (dividing the array by the Fraction made one Fraction an element)."""
+    carrier = Fraction(o.u.carrier_ticks)
+    num, den = carrier.numerator, carrier.denominator
+    return np.array([int(t) * den / num for t in ticks], dtype=np.float64)
 
 
 def time_clamp_points(o: Oracle, dtype: np.dtype, duties: object) -> Inputs:

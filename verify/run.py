@@ -95,10 +95,13 @@ def twin_check(twin: ModuleType, inputs: np.ndarray, c_out: np.ndarray, check: O
     index = _sample(inputs.size, TWIN_SAMPLE)
     names = list(c_out.dtype.names or ())
     bad = np.zeros(index.size, dtype=bool)
-    for j, k in enumerate(index):
-        row = inputs[k]
-        out = twin.commutate(twin.Inputs(*(int(row[n]) for n in points.FIELDS)))
-        bad[j] = any(int(getattr(out, n)) != int(c_out[n][k]) for n in names)
+    # the sampled rows as Python ints, fields in order (indexing a structured array a
+    # field and a row at a time was most of this check's time)
+    rows = inputs[index][list(points.FIELDS)].tolist()
+    expected = c_out[index][names].tolist()
+    for j, (row, want) in enumerate(zip(rows, expected, strict=True)):
+        out = twin.commutate(twin.Inputs(*(int(v) for v in row)))
+        bad[j] = any(int(getattr(out, n)) != int(w) for n, w in zip(names, want, strict=True))
     check.add(bad.astype(np.float64), bad, inputs[index])
 
 

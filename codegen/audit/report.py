@@ -21,6 +21,7 @@ import hashlib
 import html
 import re
 from dataclasses import dataclass
+from functools import lru_cache
 
 import jinja2
 from latex2mathml.converter import convert as latex_to_mathml
@@ -30,7 +31,7 @@ from codegen.audit import checks
 from codegen.audit.compare import HIGHLIGHT, RowResult, Verdict
 from codegen.audit.run import AuditResult, EquationAudit, Finding, row_anchor
 from codegen.audit.transcription import DEFAULT_TRANSCRIPTION, Transcription
-from codegen.render import environment, project_relative
+from codegen.render import environment, project_relative, render
 
 MARKDOWN_TEMPLATE = "audit/AUDIT.md.j2"
 HTML_TEMPLATE = "audit/AUDIT.html.j2"
@@ -385,7 +386,10 @@ def display_filter(latex: object) -> Markup:
     return Markup(_mathml(str(latex), display=True))
 
 
+@lru_cache(maxsize=1)
 def _html_environment() -> jinja2.Environment:
+    """The HTML's environment (autoescaped, the math filters), built once per process
+    so that its template is compiled once."""
     env = environment()
     env.autoescape = True
     env.filters.update(text=text_filter, math=math_filter, display=display_filter)
@@ -393,7 +397,7 @@ def _html_environment() -> jinja2.Environment:
 
 
 def render_markdown(report: AuditReport) -> str:
-    return environment().get_template(MARKDOWN_TEMPLATE).render(report=report, highlight=HIGHLIGHT)
+    return render(MARKDOWN_TEMPLATE, report=report, highlight=HIGHLIGHT)
 
 
 def render_html(report: AuditReport) -> str:

@@ -499,13 +499,13 @@ class Adc(Peripheral):
                 self.machine.now = saved
 
     def next_event(self) -> int | None:
-        times = [c.end for c in self.queue[:1]]
-        alarm = self._regular_alarm()
-        if alarm is not None:
-            times.append(alarm)
-        if self.calibration_end is not None:
-            times.append(self.calibration_end)
-        return min(times) if times else None
+        """The earliest of the injected conversion's end, the regular alarm and the
+        calibration's end (asked at every step of the machine: no lists)."""
+        first = self.queue[0].end if self.queue else None
+        for t in (self._regular_alarm(), self.calibration_end):
+            if t is not None and (first is None or t < first):
+                first = t
+        return first
 
     def on_event(self, now: int) -> None:
         if self.calibration_end is not None and self.calibration_end <= now:

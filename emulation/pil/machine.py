@@ -263,6 +263,12 @@ class Machine:
             self.afio,
             self.exti,
         )
+        #: the peripherals that schedule events of their own, in the same order (the
+        #: others keep the bus's `next_event`, which is always None): the machine asks
+        #: them for their next event at every step
+        self._timed = tuple(
+            p for p in self.peripherals if type(p).next_event is not Peripheral.next_event
+        )
         self._ranges: list[tuple[int, int, Peripheral]] = []
         for p in self.peripherals:
             if p is self.nvic:
@@ -547,7 +553,7 @@ class Machine:
 
     # ------------------------------------------------------------------ time
     def next_event(self) -> int | None:
-        times = [t for p in self.peripherals if (t := p.next_event()) is not None]
+        times = [t for p in self._timed if (t := p.next_event()) is not None]
         return min(times) if times else None
 
     def _process_events(self) -> None:
@@ -557,9 +563,7 @@ class Machine:
         the first one)."""
         for _ in range(10_000):
             due = [
-                (t, p)
-                for p in self.peripherals
-                if (t := p.next_event()) is not None and t <= self.now
+                (t, p) for p in self._timed if (t := p.next_event()) is not None and t <= self.now
             ]
             if not due:
                 return

@@ -172,6 +172,9 @@ class MotorPlant:
     current_watchers: list[Callable[[list[tuple[float, np.ndarray]]], None]] = field(
         init=False, default_factory=list
     )
+    _legs_made: dict[tuple[tuple[bool, ...], float], LegVoltages] = field(
+        init=False, default_factory=dict, repr=False
+    )
 
     def __post_init__(self) -> None:
         # the rotor turns the EMFs: the spec's `flat` (frozen at an edge) has no rotating
@@ -310,8 +313,15 @@ class MotorPlant:
             self.tick = end
 
     def _legs(self, gates: tuple[bool, ...]) -> LegVoltages:
+        """The legs' voltages under `gates` at the bus voltage in force (kept per gate
+        state and bus voltage: the plant asks at every piece and every sample)."""
         assert self.bus_voltage_v is not None
-        return LegVoltages.from_duties(tuple(1.0 if g else 0.0 for g in gates), self.bus_voltage_v)
+        key = (gates, self.bus_voltage_v)
+        legs = self._legs_made.get(key)
+        if legs is None:
+            duties = tuple(1.0 if g else 0.0 for g in gates)
+            legs = self._legs_made[key] = LegVoltages.from_duties(duties, self.bus_voltage_v)
+        return legs
 
     def _emf(self) -> _Emf:
         """The EMF from the plant's instant on (and back: affine in time at its speed)."""

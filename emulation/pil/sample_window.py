@@ -36,6 +36,7 @@ import bisect
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 from itertools import pairwise
 from typing import TYPE_CHECKING
 
@@ -127,6 +128,13 @@ def _t(value: Fraction | int) -> str:
     return f"{float(value):g}"
 
 
+@lru_cache(maxsize=16)
+def _injection_latency(adc_hz: int, pclk2_hz: int) -> Fraction:
+    """Ticks from an injected trigger to its sampling's start: the ADC's injection
+    latency and one APB2 clock (kept per clock setting: asked at every conversion)."""
+    return Fraction(INJECTION_LATENCY_ADC_CYCLES * TICK_HZ, adc_hz) + Fraction(TICK_HZ, pclk2_hz)
+
+
 class LoopSampleWatch:
     """The sampling windows of the current samples the current loop uses (see the
     module's docstring), collected as the firmware runs."""
@@ -161,10 +169,7 @@ class LoopSampleWatch:
         if channel not in self._currents:
             return
         adc = self.machine.adc1
-        hz = self.machine.rcc.adc_hz
-        latency = Fraction(INJECTION_LATENCY_ADC_CYCLES * TICK_HZ, hz) + Fraction(
-            TICK_HZ, self.machine.rcc.pclk2_hz
-        )
+        latency = _injection_latency(self.machine.rcc.adc_hz, self.machine.rcc.pclk2_hz)
         start = sampled - adc.sample_ticks(channel)
         self._latest[channel] = SampleWindow(sampled, start, latency, channel)
 

@@ -30,6 +30,7 @@ also held through the previous PWM period.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from emulation.pil.bus import PilError, bits, svd_interrupt
@@ -67,6 +68,15 @@ def dead_time_counts(dtg: int) -> int:
     if dtg >> 5 == 0b110:
         return (32 + (dtg & 0x1F)) * 8
     return (32 + (dtg & 0x1F)) * 16
+
+
+@dataclass
+class _Instant:
+    """What the six outputs at one instant share, each computed at most once: the dead
+    time, and each channel's OCxREF level and the tick it took it (`_ref_edges`)."""
+
+    dead: int | None = None
+    refs: dict[int, tuple[bool, int]] = field(default_factory=dict)
 
 
 class AdvancedTimer(Timer):
@@ -215,11 +225,9 @@ class AdvancedTimer(Timer):
         value = self.ccr[channel]
         cycle = self.cycle_counts()
         base = (pos // cycle) * cycle
-        candidates = []
-        for start in (base - cycle, base):
-            offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
-            candidates.extend(start + offset for offset in offsets)
-        for candidate in sorted((c for c in candidates if c <= pos), reverse=True):
+        offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
+        candidates = [start + offset for start in (base - cycle, base) for offset in offsets]
+        for candidate in sorted([c for c in candidates if c <= pos], reverse=True):
             before = self._ref_at_position(channel, candidate - 1)
             after = self._ref_at_position(channel, candidate)
             if before != after and after == level:
@@ -234,15 +242,23 @@ class AdvancedTimer(Timer):
         """Level of OCx (or OCxN) at `now` (default: the machine's time); None where
         the timer does not drive the pin (Table 83 "output disabled")."""
         now = self.machine.now if now is None else now
+        return self._output(channel, complementary, now, _Instant())
+
+    def _output(self, channel: int, complementary: bool, now: int, known: _Instant) -> bool | None:
+        """`output`, with what the outputs at one instant share kept in `known` (the
+        state cannot change between the six outputs of `gates`)."""
         shift = 4 * (channel - 1)
-        enabled = bool(self.ccer >> shift & 1)
-        enabled_n = bool(self.ccer >> (shift + 2) & 1)
-        polarity = bool(self.ccer >> (shift + 1) & 1)
-        polarity_n = bool(self.ccer >> (shift + 3) & 1)
+        ccer = self.ccer
+        enabled = bool(ccer >> shift & 1)
+        enabled_n = bool(ccer >> (shift + 2) & 1)
+        polarity = bool(ccer >> (shift + 1) & 1)
+        polarity_n = bool(ccer >> (shift + 3) & 1)
         own_polarity = polarity_n if complementary else polarity
         if not enabled and not enabled_n:
             return None
-        dead = self.dead_time_ticks()
+        if known.dead is None:
+            known.dead = self.dead_time_ticks()
+        dead = known.dead
         if not self.moe:
             if not self.bdtr & BDTR_OSSI:
                 return None
@@ -254,7 +270,9 @@ class AdvancedTimer(Timer):
         own = enabled_n if complementary else enabled
         if not own:
             return own_polarity if self.bdtr & BDTR_OSSR else None
-        level, since = self._ref_edges(channel, now)
+        if channel not in known.refs:
+            known.refs[channel] = self._ref_edges(channel, now)
+        level, since = known.refs[channel]
         if complementary and enabled:
             # 14.4.9 Table 83: OCxN is the complement of OCxREF only with both outputs
             # enabled; CCxE = 0, CCxNE = 1 gives OCxN = OCxREF xor CCxNP
@@ -265,10 +283,15 @@ class AdvancedTimer(Timer):
 
     def gates(self, now: int | None = None) -> tuple[bool | None, ...]:
         """(CH1, CH1N, CH2, CH2N, CH3, CH3N) at `now`."""
-        return tuple(
-            self.output(channel, complementary, now)
-            for channel in (1, 2, 3)
-            for complementary in (False, True)
+        now = self.machine.now if now is None else now
+        known = _Instant()
+        return (
+            self._output(1, False, now, known),
+            self._output(1, True, now, known),
+            self._output(2, False, now, known),
+            self._output(2, True, now, known),
+            self._output(3, False, now, known),
+            self._output(3, True, now, known),
         )
 
     # ------------------------------------------------------------- the gate record
@@ -289,19 +312,23 @@ class AdvancedTimer(Timer):
             cycle = self.cycle_counts()
             first = (self.position(start) // cycle - 1) * cycle
             last = self.position(end) + cycle
+            centre, arr, ccr = self.centre_aligned, self.arr, self.ccr
+            # time_of_position, with the anchor and the count's length taken once
+            anchor_time, anchor_pos, tpc = self.anchor_time, self.anchor_pos, self.ticks_per_count()
             for base in range(first, last + 1, cycle):
-                positions = {base, base + self.arr} if self.centre_aligned else {base}
+                positions = {base, base + arr} if centre else {base}
                 for channel in (1, 2, 3):
-                    value = self.ccr[channel]
+                    value = ccr[channel]
                     positions.add(base + value)
-                    if self.centre_aligned:
-                        positions.add(base + 2 * self.arr - value)
+                    if centre:
+                        positions.add(base + 2 * arr - value)
                 # counting down, a PWM-mode output turns active one count after its match
                 positions.update(self.down_count_edges(base, base + cycle))
                 for position in positions:
-                    tick = self.time_of_position(position)
-                    ticks.update((tick, tick + dead))
-        return sorted(t for t in ticks if start < t <= end)
+                    tick = anchor_time + (position - anchor_pos) * tpc
+                    ticks.add(tick)
+                    ticks.add(tick + dead)
+        return sorted([t for t in ticks if start < t <= end])
 
     def _flush(self, until: int) -> None:
         """Log the changes up to `until` that the state in force makes by itself."""

@@ -140,16 +140,16 @@ class Timer(Peripheral):
 
     @property
     def centre_aligned(self) -> int:
-        return bits(self.cr1, 5, 2)
+        return (self.cr1 >> 5) & 3  # CMS (bits(self.cr1, 5, 2), inline: asked at every event)
 
     def cc_select(self, channel: int) -> int:
-        return bits(self.ccmr[(channel - 1) // 2], 8 * ((channel - 1) % 2), 2)
+        return (self.ccmr[(channel - 1) // 2] >> (8 * ((channel - 1) % 2))) & 3
 
     def is_input(self, channel: int) -> bool:
         return self.cc_select(channel) != 0
 
     def oc_mode(self, channel: int) -> int:
-        return bits(self.ccmr[(channel - 1) // 2], 8 * ((channel - 1) % 2) + 4, 3)
+        return (self.ccmr[(channel - 1) // 2] >> (8 * ((channel - 1) % 2) + 4)) & 7
 
     def oc_preload(self, channel: int) -> bool:
         return bool(bits(self.ccmr[(channel - 1) // 2], 8 * ((channel - 1) % 2) + 3))
