@@ -415,18 +415,6 @@ def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -
     return 1 / Fraction(pwm_frequency_hz) + sequence / ADC_CLOCK_HZ
 
 
-def first_sample_s(
-    window: SenseWindow, *, timer_clock_hz: Fraction, adc_sample_cycles: Fraction
-) -> Fraction:
-    """Seconds from the carrier's restart (every Hall edge: COM with UG) to the end of
-    the injected sequence that follows (the current(s), then the bus): the current
-    loop's first sample after an edge. A sector shorter than that is never sampled."""
-    per_adc_cycle = Fraction(timer_clock_hz) / ADC_CLOCK_HZ
-    conversion = adc_sample_cycles + ADC_CONVERSION_CYCLES
-    sequence = INJECTED_LATENCY_CYCLES + (window.current_samples + 1) * conversion
-    return (window.trigger_time_counts + sequence * per_adc_cycle) / Fraction(timer_clock_hz)
-
-
 def current_samples(topology: str) -> int:
     """Current conversions at the head of the injected sequence: the DC-link shunt, or
     the three phase shunts (A, B, C)."""
