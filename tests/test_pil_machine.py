@@ -262,6 +262,46 @@ def test_preemption_inside_an_it_block_should_resume_the_block(tmp_path: Path) -
     assert reg(machine, "R4") == 1 and reg(machine, "R3") == 5
 
 
+def test_a_handler_entered_inside_an_it_block_should_run_unconditionally(
+    tmp_path: Path,
+) -> None:
+    """Exception entry clears ITSTATE (ARMv7-M B1.5.6): the handler runs whatever the
+    interrupted IT block's condition, and the block's rest resumes with it on return.
+    The block here straddles a 1 KiB page, where the emulator's translation blocks end,
+    so the machine stops between its instructions, its condition left false (NE after
+    an equal compare): the emulator once entered the handler with that state, and the
+    handler's first instruction was skipped (found by a PIL scenario on a real port)."""
+    # main starts at 0x0800_0100 (after 64 vectors): the IT at 0x0800_03FC, its second
+    # instruction at 0x0800_0400, the page boundary
+    main = assemble(
+        """
+        movs r3, #0
+        movs r2, #1
+        cmp r2, #1
+        .rept 379
+        nop
+        .endr
+        itt ne
+        movne r3, #9
+        movne r3, #7
+        loop: b loop
+        """,
+        tmp_path,
+    )
+    assert main[0x2FC:0x2FE] == bytes.fromhex("1cbf")  # itt ne, at 0x0800_03FC
+    handler = assemble("movs r4, #1\nmovs r5, #2\nbx lr", tmp_path, "h")
+    machine = Machine(bare_image(main, handlers={IRQ_BASE + 1: handler}))
+    _enable(machine, 1, 0x10)
+    machine.run_for(1)  # the first block runs whole: the machine stops at the page
+    assert machine.pc == 0x0800_0400
+    machine.nvic.set_line(1, True)
+    machine.nvic.set_line(1, False)
+    machine.run_for(2000)
+    assert [e for _, e in machine.entry_log] == [IRQ_BASE + 1]
+    assert (reg(machine, "R4"), reg(machine, "R5")) == (1, 2)
+    assert reg(machine, "R3") == 0  # both movne false, the second one after the return
+
+
 def test_wfi_with_primask_set_should_wake_without_taking_the_interrupt(tmp_path: Path) -> None:
     """ARMv7-M B1.5.19: a pending interrupt that would preempt but for PRIMASK wakes WFI."""
     main = assemble("cpsid i\nwfi\nmovs r5, #3\nloop: b loop", tmp_path)

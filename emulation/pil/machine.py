@@ -88,6 +88,8 @@ EXC_RETURN_HANDLER, EXC_RETURN_THREAD_MSP, EXC_RETURN_THREAD_PSP = (
 _EXCP_EXCEPTION_EXIT = 8  # QEMU's EXCP_EXCEPTION_EXIT, reported through UC_HOOK_INTR
 _WFI = b"\x30\xbf"
 _TAKEN_REFILL = 3  # TRM pipeline refill P, worst case (emulation.cycles)
+#: xPSR's IT/ICI bits (ARMv7-M B1.4.2): IT[1:0] at 26:25, IT[7:2] at 15:10
+_ITSTATE = (3 << 25) | (0x3F << 10)
 _FRAME = (
     uc_arm.UC_ARM_REG_R0,
     uc_arm.UC_ARM_REG_R1,
@@ -509,6 +511,12 @@ class Machine:
         if exception == HARD_FAULT:
             raise PilError("HardFault taken")
         uc.reg_write(uc_arm.UC_ARM_REG_LR, exc_return)
+        # The handler starts outside any IT block (ExceptionTaken: ITSTATE = 0): the
+        # interrupted block's state is in the stacked xPSR, for the return. Left in
+        # place, the handler's first instructions ran under the interrupted block's
+        # conditions (a false one skipped them: a handler entered between an IT's
+        # instructions read its state base from another handler's register).
+        uc.reg_write(uc_arm.UC_ARM_REG_XPSR, uc.reg_read(uc_arm.UC_ARM_REG_XPSR) & ~_ITSTATE)
         self.pc = vector & ~1
         self.now += entry * self.cycle_ticks
 
