@@ -35,6 +35,27 @@ class Mutant:
 
 MUTANTS = (
     Mutant(
+        # the paper motor's K = 5325928 (T B at or below it: all-off rectifies) 5 % low:
+        # from 4806 rpm at 22.7 V all-off is chosen up to 5059 rpm, where it rectifies
+        "rectifying product 5 % low: all-off chosen just above the speed it rectifies from",
+        HEADER,
+        "#define BLDC_PORT_RECTIFYING_PRODUCT ",
+        "#define BLDC_PORT_RECTIFYING_PRODUCT 5059632u",
+        PAPER,
+        "above_rectifying",
+        "not the short circuit",
+    ),
+    Mutant(
+        # ... 25 % high: the short chosen from 3845 rpm, where all-off is the spec's
+        "rectifying product 25 % high: the short chosen below the speed all-off rectifies from",
+        HEADER,
+        "#define BLDC_PORT_RECTIFYING_PRODUCT ",
+        "#define BLDC_PORT_RECTIFYING_PRODUCT 6657410u",
+        PAPER,
+        "below_rectifying",
+        "not all off",
+    ),
+    Mutant(
         "clock security system never enabled: a crystal failing while braking stops the chip",
         "firmware/system_stm32f103.c",
         "    RCC->CR |= RCC_CR_CSSON;",

@@ -11,7 +11,15 @@ import pytest
 
 from codegen.spec_loader import load_spec
 from emulation.pil.build import build_firmware, checked_in
-from emulation.pil.scenarios import SCENARIOS, Outcome, Scenario, run_scenario
+from emulation.pil.scenarios import (
+    RECTIFYING_MARGIN,
+    SCENARIOS,
+    Outcome,
+    Scenario,
+    peak_line_emf_v,
+    rectifying_boundary,
+    run_scenario,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = {
@@ -40,6 +48,35 @@ def test_each_scenario_should_latch_its_fault_in_time_and_keep_the_invariants(
         assert outcome.samples_checked > 0
     if outcome.limit_ticks is not None:
         assert outcome.latency_ticks is not None
+
+
+@pytest.mark.parametrize(
+    ("path", "reachable"),
+    [
+        (ROOT / "spec" / "paper_motor.yaml", True),  # 24 V rectifies from 5085 rpm > 5000
+        (ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml", True),
+        (ROOT / "tests" / "fixtures" / "specs" / "short_sector_2k5_ir.yaml", False),
+    ],
+    ids=["paper", "hub", "short-sector"],
+)
+def test_the_rectifying_boundary_should_lie_inside_both_ranges_with_its_margin(
+    path: Path, reachable: bool
+) -> None:
+    """The boundary scenarios' bus and speed: the peak line EMF at the speed is the bus,
+    the bus within inverter's range, the speed 3 % either side within the controller's;
+    the paper motor's nominal 24 V rectifies only above its top speed, so a lower bus
+    of its range is taken."""
+    spec = load_spec(path)
+    boundary = rectifying_boundary(spec)
+    assert (boundary is not None) == reachable
+    if boundary is None:
+        return
+    bus_v, rpm = boundary
+    assert peak_line_emf_v(spec, rpm) == pytest.approx(bus_v, rel=1e-9)
+    inverter, controller = spec.inverter, spec.controller
+    assert float(inverter.bus_voltage_min_v) <= bus_v <= float(inverter.bus_voltage_max_v)
+    assert float(controller.speed_min_rpm) < rpm * (1 - RECTIFYING_MARGIN)
+    assert rpm * (1 + RECTIFYING_MARGIN) < float(controller.speed_max_rpm)
 
 
 def test_make_pil_should_refuse_an_invalid_spec_with_one_line_per_error(

@@ -35,7 +35,11 @@ over the whole run:
 * a fault's safe state is the spec's at the run's speed and bus: the short circuit
   where the peak line EMF (sim's waveform of the spec's EMF) reaches the bus, all-off
   where it does not and protection.safe_state prefers it (the break input after the
-  dead time, the under-voltage near the top speed one PWM period on).
+  dead time, the under-voltage near the top speed one PWM period on), and either side
+  of the speed where all-off starts to rectify (the break input 3 % below and 3 %
+  above it, at a bus voltage of the spec's range that puts it in the speed range): the
+  port's rule for that speed, found from the bus code and the Hall interval, is
+  checked against the physics where it changes.
 
 The inputs are set by the scenario (Hall code, comparator, bus and current through the
 spec's sensing chain, `runner.DriveBoard`), not yet by a motor model: the current read
@@ -524,8 +528,28 @@ def _under_voltage(run: Run) -> Outcome:
 
 
 def _break_input(run: Run) -> Outcome:
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    return _break_at(
+        run,
+        nominal,
+        "BKIN over-current",
+        "the comparator on BKIN goes active mid-sector; MOE clears in hardware",
+    )
+
+
+def _break_at(
+    run: Run, bus_v: float, name: str, note: str, *, whole_intervals: bool = False
+) -> Outcome:
+    """The break input mid-sector at the run's speed and the bus `bus_v` (set from the
+    start, so the port's bus change has run at it): MOE clears in hardware and the
+    outputs take the idle levels the port chose for that speed and bus. With
+    `whole_intervals` every Hall interval before the break is the run's sector (the port
+    chooses the safe state from the last one); else the one before the break's sector is
+    a third longer."""
+    run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 3)
+    if not whole_intervals:
+        run.machine.run_for(run.sector_ticks() // 3)
     # the break while an upper switch conducts, if one does within the sector: the hand-
     # over to the lower switches (the short circuit) then needs the dead time
     tim1 = run.machine.tim1
@@ -538,15 +562,83 @@ def _break_input(run: Run) -> Outcome:
     # the safe state after the dead time: every switch off, or the three lower switches
     # on (the short circuit, where all-off would rectify into the bus); gates are
     # (CH1, CH1N, CH2, CH2N, CH3, CH3N), the upper switches on CHx
-    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
-    _check_safe_state(run, cause + tim1.dead_time_ticks(), nominal, "after the dead time")
-    return run.outcome(
-        "BKIN over-current",
-        "OVER_CURRENT",
-        cause,
-        run.board.pwm_period_ticks(),
-        "the comparator on BKIN goes active mid-sector; MOE clears in hardware",
+    _check_safe_state(run, cause + tim1.dead_time_ticks(), bus_v, "after the dead time")
+    return run.outcome(name, "OVER_CURRENT", cause, run.board.pwm_period_ticks(), note)
+
+
+#: How far either side of the rectifying speed the boundary scenarios brake: wide enough
+#: for the Hall interval's and the bus code's quantisation (well under 0.1 % each) and
+#: the hysteresis of the bus change, narrow enough that a rule off by a few percent is seen
+RECTIFYING_MARGIN = 0.03
+#: ... and how far inside the controller's speed range it stays: at its very ends the
+#: Hall interval, rounded, may fall on the over-speed side (a fault of its own)
+SPEED_RANGE_INSIDE = 0.01
+
+
+def rectifying_boundary(spec: Spec) -> tuple[float, float] | None:
+    """A bus voltage of the spec's range, as near the nominal one as can be, and the
+    speed from which all-off rectifies into it (the peak line EMF, sim's waveform of the
+    spec's EMF, reaches the bus), with RECTIFYING_MARGIN either side of that speed 1 %
+    inside the controller's range; None if no bus voltage of the range has one."""
+    per_rpm = peak_line_emf_v(spec, 1.0)
+    lowest = (
+        float(spec.controller.speed_min_rpm) * (1 + SPEED_RANGE_INSIDE) / (1 - RECTIFYING_MARGIN)
     )
+    highest = (
+        float(spec.controller.speed_max_rpm) * (1 - SPEED_RANGE_INSIDE) / (1 + RECTIFYING_MARGIN)
+    )
+    inverter = spec.inverter
+    nominal = float(inverter.bus_voltage_nominal_v) / per_rpm
+    rpm = min(
+        max(nominal, lowest, float(inverter.bus_voltage_min_v) / per_rpm),
+        highest,
+        float(inverter.bus_voltage_max_v) / per_rpm,
+    )
+    bus_v = rpm * per_rpm
+    if not (
+        lowest <= rpm <= highest
+        and inverter.bus_voltage_min_v <= bus_v <= inverter.bus_voltage_max_v
+    ):
+        return None
+    return bus_v, rpm
+
+
+def _rectifying_side(run: Run, side: int) -> Outcome:
+    """The break input just below (`side` -1) or just above (+1) the speed from which
+    all-off rectifies into the bus: all-off below it where protection.safe_state prefers
+    it, the short circuit above it. Where no bus voltage of the spec's range puts that
+    speed in the controller's range, the break at the default speed and nominal bus."""
+    where = "below" if side < 0 else "above"
+    name = f"BKIN {where} the rectifying speed"
+    boundary = rectifying_boundary(run.spec)
+    if boundary is None:
+        nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+        return _break_at(
+            run,
+            nominal,
+            name,
+            "no bus voltage of the spec's range rectifies within"
+            " the controller's speed range: the break at the default speed",
+        )
+    bus_v, rpm = boundary
+    run.rpm = rpm * (1 + side * RECTIFYING_MARGIN)
+    return _break_at(
+        run,
+        bus_v,
+        name,
+        f"bus {bus_v:.2f} V, where all-off rectifies from {rpm:.0f} rpm: the break at"
+        f" {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%}); the safe state after the dead"
+        " time is the spec's there",
+        whole_intervals=True,
+    )
+
+
+def _below_rectifying(run: Run) -> Outcome:
+    return _rectifying_side(run, -1)
+
+
+def _above_rectifying(run: Run) -> Outcome:
+    return _rectifying_side(run, +1)
 
 
 def _hall_unplugged(run: Run) -> Outcome:
@@ -1001,6 +1093,8 @@ SCENARIOS = (
     Scenario("over_voltage_between_samples", _over_voltage_between_samples),
     Scenario("under_voltage", _under_voltage),
     Scenario("break_input", _break_input),
+    Scenario("below_rectifying", _below_rectifying),
+    Scenario("above_rectifying", _above_rectifying),
     Scenario("hall_unplugged", _hall_unplugged),
     Scenario("hall_glitch", _hall_glitch),
     Scenario("hall_spike", _hall_spike),
