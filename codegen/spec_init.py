@@ -43,7 +43,13 @@ from codegen.spec_drive import (
     end_sample_room_s,
     short_circuit_peak,
 )
-from codegen.spec_loader import PAPER_AUDIT_NAME, PERIOD_COUNTS_MAX, load_spec, out_of_range
+from codegen.spec_loader import (
+    DATASHEET_RANGES,
+    PAPER_AUDIT_NAME,
+    PERIOD_COUNTS_MAX,
+    load_spec,
+    out_of_range,
+)
 from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, Spec, SpecWarning
 
 TIMER_CLOCK_HZ = 72_000_000
@@ -507,7 +513,12 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         if sheet.bus_voltage
         else "assumption: bldc-codegen init, the motor's rated voltage"
     )
-    v_min, v_max = _round_down(bus * 8, 1) / 10, _round_up(bus * 125, 1) / 100
+    # 0.8 and 1.25 x nominal, within the loader's voltages: a 1000 V bus (which the
+    # option takes) had written a 1250 V maximum the spec then refused, a 1 V one 0.8 V
+    volts = DATASHEET_RANGES["inverter.bus_voltage_nominal"]
+    lowest, highest = Fraction(str(volts.low)), Fraction(str(volts.high))
+    v_min = max(lowest, _round_down(bus * 8, 1) / 10)
+    v_max = min(highest, _round_up(bus * 125, 1) / 100)
     divider = max(1, math.ceil(v_max * Fraction(11, 10) / ADC_REFERENCE_V))
     n_limit = bus / (2 * si["ke"])
     pole_pairs = si["pole_pairs"]
@@ -608,8 +619,12 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     point_lines = "\n".join(f"  - {{speed: {_num(p)} rpm, main_duty: 0.42}}" for p in points)
     sources = {f"motor.{k}": v for k, v in motor_sources.items()} | {
         "inverter.bus_voltage_nominal": bus_source,
-        "inverter.bus_voltage_min": f"{derived} 0.8 x nominal; set your undervoltage trip",
-        "inverter.bus_voltage_max": f"{derived} 1.25 x nominal; set your overvoltage trip",
+        "inverter.bus_voltage_min": f"{derived} 0.8 x nominal"
+        + (f", at least {_num(lowest)} V" if v_min == lowest else "")
+        + "; set your undervoltage trip",
+        "inverter.bus_voltage_max": f"{derived} 1.25 x nominal"
+        + (f", at most {_num(highest)} V" if v_max == highest else "")
+        + "; set your overvoltage trip",
         "inverter.pwm_frequency": (
             f"datasheet/board: {sheet.pwm_frequency[1]}"
             if sheet.pwm_frequency

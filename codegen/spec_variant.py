@@ -53,6 +53,12 @@ def _mapping_entry(
     start, end = node.start_mark.index, node.end_mark.index
     if anchor := _ANCHOR.match(spec_text, start):
         start = anchor.end()  # keep `&name` (a key that shares it is caught later)
+    colon = spec_text.index(":", key_node.end_mark.index)
+    if "\n" in spec_text[colon:start] and not spec_text[colon + 1 : start].strip(" \t\r\n"):
+        # a block collection on the lines below its key (`back_emf_shape:` then `- - 0`
+        # at the key's indent): the flow value replaces it from the colon on, where the
+        # value written at the collection's place had been read as a key
+        start = colon + 1
     # a block collection's span runs to the next key: keep its line break and indent
     return holder, (start, start + len(spec_text[start:end].rstrip()))
 
@@ -74,7 +80,8 @@ def _replaced(spec_text: str, path: tuple[str, ...], value: str, allowed: str) -
     if span is None:
         raise SpecError(where, None, "missing: no value to replace", allowed)
     start, end = span
-    new = spec_text[:start] + value + spec_text[end:]
+    gap = " " if spec_text[start - 1 : start] == ":" else ""
+    new = spec_text[:start] + gap + value + spec_text[end:]
     _check_only(spec_text, new, path, where, allowed)
     return new
 

@@ -336,6 +336,32 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     assert "braking_current_max + 37.5 A of PWM ripple" in sources["adc.current_gain"]
 
 
+@pytest.mark.parametrize(("bus", "low", "high"), [("1000 V", 800, 1000), ("1 V", 1, "1.25")])
+def test_init_should_keep_the_bus_range_within_the_voltages_a_spec_holds(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    bus: str,
+    low: object,
+    high: object,
+) -> None:
+    """--bus-voltage takes 1 to 1000 V, and init writes 0.8 and 1.25 x it: a 1000 V bus
+    had written a 1250 V bus_voltage_max and a 1 V one a 0.8 V minimum, which the spec
+    then refused. Each is held to the loader's voltages, and its source says so."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "bus_end", "--kv", "100", "--bus-voltage", bus, "--rated-voltage", bus]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    spec = load_spec(tmp_path / "spec" / "bus_end.yaml")
+    assert spec.inverter.bus_voltage_min_v == Fraction(str(low))
+    assert spec.inverter.bus_voltage_max_v == Fraction(str(high))
+    sources = dict(spec.sources)
+    held = sources["inverter.bus_voltage_max" if bus == "1000 V" else "inverter.bus_voltage_min"]
+    assert ("at most 1000 V" if bus == "1000 V" else "at least 1 V") in held
+
+
 def test_init_should_put_the_lower_operating_point_where_the_current_can_be_held(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

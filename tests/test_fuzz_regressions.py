@@ -21,6 +21,7 @@ from bldc.cli import main
 from codegen.errors import ExitCode, MultiSpecError, SpecError
 from codegen.spec_loader import load_spec
 from codegen.spec_variant import spec_with_duty_target, spec_with_emf_shape, spec_with_method
+from codegen.yaml12 import read_yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 TEXT = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
@@ -184,6 +185,26 @@ def test_the_methods_variants_of_a_valid_spec_in_any_layout_load(
         base.motor.phase_inductance_h,
         base.operating_points,
     )
+
+
+@pytest.mark.parametrize("indent", ["  ", "    "])
+def test_a_block_emf_table_at_its_keys_indent_is_rewritten_for_a_variant(indent: str) -> None:
+    """A measured EMF table in block style, its items at the key's own indent (as
+    yaml.safe_dump writes it): the flow value written at the first item's place read as
+    a key ('could not find expected :'), so `simulate` refused the spec and `bench`
+    failed with a traceback. The variant now has the new shape and nothing else new."""
+    rows = "".join(
+        f"  {indent[2:]}- - {a}\n  {indent[2:]}  - {e}\n"
+        for a, e in ((0, 0), (30, 1), (150, 1), (180, 0))
+    )
+    text = TEXT.replace("  back_emf_convention: phase\n", f"  back_emf_shape:\n{rows}", 1)
+    text = text.replace("  back_emf_shape:", "  back_emf_convention: phase\n  back_emf_shape:")
+    for shape in ("flat", "[[0, 0], [60, 1], [120, 1], [180, 0]]"):
+        variant = spec_with_emf_shape(text, shape)
+        data, _ = read_yaml(variant.encode("utf-8"))
+        before, _ = read_yaml(text.encode("utf-8"))
+        assert data["motor"].pop("back_emf_shape") != before["motor"].pop("back_emf_shape")
+        assert data == before
 
 
 def test_a_variant_that_would_change_another_key_through_an_anchor_is_refused() -> None:

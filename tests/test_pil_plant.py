@@ -25,6 +25,7 @@ import pytest
 from unicorn import UC_HOOK_MEM_WRITE
 
 from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
 from emulation.pil import braking_report
 from emulation.pil.braking import (
     BRAKING_EDGES,
@@ -865,3 +866,63 @@ def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_t
     (problem,) = braking_report.problems(full)
     assert "the full run" not in problem
     assert f"down to the run's stop speed, {result.setup.stop_rpm:g} rpm" in problem
+
+
+def _with_friction(spec: Spec, n_m_s: str) -> Spec:
+    motor = replace(spec.motor, viscous_friction_n_m_s=Fraction(n_m_s))
+    return replace(spec, motor=motor)
+
+
+def test_the_braking_estimates_should_count_the_viscous_friction() -> None:
+    """motor.viscous_friction at its largest, 10 N m s/rad, stops the paper motor's rotor
+    (0.00119 kg m^2) within a twentieth of a Hall edge: the estimates left it out, so the
+    run kept the spec's inertia for about 578 edges, and the motor-in-the-loop faults
+    waited for settling edges that never came. Each estimate agrees with the equation of
+    motion J dw/dt = -(k_t I + b w) integrated numerically, and a friction too small to
+    matter leaves the frictionless figures."""
+    paper = load_spec(PAPER)
+    start, stop, amps = 4600.0, 500.0, 5.0
+    for b in ("10", "0.001"):
+        spec = _with_friction(paper, b)
+        inertia = float(spec.motor.rotor_inertia_kg_m2)
+        torque = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
+        w, angle, seconds, step = start * math.pi / 30.0, 0.0, 0.0, 1e-7
+        while w > stop * math.pi / 30.0:
+            w_next = w - step * (torque * amps + float(b) * w) / inertia
+            angle += step * (w + w_next) / 2.0
+            seconds += step
+            w = w_next
+        edges = angle * 6.0 * spec.motor.pole_pairs / (2.0 * math.pi)
+        assert braking_edges(spec, start, stop, amps) == pytest.approx(edges, rel=1e-3)
+        assert braking_seconds(spec, start, stop, amps) == pytest.approx(seconds, rel=1e-3)
+    stiff = _with_friction(paper, "10")
+    assert braking_edges(stiff, start, stop, amps) < 0.1
+    setup = braking_setup(stiff, short=False)
+    scaled = braking_edges(stiff, setup.start_rpm, setup.stop_rpm, amps, setup.inertia_scale)
+    assert scaled == pytest.approx(BRAKING_EDGES[0])
+    slight = _with_friction(paper, "1e-12")
+    assert braking_edges(slight, start, stop, amps) == pytest.approx(
+        braking_edges(paper, start, stop, amps), rel=1e-8
+    )
+
+
+def test_a_rotor_friction_has_all_but_stopped_should_predict_no_hall_edge() -> None:
+    """Explicit steps of the friction leave a speed that decays towards a subnormal
+    float: the time to the next sector overflowed to infinity (OverflowError in `make
+    pil`). Such a rotor stands still."""
+    spec = load_spec(PAPER)
+    plant = MotorPlant(spec, idle_chip().tim1, Mechanics(1.0), 1e-320, angle_deg=10.0)
+    assert plant.next_sector_tick() is None
+
+
+def test_the_motor_in_the_loop_faults_should_brake_a_rotor_friction_stops_at_once(
+    paper_firmware: tuple[Path, Path],
+) -> None:
+    """The paper motor's firmware, its rotor at motor.viscous_friction's largest: the
+    run's inertia is scaled for the friction too, and the fault latches after its
+    settling edges (a crash, then a wait for edges that never came, before)."""
+    elf, port = paper_firmware
+    spec = _with_friction(load_spec(PAPER), "10")
+    fault = next(f for f in PLANT_FAULTS if f.key == "over_voltage")
+    outcome = run_plant_fault(elf, port, spec, fault)
+    assert outcome.problems == [], outcome.problems

@@ -877,11 +877,27 @@ SHORT_EDGES = SETTLING_EDGES + 12
 BRAKING_EDGES = (150, 1500)
 
 
-def _deceleration(spec: Spec, current_a: float, inertia_scale: float) -> float:
-    """The rotor's deceleration (rad/s^2) under a constant braking torque k_t I: two
-    conducting phases convert 2 E I, E = k_e n per phase."""
+def _braking_torque(spec: Spec, current_a: float) -> float:
+    """k_t I (N m): two conducting phases convert 2 E I, E = k_e n per phase."""
     k_t = 2.0 * float(spec.motor.back_emf_constant_v_per_rpm) * 60.0 / (2.0 * math.pi)
-    return k_t * current_a / (float(spec.motor.rotor_inertia_kg_m2) * inertia_scale)
+    return k_t * current_a
+
+
+def _deceleration(spec: Spec, current_a: float, inertia_scale: float, rpm: float = 0.0) -> float:
+    """The rotor's deceleration (rad/s^2) at `rpm` under the constant braking torque k_t I
+    and the spec's viscous friction b w."""
+    friction = float(spec.motor.viscous_friction_n_m_s) * rpm * 2.0 * math.pi / 60.0
+    inertia = float(spec.motor.rotor_inertia_kg_m2) * inertia_scale
+    return (_braking_torque(spec, current_a) + friction) / inertia
+
+
+#: Below this b w / (k_t I) the friction's closed forms below lose their digits to
+#: cancellation: their series to the first order in it is used instead
+_FRICTION_SERIES_BELOW = 1e-6
+
+
+def _speeds(start_rpm: float, stop_rpm: float) -> tuple[float, float]:
+    return start_rpm * 2.0 * math.pi / 60.0, stop_rpm * 2.0 * math.pi / 60.0
 
 
 #: Motor time a full braking run takes at most, seconds: a little above the paper motor's
@@ -894,22 +910,46 @@ def braking_seconds(
     spec: Spec, start_rpm: float, stop_rpm: float, current_a: float, inertia_scale: float = 1.0
 ) -> float:
     """About how long braking from `start_rpm` to `stop_rpm` takes at the constant torque
-    of `braking_edges`, seconds."""
-    alpha = _deceleration(spec, current_a, inertia_scale)
-    w1, w2 = (rpm * 2.0 * math.pi / 60.0 for rpm in (start_rpm, stop_rpm))
-    return (w1 - w2) / alpha if alpha > 0 else math.inf
+    T = k_t I of `braking_edges` and the spec's viscous friction b w, seconds:
+    J dw/dt = -(T + b w), so t = J/b ln((T + b w1)/(T + b w2)), J (w1 - w2)/T without it."""
+    torque = _braking_torque(spec, current_a)
+    b = float(spec.motor.viscous_friction_n_m_s)
+    inertia = float(spec.motor.rotor_inertia_kg_m2) * inertia_scale
+    w1, w2 = _speeds(start_rpm, stop_rpm)
+    if b == 0.0:
+        alpha = _deceleration(spec, current_a, inertia_scale)
+        return (w1 - w2) / alpha if alpha > 0 else math.inf
+    if torque + b * w2 <= 0.0:
+        return math.inf  # no torque, and friction alone never brings w to 0
+    return inertia / b * math.log1p(b * (w1 - w2) / (torque + b * w2))
 
 
 def braking_edges(
     spec: Spec, start_rpm: float, stop_rpm: float, current_a: float, inertia_scale: float = 1.0
 ) -> float:
     """About how many Hall edges braking from `start_rpm` to `stop_rpm` takes: a constant
-    torque k_t I (two conducting phases convert 2 E I, E = k_e n per phase) against the
-    rotor inertia times `inertia_scale`, friction and losses left out (they shorten it)."""
-    alpha = _deceleration(spec, current_a, inertia_scale)
-    w1, w2 = (rpm * 2.0 * math.pi / 60.0 for rpm in (start_rpm, stop_rpm))
+    torque T = k_t I (two conducting phases convert 2 E I, E = k_e n per phase) and the
+    spec's viscous friction b w against the rotor inertia times `inertia_scale`, losses
+    left out (they shorten it). The angle is J times the integral of w dw / (T + b w):
+    J/b ((w1 - w2) - T/b ln((T + b w1)/(T + b w2))), J (w1^2 - w2^2) / (2 T) without
+    friction. A friction that stops the rotor within a few edges (10 N m s/rad on the
+    paper motor's rotor: a twentieth of one) left out, the run's inertia was scaled for
+    hundreds, and the rotor stopped before the motor-in-the-loop faults' settling."""
+    torque = _braking_torque(spec, current_a)
+    b = float(spec.motor.viscous_friction_n_m_s)
+    inertia = float(spec.motor.rotor_inertia_kg_m2) * inertia_scale
+    w1, w2 = _speeds(start_rpm, stop_rpm)
     edges_per_radian = 6.0 * spec.motor.pole_pairs / (2.0 * math.pi)
-    return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
+    if b == 0.0:
+        alpha = _deceleration(spec, current_a, inertia_scale)
+        return edges_per_radian * (w1 * w1 - w2 * w2) / (2.0 * alpha) if alpha > 0 else math.inf
+    if torque > 0 and b * w1 / torque < _FRICTION_SERIES_BELOW:
+        # the series in u = b/T to its first order
+        u = b / torque
+        squares = (w1 * w1 - w2 * w2) / 2.0 - u * (w1**3 - w2**3) / 3.0
+        return edges_per_radian * inertia * squares / torque
+    angle = inertia / b * ((w1 - w2) - torque / b * math.log1p(b * (w1 - w2) / (torque + b * w2)))
+    return edges_per_radian * angle
 
 
 #: The share of I_nominal the saturated loop still drives where a braking run that
@@ -996,8 +1036,8 @@ def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
 
 def speed_change_per_sector(spec: Spec, setup: BrakingSetup) -> float:
     """The relative speed change over one sector at the stop speed (the largest of the
-    run), at the constant torque of `braking_edges`."""
-    alpha = _deceleration(spec, setup.current_a, setup.inertia_scale)
+    run), at the constant torque and the friction of `braking_edges`."""
+    alpha = _deceleration(spec, setup.current_a, setup.inertia_scale, setup.stop_rpm)
     w = setup.stop_rpm * 2.0 * math.pi / 60.0
     return alpha * (2.0 * math.pi / (6.0 * spec.motor.pole_pairs * w)) / w if w > 0 else math.inf
 

@@ -402,7 +402,7 @@ def inertia_note(spec: Spec, setup: BrakingSetup) -> str:
     fewest, most = BRAKING_EDGES
     return (
         f" The spec's own inertia would take about {own:.0f} Hall edges and"
-        f" {seconds:.3g} s over this range (at k_t I, friction left out), outside the"
+        f" {seconds:.3g} s over this range (at k_t I and the spec's viscous friction), outside the"
         f" {fewest} to {most} edges and {BRAKING_MOTOR_S:g} s of motor time a run takes,"
         f" so the run scales it to take about {own * setup.inertia_scale:.0f}; the speed"
         f" then changes by up to {100 * speed_change_per_sector(spec, setup):.1f} % over a"

@@ -243,7 +243,12 @@ class MotorPlant:
         if rate <= 0.0:
             return None
         boundary = (math.floor((self.angle_deg + _ANGLE_SLACK) / 60.0) + 1) * 60.0
-        return self.tick + max(1, math.ceil((boundary - self.angle_deg) / rate * TICK_HZ))
+        ticks = (boundary - self.angle_deg) / rate * TICK_HZ
+        # a rotor that viscous friction has all but stopped (its speed decays towards a
+        # subnormal float) never gets there: the ticks overflowed to infinity
+        if not math.isfinite(ticks):
+            return None
+        return self.tick + max(1, math.ceil(ticks))
 
     def gates_at(self, tick: int) -> tuple[bool, ...]:
         """The six gates in force at `tick` (which must be recorded): True where on."""

@@ -39,6 +39,12 @@ class PlantFault:
 
 def _settle(loop: BrakingLoop) -> None:
     while len(loop.edges) < EDGES_BEFORE:
+        # a rotor at rest brings no more edges: waiting for them never ended
+        if loop.plant.next_sector_tick() is None:
+            raise PilError(
+                f"the rotor stopped ({loop.plant.speed_rpm:g} rpm) after {len(loop.edges)}"
+                f" Hall edges, before the {EDGES_BEFORE} the fault waits for"
+            )
         loop.advance_to(loop.machine.now + loop.run.board.pwm_period_ticks())
 
 

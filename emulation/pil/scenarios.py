@@ -242,6 +242,7 @@ class Run:
         self.rpm = default_rpm(spec)
         self.published_after: int | None = None
         self._armed_edges = 0  # the first edge after boot only arms the measurement
+        self._due: int | None = None  # where the sector entered last ends at `rpm`
 
     def _watch_publication(self) -> None:
         """The timing handler fills the slot the Hall edge is not reading, then publishes
@@ -332,9 +333,11 @@ class Run:
         """Turn up to `sectors` sectors, stopping at the first 0.5 us step where
         `reached()` holds; whether it did."""
         for _ in range(sectors):
+            self._finish_sector()
             self.sector = (self.sector + 1) % 6
             self.board.set_hall(self.spec.hall.sequence[self.sector])
             end = self.machine.now + self.sector_ticks()
+            self._due = end
             while self.machine.now < end:
                 if reached():
                     return True
@@ -346,18 +349,36 @@ class Run:
         for _ in range(sectors):
             self.step(self.sector_ticks())
 
-    def step(self, ticks: int) -> None:
-        """One Hall step, then `ticks` in the new sector; the edge must change the
-        enables in force."""
+    def step(self, ticks: int, *, sector: int | None = None) -> None:
+        """One Hall step (once the sector entered last has ended), then `ticks` in the
+        new sector, which lasts `sector` ticks (default: `ticks`); the edge must change
+        the enables in force."""
+        self._finish_sector()
         before = self.machine.tim1.ccer
         self.sector = (self.sector + 1) % 6
         self.board.set_hall(self.spec.hall.sequence[self.sector])
+        self._due = self.machine.now + (ticks if sector is None else sector)
         self.machine.run_for(ticks)
         if self.machine.tim1.moe and self.machine.tim1.ccer == before and self._armed_edges:
             self._note(
                 f"a Hall edge to code {self.spec.hall.sequence[self.sector]} did not commutate"
             )
         self._armed_edges += 1
+
+    def _finish_sector(self) -> None:
+        """Hold the Hall code to the end of the sector entered last: a cause placed
+        inside it (`into_sector`) leaves the rest for the next step."""
+        if self._due is not None and self.machine.now < self._due:
+            self.machine.run_for(self._due - self.machine.now)
+
+    def into_sector(self, fraction: float) -> None:
+        """One Hall step at `rpm`, then `fraction` of the sector: a cause placed there
+        comes inside a sector of the rotor's speed, and a later step waits for its end.
+        Running on for the fraction after a whole sector held that code for 1 +
+        `fraction` sectors instead: beyond TIM3's range where a sector nears it (a 72 MHz
+        Hall clock near controller.speed_min), so the Hall timed out before the cause."""
+        sector = self.sector_ticks()
+        self.step(round(sector * fraction), sector=sector)
 
     def sector_ticks(self) -> int:
         pole_pairs = self.spec.motor.poles // 2
@@ -469,7 +490,8 @@ def default_rpm(spec: Spec) -> float:
 
 
 def _over_voltage(run: Run) -> Outcome:
-    run.turn(SETTLE_SECTORS)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     step = run.next_update()
     nominal = float(run.spec.inverter.bus_voltage_nominal_v)
     high = 1.1 * float(run.spec.inverter.bus_voltage_max_v)
@@ -488,8 +510,8 @@ def _bus_step_after_a_sample(run: Run, volts: float) -> int:
     """The bus steps to `volts` just after an injected sequence: the instant a bus the
     sampled path alone would see waits longest (a whole PWM period) for the next
     sample, so only the analog watchdog on every conversion meets the limit. The cause."""
-    run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 3)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     _after_a_sample(run)
     cause = run.machine.now
     run.board.set_bus_voltage(volts)
@@ -537,24 +559,19 @@ def _break_input(run: Run) -> Outcome:
     )
 
 
-def _break_at(
-    run: Run, bus_v: float, name: str, note: str, *, whole_intervals: bool = False
-) -> Outcome:
+def _break_at(run: Run, bus_v: float, name: str, note: str) -> Outcome:
     """The break input mid-sector at the run's speed and the bus `bus_v` (set from the
     start, so the port's bus change has run at it): MOE clears in hardware and the
-    outputs take the idle levels the port chose for that speed and bus. With
-    `whole_intervals` every Hall interval before the break is the run's sector (the port
-    chooses the safe state from the last one); else the one before the break's sector is
-    a third longer."""
+    outputs take the idle levels the port chose for that speed and bus (from the last
+    Hall interval, a whole sector at the run's speed: `into_sector`)."""
     run.board.set_bus_voltage(bus_v)
-    run.turn(SETTLE_SECTORS)
-    if not whole_intervals:
-        run.machine.run_for(run.sector_ticks() // 3)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     # the break while an upper switch conducts, if one does within the sector: the hand-
     # over to the lower switches (the short circuit) then needs the dead time
     tim1 = run.machine.tim1
     if not run.turn_until(lambda: any(tim1.gates()[0::2]), 6):
-        run.machine.run_for(run.sector_ticks() // 3)  # no upper switch conducts: mid-sector
+        run.into_sector(1 / 3)  # no upper switch conducts: mid-sector
     cause = run.machine.now
     run.board.set_break(True)
     run.run_until_tripped(run.board.pwm_period_ticks())
@@ -629,7 +646,6 @@ def _rectifying_side(run: Run, side: int) -> Outcome:
         f"bus {bus_v:.2f} V, where all-off rectifies from {rpm:.0f} rpm: the break at"
         f" {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%}); the safe state after the dead"
         " time is the spec's there",
-        whole_intervals=True,
     )
 
 
@@ -642,10 +658,11 @@ def _above_rectifying(run: Run) -> Outcome:
 
 
 def _hall_unplugged(run: Run) -> Outcome:
-    run.turn(SETTLE_SECTORS)
-    while bin(run.spec.hall.sequence[run.sector]).count("1") != 1:
+    run.turn(SETTLE_SECTORS - 1)
+    # into a sector whose code has one line high (7 then raises two together)
+    while bin(run.spec.hall.sequence[(run.sector + 1) % 6]).count("1") != 1:
         run.turn(1)
-    run.machine.run_for(run.sector_ticks() // 3)
+    run.into_sector(1 / 3)
     cause = run.machine.now
     run.board.set_hall(7)  # the two low lines pulled up at once: no TI1 edge
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
@@ -678,8 +695,8 @@ def _hall_pulse(run: Run, during: int, width: int, what: str) -> int:
 
 
 def _hall_glitch(run: Run) -> Outcome:
-    run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 3)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     code = run.spec.hall.sequence[run.sector]
     width = max(1, run.machine.tim3._filter_ticks() // 2)
     # one line flips for half the input filter's time, to a valid code (the EXTI wakes
@@ -717,13 +734,21 @@ def _hall_off_marks(run: Run) -> Outcome:
     # each sector (1 - d) of the one before: (1 - d)^2 >= 1 - 2 d of the one two before
     halves = [shortening * step / SHORTENING_STEPS / 2 for step in range(1, SHORTENING_STEPS + 1)]
     # the shortest sector of a run still inside the speed range
-    run.rpm = 0.98 * (1.0 - halves[-1]) ** 6 * float(run.spec.controller.speed_max_rpm)
+    top = 0.98 * float(run.spec.controller.speed_max_rpm)
+    run.rpm = (1.0 - halves[-1]) ** 6 * top
+    shortest = 0
+    if run.rpm < float(run.spec.controller.speed_min_rpm):
+        # a range narrower than the run's 1/(1 - d)^6 (11 000 to 12 000 rpm on a 72 MHz
+        # Hall clock): below it the sectors outlasted TIM3's range (the Hall timed out),
+        # so the run starts at the lowest speed and its sectors stop at the top speed's
+        run.rpm = float(run.spec.controller.speed_min_rpm)
+        shortest = round(TICK_HZ * 60 / (top * run.spec.motor.pole_pairs * 6))
     run.turn(SETTLE_SECTORS)
     base = run.sector_ticks()
     for half in halves:
         factors = [(1.0 - half) ** k for k in range(1, 7)]
         for factor in (*factors, 1.0):
-            run.step(round(base * factor))
+            run.step(max(shortest, round(base * factor)))
     return run.outcome(
         "Hall sensors off their marks",
         None,
@@ -741,10 +766,11 @@ HALL_SPIKE_NS = 500
 
 
 def _hall_spike(run: Run) -> Outcome:
-    run.turn(SETTLE_SECTORS)
-    while bin(run.spec.hall.sequence[run.sector]).count("1") != 1:
+    run.turn(SETTLE_SECTORS - 1)
+    # into a sector whose code has one line high (7 then raises two together)
+    while bin(run.spec.hall.sequence[(run.sector + 1) % 6]).count("1") != 1:
         run.turn(1)
-    run.machine.run_for(run.sector_ticks() // 3)
+    run.into_sector(1 / 3)
     width = HALL_SPIKE_NS * TICK_HZ // 1_000_000_000
     # the two low lines together: no TI1 edge, the EXTI sees 7
     began = _hall_pulse(run, 7, width, "spike")
@@ -838,8 +864,8 @@ def _check_quiet_while_faulted(run: Run) -> None:
 
 
 def _bus_stuck_at_zero(run: Run) -> Outcome:
-    run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 3)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     cause = run.machine.now
     run.board.set_bus_voltage(0.0)
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
@@ -872,8 +898,8 @@ def zero_current_reads_on(spec: Spec, rail_v: float) -> bool:
 
 
 def _current_sensor(run: Run, rail_v: float, which: str) -> Outcome:
-    run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 3)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     _after_a_sample(run)
     cause = run.machine.now
     channel = run.spec.sensing.current_channels[0]
@@ -916,8 +942,8 @@ SKIP_GAP_NS = 200
 
 
 def _hall_sequence(run: Run) -> Outcome:
-    run.turn(SETTLE_SECTORS)
-    run.machine.run_for(run.sector_ticks() // 2)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 2)
     sequence = run.spec.hall.sequence
     now_code = sequence[run.sector]
     middle = sequence[(run.sector + 1) % 6]
@@ -1017,8 +1043,9 @@ REVERSAL_LOW_FRACTION = 0.2
 
 def _reversal(run: Run) -> Outcome:
     """The rotor turns back (it oscillates as it stops, or is driven backwards): after
-    the settling sectors the Hall code steps back one sector mid-sector, then on
-    backwards. A reverse edge is valid (no fault), but a phase whose other switch is on
+    the settling sectors it turns back half-way into a sector (its code steps back a
+    sector's time after the last edge), then on backwards. A reverse edge is valid (no
+    fault), but a phase whose other switch is on
     now must not hand over from one switch to the other in one COM event: TIM1 inserts
     no dead time between the two outputs of a channel enabled one at a time (RM0008
     Table 83), so the gate invariant sees it."""
@@ -1026,8 +1053,10 @@ def _reversal(run: Run) -> Outcome:
     high = float(run.spec.controller.speed_max_rpm)
     for rpm in (run.rpm, low + REVERSAL_LOW_FRACTION * (high - low)):
         run.rpm = rpm
+        # half a sector on and back again: the reverse edge a sector after the last one
+        # (held for half a sector more, a narrow speed range's slowest sectors reached
+        # TIM3's wrap, and the Hall timed out)
         run.turn(SETTLE_SECTORS)
-        run.machine.run_for(run.sector_ticks() // 2)
         for _ in range(6):
             run.sector = (run.sector - 1) % 6
             run.board.set_hall(run.spec.hall.sequence[run.sector])
@@ -1037,7 +1066,7 @@ def _reversal(run: Run) -> Outcome:
         None,
         None,
         None,
-        "the Hall code steps back one sector mid-sector and turns on backwards for six"
+        "the rotor turns back half-way into a sector and on backwards for six"
         f" sectors, at the scenarios' speed and at {REVERSAL_LOW_FRACTION:g} of the speed"
         " range, each after turning forwards again: no fault, no switch-over within a leg"
         " without the dead time",
@@ -1062,7 +1091,8 @@ def _hse_fails_running(run: Run) -> Outcome:
     SYSCLK to the HSI (8 MHz, a ninth of the PLL's 72 MHz: every timer slows as much)
     and raises the NMI, whose handler must reach the safe state within one PWM period
     of the failure, the spec's safe state at the run's speed and bus."""
-    run.turn(SETTLE_SECTORS)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
     cause = run.next_update() + run.board.pwm_period_ticks() // 3
     run.machine.rcc.fail_hse(cause)
     run.run_until_tripped(20 * run.board.pwm_period_ticks())
