@@ -104,6 +104,9 @@ INJECTED_LATENCY_CYCLES = 3
 #: 11.12.12): the current channel(s) first, the bus divider in the remaining slots.
 INJECTED_CONVERSIONS = 4
 BREAK_POLARITIES = ("active_low", "active_high")
+#: The bus fault handler's path from its entry to MOE cleared, with its entry: 165
+#: cycles on the paper motor's under-voltage path (`make bench`), 2.3 us at 72 MHz.
+FAULT_PATH_ALLOWANCE_S = Fraction(5, 2_000_000)
 SAFE_STATES = ("all_off", "short_circuit")
 INTEGRATIONS = ("vector_table", "cube")
 #: A loop delay of one PWM period costs 360 deg x f_c / f_pwm of phase margin: at
@@ -415,6 +418,19 @@ def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -
     return 1 / Fraction(pwm_frequency_hz) + sequence / ADC_CLOCK_HZ
 
 
+def bus_fault_detection_s(adc_sample_cycles: Fraction, current_samples: int) -> Fraction:
+    """Seconds from a bus step to the analog watchdog's flag, at worst: the bus channel
+    sampled just before the step, then either the injected sequence (its latency and
+    INJECTED_CONVERSIONS conversions, the bus in its last slots) or the conversion in
+    flight, the current channel(s) of a sequence that starts meanwhile and the next bus
+    conversion (regular or injected; both are watched)."""
+    conversions = max(INJECTED_CONVERSIONS, current_samples + 2)
+    cycles = INJECTED_LATENCY_CYCLES + conversions * (
+        Fraction(adc_sample_cycles) + ADC_CONVERSION_CYCLES
+    )
+    return cycles / ADC_CLOCK_HZ
+
+
 def current_samples(topology: str) -> int:
     """Current conversions at the head of the injected sequence: the DC-link shunt, or
     the three phase shunts (A, B, C)."""
@@ -625,6 +641,42 @@ def check_drive(
         adc_sample_cycles=sensing.adc_sample_cycles,
         current_samples=current_samples(sensing.topology),
     )
+    # A bus fault's safe state within one PWM period: the watchdog's worst detection
+    # (which also bounds the injected sequence: it must end before the next trigger, or
+    # the ADC drops that trigger and the loop its period) and the handler's path to MOE;
+    # where the sample window leaves too little duty (below), that names the sample time.
+    samples = current_samples(sensing.topology)
+    fault_s = bus_fault_detection_s(sensing.adc_sample_cycles, samples) + FAULT_PATH_ALLOWANCE_S
+    if fault_s > 1 / f_pwm and window.duty_max_counts >= int(period) // 4:
+        fitting = [
+            c
+            for c in ADC_SAMPLE_CYCLES
+            if bus_fault_detection_s(c, samples) + FAULT_PATH_ALLOWANCE_S <= 1 / f_pwm
+        ]
+        problem = (
+            f"a bus fault is seen at worst {_g(fault_s * 10**6)} us after it comes (the injected"
+            f" sequence of {INJECTED_CONVERSIONS} conversions or the current sample(s) and two"
+            f" bus conversions of {_g(sensing.adc_sample_cycles)} + 12.5 ADC cycles at"
+            " 12 MHz, and the handler's path to MOE): beyond the PWM period of"
+            f" {_g(10**6 / f_pwm)} us, within which the safe state must be reached"
+        )
+        if fitting:
+            r.report(
+                "sensing.adc_sample_time",
+                raw("sensing.adc_sample_time"),
+                problem,
+                f"<= {_g(max(fitting))} ADC clock cycles at inverter.pwm_frequency {_g(f_pwm)} Hz",
+            )
+        else:
+            fastest = 1 / (
+                bus_fault_detection_s(ADC_SAMPLE_CYCLES[0], samples) + FAULT_PATH_ALLOWANCE_S
+            )
+            r.report(
+                "inverter.pwm_frequency",
+                raw("inverter.pwm_frequency"),
+                problem,
+                f"<= {_g(fastest)} Hz (the shortest sample time, 1.5 ADC cycles)",
+            )
     if window.duty_max_counts < int(period) // 4:
         # the key to change: the ADC's sample time where a shorter one leaves the 25 %
         # (a 239.5-cycle sample was reported under the settling time), else the settling

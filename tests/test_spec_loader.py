@@ -8,6 +8,7 @@ quantities, the unit, so a user can fix the YAML from the message alone.
 from __future__ import annotations
 
 import hashlib
+import re
 from collections.abc import Callable
 from fractions import Fraction
 from pathlib import Path
@@ -866,6 +867,42 @@ def test_a_too_long_adc_sample_should_name_the_sample_time_and_the_longest_that_
     assert "(allowed: <= 71.5 ADC clock cycles" in lines[0], lines
     fits = _write(tmp_path, text.replace("adc_sample_time: 13.5", "adc_sample_time: 71.5"))
     assert load_spec(fits).sensing.adc_sample_cycles == Fraction(143, 2)
+
+
+@pytest.mark.parametrize(
+    ("sample", "pwm", "key", "allowed"),
+    [
+        # the paper motor's DC-link shunt: 239.5 cycles leave the window its duty, but four
+        # injected conversions take 84 us of a 50 us period (the PIL's bus faults took 60 us)
+        ("239.5", "20 kHz", "sensing.adc_sample_time", "<= 71.5 ADC clock cycles"),
+        # phase shunts at 100 kHz, the loader's fastest PWM: three current conversions
+        # come before the bus's; at 7.5 cycles that is 8.6 us, with the path 11.1 us
+        ("7.5", "100 kHz", "sensing.adc_sample_time", "<= 1.5 ADC clock cycles"),
+    ],
+    ids=["long-sample", "phase-shunts-100k"],
+)
+def test_a_bus_fault_seen_later_than_a_pwm_period_should_be_refused_in_one_line(
+    tmp_path: Path, sample: str, pwm: str, key: str, allowed: str
+) -> None:
+    """The analog watchdog sees a bus step within the injected sequence or the current
+    sample(s) and two bus conversions; with the handler's path to MOE that must fit a
+    PWM period (the safe state within one period), which also keeps the sequence from
+    running into the next trigger. The longest sample that fits loads."""
+    name = "paper_motor.yaml" if pwm == "20 kHz" else "example_maxon_ec45_flat_48v.yaml"
+    text = (ROOT / "spec" / name).read_text(encoding="utf-8")
+    edited = re.sub(r"adc_sample_time: [0-9.]+", f"adc_sample_time: {sample}", text)
+    edited = re.sub(r"pwm_frequency: [0-9.]+ kHz", f"pwm_frequency: {pwm}", edited)
+    edited = re.sub(r"dead_time: [0-9.]+ ns", "dead_time: 200 ns", edited)  # < 10 % at 100 kHz
+    with pytest.raises(SpecError) as caught:
+        load_spec(_write(tmp_path, edited))
+    lines = [line for line in str(caught.value).splitlines() if "a bus fault is seen" in line]
+    assert len(lines) == 1 and f"{key} = " in lines[0], str(caught.value)
+    assert f"(allowed: {allowed}" in lines[0], lines
+    longest = allowed.split()[1]
+    fits = _write(
+        tmp_path, edited.replace(f"adc_sample_time: {sample}", f"adc_sample_time: {longest}")
+    )
+    assert load_spec(fits).sensing.adc_sample_cycles == Fraction(longest)
 
 
 def test_a_conventional_drive_whose_commutations_fill_the_sectors_should_be_warned_of() -> None:
