@@ -6,9 +6,10 @@ paper's Eq. 1 does):
 
 * resistance and inductance measured line to line are two phases in series, so the
   phase value is half;
-* a line-to-line back-EMF constant is 2 k_e (two conducting phases, Eq. 4); the spec
-  keeps the datasheet's number with `back_emf_convention: line_to_line` and the loader
-  halves it;
+* a line-to-line back-EMF constant is 2 k_e (two conducting phases, Eq. 4, on the
+  default 120 deg trapezoid); the spec keeps the datasheet's number with
+  `back_emf_convention: line_to_line` and the loader divides it by the shape's peak
+  line-to-line factor (2 here);
 * a speed constant Kv in rpm/V gives the line-to-line constant 1/Kv (the no-load speed
   per volt of the six-step bus is the speed per volt of line-to-line flat-top EMF);
 * pole pairs are poles / 2.
@@ -442,7 +443,8 @@ def _motor(sheet: Datasheet) -> tuple[dict[str, str], dict[str, str], dict[str, 
         values["back_emf_convention"] = "line_to_line"
         sources["back_emf_convention"] = (
             "the datasheet's constant is line to line (2E of two conducting phases, Eq. 4);"
-            " the loader halves it to the phase k_e"
+            " the loader divides it by the EMF shape's peak line-to-line factor (2 for the"
+            " 120 deg trapezoid) to the phase k_e"
         )
     else:
         si["ke"] = Fraction(236, 100_000)
@@ -720,8 +722,8 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
 #   * Quantities are "<number> <unit>" strings; plain numbers are dimensionless.
 #   * Speeds are mechanical rpm; poles counts poles (pole pairs = poles / 2).
 #   * back_emf_constant is k_e in E = k_e n (paper Eq. 3), the flat-top EMF of one phase;
-#     with back_emf_convention: line_to_line it is the datasheet's line-to-line value
-#     and the loader halves it.
+#     with back_emf_convention: line_to_line it is the datasheet's (peak) line-to-line
+#     value and the loader divides it by the shape's line-to-line factor (2 at 120 deg).
 #   * Every value says where it comes from in `sources`.
 name: {name}
 description: {name} (written by bldc-codegen init; describe your drive here)

@@ -436,8 +436,11 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
         return None
     rated, resistance, inductance, pole_count, inertia = values
     if convention == "line_to_line":
-        # Flat-top line-to-line EMF of the two conducting phases is 2E (paper Eq. 4).
-        k_e /= 2
+        # The datasheet's constant is the peak line-to-line EMF per rpm, lambda E with
+        # lambda the shape's (spec_drive.line_to_line_peak): 2 for a flat top of 60 deg
+        # or more (the paper's Eq. 4: the two conducting phases at +E and -E), less for a
+        # narrower top or a sine-like table (sqrt 3), where halving read E too low.
+        k_e /= spec_drive.line_to_line_peak(shape)
     return Motor(
         rated_voltage_v=rated,  # type: ignore[arg-type]
         phase_resistance_ohm=resistance,  # type: ignore[arg-type]

@@ -170,6 +170,28 @@ def test_line_to_line_convention_halves_back_emf_constant(tmp_path: Path) -> Non
     assert type(spec.motor.back_emf_constant_v_per_rpm) is Fraction
 
 
+@pytest.mark.parametrize("shape", ["30 deg", "90 deg", "120 deg", "150 deg"])
+def test_a_line_to_line_constant_should_be_the_peak_line_emf_of_the_spec_shape(
+    tmp_path: Path, shape: str
+) -> None:
+    """A datasheet's line-to-line constant is its peak line-to-line EMF per rpm: E is that
+    over the shape's lambda, which is 2 only for a flat top of 60 deg or more (halving
+    read a 30 deg motor's E 20 % low). Checked with the PIL's own peak of e_a - e_b,
+    taken numerically from sim's waveform of the shape."""
+    from emulation.pil.scenarios import peak_line_emf_v
+
+    text = _replace("back_emf_convention: phase", "back_emf_convention: line_to_line")(DEFAULT_TEXT)
+    text = text.replace(
+        "\n  back_emf_convention: line_to_line\n",
+        f"\n  back_emf_convention: line_to_line\n  back_emf_shape: {shape}\n",
+    )
+    spec = load_spec(_write(tmp_path, text, "line_to_line_shape.yaml"))
+    datasheet = Fraction(236, 100000)  # the paper motor's 2.36 V/krpm, read as line to line
+    assert peak_line_emf_v(spec, 1000.0) == pytest.approx(float(datasheet * 1000), rel=1e-3)
+    if shape in ("90 deg", "120 deg", "150 deg"):
+        assert spec.motor.back_emf_constant_v_per_rpm == datasheet / 2
+
+
 # --------------------------------------------------------------------------- bad specs
 
 BAD_SPECS = [
