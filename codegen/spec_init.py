@@ -51,7 +51,13 @@ from codegen.spec_loader import (
     load_spec,
     out_of_range,
 )
-from codegen.spec_model import COMMUTATION_METHODS, BackEmfShape, Spec, SpecWarning
+from codegen.spec_model import (
+    COMMUTATION_METHODS,
+    LOOP_DUTY_COUNTS_MAX,
+    BackEmfShape,
+    Spec,
+    SpecWarning,
+)
 
 TIMER_CLOCK_HZ = 72_000_000
 #: Hall timer clocks that divide the 72 MHz timer clock, slowest first.
@@ -848,8 +854,10 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
 
     try:
         needed = accuracy_needed(widest_design(spec))
-        if needed > spec.accuracy.current_loop_duty_counts:
+        if spec.accuracy.current_loop_duty_counts < needed <= LOOP_DUTY_COUNTS_MAX:
             # the PI's widest format cannot meet 1 count: the spec says what it does meet
+            # (beyond what a spec may ask, the design's refusal below names what builds:
+            # a 1 H, 100 ohm motor's 35.5 counts had been written, and refused by the loader)
             targets = replace(targets, loop_counts=_round_up(needed * 100, 1) / 100)
             spec = rewrite(targets)
         design(spec)

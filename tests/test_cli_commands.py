@@ -469,6 +469,25 @@ def test_init_should_state_the_current_loop_accuracy_its_pi_can_meet(
     assert not (tmp_path / "generated" / "strict").exists()
 
 
+def test_init_should_refuse_in_one_line_a_motor_whose_pi_meets_no_spec_target(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 1 H, 100 ohm motor's PI meets 35.5 counts, beyond the 16 a spec may ask: init
+    wrote 35.53, and its own loader refused that in one line about a value init chose.
+    It now keeps 1 count and reports the design's refusal, which names what builds (a
+    current sense gain), as it does for the commutation core's targets."""
+    argv = [
+        *("init", "big_l", "--pole-pairs", "4", "--ke", "50 V/krpm"),
+        *("--resistance", "100 ohm", "--inductance", "1 H", "--bus-voltage", "48 V"),
+    ]
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(argv) == ExitCode.SPEC
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("error: spec/big_l.yaml: current_loop.bandwidth: fixed-point"), err
+    assert "a current code of fewer amperes does: adc.current_gain = " in err[0], err
+    assert "current_loop_duty_counts: 1.0\n" in (tmp_path / "spec" / "big_l.yaml").read_text()
+
+
 #: a 4-pole-pair Kv-30 motor on 6 V: 10 mohm and 2.5 uH a phase, 40 kHz, method none
 KV30_NONE = [
     *("--pole-pairs", "4", "--kv", "30", "--resistance-line-to-line", "0.02 ohm"),
