@@ -629,7 +629,7 @@ def test_a_spec_no_design_meets_is_a_bad_spec_for_every_command(
             ],
             ("sequence: [5, 4, 6, 2, 3, 1]", "sequence: [3, 2, 6, 4, 5, 1]"),
             id="46-pole-hub-cut-off-200-rpm-reversed-hall-order",
-            marks=pytest.mark.heavy(seconds=19),
+            marks=pytest.mark.heavy(seconds=16),
         ),
         pytest.param(
             "drone14",
@@ -640,7 +640,7 @@ def test_a_spec_no_design_meets_is_a_bad_spec_for_every_command(
             ],
             ("pwm_alignment: edge", "pwm_alignment: center"),
             id="14-pole-7000-rpm-line-to-line-centre-aligned-16-kHz",
-            marks=pytest.mark.heavy(seconds=12),
+            marks=pytest.mark.heavy(seconds=9),
         ),
         pytest.param(
             "conventional",
@@ -650,7 +650,7 @@ def test_a_spec_no_design_meets_is_a_bad_spec_for_every_command(
             ],
             ("method: improved", "method: conventional"),
             id="conventional-method",
-            marks=pytest.mark.heavy(seconds=14),
+            marks=pytest.mark.heavy(seconds=13),
         ),
     ],
 )

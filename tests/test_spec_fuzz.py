@@ -464,7 +464,7 @@ def run_case(raw: bytes, design: bool = True) -> str:
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 @given(spec_case())
-@pytest.mark.heavy(seconds=22)
+@pytest.mark.heavy(seconds=21)
 def test_a_malformed_spec_is_refused_cleanly_or_designed(case: tuple[str, bytes]) -> None:
     _, raw = case
     outcome = run_case(raw)
