@@ -777,6 +777,8 @@ def section_times(b: Bench, report: Report) -> None:
 def section_pil(b: Bench, report: Report) -> None:
     from emulation.pil.braking import BrakingLoop, braking_setup
     from emulation.pil.build import ToolError, build_firmware
+    from emulation.pil.bus import PilError
+    from emulation.pil.iwdg import WatchdogResetError
 
     motor_s = PIL_MOTOR_S / 10 if b.quick else PIL_MOTOR_S
     name = f"PIL: {PIL_MOTOR_S * 1e3:.0f} ms of motor time, plant in the loop"
@@ -792,9 +794,13 @@ def section_pil(b: Bench, report: Report) -> None:
     setup = replace(
         braking_setup(b.spec, short=False), max_seconds=motor_s, stop_rpm=0.0, trace_seconds=0.0
     )
-    loop = BrakingLoop(elf, b.generated / "c" / "stm32f103_port.c", b.spec, setup)
     started = time.perf_counter()
-    result = loop.run_braking()
+    try:
+        loop = BrakingLoop(elf, b.generated / "c" / "stm32f103_port.c", b.spec, setup)
+        result = loop.run_braking()
+    except (PilError, WatchdogResetError, TimeoutError) as error:  # a miss, with its reason
+        report.add(Figure(name, float("inf"), "s", TARGET_PIL_S, f"not run: {error}", 1))
+        return
     seconds = time.perf_counter() - started
     emulated = result.emulated_s
     report.add(

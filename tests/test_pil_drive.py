@@ -248,3 +248,24 @@ def test_a_lasting_over_voltage_should_not_starve_the_watchdog(elf: Path, spec: 
     board.set_bus_voltage(1.1 * float(spec.inverter.bus_voltage_max_v))
     board.run_seconds(3 * float(spec.firmware.watchdog_timeout_s))
     assert board.symbol("app_faults") & FAULT["OVER_VOLTAGE"]
+
+
+def test_a_50khz_firmware_should_be_found_asleep_after_its_boot(tmp_path: Path) -> None:
+    """The boot runs until main's first WFI. It used to look for a sleep at the end of
+    each 100 us step: on a 50 kHz PWM every step ended just after the current loop's
+    interrupt, with main awake, and this 100 000 rpm fixture timed out its boot (every
+    PIL scenario and the braking run failed). The first WFI is counted now, and the
+    firmware then sleeps most of a PWM period."""
+    from emulation.pil.build import build_firmware, generate
+
+    fixture = ROOT / "tests" / "fixtures" / "pil" / "pp1_100k_ir_centre.yaml"
+    elf = build_firmware(fixture, tmp_path, generate(fixture, tmp_path / "generated"))
+    board = booted(elf, load_spec(str(fixture)))
+    machine = board.machine
+    assert machine.sleeps >= 1
+    period = TICK_HZ // 50_000
+    asleep = 0
+    for _ in range(200):  # 200 samples a fifth of a period apart: main mostly asleep
+        machine.run_for(period // 5 + 1)
+        asleep += machine.sleep_pc is not None
+    assert asleep > 100, asleep

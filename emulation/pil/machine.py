@@ -212,6 +212,9 @@ class Machine:
         self.cycle_ticks = TICK_HZ // 8_000_000  # the HSI out of reset
         self.error: BaseException | None = None
         self.sleep_pc: int | None = None
+        #: WFI instructions executed so far (a sleep an interrupt ends before anyone
+        #: looks still counts)
+        self.sleeps = 0
         self.exceptions_taken = 0
         self.handler_entries: dict[int, int] = {}
         #: (tick, exception number) of every exception entry, tail-chained ones included
@@ -428,6 +431,7 @@ class Machine:
 
     def _on_wfi(self, uc: Uc, address: int, _size: int, _data: object) -> None:
         self.sleep_pc = address
+        self.sleeps += 1
         uc.emu_stop()
 
     def _on_interrupt(self, uc: Uc, number: int, _data: object) -> None:

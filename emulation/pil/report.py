@@ -22,6 +22,7 @@ from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
 from emulation.pil.build import ROOT, ToolError, build_firmware, checked_in, generate
 from emulation.pil.bus import PilError
+from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.plant_faults import PLANT_FAULTS, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import SCENARIOS, Outcome, run_scenario
@@ -172,7 +173,8 @@ def main(argv: list[str] | None = None) -> int:
                 setup = braking_setup(spec, short=args.braking == "short")
                 try:
                     result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
-                except PilError as error:  # e.g. a fault latched at boot: no motor to brake
+                except (PilError, WatchdogResetError, TimeoutError) as error:
+                    # e.g. a fault latched at boot, or no boot at all: no motor to brake
                     print(f"error: pil: {spec.name}: braking: {error}", file=sys.stderr)
                     return 1
                 names = braking_report.write_figures(result, target.parent)

@@ -98,7 +98,10 @@ class DriveBoard:
         allowed = BOOT_LIMIT_S + self.spec.firmware.hse_startup_timeout_s
         limit = self.machine.now + int(allowed * TICK_HZ)
         step = TICK_HZ // 10_000
-        while self.machine.sleep_pc is None:
+        # the first WFI counted, not a sleep seen at a step's end: with a 50 kHz PWM the
+        # 100 us steps fell each time just after the current loop's interrupt, with main
+        # awake, and a booted 100 000 rpm motor timed out its boot
+        while self.machine.sleeps == 0:
             if self.machine.now >= limit:
                 raise TimeoutError(
                     f"the firmware did not reach its WFI within {float(allowed):g} s"

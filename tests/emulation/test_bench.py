@@ -225,6 +225,25 @@ def test_an_image_over_its_ram_budget_should_be_a_pil_miss_not_a_traceback(
     assert "not run: bldc-codegen firmware" in out and "of 512 B (EXCEEDED)" in out
 
 
+def test_a_firmware_that_never_boots_should_be_a_pil_miss_not_a_traceback(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The braking run's boot timing out (as a 50 kHz firmware's did, when the boot
+    looked for a sleep at the end of 100 us steps) raised a traceback out of the bench:
+    it is a miss naming what happened, and the bench exits 1."""
+    from emulation.pil import runner
+
+    def never(self: runner.DriveBoard) -> int:
+        raise TimeoutError("the firmware did not reach its WFI within 0.11 s")
+
+    monkeypatch.setattr(runner.DriveBoard, "boot", never)
+    spec = str(ROOT / "spec" / "paper_motor.yaml")
+    assert main([spec, "--only", "pil", "--quick", "--work", str(tmp_path / "work")]) == 1
+    out = capsys.readouterr().out
+    assert "PIL: 100 ms of motor time, plant in the loop: inf s" in out
+    assert "not run: the firmware did not reach its WFI" in out
+
+
 @pytest.mark.parametrize("only", ["", "size,,handlers", "sizes"])
 def test_an_unknown_or_empty_section_should_be_refused_by_name(
     only: str, capsys: pytest.CaptureFixture[str]
