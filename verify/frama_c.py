@@ -408,9 +408,11 @@ def run_wp(
     provers: tuple[str, ...] = WP_PROVERS,
     skip: tuple[str, ...] = (),
     second_pass: bool = False,
+    timeout_s: float = WP_TIMEOUT_S,
 ) -> WpResult:
     """WP on the contracts of `functions` (the core's and the harness's), or on the
-    selection `properties` of them: clause names, or `-name` to leave a clause out."""
+    selection `properties` of them: clause names, or `-name` to leave a clause out.
+    `timeout_s`: each prover's time per goal (the proof's is WP_TIMEOUT_S)."""
     parsed = parse(tools, root, plan, work)
     report = work / f"{tag}.csv"
     selection = [f"-wp-prop={','.join(properties)}"] if properties else []
@@ -427,7 +429,7 @@ def run_wp(
         "-wp-prover",
         ",".join(provers),
         "-wp-timeout",
-        str(WP_TIMEOUT_S),
+        f"{timeout_s:g}",
         "-wp-par",
         str(WP_PARALLEL),
         "-wp-out",

@@ -376,11 +376,17 @@ def prove(targets: list[Target], tools: Tools, build: Path, jobs: int) -> list[O
 
 
 def establish(
-    tools: Tools, target: Target, function: str, names: list[str], work: Path
+    tools: Tools,
+    target: Target,
+    function: str,
+    names: list[str],
+    work: Path,
+    timeout_s: float = WP_TIMEOUT_S,
 ) -> tuple[EvaResult, dict[str, str]]:
     """One function's EVA analysis, and what establishes each of the named clauses of
     its contract (WP's two passes restricted to them, or EVA): the quick form of the
-    whole proof, for checks that a planted fault is caught."""
+    whole proof, for checks that a planted fault is caught. `timeout_s`: each prover's
+    time per goal in both passes."""
     analysis = next(a for a in target.plan["analyses"] if a["function"] == function)  # type: ignore[attr-defined]
     eva = run_eva(tools, target.root, target.plan, analysis, work)
     skip = _copies(target)
@@ -388,7 +394,19 @@ def establish(
     asked = sorted(set(names) - by_eva)
     first, second = _passes(target, [function])
     wp = (
-        [run_wp(tools, target.root, target.plan, [function], work, asked, first, skip=skip)]
+        [
+            run_wp(
+                tools,
+                target.root,
+                target.plan,
+                [function],
+                work,
+                asked,
+                first,
+                skip=skip,
+                timeout_s=timeout_s,
+            )
+        ]
         if asked
         else []
     )
@@ -413,6 +431,7 @@ def establish(
                 WP_SECOND_PROVERS,
                 skip,
                 True,
+                timeout_s,
             )
         )
     return eva, methods()
