@@ -18,6 +18,7 @@ from emulation.pil.scenarios import SCENARIOS, run_scenario
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
+SHORT_RATED = ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml"
 PORT = "c/stm32f103_port.c"
 HEADER = "c/stm32f103_port.h"
 
@@ -54,6 +55,27 @@ MUTANTS = (
         PAPER,
         "below_rectifying",
         "not all off",
+    ),
+    Mutant(
+        # the fixture prefers the short circuit, within its 150 A rating up to 2216 rpm
+        # (T >= 3869 ticks); 5 % short: the short chosen up to 2332 rpm, over the rating
+        "short's rated interval 5 % short: the short chosen above the speed of its rating",
+        HEADER,
+        "#define BLDC_PORT_SHORT_VALID_PERIOD ",
+        "#define BLDC_PORT_SHORT_VALID_PERIOD 3676u",
+        SHORT_RATED,
+        "above_short_rating",
+        "not all off",
+    ),
+    Mutant(
+        # ... 25 % long: all-off from 1773 rpm, where the spec prefers the rated short
+        "short's rated interval 25 % long: all-off chosen where the spec's rated short is due",
+        HEADER,
+        "#define BLDC_PORT_SHORT_VALID_PERIOD ",
+        "#define BLDC_PORT_SHORT_VALID_PERIOD 4836u",
+        SHORT_RATED,
+        "below_short_rating",
+        "not the short circuit",
     ),
     Mutant(
         "clock security system never enabled: a crystal failing while braking stops the chip",

@@ -39,7 +39,10 @@ over the whole run:
   of the speed where all-off starts to rectify (the break input 3 % below and 3 %
   above it, at a bus voltage of the spec's range that puts it in the speed range): the
   port's rule for that speed, found from the bus code and the Hall interval, is
-  checked against the physics where it changes.
+  checked against the physics where it changes; where the spec prefers the short
+  circuit, the short within protection.short_circuit_current_max and all-off above it
+  (the bound of `safe_state.short_circuit_bound_a`), and the break 3 % either side of
+  the speed where that bound meets the rating.
 
 The inputs are set by the scenario (Hall code, comparator, bus and current through the
 spec's sensing chain, `runner.DriveBoard`), not yet by a motor model: the current read
@@ -57,7 +60,6 @@ from fractions import Fraction
 from itertools import pairwise
 from pathlib import Path
 
-import numpy as np
 from unicorn import UC_HOOK_MEM_WRITE
 
 from codegen.port_faults import FAULTS
@@ -67,11 +69,18 @@ from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import Machine, MachineOptions
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
+from emulation.pil.safe_state import (
+    ALL_OFF,
+    SHORT_CIRCUIT,
+    peak_line_emf_v,
+    required_safe_state,
+    short_circuit_bound_a,
+    short_rated_speed,
+)
 from emulation.pil.sample_window import LoopSampleWatch, sample_window_lines
 from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import gate_violations
 from oracle.units import units
-from sim.emf import Waveform
 
 FAULT = {f.name: f.value for f in FAULTS}
 #: The fastest LSI of the datasheet's range: the watchdog's time-out is shortest there
@@ -446,30 +455,6 @@ class Run:
         )
 
 
-#: The gates of each safe state, (CH1, CH1N, CH2, CH2N, CH3, CH3N), upper switches on CHx
-ALL_OFF, SHORT_CIRCUIT = (False,) * 6, (False, True) * 3
-
-
-def peak_line_emf_v(spec: Spec, rpm: float) -> float:
-    """The peak line-to-line EMF at `rpm` from the spec's phase EMF (sim's waveform of
-    motor.back_emf_shape, E = k_e n at its flat top): e_a - e_b at its largest."""
-    wave = Waveform(tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points))
-    angles = np.linspace(0.0, 360.0, 3601)
-    line = np.abs(wave.many(angles) - wave.many(angles - 120.0)).max()
-    return float(spec.motor.back_emf_constant_v_per_rpm) * rpm * float(line)
-
-
-def required_safe_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:
-    """The safe state the spec requires at `rpm` and the bus `bus_v`: the short circuit
-    where all-off rectifies (the peak line EMF at or above the bus: the six diodes
-    conduct into it), all-off where it does not and protection.safe_state prefers it;
-    None where the spec prefers the short and all-off is also valid (whether the short
-    is within protection.short_circuit_current_max there is not worked out here)."""
-    if peak_line_emf_v(spec, rpm) >= bus_v:
-        return SHORT_CIRCUIT
-    return ALL_OFF if spec.protection.safe_state == "all_off" else None
-
-
 def _check_safe_state(run: Run, at: int, bus_v: float, what: str) -> None:
     """The gates at `at` are a safe state, the one the spec requires at the run's speed."""
     gates = run.machine.tim1.gates(at)
@@ -480,7 +465,10 @@ def _check_safe_state(run: Run, at: int, bus_v: float, what: str) -> None:
         name = "the short circuit" if required == SHORT_CIRCUIT else "all off"
         run.violations.append(
             f"gates {gates} {what}: not {name}, the spec's safe state at {run.rpm:.0f} rpm and"
-            f" {bus_v:g} V (peak line EMF {peak_line_emf_v(run.spec, run.rpm):.1f} V)"
+            f" {bus_v:g} V (peak line EMF {peak_line_emf_v(run.spec, run.rpm):.1f} V, the short"
+            f" circuit's bound {short_circuit_bound_a(run.spec, run.rpm):.1f} A against"
+            f" protection.short_circuit_current_max"
+            f" {float(run.spec.protection.short_circuit_current_max_a):g} A)"
         )
 
 
@@ -647,6 +635,68 @@ def _rectifying_side(run: Run, side: int) -> Outcome:
         f" {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%}); the safe state after the dead"
         " time is the spec's there",
     )
+
+
+def short_rating_boundary(spec: Spec) -> tuple[float, float] | None:
+    """Where the spec prefers the short circuit: a bus voltage of the spec's range at
+    which all-off does not rectify up to RECTIFYING_MARGIN above the speed where the
+    short circuit's bound meets protection.short_circuit_current_max, and that speed,
+    with RECTIFYING_MARGIN either side of it 1 % inside the controller's range; None
+    where the spec prefers all-off, or no such speed and bus exist."""
+    if spec.protection.safe_state != "short_circuit":
+        return None
+    rpm = short_rated_speed(spec)
+    controller, inverter = spec.controller, spec.inverter
+    if (
+        not rpm
+        or rpm * (1 - RECTIFYING_MARGIN)
+        < float(controller.speed_min_rpm) * (1 + SPEED_RANGE_INSIDE)
+        or rpm * (1 + RECTIFYING_MARGIN)
+        > float(controller.speed_max_rpm) * (1 - SPEED_RANGE_INSIDE)
+    ):
+        return None
+    line = peak_line_emf_v(spec, rpm * (1 + RECTIFYING_MARGIN) * (1 + SPEED_RANGE_INSIDE))
+    for bus in (inverter.bus_voltage_nominal_v, inverter.bus_voltage_max_v):
+        if line < float(bus):
+            return float(bus), rpm
+    return None
+
+
+def _short_rating_side(run: Run, side: int) -> Outcome:
+    """The break input just below (`side` -1) or just above (+1) the speed where the
+    short circuit's bound meets its rating, where the spec prefers the short: the short
+    below it, all-off above it. Where the spec prefers all-off, or that speed is out of
+    the controller's range, the break at the default speed and nominal bus."""
+    where = "below" if side < 0 else "above"
+    name = f"BKIN {where} the short circuit's rated speed"
+    boundary = short_rating_boundary(run.spec)
+    if boundary is None:
+        nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+        return _break_at(
+            run,
+            nominal,
+            name,
+            "the spec prefers all-off, or its short circuit is within its rating at every"
+            " speed of the controller's range (or at none): the break at the default speed",
+        )
+    bus_v, rpm = boundary
+    run.rpm = rpm * (1 + side * RECTIFYING_MARGIN)
+    return _break_at(
+        run,
+        bus_v,
+        name,
+        f"the short circuit's bound meets protection.short_circuit_current_max at"
+        f" {rpm:.0f} rpm; the break at {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%}),"
+        f" bus {bus_v:g} V (all-off does not rectify): the short below, all-off above",
+    )
+
+
+def _below_short_rating(run: Run) -> Outcome:
+    return _short_rating_side(run, -1)
+
+
+def _above_short_rating(run: Run) -> Outcome:
+    return _short_rating_side(run, +1)
 
 
 def _below_rectifying(run: Run) -> Outcome:
@@ -1098,7 +1148,9 @@ def _hse_fails_running(run: Run) -> Outcome:
     run.run_until_tripped(20 * run.board.pwm_period_ticks())
     cleared = run.machine.tim1.moe_cleared_at
     if cleared is not None:  # TIM1's break takes the clock failure (RM0008 7.2.7)
-        dead = round(run.spec.inverter.dead_time_s * TICK_HZ)
+        # the dead time at the clock TIM1 runs on now: the HSI's 8 MHz, a ninth of the
+        # PLL's, so the lower switches close nine dead times (at 72 MHz) after the break
+        dead = run.machine.tim1.dead_time_ticks()
         bus = float(run.spec.inverter.bus_voltage_nominal_v)
         _check_safe_state(run, cleared + dead + 1, bus, "after the dead time")
     return run.outcome(
@@ -1125,6 +1177,8 @@ SCENARIOS = (
     Scenario("break_input", _break_input),
     Scenario("below_rectifying", _below_rectifying),
     Scenario("above_rectifying", _above_rectifying),
+    Scenario("below_short_rating", _below_short_rating),
+    Scenario("above_short_rating", _above_short_rating),
     Scenario("hall_unplugged", _hall_unplugged),
     Scenario("hall_glitch", _hall_glitch),
     Scenario("hall_spike", _hall_spike),

@@ -1,0 +1,117 @@
+"""The safe state a fault must leave, from the physics at the run's speed and bus: the
+PIL's own yardstick, from the spec and sim's EMF waveform, never the generator's.
+
+* All switches off: the six diodes rectify into the bus once the peak line-to-line EMF
+  reaches it (`peak_line_emf_v`): no safe state there.
+* The active short circuit (the three lower switches on): nothing flows into the bus,
+  but the phases carry the short-circuit current. The spec's requirement
+  (protection.short_circuit_current_max) is on its bound: each harmonic of the phase
+  EMF (every one but the multiples of 3, which drive no current with the star point
+  open) over its impedance |R + j h w L|, their moduli summed (the steady peak), twice
+  that for the entry transient, plus the current at entry (the over-current trip). The
+  harmonics here are the FFT of sim's waveform (`short_circuit_bound_a`), not the
+  generator's series.
+
+Where all-off rectifies the short is required; elsewhere all-off where the spec prefers
+it, and where it prefers the short, the short within its rating and all-off above it
+(within RATING_BAND of the rating either is accepted: the port decides on a Hall
+interval of whole ticks).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from codegen.spec_model import Spec
+from sim.emf import Waveform
+
+#: The gates of each safe state, (CH1, CH1N, CH2, CH2N, CH3, CH3N), upper switches on CHx
+ALL_OFF, SHORT_CIRCUIT = (False,) * 6, (False, True) * 3
+#: Samples of one electrical period for the EMF's harmonics (harmonics up to half of it)
+FFT_SAMPLES = 36_000
+#: Either side of the rating, either safe state is accepted: the port reads the speed as
+#: a Hall interval of whole ticks (well under 0.1 % at every speed of a valid spec)
+RATING_BAND = 0.005
+#: Bisection steps for the speed where the bound meets the rating
+BISECTION_STEPS = 60
+#: The bound is searched up to this multiple of controller.speed_max
+SEARCH_SPAN = 100
+
+
+def _wave(spec: Spec) -> Waveform:
+    return Waveform(tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points))
+
+
+def peak_line_emf_v(spec: Spec, rpm: float) -> float:
+    """The peak line-to-line EMF at `rpm` from the spec's phase EMF (sim's waveform of
+    motor.back_emf_shape, E = k_e n at its flat top): e_a - e_b at its largest."""
+    wave = _wave(spec)
+    angles = np.linspace(0.0, 360.0, 3601)
+    line = np.abs(wave.many(angles) - wave.many(angles - 120.0)).max()
+    return float(spec.motor.back_emf_constant_v_per_rpm) * rpm * float(line)
+
+
+@lru_cache(maxsize=32)
+def _harmonics(points: tuple[tuple[float, float], ...]) -> tuple[np.ndarray, np.ndarray]:
+    """(orders, amplitudes per unit E) of the phase EMF's harmonics that drive current
+    in a star winding: every order >= 1 but the multiples of 3."""
+    wave = Waveform(points)
+    samples = wave.many(np.arange(FFT_SAMPLES) * 360.0 / FFT_SAMPLES)
+    amplitudes = 2.0 * np.abs(np.fft.rfft(samples)) / FFT_SAMPLES
+    orders = np.arange(amplitudes.size)
+    keep = (orders >= 1) & (orders % 3 != 0) & (orders < FFT_SAMPLES // 2)
+    return orders[keep], amplitudes[keep]
+
+
+def short_circuit_bound_a(spec: Spec, rpm: float) -> float:
+    """The spec's bound on the short circuit's peak phase current at `rpm` (A)."""
+    motor = spec.motor
+    orders, amplitudes = _harmonics(_wave(spec).points)
+    e = float(motor.back_emf_constant_v_per_rpm) * rpm
+    omega = 2.0 * math.pi * motor.pole_pairs * rpm / 60.0
+    impedance = np.hypot(
+        float(motor.phase_resistance_ohm), orders * omega * float(motor.phase_inductance_h)
+    )
+    steady = float((amplitudes * e / impedance).sum())
+    return 2.0 * steady + float(spec.protection.over_current_a)
+
+
+def short_rated_speed(spec: Spec) -> float | None:
+    """The speed (rpm) up to which the short circuit's bound is within
+    protection.short_circuit_current_max; None when it is at every speed up to
+    SEARCH_SPAN x controller.speed_max, 0.0 when at none."""
+    rating = float(spec.protection.short_circuit_current_max_a)
+    high = SEARCH_SPAN * float(spec.controller.speed_max_rpm)
+    if short_circuit_bound_a(spec, high) <= rating:
+        return None
+    low = 0.0
+    if short_circuit_bound_a(spec, low) > rating:
+        return 0.0
+    for _ in range(BISECTION_STEPS):
+        middle = (low + high) / 2
+        if short_circuit_bound_a(spec, middle) <= rating:
+            low = middle
+        else:
+            high = middle
+    return low
+
+
+def required_safe_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:
+    """The safe state the spec requires at `rpm` and the bus `bus_v`: the short circuit
+    where all-off rectifies (the six diodes conduct into the bus); else all-off where
+    protection.safe_state prefers it; else the short within its rating, all-off above
+    it; None within RATING_BAND of the rating (either is accepted)."""
+    if peak_line_emf_v(spec, rpm) >= bus_v:
+        return SHORT_CIRCUIT
+    if spec.protection.safe_state == "all_off":
+        return ALL_OFF
+    bound = short_circuit_bound_a(spec, rpm)
+    rating = float(spec.protection.short_circuit_current_max_a)
+    if bound <= rating * (1 - RATING_BAND):
+        return SHORT_CIRCUIT
+    if bound > rating * (1 + RATING_BAND):
+        return ALL_OFF
+    return None

@@ -1,0 +1,123 @@
+"""The PIL's own yardstick for the safe state (emulation/pil/safe_state.py): the short
+circuit's bound from the FFT of sim's waveform, against closed forms, and the regions it
+gives on a motor whose short circuit is within its rating only in part of its range."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from codegen.spec_loader import load_spec
+from codegen.spec_model import BackEmfShape
+from emulation.pil.build import build_firmware, generate
+from emulation.pil.safe_state import (
+    ALL_OFF,
+    RATING_BAND,
+    SHORT_CIRCUIT,
+    _harmonics,
+    peak_line_emf_v,
+    required_safe_state,
+    short_circuit_bound_a,
+    short_rated_speed,
+)
+from emulation.pil.scenarios import (
+    RECTIFYING_MARGIN,
+    SCENARIOS,
+    run_scenario,
+    short_rating_boundary,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+SHORT_RATED = ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml"
+PAPER = ROOT / "spec" / "paper_motor.yaml"
+HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
+
+
+@pytest.mark.parametrize("flat_top_deg", [120, 150, 90])
+def test_the_harmonics_should_be_the_trapezoids_fourier_series(flat_top_deg: int) -> None:
+    """A trapezoid rising linearly over a = (180 - flat top) / 2 degrees from its zero
+    crossing: b_h = 4 sin(h a) / (pi h^2 a), a in radians, odd h only."""
+    shape = BackEmfShape.trapezoid(Fraction(flat_top_deg))
+    orders, amplitudes = _harmonics(tuple((float(a), float(v)) for a, v in shape.points))
+    rise = math.radians((180 - flat_top_deg) / 2)
+    by_order = dict(zip(orders.tolist(), amplitudes.tolist(), strict=True))
+    for h in (1, 5, 7, 11, 13):
+        expected = abs(4 * math.sin(h * rise) / (math.pi * h * h * rise))
+        assert by_order[h] == pytest.approx(expected, abs=1e-6)
+    assert all(by_order[h] < 1e-9 for h in (2, 4, 8, 10))  # half-wave symmetry
+    assert 3 not in by_order and 9 not in by_order  # no current with the star open
+
+
+def test_the_bound_should_be_twice_the_steady_peak_plus_the_entry_current() -> None:
+    """At a low speed (w L << R) the steady peak is E / R times the sum of the EMF's
+    harmonic amplitudes; the bound adds the entry transient and the trip current."""
+    spec = load_spec(str(SHORT_RATED))
+    motor = spec.motor
+    _, amplitudes = _harmonics(
+        tuple((float(a), float(v)) for a, v in motor.back_emf_shape.points)
+    )
+    rpm = 1.0
+    e = float(motor.back_emf_constant_v_per_rpm) * rpm
+    steady = e / float(motor.phase_resistance_ohm) * float(amplitudes.sum())
+    assert short_circuit_bound_a(spec, rpm) == pytest.approx(
+        2 * steady + float(spec.protection.over_current_a), rel=1e-4
+    )
+
+
+def test_the_regions_should_follow_the_rating_where_the_short_is_preferred() -> None:
+    spec = load_spec(str(SHORT_RATED))
+    rated = short_rated_speed(spec)
+    assert rated is not None and 2000 < rated < 2400
+    rating = float(spec.protection.short_circuit_current_max_a)
+    assert short_circuit_bound_a(spec, rated) == pytest.approx(rating, rel=1e-9)
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    assert peak_line_emf_v(spec, 1.1 * rated) < bus
+    assert required_safe_state(spec, 0.97 * rated, bus) == SHORT_CIRCUIT
+    assert required_safe_state(spec, 1.03 * rated, bus) == ALL_OFF
+    assert required_safe_state(spec, rated * (1 + RATING_BAND / 10), bus) is None
+    # where all-off rectifies, the short whatever its current (the loader keeps that
+    # within the rating over the speed range)
+    top = float(spec.inverter.bus_voltage_min_v) / peak_line_emf_v(spec, 1.0)
+    assert required_safe_state(spec, 1.01 * top, float(spec.inverter.bus_voltage_min_v)) == (
+        SHORT_CIRCUIT
+    )
+    # a spec that prefers all-off: all-off below the rectifying speed, at any current
+    all_off = replace(spec, protection=replace(spec.protection, safe_state="all_off"))
+    assert required_safe_state(all_off, 0.5 * rated, bus) == ALL_OFF
+
+
+@pytest.mark.parametrize(("path", "reachable"), [(SHORT_RATED, True), (PAPER, False), (HUB, False)])
+def test_the_rating_boundary_should_lie_inside_the_speed_range_below_rectifying(
+    path: Path, reachable: bool
+) -> None:
+    """Only where the spec prefers the short and its rated speed is in the range (the
+    paper motor prefers all-off; the hub motor's short is within its rating at every
+    speed)."""
+    spec = load_spec(str(path))
+    boundary = short_rating_boundary(spec)
+    assert (boundary is not None) == reachable
+    if boundary is None:
+        return
+    bus_v, rpm = boundary
+    assert float(spec.controller.speed_min_rpm) < rpm * (1 - RECTIFYING_MARGIN)
+    assert rpm * (1 + RECTIFYING_MARGIN) < float(spec.controller.speed_max_rpm)
+    assert peak_line_emf_v(spec, rpm * (1 + RECTIFYING_MARGIN)) < bus_v
+
+
+def test_the_port_should_short_below_the_rated_speed_and_switch_off_above(
+    tmp_path: Path,
+) -> None:
+    """The break input 3 % either side of the rated speed on the fixture: the short
+    circuit after the dead time below it, all-off above it, every invariant kept (port
+    mutants moving the port's rated interval: tests/test_pil_mutants.py)."""
+    spec = load_spec(str(SHORT_RATED))
+    elf = build_firmware(SHORT_RATED, tmp_path, generate(SHORT_RATED, tmp_path / "g"))
+    for key in ("below_short_rating", "above_short_rating"):
+        scenario = next(s for s in SCENARIOS if s.key == key)
+        outcome = run_scenario(elf, spec, scenario)
+        assert outcome.problems == [], (key, outcome.note)
+        assert "meets protection.short_circuit_current_max" in outcome.note
