@@ -57,9 +57,7 @@ def test_the_bound_should_be_twice_the_steady_peak_plus_the_entry_current() -> N
     harmonic amplitudes; the bound adds the entry transient and the trip current."""
     spec = load_spec(str(SHORT_RATED))
     motor = spec.motor
-    _, amplitudes = _harmonics(
-        tuple((float(a), float(v)) for a, v in motor.back_emf_shape.points)
-    )
+    _, amplitudes = _harmonics(tuple((float(a), float(v)) for a, v in motor.back_emf_shape.points))
     rpm = 1.0
     e = float(motor.back_emf_constant_v_per_rpm) * rpm
     steady = e / float(motor.phase_resistance_ohm) * float(amplitudes.sum())
