@@ -56,6 +56,7 @@ from emulation.pil.machine import Machine, MachineOptions, bare_image
 from emulation.pil.plant import Mechanics, MotorPlant
 from emulation.pil.plant_faults import PLANT_FAULTS, PlantFault, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
+from emulation.pil.safe_state import short_circuit_bound_a
 from emulation.pil.scs import IRQ_BASE
 from sim.drive import Drive
 from sim.scenario import Case, switching_table
@@ -531,6 +532,25 @@ def test_each_fault_with_the_hub_motor_in_the_loop_should_latch_in_time(
     outcome = run_plant_fault(elf, port, spec, fault)
     assert outcome.problems == [], (outcome.name, outcome.note)
     assert outcome.latency_ticks is not None
+
+
+def test_the_shorted_motor_should_be_held_to_the_bridges_rating_and_the_bound(
+    hub_firmware: tuple[Path, Path],
+) -> None:
+    """The hub motor prefers the short circuit: after the break input the plant runs on
+    shorted for an electrical period. Its peak phase current (about 117 A at 331 rpm)
+    is within the bound the safe state is chosen by (199 A) and the 300 A rating; the
+    same firmware judged against a bridge rated 100 A fails on the peak."""
+    spec = load_spec(str(HUB))
+    elf, port = hub_firmware
+    fault = next(f for f in PLANT_FAULTS if f.key == "break_input")
+    outcome = run_plant_fault(elf, port, spec, fault)
+    assert outcome.problems == [], outcome.problems
+    peak = float(outcome.note.rsplit("peak phase current ", 1)[1].split(" A")[0])
+    assert 50 < peak < float(short_circuit_bound_a(spec, spec.controller.speed_max_rpm))
+    weak = replace(spec, protection=replace(spec.protection, short_circuit_current_max_a=100))
+    problems = run_plant_fault(elf, port, weak, fault).problems
+    assert any("over protection.short_circuit_current_max 100 A" in p for p in problems), problems
 
 
 def _commutation(

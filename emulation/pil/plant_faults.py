@@ -12,23 +12,36 @@ conduct into the bus after the trip, or the three lower switches short it).
 * bus ADC stuck at 0: the divider's input reads 0 V, the bridge still sees the bus;
 * rotor stops: the rotor is blocked (speed 0): the Hall code stops changing while the
   bridge switches; latency from TIM3's wrap.
+
+Where the fault leaves the short circuit, the motor runs on shorted for an electrical
+period (at least three L/R, at most SHORT_FOLLOW_MAX_S) and the peak phase current the
+plant integrates must stay within protection.short_circuit_current_max and within the
+bound the safe state is chosen by (`safe_state.short_circuit_bound_a`): the physics of
+the choice, not only the gates.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
+
+import numpy as np
 
 from codegen.spec_model import Spec
 from emulation.pil.braking import SETTLING_EDGES, BrakingLoop, braking_setup
 from emulation.pil.bus import PilError
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.rcc import TICK_HZ
+from emulation.pil.safe_state import SHORT_CIRCUIT, short_circuit_bound_a
 from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome
 
 #: Hall edges braked before the cause: the loop, the timing and the commutations run
 EDGES_BEFORE = SETTLING_EDGES + 2
+#: The longest the shorted motor is followed after a trip (s of motor time)
+SHORT_FOLLOW_MAX_S = 0.05
+#: Samples of the phase currents per electrical period while following the short
+SHORT_SAMPLES_PER_PERIOD = 200
 
 
 @dataclass(frozen=True)
@@ -66,6 +79,41 @@ def _until_tripped(loop: BrakingLoop, limit: int) -> None:
             break
         loop.advance_to(machine.now + period)
     loop.run.published_after = None if tripped is None else machine.now - tripped
+
+
+def follow_short_circuit(loop: BrakingLoop) -> tuple[float | None, list[str]]:
+    """After a trip that left the short circuit: the motor shorted for an electrical
+    period (three L/R at least), its peak phase current (A, None where the fault did
+    not leave the short) and what it breaks: the bridge's rating, and the bound of the
+    safe state's choice. The faults the shorted current raises later (the current
+    sensor past its range, the comparator) are its consequence: the outcome is taken
+    before."""
+    machine, plant, spec = loop.machine, loop.plant, loop.spec
+    if machine.tim1.moe or machine.tim1.gates() != SHORT_CIRCUIT or plant.speed_rpm <= 0:
+        return None, []
+    rpm = plant.speed_rpm  # the bound at the speed of entry (the rotor only slows)
+    motor = spec.motor
+    electrical_s = 60.0 / (motor.pole_pairs * rpm)
+    tau_s = float(motor.phase_inductance_h / motor.phase_resistance_ohm)
+    follow_s = min(max(electrical_s, 3 * tau_s), SHORT_FOLLOW_MAX_S)
+    step = max(1, round(min(electrical_s, follow_s) * TICK_HZ / SHORT_SAMPLES_PER_PERIOD))
+    end = machine.now + round(follow_s * TICK_HZ)
+    peak = float(np.abs(plant.currents).max())
+    while machine.now < end and machine.tim1.gates() == SHORT_CIRCUIT:
+        loop.advance_to(min(machine.now + step, end))
+        peak = max(peak, float(np.abs(plant.currents).max()))
+    rating = float(spec.protection.short_circuit_current_max_a)
+    bound = short_circuit_bound_a(spec, rpm)
+    where = f"the short circuit from {rpm:.0f} rpm, followed {follow_s * 1e3:.2f} ms"
+    problems = []
+    if peak > rating:
+        problems.append(
+            f"{where}: peak phase current {peak:.1f} A over"
+            f" protection.short_circuit_current_max {rating:g} A"
+        )
+    if peak > bound:
+        problems.append(f"{where}: peak phase current {peak:.1f} A over its bound {bound:.1f} A")
+    return peak, problems
 
 
 def _over_voltage(loop: BrakingLoop) -> Outcome:
@@ -160,7 +208,15 @@ def run_plant_fault(elf: Path, port_source: Path, spec: Spec, fault: PlantFault)
     """One fault with the motor in the loop, braking from the braking scenario's start."""
     loop = BrakingLoop(elf, port_source, spec, braking_setup(spec, short=True))
     try:
-        return fault.run(loop)
+        outcome = fault.run(loop)
+        peak, problems = follow_short_circuit(loop)
     except (PilError, WatchdogResetError) as error:
         loop.run.violations.append(f"{type(error).__name__}: {error}")
         return loop.run.outcome(fault.key, "never", None, None, "aborted")
+    if peak is None:
+        return outcome
+    return replace(
+        outcome,
+        violations=(*outcome.violations, *problems),
+        note=f"{outcome.note}; shorted after the trip, peak phase current {peak:.1f} A",
+    )
