@@ -393,23 +393,26 @@ def establish(
     by_eva = set(eva_established(eva)) & set(names)
     asked = sorted(set(names) - by_eva)
     first, second = _passes(target, [function])
-    wp = (
-        [
-            run_wp(
-                tools,
-                target.root,
-                target.plan,
-                [function],
-                work,
-                asked,
-                first,
-                skip=skip,
-                timeout_s=timeout_s,
-            )
-        ]
-        if asked
-        else []
-    )
+
+    def wp_pass(
+        selection: list[str], options: tuple[str, ...], tag: str, provers: tuple[str, ...]
+    ) -> WpResult:
+        return run_wp(
+            tools,
+            target.root,
+            target.plan,
+            [function],
+            work,
+            selection,
+            options,
+            tag,
+            provers,
+            skip,
+            tag != "wp",
+            timeout_s,
+        )
+
+    wp = [wp_pass(asked, first, "wp", WP_PROVERS)] if asked else []
 
     def methods() -> dict[str, str]:
         rows = clauses([eva], wp)
@@ -418,22 +421,7 @@ def establish(
 
     left = sorted(n for n, m in methods().items() if m == "NOT PROVEN")
     if left:
-        wp.append(
-            run_wp(
-                tools,
-                target.root,
-                target.plan,
-                [function],
-                work,
-                left,
-                second,
-                "wp2",
-                WP_SECOND_PROVERS,
-                skip,
-                True,
-                timeout_s,
-            )
-        )
+        wp.append(wp_pass(left, second, "wp2", WP_SECOND_PROVERS))
     return eva, methods()
 
 

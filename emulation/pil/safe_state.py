@@ -20,6 +20,7 @@ interval of whole ticks).
 
 from __future__ import annotations
 
+import bisect
 import math
 from functools import lru_cache
 
@@ -35,8 +36,8 @@ FFT_SAMPLES = 36_000
 #: Either side of the rating, either safe state is accepted: the port reads the speed as
 #: a Hall interval of whole ticks (well under 0.1 % at every speed of a valid spec)
 RATING_BAND = 0.005
-#: Bisection steps for the speed where the bound meets the rating
-BISECTION_STEPS = 60
+#: The rated speed is found to 1/RPM_STEPS rpm
+RPM_STEPS = 1000
 #: The bound is searched up to this multiple of controller.speed_max
 SEARCH_SPAN = 100
 
@@ -80,23 +81,20 @@ def short_circuit_bound_a(spec: Spec, rpm: float) -> float:
 
 
 def short_rated_speed(spec: Spec) -> float | None:
-    """The speed (rpm) up to which the short circuit's bound is within
+    """The speed (rpm, to 1/RPM_STEPS) up to which the short circuit's bound is within
     protection.short_circuit_current_max; None when it is at every speed up to
-    SEARCH_SPAN x controller.speed_max, 0.0 when at none."""
+    SEARCH_SPAN x controller.speed_max, 0.0 when at none. The bound grows with the
+    speed: the standard library's bisection over a grid of speeds finds the last."""
     rating = float(spec.protection.short_circuit_current_max_a)
-    high = SEARCH_SPAN * float(spec.controller.speed_max_rpm)
-    if short_circuit_bound_a(spec, high) <= rating:
+    grid = range(round(SEARCH_SPAN * float(spec.controller.speed_max_rpm) * RPM_STEPS) + 1)
+
+    def bound(step: int) -> float:
+        return short_circuit_bound_a(spec, step / RPM_STEPS)
+
+    if bound(grid[-1]) <= rating:
         return None
-    low = 0.0
-    if short_circuit_bound_a(spec, low) > rating:
-        return 0.0
-    for _ in range(BISECTION_STEPS):
-        middle = (low + high) / 2
-        if short_circuit_bound_a(spec, middle) <= rating:
-            low = middle
-        else:
-            high = middle
-    return low
+    within = bisect.bisect_right(grid, rating, key=bound)
+    return (within - 1) / RPM_STEPS if within else 0.0
 
 
 def required_safe_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:

@@ -608,32 +608,45 @@ def rectifying_boundary(spec: Spec) -> tuple[float, float] | None:
     return bus_v, rpm
 
 
-def _rectifying_side(run: Run, side: int) -> Outcome:
-    """The break input just below (`side` -1) or just above (+1) the speed from which
-    all-off rectifies into the bus: all-off below it where protection.safe_state prefers
-    it, the short circuit above it. Where no bus voltage of the spec's range puts that
-    speed in the controller's range, the break at the default speed and nominal bus."""
-    where = "below" if side < 0 else "above"
-    name = f"BKIN {where} the rectifying speed"
-    boundary = rectifying_boundary(run.spec)
+def _boundary_side(
+    run: Run,
+    side: int,
+    name: str,
+    boundary: tuple[float, float] | None,
+    missing: str,
+    note: Callable[[float, float], str],
+) -> Outcome:
+    """The break input RECTIFYING_MARGIN below (`side` -1) or above (+1) a boundary
+    speed at its bus (`boundary`: bus V, rpm), noted by `note(bus, rpm)`; where there is
+    none, the break at the default speed and nominal bus, noted `missing`."""
     if boundary is None:
         nominal = float(run.spec.inverter.bus_voltage_nominal_v)
-        return _break_at(
-            run,
-            nominal,
-            name,
-            "no bus voltage of the spec's range rectifies within"
-            " the controller's speed range: the break at the default speed",
-        )
+        return _break_at(run, nominal, name, f"{missing}: the break at the default speed")
     bus_v, rpm = boundary
     run.rpm = rpm * (1 + side * RECTIFYING_MARGIN)
     return _break_at(
         run,
         bus_v,
         name,
-        f"bus {bus_v:.2f} V, where all-off rectifies from {rpm:.0f} rpm: the break at"
-        f" {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%}); the safe state after the dead"
-        " time is the spec's there",
+        f"{note(bus_v, rpm)}; the break at {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%})",
+    )
+
+
+def _rectifying_side(run: Run, side: int) -> Outcome:
+    """The break input just below (`side` -1) or just above (+1) the speed from which
+    all-off rectifies into the bus: all-off below it where protection.safe_state prefers
+    it, the short circuit above it. Where no bus voltage of the spec's range puts that
+    speed in the controller's range, the break at the default speed and nominal bus."""
+    return _boundary_side(
+        run,
+        side,
+        f"BKIN {'below' if side < 0 else 'above'} the rectifying speed",
+        rectifying_boundary(run.spec),
+        "no bus voltage of the spec's range rectifies within the controller's speed range",
+        lambda bus_v, rpm: (
+            f"bus {bus_v:.2f} V, where all-off rectifies from {rpm:.0f} rpm"
+            " (the safe state after the dead time is the spec's there)"
+        ),
     )
 
 
@@ -667,27 +680,18 @@ def _short_rating_side(run: Run, side: int) -> Outcome:
     short circuit's bound meets its rating, where the spec prefers the short: the short
     below it, all-off above it. Where the spec prefers all-off, or that speed is out of
     the controller's range, the break at the default speed and nominal bus."""
-    where = "below" if side < 0 else "above"
-    name = f"BKIN {where} the short circuit's rated speed"
-    boundary = short_rating_boundary(run.spec)
-    if boundary is None:
-        nominal = float(run.spec.inverter.bus_voltage_nominal_v)
-        return _break_at(
-            run,
-            nominal,
-            name,
-            "the spec prefers all-off, or its short circuit is within its rating at every"
-            " speed of the controller's range (or at none): the break at the default speed",
-        )
-    bus_v, rpm = boundary
-    run.rpm = rpm * (1 + side * RECTIFYING_MARGIN)
-    return _break_at(
+    return _boundary_side(
         run,
-        bus_v,
-        name,
-        f"the short circuit's bound meets protection.short_circuit_current_max at"
-        f" {rpm:.0f} rpm; the break at {run.rpm:.0f} rpm ({side * RECTIFYING_MARGIN:+.0%}),"
-        f" bus {bus_v:g} V (all-off does not rectify): the short below, all-off above",
+        side,
+        f"BKIN {'below' if side < 0 else 'above'} the short circuit's rated speed",
+        short_rating_boundary(run.spec),
+        "the spec prefers all-off, or its short circuit is within its rating at every"
+        " speed of the controller's range (or at none)",
+        lambda bus_v, rpm: (
+            "the short circuit's bound meets"
+            f" protection.short_circuit_current_max at {rpm:.0f} rpm, bus {bus_v:g} V (all-off"
+            " does not rectify): the short below, all-off above"
+        ),
     )
 
 
