@@ -370,6 +370,17 @@ def drive_context(spec: Spec) -> dict[str, object]:
             ),
         ),
         _define(
+            "BLDC_PORT_SHORT_WHILE_UNKNOWN",
+            f"{int(ss.short_while_unknown)}u",
+            "a wrapped Hall interval (the speed unknown before the first edges, or below the"
+            " counter's range): "
+            + (
+                "the short circuit, within the rating up to controller.speed_max"
+                if ss.short_while_unknown
+                else "all-off (the short exceeds the rating below controller.speed_max)"
+            ),
+        ),
+        _define(
             "BLDC_PORT_SHORT_WHERE_BOTH",
             f"{int(ss.policy == 'short_circuit')}u",
             f"protection.safe_state = {ss.policy}: the safe state where both are valid",

@@ -78,6 +78,17 @@ MUTANTS = (
         "not the short circuit",
     ),
     Mutant(
+        # a wrapped Hall interval (no interval yet after start-up) read as slow: all-off,
+        # which rectifies into a low bus while the rotor turns at 4900 rpm
+        "unknown speed taken as slow: all-off before the first Hall interval",
+        HEADER,
+        "#define BLDC_PORT_SHORT_WHILE_UNKNOWN ",
+        "#define BLDC_PORT_SHORT_WHILE_UNKNOWN 0u",
+        PAPER,
+        "under_voltage_at_start",
+        "not the short circuit",
+    ),
+    Mutant(
         "clock security system never enabled: a crystal failing while braking stops the chip",
         "firmware/system_stm32f103.c",
         "    RCC->CR |= RCC_CR_CSSON;",

@@ -77,12 +77,19 @@ def test_the_regions_should_follow_the_rating_where_the_short_is_preferred() -> 
     assert required_safe_state(spec, 0.97 * rated, bus) == SHORT_CIRCUIT
     assert required_safe_state(spec, 1.03 * rated, bus) == ALL_OFF
     assert required_safe_state(spec, rated * (1 + RATING_BAND / 10), bus) is None
-    # where all-off rectifies, the short whatever its current (the loader keeps that
-    # within the rating over the speed range)
+    # where all-off rectifies and the short exceeds its rating (above the speed range
+    # here) no state is safe: either is accepted; the hub motor's short is rated at every
+    # speed, so where all-off rectifies it is the short
     top = float(spec.inverter.bus_voltage_min_v) / peak_line_emf_v(spec, 1.0)
-    assert required_safe_state(spec, 1.01 * top, float(spec.inverter.bus_voltage_min_v)) == (
+    assert required_safe_state(spec, 1.01 * top, float(spec.inverter.bus_voltage_min_v)) is None
+    hub = load_spec(str(HUB))
+    hub_top = float(hub.inverter.bus_voltage_min_v) / peak_line_emf_v(hub, 1.0)
+    assert required_safe_state(hub, 1.01 * hub_top, float(hub.inverter.bus_voltage_min_v)) == (
         SHORT_CIRCUIT
     )
+    # the port cannot know the speed or the bus: no preference, only the physics
+    assert required_safe_state(spec, 0.97 * rated, bus, inputs_known=False) is None
+    assert required_safe_state(spec, 1.03 * rated, bus, inputs_known=False) == ALL_OFF
     # a spec that prefers all-off: all-off below the rectifying speed, at any current
     all_off = replace(spec, protection=replace(spec.protection, safe_state="all_off"))
     assert required_safe_state(all_off, 0.5 * rated, bus) == ALL_OFF

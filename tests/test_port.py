@@ -22,6 +22,7 @@ from codegen import port
 from codegen.build_firmware import CFLAGS
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
+from emulation.pil.safe_state import short_rated_speed
 from verify.unity_run import WARNINGS as HOST_WARNINGS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -943,6 +944,9 @@ int main(int argc, char **argv)
     fake_tim3.CCR1 = FAST_PERIOD;
     adc_with(BUS_OK, OFFSET, 0u, TIM_SR_CC1IF);
     show("faulted_fast");
+    fake_tim3.CCR1 = 0xFFFEu; /* one tick inside the counter's range: slow, but known */
+    adc_with(BUS_OK, OFFSET, 0u, TIM_SR_CC1IF);
+    show("faulted_slow");
     adc_with(BUS_OK, OFFSET, 0u, TIM_SR_UIF);
     show("faulted_stopped");
     return 0;
@@ -1189,7 +1193,9 @@ def test_hall_edge_should_apply_the_precomputed_pattern_at_one_com_event(
     assert r["edge.sr"] == 0xFFFFFFFF & ~0x5  # CC2IF and the timeout's UIF cleared
     assert r["in.period"] == 65535  # the first interval after start-up is unknown
     assert r["in.runs"] == 1
-    assert r["port.safe"] == 0  # slow: all-off is the safe state
+    # unknown: the short circuit, rated at every speed of the paper motor's range, where
+    # all-off would rectify if the rotor turned fast (test_safe_state_should_follow_...)
+    assert r["port.safe"] == 1
 
 
 def test_current_should_be_sampled_only_between_commutations(
@@ -1490,14 +1496,23 @@ def test_safe_state_should_follow_the_speed_region_while_faulted(
     host_run: dict[str, dict[str, int]],
 ) -> None:
     """Above U_d/(2 k_e) all-off rectifies into the bus: the short circuit (lower
-    switches at their idle level OISxN = 1); when the rotor stops, all-off."""
+    switches at their idle level OISxN = 1); a slow rotor, all-off (the paper motor's
+    preference). A wrapped counter, the speed unknown (the first edges after arming) or
+    below the counter's range: the short circuit, which the paper motor's bridge is
+    rated for at every speed (the PIL's own bound), where all-off would rectify if the
+    rotor turned fast."""
     fast = host_run["faulted_fast"]
     assert fast["tim1.cr2"] & OIS_SHORT == OIS_SHORT
     assert fast["port.safe"] == 1
     assert fast["tim1.cr2"] & ((1 << 8) | (1 << 10) | (1 << 12)) == 0  # upper switches off
+    slow = host_run["faulted_slow"]
+    assert slow["tim1.cr2"] & OIS_SHORT == 0
+    assert slow["port.safe"] == 0
+    rated = short_rated_speed(load_spec(SPEC))
+    assert rated is None or rated >= float(load_spec(SPEC).controller.speed_max_rpm)
     stopped = host_run["faulted_stopped"]
-    assert stopped["tim1.cr2"] & OIS_SHORT == 0
-    assert stopped["port.safe"] == 0
+    assert stopped["tim1.cr2"] & OIS_SHORT == OIS_SHORT
+    assert stopped["port.safe"] == 1
 
 
 SAFE_STATE_CHECK = (
@@ -1536,7 +1551,15 @@ int main(void)
         wrong += port.bus_moved; /* the request taken */
         for (uint32_t t = 0u; t <= 0xFFFFu; ++t) {
             const int rectifying = (unsigned long long)t * b <= RULE_K;
-            const int short_circuit = rectifying || (RULE_BOTH && t >= RULE_V);
+            /* a wrapped interval (the speed unknown): the short where it is rated at
+             * every speed of the range (RULE_UNKNOWN), else all-off, whatever the
+             * policy prefers; a rectifying interval is the short whatever */
+            const int wrapped = (t == 0xFFFFu);
+            /* preferring the short: wherever it is rated, whatever the bus reads (the
+             * loader keeps the short rated where all-off rectifies within the ranges) */
+            const int short_circuit =
+                RULE_BOTH ? (t >= RULE_V && !(wrapped && !RULE_UNKNOWN))
+                          : (rectifying || (wrapped && RULE_UNKNOWN));
             const uint32_t cr2 = port_safe_state_cr2(t);
             if ((cr2 & ois) != (short_circuit ? ois : 0u) || (cr2 & ~ois) != BLDC_PORT_TIM1_CR2) {
                 if (wrong < 5ul) {
@@ -1565,8 +1588,10 @@ int main(void)
         # the short circuit preferred but rated only at and above an interval: the two
         # regions' union (no fixture has it, so the fast motor's header is edited)
         (ROOT / "tests" / "fixtures" / "specs" / "fast_14p_12v.yaml", 9000),
+        # preferred, rated only up to 2216 rpm: a wrapped interval is all-off
+        (ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml", None),
     ],
-    ids=["paper", "maxon", "hub", "fast", "fast-short-rated-above-9000"],
+    ids=["paper", "maxon", "hub", "fast", "fast-short-rated-above-9000", "short-rated"],
 )
 def test_safe_state_bound_should_decide_as_the_product_for_every_bus_and_interval(
     path: Path, short_valid_period: int | None, tmp_path: Path
@@ -1583,6 +1608,10 @@ def test_safe_state_bound_should_decide_as_the_product_for_every_bus_and_interva
     _write_port(tmp_path, spec)
     both = design.policy == "short_circuit"
     valid = design.short_valid_period
+    # the short rated at every speed of the range, by the PIL's own bound (the FFT of
+    # sim's EMF waveform), not the design's
+    rated = short_rated_speed(spec)
+    rated_everywhere = rated is None or rated >= float(spec.controller.speed_max_rpm)
     if short_valid_period is not None:
         both, valid = True, short_valid_period
         header = tmp_path / "stm32f103_port.h"
@@ -1612,6 +1641,7 @@ def test_safe_state_bound_should_decide_as_the_product_for_every_bus_and_interva
             f"-DRULE_K={design.k_rect}ull",
             f"-DRULE_BOTH={int(both)}",
             f"-DRULE_V={valid}u",
+            f"-DRULE_UNKNOWN={int(rated_everywhere)}",
             "-include",
             "shim.h",
             "-I.",

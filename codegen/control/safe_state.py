@@ -52,6 +52,13 @@ class SafeStateDesign:
     short_valid_period: int  # T >= it: the short is within the rating (0: always)
     short_valid_speed_rpm: float | None  # None: within the rating at every speed
     regions: tuple[str, ...]  # one line per bus voltage of the spec, for the header
+    #: The state for a Hall interval that fills the counter (it wrapped): the speed is
+    #: unknown (before the first edge, and at the first edge after the bridge is armed,
+    #: which reads TIM3's preset wrap) or below the counter's range. The short circuit
+    #: where it is within the rating at every speed up to speed_max (then valid whatever
+    #: the rotor does: all-off is not where it rectifies); else all-off (the loader then
+    #: keeps speed_max below the speed from which all-off rectifies at bus_voltage_min).
+    short_while_unknown: bool = False
 
 
 def _speed_of_period(spec: Spec, ticks: Fraction) -> Fraction:
@@ -135,4 +142,5 @@ def safe_state_design(spec: Spec) -> SafeStateDesign:
         short_valid_period=period,
         short_valid_speed_rpm=n_short,
         regions=tuple(regions),
+        short_while_unknown=n_short is None or n_short >= float(spec.controller.speed_max_rpm),
     )

@@ -97,19 +97,28 @@ def short_rated_speed(spec: Spec) -> float | None:
     return (within - 1) / RPM_STEPS if within else 0.0
 
 
-def required_safe_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:
+def required_safe_state(
+    spec: Spec, rpm: float, bus_v: float, *, inputs_known: bool = True
+) -> tuple[bool, ...] | None:
     """The safe state the spec requires at `rpm` and the bus `bus_v`: the short circuit
     where all-off rectifies (the six diodes conduct into the bus); else all-off where
     protection.safe_state prefers it; else the short within its rating, all-off above
-    it; None within RATING_BAND of the rating (either is accepted)."""
-    if peak_line_emf_v(spec, rpm) >= bus_v:
-        return SHORT_CIRCUIT
-    if spec.protection.safe_state == "all_off":
-        return ALL_OFF
+    it; None within RATING_BAND of the rating (either is accepted), and where no state
+    is safe (all-off rectifies and the short exceeds its rating: a bus below the spec's
+    range). Where the port cannot know the speed or the bus (`inputs_known` False: no
+    Hall interval yet, or the bus ADC stuck), only the physics: the preference decides
+    nothing, so either state that is safe at `rpm` and `bus_v` is."""
     bound = short_circuit_bound_a(spec, rpm)
     rating = float(spec.protection.short_circuit_current_max_a)
+    over = bound > rating * (1 + RATING_BAND)
+    if peak_line_emf_v(spec, rpm) >= bus_v:
+        return None if over else SHORT_CIRCUIT
+    if inputs_known and spec.protection.safe_state == "all_off":
+        return ALL_OFF
+    if over:
+        return ALL_OFF
+    if not inputs_known:
+        return None
     if bound <= rating * (1 - RATING_BAND):
         return SHORT_CIRCUIT
-    if bound > rating * (1 + RATING_BAND):
-        return ALL_OFF
     return None

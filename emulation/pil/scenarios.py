@@ -42,7 +42,11 @@ over the whole run:
   checked against the physics where it changes; where the spec prefers the short
   circuit, the short within protection.short_circuit_current_max and all-off above it
   (the bound of `safe_state.short_circuit_bound_a`), and the break 3 % either side of
-  the speed where that bound meets the rating.
+  the speed where that bound meets the rating; where the port cannot know the speed
+  (no Hall interval yet after start-up: an under-voltage before the first edge, the
+  break in the first sector) or the bus (its ADC stuck at 0 with the bus in fact at
+  nominal), a state safe at the rotor's speed and the real bus, whatever the spec
+  prefers.
 
 The inputs are set by the scenario (Hall code, comparator, bus and current through the
 spec's sensing chain, `runner.DriveBoard`), not yet by a motor model: the current read
@@ -87,6 +91,9 @@ FAULT = {f.name: f.value for f in FAULTS}
 LSI_FASTEST_HZ = 60_000
 #: Sectors turned before the cause: the loop and the commutations are running
 SETTLE_SECTORS = 8
+#: PWM periods after start-up before the first Hall edge of the start-up scenarios:
+#: the bus sampled and the bridge armed
+START_WAIT_PERIODS = 20
 #: PWM periods main's loop gets to publish a latched fault in app_faults
 MAIN_WAIT_PERIODS = 10
 
@@ -455,10 +462,14 @@ class Run:
         )
 
 
-def _check_safe_state(run: Run, at: int, bus_v: float, what: str) -> None:
-    """The gates at `at` are a safe state, the one the spec requires at the run's speed."""
+def _check_safe_state(
+    run: Run, at: int, bus_v: float, what: str, *, inputs_known: bool = True
+) -> None:
+    """The gates at `at` are a safe state, the one the spec requires at the run's speed
+    (`inputs_known` False: the port has no Hall interval yet, or reads no bus voltage;
+    one safe at that speed and bus)."""
     gates = run.machine.tim1.gates(at)
-    required = required_safe_state(run.spec, run.rpm, bus_v)
+    required = required_safe_state(run.spec, run.rpm, bus_v, inputs_known=inputs_known)
     if gates not in (ALL_OFF, SHORT_CIRCUIT):
         run.violations.append(f"gates {gates} {what}: no safe state")
     elif required is not None and gates != required:
@@ -534,6 +545,63 @@ def _under_voltage(run: Run) -> Outcome:
         run.board.pwm_period_ticks(),
         "bus 10 % below inverter.bus_voltage_min from just after an injected sample, at 98 %"
         " of controller.speed_max; the safe state one period on is the spec's at that bus",
+    )
+
+
+def _under_voltage_at_start(run: Run) -> Outcome:
+    """The bus 10 % below inverter.bus_voltage_min from just after start-up, before the
+    first Hall edge, the rotor turning at 98 % of controller.speed_max: the port has no
+    Hall interval, so the speed is unknown to it, and the safe state one PWM period on
+    must be safe at the rotor's speed whatever the spec prefers (the short circuit
+    where all-off rectifies into a bus this low)."""
+    low = 0.9 * float(run.spec.inverter.bus_voltage_min_v)
+    run.rpm = 0.98 * float(run.spec.controller.speed_max_rpm)
+    cause = run.machine.now
+    run.board.set_bus_voltage(low)
+    run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    _check_safe_state(
+        run, cause + run.board.pwm_period_ticks(), low, "one PWM period on", inputs_known=False
+    )
+    return run.outcome(
+        "under-voltage before the first Hall edge",
+        "UNDER_VOLTAGE",
+        cause,
+        run.board.pwm_period_ticks(),
+        "bus 10 % below inverter.bus_voltage_min right after start-up, no Hall edge yet, the"
+        " rotor at 98 % of controller.speed_max: the speed unknown to the port",
+    )
+
+
+def _break_after_the_first_edge(run: Run) -> Outcome:
+    """The break input half-way into the first sector after start-up, above the speed
+    from which all-off rectifies (3 % above it, at the bus of `rectifying_boundary`;
+    else 98 % of controller.speed_max at the nominal bus): the first edge after arming
+    reads TIM3's preset wrap, so the port has no interval yet and the safe state after
+    the dead time must be safe at the rotor's speed whatever the spec prefers."""
+    boundary = rectifying_boundary(run.spec)
+    if boundary is None:
+        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
+        run.rpm = 0.98 * float(run.spec.controller.speed_max_rpm)
+    else:
+        bus_v, rpm = boundary
+        run.rpm = rpm * (1 + RECTIFYING_MARGIN)
+    run.board.set_bus_voltage(bus_v)
+    run.machine.run_for(START_WAIT_PERIODS * run.board.pwm_period_ticks())
+    run.into_sector(1 / 2)
+    cause = run.machine.now
+    run.board.set_break(True)
+    run.run_until_tripped(run.board.pwm_period_ticks())
+    tim1 = run.machine.tim1
+    _check_safe_state(
+        run, cause + tim1.dead_time_ticks(), bus_v, "after the dead time", inputs_known=False
+    )
+    return run.outcome(
+        "BKIN in the first sector after start-up",
+        "OVER_CURRENT",
+        cause,
+        run.board.pwm_period_ticks(),
+        f"bus {bus_v:.2f} V, the rotor at {run.rpm:.0f} rpm: the break half-way into the"
+        " first sector, the port with no Hall interval yet",
     )
 
 
@@ -923,6 +991,12 @@ def _bus_stuck_at_zero(run: Run) -> Outcome:
     cause = run.machine.now
     run.board.set_bus_voltage(0.0)
     run.run_until_tripped(2 * run.board.pwm_period_ticks())
+    # the bus is in fact at its nominal voltage: the safe state must be one safe there
+    # (the port reads no bus: a collapsed one or a stuck ADC look alike to it)
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    _check_safe_state(
+        run, cause + run.board.pwm_period_ticks(), nominal, "one PWM period on", inputs_known=False
+    )
     _check_quiet_while_faulted(run)
     return run.outcome(
         "bus ADC stuck at 0",
@@ -1172,12 +1246,16 @@ class Scenario:
     key: str
     run: Callable[[Run], Outcome]
     hse_fails: bool = False
+    #: the cause comes before the bridge switches (no current sample to check)
+    before_switching: bool = False
 
 
 SCENARIOS = (
     Scenario("over_voltage", _over_voltage),
     Scenario("over_voltage_between_samples", _over_voltage_between_samples),
     Scenario("under_voltage", _under_voltage),
+    Scenario("under_voltage_at_start", _under_voltage_at_start, before_switching=True),
+    Scenario("break_after_the_first_edge", _break_after_the_first_edge),
     Scenario("break_input", _break_input),
     Scenario("below_rectifying", _below_rectifying),
     Scenario("above_rectifying", _above_rectifying),

@@ -525,6 +525,7 @@ BLDC_PORT_FAST_CODE BLDC_PORT_LINE_ALIGNED void TIM3_IRQHandler(void)
     }
 }
 
+#if !BLDC_PORT_SHORT_WHERE_BOTH /* preferring the short, the region needs only the rating */
 /* All-off rectifies into the bus where T B is at or below the product
  * (codegen/control/safe_state.py). For whole numbers T >= 0 and B >= 1,
  * T B <= K exactly when T <= floor(K / B): floor(K / B) B <= K, and
@@ -535,27 +536,40 @@ static uint32_t port_rectifying_max(uint32_t bus_code)
 {
     return (bus_code == 0u) ? UINT32_MAX : (BLDC_PORT_RECTIFYING_PRODUCT / bus_code);
 }
+#endif
 
-/* The safe state's speed regions at a bus code: the short circuit where all-off would
- * rectify into the bus (T <= floor(K / B)), and, if the spec prefers the short, also
- * wherever the bridge is rated for it (T >= BLDC_PORT_SHORT_VALID_PERIOD); all-off
- * elsewhere. That rest is one run of intervals, [from, from + span), kept as its start
- * and length, so the timing run decides with one unsigned compare, T - from < span
- * (mod 2^32: from + span <= 2^32), whatever the policy: two compares joined cost a
- * branch laid out of line, and from flash a taken branch waits for its target. */
+/* The safe state's speed regions at a bus code. Where the spec prefers all-off: the
+ * short circuit where all-off would rectify into the bus (T <= floor(K / B)), all-off
+ * elsewhere. Where it prefers the short: the short wherever the bridge is rated for it
+ * (T >= BLDC_PORT_SHORT_VALID_PERIOD), all-off where it is not; within the spec's bus
+ * range that holds every interval where all-off rectifies (the loader requires the
+ * short rated wherever that happens in the speed range), and on a bus reading low
+ * (collapsed, or its ADC stuck at 0 with the bus in fact there) the rating still bounds
+ * the current, where "rectifying at every interval" had put the short beyond it (a
+ * hunt: 79 A on a 60 A bridge at 3000 rpm). The all-off rest is one run of intervals,
+ * [from, from + span), kept as its start and length, so the timing run decides with
+ * one unsigned compare, T - from < span (mod 2^32: from + span <= 2^32), whatever the
+ * policy: two compares joined cost a branch laid out of line, and from flash a taken
+ * branch waits for its target. */
 static void port_set_safe_region(uint32_t bus_code)
 {
-    const uint32_t rectifying_max = port_rectifying_max(bus_code);
-    const uint32_t from = rectifying_max + 1u; /* 0 when it rectifies at every interval */
-#if BLDC_PORT_SHORT_WHERE_BOTH && (BLDC_PORT_SHORT_VALID_PERIOD == 0u)
-    const uint32_t span = 0u; /* the short is rated at every speed, and preferred */
-#elif BLDC_PORT_SHORT_WHERE_BOTH
-    /* up to the rated interval; none if it rectifies everywhere (from = 0) */
-    const uint32_t span = (from != 0u && BLDC_PORT_SHORT_VALID_PERIOD > from)
-                              ? BLDC_PORT_SHORT_VALID_PERIOD - from
-                              : 0u;
+#if BLDC_PORT_SHORT_WHERE_BOTH
+    (void)bus_code;
+    const uint32_t from = 0u;
+    const uint32_t span = BLDC_PORT_SHORT_VALID_PERIOD; /* 0: rated at every speed */
+#else
+    const uint32_t from = port_rectifying_max(bus_code) + 1u; /* 0: rectifies everywhere */
+#if BLDC_PORT_SHORT_WHILE_UNKNOWN
+    /* every interval from `from` up (none when from = 0) but the counter's whole range:
+     * a wrapped interval is the speed unknown (before the first edges: the start-up
+     * value, and the first edge after arming reads TIM3's preset wrap) or below the
+     * range; all-off rectifies if the rotor turns fast, the short is rated at every speed */
+    const uint32_t span = ((from != 0u) && (from <= BLDC_PORT_TIM3_ARR))
+                              ? BLDC_PORT_TIM3_ARR - from
+                              : 0u - from;
 #else
     const uint32_t span = 0u - from; /* every interval from `from` up (none when from = 0) */
+#endif
 #endif
     port.all_off_from = from;
     port.all_off_span = span;
@@ -570,6 +584,16 @@ static uint32_t port_short_circuit(uint32_t period)
 /* CR2's idle levels for the region: what MOE = 0 (a fault, the break input) does now. */
 static uint32_t port_safe_state_cr2(uint32_t period)
 {
+#if BLDC_PORT_SHORT_WHERE_BOTH && !BLDC_PORT_SHORT_WHILE_UNKNOWN
+    /* The short preferred, but rated only up to a speed below speed_max: a wrapped
+     * interval (the speed unknown before the first edges, or below the counter's range)
+     * is all-off, which does not rectify at any speed of the range on a bus within the
+     * spec's (the loader's condition for such a rating), where the short may exceed its
+     * rating. One compare more, only in this configuration. */
+    if (period >= BLDC_PORT_TIM3_ARR) {
+        return BLDC_PORT_TIM1_CR2;
+    }
+#endif
     return (port_short_circuit(period) != 0u) ? (BLDC_PORT_TIM1_CR2 | BLDC_PORT_OIS_SHORT)
                                               : BLDC_PORT_TIM1_CR2;
 }

@@ -164,6 +164,7 @@
 #define BLDC_PORT_BREAK_ACTIVE_HIGH 0u /* TIM1 BKIN (B12) is active low (BDTR.BKP = 0); the comparator trips at 15 A */
 #define BLDC_PORT_RECTIFYING_PRODUCT 5325928u /* T B at or below it: lambda k_e n >= U_d (lambda = 2), all-off rectifies: the safe state is the short circuit */
 #define BLDC_PORT_SHORT_VALID_PERIOD 0u /* Hall interval at or above it: the short circuit is within protection.short_circuit_current_max = 120 A at every speed */
+#define BLDC_PORT_SHORT_WHILE_UNKNOWN 1u /* a wrapped Hall interval (the speed unknown before the first edges, or below the counter's range): the short circuit, within the rating up to controller.speed_max */
 #define BLDC_PORT_SHORT_WHERE_BOTH 0u /* protection.safe_state = all_off: the safe state where both are valid */
 #define BLDC_PORT_OPEN_LOOP 0xffffffffu /* current reference in open loop (bldc_port_set_main_duty) */
 #define BLDC_PORT_FAULTS_PERMANENT 0x0500u /* faults only a reset clears */
