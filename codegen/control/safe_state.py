@@ -27,7 +27,12 @@ on the last Hall interval T (ticks) and bus code B:
     short valid <=>  T >= T_SHORT (the interval of the speed where the bound meets the rating)
 
 A bus code that reads low (a collapsed bus, or its ADC stuck at 0) makes T B small:
-the short circuit, which is safe whatever the bus.
+the short circuit where the spec prefers all-off; where it prefers the short, the port
+takes it wherever it is rated and all-off elsewhere, whatever the bus reads (the loader
+keeps the short rated wherever all-off rectifies in the ranges). A Hall interval that
+fills the counter (the speed unknown before the first edges, or below the range) takes
+the short where it is rated at every speed up to speed_max (`short_while_unknown`),
+else all-off.
 """
 
 from __future__ import annotations
