@@ -531,45 +531,44 @@ def _over_voltage_between_samples(run: Run) -> Outcome:
     )
 
 
-def _under_voltage(run: Run) -> Outcome:
-    """Near the top speed, where all-off rectifies into a bus this low: the safe state
-    must be the short circuit, one PWM period after the cause."""
+def _under_voltage_at(run: Run, *, at_start: bool) -> Outcome:
+    """The bus 10 % below inverter.bus_voltage_min, the rotor at 98 % of
+    controller.speed_max, where all-off rectifies into a bus this low: from just after
+    an injected sample while braking (the spec's safe state one PWM period on), or
+    right after start-up, before the first Hall edge (`at_start`: the speed unknown to
+    the port, so one safe at the rotor's speed, whatever the spec prefers)."""
     low = 0.9 * float(run.spec.inverter.bus_voltage_min_v)
     run.rpm = 0.98 * float(run.spec.controller.speed_max_rpm)
-    cause = _bus_step_after_a_sample(run, low)
-    _check_safe_state(run, cause + run.board.pwm_period_ticks(), low, "one PWM period on")
-    return run.outcome(
-        "under-voltage near the top speed",
-        "UNDER_VOLTAGE",
-        cause,
-        run.board.pwm_period_ticks(),
-        "bus 10 % below inverter.bus_voltage_min from just after an injected sample, at 98 %"
-        " of controller.speed_max; the safe state one period on is the spec's at that bus",
-    )
+    period = run.board.pwm_period_ticks()
+    if at_start:
+        cause = run.machine.now
+        run.board.set_bus_voltage(low)
+        run.run_until_tripped(2 * period)
+    else:
+        cause = _bus_step_after_a_sample(run, low)
+    _check_safe_state(run, cause + period, low, "one PWM period on", inputs_known=not at_start)
+    if at_start:
+        name = "under-voltage before the first Hall edge"
+        note = (
+            "bus 10 % below inverter.bus_voltage_min right after start-up, no Hall edge"
+            " yet, the rotor at 98 % of controller.speed_max: the speed unknown to the port"
+        )
+    else:
+        name = "under-voltage near the top speed"
+        note = (
+            "bus 10 % below inverter.bus_voltage_min from just after an injected sample, at"
+            " 98 % of controller.speed_max; the safe state one period on is the spec's at"
+            " that bus"
+        )
+    return run.outcome(name, "UNDER_VOLTAGE", cause, period, note)
+
+
+def _under_voltage(run: Run) -> Outcome:
+    return _under_voltage_at(run, at_start=False)
 
 
 def _under_voltage_at_start(run: Run) -> Outcome:
-    """The bus 10 % below inverter.bus_voltage_min from just after start-up, before the
-    first Hall edge, the rotor turning at 98 % of controller.speed_max: the port has no
-    Hall interval, so the speed is unknown to it, and the safe state one PWM period on
-    must be safe at the rotor's speed whatever the spec prefers (the short circuit
-    where all-off rectifies into a bus this low)."""
-    low = 0.9 * float(run.spec.inverter.bus_voltage_min_v)
-    run.rpm = 0.98 * float(run.spec.controller.speed_max_rpm)
-    cause = run.machine.now
-    run.board.set_bus_voltage(low)
-    run.run_until_tripped(2 * run.board.pwm_period_ticks())
-    _check_safe_state(
-        run, cause + run.board.pwm_period_ticks(), low, "one PWM period on", inputs_known=False
-    )
-    return run.outcome(
-        "under-voltage before the first Hall edge",
-        "UNDER_VOLTAGE",
-        cause,
-        run.board.pwm_period_ticks(),
-        "bus 10 % below inverter.bus_voltage_min right after start-up, no Hall edge yet, the"
-        " rotor at 98 % of controller.speed_max: the speed unknown to the port",
-    )
+    return _under_voltage_at(run, at_start=True)
 
 
 def _break_after_the_first_edge(run: Run) -> Outcome:
