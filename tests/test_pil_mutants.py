@@ -81,9 +81,9 @@ MUTANTS = (
         # a wrapped Hall interval (no interval yet after start-up) read as slow: all-off,
         # which rectifies into a low bus while the rotor turns at 4900 rpm
         "unknown speed taken as slow: all-off before the first Hall interval",
-        HEADER,
-        "#define BLDC_PORT_SHORT_WHILE_UNKNOWN ",
-        "#define BLDC_PORT_SHORT_WHILE_UNKNOWN 0u",
+        PORT,
+        "? BLDC_PORT_TIM3_ARR - from",
+        "? 0u - from /* mutant: the wrapped interval all-off */",
         PAPER,
         "under_voltage_at_start",
         "not the short circuit",

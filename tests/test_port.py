@@ -1558,8 +1558,9 @@ int main(void)
             /* preferring the short: wherever it is rated, whatever the bus reads (the
              * loader keeps the short rated where all-off rectifies within the ranges) */
             const int short_circuit =
-                RULE_BOTH ? (t >= RULE_V && !(wrapped && !RULE_UNKNOWN))
-                          : (rectifying || (wrapped && RULE_UNKNOWN));
+                RULE_BOTH      ? (t >= RULE_V && !(wrapped && !RULE_UNKNOWN))
+                : RULE_UNKNOWN ? (rectifying || wrapped)
+                               : (rectifying && t >= RULE_V);
             const uint32_t cr2 = port_safe_state_cr2(t);
             if ((cr2 & ois) != (short_circuit ? ois : 0u) || (cr2 & ~ois) != BLDC_PORT_TIM1_CR2) {
                 if (wrong < 5ul) {
@@ -1590,8 +1591,19 @@ int main(void)
         (ROOT / "tests" / "fixtures" / "specs" / "fast_14p_12v.yaml", 9000),
         # preferred, rated only up to 2216 rpm: a wrapped interval is all-off
         (ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml", None),
+        # all-off preferred, the short rated only below 79 rpm (under speed_min): it
+        # only where rated, even on a bus reading 0
+        (ROOT / "tests" / "fixtures" / "pil" / "l20uh_100v_100k.yaml", None),
     ],
-    ids=["paper", "maxon", "hub", "fast", "fast-short-rated-above-9000", "short-rated"],
+    ids=[
+        "paper",
+        "maxon",
+        "hub",
+        "fast",
+        "fast-short-rated-above-9000",
+        "short-rated",
+        "all-off-short-rated-below-range",
+    ],
 )
 def test_safe_state_bound_should_decide_as_the_product_for_every_bus_and_interval(
     path: Path, short_valid_period: int | None, tmp_path: Path

@@ -557,19 +557,28 @@ static void port_set_safe_region(uint32_t bus_code)
     (void)bus_code;
     const uint32_t from = 0u;
     const uint32_t span = BLDC_PORT_SHORT_VALID_PERIOD; /* 0: rated at every speed */
-#else
+#elif BLDC_PORT_SHORT_WHILE_UNKNOWN
     const uint32_t from = port_rectifying_max(bus_code) + 1u; /* 0: rectifies everywhere */
-#if BLDC_PORT_SHORT_WHILE_UNKNOWN
     /* every interval from `from` up (none when from = 0) but the counter's whole range:
      * a wrapped interval is the speed unknown (before the first edges: the start-up
      * value, and the first edge after arming reads TIM3's preset wrap) or below the
-     * range; all-off rectifies if the rotor turns fast, the short is rated at every speed */
+     * range; all-off rectifies if the rotor turns fast, the short is rated at every
+     * speed of the range */
     const uint32_t span = ((from != 0u) && (from <= BLDC_PORT_TIM3_ARR))
                               ? BLDC_PORT_TIM3_ARR - from
                               : 0u - from;
 #else
-    const uint32_t span = 0u - from; /* every interval from `from` up (none when from = 0) */
-#endif
+    /* The short rated only below a speed of the range: it only where all-off rectifies
+     * and the short is rated, [BLDC_PORT_SHORT_VALID_PERIOD, rectifying_max]; all-off on
+     * the rest, the run from rectifying_max + 1 round to the rated interval (mod 2^32),
+     * a wrapped interval included (the speed unknown), or everywhere if none is both.
+     * Within the spec's ranges all-off never rectifies then (the loader's condition); on
+     * a bus reading low (its ADC stuck at 0 with the bus in fact there) the short had
+     * been taken at every speed, beyond its rating (a hunt). */
+    const uint32_t rectifying_max = port_rectifying_max(bus_code);
+    const int none = BLDC_PORT_SHORT_VALID_PERIOD > rectifying_max;
+    const uint32_t from = none ? 0u : rectifying_max + 1u;
+    const uint32_t span = none ? UINT32_MAX : BLDC_PORT_SHORT_VALID_PERIOD - from;
 #endif
     port.all_off_from = from;
     port.all_off_span = span;
