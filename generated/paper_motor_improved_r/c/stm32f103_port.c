@@ -553,7 +553,22 @@ static uint32_t port_rectifying_max(uint32_t bus_code)
  * branch waits for its target. */
 static void port_set_safe_region(uint32_t bus_code)
 {
-#if BLDC_PORT_SHORT_WHERE_BOTH
+#if BLDC_PORT_SHORT_WHERE_BOTH && !BLDC_PORT_SHORT_WHILE_UNKNOWN && \
+    (BLDC_PORT_SHORT_VALID_PERIOD < BLDC_PORT_TIM3_ARR)
+    /* The short preferred, but rated only up to a speed below speed_max: all-off below
+     * the rated interval and at a wrapped one (the speed unknown before the first edges,
+     * or below the counter's range), where all-off does not rectify at any speed of the
+     * range on a bus within the spec's (the loader's condition for such a rating) and
+     * the short may exceed its rating. One run round 2^32: from the wrap to the rated
+     * interval. */
+    (void)bus_code;
+    const uint32_t from = BLDC_PORT_TIM3_ARR;
+    const uint32_t span = BLDC_PORT_SHORT_VALID_PERIOD - BLDC_PORT_TIM3_ARR; /* mod 2^32 */
+#elif BLDC_PORT_SHORT_WHERE_BOTH && !BLDC_PORT_SHORT_WHILE_UNKNOWN
+    (void)bus_code; /* rated at no interval below the wrap: all-off at every one */
+    const uint32_t from = 0u;
+    const uint32_t span = UINT32_MAX;
+#elif BLDC_PORT_SHORT_WHERE_BOTH
     (void)bus_code;
     const uint32_t from = 0u;
     const uint32_t span = BLDC_PORT_SHORT_VALID_PERIOD; /* 0: rated at every speed */
@@ -593,16 +608,6 @@ static uint32_t port_short_circuit(uint32_t period)
 /* CR2's idle levels for the region: what MOE = 0 (a fault, the break input) does now. */
 static uint32_t port_safe_state_cr2(uint32_t period)
 {
-#if BLDC_PORT_SHORT_WHERE_BOTH && !BLDC_PORT_SHORT_WHILE_UNKNOWN
-    /* The short preferred, but rated only up to a speed below speed_max: a wrapped
-     * interval (the speed unknown before the first edges, or below the counter's range)
-     * is all-off, which does not rectify at any speed of the range on a bus within the
-     * spec's (the loader's condition for such a rating), where the short may exceed its
-     * rating. One compare more, only in this configuration. */
-    if (period >= BLDC_PORT_TIM3_ARR) {
-        return BLDC_PORT_TIM1_CR2;
-    }
-#endif
     return (port_short_circuit(period) != 0u) ? (BLDC_PORT_TIM1_CR2 | BLDC_PORT_OIS_SHORT)
                                               : BLDC_PORT_TIM1_CR2;
 }
