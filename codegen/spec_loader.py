@@ -92,7 +92,21 @@ WARNINGS: dict[str, str] = {
     " accuracy.commutation_time_ticks and no declared relaxation",
     "conventional-fills-sectors": "controller.method conventional above 20 R/(p L) rpm, where"
     " its commutation, L/(2R) with the loop's steady duty, fills the sector",
+    "emf-shape-not-paper": "controller.method improved or conventional with a back-EMF shape"
+    " whose EMFs at the Hall edge are not the paper's (+E, -E, -E)",
 }
+
+#: Electrical angles, from each phase's rising zero crossing, of the non-commutating,
+#: turn-off and turn-on phases at the paper's Hall edge (Hall sensors placed for 120 deg
+#: conduction: a phase starts to rise 30 deg before its zero crossing). The 120 deg
+#: trapezoid gives (+1, -1, -1) there, the EMFs the paper's Eqs. 14-20 hold through the
+#: commutation; tests/test_spec_loader.py checks them against the switching table.
+EDGE_ANGLES_DEG = (Fraction(90), Fraction(-30), Fraction(210))
+#: The paper's EMFs at the edge, per unit of E.
+PAPER_EDGE_EMFS = (Fraction(1), Fraction(-1), Fraction(-1))
+#: How far (per unit of E) an EMF at the edge may be from the paper's before the
+#: paper's methods are warned about the shape.
+EDGE_EMF_SLACK = Fraction(1, 100)
 
 T = TypeVar("T")
 
@@ -1150,6 +1164,8 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             " outgoing current still flowing, and the loop samples once a sector;"
             " controller.method improved ends its commutations within the sector",
         )
+    if controller.method in ("improved", "conventional"):
+        _warn_edge_emfs(r, data, motor, inverter, controller)
     period = 1 / inverter.pwm_frequency_hz
     if tau <= period:
         r.report(
@@ -1293,6 +1309,38 @@ def _check_plausible(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"{float(budget / fastest) * 100:.1f} % of the shortest 60 deg sector"
             f" ({_f1(fastest)} ticks at speed_max)",
         )
+
+
+def _warn_edge_emfs(
+    r: _Reader, data: Mapping[str, Any], motor: Motor, inverter: Inverter, controller: Controller
+) -> None:
+    """The paper's methods take the EMFs at the Hall edge as (+E, -E, -E) (Eqs. 14-20);
+    a shape that is not there (a sine, a flat top under 120 deg) moves the duty sum
+    that holds the non-commutating current, (E/U_d)(2 e_a - e_b - e_c)/E of a PWM period."""
+    shape = motor.back_emf_shape
+    if shape.frozen:
+        return
+    edge = tuple(spec_drive.emf_at(shape, angle) for angle in EDGE_ANGLES_DEG)
+    if all(abs(e - p) <= EDGE_EMF_SLACK for e, p in zip(edge, PAPER_EDGE_EMFS, strict=True)):
+        return
+    sigma = 2 * edge[0] - edge[1] - edge[2]
+    e_top = motor.back_emf_constant_v_per_rpm * controller.speed_max_rpm
+    counts = inverter.timer_clock_hz / inverter.pwm_frequency_hz
+    if inverter.pwm_alignment == "center":
+        counts /= 2
+    moved = e_top / inverter.bus_voltage_min_v * abs(4 - sigma) * counts
+    r.warn(
+        "emf-shape-not-paper",
+        f"motor.{spec_optional.EMF_SHAPE_KEY}",
+        _raw(data, f"motor.{spec_optional.EMF_SHAPE_KEY}"),
+        f"{shape.describe()}: at the Hall edge its EMFs (non-commutating, turn-off, turn-on)"
+        f" are ({', '.join(f'{float(e):+.3g}' for e in edge)}) E, where the paper's Eqs."
+        f" 14-20, which controller.method {controller.method} applies, take (+1, -1, -1) E:"
+        f" the duty sum that holds the non-commutating current moves by (E/U_d) x"
+        f" {float(abs(4 - sigma)):.3g}, {float(moved):.4g} TIM1 counts at speed_max and"
+        f" bus_voltage_min, and the commutation time with it; controller.method improved_r"
+        " follows a shape that is affine over the sector (the 120 deg trapezoid, flat)",
+    )
 
 
 def _read_bytes(file: Path, source: str) -> bytes:

@@ -180,3 +180,73 @@ def test_every_bad_tolerance_should_be_listed_not_only_the_first(tmp_path: Path)
     for key in ("phase_resistance", "phase_inductance", "back_emf_constant"):
         assert sum(f"tolerances.{key} = [-99, 900]" in line for line in lines) == 1, lines
     assert len(lines) == 3, lines
+
+
+SINE_TABLE = "[" + ", ".join(f"[{a}, {np.sin(np.radians(a)):.4f}]" for a in range(0, 181, 15)) + "]"
+
+
+@pytest.mark.parametrize("shape", ["flat", "120 deg", "150 deg", "60 deg", "100 deg", SINE_TABLE])
+def test_the_edge_angles_should_give_the_switching_tables_edge_emfs(
+    tmp_path: Path, shape: str
+) -> None:
+    """The loader's edge angles (90, -30, 210 deg from each phase's rising zero crossing)
+    against the EMFs the switching table's paper edge gives (`edge_emfs`, derived from
+    the table's ramps): the two ways agree on every shape."""
+    from codegen.derivation import derive
+    from codegen.derivation.shape_terms import edge_emfs
+    from codegen.spec_drive import emf_at
+    from codegen.spec_loader import EDGE_ANGLES_DEG, PAPER_EDGE_EMFS
+
+    spec_shape = load_spec(_with_shape(tmp_path, shape)).motor.back_emf_shape
+    table_says = edge_emfs(spec_shape, derive().switching, Fraction(0))
+    if spec_shape.frozen:
+        assert table_says == PAPER_EDGE_EMFS
+    else:
+        assert tuple(emf_at(spec_shape, a) for a in EDGE_ANGLES_DEG) == table_says
+
+
+@pytest.mark.parametrize(
+    ("shape", "shown"),
+    [
+        ("flat", None),
+        ("120 deg", None),
+        ("150 deg", None),
+        ("121 deg", None),
+        # a flat top of 119 deg: the turn-off and turn-on phases are at -(30/30.5) E at
+        # the edge, 1.6 % off (the slack is 1 %)
+        ("119 deg", "(+1, -0.984, -0.984) E"),
+        ("60 deg", "(+1, -0.5, -0.5) E"),
+        (SINE_TABLE, "(+1, -0.5, -0.5) E"),
+    ],
+)
+def test_a_shape_off_the_papers_edge_emfs_should_be_warned_of_under_the_papers_methods(
+    tmp_path: Path, shape: str, shown: str | None
+) -> None:
+    """Eq. 18 holds the non-commutating current with (E/U_d)(2 e_a - e_b - e_c)/E = 4 E/U_d
+    of a PWM period; a sine's 3 at the edge moves the duty sum by E/U_d of the period,
+    printed in TIM1 counts at speed_max and bus_voltage_min (computed here from the
+    spec's values). The resistance-aware rule is not warned: it follows the shape, or
+    refuses one it cannot follow."""
+    path = _with_shape(tmp_path, shape)
+    spec = load_spec(path)
+    warnings = [w for w in spec.warnings if w.id == "emf-shape-not-paper"]
+    assert bool(warnings) is (shown is not None)
+    if shown is None:
+        return
+    (warning,) = warnings
+    line = str(warning)
+    assert "motor.back_emf_shape" in line and shown in line
+    assert "which controller.method improved applies" in line
+    if shown == "(+1, -0.5, -0.5) E":
+        inverter, motor = spec.inverter, spec.motor
+        counts = inverter.timer_clock_hz / inverter.pwm_frequency_hz
+        e_top = motor.back_emf_constant_v_per_rpm * spec.controller.speed_max_rpm
+        assert inverter.pwm_alignment == "edge"
+        assert f"{float(e_top / inverter.bus_voltage_min_v * counts):.4g} TIM1 counts" in line
+    text = path.read_text(encoding="utf-8")
+    path.write_text(text + "warnings:\n  silence: [emf-shape-not-paper]\n", encoding="utf-8")
+    assert not [w for w in load_spec(path).warnings if w.id == "emf-shape-not-paper"]
+    resistance_aware = text.replace("  method: improved\n", "  method: improved_r\n")
+    assert resistance_aware != text
+    path.write_text(resistance_aware, encoding="utf-8")
+    assert not [w for w in load_spec(path).warnings if w.id == "emf-shape-not-paper"]
