@@ -257,12 +257,17 @@ def read_current_loop(r: Reader, data: Mapping[str, Any], rng: Any) -> CurrentLo
     return None if bandwidth is None else CurrentLoop(bandwidth_hz=bandwidth)
 
 
+#: The largest current a protection entry may name (A): a bridge's pulsed rating beyond
+#: 10 kA is no longer a board this firmware drives.
+PROTECTION_AMPS_MAX = 10_000
+
+
 def read_protection(r: Reader, data: Mapping[str, Any], rng: Any) -> Protection | None:
     sec = r.section(data, "protection")
     if sec is None:
         return None
     r.only_keys(sec, PROTECTION_KEYS, "protection")
-    amps = rng(0.0, 10_000.0, "A", low_inclusive=False)
+    amps = rng(0.0, float(PROTECTION_AMPS_MAX), "A", low_inclusive=False)
     over = r.attempt(lambda: r.quantity(sec, "over_current", "protection", units.CURRENT, amps))
     polarity = r.attempt(lambda: r.choice(sec, "break_input", "protection", BREAK_POLARITIES))
     short = r.attempt(

@@ -39,6 +39,7 @@ from codegen.dead_time import (
 from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import (
+    PROTECTION_AMPS_MAX,
     braking_current_peak,
     braking_ripple,
     end_sample_room_s,
@@ -608,7 +609,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     gain_mv = max(
         Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1650) / over_current, 1))
     )
-    short_max = _round_up(
+    short_bound = _round_up(
         Fraction(
             math.ceil(
                 short_circuit_peak(
@@ -624,6 +625,10 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         ),
         1,
     )
+    # a bound past what a protection entry may name (a tiny, stiff motor's E/R at the
+    # top speed): the entry's limit, noted, so that the loader judges the physics (does
+    # the short circuit have to hold at speed_max?) rather than the number's range
+    short_max = min(short_bound, Fraction(PROTECTION_AMPS_MAX))
     point_lines = "\n".join(f"  - {{speed: {_num(p)} rpm, main_duty: 0.42}}" for p in points)
     sources = {f"motor.{k}": v for k, v in motor_sources.items()} | {
         "inverter.bus_voltage_nominal": bus_source,
@@ -708,6 +713,10 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         "protection.short_circuit_current_max": (
             f"{derived} the short-circuit bound at speed_max, rounded up; set your bridge's"
             " pulsed rating"
+            if short_max == short_bound
+            else f"{derived} the short-circuit bound at speed_max is {_num(short_bound)} A,"
+            f" beyond the {PROTECTION_AMPS_MAX} A a spec may name: written as that; set your"
+            " bridge's pulsed rating"
         ),
         "protection.safe_state": "assumption: all-off where both are valid",
         "firmware": "assumption: bldc-codegen init defaults; the budgets of issue 12"

@@ -336,6 +336,29 @@ def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     assert "braking_current_max + 37.5 A of PWM ripple" in sources["adc.current_gain"]
 
 
+def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A tiny, stiff motor (0.1 mohm, 0.1 uH): its short-circuit bound at the paper's top
+    speed is about 256 kA. init had written that, and the loader refused the number it
+    wrote (out of (0, 10000] A) instead of the values the user has to change; it writes
+    the 10 kA a spec may name, says so in the source, and the loader's lines name the
+    motor's real problems, not the rating."""
+    from codegen.spec_drive import PROTECTION_AMPS_MAX
+    from codegen.yaml12 import read_yaml
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "tiny", "--resistance", "0.1 mohm", "--inductance", "0.1 uH"]
+    assert cli.main(argv) == ExitCode.SPEC  # written, but not loadable yet: edit it
+    err = capsys.readouterr().err
+    assert "short_circuit_current_max" not in err
+    assert "does not load yet" in err
+    data, _ = read_yaml((tmp_path / "spec" / "tiny.yaml").read_bytes())
+    assert data["protection"]["short_circuit_current_max"] == f"{PROTECTION_AMPS_MAX} A"
+    note = data["sources"]["protection.short_circuit_current_max"]
+    assert "is 256364 A, beyond the 10000 A a spec may name" in note
+
+
 @pytest.mark.parametrize(("bus", "low", "high"), [("1000 V", 800, 1000), ("1 V", 1, "1.25")])
 def test_init_should_keep_the_bus_range_within_the_voltages_a_spec_holds(
     tmp_path: Path,
