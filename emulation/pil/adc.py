@@ -157,6 +157,9 @@ class Adc(Peripheral):
             shares_pins_with.inputs if shares_pins_with else {}
         )
         self.injected_sequences = 0
+        #: the tick the latest injected sequence was triggered (JSTRT set): the one in
+        #: flight while its conversions end
+        self.injected_started: int | None = None
         self.ignored_triggers = 0
         self.sample_log: list[tuple[int, int, int]] = []  # (tick sampled, channel, raw)
         #: called at the end of every injected conversion: (tick sampled, channel, JDRx)
@@ -364,6 +367,7 @@ class Adc(Peripheral):
             self._alarm_known = False
         self.sr |= SR_JSTRT
         self.injected_sequences += 1
+        self.injected_started = self.machine.now
         self._schedule(self.injected_channels(), injected=True)
 
     def regular_channels(self) -> list[tuple[int, int]]:

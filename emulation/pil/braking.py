@@ -188,10 +188,6 @@ class Commutation:
     #: the edge before): the steady I the port holds through that edge's commutation,
     #: which the timing run at its end, the last before this edge, reads
     previous_sampled_code: int | None = None
-    #: every injected conversion of the sector's current signal (the JDRx the port reads
-    #: I from there) sampled from the previous commutation's end to this Hall edge: the
-    #: samples the current loop closes on, ADC codes
-    steady_codes: tuple[int, ...] = ()
 
     @property
     def compared_periods(self) -> int:
@@ -227,6 +223,24 @@ class Commutation:
         return len(self.period_deviations_pct), len(self.sil_period_deviations_pct)
 
 
+@dataclass(frozen=True)
+class SteadySector:
+    """The samples the current loop closed on in one Hall sector, and what it made of
+    each: the conversions of the sector's current signal (the JDRx the port reads I from
+    there) whose injected sequence was triggered at or after the previous edge's
+    commutation-end COM event (the port drops the sequence in flight then, `stale`, and
+    runs no loop step while the commutation runs) and ended (JEOC, where the loop runs)
+    before the Hall edge (from its handler on the next commutation runs)."""
+
+    index: int  # the Hall edge that ends the sector
+    speed_rpm: float  # at that edge
+    codes: tuple[int, ...]  # ADC codes
+    #: the steady switch's compare preload (TIM1 counts) at the end of the next injected
+    #: sequence after each sample (at the Hall edge, where that ends after it): the duty
+    #: the loop set from the sample, which runs at its sequence's end
+    duties: tuple[int, ...]
+
+
 @dataclass
 class BrakingResult:
     spec: Spec
@@ -251,6 +265,9 @@ class BrakingResult:
     #: crossing's tick, the pin's tick, the peak so far A)
     peak_current_a: float = 0.0
     comparator_trips: list[tuple[int, int, float]] = field(default_factory=list)
+    #: every Hall sector's loop samples from the settling edges on (`SteadySector`),
+    #: measured commutation or not
+    steady_sectors: list[SteadySector] = field(default_factory=list)
 
     @property
     def emulated_s(self) -> float:
@@ -285,20 +302,20 @@ class BrakingLoop:
         #: the port has stored a sample in `current` (before, it reads its reset value)
         self._current_stored = False
         current_channels = frozenset(spec.sensing.current_channels)
+        self._current_channels = current_channels
         self.machine.adc1.injected_listeners.append(
             lambda tick, channel, code: (
                 self._current_codes.append((tick, code)) if channel in current_channels else None
             )
         )
-        #: (tick sampled, channel, code) of every injected conversion of a current channel
-        self._current_samples: list[tuple[int, int, int]] = []
-        self.machine.adc1.injected_listeners.append(
-            lambda tick, channel, code: (
-                self._current_samples.append((tick, channel, code))
-                if channel in current_channels
-                else None
-            )
-        )
+        #: (tick sampled, channel, code, tick its sequence was triggered, TIM1 CCR1..CCR3
+        #: preloads at its end) of every injected conversion of a current channel: the
+        #: preloads then hold the duty the loop set from the sequence before
+        self._current_samples: list[tuple[int, int, int, int, tuple[int, ...]]] = []
+        #: the tick each injected sequence (by its trigger's tick) ended: JEOC, where the
+        #: current loop runs
+        self._sequence_ends: dict[int, int] = {}
+        self.machine.adc1.injected_listeners.append(self._injected_converted)
         #: the board's over-current comparator on BKIN, its input the plant's currents
         self.comparator = OverCurrentComparator(
             float(spec.protection.over_current_a),
@@ -467,6 +484,13 @@ class BrakingLoop:
 
             self.machine.adc1.set_input(channel, volts)
 
+    def _injected_converted(self, tick: int, channel: int, code: int) -> None:
+        started = self.machine.adc1.injected_started or 0
+        self._sequence_ends[started] = self.machine.now
+        if channel in self._current_channels:
+            preloads = tuple(self.machine.tim1.ccr_preload[1:4])
+            self._current_samples.append((tick, channel, code, started, preloads))
+
     def _period_started(self, tick: int) -> None:
         tim1 = self.machine.tim1
         if tim1.com_events != self._coms_seen:
@@ -608,6 +632,7 @@ class BrakingLoop:
             dict(self.unmeasured),
             self.comparator.peak_a,
             list(self.comparator.trips),
+            self.steady_sectors(),
         )
 
     # ------------------------------------------------------------------ measurement
@@ -624,23 +649,47 @@ class BrakingLoop:
                 self.unmeasured[measured] += 1
         return out
 
-    def _steady_codes(self, index: int) -> tuple[int, ...]:
-        """The conversions of the current signal the port reads in the sector Hall edge
-        `index` ends, sampled from a PWM period after the end of the previous edge's
-        commutation (none where it filled its sector) to the edge."""
-        hall = self.edges[index][0]
+    def steady_sectors(self) -> list[SteadySector]:
+        """`SteadySector` of every Hall edge from the settling ones on."""
+        periods = self.plant.periods
+        ends = [p.end for p in periods]
+        sampled = [s[0] for s in self._current_samples]
+        return [
+            self._steady_sector(index, periods, ends, sampled)
+            for index in range(SETTLING_EDGES, len(self.edges))
+        ]
+
+    def _steady_sector(
+        self, index: int, periods: list[PeriodRecord], ends: list[int], sampled: list[int]
+    ) -> SteadySector:
+        hall, sector, compares, _ = self.edges[index]
+        at = bisect.bisect_left(ends, hall)
+        speed = periods[at].speed_rpm if at < len(periods) else self.plant.speed_rpm
         previous = edge_coms(self.com_ticks, self.com_ccers, self.edges[index - 1][0], hall)
         if previous is None or previous[1] is None:
-            return ()
-        # the sequence triggered before the end, sampled up to a period after it, is the
-        # commutating bridge's (the port discards it)
-        since = self.com_ticks[previous[1]] + self.run.board.pwm_period_ticks()
-        channel = self.sampled_channels[index]
-        return tuple(
-            code
-            for tick, ch, code in self._current_samples
-            if ch == channel and since <= tick < hall
-        )
+            return SteadySector(index, speed, (), ())  # the commutation filled the sector
+        end = self.com_ticks[previous[1]]
+        # the port modulates the incoming switch of the sector's own edge through it
+        steady = previous_edge(switching_table().edge_into(sector, "forward")).modulated_on
+        channel = (int(steady[1:]) - 1) // 2  # T1..T6 -> CCR1..CCR3
+        signal = self.sampled_channels[index]
+        samples = self._current_samples
+        codes, duties = [], []
+        for k in range(bisect.bisect_left(sampled, end), bisect.bisect_left(sampled, hall)):
+            _, ch, code, started, _ = samples[k]
+            if ch != signal or started < end or self._sequence_ends[started] >= hall:
+                continue
+            # the duty the loop set from it: the preload at the next sequence's end (the
+            # loop runs within the period), or at the edge where that ends after it
+            later = k + 1
+            while later < len(samples) and samples[later][3] == started:
+                later += 1
+            after = (
+                samples[later][4] if later < len(samples) and samples[later][0] < hall else compares
+            )
+            codes.append(code)
+            duties.append(after[channel])
+        return SteadySector(index, speed, tuple(codes), tuple(duties))
 
     def _measure(self, index: int) -> Commutation | str:
         """The commutation of Hall edge `index`, or why it cannot be compared."""
@@ -741,7 +790,6 @@ class BrakingLoop:
             current_a=current,
             main_duty=duty,
             sampled_code=self.sampled_codes[index],
-            steady_codes=self._steady_codes(index),
             previous_sampled_code=self.sampled_codes[index - 1] if index > 0 else None,
             start_currents=before[origin].start_currents,
             pre_duties=tuple(p.compares[steady_channel - 1] / counts for p in before[origin:]),

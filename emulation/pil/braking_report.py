@@ -215,16 +215,25 @@ def compared(result: BrakingResult, c: Commutation) -> bool:
 HELD_FRACTION = 0.03
 #: ... and never less than this many codes (the ADC's rounding)
 HELD_CODES_MIN = 2.0
-#: How far (counts) the steady duty may rise over the judged commutations, beyond twice
-#: the rise the slowing rotor asks, before a loop that never reached the command is
-#: taken as still climbing towards it (not judged) rather than settled off it
+#: How far (counts) the loop's integrator may move towards the command over the judged
+#: samples, beyond twice the climb the slowing rotor asks, before a loop that never
+#: reached the command is taken as still converging on it (not judged) rather than
+#: settled off it: where it moves as the spec's PI moves it (INTEGRATOR_AGREEMENT)
 CLIMBING_COUNTS = 4.0
+#: ... within this fraction of k_i times the errors it integrated, and two counts (the
+#: rounding of the two duties it is read from): a loop with another integral gain, or
+#: none, is judged
+INTEGRATOR_AGREEMENT = 0.1
 
 
 @dataclass(frozen=True)
 class HeldCurrent:
-    """The current loop's steady samples against the command, over the commutations
-    whose steady switch stayed inside (0, D_max) before the edge: the loop holds I there.
+    """The current loop's regulated samples against the command: the steady samples
+    (`SteadySector`) after which it set a duty inside (0, D_max). At 0 or D_max its
+    clamping anti-windup holds the integrator and the current is what the bridge gives,
+    not what the loop asks (a sinusoidal-EMF motor's commutation drained the current to
+    0.5 A of 5 A over half its sector; the loop then ran at D_max for 6 periods, reading
+    up to 280 codes low, and held the command after).
 
     As the rotor slows, the duty that holds I rises by 2 k_e dn / U_d (the averaged
     plant, 2E - 2RI = (1 - D) U_d); the integrator climbs that far only from errors, so
@@ -237,6 +246,7 @@ class HeldCurrent:
     mean_code: float
     samples: int
     lag_codes: float
+    saturated: int = 0  # steady samples left out: the loop's duty at 0 or D_max after them
 
     @property
     def error_codes(self) -> float:
@@ -248,51 +258,102 @@ class HeldCurrent:
         return max(HELD_CODES_MIN, HELD_FRACTION * command) + self.lag_codes
 
 
-def held_current_check(result: BrakingResult) -> HeldCurrent | None:
-    """The mean steady sample against the command's code, from the first commutation
-    whose samples reach the command (within the allowance) on: the loop's ramp to it is
-    no steady state. None where there is nothing to judge: fewer samples than the loop's
-    step response takes (5 / w_c PWM periods), so the integrator has not converged (the
-    Maxon's short run: one sample a sector); or the samples never reach the command while
-    the duty still climbs beyond what the slowing rotor asks (`CLIMBING_COUNTS`): the
-    integrator is on its way (a 100 kHz motor whose ripple exceeds its current ramps from
-    a valley read at 0 A for its whole short run, 0.22 to 0.34 of the period). A loop
-    that settles off the command (a proportional one) has a duty that stops climbing.
-    The command, its code, D_max and k_i come from the spec alone (`oracle`)."""
+@dataclass(frozen=True)
+class NotJudged:
+    """A check that had nothing to judge, and why: the report and the console say so,
+    neither a pass nor a failure."""
+
+    reason: str
+
+
+def held_current_check(result: BrakingResult) -> HeldCurrent | NotJudged:
+    """The mean regulated sample (`HeldCurrent`) against the command's code, from the
+    first sector whose regulated samples reach the command (within the allowance) on:
+    the loop's ramp to it is no steady state. `NotJudged` where there is nothing to
+    judge: fewer regulated samples than the loop's step response takes (5 / w_c PWM
+    periods), so the integrator has not converged (the Maxon's short run: 8 from the
+    first sector that reached the command, of 16); or the samples never reach the command while the loop's integrator still
+    moves towards it, beyond what the slowing rotor asks, as the spec's PI moves it: the
+    loop is on its way. The integrator is read off each regulated sample as the duty it
+    set less k_p times its error. Where the PI's zero cancels the plant's pole, the
+    start-up error (the integrator starts at 0, so the proportional part carries the
+    held duty alone) decays with the plant's own L/R, not 1/w_c: the duty that holds I
+    is in force at once and the current follows it (a 1-pole-pair motor at 55 krpm,
+    L/R = 3 ms, 2 or 3 samples a sector of 3.6 PWM periods: over its short run the duty
+    stayed near 600 counts while the integrator rose from 144 to 376 and the samples
+    from 2150 to 2261 codes, 1.6 to 3.4 A of 5 A, the error decaying with a 3.0 ms time
+    constant); a 100 kHz motor whose ripple exceeds its current ramps from a valley read
+    at 0 A for its whole short run. A loop that settles off the command (a proportional
+    one) has an integrator that stops, or one that moves otherwise than k_i times the
+    errors: it is judged.
+    The command, its code, k_p, k_i and D_max come from the spec alone (`oracle`)."""
     spec = result.spec
     u = units(spec)
     loop = loop_model(spec)
-    judged = [
-        c
-        for c in result.commutations
-        if c.steady_codes
-        and min(c.pre_duties, default=0.0) > 0
-        and max(c.pre_duties) * u.pwm_counts < loop.duty_max
-    ]
     milliamps = round(result.setup.current_a * 1000)
     reference = u.current_code(Fraction(milliamps, 1000))
     zero = u.zero_current_code
     tolerance = max(HELD_CODES_MIN, HELD_FRACTION * float(abs(reference - zero)))
-    means = [sum(c.steady_codes) / len(c.steady_codes) for c in judged]
+    steps = loop_periods_per_step_response(spec)
+    sectors = []
+    saturated = 0
+    for sector in result.steady_sectors:
+        both = zip(sector.codes, sector.duties, strict=True)
+        pairs = [(c, d) for c, d in both if 0 < d < loop.duty_max]
+        saturated += len(sector.codes) - len(pairs)
+        if pairs:
+            sectors.append((sector, pairs))
+    left_out = (
+        f" ({saturated} more with the loop's duty at 0 or D_max = {loop.duty_max} counts,"
+        " where it regulates nothing)"
+        if saturated
+        else ""
+    )
+    means = [sum(c for c, _ in pairs) / len(pairs) for _, pairs in sectors]
     first = next((k for k, m in enumerate(means) if abs(m - reference) <= tolerance), None)
     if first is not None:
-        judged = judged[first:]
-    codes = [code for c in judged for code in c.steady_codes]
-    if len(codes) < loop_periods_per_step_response(spec):
-        return None
-    slowed = abs(float(judged[0].speed_rpm) - float(judged[-1].speed_rpm))
+        sectors = sectors[first:]
+    pairs = [pair for _, sector_pairs in sectors for pair in sector_pairs]
+    if len(pairs) < steps:
+        return NotJudged(
+            f"{len(pairs)} steady samples the loop regulated"
+            + (" from the first sector that reached the command" if first is not None else "")
+            + left_out
+            + f", fewer than its step response takes ({steps:.0f} PWM periods, 5 f_pwm / w_c):"
+            " its integrator cannot have converged"
+        )
+    slowed = abs(float(sectors[0][0].speed_rpm) - float(sectors[-1][0].speed_rpm))
     climb = 2 * float(spec.motor.back_emf_constant_v_per_rpm) * slowed * u.pwm_counts
     climb /= float(spec.inverter.bus_voltage_nominal_v)
+    mean = sum(c for c, _ in pairs) / len(pairs)
     if first is None:
-        duties = [sum(c.pre_duties) / len(c.pre_duties) * u.pwm_counts for c in judged]
-        if duties[-1] - duties[0] > 2 * climb + CLIMBING_COUNTS:
-            return None
+        kp, ki = float(loop.kp), float(loop.ki)
+        errors = [reference - code for code, _ in pairs]
+        integrator = [duty - kp * e for (_, duty), e in zip(pairs, errors, strict=True)]
+        moved = integrator[-1] - integrator[0]
+        expected = ki * sum(errors[:-1])
+        towards = moved if reference > mean else -moved
+        if towards > 2 * climb + CLIMBING_COUNTS and abs(moved - expected) <= max(
+            2.0, INTEGRATOR_AGREEMENT * abs(expected)
+        ):
+            return NotJudged(
+                f"the loop was still converging on the command when the run ended: its"
+                f" {len(pairs)} regulated samples{left_out} read {mean:.1f} codes on average,"
+                f" {mean - reference:+.1f} from the command's {reference}"
+                f" ({result.setup.current_a:g} A), and never came within {tolerance:.1f} of it"
+                f" in a sector, while its integrator (each duty less k_p = {kp:.4g} counts a"
+                f" code times the error) moved {moved:+.1f} counts, as the spec's PI moves it"
+                f" (k_i = {ki:.4g} counts a code a period times the errors: {expected:+.1f})"
+                f" and more than twice the {climb:.1f} counts the slowing rotor asks"
+                f" plus {CLIMBING_COUNTS:g}"
+            )
     return HeldCurrent(
         reference_code=reference,
         zero_code=zero,
-        mean_code=sum(codes) / len(codes),
-        samples=len(codes),
-        lag_codes=float(climb / (float(loop.ki) * len(codes))),
+        mean_code=mean,
+        samples=len(pairs),
+        lag_codes=float(climb / (float(loop.ki) * len(pairs))),
+        saturated=saturated,
     )
 
 
@@ -361,12 +422,12 @@ def problems(result: BrakingResult) -> list[str]:
                 f" {c.window_lengths[1]} (SIL) PWM periods"
             )
     held = held_current_check(result)
-    if held is not None and abs(held.error_codes) > held.allowed_codes:
+    if isinstance(held, HeldCurrent) and abs(held.error_codes) > held.allowed_codes:
         out.append(
             f"the current loop held a mean of {held.mean_code:.1f} codes over {held.samples}"
-            f" steady samples, {held.error_codes:+.1f} from the command's {held.reference_code}"
-            f" ({result.setup.current_a:g} A; allowed {held.allowed_codes:.1f} codes): it does"
-            " not hold the commanded braking current"
+            f" steady samples it regulated, {held.error_codes:+.1f} from the command's"
+            f" {held.reference_code} ({result.setup.current_a:g} A; allowed"
+            f" {held.allowed_codes:.1f} codes): it does not hold the commanded braking current"
         )
     if not result.commutations:
         why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
@@ -379,6 +440,49 @@ def problems(result: BrakingResult) -> list[str]:
                 " that the SIL's pre-edge state needs"
             )
         out.append("no commutation was measured" + (f" ({why})" if why else ""))
+    return out
+
+
+def _held_line(result: BrakingResult) -> str:
+    """The held-current check's bullet: its figures and their basis, or why it judged
+    nothing."""
+    held = held_current_check(result)
+    if isinstance(held, NotJudged):
+        return f"* Braking current held by the loop: not judged: {held.reason}."
+    command = float(abs(held.reference_code - held.zero_code))
+    return (
+        f"* Braking current held by the loop: the mean of the {held.samples} steady samples"
+        f" it regulated (sequences begun after the commutation end and ended before the"
+        f" next edge, its duty inside (0, D_max) after them"
+        + (f"; {held.saturated} more at 0 or D_max left out" if held.saturated else "")
+        + f") is {held.mean_code:.1f} codes, {held.error_codes:+.1f} from the command's"
+        f" {held.reference_code} ({result.setup.current_a:g} A through the spec's sensing"
+        f" chain); allowed {held.allowed_codes:.1f} codes: {HELD_FRACTION:g} x the"
+        f" {command:.0f}-code command (at least {HELD_CODES_MIN:g}) plus"
+        f" {held.lag_codes:.1f} codes the integrator lags the slowing rotor's duty (k_i"
+        " from `oracle.current_loop`)."
+    )
+
+
+def not_judged(result: BrakingResult) -> list[tuple[str, str]]:
+    """(check, why) of every check of the braking run that had nothing to judge: no
+    pass, and no failure of the firmware either (the report and the console say so)."""
+    out = []
+    held = held_current_check(result)
+    if isinstance(held, NotJudged):
+        out.append(("the held braking current", held.reason))
+    cs = result.commutations
+    if cs and not any(compared(result, c) for c in cs):
+        low = sum(1 for c in cs if not held_current(result, c))
+        out.append(
+            (
+                "SIL vs PIL",
+                f"none of the {len(cs)} measured commutations was compared ({low} with I"
+                f" below {COMPARED_FRACTION:g} x the command, {len(cs) - low} where the rotor"
+                f" slows enough within the window to move the current by more than"
+                f" {SPEED_DRIFT_PP:g} pp)",
+            )
+        )
     return out
 
 
@@ -516,8 +620,21 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
             f" applied for {same} of {len(result.commutations)} commutations; required:"
             " every one."
         )
+    elif result.commutations:
+        lines.append(
+            f"* SIL vs PIL: not judged: none of the {len(result.commutations)} measured"
+            f" commutations was compared ({low} with I below {COMPARED_FRACTION:g} x the"
+            f" command, {slowing} where the rotor slows too much within the window)."
+        )
+    lines.append(_held_line(result))
+    unjudged = not_judged(result)
     lines += [
-        f"* Result: {'PASS' if not found else 'FAIL: ' + '; '.join(found[:8])}",
+        f"* Result: {'PASS' if not found else 'FAIL: ' + '; '.join(found[:8])}"
+        + (
+            f" ({', '.join(check for check, _ in unjudged)} not judged: see above)"
+            if unjudged and not found
+            else ""
+        ),
         "",
         "How each commutation is compared: time 0 is the COM event the Hall edge's handler"
         " raises (the pattern changes and the carrier restarts there); I is the turn-off"

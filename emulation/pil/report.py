@@ -199,6 +199,10 @@ def main(argv: list[str] | None = None) -> int:
                 f"pil:   braking: {result.emulated_s * 1e3:.1f} ms, {result.setup.start_rpm:.0f}"
                 f" -> {result.end_rpm:.0f} rpm, {len(result.commutations)} commutations;"
                 f" {'; '.join(braking_problems[:3]) or 'pass'}"
+                + "".join(
+                    f"; {check} not judged: {why}"
+                    for check, why in braking_report.not_judged(result)
+                )
             )
         print(
             summary_line(
