@@ -1021,7 +1021,7 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
     room_s = spec_drive.end_sample_room_s(inverter.pwm_frequency_hz, sensing.adc_sample_cycles)
     guard = commutation_guard_ticks(inverter.dead_time_s, hall.timer_clock_hz, room_s)
     shift = sector_margin_shift(hall.sector_shortening)
-    shortest = math.ceil(fastest)
+    shortest = math.floor(fastest)  # the timer reads floor(T) or ceil(T) ticks
     if fastest >= 64 and latest_end_ticks(shortest, guard, shift) <= 0:
         guard_s = inverter.dead_time_s + COMMUTATION_END_ALLOWANCE_S + room_s
         lasting = next(t for t in range(shortest, 2**20) if latest_end_ticks(t, guard, shift) > 0)

@@ -120,8 +120,12 @@ class Units:
 class Limits:
     """The codes of the spec's ranges, decided exactly."""
 
-    period_min: int  # shortest Hall interval not above speed_max
-    period_max: int  # longest Hall interval not below speed_min
+    #: the shortest Hall interval the timer reads at a speed not above speed_max: it
+    #: counts whole ticks, so a sector of T ticks reads floor(T) or ceil(T)
+    period_min: int
+    #: the longest Hall interval it reads at a speed not below speed_min (the counter's
+    #: range at most)
+    period_max: int
     bus_min: int
     bus_max: int
     current_low: int  # raw ADC codes of [I_min, I_max]
@@ -170,8 +174,8 @@ def limits(spec: Spec, u: Units) -> Limits:
     c = spec.controller
     inv = spec.inverter
     return Limits(
-        period_min=_ceil(u.ticks_at(c.speed_max_rpm)),
-        period_max=_floor(u.ticks_at(c.speed_min_rpm)),
+        period_min=_floor(u.ticks_at(c.speed_max_rpm)),
+        period_max=min(_ceil(u.ticks_at(c.speed_min_rpm)), u.hall_counter_max),
         bus_min=_ceil(inv.bus_voltage_min_v / u.volts_per_code),
         bus_max=_floor(inv.bus_voltage_max_v / u.volts_per_code),
         current_low=max(_ceil(u.zero_current_code + c.braking_current_min_a / u.amps_per_code), 0),

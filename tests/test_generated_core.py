@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ctypes
 import importlib.util
+import math
 import random
 import shutil
 import subprocess
@@ -256,3 +257,38 @@ def test_generated_c_should_compile_warning_free(
             ],
             check=True,
         )
+
+
+def test_a_rotor_at_exactly_speed_max_should_be_controlled_whichever_tick_it_reads() -> None:
+    """The Hall timer counts whole ticks: the Maxon's sector at its 5500 rpm speed_max
+    lasts 10^6 x 10 / (4 x 5500) = 227.27 ticks and reads 227 or 228 (227 about 73 % of
+    the time). The core had taken 228 = ceil(T) as its shortest period, so a rotor at
+    exactly speed_max read as over-speed on most edges (every switch off; the simulator
+    showed -69 % at a spec's own speed_max). Both readings must be controlled, and the
+    one below floor(T) is over-speed; and at speed_min (8333.3 ticks) both readings are
+    inside the range, not flagged. T comes from the spec's values here."""
+    spec = load_spec(ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml")
+    ticks_60deg = spec.hall.timer_clock_hz * 10 / spec.motor.pole_pairs
+    fastest = ticks_60deg / spec.controller.speed_max_rpm
+    slowest = ticks_60deg / spec.controller.speed_min_rpm
+    assert fastest.denominator != 1 and slowest.denominator != 1
+    module = importlib.util.spec_from_file_location(
+        "maxon_fixed", ROOT / "generated" / "maxon_ec45_flat_48v" / "python" / "bldc_fixed.py"
+    )
+    assert module is not None and module.loader is not None
+    twin = importlib.util.module_from_spec(module)
+    module.loader.exec_module(twin)
+    bus = round(48 / (Fraction(33, 10) * 21) * 4096)
+    current = 2048 + 500  # about 1 A
+    hall = spec.hall.sequence
+
+    def flags(period: int) -> int:
+        out = twin.commutate(twin.Inputs(hall[1], hall[0], period, bus, current, 1000))
+        return int(out.flags)
+
+    for period in (math.floor(fastest), math.ceil(fastest)):
+        assert not flags(period) & twin.FLAG_INPUT_SATURATED, period
+    assert flags(math.floor(fastest) - 1) & twin.FLAG_INPUT_SATURATED
+    for period in (math.floor(slowest), math.ceil(slowest)):
+        assert not flags(period) & twin.FLAG_INPUT_SATURATED, period
+    assert flags(math.ceil(slowest) + 1) & twin.FLAG_INPUT_SATURATED

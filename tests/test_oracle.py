@@ -21,7 +21,9 @@ ROOT = Path(__file__).resolve().parents[1]
 #: spec -> (P counts, volts per bus code, amps per current code, zero-current code,
 #: period_min, period_max, bus_min, bus_max, current_low, current_high), by hand:
 #: P = f_timer / f_pwm (/2 centre); V/code = V_ref k / 4096; A/code = V_ref / (G 4096);
-#: C0 = V_off / V_ref 4096; T = 60 f_hall / (6 p n); codes of the ranges, exactly.
+#: C0 = V_off / V_ref 4096; T = 60 f_hall / (6 p n); codes of the ranges, exactly; the
+#: Hall timer counts whole ticks, so a sector of T ticks reads floor(T) or ceil(T): the
+#: period range is [floor(T(speed_max)), ceil(T(speed_min))].
 HAND = {
     "paper_motor.yaml": (
         3600,
@@ -40,8 +42,8 @@ HAND = {
         Fraction(33, 10) * 21 / 4096,
         Fraction(33, 10) / (Fraction(4, 10) * 4096),
         Fraction(2048),
-        228,  # ceil(10^6 / (8 * 5500 / 10)) = ceil(227.27)
-        8333,  # floor(10^6 / (8 * 150 / 10)) = floor(8333.3)
+        227,  # floor(10^6 / (8 * 5500 / 10)) = floor(227.27): 5500 rpm reads 227 or 228
+        8334,  # ceil(10^6 / (8 * 150 / 10)) = ceil(8333.3)
         2306,  # ceil(39 / (69.3 / 4096)) = ceil(2305.1)
         3546,  # floor(60 / 0.0169189) = floor(3546.3)
         2048,
@@ -52,7 +54,7 @@ HAND = {
         Fraction(3) * 16 / 4096,
         Fraction(3) / (Fraction(1, 10) * 4096),
         Fraction(2048, 3),
-        910,  # ceil(2e6 * 10 / (4 * 5500)) = ceil(909.09)
+        909,  # floor(2e6 * 10 / (4 * 5500)) = floor(909.09)
         50000,  # floor(2e6 * 10 / (4 * 100))
         1536,  # ceil(18 / 0.01171875) = 1536 exactly
         2560,  # 30 / 0.01171875 = 2560 exactly

@@ -124,13 +124,15 @@ def core_limits(spec: object, sc: Scaling) -> CoreLimits:
             U32,
             sc.period_min_ticks,
             "BLDC_PERIOD_MIN_TICKS",
-            doc=f"{float(spec.controller.speed_max_rpm):g} rpm: a shorter period is over-speed",
+            doc=f"{float(spec.controller.speed_max_rpm):g} rpm reads {sc.period_min_ticks} or more"
+            " (whole ticks): a shorter period is over-speed",
         ),
         period_max=IConst(
             U32,
             sc.period_max_ticks,
             "BLDC_PERIOD_MAX_TICKS",
-            doc=f"{float(spec.controller.speed_min_rpm):g} rpm: a longer period is flagged",
+            doc=f"{float(spec.controller.speed_min_rpm):g} rpm reads {sc.period_max_ticks} or less"
+            " (whole ticks): a longer period is flagged",
         ),
         period_cap=IConst(
             U32,

@@ -53,8 +53,11 @@ class Scaling:
     adc_full_scale: int
     k_x: sp.Rational  # X = k_x / (T B)
     k_g: sp.Rational  # t_ticks = k_g I_code / (B W)
-    period_min_ticks: int  # T at speed_max (rounded up)
-    period_max_ticks: int  # T at speed_min (rounded down)
+    #: the shortest interval the Hall timer reads at speed_max: it counts whole ticks, so
+    #: a sector of T ticks reads floor(T) or ceil(T) (rounded down)
+    period_min_ticks: int
+    #: the longest it reads at speed_min (rounded up, within the counter's range)
+    period_max_ticks: int
     period_cap_ticks: int  # largest period the Hall counter can report (its full range)
     #: a commutation ends at least this many ticks before its sector's end (the bridge's
     #: dead time and the end's latency: `codegen.dead_time.commutation_guard_ticks`)
@@ -153,8 +156,8 @@ def scaling(spec: Spec, derivation: Derivation) -> Scaling:
         adc_full_scale=adc_full_scale,
         k_x=sp.Rational(k_x),
         k_g=sp.Rational(k_g),
-        period_min_ticks=int(sp.ceiling(ticks_per_rpm / n_max)),
-        period_max_ticks=int(sp.floor(ticks_per_rpm / n_min)),
+        period_min_ticks=int(sp.floor(ticks_per_rpm / n_max)),
+        period_max_ticks=min(int(sp.ceiling(ticks_per_rpm / n_min)), 2**spec.hall.counter_bits - 1),
         period_cap_ticks=2**spec.hall.counter_bits - 1,
         commutation_guard_ticks=commutation_guard_ticks(
             spec.inverter.dead_time_s,

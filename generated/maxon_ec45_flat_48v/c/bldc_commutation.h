@@ -49,14 +49,14 @@
  * Intermediate ranges, proven by interval analysis of the printed IR over every input
  * (bits of headroom left in each type):
  *   bldc_bus_condition: code: uint32_t in [0, 4294967295] (-0.0 bits spare)
- *   bldc_bus_condition: period_min: uint32_t in [228, 65536] (16.0 bits spare)
+ *   bldc_bus_condition: period_min: uint32_t in [227, 65536] (16.0 bits spare)
  *   bldc_bus_condition: flags: uint32_t in [0, 4] (30.0 bits spare)
  *   bldc_divide_long: q_high: uint32_t in [619555, 987714] (12.1 bits spare)
  *   bldc_divide_long: remainder: uint32_t in [0, 7261277] (9.2 bits spare)
  *   bldc_bus_condition: bus.x_numerator: uint32_t in [1268850618, 1951146700] (1.1 bits spare)
  *   bldc_bus_condition: bus.high_speed_period: uint32_t in [344, 530] (23.0 bits spare)
  *   bldc_bus_condition: bus.time_numerator: int32_t in [642321, 987714] (11.1 bits spare)
- *   bldc_bus_condition: bus.period_min: uint32_t in [228, 65536] (16.0 bits spare)
+ *   bldc_bus_condition: bus.period_min: uint32_t in [227, 65536] (16.0 bits spare)
  *   bldc_bus_condition: bus.bus_code: uint32_t in [2306, 3546] (20.2 bits spare)
  *   bldc_bus_condition: bus.flags: uint32_t in [0, 4] (30.0 bits spare)
  *   bldc_commutation_timing: flags: uint32_t in [0, 31] (27.0 bits spare)
@@ -68,16 +68,16 @@
  *   bldc_commutation_timing: safe.flags: uint16_t in [4, 7] (13.2 bits spare)
  *   bldc_commutation_timing: current_code: uint32_t in [0, 4095] (20.0 bits spare)
  *   bldc_commutation_timing: current: int32_t in [-2048, 2047] (20.0 bits spare)
- *   bldc_commutation_timing: latest: uint32_t in [151, 61377] (16.1 bits spare)
- *   bldc_commutation_timing: x_q: uint32_t in [19361, 8557804] (9.0 bits spare)
- *   bldc_commutation_timing: x_c: int32_t in [19, 8357] (18.0 bits spare)
+ *   bldc_commutation_timing: latest: uint32_t in [150, 61377] (16.1 bits spare)
+ *   bldc_commutation_timing: x_q: uint32_t in [19361, 8595504] (9.0 bits spare)
+ *   bldc_commutation_timing: x_c: int32_t in [19, 8394] (18.0 bits spare)
  *   bldc_commutation_timing: high_speed: uint32_t in [0, 1] (32.0 bits spare)
  *   bldc_commutation_timing: on: int32_t in [0, 7181] (18.2 bits spare)
  *   bldc_commutation_timing: off: int32_t in [0, 3581] (19.2 bits spare)
- *   bldc_commutation_timing: w_q: int32_t in [-15852780, 22060127] (6.6 bits spare)
+ *   bldc_commutation_timing: w_q: int32_t in [-15890480, 22060127] (6.6 bits spare)
  *   bldc_commutation_timing: ticks: uint32_t in [0, 2032880621] (1.1 bits spare)
  *   bldc_commutation_timing: t: int32_t in [-2022838272, 2032880621] (0.1 bits spare)
- *   bldc_commutation_timing: timing.period_min: uint32_t in [228, 65535] (16.0 bits spare)
+ *   bldc_commutation_timing: timing.period_min: uint32_t in [227, 65535] (16.0 bits spare)
  *   bldc_commutation_timing: timing.turn_on_compare: uint16_t in [0, 7181] (3.2 bits spare)
  *   bldc_commutation_timing: timing.turn_off_compare: uint16_t in [0, 3581] (4.2 bits spare)
  *   bldc_commutation_timing: timing.commutation_ticks: uint16_t in [0, 61377] (0.1 bits spare)
@@ -109,8 +109,8 @@
 #define BLDC_FLAG_INVALID_HALL 0x08u /* Hall code 000/111 or an impossible jump: every switch off */
 #define BLDC_FLAG_TIME_CLAMPED 0x10u /* the commutation does not finish within the sector: clamped to it */
 #define BLDC_PWM_PERIOD_COUNTS 3600u /* TIM1 counts per PWM period: duty 1 */
-#define BLDC_PERIOD_MIN_TICKS 228u /* 5500 rpm: a shorter period is over-speed */
-#define BLDC_PERIOD_MAX_TICKS 8333u /* 150 rpm: a longer period is flagged */
+#define BLDC_PERIOD_MIN_TICKS 227u /* 5500 rpm reads 227 or more (whole ticks): a shorter period is over-speed */
+#define BLDC_PERIOD_MAX_TICKS 8334u /* 150 rpm reads 8334 or less (whole ticks): a longer period is flagged */
 #define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
 #define BLDC_COMMUTATION_GUARD_TICKS 62u /* a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) + one current sample (a PWM period and the ADC's injected sequence: the braking-current loop samples between commutations) */
 #define BLDC_BUS_CODE_MIN 2306u /* 39 V (39.02 V) */

@@ -217,7 +217,7 @@
  * the port recomputes the bus state (bldc_bus_condition(), five divides): the default
  * 1 code = 16.92 mV keeps one code of ADC noise from costing a recomputation.
  * The price: the duties are computed for a bus voltage up to that much off the latest
- * sample, which moves them by up to 3.62 counts at the top speed and
+ * sample, which moves them by up to 3.64 counts at the top speed and
  * the lowest bus voltage (X = 4PE/U_d); define 0 to recompute on every change. The
  * analog watchdog, not this, guards the range. */
 #ifndef BLDC_PORT_BUS_HYSTERESIS_CODES

@@ -919,7 +919,7 @@ void test_bldc_commutate_should_switch_off_over_speed(void)
     const bldc_inputs_t in = {
         .hall_code = 4u, /* Hall 100 */
         .previous_hall_code = 5u, /* Hall 101 */
-        .hall_period_ticks = 227u,
+        .hall_period_ticks = 226u,
         .bus_voltage_adc = 2837u,
         .phase_current_adc = 2644u,
         .main_duty_counts = 2988u,
@@ -951,7 +951,7 @@ void test_bldc_commutate_should_flag_a_speed_below_the_minimum(void)
     const bldc_inputs_t in = {
         .hall_code = 4u, /* Hall 100 */
         .previous_hall_code = 5u, /* Hall 101 */
-        .hall_period_ticks = 9333u,
+        .hall_period_ticks = 9334u,
         .bus_voltage_adc = 2837u,
         .phase_current_adc = 2644u,
         .main_duty_counts = 2988u,

@@ -109,8 +109,8 @@
 #define BLDC_FLAG_INVALID_HALL 0x08u /* Hall code 000/111 or an impossible jump: every switch off */
 #define BLDC_FLAG_TIME_CLAMPED 0x10u /* the commutation does not finish within the sector: clamped to it */
 #define BLDC_PWM_PERIOD_COUNTS 3600u /* TIM1 counts per PWM period: duty 1 */
-#define BLDC_PERIOD_MIN_TICKS 2000u /* 5000 rpm: a shorter period is over-speed */
-#define BLDC_PERIOD_MAX_TICKS 50000u /* 200 rpm: a longer period is flagged */
+#define BLDC_PERIOD_MIN_TICKS 2000u /* 5000 rpm reads 2000 or more (whole ticks): a shorter period is over-speed */
+#define BLDC_PERIOD_MAX_TICKS 50000u /* 200 rpm reads 50000 or less (whole ticks): a longer period is flagged */
 #define BLDC_PERIOD_CAP_TICKS 65535u /* the Hall counter's range: longer periods saturate */
 #define BLDC_COMMUTATION_GUARD_TICKS 62u /* a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) + one current sample (a PWM period and the ADC's injected sequence: the braking-current loop samples between commutations) */
 #define BLDC_BUS_CODE_MIN 2257u /* 20 V (20 V) */

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 METHOD = "improved"
-BLDC_PERIOD_MIN_TICKS = 2000  # 5000 rpm: a shorter period is over-speed
+BLDC_PERIOD_MIN_TICKS = 2000  # 5000 rpm reads 2000 or more (whole ticks): a shorter period is over-speed
 BLDC_BUS_CODE_MAX = 3385  # 30 V (30 V): above it over-voltage
 BLDC_PERIOD_NEVER = 65536  # above every 16-bit period: the safe state
 BLDC_FLAG_INPUT_SATURATED = 4  # an input was outside the spec's range
@@ -24,7 +24,7 @@ N_G_HIGH = 1407534545  # N_G >> 0, round(K_G 2^6 / 1), K_G = 2.199273e+07 (Eq. 2
 N_G_LOW = 0  # N_G mod 2^0
 N_G_SHIFT = 0
 BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
-BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm: a longer period is flagged
+BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm reads 50000 or less (whole ticks): a longer period is flagged
 BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
 BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
 BLDC_CURRENT_CODE_HIGH = 2668  # last code at or below 10 A (9.99 A)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 METHOD = "improved_r"
-BLDC_PERIOD_MIN_TICKS = 2000  # 5000 rpm: a shorter period is over-speed
+BLDC_PERIOD_MIN_TICKS = 2000  # 5000 rpm reads 2000 or more (whole ticks): a shorter period is over-speed
 BLDC_BUS_CODE_MAX = 3385  # 30 V (30 V): above it over-voltage
 BLDC_PERIOD_NEVER = 65536  # above every 16-bit period: the safe state
 BLDC_FLAG_INPUT_SATURATED = 4  # an input was outside the spec's range
@@ -21,7 +21,7 @@ N_X_LOW = 1219  # N_X mod 2^11
 N_X_SHIFT = 11
 KYX_Q = 1891788  # K_Y / K_X in Q44: Y per unit = x_numerator K_Y/K_X
 BLDC_PERIOD_CAP_TICKS = 65535  # the Hall counter's range: longer periods saturate
-BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm: a longer period is flagged
+BLDC_PERIOD_MAX_TICKS = 50000  # 200 rpm reads 50000 or less (whole ticks): a longer period is flagged
 BLDC_COMMUTATION_GUARD_TICKS = 62  # a commutation ends at least this long before its sector does: dead time 0.5 us + 4 us of the end's latency (the next edge switches on the other switch of the leg the end switched off) + one current sample (a PWM period and the ADC's injected sequence: the braking-current loop samples between commutations)
 BLDC_ADC_CODE_MAX = 4095  # 12-bit ADC full scale
 BLDC_CURRENT_CODE_LOW = 2048  # first code at or above 0 A (0 A)
