@@ -239,12 +239,30 @@ class SpecWarning:
     source: str = ""
     line: int | None = None
 
+    def __post_init__(self) -> None:
+        # a frozen Spec is hashed (the core's build is cached by it): a raw YAML list (a
+        # measured EMF table) is kept as a tuple of tuples
+        object.__setattr__(self, "value", _frozen(self.value))
+
     def __str__(self) -> str:
         where = f"{self.source}:{self.line}" if self.line is not None else self.source
         return (
-            f"{where}: {self.path} = {self.value!r}: {self.message}"
+            f"{where}: {self.path} = {_as_yaml_text(self.value)}: {self.message}"
             f" [silence with `warnings: {{silence: [{self.id}]}}`]"
         )
+
+
+def _frozen(value: object) -> object:
+    if isinstance(value, list | tuple):
+        return tuple(_frozen(item) for item in value)
+    return value
+
+
+def _as_yaml_text(value: object) -> str:
+    """repr, with a tuple shown as the YAML list it was read from."""
+    if isinstance(value, tuple):
+        return "[" + ", ".join(_as_yaml_text(item) for item in value) + "]"
+    return repr(value)
 
 
 @dataclass(frozen=True)
