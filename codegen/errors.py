@@ -25,6 +25,24 @@ def show_value(value: object) -> str:
     return text
 
 
+class NoValue:
+    """The value of an error about no value at all, shown as `(label)`: a key that is
+    missing, or a place where the document does not read as YAML (None there had read as
+    if the user had written null)."""
+
+    def __init__(self, label: str) -> None:
+        self.label = label
+
+    def __repr__(self) -> str:
+        return f"({self.label})"
+
+
+#: a required key or section that is not there
+MISSING = NoValue("missing")
+#: where the document does not read as YAML (malformed, duplicate key, not UTF-8, ...)
+NOT_READ = NoValue("not read")
+
+
 class SpecError(ValueError):
     """A spec that is malformed or physically impossible."""
 

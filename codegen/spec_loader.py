@@ -36,7 +36,7 @@ from codegen.dead_time import (
     latest_end_ticks,
     sector_margin_shift,
 )
-from codegen.errors import MultiSpecError, SpecError
+from codegen.errors import MISSING, NOT_READ, MultiSpecError, SpecError
 from codegen.shown import on_one_line
 from codegen.spec_model import (
     COMMUTATION_METHODS,
@@ -213,7 +213,7 @@ class _Reader:
 
     def section(self, data: Mapping[str, Any], key: str) -> Mapping[str, Any] | None:
         if key not in data:
-            self.report(key, None, "missing required section", "a mapping")
+            self.report(key, MISSING, "missing required section", "a mapping")
             return None
         value = data[key]
         if not isinstance(value, Mapping):
@@ -251,7 +251,7 @@ class _Reader:
         hold an example to look it up in)."""
         where = f"{path}.{key}" if path else key
         if key not in data:
-            raise self.error(where, None, "missing required key", allowed)
+            raise self.error(where, MISSING, "missing required key", allowed)
         return data[key]
 
     def quantity(
@@ -1375,7 +1375,7 @@ def load_spec(path: str | Path) -> Spec:
         data, lines = read_yaml(raw_bytes)
     except YamlError as exc:
         raise MultiSpecError(
-            [SpecError(exc.path or "<document>", None, exc.problem, "", source, exc.line)]
+            [SpecError(exc.path or "<document>", NOT_READ, exc.problem, "", source, exc.line)]
         ) from None
     if not isinstance(data, Mapping):
         raise MultiSpecError(

@@ -16,7 +16,7 @@ import re
 import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode
 
-from codegen.errors import SpecError
+from codegen.errors import MISSING, NOT_READ, SpecError
 from codegen.spec_model import COMMUTATION_METHODS
 from codegen.yaml12 import YamlError, read_yaml
 
@@ -32,7 +32,7 @@ def _mapping_entry(
     node = root
     for depth, key in enumerate(path):
         if not isinstance(node, MappingNode):
-            raise SpecError(".".join(path[: depth + 1]), None, "no mapping to find it in")
+            raise SpecError(".".join(path[: depth + 1]), NOT_READ, "no mapping to find it in")
         holder = node
         entry = next(
             ((k, v) for k, v in node.value if isinstance(k, ScalarNode) and k.value == key),
@@ -41,7 +41,7 @@ def _mapping_entry(
         if entry is None:
             if depth == len(path) - 1:
                 return holder, None
-            raise SpecError(".".join(path[: depth + 1]), None, "missing")
+            raise SpecError(".".join(path[: depth + 1]), MISSING, "missing")
         key_node, node = entry
     assert isinstance(holder, MappingNode)
     if node.start_mark.index < key_node.end_mark.index:
@@ -67,7 +67,7 @@ def _compose(spec_text: str) -> Node | None:
     try:
         return yaml.compose(spec_text, Loader=yaml.SafeLoader)
     except yaml.YAMLError as exc:
-        raise SpecError("<document>", None, f"not YAML: {' '.join(str(exc).split())}") from None
+        raise SpecError("<document>", NOT_READ, f"not YAML: {' '.join(str(exc).split())}") from None
 
 
 def _replaced(spec_text: str, path: tuple[str, ...], value: str, allowed: str) -> str:
@@ -78,7 +78,7 @@ def _replaced(spec_text: str, path: tuple[str, ...], value: str, allowed: str) -
     where = ".".join(path)
     _, span = _mapping_entry(spec_text, _compose(spec_text), path)
     if span is None:
-        raise SpecError(where, None, "missing: no value to replace", allowed)
+        raise SpecError(where, MISSING, "missing: no value to replace", allowed)
     start, end = span
     gap = " " if spec_text[start - 1 : start] == ":" else ""
     new = spec_text[:start] + gap + value + spec_text[end:]
@@ -93,7 +93,7 @@ def _check_only(old: str, new: str, path: tuple[str, ...], where: str, allowed: 
         before, _ = read_yaml(old.encode("utf-8"))
         after, _ = read_yaml(new.encode("utf-8"))
     except YamlError as exc:
-        raise SpecError(where, None, f"the rewritten spec does not read: {exc.problem}") from None
+        raise SpecError(where, NOT_READ, f"the rewritten spec does not read: {exc.problem}") from None
     for data in (before, after):
         holder = data
         for key in path[:-1]:
@@ -136,7 +136,7 @@ def spec_with_emf_shape(spec_text: str, shape: str) -> str:
     if span is not None:
         return _replaced(spec_text, ("motor", "back_emf_shape"), shape, allowed)
     if not motor.value:
-        raise SpecError("motor", None, "no keys to put back_emf_shape beside", allowed)
+        raise SpecError("motor", MISSING, "no keys to put back_emf_shape beside", allowed)
     first = motor.value[0][0]
     at = first.start_mark.index
     if motor.flow_style:

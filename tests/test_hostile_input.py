@@ -187,7 +187,7 @@ def test_an_endless_file_is_refused_after_the_limit_in_one_line(tmp_path: Path) 
     result = run_generate(Path("/dev/zero"), tmp_path / "out")
     assert result.returncode == ExitCode.SPEC
     assert result.stderr.strip().splitlines() == [
-        "error: /dev/zero: <document> = None: the file has more than 262144 bytes; a spec"
+        "error: /dev/zero: <document> = (not read): the file has more than 262144 bytes; a spec"
         " has at most 262144"
     ]
     assert not (tmp_path / "out").exists()

@@ -734,7 +734,7 @@ def test_a_missing_key_says_what_it_takes(tmp_path: Path, key_path: str) -> None
         load_spec(path)
 
     message = str(caught.value).splitlines()[0]
-    assert f"{key_path} = None: missing required key (allowed: " in message, message
+    assert f"{key_path} = (missing): missing required key (allowed: " in message, message
     assert "paper_motor.yaml" not in message, message
 
 
