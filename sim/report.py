@@ -483,8 +483,8 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
     """The resistance-aware method (C core) against its target, speed by speed, next to
     the paper's rule and the per-period ideal."""
     speeds = sorted({r.speed_rpm for r in results.sweep})
-    # A spec whose range misses the target range is measured over its own range.
-    in_target = [s for s in speeds if TARGET_LOW_RPM <= s <= TARGET_HIGH_RPM] or speeds
+    low, high = judged_band(results.drive)
+    in_target = [s for s in speeds if low <= s <= high] or speeds
     rows = []
     for speed in speeds:
         rule = lookup.row(IMPROVED_R, speed)
@@ -492,7 +492,7 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         rows.append(
             {
                 "speed": f"{speed:g}",
-                "in_target": TARGET_LOW_RPM <= speed <= TARGET_HIGH_RPM,
+                "in_target": low <= speed <= high,
                 "improved": pct(lookup.row("improved", speed).metrics.deviation_worst_pct),
                 "improved_r": pct(rule.metrics.deviation_worst_pct),
                 "within": abs(rule.metrics.deviation_worst_pct) <= TARGET_PCT,
@@ -529,7 +529,7 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
     ]
     paper = worst("improved")
     ideal = worst(IDEAL_METHODS[0])
-    covers = speeds[0] <= TARGET_LOW_RPM and speeds[-1] >= TARGET_HIGH_RPM
+    covers = speeds[0] <= low and speeds[-1] >= high
     lengths = [
         lookup.row(IMPROVED_R, s).commanded_time_s / results.drive.pwm_period_s for s in in_target
     ]
@@ -537,6 +537,9 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
     return {
         "low": f"{TARGET_LOW_RPM:g}",
         "high": f"{TARGET_HIGH_RPM:g}",
+        "judged_low": f"{low:g}",
+        "judged_high": f"{high:g}",
+        "band_missed": (low, high) != _overlap(results.drive),
         "tolerance": f"{TARGET_PCT:g}",
         "is_target_spec": _is_target_motor(results.drive),
         "target_spec": project_relative(TARGET_SPEC),
@@ -570,6 +573,20 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         "ripple_low": f"{min(ripples):.0f}" if ripples else "-",
         "ripple_high": f"{max(ripples):.0f}" if ripples else "-",
     }
+
+
+def _overlap(drive: Drive) -> tuple[float, float]:
+    return max(TARGET_LOW_RPM, drive.speed_min_rpm), min(TARGET_HIGH_RPM, drive.speed_max_rpm)
+
+
+def judged_band(drive: Drive) -> tuple[float, float]:
+    """The speeds the target is judged over on this drive: the target's band where it
+    lies inside the drive's speed range, the part of it inside that range, or the whole
+    range where the band misses it (a 2-120 rpm hub motor, a 10 000-150 000 rpm one)."""
+    low, high = _overlap(drive)
+    if low < high:
+        return low, high
+    return drive.speed_min_rpm, drive.speed_max_rpm
 
 
 def _is_target_motor(drive: Drive) -> bool:
