@@ -93,6 +93,7 @@ class ReciprocalChoice:
             f"bus reciprocal by hardware divide: {self.divide_instructions} instructions,"
             f" {self.divide_cycles} cycles worst (UDIV at 12), off the Hall edge",
             f"bus reciprocal by table at the accuracy target: {self.table.describe()};"
-            f" with the {self.flash_in_use} B in use the budget is {FLASH_BUDGET_BYTES} B",
+            f" core + port already take {self.flash_in_use} B of their {FLASH_BUDGET_BYTES} B"
+            " budget (the arithmetic's, not the image's firmware.flash_budget)",
             f"bus reciprocal: {self.choice} chosen",
         ]
