@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import os
 import sys
 import tempfile
 from pathlib import Path
 
 from codegen.errors import ExitCode, SpecError
+from codegen.render import write_atomically
 from codegen.spec_loader import load_spec
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
@@ -122,17 +122,10 @@ def _plant_faults_section(outcomes: list[Outcome]) -> list[str]:
 
 
 def publish(text: str, target: Path) -> None:
-    target.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile(
-        "w",
-        dir=target.parent,
-        prefix=f".{target.stem}.",
-        suffix=target.suffix,
-        delete=False,
-        encoding="utf-8",
-    ) as handle:
-        handle.write(text)
-    os.replace(handle.name, target)
+    """Written beside `target` and renamed (`write_atomically`), with the permissions
+    any new file gets: a NamedTemporaryFile renamed left PIL.md and the commutations'
+    CSV readable by their owner alone (0600), the figures beside them 0644."""
+    write_atomically(target, text)
 
 
 def main(argv: list[str] | None = None) -> int:
