@@ -912,6 +912,35 @@ def _hall_spike(run: Run) -> Outcome:
 QUIET_WAIT_TICKS = TICK_HZ // 5
 
 
+def shorten_quiet_wait(machine: Machine, wrap: int) -> tuple[int, str]:
+    """Where TIM3's wrap (the Hall time-out, at tick `wrap`) is more than QUIET_WAIT_TICKS
+    away, move its counter on to QUIET_WAIT_TICKS before it: the wrap's tick then, and a
+    note for the outcome saying so ("" where nothing was skipped). Only counts in which
+    TIM3 has nothing to do are skipped: a compare of an output channel inside them (the
+    commutation end the last Hall edge scheduled, TIM3 CCR2) would never match, so the
+    caller runs past it first, and a skip over one raises PilError."""
+    tim3, now = machine.tim3, machine.now
+    if wrap - now <= QUIET_WAIT_TICKS:
+        return wrap, ""
+    per_count = tim3.ticks_per_count()
+    skipped = (wrap - now - QUIET_WAIT_TICKS) // per_count
+    position = tim3.position(now)
+    counter = tim3.cnt_of_position(position)
+    for channel in (1, 2, 3, 4):
+        if not tim3.is_input(channel) and counter < tim3.ccr[channel] <= counter + skipped:
+            raise PilError(
+                f"TIM3's counter is to skip {skipped} counts from {counter} to the quiet wait"
+                f" before its wrap, over CCR{channel} = {tim3.ccr[channel]}: a compare due"
+                " (the commutation end) would never match"
+            )
+    tim3.reanchor(position + skipped)
+    note = (
+        f"; the quiet wait shortened by {skipped * per_count / TICK_HZ:.3g} s"
+        f" (TIM3's counter moved on to {QUIET_WAIT_TICKS / TICK_HZ:g} s before its wrap)"
+    )
+    return wrap - skipped * per_count, note
+
+
 def _rotor_stops(run: Run) -> Outcome:
     """The Hall code stops changing while the bridge switches; the latency runs from
     TIM3's wrap (the Hall time-out: its counter's range after the last edge). A sector
@@ -924,15 +953,7 @@ def _rotor_stops(run: Run) -> Outcome:
     last_edge = run.machine.now - run.sector_ticks()
     tim3 = run.machine.tim3
     wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()  # TIM3 wraps: the time-out
-    note = ""
-    if wrap - run.machine.now > QUIET_WAIT_TICKS:
-        skipped = (wrap - run.machine.now - QUIET_WAIT_TICKS) // tim3.ticks_per_count()
-        tim3.reanchor(tim3.position(run.machine.now) + skipped)
-        wrap -= skipped * tim3.ticks_per_count()
-        note = (
-            f"; the quiet wait shortened by {skipped * tim3.ticks_per_count() / TICK_HZ:.3g} s"
-            f" (TIM3's counter moved on to {QUIET_WAIT_TICKS / TICK_HZ:g} s before its wrap)"
-        )
+    wrap, note = shorten_quiet_wait(run.machine, wrap)
     run.run_until_tripped(wrap - run.machine.now + 2 * run.board.pwm_period_ticks())
     _check_timeout_source(run, wrap)
     return run.outcome(
