@@ -18,6 +18,7 @@ from pathlib import Path
 from codegen.errors import ExitCode, SpecError
 from codegen.render import write_atomically
 from codegen.spec_loader import load_spec
+from emulation import progress
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
 from emulation.pil.build import ROOT, ToolError, build_firmware, checked_in, generate
@@ -137,7 +138,13 @@ def main(argv: list[str] | None = None) -> int:
         default="full",
         help="the braking scenario: to its stop speed (default), its first Hall edges, or none",
     )
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bars on stderr (they show only when stderr is a terminal)",
+    )
     args = parser.parse_args(argv)
+    progress.enabled = sys.stderr.isatty() and not args.no_progress
     failed = False
     for spec_path in args.specs:
         try:
@@ -159,7 +166,10 @@ def main(argv: list[str] | None = None) -> int:
             except RuntimeError as error:
                 print(f"error: {error}", file=sys.stderr)
                 return 1
-            outcomes = [run_scenario(elf, spec, s) for s in SCENARIOS]
+            outcomes = [
+                run_scenario(elf, spec, s)
+                for s in progress.progress(SCENARIOS, f"pil {spec.name} fault scenarios")
+            ]
             result: BrakingResult | None = None
             section: list[str] | None = None
             if args.braking != "off":
@@ -175,7 +185,9 @@ def main(argv: list[str] | None = None) -> int:
                 section = braking_report.section(result, names)
                 plant_outcomes = [
                     run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, f)
-                    for f in PLANT_FAULTS
+                    for f in progress.progress(
+                        PLANT_FAULTS, f"pil {spec.name} faults with the motor in the loop"
+                    )
                 ]
                 section += _plant_faults_section(plant_outcomes)
                 outcomes += plant_outcomes
