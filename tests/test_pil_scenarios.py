@@ -316,3 +316,25 @@ def test_a_narrow_speed_range_near_the_hall_counters_range_should_pass_the_scena
     for key in keys:
         outcome = run_scenario(elf, spec, next(s for s in SCENARIOS if s.key == key))
         assert outcome.problems == [], (key, outcome.problems)
+
+
+def test_a_wait_for_an_instant_that_never_comes_should_end_the_scenario() -> None:
+    """A scenario places some causes while the CPU sleeps or just after an injected
+    sequence: a firmware that never sleeps, or never samples, ended the wait never."""
+    from types import SimpleNamespace
+
+    from emulation.pil.bus import PilError
+    from emulation.pil.scenarios import WAIT_PERIODS, Run
+
+    class Clock:
+        now = 0
+
+        def run_for(self, ticks: int) -> None:
+            self.now += ticks
+
+    run = SimpleNamespace(machine=Clock(), board=SimpleNamespace(pwm_period_ticks=lambda: 100))
+    with pytest.raises(PilError, match=f"the CPU did not sleep within {WAIT_PERIODS} PWM"):
+        Run.wait_for(run, lambda: False, 7, "the CPU did not sleep")  # type: ignore[arg-type]
+    assert 100 * WAIT_PERIODS <= run.machine.now < 100 * WAIT_PERIODS + 7
+    Run.wait_for(run, lambda: run.machine.now >= 1500, 7, "never")  # type: ignore[arg-type]
+    assert 1500 <= run.machine.now < 1507

@@ -96,6 +96,9 @@ SETTLE_SECTORS = 8
 START_WAIT_PERIODS = 20
 #: PWM periods main's loop gets to publish a latched fault in app_faults
 MAIN_WAIT_PERIODS = 10
+#: PWM periods a scenario waits for an instant it places its cause at (the CPU asleep,
+#: an injected sequence's end), each due within a period or two
+WAIT_PERIODS = 10
 
 
 @dataclass(frozen=True)
@@ -359,6 +362,16 @@ class Run:
                     return True
                 self.machine.run_for(TICK_HZ // 2_000_000)
         return False
+
+    def wait_for(self, reached: Callable[[], bool], step: int, what: str) -> None:
+        """Run in steps of `step` ticks until `reached()` holds; where it does not within
+        WAIT_PERIODS PWM periods, the scenario ends there (PilError, `what` its reason)
+        instead of running on for ever."""
+        end = self.machine.now + WAIT_PERIODS * self.board.pwm_period_ticks()
+        while not reached():
+            if self.machine.now >= end:
+                raise PilError(f"{what} within {WAIT_PERIODS} PWM periods")
+            self.machine.run_for(step)
 
     def turn(self, sectors: int) -> None:
         """`sectors` Hall steps at `rpm`; each must change the enables in force."""
@@ -823,8 +836,8 @@ def _hall_glitch(run: Run) -> Outcome:
     # one line flips for half the input filter's time, to a valid code (the EXTI wakes
     # the CPU at its start)
     flipped = next(code ^ (1 << b) for b in range(3) if (code ^ (1 << b)) not in (0, 7))
-    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
-        run.machine.run_for(1)
+    # placed while the CPU sleeps: time is exact then
+    run.wait_for(lambda: run.machine.sleep_pc is not None, 1, "the CPU did not sleep")
     _hall_pulse(run, flipped, width, "glitch")
     return run.outcome(
         "Hall glitch",
@@ -1032,8 +1045,11 @@ def _after_a_sample(run: Run) -> None:
     the sampled current would show waits longest (a whole PWM period) for the next."""
     adc = run.machine.adc1
     seen = adc.injected_sequences
-    while adc.injected_sequences == seen or adc.queue:
-        run.machine.run_for(TICK_HZ // 2_000_000)
+    run.wait_for(
+        lambda: adc.injected_sequences != seen and not adc.queue,
+        TICK_HZ // 2_000_000,
+        "no injected sequence ended",
+    )
 
 
 def zero_current_reads_on(spec: Spec, rail_v: float) -> bool:
@@ -1096,8 +1112,8 @@ def _hall_sequence(run: Run) -> Outcome:
     now_code = sequence[run.sector]
     middle = sequence[(run.sector + 1) % 6]
     skipped_to = sequence[(run.sector + 2) % 6]
-    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
-        run.machine.run_for(1)
+    # placed while the CPU sleeps: time is exact then
+    run.wait_for(lambda: run.machine.sleep_pc is not None, 1, "the CPU did not sleep")
     cause = run.machine.now
     run.board.set_hall(middle)
     run.board.set_hall(skipped_to, at=cause + SKIP_GAP_NS * TICK_HZ // 1_000_000_000)
