@@ -10,7 +10,9 @@ from pathlib import Path
 import pytest
 
 from codegen.spec_loader import load_spec
+from codegen.spec_model import Spec
 from emulation.pil.build import build_firmware, checked_in
+from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import (
     RECTIFYING_MARGIN,
     SCENARIOS,
@@ -212,31 +214,60 @@ def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scena
     assert any("after its partner turned off (dead time 144)" in p for p in problems), problems
 
 
-def test_a_long_wait_for_the_hall_timeout_should_be_shortened_and_still_latch_in_time(
-    tmp_path: Path,
-) -> None:
+@pytest.fixture(scope="module")
+def hall250k(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, Spec]:
     """The paper motor with its Hall timer at 250 kHz: TIM3's range is 0.26 s after the
-    last edge, longer than QUIET_WAIT_TICKS, so the rotor-stop scenario moves the counter
-    on to 0.2 s before its wrap (a 1125 Hz Hall clock waits 58 s; make pil had run for
-    over 20 minutes). The wrap still latches HALL_TIMEOUT within one PWM period."""
+    last edge, longer than QUIET_WAIT_TICKS. The ELF, the port source and the spec."""
     from emulation.pil.build import generate
 
+    folder = tmp_path_factory.mktemp("hall250k")
     text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
-    path = tmp_path / "hall250k.yaml"
+    path = folder / "hall250k.yaml"
     path.write_text(
         text.replace("name: paper_motor", "name: hall250k").replace(
             "  timer_clock: 1 MHz", "  timer_clock: 250 kHz"
         ),
         encoding="utf-8",
     )
-    spec = load_spec(str(path))
-    elf = build_firmware(path, tmp_path / "build", generate(path, tmp_path / "generated"))
+    generated = generate(path, folder / "generated")
+    elf = build_firmware(path, folder / "build", generated)
+    return elf, generated / "c" / "stm32f103_port.c", load_spec(str(path))
+
+
+def test_a_long_wait_for_the_hall_timeout_should_be_shortened_and_still_latch_in_time(
+    hall250k: tuple[Path, Path, Spec],
+) -> None:
+    """The rotor-stop scenario moves TIM3's counter on to 0.2 s before its wrap (a 1125 Hz
+    Hall clock waits 58 s; make pil had run for over 20 minutes). The wrap still latches
+    HALL_TIMEOUT within one PWM period."""
+    elf, _, spec = hall250k
     scenario = next(s for s in SCENARIOS if s.key == "rotor_stops")
     outcome = run_scenario(elf, spec, scenario)
     assert outcome.problems == [], outcome.problems
     # the counter's range less 0.2 s and the sector since the last edge (2600 rpm)
     skipped = 65536 / 250e3 - 0.2 - 10 / ((200 + 5000) / 2)
     assert f"the quiet wait shortened by {skipped:.3g} s" in outcome.note, outcome.note
+
+
+def test_the_motor_in_the_loop_rotor_stop_should_shorten_its_wait_as_well(
+    hall250k: tuple[Path, Path, Spec], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The rotor-stop fault with the motor in the loop waited for TIM3's whole range: at
+    the slowest Hall clock (72 MHz / 65536) 60 s of motor time, hours of emulation with
+    the plant, and `make pil` never finished. It shortens the wait as the scenario does
+    (here to 5 ms, the test's QUIET_WAIT_TICKS, so the plant runs about 30 ms, not the
+    counter's 0.26 s), after the last edge's commutation has ended, and still latches
+    HALL_TIMEOUT within one PWM period of the wrap."""
+    from emulation.pil import scenarios
+    from emulation.pil.plant_faults import PLANT_FAULTS, run_plant_fault
+
+    monkeypatch.setattr(scenarios, "QUIET_WAIT_TICKS", TICK_HZ // 200)
+    elf, port, spec = hall250k
+    fault = next(f for f in PLANT_FAULTS if f.key == "rotor_stops")
+    outcome = run_plant_fault(elf, port, spec, fault)
+    assert outcome.problems == [], (outcome.problems, outcome.note)
+    assert "the quiet wait shortened by" in outcome.note, outcome.note
+    assert outcome.emulated_s < 0.05, outcome.emulated_s
 
 
 def _hall72m_narrow(tmp_path: Path) -> Path:
@@ -285,3 +316,25 @@ def test_a_narrow_speed_range_near_the_hall_counters_range_should_pass_the_scena
     for key in keys:
         outcome = run_scenario(elf, spec, next(s for s in SCENARIOS if s.key == key))
         assert outcome.problems == [], (key, outcome.problems)
+
+
+def test_a_wait_for_an_instant_that_never_comes_should_end_the_scenario() -> None:
+    """A scenario places some causes while the CPU sleeps or just after an injected
+    sequence: a firmware that never sleeps, or never samples, ended the wait never."""
+    from types import SimpleNamespace
+
+    from emulation.pil.bus import PilError
+    from emulation.pil.scenarios import WAIT_PERIODS, Run
+
+    class Clock:
+        now = 0
+
+        def run_for(self, ticks: int) -> None:
+            self.now += ticks
+
+    run = SimpleNamespace(machine=Clock(), board=SimpleNamespace(pwm_period_ticks=lambda: 100))
+    with pytest.raises(PilError, match=f"the CPU did not sleep within {WAIT_PERIODS} PWM"):
+        Run.wait_for(run, lambda: False, 7, "the CPU did not sleep")  # type: ignore[arg-type]
+    assert 100 * WAIT_PERIODS <= run.machine.now < 100 * WAIT_PERIODS + 7
+    Run.wait_for(run, lambda: run.machine.now >= 1500, 7, "never")  # type: ignore[arg-type]
+    assert 1500 <= run.machine.now < 1507

@@ -34,7 +34,7 @@ from emulation.pil.bus import PilError
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import SHORT_CIRCUIT, short_circuit_bound_a
-from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome
+from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, shorten_quiet_wait
 
 #: Hall edges braked before the cause: the loop, the timing and the commutations run
 EDGES_BEFORE = SETTLING_EDGES + 2
@@ -51,12 +51,22 @@ class PlantFault:
 
 
 def _settle(loop: BrakingLoop) -> None:
+    """Brake until EDGES_BEFORE Hall edges have passed: each sector lasts at most the
+    stop speed's (the braking run takes many more edges to get there), so the wait is
+    bounded; a rotor that slows below it first ends the fault's run."""
+    stop = loop.setup.stop_rpm
     while len(loop.edges) < EDGES_BEFORE:
         # a rotor at rest brings no more edges: waiting for them never ended
         if loop.plant.next_sector_tick() is None:
             raise PilError(
                 f"the rotor stopped ({loop.plant.speed_rpm:g} rpm) after {len(loop.edges)}"
                 f" Hall edges, before the {EDGES_BEFORE} the fault waits for"
+            )
+        if loop.plant.speed_rpm < stop:
+            raise PilError(
+                f"the rotor slowed to {loop.plant.speed_rpm:.3g} rpm, below the braking run's"
+                f" stop speed {stop:.3g} rpm, after {len(loop.edges)} Hall edges, before the"
+                f" {EDGES_BEFORE} the fault waits for"
             )
         loop.advance_to(loop.machine.now + loop.run.board.pwm_period_ticks())
 
@@ -180,18 +190,26 @@ def _bus_stuck_at_zero(loop: BrakingLoop) -> Outcome:
 
 
 def _rotor_stops(loop: BrakingLoop) -> Outcome:
+    """As the scenario without the motor (`scenarios._rotor_stops`): the wait for TIM3's
+    wrap is emulated in full up to QUIET_WAIT_TICKS (`shorten_quiet_wait`; at the slowest
+    Hall clock the counter's range is 60 s of motor time, hours of emulation with the
+    plant, and the report never finished). The rotor is blocked within a PWM period of
+    a Hall edge, while that edge's commutation runs: the chip runs on for the last Hall
+    interval, past the commutation end it scheduled (within its sector), first."""
     _settle(loop)
-    last_edge = loop.edges[-1][0]
+    last_edge, previous = loop.edges[-1][0], loop.edges[-2][0]
     loop.plant.speed_rpm = 0.0  # blocked
+    loop.advance_to(max(loop.machine.now, 2 * last_edge - previous))
     tim3 = loop.machine.tim3
     wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()
+    wrap, shortened = shorten_quiet_wait(loop.machine, wrap)
     _until_tripped(loop, wrap - loop.machine.now + 2 * loop.run.board.pwm_period_ticks())
     return loop.run.outcome(
         "rotor stops (motor in the loop)",
         "HALL_TIMEOUT",
         wrap,
         loop.run.board.pwm_period_ticks(),
-        "the rotor is blocked after a Hall edge; latency from TIM3's wrap",
+        "the rotor is blocked after a Hall edge; latency from TIM3's wrap" + shortened,
     )
 
 

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import os
 import sys
 import tempfile
 from pathlib import Path
 
 from codegen.errors import ExitCode, SpecError
+from codegen.render import write_atomically
 from codegen.spec_loader import load_spec
+from emulation import progress
 from emulation.pil import braking_report
 from emulation.pil.braking import BrakingResult, brake, braking_setup
 from emulation.pil.build import ROOT, ToolError, build_firmware, checked_in, generate
@@ -122,17 +123,10 @@ def _plant_faults_section(outcomes: list[Outcome]) -> list[str]:
 
 
 def publish(text: str, target: Path) -> None:
-    target.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile(
-        "w",
-        dir=target.parent,
-        prefix=f".{target.stem}.",
-        suffix=target.suffix,
-        delete=False,
-        encoding="utf-8",
-    ) as handle:
-        handle.write(text)
-    os.replace(handle.name, target)
+    """Written beside `target` and renamed (`write_atomically`), with the permissions
+    any new file gets: a NamedTemporaryFile renamed left PIL.md and the commutations'
+    CSV readable by their owner alone (0600), the figures beside them 0644."""
+    write_atomically(target, text)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -144,7 +138,13 @@ def main(argv: list[str] | None = None) -> int:
         default="full",
         help="the braking scenario: to its stop speed (default), its first Hall edges, or none",
     )
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bars on stderr (they show only when stderr is a terminal)",
+    )
     args = parser.parse_args(argv)
+    progress.enabled = sys.stderr.isatty() and not args.no_progress
     failed = False
     for spec_path in args.specs:
         try:
@@ -166,7 +166,10 @@ def main(argv: list[str] | None = None) -> int:
             except RuntimeError as error:
                 print(f"error: {error}", file=sys.stderr)
                 return 1
-            outcomes = [run_scenario(elf, spec, s) for s in SCENARIOS]
+            outcomes = [
+                run_scenario(elf, spec, s)
+                for s in progress.progress(SCENARIOS, f"pil {spec.name} fault scenarios")
+            ]
             result: BrakingResult | None = None
             section: list[str] | None = None
             if args.braking != "off":
@@ -182,7 +185,9 @@ def main(argv: list[str] | None = None) -> int:
                 section = braking_report.section(result, names)
                 plant_outcomes = [
                     run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, f)
-                    for f in PLANT_FAULTS
+                    for f in progress.progress(
+                        PLANT_FAULTS, f"pil {spec.name} faults with the motor in the loop"
+                    )
                 ]
                 section += _plant_faults_section(plant_outcomes)
                 outcomes += plant_outcomes

@@ -96,6 +96,9 @@ SETTLE_SECTORS = 8
 START_WAIT_PERIODS = 20
 #: PWM periods main's loop gets to publish a latched fault in app_faults
 MAIN_WAIT_PERIODS = 10
+#: PWM periods a scenario waits for an instant it places its cause at (the CPU asleep,
+#: an injected sequence's end), each due within a period or two
+WAIT_PERIODS = 10
 
 
 @dataclass(frozen=True)
@@ -359,6 +362,16 @@ class Run:
                     return True
                 self.machine.run_for(TICK_HZ // 2_000_000)
         return False
+
+    def wait_for(self, reached: Callable[[], bool], step: int, what: str) -> None:
+        """Run in steps of `step` ticks until `reached()` holds; where it does not within
+        WAIT_PERIODS PWM periods, the scenario ends there (PilError, `what` its reason)
+        instead of running on for ever."""
+        end = self.machine.now + WAIT_PERIODS * self.board.pwm_period_ticks()
+        while not reached():
+            if self.machine.now >= end:
+                raise PilError(f"{what} within {WAIT_PERIODS} PWM periods")
+            self.machine.run_for(step)
 
     def turn(self, sectors: int) -> None:
         """`sectors` Hall steps at `rpm`; each must change the enables in force."""
@@ -823,8 +836,8 @@ def _hall_glitch(run: Run) -> Outcome:
     # one line flips for half the input filter's time, to a valid code (the EXTI wakes
     # the CPU at its start)
     flipped = next(code ^ (1 << b) for b in range(3) if (code ^ (1 << b)) not in (0, 7))
-    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
-        run.machine.run_for(1)
+    # placed while the CPU sleeps: time is exact then
+    run.wait_for(lambda: run.machine.sleep_pc is not None, 1, "the CPU did not sleep")
     _hall_pulse(run, flipped, width, "glitch")
     return run.outcome(
         "Hall glitch",
@@ -912,6 +925,35 @@ def _hall_spike(run: Run) -> Outcome:
 QUIET_WAIT_TICKS = TICK_HZ // 5
 
 
+def shorten_quiet_wait(machine: Machine, wrap: int) -> tuple[int, str]:
+    """Where TIM3's wrap (the Hall time-out, at tick `wrap`) is more than QUIET_WAIT_TICKS
+    away, move its counter on to QUIET_WAIT_TICKS before it: the wrap's tick then, and a
+    note for the outcome saying so ("" where nothing was skipped). Only counts in which
+    TIM3 has nothing to do are skipped: a compare of an output channel inside them (the
+    commutation end the last Hall edge scheduled, TIM3 CCR2) would never match, so the
+    caller runs past it first, and a skip over one raises PilError."""
+    tim3, now = machine.tim3, machine.now
+    if wrap - now <= QUIET_WAIT_TICKS:
+        return wrap, ""
+    per_count = tim3.ticks_per_count()
+    skipped = (wrap - now - QUIET_WAIT_TICKS) // per_count
+    position = tim3.position(now)
+    counter = tim3.cnt_of_position(position)
+    for channel in (1, 2, 3, 4):
+        if not tim3.is_input(channel) and counter < tim3.ccr[channel] <= counter + skipped:
+            raise PilError(
+                f"TIM3's counter is to skip {skipped} counts from {counter} to the quiet wait"
+                f" before its wrap, over CCR{channel} = {tim3.ccr[channel]}: a compare due"
+                " (the commutation end) would never match"
+            )
+    tim3.reanchor(position + skipped)
+    note = (
+        f"; the quiet wait shortened by {skipped * per_count / TICK_HZ:.3g} s"
+        f" (TIM3's counter moved on to {QUIET_WAIT_TICKS / TICK_HZ:g} s before its wrap)"
+    )
+    return wrap - skipped * per_count, note
+
+
 def _rotor_stops(run: Run) -> Outcome:
     """The Hall code stops changing while the bridge switches; the latency runs from
     TIM3's wrap (the Hall time-out: its counter's range after the last edge). A sector
@@ -924,15 +966,7 @@ def _rotor_stops(run: Run) -> Outcome:
     last_edge = run.machine.now - run.sector_ticks()
     tim3 = run.machine.tim3
     wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()  # TIM3 wraps: the time-out
-    note = ""
-    if wrap - run.machine.now > QUIET_WAIT_TICKS:
-        skipped = (wrap - run.machine.now - QUIET_WAIT_TICKS) // tim3.ticks_per_count()
-        tim3.reanchor(tim3.position(run.machine.now) + skipped)
-        wrap -= skipped * tim3.ticks_per_count()
-        note = (
-            f"; the quiet wait shortened by {skipped * tim3.ticks_per_count() / TICK_HZ:.3g} s"
-            f" (TIM3's counter moved on to {QUIET_WAIT_TICKS / TICK_HZ:g} s before its wrap)"
-        )
+    wrap, note = shorten_quiet_wait(run.machine, wrap)
     run.run_until_tripped(wrap - run.machine.now + 2 * run.board.pwm_period_ticks())
     _check_timeout_source(run, wrap)
     return run.outcome(
@@ -1011,8 +1045,11 @@ def _after_a_sample(run: Run) -> None:
     the sampled current would show waits longest (a whole PWM period) for the next."""
     adc = run.machine.adc1
     seen = adc.injected_sequences
-    while adc.injected_sequences == seen or adc.queue:
-        run.machine.run_for(TICK_HZ // 2_000_000)
+    run.wait_for(
+        lambda: adc.injected_sequences != seen and not adc.queue,
+        TICK_HZ // 2_000_000,
+        "no injected sequence ended",
+    )
 
 
 def zero_current_reads_on(spec: Spec, rail_v: float) -> bool:
@@ -1075,8 +1112,8 @@ def _hall_sequence(run: Run) -> Outcome:
     now_code = sequence[run.sector]
     middle = sequence[(run.sector + 1) % 6]
     skipped_to = sequence[(run.sector + 2) % 6]
-    while run.machine.sleep_pc is None:  # placed while the CPU sleeps: time is exact then
-        run.machine.run_for(1)
+    # placed while the CPU sleeps: time is exact then
+    run.wait_for(lambda: run.machine.sleep_pc is not None, 1, "the CPU did not sleep")
     cause = run.machine.now
     run.board.set_hall(middle)
     run.board.set_hall(skipped_to, at=cause + SKIP_GAP_NS * TICK_HZ // 1_000_000_000)
