@@ -55,9 +55,9 @@ FIXTURES = sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml"))
 #: CPU seconds of each spec's whole proof (the order the long tests are queued in,
 #: tests/conftest.py); the per-bus-code EVA partitioning is most of the longest
 PROOF_SECONDS = {
-    "paper_motor": 23,
-    "example_maxon_ec45_flat_48v": 24,
-    "hub_motor_46p": 22,
+    "paper_motor": 21,
+    "example_maxon_ec45_flat_48v": 22,
+    "hub_motor_46p": 20,
     "offset_conventional": 14,
     "paper_motor_improved_r": 18,
     "fast_14p_12v": 17,

@@ -33,6 +33,9 @@ void prove_bldc_bus_condition(void)
 /* bldc_commutation_timing() for a bus state of every uint32_t code and every uint32_t period, current and duty */
 void prove_bldc_commutation_timing(void)
 {
+    uint32_t period_ticks = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    uint32_t current_adc = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    uint32_t main_duty_counts = Frama_C_unsigned_int_interval(0u, 4294967295u);
     uint32_t bus_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
     /* one partition below BLDC_BUS_CODE_MIN, one above BLDC_BUS_CODE_MAX, one per code between */
     //@ split bus_code < BLDC_BUS_CODE_MIN;
@@ -43,11 +46,9 @@ void prove_bldc_commutation_timing(void)
         }
     }
     const bldc_bus_t bus = bldc_bus_condition(bus_code);
-    uint32_t period_ticks = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    bldc_timing_t timing;
     //@ split period_ticks < bus.high_speed_period;
-    uint32_t current_adc = Frama_C_unsigned_int_interval(0u, 4294967295u);
-    uint32_t main_duty_counts = Frama_C_unsigned_int_interval(0u, 4294967295u);
-    const bldc_timing_t timing = bldc_commutation_timing(&bus, period_ticks, current_adc, main_duty_counts);
+    timing = bldc_commutation_timing(&bus, period_ticks, current_adc, main_duty_counts);
     (void)timing;
 }
 

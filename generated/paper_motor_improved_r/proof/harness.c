@@ -138,11 +138,11 @@ void prove_bldc_bus_condition(void)
 /* bldc_commutation_timing() for a bus state of every uint32_t code and every uint32_t period, current and duty */
 void prove_bldc_commutation_timing(void)
 {
-    uint32_t bus_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
-    const bldc_bus_t bus = bldc_bus_condition(bus_code);
     uint32_t period_ticks = Frama_C_unsigned_int_interval(0u, 4294967295u);
     uint32_t current_adc = Frama_C_unsigned_int_interval(0u, 4294967295u);
     uint32_t main_duty_counts = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    uint32_t bus_code = Frama_C_unsigned_int_interval(0u, 4294967295u);
+    const bldc_bus_t bus = bldc_bus_condition(bus_code);
     const bldc_timing_t timing = bldc_commutation_timing(&bus, period_ticks, current_adc, main_duty_counts);
     (void)timing;
 }
