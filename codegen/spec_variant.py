@@ -93,7 +93,9 @@ def _check_only(old: str, new: str, path: tuple[str, ...], where: str, allowed: 
         before, _ = read_yaml(old.encode("utf-8"))
         after, _ = read_yaml(new.encode("utf-8"))
     except YamlError as exc:
-        raise SpecError(where, NOT_READ, f"the rewritten spec does not read: {exc.problem}") from None
+        raise SpecError(
+            where, NOT_READ, f"the rewritten spec does not read: {exc.problem}"
+        ) from None
     for data in (before, after):
         holder = data
         for key in path[:-1]:
