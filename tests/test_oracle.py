@@ -183,3 +183,33 @@ def test_rule_should_agree_with_the_generators_reference(tmp_path: Path, shape: 
     pair = com.pair_at(end)
     assert np.max(np.abs(pair.on - ref.on_exact)[clear]) < 1e-6
     assert np.max(np.abs(pair.off - ref.off_exact)[clear]) < 1e-6
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "spec/example_maxon_ec45_flat_48v.yaml",
+        "tests/fixtures/odd/hallmin_asym.yaml",
+        "tests/fixtures/odd/pp40_2rpm.yaml",
+    ],
+)
+def test_the_period_range_should_be_every_interval_the_timer_reads_in_the_speed_range(
+    path: str,
+) -> None:
+    """The Hall timer counts whole ticks: a sector of T ticks reads floor(T) or ceil(T).
+    The generator's range and the oracle's own are [floor(T(speed_max)),
+    ceil(T(speed_min))] (within the counter), T = f_hall x 10 / (p n), worked out here from
+    the spec's values (a 1098.6 Hz Hall clock; 40 pole pairs from 2 rpm)."""
+    import math
+
+    from codegen.fixedpoint.scaling import scaling
+
+    spec = load_spec(ROOT / path)
+    ticks_60deg = spec.hall.timer_clock_hz * 10 / spec.motor.pole_pairs
+    fastest = ticks_60deg / spec.controller.speed_max_rpm
+    slowest = ticks_60deg / spec.controller.speed_min_rpm
+    expected = (math.floor(fastest), min(math.ceil(slowest), 2**spec.hall.counter_bits - 1))
+    lim = oracle(spec).lim
+    assert (lim.period_min, lim.period_max) == expected
+    sc = scaling(spec, derive())
+    assert (sc.period_min_ticks, sc.period_max_ticks) == expected
