@@ -56,7 +56,7 @@ from codegen.build_firmware import stack as stack_report
 from codegen.core.module import build_core
 from codegen.dead_time import COMMUTATION_END_ALLOWANCE_S, encode_dead_time
 from codegen.derivation import derive
-from codegen.errors import SpecError
+from codegen.errors import ExitCode, SpecError
 from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
 from codegen.methods.base import FixedPointError
@@ -902,16 +902,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             b = prepare(spec_path, args.work, args.quick)
         except SpecError as error:
             print(f"bench: {error}", file=sys.stderr)
-            return 2
+            return int(ExitCode.SPEC)
         except FixedPointError as error:  # no design meets the spec: the key to change
             print(
                 f"bench: {spec_path}: {error.key}: fixed-point design: {' '.join(str(error).split())}",
                 file=sys.stderr,
             )
-            return 2
+            return int(ExitCode.SPEC)
         except OSError as error:
             print(f"bench: cannot read spec {spec_path}: {error.strerror}", file=sys.stderr)
-            return 2
+            return int(ExitCode.ENVIRONMENT)
         report = run_spec(b, sections)
         missed += [(b.spec.name, f) for f in misses(report.figures)]
     if missed:

@@ -116,14 +116,14 @@ def test_exit_status_should_follow_the_targets(
     assert main([*small_args, "--report-only"]) == 0
 
 
-def test_bad_spec_should_exit_2_with_one_line(
+def test_bad_spec_should_exit_3_with_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
     bad = tmp_path / "bad.yaml"
     bad.write_text(text.replace("0.56 mH", "0.56 mX", 1), encoding="utf-8")
     assert "0.56 mX" in bad.read_text(encoding="utf-8")
-    assert main([str(bad), "--only", "size", "--work", str(tmp_path / "work")]) == 2
+    assert main([str(bad), "--only", "size", "--work", str(tmp_path / "work")]) == 3  # as generate
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "bad.yaml" in err[0] and "0.56 mX" in err[0]
     with pytest.raises(SystemExit) as usage:
@@ -131,13 +131,13 @@ def test_bad_spec_should_exit_2_with_one_line(
     assert usage.value.code == 2
 
 
-def test_a_spec_no_design_meets_should_exit_2_with_one_line(
+def test_a_spec_no_design_meets_should_exit_3_with_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """The generator refuses the PI of this spec (it meets 1.002 counts, the spec asks
     1): the bench says so in one line naming the key, as for an invalid spec."""
     refused = ROOT / "tests" / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
-    assert main([str(refused), "--only", "size", "--work", str(tmp_path / "work")]) == 2
+    assert main([str(refused), "--only", "size", "--work", str(tmp_path / "work")]) == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
     assert "accuracy.current_loop_duty_counts" in err[0] and "(allowed: >= 1.002 counts)" in err[0]
