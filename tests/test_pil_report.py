@@ -5,7 +5,11 @@ from __future__ import annotations
 import stat
 from pathlib import Path
 
+import pytest
+
 from emulation.pil.report import publish
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_published_outputs_should_get_the_permissions_of_any_new_file(tmp_path: Path) -> None:
@@ -19,3 +23,31 @@ def test_published_outputs_should_get_the_permissions_of_any_new_file(tmp_path: 
     assert target.read_text(encoding="utf-8") == "a,b\n1,2\n"
     assert stat.S_IMODE(target.stat().st_mode) == stat.S_IMODE(plain.stat().st_mode)
     assert [p.name for p in target.parent.iterdir()] == [target.name]  # nothing left beside
+
+
+def test_the_report_should_go_under_the_current_folder_or_to_o(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`python -m emulation.pil.report SPEC` run from a user's folder wrote PIL.md into the
+    project's own generated/<name>/pil/ (over the checked-in motor's report, for a spec
+    of the same name). It goes under the current folder, as every command's output, or
+    to -o. The firmware and scenarios are stand-ins: this is where the report goes."""
+    from emulation.pil import report
+
+    spec = ROOT / "spec" / "paper_motor.yaml"
+    monkeypatch.setattr(report, "build_firmware", lambda *_: tmp_path / "firmware.elf")
+    monkeypatch.setattr(report, "SCENARIOS", ())
+    monkeypatch.setattr(report, "render", lambda *_: "# PIL: a stand-in\n")
+    project = ROOT / "generated" / "paper_motor" / "pil" / "PIL.md"
+    before = project.stat().st_mtime_ns if project.exists() else None
+    monkeypatch.chdir(tmp_path)
+    assert report.main([str(spec), "--braking", "off", "--no-progress"]) == 0
+    written = tmp_path / "generated" / "paper_motor" / "pil" / "PIL.md"
+    assert written.read_text(encoding="utf-8").startswith("# ")
+    assert capsys.readouterr().out.rstrip().endswith("-> generated/paper_motor/pil/PIL.md")
+    assert report.main([str(spec), "--braking", "off", "--no-progress", "-o", "mine"]) == 0
+    assert (tmp_path / "mine" / "PIL.md").is_file()
+    assert (project.stat().st_mtime_ns if project.exists() else None) == before
+    with pytest.raises(SystemExit) as usage:
+        report.main([str(spec), str(spec), "-o", "mine"])
+    assert usage.value.code == 2

@@ -143,7 +143,17 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="no progress bars on stderr (they show only when stderr is a terminal)",
     )
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=None,
+        help="the folder of PIL.md, its CSV and figures (one spec only; default"
+        " generated/<name>/pil/ under the current folder)",
+    )
     args = parser.parse_args(argv)
+    if args.output is not None and len(args.specs) > 1:
+        parser.error(f"-o {args.output}: one spec only (got {len(args.specs)})")
     progress.enabled = sys.stderr.isatty() and not args.no_progress
     failed = False
     for spec_path in args.specs:
@@ -153,7 +163,11 @@ def main(argv: list[str] | None = None) -> int:
             for line in str(error).splitlines():
                 print(f"error: {line}", file=sys.stderr)
             return int(ExitCode.SPEC)
-        target = ROOT / "generated" / spec.name / "pil" / "PIL.md"
+        # under the current folder, as every command's output (the package's own folder
+        # was used: a run from elsewhere wrote into the project's generated/, over the
+        # report of a checked-in motor of the same name)
+        folder_out = args.output or Path("generated") / spec.name / "pil"
+        target = Path.cwd() / folder_out / "PIL.md"
         with tempfile.TemporaryDirectory() as folder:
             try:
                 path = Path(spec_path).resolve()
@@ -213,13 +227,19 @@ def main(argv: list[str] | None = None) -> int:
             summary_line(
                 spec.name, len(outcomes) - len(bad), len(outcomes), result, braking_problems
             )
-            + f" -> {target.relative_to(ROOT)}"
+            + f" -> {shown_path(target)}"
         )
         for o in outcomes:
             print(
                 f"pil:   {o.name}: latency {_us(o.latency_ticks)} (limit {_us(o.limit_ticks)}); {'; '.join(o.problems) or 'pass'}"
             )
     return 1 if failed else 0
+
+
+def shown_path(path: Path) -> Path:
+    """`path` relative to the current folder where it is under it."""
+    here = Path.cwd()
+    return path.relative_to(here) if path.is_relative_to(here) else path
 
 
 def summary_line(
