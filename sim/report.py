@@ -845,6 +845,7 @@ def render_report(results: Results, limits: Limits, figure_names: dict[str, str]
         "quick": results.quick,
         "rule_duty_target": results.rule_duty_target,
         "rule_refused": results.rule_refused,
+        "rule_shape_fallback": results.rule_shape_fallback,
         "duty_target": f"{float(spec.accuracy.duty_counts):g}",
         "template": f"sim/templates/{TEMPLATE}",
         "drive": {

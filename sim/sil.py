@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import os
 import re
 import shutil
 import subprocess
@@ -51,7 +52,10 @@ from sim.rule_stand_in import RuleStandIn
 from sim.scenario import Case
 from sim.schedule import switch_index
 
-BUILD_ROOT = PROJECT_ROOT / "build" / "sim"
+#: the cache of compiled cores and generated variants, under the current folder as every
+#: command's output (it was the package's own build/: a run from a user's folder, or of an
+#: installed copy, wrote into the project)
+BUILD_ROOT = Path("build") / "sim"
 CORE_SOURCE = "bldc_commutation.c"
 CORE_HEADER = "bldc_commutation.h"
 
@@ -136,13 +140,16 @@ class CoreLibrary:
 
 def compile_core(c_dir: Path, build_dir: Path = BUILD_ROOT) -> Path:
     """gcc -O2 -fPIC -shared of the core into build_dir, cached by source hash."""
+    build_dir = build_dir.resolve()  # a relative folder is the current one's
     source, header = c_dir / CORE_SOURCE, c_dir / CORE_HEADER
     digest = hashlib.sha256(source.read_bytes() + header.read_bytes()).hexdigest()[:16]
     library = build_dir / f"libbldc_{digest}.so"
     if library.exists():
         return library
     build_dir.mkdir(parents=True, exist_ok=True)
-    partial = library.with_suffix(".so.partial")
+    # one partial file per process: two processes compiling the same core (pytest's
+    # workers, two simulations) wrote one file at once
+    partial = library.with_suffix(f".so.{os.getpid()}.partial")
     command = ["gcc", "-O2", "-fPIC", "-shared", "-std=c99", "-Wall", "-Wextra"]
     command += ["-I", str(c_dir), str(source), "-o", str(partial)]
     result = subprocess.run(command, capture_output=True, text=True, check=False)
@@ -207,12 +214,14 @@ def _is_output_of(spec: Spec, generated: Path) -> bool:
 
 
 def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_ROOT) -> CoreSet:
-    """Compile the checked-in core and generate + compile the other methods' variants.
+    """Compile the checked-in core and generate + compile the other methods' variants
+    (`build_dir`: relative to the current folder, as it is when the call is made).
 
     Variant generation runs the generator's `generate()` (what `codegen generate` runs)
     for each missing variant, so the variant is exactly what the toolchain emits for that
     method (and, for improved_r, EMF shape).
     """
+    build_dir = build_dir.resolve()
     spec_path = Path(spec.source_path)
     checked_in = PROJECT_ROOT / "generated" / spec.name / "c"
     # The checked-in core only where it is this spec's output (a user's motor may share

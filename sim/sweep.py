@@ -125,6 +125,9 @@ class Results:
     #: why the rule's integer design refuses this motor: its rows are the rule in real
     #: arithmetic (sim/rule_stand_in.py), not a C core
     rule_refused: str | None = None
+    #: the EMF shape improved_r's core was generated for, when its firmware refuses the
+    #: spec's own (the rule holds the EMF affine over the commutation): the stand-in
+    rule_shape_fallback: str | None = None
 
     def rows(self, **match: object) -> list[SweepRow]:
         return [r for r in self.sweep if all(getattr(r, k) == v for k, v in match.items())]
@@ -401,4 +404,5 @@ def run_all(spec: Spec, progress: bool = True, quick: bool = False) -> Results:
         quick=quick,
         rule_duty_target=cores.rule_duty_target,
         rule_refused=cores.rule_refused,
+        rule_shape_fallback=cores.shape_fallback,
     )

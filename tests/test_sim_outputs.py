@@ -82,6 +82,15 @@ def test_report_should_present_improved_r_as_the_c_core(
     )
     text = render_report(results, bounds, names)
     assert "| `improved_r` | generated C core |" in text
+    assert "for the spec's EMF shape (and" in text and "stand-in EMF shape" not in text
+    # A shape the rule's firmware refuses: its core is generated for the stand-in, and
+    # the report says so (it said "for the spec's EMF shape", the stand-in unmentioned)
+    stood_in = render_report(
+        dataclasses.replace(results, rule_shape_fallback="120 deg"), bounds, names
+    )
+    assert "**improved_r generated for a stand-in EMF shape, 120 deg:**" in stood_in
+    assert "for the stand-in EMF shape 120 deg (above) (and" in stood_in
+    assert "for the spec's EMF shape" not in stood_in
     assert "The rule holds ±3 % on both EMF shapes, on the averaged plant" in text
     assert "It holds on the switched plant too" in text
     # The sweep spans the spec's range, ends included.

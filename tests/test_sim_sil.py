@@ -20,6 +20,7 @@ from sim.sil import (
     CoreLibrary,
     CoreOutputs,
     CoreSet,
+    compile_core,
     core_command,
     expected_switches,
     load_core,
@@ -318,3 +319,17 @@ def test_the_rule_in_real_arithmetic_should_agree_with_its_core_where_one_exists
                 assert abs(got["commutation_ticks"] - want["commutation_ticks"]) <= carrier, inputs
                 assert (got["flags"] & clamped) == (want["flags"] & clamped), inputs
     assert compared > 60
+
+
+def test_the_core_cache_should_be_under_the_current_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`simulate` run from a user's folder compiled its cores into the project's own
+    build/sim (an installed copy's folder); it is the current folder's build/sim, as
+    every command's output, and the library's path is absolute (loaded later from
+    anywhere)."""
+    c_dir = ROOT / "generated" / "paper_motor" / "c"
+    monkeypatch.chdir(tmp_path)
+    library = compile_core(c_dir)
+    assert library.is_absolute() and library.parent == tmp_path / "build" / "sim"
+    assert library.is_file() and [p.name for p in library.parent.iterdir()] == [library.name]
