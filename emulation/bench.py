@@ -606,7 +606,7 @@ def section_peers(b: Bench, report: Report) -> None:
                 "cycles",
                 detail=f"{ratio:.2f} x ours; mean {r.cycles_mean:.0f}{bus}; {r.flash_bytes} B of"
                 f" code; error vs the exact model: duties {r.duty_error:.3f} counts, t_com"
-                f" {r.time_error:.3f} ticks",
+                f" {r.time_error:.3f} ticks (where Eq. 20 ends by the latest end L(T))",
             )
         )
     cached = ours.cached

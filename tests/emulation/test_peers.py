@@ -67,3 +67,22 @@ def test_the_fixed_point_peer_should_fit_32_bits_on_every_spec() -> None:
         constants = [int(c) for c in re.findall(r"\b(\d+)u\b", source)]
         assert constants, path.name
         assert max(constants) < 2**32, path.name
+
+
+def test_t_com_error_should_be_judged_where_no_guard_holds_the_end(tmp_path: Path) -> None:
+    """Beyond the latest end L(T) the firmware holds the commutation's end there by
+    design (the guard and the sector-shortening margin), which a peer without the guard
+    does not: the error table counted that as ours (58.9 ticks against the plain peer's
+    23.8 on this 560 V motor). Judged where Eq. 20 ends by L(T), ours is within its
+    rounding, and the plain peer's truncation shows."""
+    from codegen.generate import generate
+
+    spec_path = ROOT / "tests" / "fixtures" / "odd" / "hv560_10mh_150deg.yaml"
+    spec = load_spec(spec_path)
+    generated = tmp_path / "generated"
+    generate(spec_path, generated, ROOT)
+    full = sweep(spec, scaling(spec, derive()), 2)
+    inputs = peers.points(full.buses, full.periods, full.currents[1:], full.duties[1:2])
+    results = {r.name: r for r in peers.run(spec, generated, tmp_path / "work", inputs)}
+    assert results["ours"].time_error <= 0.5 + 1e-2
+    assert results["plain fixed point"].time_error > 5 * results["ours"].time_error
