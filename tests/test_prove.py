@@ -443,3 +443,31 @@ def test_wp_should_be_spared_only_what_eva_established_in_full() -> None:
     invariants[1] = ("loop invariant", "Unknown", "0 ≤ n ≤ 1000")
     assert eva_established(_eva_with(invariants + posts)) == ["in_period"]
     assert eva_established(_eva_with(posts)) == ["in_period"]
+
+
+def test_prove_should_take_a_relative_build_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`python -m verify.prove my.yaml --build pb` from a user's folder: Frama-C runs in
+    a folder of its own, so the harness's relative include folder named nothing, the
+    parse failed, and prove exited 5 (a missing tool). The proof's own runs are replaced
+    by Frama-C's parse of each target, with the folders main() gives them."""
+    import verify.prove as prove_module
+    from verify.frama_c import parse
+
+    def parse_only(targets: list, tools: Tools, build: Path, jobs: int) -> list:
+        for t in targets:
+            parse(tools, t.root, t.plan, build / t.name / "frama-c")
+        return []
+
+    monkeypatch.setattr(prove_module, "prove", parse_only)
+    spec = tmp_path / "mine.yaml"
+    spec.write_text(
+        SPECS["paper_motor"]
+        .read_text(encoding="utf-8")
+        .replace("name: paper_motor", "name: mine", 1),
+        encoding="utf-8",
+    )
+    monkeypatch.chdir(tmp_path)
+    assert main(["mine.yaml", "--build", "pb"]) == 0, capsys.readouterr().err
+    assert (tmp_path / "pb" / "mine" / "proof" / "plan.json").is_file()

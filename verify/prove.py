@@ -515,9 +515,15 @@ def main(argv: list[str] | None = None) -> int:
         "--jobs", type=whole_number(1, 64), default=2, help="Frama-C runs at a time"
     )
     parser.add_argument(
-        "--build", type=Path, default=PROJECT_ROOT / "build" / "prove", help="work folder"
+        "--build",
+        type=Path,
+        default=Path("build") / "prove",
+        help="work folder (default build/prove under the current folder)",
     )
     args = parser.parse_args(argv)
+    # absolute: Frama-C runs in a folder of its own, where a relative include folder
+    # named nothing (a relative --build failed to parse, reported as the environment's)
+    args.build = args.build.resolve()
     start = time.monotonic()
     try:
         targets = [target_for(s, args.build) for s in args.specs]
