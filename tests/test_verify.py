@@ -460,7 +460,9 @@ def test_verify_should_stop_on_a_stale_generated_folder(
     edited.write_text(SPECS["paper_motor"].read_text().replace("0.56 mH", "0.60 mH"))
     assert main([str(edited), "--generated", str(generated), "--no-progress"]) == EXIT_STALE
     err = capsys.readouterr().err
-    assert "regenerate with" in err and "make generate" in err
+    # the command that regenerates this folder (it said `make generate SPEC=...`, which
+    # has no Makefile outside the project and leaves -o out)
+    assert f"regenerate with `bldc-codegen generate {edited} -o {generated}`" in err, err
 
 
 def test_anti_windup_should_be_exercised_where_speed_min_holds_every_current(
@@ -540,3 +542,26 @@ def test_step_responses_should_follow_the_c_through_an_admissible_anti_windup_fl
     assert checks["loop_steps"].verdict == "PASS", checks["loop_steps"].note
     assert checks["loop_steps"].max_error < 1.0
     assert checks["loop_windup"].verdict == "PASS", checks["loop_windup"].note
+
+
+def test_verify_report_should_name_the_spec_version_and_be_published_whole(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """report.json and the figure were written in place (a run stopped then left a cut
+    JSON or an empty PNG), and the JSON named no spec version, although `generate` keeps
+    verify/ across a regeneration: it carries the spec's hash, and both are renamed into
+    place with nothing left beside them."""
+    from codegen.spec_loader import load_spec
+    from verify.__main__ import main
+
+    generated = tmp_path / "generated"
+    ignored = shutil.ignore_patterns("verify", "pil", "simulation", "robustness", "PROOF.md")
+    shutil.copytree(ROOT / "generated" / "paper_motor", generated, ignore=ignored)
+    spec = SPECS["paper_motor"]
+    assert main([str(spec), "--generated", str(generated), "--random", "200", "--no-progress"]) == 0
+    capsys.readouterr()
+    out = generated / "verify"
+    assert sorted(p.name for p in out.iterdir()) == ["error_vs_speed.png", "report.json"]
+    report = json.loads((out / "report.json").read_text(encoding="utf-8"))
+    assert report["spec_sha256"] == load_spec(spec).sha256
+    assert (out / "error_vs_speed.png").read_bytes().startswith(b"\x89PNG")

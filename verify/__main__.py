@@ -9,6 +9,7 @@ from pathlib import Path
 
 from codegen.argtypes import POINTS, SEED
 from codegen.errors import ExitCode, SpecError
+from codegen.freshness import regenerate_command
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, StaleOutputError, plot, table, verify, write_json
 
@@ -46,7 +47,8 @@ def main(argv: list[str] | None = None) -> int:
     generated = args.generated or Path("generated") / spec.name
     if not (generated / "c" / "bldc_commutation.c").is_file():
         print(
-            f"verify: no generated core in {generated}: run `make generate SPEC={args.spec}`",
+            f"verify: no generated core in {generated}: run"
+            f" `{regenerate_command(spec, generated)}`",
             file=sys.stderr,
         )
         return EXIT_STALE

@@ -10,6 +10,7 @@ stale: verify stops and says how to regenerate.
 from __future__ import annotations
 
 import json
+import os
 import sys
 import time
 from dataclasses import asdict, dataclass
@@ -19,6 +20,8 @@ from types import ModuleType
 import numpy as np
 from tqdm import tqdm
 
+from codegen.freshness import regenerate_command
+from codegen.render import write_atomically
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from oracle.model import Oracle, oracle
@@ -67,19 +70,22 @@ class VerifyResult:
 
 
 def read_manifest(generated: Path, spec: Spec, spec_arg: str) -> dict[str, object]:
+    # the command that regenerates this very folder (it named `make generate`, which
+    # outside the project has no Makefile, and not the -o of a folder elsewhere)
+    fix = regenerate_command(spec, generated)
     path = generated / "manifest.json"
     if not path.is_file():
-        raise FileNotFoundError(f"no manifest in {generated}: run `make generate SPEC={spec_arg}`")
+        raise FileNotFoundError(f"no manifest in {generated}: run `{fix}`")
     manifest = json.loads(path.read_text(encoding="utf-8"))
     if manifest.get("spec_sha256") != spec.sha256:
         raise StaleOutputError(
             f"{generated} was generated from another version of {spec_arg} "
             f"(spec hash {str(manifest.get('spec_sha256'))[:12]}, now {spec.sha256[:12]}): "
-            f"regenerate with `make generate SPEC={spec_arg}`"
+            f"regenerate with `{fix}`"
         )
     if "core" not in manifest:
         raise StaleOutputError(
-            f"{generated} predates the manifest's core section: regenerate with `make generate SPEC={spec_arg}`"
+            f"{generated} predates the manifest's core section: regenerate with `{fix}`"
         )
     return manifest
 
@@ -226,8 +232,12 @@ def table(result: VerifyResult, o: Oracle) -> str:
 
 
 def write_json(result: VerifyResult, tol: Tolerances, o: Oracle, path: Path) -> None:
+    """report.json, written beside and renamed (a run stopped mid-write left it cut),
+    with the spec's hash: `generate` keeps the report across a regeneration (a file it
+    did not write), and the hash says which version of the spec it verified."""
     data = {
         "spec": result.spec,
+        "spec_sha256": o.spec.sha256,
         "motor": result.motor,
         "generated": result.generated,
         "seed": result.seed,
@@ -243,8 +253,7 @@ def write_json(result: VerifyResult, tol: Tolerances, o: Oracle, path: Path) -> 
             for key, c in result.checks.items()
         },
     }
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+    write_atomically(path, json.dumps(data, indent=2) + "\n")
 
 
 def plot(evaluated: dict[str, Evaluated], tol: Tolerances, motor: str, path: Path) -> None:
@@ -275,5 +284,11 @@ def plot(evaluated: dict[str, Evaluated], tol: Tolerances, motor: str, path: Pat
     )
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100, metadata={"Software": None})
-    plt.close(fig)
+    # drawn beside and renamed: a run stopped while the figure was written left it empty
+    partial = path.with_name(f".{path.name}.{os.getpid()}.partial")
+    try:
+        fig.savefig(partial, dpi=100, format="png", metadata={"Software": None})
+        partial.replace(path)
+    finally:
+        partial.unlink(missing_ok=True)
+        plt.close(fig)
