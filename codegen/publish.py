@@ -38,7 +38,7 @@ INT, TERM or HUP sends that signal there instead of SIGKILL. BLDC_CODEGEN_NO_EXC
 forces the two-rename fallback.
 
 SIGINT, SIGTERM and SIGHUP (Ctrl-C, `kill`, a closed terminal) are held back while the
-lock is held and delivered when the publish is done (`_signals_deferred`): one arriving
+lock is held and delivered when the publish is done (`signals_deferred`): one arriving
 mid-publish ends the run with the new tree whole and the user's files in place, instead
 of leaving them in the hidden `-old` folder until the next run. Only SIGKILL (and a
 power cut) can stop a publish half-way, and the next run's recovery handles those.
@@ -268,7 +268,7 @@ _DEFERRED_SIGNALS = tuple(
 
 
 @contextlib.contextmanager
-def _signals_deferred() -> Iterator[None]:
+def signals_deferred() -> Iterator[None]:
     """Hold back SIGINT, SIGTERM and SIGHUP until the block is done, then deliver the
     first that came (its own handler runs: KeyboardInterrupt, or the process ends). In a
     thread other than the main one handlers cannot be set and nothing is deferred."""
@@ -501,7 +501,7 @@ def recover(target: Path) -> PublishResult:
     result = PublishResult(p.target, atomic_exchange=False)
     if not p.target.parent.is_dir():
         return result
-    with _locked(p.lock), _signals_deferred():
+    with _locked(p.lock), signals_deferred():
         _recover(p, result)
     return result
 
@@ -553,7 +553,7 @@ def publish(files: Mapping[str, str], target: Path) -> PublishResult:
     _refuse_the_working_folder(p.target)
     p.target.parent.mkdir(parents=True, exist_ok=True)
     result = PublishResult(p.target, atomic_exchange=False)
-    with _locked(p.lock), _signals_deferred():
+    with _locked(p.lock), signals_deferred():
         _recover(p, result)
         for leftover in (p.staging, p.retired):
             if leftover.exists() or leftover.is_symlink():

@@ -7,10 +7,18 @@ and only if no file of the same name in the folder is a stranger's: a hand-writt
 SIMULATION.md in the folder given with -o stops the run, in one line, before anything
 in the folder changes (it had been overwritten).
 
-Which files are the tool's: those its ledger in the folder lists (`LEDGER`, rewritten
-after each report with every name it has written there). A folder from before the
-ledger counts as the tool's when its report carries the tool's own header (`marker`);
-then every file of the new report is taken to be one the tool wrote before.
+Which files are the tool's: those its ledger in the folder lists (`LEDGER`). The
+ledger is written before the moves, listing the new report's names too, so that a run
+stopped between two moves (SIGKILL) leaves no file of its own unlisted (the next run had
+refused its own figure as a stranger's); SIGINT, SIGTERM and SIGHUP wait for the moves
+(`signals_deferred`). After them the tool's files of an earlier report that the new one
+does not have (a figure of a speed no longer simulated) are removed, and the ledger
+lists what is there. A folder from before the ledger counts as the tool's when its
+report carries the tool's own header (`marker`); then every file of the new report is
+taken to be one the tool wrote before, and nothing else is removed.
+
+The staging folder's name carries the process id: one left by a process that no longer
+runs (killed while rendering) is removed by the next run into the same folder.
 """
 
 from __future__ import annotations
@@ -22,7 +30,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from codegen.publish import PublishError
+from codegen.publish import PublishError, signals_deferred
 from codegen.render import write_atomically
 
 #: the names of the files bldc-codegen wrote into a report folder, one per line
@@ -76,17 +84,42 @@ def staged_report(out: Path, report: str, marker: str) -> Iterator[Path]:
     its header holds."""
     refuse_strangers(out, [report], report, marker)
     out.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.staging-", dir=out.parent))
+    _remove_abandoned_staging(out)
+    prefix = f".{out.name}.staging-{os.getpid()}-"
+    staging = Path(tempfile.mkdtemp(prefix=prefix, dir=out.parent))
     try:
         yield staging
         names = sorted(p.name for p in staging.iterdir())
         refuse_strangers(out, names, report, marker)
         owned = owned_names(out, report, marker) if out.is_dir() else frozenset()
         out.mkdir(parents=True, exist_ok=True)
-        for name in names:
-            os.replace(staging / name, out / name)
-        kept = set(names) | (set(owned) if owned is not None else set())
-        kept = {n for n in kept if (out / n).is_file()}
-        write_atomically(out / LEDGER, "".join(f"{n}\n" for n in sorted(kept)))
+        earlier = set(owned) if owned is not None else set()
+        with signals_deferred():
+            _write_ledger(out, earlier | set(names))
+            for name in names:
+                os.replace(staging / name, out / name)
+            for name in sorted(earlier - set(names)):
+                path = out / name
+                if path.is_file() and not path.is_symlink():
+                    path.unlink()
+            _write_ledger(out, {n for n in names if (out / n).is_file()})
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _write_ledger(out: Path, names: set[str]) -> None:
+    write_atomically(out / LEDGER, "".join(f"{n}\n" for n in sorted(names)))
+
+
+def _remove_abandoned_staging(out: Path) -> None:
+    """Staging folders of `out` whose process no longer runs (killed while rendering)."""
+    for folder in out.parent.glob(f".{out.name}.staging-*-*"):
+        pid = folder.name.removeprefix(f".{out.name}.staging-").split("-", 1)[0]
+        if not pid.isdigit() or not folder.is_dir() or folder.is_symlink():
+            continue
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except OSError:
+            continue  # another user's process: it runs

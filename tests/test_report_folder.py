@@ -3,6 +3,7 @@ moved in, never over a file the tool did not write (codegen/report_folder.py).""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -101,3 +102,69 @@ def test_robustness_into_a_folder_with_a_hand_written_report_should_exit_5_in_on
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "ROBUSTNESS.md is in the way" in lines[0], lines
     assert _snapshot(out) == {"ROBUSTNESS.md": "my own notes"}
+
+
+def test_a_former_reports_own_files_should_go_and_a_strangers_stay(tmp_path: Path) -> None:
+    """A figure of a speed the new report no longer simulates stayed beside it (the
+    folder held half of the old report's figures); the tool's own are removed, a
+    stranger's file is kept."""
+    out = tmp_path / "out"
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT, "a_2050rpm.png", "b.png")
+    (out / "notes.txt").write_text("mine")
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT, "a_2100rpm.png", "b.png")
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [LEDGER, REPORT, "a_2100rpm.png", "b.png", "notes.txt"]
+    )
+    assert (out / LEDGER).read_text().splitlines() == [REPORT, "a_2100rpm.png", "b.png"]
+
+
+def test_a_run_killed_between_two_moves_should_leave_its_files_listed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """SIGKILL after the report was moved in and before its new figure: the ledger was
+    written after the moves, so the next run refused the tool's own SIMULATION.md and
+    figure as a stranger's (exit 5). The ledger lists them before they move."""
+    import codegen.report_folder as folder
+
+    out = tmp_path / "out"
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT, "a.png")
+    moved: list[str] = []
+    real_replace = folder.os.replace
+
+    def killed_after_one(src: Path, dst: Path) -> None:
+        if ".staging-" in Path(src).parent.name:  # a move in (the ledger is renamed too)
+            if moved:
+                raise SystemExit("killed")  # the process ends here
+            moved.append(Path(dst).name)
+        real_replace(src, dst)
+
+    monkeypatch.setattr(folder.os, "replace", killed_after_one)
+    with pytest.raises(SystemExit), staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT, "A_new.png")  # sorted: A_new.png moves first
+    monkeypatch.setattr(folder.os, "replace", real_replace)
+    assert moved == ["A_new.png"]
+    with staged_report(out, REPORT, MARKER) as staging:  # refused before (a stranger's)
+        _write(staging, REPORT, "a.png")
+    assert not (out / "A_new.png").exists()  # the killed run's, not this one's
+
+
+def test_a_staging_folder_of_a_process_gone_should_be_removed(tmp_path: Path) -> None:
+    """A run killed while rendering left `.out.staging-*` beside the folder for good."""
+    out = tmp_path / "out"
+    gone = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
+    abandoned = tmp_path / f".out.staging-{gone}-abc123"
+    abandoned.mkdir()
+    (abandoned / "REPORT.md").write_text("half")
+    alive = tmp_path / f".out.staging-{os.getpid()}-def456"  # a run under way: kept
+    alive.mkdir()
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT)
+    assert not abandoned.exists() and alive.is_dir()
