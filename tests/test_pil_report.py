@@ -51,3 +51,38 @@ def test_the_report_should_go_under_the_current_folder_or_to_o(
     with pytest.raises(SystemExit) as usage:
         report.main([str(spec), str(spec), "-o", "mine"])
     assert usage.value.code == 2
+
+
+def test_the_report_folder_should_hold_one_run_and_keep_a_strangers_files(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The CSV and figures were written into the folder as they came and PIL.md at the
+    end: a run stopped between left new figures beside the former report, and a run
+    without braking left a former run's CSV beside its own report. They are staged and
+    moved in together (codegen/report_folder.py), a former run's own files go, a
+    stranger's stay, and a hand-written PIL.md stops the run before it starts."""
+    from codegen.report_folder import LEDGER, staged_report
+    from emulation.pil import report
+
+    spec = ROOT / "spec" / "paper_motor.yaml"
+    built: list[Path] = []
+    monkeypatch.setattr(report, "build_firmware", lambda *_: built.append(spec) or spec)
+    monkeypatch.setattr(report, "SCENARIOS", ())
+    monkeypatch.setattr(report, "render", lambda *_: f"# PIL\n{report.REPORT_MARKER}\n")
+    out = tmp_path / "pil"
+    with staged_report(out, report.REPORT_NAME, report.REPORT_MARKER) as staging:
+        (staging / report.REPORT_NAME).write_text(f"# former\n{report.REPORT_MARKER}\n")
+        (staging / "braking_commutations.csv").write_text("index\n")
+        (staging / "braking_speed.png").write_bytes(b"png")
+    (out / "notes.txt").write_text("mine")
+    args = [str(spec), "--braking", "off", "--no-progress", "-o", str(out)]
+    assert report.main(args) == 0
+    assert sorted(p.name for p in out.iterdir()) == [LEDGER, "PIL.md", "notes.txt"]
+    assert (out / LEDGER).read_text().splitlines() == ["PIL.md"]
+    stranger = tmp_path / "theirs"
+    stranger.mkdir()
+    (stranger / "PIL.md").write_text("# my own notes\n")
+    built.clear()
+    assert report.main([*args[:-1], str(stranger)]) == 5
+    assert built == [] and (stranger / "PIL.md").read_text() == "# my own notes\n"
+    assert capsys.readouterr().err.startswith("error: pil: ")

@@ -16,7 +16,9 @@ import tempfile
 from pathlib import Path
 
 from codegen.errors import ExitCode, SpecError
+from codegen.publish import PublishError, os_error_line, require_folder_path
 from codegen.render import write_atomically
+from codegen.report_folder import refuse_strangers, staged_report
 from codegen.spec_loader import load_spec
 from emulation import progress
 from emulation.pil import braking_report
@@ -122,6 +124,11 @@ def _plant_faults_section(outcomes: list[Outcome]) -> list[str]:
     return lines
 
 
+#: the report's name, and what its header says in every version (codegen/report_folder.py)
+REPORT_NAME = "PIL.md"
+REPORT_MARKER = "written by `emulation/pil/report.py`"
+
+
 def publish(text: str, target: Path) -> None:
     """Written beside `target` and renamed (`write_atomically`), with the permissions
     any new file gets: a NamedTemporaryFile renamed left PIL.md and the commutations'
@@ -166,8 +173,13 @@ def main(argv: list[str] | None = None) -> int:
         # under the current folder, as every command's output (the package's own folder
         # was used: a run from elsewhere wrote into the project's generated/, over the
         # report of a checked-in motor of the same name)
-        folder_out = args.output or Path("generated") / spec.name / "pil"
-        target = Path.cwd() / folder_out / "PIL.md"
+        out = Path.cwd() / (args.output or Path("generated") / spec.name / "pil")
+        target = out / REPORT_NAME
+        try:  # a stranger's PIL.md stops the run before it starts, not after it
+            require_folder_path(out)
+            refuse_strangers(out, [REPORT_NAME], REPORT_NAME, REPORT_MARKER)
+        except (PublishError, OSError) as error:
+            return _cannot_write(error)
         with tempfile.TemporaryDirectory() as folder:
             try:
                 path = Path(spec_path).resolve()
@@ -185,7 +197,7 @@ def main(argv: list[str] | None = None) -> int:
                 for s in progress.progress(SCENARIOS, f"pil {spec.name} fault scenarios")
             ]
             result: BrakingResult | None = None
-            section: list[str] | None = None
+            plant_outcomes: list[Outcome] = []
             if args.braking != "off":
                 setup = braking_setup(spec, short=args.braking == "short")
                 try:
@@ -194,21 +206,31 @@ def main(argv: list[str] | None = None) -> int:
                     # e.g. a fault latched at boot, or no boot at all: no motor to brake
                     print(f"error: pil: {spec.name}: braking: {error}", file=sys.stderr)
                     return 1
-                names = braking_report.write_figures(result, target.parent)
-                publish(braking_report.csv_text(result), target.parent / "braking_commutations.csv")
-                section = braking_report.section(result, names)
                 plant_outcomes = [
                     run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, f)
                     for f in progress.progress(
                         PLANT_FAULTS, f"pil {spec.name} faults with the motor in the loop"
                     )
                 ]
-                section += _plant_faults_section(plant_outcomes)
                 outcomes += plant_outcomes
-        publish(
-            render(spec_path, spec.name, outcomes, float(spec.inverter.pwm_frequency_hz), section),
-            target,
-        )
+        # the report, its CSV and figures staged and moved in together, the ledger first
+        # (codegen/report_folder.py): they were written into the folder as they came, so
+        # a run stopped half-way left new figures beside the former PIL.md, and a run
+        # without braking left a former run's CSV and figures beside its own
+        try:
+            with staged_report(out, REPORT_NAME, REPORT_MARKER) as staging:
+                section: list[str] | None = None
+                if result is not None:
+                    names = braking_report.write_figures(result, staging)
+                    csv = staging / "braking_commutations.csv"
+                    publish(braking_report.csv_text(result), csv)
+                    section = braking_report.section(result, names)
+                    section += _plant_faults_section(plant_outcomes)
+                pwm_hz = float(spec.inverter.pwm_frequency_hz)
+                text = render(spec_path, spec.name, outcomes, pwm_hz, section)
+                publish(text, staging / REPORT_NAME)
+        except (PublishError, OSError) as error:
+            return _cannot_write(error)
         bad = [o for o in outcomes if o.problems]
         failed |= bool(bad)
         braking_problems = [] if result is None else braking_report.problems(result)
@@ -234,6 +256,13 @@ def main(argv: list[str] | None = None) -> int:
                 f"pil:   {o.name}: latency {_us(o.latency_ticks)} (limit {_us(o.limit_ticks)}); {'; '.join(o.problems) or 'pass'}"
             )
     return 1 if failed else 0
+
+
+def _cannot_write(error: OSError | PublishError) -> int:
+    """One line for an output folder the report cannot go into; the environment's status."""
+    line = str(error) if isinstance(error, PublishError) else os_error_line(error)
+    print(f"error: pil: {line}", file=sys.stderr)
+    return int(ExitCode.ENVIRONMENT)
 
 
 def shown_path(path: Path) -> Path:
