@@ -19,6 +19,7 @@ from codegen.errors import ExitCode, SpecError
 from codegen.publish import PublishError, os_error_line, require_folder_path
 from codegen.render import write_atomically
 from codegen.report_folder import refuse_strangers, staged_report
+from codegen.shown import shown
 from codegen.spec_loader import load_spec
 from emulation import progress
 from emulation.pil import braking_report
@@ -249,7 +250,7 @@ def main(argv: list[str] | None = None) -> int:
             summary_line(
                 spec.name, len(outcomes) - len(bad), len(outcomes), result, braking_problems
             )
-            + f" -> {shown_path(target)}"
+            + f" -> {shown(target)}"
         )
         for o in outcomes:
             print(
@@ -263,12 +264,6 @@ def _cannot_write(error: OSError | PublishError) -> int:
     line = str(error) if isinstance(error, PublishError) else os_error_line(error)
     print(f"error: pil: {line}", file=sys.stderr)
     return int(ExitCode.ENVIRONMENT)
-
-
-def shown_path(path: Path) -> Path:
-    """`path` relative to the current folder where it is under it."""
-    here = Path.cwd()
-    return path.relative_to(here) if path.is_relative_to(here) else path
 
 
 def summary_line(
