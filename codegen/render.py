@@ -10,6 +10,7 @@ import os
 import re
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 import jinja2
 
@@ -87,6 +88,18 @@ def shared_environment(template_dir: Path = TEMPLATE_DIR) -> jinja2.Environment:
 
 def render(template: str, **context: object) -> str:
     return shared_environment().get_template(template).render(**context)
+
+
+def save_figure_atomically(figure: Any, path: Path, dpi: int) -> None:
+    """A matplotlib figure as PNG, drawn beside the target and renamed, as
+    `write_atomically`: a run stopped while it was drawn left an empty or cut PNG."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        figure.savefig(tmp, dpi=dpi, format="png", metadata={"Software": None})
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def write_atomically(path: Path, text: str) -> None:

@@ -10,7 +10,6 @@ stale: verify stops and says how to regenerate.
 from __future__ import annotations
 
 import json
-import os
 import sys
 import time
 from dataclasses import asdict, dataclass
@@ -21,7 +20,7 @@ import numpy as np
 from tqdm import tqdm
 
 from codegen.freshness import regenerate_command
-from codegen.render import write_atomically
+from codegen.render import save_figure_atomically, write_atomically
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from oracle.model import Oracle, oracle
@@ -283,12 +282,7 @@ def plot(evaluated: dict[str, Evaluated], tol: Tolerances, motor: str, path: Pat
         f"{motor}: generated core against the oracle (ill-conditioned points excluded from t_com)"
     )
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # drawn beside and renamed: a run stopped while the figure was written left it empty
-    partial = path.with_name(f".{path.name}.{os.getpid()}.partial")
     try:
-        fig.savefig(partial, dpi=100, format="png", metadata={"Software": None})
-        partial.replace(path)
+        save_figure_atomically(fig, path, dpi=100)
     finally:
-        partial.unlink(missing_ok=True)
         plt.close(fig)

@@ -5,7 +5,6 @@ deviation on the chip (PIL) against the SIL simulation of the same firmware."""
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -17,6 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from codegen.render import save_figure_atomically
 from codegen.spec_model import Spec, loop_periods_per_step_response
 from emulation.pil.braking import (
     BRAKING_EDGES,
@@ -48,10 +48,10 @@ SWITCHES = ("T1 (A+)", "T2 (A-)", "T3 (B+)", "T4 (B-)", "T5 (C+)", "T6 (C-)")
 
 def _save(fig: plt.Figure, path: Path) -> None:
     """Written beside and renamed: a reader never sees half a PNG."""
-    partial = path.with_name(f".{path.name}.partial")
-    fig.savefig(partial, dpi=DPI, format="png", metadata={"Software": None})
-    plt.close(fig)
-    os.replace(partial, path)
+    try:
+        save_figure_atomically(fig, path, DPI)
+    finally:
+        plt.close(fig)
 
 
 def speed_figure(result: BrakingResult, path: Path) -> None:
