@@ -16,13 +16,18 @@ from fractions import Fraction
 
 from codegen.errors import SpecError
 from codegen.methods.base import FixedPointError
-from codegen.spec_init import Targets
+from codegen.spec_init import HALL_CLOCKS_HZ, Targets
 from codegen.spec_model import Spec
 
 #: how a design refusal names the target it meets (`paper_method`, `improved_r`)
 _REACHABLE = re.compile(r"\(allowed: >= ([0-9]+(?:\.[0-9]+)?) (counts|ticks)\b")
 #: the targets a commutation core's refusal may raise, by the key it names
 CORE_TARGETS = {"accuracy.duty_counts": "counts", "accuracy.commutation_time_ticks": "ticks"}
+#: Hall clocks below init's own choices (72 MHz / 7200, / 2880, / 1440), for a motor
+#: whose Eq. 20 needs them (600 mH on 0.21 ohm: a 2.9 s time constant)
+SLOW_HALL_CLOCKS_HZ = (10_000, 25_000, 50_000)
+#: how a core's refusal of the Hall clock bounds the clocks that design (`paper_method`)
+_HALL_CLOCK = re.compile(r"\(allowed: <= ([0-9.e+]+) Hz, ")
 
 
 @dataclass(frozen=True)
@@ -46,9 +51,33 @@ def _amount(value: Fraction, unit: str) -> str:
     return f"{float(value):g} {unit}{'' if value == 1 else 's'}"
 
 
+def _adopt_hall_clock(targets: Targets, spec: Spec, error: FixedPointError) -> Adopted | None:
+    """`targets` with the fastest of init's Hall clocks (72 MHz / N, each a whole number
+    of Hz) within the bound the core's refusal names, where it is slower than the spec's;
+    None otherwise."""
+    found = _HALL_CLOCK.search(str(error))
+    if found is None:
+        return None
+    bound = Fraction(found.group(1))
+    fitting = [Fraction(c) for c in (*SLOW_HALL_CLOCKS_HZ, *HALL_CLOCKS_HZ) if c <= bound]
+    if not fitting or fitting[-1] >= spec.hall.timer_clock_hz:
+        return None
+    clock = fitting[-1]
+    return Adopted(
+        replace(targets, hall_clock_hz=clock),
+        f"hall.timer_clock = {float(clock):g} Hz: what the {spec.controller.method}"
+        f" commutation core's integer design takes on this motor"
+        f" ({float(spec.hall.timer_clock_hz):g} Hz leaves Eq. 20 too few bits; the slowest"
+        " speed the Hall timer measures rises with it)",
+    )
+
+
 def adopt_core_target(targets: Targets, spec: Spec, error: FixedPointError) -> Adopted | None:
-    """`targets` with the one the core's refusal names raised to what it meets; None when
-    the refusal names no such target, or one no looser than the spec's (no progress)."""
+    """`targets` with the one the core's refusal names raised to what it meets (or the
+    Hall clock lowered to one it takes); None when the refusal names no such target, or
+    one no looser than the spec's (no progress)."""
+    if error.key == "hall.timer_clock":
+        return _adopt_hall_clock(targets, spec, error)
     value = reachable(error)
     if value is None:
         return None
@@ -100,7 +129,7 @@ def meet_core_targets(
     names to what it meets through `rewrite` (write the spec with these targets, load
     it), until it designs or refuses for another reason."""
     notes: list[str] = []
-    for _ in range(len(CORE_TARGETS) + 1):
+    for _ in range(len(CORE_TARGETS) + 2):  # each target, the Hall clock, the last check
         refusal = core_refusal(spec)
         if refusal is None:
             break

@@ -494,6 +494,7 @@ class Targets:
     loop_counts: Fraction = Fraction(1)  # accuracy.current_loop_duty_counts
     duty_counts: Fraction = Fraction(1)  # accuracy.duty_counts
     time_ticks: Fraction | None = None  # accuracy.commutation_time_ticks; None: the budget
+    hall_clock_hz: Fraction | None = None  # hall.timer_clock; None: from the top speed
 
 
 def _guarded_sector_s(pwm_hz: Fraction, dead_ns: Fraction, method: str) -> Fraction:
@@ -560,10 +561,12 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
                 + f"; below 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm; raise the PWM"
                 " frequency for more"
             )
-    hall_clock = next(
+    hall_clock: Fraction | int = next(
         (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),
         HALL_CLOCKS_HZ[-1],
     )
+    if targets.hall_clock_hz is not None:
+        hall_clock = targets.hall_clock_hz
     fastest = Fraction(hall_clock * 10) / (pole_pairs * n_max)
     slowest_rpm = Fraction(hall_clock * 10) / (pole_pairs * COUNTER_MAX)
     n_min = max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), 5))
@@ -651,6 +654,9 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         "hall.sequence": "assumption: the paper's Table 1 order; check your motor's wiring",
         "hall.timer_clock": (
             f"{derived} the slowest 72 MHz / N giving >= 500 ticks per 60 deg at speed_max"
+            if targets.hall_clock_hz is None
+            else f"{derived} what the commutation core's fixed-point design takes (a faster"
+            " clock leaves Eq. 20's X too few fraction bits on this motor)"
         ),
         "hall.counter_bits": "STM32F103 general-purpose timers are 16 bit",
         "hall.sector_shortening": (

@@ -233,13 +233,16 @@ def test_init_says_when_the_pi_it_writes_cannot_integrate(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     # [init 1:22]: a 1 mohm, 500 mH motor: init exited 0 ("next: generate"), and generate
-    # refused it with "k_i = 0.00069 ... below one LSB ... (Q6)": no value, no range
+    # refused it with "k_i = 0.00069 ... below one LSB ... (Q6)": no value, no range. Its
+    # PI now designs (the integrator in a finer format than the output); its Eq. 20 needs
+    # a Hall clock of at most 31 kHz, which leaves the top speed too few ticks: init says
+    # so in one line with the value, and that the design does not fit.
     spec = tmp_path / "m.yaml"
     argv = ["init", "m", "-o", str(spec), "--resistance", "0.001 ohm", "--inductance", "500 mH"]
     assert main(argv) == ExitCode.SPEC
     err = capsys.readouterr().err.splitlines()
-    assert err[0].startswith(f"error: {spec}: current_loop.bandwidth: fixed-point design: "), err
-    assert "current_loop.bandwidth = 1000 Hz: k_i" in err[0] and "(allowed: " in err[0], err
+    assert err[0].startswith(f"error: {spec}: hall.timer_clock: fixed-point design: "), err
+    assert "(allowed: <= 31250 Hz, " in err[0], err
     assert "fixed-point design does not fit" in err[1], err
 
 
@@ -252,9 +255,10 @@ def test_a_k_i_below_one_lsb_is_refused_at_once_at_any_bandwidth(tmp_path: Path)
     spec = tmp_path / "m.yaml"
     argv = ["init", "m", "-o", str(spec), "--resistance", "0.001 ohm", "--inductance", "500 mH"]
     main(argv)
-    spec.write_text(spec.read_text().replace("bandwidth: 1000 Hz", "bandwidth: 50 Hz"))
+    # (at 50 Hz its integrator now takes Q19, where k_i is 18 LSB; at 1 Hz, 0.36)
+    spec.write_text(spec.read_text().replace("bandwidth: 1000 Hz", "bandwidth: 1 Hz"))
     start = time.monotonic()
-    with pytest.raises(FixedPointError, match=r"bandwidth = 50 Hz: .*\(allowed: "):
+    with pytest.raises(FixedPointError, match=r"bandwidth = 1 Hz: .*\(allowed: "):
         widest_design(load_spec(spec))
     assert time.monotonic() - start < 20
 

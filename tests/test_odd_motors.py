@@ -26,7 +26,8 @@ ODD = ROOT / "tests" / "fixtures" / "odd"
 
 
 @pytest.mark.parametrize(
-    "name", ["pp1_60krpm_20k", "pp30_5_to_120rpm", "rev_hall_centre_shunts_sc"]
+    "name",
+    ["pp1_60krpm_20k", "pp30_5_to_120rpm", "rev_hall_centre_shunts_sc", "heavy_l_finer_integrator"],
 )
 def test_an_unusual_motor_should_regenerate_identically_and_verify(
     tmp_path: Path, name: str
@@ -89,17 +90,56 @@ def test_a_hall_clock_that_overflows_every_format_should_be_named(tmp_path: Path
     assert caught.value.key == "hall.timer_clock"
     message = str(caught.value)
     assert message.startswith("hall.timer_clock = 72000000 Hz: no format from Q0 to Q12 is safe")
-    assert message.endswith("(allowed: <= 2.74884e+07 Hz, 72000000 Hz / N for N >= 3: 24000000 Hz)")
+    # Q0 would fit up to 27.5 MHz; X needs 3 bits where the spec holds t_com to 8 ticks
+    assert message.endswith(
+        "(allowed: <= 3.43605e+06 Hz, 72000000 Hz / N for N >= 21: 3428571.429 Hz)"
+    )
     text = path.read_text(encoding="utf-8")
     assert text.count("  timer_clock: 72 MHz\n") == 2  # TIM1's and TIM3's
     named = tmp_path / "named.yaml"
     named.write_text(
         text.replace(
-            "  timer_clock: 72 MHz\n  counter_bits", "  timer_clock: 24 MHz\n  counter_bits"
+            "  timer_clock: 72 MHz\n  counter_bits", "  timer_clock: 3 MHz\n  counter_bits"
         )
     )
-    assert "  timer_clock: 24 MHz\n" in named.read_text()
+    assert "  timer_clock: 3 MHz\n" in named.read_text()
     build_core(load_spec(named))  # the clock named does design
+
+
+def test_a_core_that_misses_the_target_where_verify_holds_it_should_be_refused(
+    tmp_path: Path,
+) -> None:
+    """50 mH on 24 V with a 1 MHz Hall clock: Eq. 20's numerator times the current code
+    leaves X no fraction bit, so W errs by half a count, and where the spec holds t_com
+    to 8 ticks (one count of W moves it by up to 80) that is up to 40 ticks. The design
+    claimed 8 ticks only where W >= 4405 counts; `generate` wrote it and `verify` failed
+    it (35.5 ticks at 164 rpm). It is refused, naming the Hall clock that designs, and
+    that clock's firmware verifies."""
+    path = ROOT / "tests" / "fixtures" / "refused" / "l50mh_wide_sense.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(path))
+    assert caught.value.key == "hall.timer_clock"
+    message = str(caught.value)
+    assert message.startswith("hall.timer_clock = 1000000 Hz: X's widest safe format, Q0 ")
+    assert "by 40.81 Hall ticks where the spec holds it to" in message
+    assert message.endswith("(allowed: <= 125000 Hz, 72000000 Hz / N for N >= 576: 125000 Hz)")
+    text = path.read_text(encoding="utf-8")
+    assert text.count("  timer_clock: 1 MHz\n") == 1
+    named = tmp_path / "named.yaml"
+    named.write_text(text.replace("  timer_clock: 1 MHz\n", "  timer_clock: 125 kHz\n"))
+    generated = tmp_path / "generated"
+    write_tree(render_all(named).files, generated)
+    result, _, _, _ = verify(
+        named,
+        generated,
+        tmp_path / "build",
+        seed=20261129,
+        random_count=500,
+        exhaustive_stride=3,
+        show_progress=False,
+    )
+    failed = [f"{k}: {c.note}" for k, c in result.checks.items() if c.verdict != "PASS"]
+    assert result.passed, failed
 
 
 def test_a_flat_emf_spec_should_rotate_the_plant_and_the_sil_alike() -> None:

@@ -471,3 +471,49 @@ def test_prove_should_take_a_relative_build_folder(
     monkeypatch.chdir(tmp_path)
     assert main(["mine.yaml", "--build", "pb"]) == 0, capsys.readouterr().err
     assert (tmp_path / "pb" / "mine" / "proof" / "plan.json").is_file()
+
+
+def test_a_finer_integrator_should_be_proven_and_a_planted_fault_caught(
+    tmp_path: Path, tools: Tools
+) -> None:
+    """heavy_l at 50 Hz keeps the PI's integrator one bit finer than its output (Q17 and
+    Q16: v reads x rounded, `(state + 1) >> 1u`). Its contracts restate that form over
+    mathematical integers; both loop functions are proven with 0 alarms, and a v that
+    reads x unshifted (the Q16 bound against a Q17 state) is caught."""
+    from codegen.generate import render_all, write_tree
+
+    spec = ROOT / "tests" / "fixtures" / "odd" / "heavy_l_finer_integrator.yaml"
+    root = tmp_path / "heavy_l"
+    write_tree(render_all(spec).files, root)
+    target = target_at(root, "heavy_l", str(spec))
+    clauses = {
+        "bldc_current_loop_duty": ["within_d_max"],
+        "bldc_current_loop_integrate": [
+            "in_range",
+            "holds_where_saturated",
+            "integrates_elsewhere",
+        ],
+    }
+    for function, names in clauses.items():
+        (tmp_path / function).mkdir()
+        eva, methods = establish(tools, target, function, names, tmp_path / function)
+        assert eva.alarm_count == 0, (function, eva.alarms)
+        assert "NOT PROVEN" not in methods.values(), (function, methods)
+        assert sorted(methods) == sorted(names), methods
+    mutant = tmp_path / "mutant"
+    shutil.copytree(root, mutant)
+    header = mutant / "c" / "bldc_current_loop.h"
+    text = header.read_text(encoding="utf-8")
+    shifted = "BLDC_LOOP_KP * error + ((state + 1) >> 1u);"
+    assert text.count(shifted) == 2  # the duty's and the integrator's v
+    header.write_text(text.replace(shifted, "BLDC_LOOP_KP * error + state;"), encoding="utf-8")
+    (tmp_path / "mutant-frama-c").mkdir()
+    _, methods = establish(
+        tools,
+        target_at(mutant, "heavy_l", str(spec)),
+        "bldc_current_loop_integrate",
+        ["holds_where_saturated"],
+        tmp_path / "mutant-frama-c",
+        MUTANT_WP_TIMEOUT_S,
+    )
+    assert methods["holds_where_saturated"] == "NOT PROVEN", methods

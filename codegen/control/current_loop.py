@@ -47,7 +47,14 @@ from codegen.control.sensing import SenseDesign, sense_design
 from codegen.fixedpoint.scaling import period_counts
 from codegen.ir import acsl, c_printer, py_printer
 from codegen.ir.errors import error as ir_error
-from codegen.ir.intervals import ProofError, ProvenRange, full, new_prover, prove_function
+from codegen.ir.intervals import (
+    Interval,
+    ProofError,
+    ProvenRange,
+    full,
+    new_prover,
+    prove_function,
+)
 from codegen.ir.nodes import (
     Function,
     IConst,
@@ -83,6 +90,8 @@ TWIN = "bldc_current_loop.py"
 #: pi to 40 digits: the gains are real numbers; this is exact far beyond any format.
 PI = Fraction("3.141592653589793238462643383279502884197")
 FRACTION_BITS_MAX = 24
+#: the most bits x may have beyond v's (x's bound, D_max in Q(f + s), must fit int32 too)
+STATE_SHIFT_MAX = 24
 REFERENCE_SHIFT_MAX = 60
 
 
@@ -106,7 +115,8 @@ class LoopDesign:
     spec: Spec
     gains: LoopGains
     sensing: SenseDesign
-    fraction_bits: int
+    fraction_bits: int  # v's (and the gains' k_p) Q format
+    state_shift: int  # x (and k_i) in Q(fraction_bits + state_shift)
     kp_q: int
     ki_q: int
     state_max: int
@@ -127,6 +137,11 @@ class LoopDesign:
     @property
     def constants(self) -> tuple[IConst, ...]:
         return _constants(self)
+
+    @property
+    def state_bits(self) -> int:
+        """x's fraction bits (v's, f, plus the state shift)."""
+        return self.fraction_bits + self.state_shift
 
 
 def gains(spec: Spec) -> LoopGains:
@@ -165,6 +180,18 @@ def _floor(x: Fraction) -> int:
     return x.numerator // x.denominator
 
 
+def cheap_form_valid(kp_q: int, ki_q: int, state_shift: int) -> bool:
+    """Whether the hold-or-integrate anti-windup equals the general clamp: x + k_i e stays
+    in [0, D_max] wherever v does not saturate. With x in Q(f + s) and v = k_p e +
+    round(x / 2^s), e > 0 and v <= D_max 2^f give x <= (v - k_p e) 2^s + 2^(s-1), so
+    x + k_i e <= D_max 2^(f+s) + 2^(s-1) - (k_p 2^s - k_i) e: within bound where
+    k_i <= k_p 2^s - 2^(s-1) (s > 0; k_i <= k_p at s = 0); e < 0 and v >= 0 give
+    x >= (k_p |e| - 1/2) 2^s, so x + k_i e >= 0 by the same condition."""
+    if state_shift == 0:
+        return 0 <= ki_q <= kp_q
+    return 0 <= ki_q <= (kp_q << state_shift) - (1 << (state_shift - 1))
+
+
 def _functions(
     f: int,
     kp_q: int,
@@ -173,10 +200,14 @@ def _functions(
     code_max: int,
     g: LoopGains,
     conditional: bool | None = None,
+    state_shift: int = 0,
 ) -> tuple[Function, Function]:
     """The duty and the integrator update. `conditional` chooses the anti-windup's
-    form: hold-or-integrate (valid only for 0 <= k_i <= k_p) or the general clamp;
-    None takes the first wherever it is valid."""
+    form: hold-or-integrate (valid only where k_i never steps past k_p: see
+    `cheap_form_valid`) or the general clamp; None takes the first wherever it is valid.
+    `state_shift` s > 0 keeps x in Q(f + s), finer than v's Q f: x + k_i e then rounds
+    nothing (k_i in Q(f + s)), and v reads x's top bits, x >> s (x >= 0)."""
+    s = state_shift
     kp = IConst(
         I32,
         kp_q,
@@ -188,19 +219,33 @@ def _functions(
         I32,
         ki_q,
         "BLDC_LOOP_KI",
-        exact=g.ki_counts_per_code * 2**f,
-        doc=f"k_i = {float(g.ki_counts_per_code):.6g} counts per code per PWM period, Q{f}",
+        exact=g.ki_counts_per_code * 2 ** (f + s),
+        doc=f"k_i = {float(g.ki_counts_per_code):.6g} counts per code per PWM period, Q{f + s}",
     )
     top = IConst(
-        I32, state_max, "BLDC_LOOP_STATE_MAX", doc=f"D_max = {g.duty_max_counts} counts in Q{f}"
+        I32, state_max, "BLDC_LOOP_STATE_MAX", doc=f"D_max = {g.duty_max_counts} counts in Q{f + s}"
+    )
+    # v's bound: the state's where both share Q f, else D_max in v's own Q f
+    demand_top = (
+        top
+        if s == 0
+        else IConst(
+            I32,
+            g.duty_max_counts << f,
+            "BLDC_LOOP_DEMAND_MAX",
+            doc=f"D_max = {g.duty_max_counts} counts in Q{f}, v's format",
+        )
     )
     codes = IConst(U32, code_max, "BLDC_LOOP_CODE_MAX", doc="ADC full scale: inputs saturate here")
     zero = IConst(I32, 0)
     params = (
-        Param("integrator", I32, doc=f"x in Q{f} TIM1 counts (any value: clamped to [0, D_max])"),
+        Param(
+            "integrator", I32, doc=f"x in Q{f + s} TIM1 counts (any value: clamped to [0, D_max])"
+        ),
         Param("reference_code", U32, doc="braking-current reference, ADC code"),
         Param("measured_code", U32, doc="measured braking current I, ADC code"),
     )
+    state = var("state", I32)
     common = (
         SLet("reference", minimum(var("reference_code", U32), codes)),
         SLet("measured", minimum(var("measured_code", U32), codes)),
@@ -209,8 +254,12 @@ def _functions(
             sub(cast(var("reference", U32), I32), cast(var("measured", U32), I32)),
             "codes: reference - measured",
         ),
-        SLet("state", clamp(var("integrator", I32), zero, top), f"Q{f} counts"),
-        SLet("demand", add(mul(kp, var("error", I32)), var("state", I32)), "k_p e + x"),
+        SLet("state", clamp(var("integrator", I32), zero, top), f"Q{f + s} counts"),
+        SLet(
+            "demand",
+            add(mul(kp, var("error", I32)), state if s == 0 else round_shr(state, s)),
+            "k_p e + x" if s == 0 else f"k_p e + x, in Q{f}",
+        ),
     )
     duty = Function(
         "bldc_current_loop_duty",
@@ -218,7 +267,7 @@ def _functions(
         params,
         (
             *common,
-            SLet("limited", clamp(var("demand", I32), zero, top)),
+            SLet("limited", clamp(var("demand", I32), zero, demand_top)),
             SReturn(cast(round_shr(var("limited", I32), f), U32)),
         ),
         returns=U32,
@@ -229,18 +278,21 @@ def _functions(
     # x <= D_max, or v < 0, which needs e < 0) the integrator keeps its value; elsewhere
     # it integrates, clamped to [0, D_max].
     demand = var("demand", I32)
-    total = SLet("total", add(var("state", I32), mul(ki, var("error", I32))), "x + k_i e")
+    total = SLet("total", add(state, mul(ki, var("error", I32))), "x + k_i e")
     if conditional is None:
-        conditional = 0 <= ki_q <= kp_q
+        conditional = cheap_form_valid(kp_q, ki_q, s)
     if conditional:
-        # With 0 <= k_i <= k_p and x in [0, D_max] the clamp never acts where the output
-        # does not saturate: e > 0 gives x < x + k_i e <= x + k_p e = v <= D_max, e < 0
-        # gives D_max >= x > x + k_i e >= v >= 0. So the step is x + k_i e or x, by one
-        # range test of v (one unsigned compare, no branch, in the interrupt).
-        saturated = lor(cmp(">", demand, top, exact=False), cmp("<", demand, zero, exact=False))
+        # With k_i never past k_p (`cheap_form_valid`) and x in [0, D_max] the clamp never
+        # acts where the output does not saturate: e > 0 gives x < x + k_i e <= v <= D_max,
+        # e < 0 gives D_max >= x > x + k_i e >= v >= 0 (in x's format). So the step is
+        # x + k_i e or x, by one range test of v (one unsigned compare, no branch, in the
+        # interrupt).
+        saturated = lor(
+            cmp(">", demand, demand_top, exact=False), cmp("<", demand, zero, exact=False)
+        )
         body: tuple[Stmt, ...] = (
             total,
-            SReturn(ISelect(I32, saturated, var("state", I32), var("total", I32))),
+            SReturn(ISelect(I32, saturated, state, var("total", I32))),
         )
     else:
         # Written as a clamp of x + k_i e between bounds that close on x from the side
@@ -250,12 +302,12 @@ def _functions(
             total,
             SLet(
                 "upper",
-                ISelect(I32, cmp(">", demand, top, exact=False), var("state", I32), top),
+                ISelect(I32, cmp(">", demand, demand_top, exact=False), state, top),
                 "saturated high: no further up",
             ),
             SLet(
                 "lower",
-                ISelect(I32, cmp("<", demand, zero, exact=False), var("state", I32), zero),
+                ISelect(I32, cmp("<", demand, zero, exact=False), state, zero),
                 "saturated low: no further down",
             ),
             SReturn(clamp(var("total", I32), var("lower", I32), var("upper", I32))),
@@ -348,10 +400,12 @@ def _prove(functions: tuple[Function, ...]) -> tuple[ProvenRange, ...]:
 
 
 def _claims(
-    duty: Function, integrate: Function, f: int, state_max: int
+    duty: Function, integrate: Function, state_bits: int, state_max: int, error_limit: int
 ) -> tuple[Fraction, Fraction]:
     """One step from a given state (its error 0): the IR error analysis of the duty and
-    of the integrator update where it integrates (an unsaturated step), in counts."""
+    of the integrator update where it integrates (an unsaturated step), in counts (the
+    state in Q`state_bits`), over the errors |e| <= `error_limit` (`_error_limit`: beyond
+    it the exact and the printed v saturate alike, so duty and integrator agree)."""
     prover = new_prover((duty, integrate))
     env = {p.name: full(p.ctype) for p in duty.params if p.ctype is not None}
     errs: dict[str, Fraction] = {}
@@ -359,6 +413,9 @@ def _claims(
         assert isinstance(s, SLet)
         errs[s.name] = ir_error(prover, s.expr, env, errs)
         env[s.name] = prover.ev(s.expr, env)
+        if s.name == "error":
+            reach = env["error"]
+            env["error"] = Interval(max(reach.lo, -error_limit), min(reach.hi, error_limit))
     final = duty.body[-1]
     assert isinstance(final, SReturn) and final.value is not None
     duty_error = ir_error(prover, final.value, env, errs)
@@ -367,7 +424,7 @@ def _claims(
     errs["total"] = ir_error(prover, total.expr, env, errs)
     env["total"] = prover.ev(total.expr, env)
     unsaturated = clamp(var("total", I32), IConst(I32, 0), IConst(I32, state_max))
-    integrator_error = ir_error(prover, unsaturated, env, errs) / 2**f
+    integrator_error = ir_error(prover, unsaturated, env, errs) / 2**state_bits
     return duty_error, integrator_error
 
 
@@ -439,7 +496,7 @@ def _integrator_below_one_lsb(spec: Spec, g: LoopGains, f: int) -> FixedPointErr
     return FixedPointError(
         f"current_loop.bandwidth = {float(bandwidth):g} Hz: k_i = 2 R omega_c / U_d ="
         f" {float(g.ki_counts_per_code):.3g} counts per code per period is below one LSB"
-        f" of the braking-current PI's widest format that fits (Q{f}), so its integrator"
+        f" of the braking-current PI's finest integrator format that fits (Q{f}), so its integrator"
         f" would never move (allowed: a bandwidth whose k_i is at least one LSB: {allowed})",
         "current_loop.bandwidth",
     )
@@ -518,7 +575,7 @@ def _hold_claims(d: LoopDesign) -> None:
             f"current_loop.bandwidth = {float(bandwidth):g} Hz: a braking-current step"
             f" response takes {periods:.1f} PWM periods, over which the PI's integrator,"
             f" off by up to {step:.4f} counts a period in its widest format"
-            f" (Q{d.fraction_bits}), drifts {step * periods:.4f} counts, more than the"
+            f" ({_format_name(d)}), drifts {step * periods:.4f} counts, more than the"
             f" {LOOP_DUTY_COUNTS_MAX} counts accuracy.current_loop_duty_counts may be"
             f" (allowed: a bandwidth whose PI meets accuracy.current_loop_duty_counts ="
             f" {float(allowed):g} counts: {meets})",
@@ -527,13 +584,18 @@ def _hold_claims(d: LoopDesign) -> None:
     if d.duty_claim > allowed or step > integrator_step_tolerance_counts(d.spec):
         raise FixedPointError(
             f"accuracy.current_loop_duty_counts = {float(allowed):g} counts: the"
-            f" braking-current PI's widest format (Q{d.fraction_bits}) is off by up to"
+            f" braking-current PI's widest format ({_format_name(d)}) is off by up to"
             f" {float(d.duty_claim):.4f} counts in the duty and {step:.4f} counts a period"
             f" in the integrator, {step * periods:.4f} counts over a step response"
             f" ({periods:.1f} PWM periods) (allowed: >="
             f" {math.ceil(float(accuracy_needed(d)) * 1000) / 1000:g} counts)",
             "accuracy.current_loop_duty_counts",
         )
+
+
+def _format_name(d: LoopDesign) -> str:
+    f = d.fraction_bits
+    return f"Q{f}" if d.state_shift == 0 else f"Q{f}, its integrator Q{d.state_bits}"
 
 
 def accuracy_needed(d: LoopDesign) -> Fraction:
@@ -561,55 +623,106 @@ def widest_design(spec: Spec) -> LoopDesign:
 
 def _widest_design(spec: Spec, explain: bool) -> LoopDesign:
     """widest_design; `explain` searches a bandwidth that fits for the refusal of a k_i
-    below one LSB (the search's own trials do not: one level, not one per candidate)."""
+    below one LSB (the search's own trials do not: one level, not one per candidate).
+
+    v's format Q f is the widest whose k_p e fits; x shares it where that meets the
+    spec's accuracy (the printed loop as it always was), else x takes the widest finer
+    format Q(f + s) that is proven to fit: a large k_p (a motor of large L) leaves f few
+    bits, in which k_i would round coarsely and its error build up over the many periods
+    of a step response."""
     g = gains(spec)
     code_max = 2**spec.adc.bits - 1
     if g.duty_max_counts <= 0:
         raise FixedPointError("the current sample window leaves no duty", "sensing.settling_time")
     last: Exception | None = None
     for f in range(FRACTION_BITS_MAX, 0, -1):
-        kp_q = _round(g.kp_counts_per_code * 2**f)
-        ki_q = _round(g.ki_counts_per_code * 2**f)
-        state_max = g.duty_max_counts << f
-        if kp_q < 1 or state_max > I32.high:
-            continue
-        duty, integrate = _functions(f, kp_q, ki_q, state_max, code_max, g)
         try:
-            ranges = _prove((duty, integrate))
+            plain = _candidate(spec, g, code_max, f, 0)
         except ProofError as exc:
             last = exc
             continue
-        if ki_q < 1:
+        if plain is not None and plain.ki_q >= 1 and _meets(plain):
+            return plain
+        for s in range(STATE_SHIFT_MAX, 0, -1):
+            try:
+                finer = _candidate(spec, g, code_max, f, s)
+            except ProofError:
+                continue
+            if finer is not None and finer.ki_q >= 1:
+                return finer
+        if plain is None:
+            continue
+        if plain.ki_q < 1:
             if not explain:
                 raise FixedPointError("k_i below one LSB", "current_loop.bandwidth")
-            raise _integrator_below_one_lsb(spec, g, f)
-        reference, shift, scale, offset, ma_min, ma_max = _reference_function(spec, g)
-        ranges += _prove((reference,))
-        duty_claim, integrator_claim = _claims(duty, integrate, f, state_max)
-        return LoopDesign(
-            spec=spec,
-            gains=g,
-            sensing=sense_design(spec),
-            fraction_bits=f,
-            kp_q=kp_q,
-            ki_q=ki_q,
-            state_max=state_max,
-            code_max=code_max,
-            reference_shift=shift,
-            reference_scale=scale,
-            reference_offset=offset,
-            milliamps_min=ma_min,
-            milliamps_max=ma_max,
-            duty=duty,
-            integrate=integrate,
-            reference=reference,
-            ranges=ranges,
-            duty_claim=duty_claim,
-            integrator_claim=integrator_claim,
-        )
+            # named in the finest integrator format x may take (its bound within int32)
+            finest = max(
+                b for b in range(f, f + STATE_SHIFT_MAX + 1) if g.duty_max_counts << b <= I32.high
+            )
+            raise _integrator_below_one_lsb(spec, g, finest)
+        return plain
     raise FixedPointError(
         f"no Q format of the braking-current PI fits int32 for every input ({last})",
         "current_loop.bandwidth",
+    )
+
+
+def _candidate(spec: Spec, g: LoopGains, code_max: int, f: int, s: int) -> LoopDesign | None:
+    """The PI with v in Q f and x in Q(f + s), proven (ProofError where an intermediate
+    may not fit), with its error bounds; None where k_p rounds to nothing or the state's
+    bound leaves int32 (a k_i that rounds to nothing is the caller's to refuse)."""
+    kp_q = _round(g.kp_counts_per_code * 2**f)
+    ki_q = _round(g.ki_counts_per_code * 2 ** (f + s))
+    state_max = g.duty_max_counts << (f + s)
+    if kp_q < 1 or state_max > I32.high:
+        return None
+    duty, integrate = _functions(f, kp_q, ki_q, state_max, code_max, g, state_shift=s)
+    ranges = _prove((duty, integrate))
+    reference, shift, scale, offset, ma_min, ma_max = _reference_function(spec, g)
+    ranges += _prove((reference,))
+    duty_claim, integrator_claim = _claims(
+        duty, integrate, f + s, state_max, _error_limit(g, kp_q, f)
+    )
+    return LoopDesign(
+        spec=spec,
+        gains=g,
+        sensing=sense_design(spec),
+        fraction_bits=f,
+        state_shift=s,
+        kp_q=kp_q,
+        ki_q=ki_q,
+        state_max=state_max,
+        code_max=code_max,
+        reference_shift=shift,
+        reference_scale=scale,
+        reference_offset=offset,
+        milliamps_min=ma_min,
+        milliamps_max=ma_max,
+        duty=duty,
+        integrate=integrate,
+        reference=reference,
+        ranges=ranges,
+        duty_claim=duty_claim,
+        integrator_claim=integrator_claim,
+    )
+
+
+def _error_limit(g: LoopGains, kp_q: int, f: int) -> int:
+    """The largest |e| at which v may be unsaturated, exactly or as printed. With x in
+    [0, D_max] (v's state term round(x / 2^s) too), e > 0 and k_p e > D_max give v >
+    D_max, e < 0 and k_p |e| > D_max give v < 0, for either gain, k_p or KP / 2^f: both
+    duties are then the same bound and both integrators hold (clamping anti-windup)."""
+    slowest = min(g.kp_counts_per_code, Fraction(kp_q, 2**f))
+    return _floor(g.duty_max_counts / slowest)
+
+
+def _meets(d: LoopDesign) -> bool:
+    """Whether `_hold_claims` accepts the design."""
+    allowed = d.spec.accuracy.current_loop_duty_counts
+    return (
+        accuracy_needed(d) <= LOOP_DUTY_COUNTS_MAX
+        and d.duty_claim <= allowed
+        and d.integrator_claim <= integrator_step_tolerance_counts(d.spec)
     )
 
 
@@ -645,13 +758,17 @@ def contracts(d: LoopDesign) -> dict[str, acsl.Contract]:
     WP or checks it with EVA over every input). The yardsticks are the design's limits
     and the anti-windup rule of the module's docstring, restated over mathematical
     integers from the parameters, not from the printed body."""
+    s = d.state_shift
+    # v reads x rounded to its own format: (x + 2^(s-1)) / 2^s of x >= 0 is the floor
+    top_bits = "x" if s == 0 else f"(x + {1 << (s - 1)}) / {1 << s}"
+    v_max = "BLDC_LOOP_STATE_MAX" if s == 0 else "BLDC_LOOP_DEMAND_MAX"
     e = (
         f"\\let r = {_clamped('reference_code', 'BLDC_LOOP_CODE_MAX')};"
         f" \\let m = {_clamped('measured_code', 'BLDC_LOOP_CODE_MAX')};"
         f" \\let x = {_clamped('integrator', 'BLDC_LOOP_STATE_MAX', '0')};"
-        " \\let e = r - m; \\let v = BLDC_LOOP_KP * e + x;"
+        f" \\let e = r - m; \\let v = BLDC_LOOP_KP * e + {top_bits};"
     )
-    saturated = "((v > BLDC_LOOP_STATE_MAX && e > 0) || (v < 0 && e < 0))"
+    saturated = f"((v > {v_max} && e > 0) || (v < 0 && e < 0))"
     return {
         d.duty.c_name: acsl.Contract(
             ensures=(acsl.Clause("ensures", "within_d_max", "\\result <= BLDC_LOOP_DUTY_MAX"),),
@@ -682,7 +799,14 @@ def loop_context(d: LoopDesign) -> dict[str, object]:
     g = d.gains
     spec = d.spec
     extra = [
-        IConst(U32, d.fraction_bits, "BLDC_LOOP_FRAC_BITS", doc="fraction bits of x and v"),
+        IConst(
+            U32,
+            d.state_bits,
+            "BLDC_LOOP_FRAC_BITS",
+            doc="fraction bits of x and v"
+            if d.state_shift == 0
+            else f"fraction bits of x (v: Q{d.fraction_bits})",
+        ),
         IConst(
             U32,
             g.duty_max_counts,
@@ -702,7 +826,8 @@ def loop_context(d: LoopDesign) -> dict[str, object]:
         f" (P = {period_counts(spec)}, a = {float(g.amps_per_code) * 1e3:.6g} mA per code):"
         f" k_p = {float(g.kp_counts_per_code):.6g}, k_i = {float(g.ki_counts_per_code):.6g}",
         f"Q{d.fraction_bits}: KP = {d.kp_q} ({float(Fraction(d.kp_q, 2**d.fraction_bits) / g.kp_counts_per_code - 1) * 1e6:+.1f} ppm),"
-        f" KI = {d.ki_q} ({float(Fraction(d.ki_q, 2**d.fraction_bits) / g.ki_counts_per_code - 1) * 1e6:+.1f} ppm)",
+        f"{'' if d.state_shift == 0 else f' Q{d.state_bits}:'}"
+        f" KI = {d.ki_q} ({float(Fraction(d.ki_q, 2**d.state_bits) / g.ki_counts_per_code - 1) * 1e6:+.1f} ppm)",
         f"claimed, one step from a given state (IR error analysis): duty <= {float(d.duty_claim):.4f}"
         f" counts, integrator <= {float(d.integrator_claim):.4f} counts",
         f"reference: code = round((mA x {d.reference_scale} + {d.reference_offset}) / 2^{d.reference_shift}),"
@@ -710,8 +835,13 @@ def loop_context(d: LoopDesign) -> dict[str, object]:
     ]
     functions = (d.duty, d.integrate)
     promised = {name: acsl.contract(c) for name, c in contracts(d).items()}
+    formats = (
+        f"x and v in Q{d.fraction_bits} counts"
+        if d.state_shift == 0
+        else f"x in Q{d.state_bits} counts, v in Q{d.fraction_bits} (x rounded to it)"
+    )
     return {
-        "fraction_bits": d.fraction_bits,
+        "formats": formats,
         "doc": ideal,
         "ranges": _range_lines(d.ranges),
         "defines": [c_printer.define(c) for c in constants],
@@ -729,8 +859,10 @@ def loop_context(d: LoopDesign) -> dict[str, object]:
 
 
 def manifest_entry(d: LoopDesign) -> dict[str, object]:
+    shift = {} if d.state_shift == 0 else {"state_shift": d.state_shift}
     return {
-        "fraction_bits": d.fraction_bits,
+        "fraction_bits": d.state_bits,  # x's: the integrator the C takes and returns
+        **shift,
         "duty_max_counts": d.gains.duty_max_counts,
         "claims": {
             "duty_counts": float(d.duty_claim),

@@ -70,15 +70,35 @@ class _Candidate:
     time_numerator_error: Fraction
 
 
-def _numerator_overflow(sc: Scaling, c: PaperConstants, timer: Fraction, reason: str) -> str:
+def _bits_needed(spec: Spec, f: int) -> int:
+    """The fraction bits of X, from f up, where the spread of half an LSB of W times
+    ill_conditioned_above ticks a count takes at most 3/4 of what the target leaves
+    beyond the final rounding (`PaperMethod._region_bound`); f where no relaxation is
+    declared."""
+    above = spec.accuracy.ill_conditioned_above
+    if above is None:
+        return f
+    room = _fraction(spec.accuracy.commutation_time_ticks) - Fraction(1, 2)
+    needed = f
+    while needed < MAX_FRACTION_BITS and _fraction(above) / 2 ** (needed + 1) > room * Fraction(
+        3, 4
+    ):
+        needed += 1
+    return needed
+
+
+def _numerator_overflow(
+    spec: Spec, sc: Scaling, c: PaperConstants, timer: Fraction, reason: str
+) -> str:
     """Why no format is safe where even Q0 overflows: Eq. 20's product K_G I / B (Hall
     ticks x W, in Q0) at the lowest bus code and the current code farthest from the
-    offset, and the Hall clock it scales with down to int32_t."""
+    offset, and the Hall clock it scales with down to int32_t, and further down to the
+    fraction bits X needs where the spec holds t_com to its target (`_bits_needed`)."""
     offset = _fraction(sc.current_offset_exact)
     current = max(offset, sc.adc_full_scale - offset)
     peak = c.k_g * current / sc.bus_code_min
     clock = _fraction(sc.hall_clock_hz)
-    limit = clock * (2**31 - 1) / peak
+    limit = clock * (2**31 - 1) / peak / 2 ** _bits_needed(spec, 0)
     divider = -(-timer // limit)
     return (
         f"hall.timer_clock = {float(clock):.10g} Hz: no format from Q0 to Q{MAX_FRACTION_BITS}"
@@ -87,6 +107,33 @@ def _numerator_overflow(sc: Scaling, c: PaperConstants, timer: Fraction, reason:
         f" the current code farthest from the offset, beyond int32_t ({reason}); it scales"
         f" with the Hall clock (allowed: <= {float(limit):.6g} Hz, {float(timer):.10g} Hz / N"
         f" for N >= {divider}: {float(timer / divider):.10g} Hz)"
+    )
+
+
+def _region_refusal(
+    spec: Spec, sc: Scaling, c: PaperConstants, region: tuple[Fraction, int]
+) -> str:
+    """Why every safe format misses the target where the spec holds t_com to it: X's
+    format, as wide as Eq. 20's product leaves it, errs by up to half an LSB of W, which
+    a time of up to ill_conditioned_above ticks a count turns into more than the target.
+    Each halving of the Hall clock halves K_G and gives X one more bit."""
+    bound, f = region
+    target = _fraction(spec.accuracy.commutation_time_ticks)
+    above = _fraction(spec.accuracy.ill_conditioned_above)
+    needed = max(_bits_needed(spec, f), f + 1)
+    clock = _fraction(sc.hall_clock_hz)
+    timer = _fraction(spec.inverter.timer_clock_hz)
+    limit = clock / 2 ** (needed - f)
+    divider = -(-timer // limit)
+    return (
+        f"hall.timer_clock = {float(clock):.10g} Hz: X's widest safe format, Q{f} (Eq. 20's"
+        f" numerator times the current code fills int32_t), bounds t_com's error by"
+        f" {float(bound):.4g} Hall ticks where the spec holds it to"
+        f" accuracy.commutation_time_ticks = {float(target):g} (where one count of W moves"
+        f" it by at most accuracy.ill_conditioned_above = {float(above):g} ticks): half an LSB"
+        f" of W times {float(above):g} ticks a count; each halving of the Hall clock gives X"
+        f" one more bit (allowed: <= {float(limit):.6g} Hz, {float(timer):.10g} Hz / N for"
+        f" N >= {divider}: {float(timer / divider):.10g} Hz)"
     )
 
 
@@ -155,6 +202,52 @@ class PaperMethod:
             + tn.hi * (1 + eps_g) * e_off / (w_counts * scale * (1 - eps_w))
         )
 
+    def _region_bound(self, spec: Spec, sc: Scaling, cand: _Candidate) -> Fraction:
+        """The t_com error bound over the points `verify` holds to the target: where the
+        spec declares a relaxation, those whose exact time moves by at most A =
+        ill_conditioned_above ticks a count of W (t* <= A W), else every point whose
+        exact time is below the counter's cap. The W_ok of `_w_ok` does not bound them:
+        a small current makes t* small at any W, so such points reach down to
+
+            W_min = sqrt(G I_min / A)  (t* = G I / W <= A W),  or G I_min / T_cap,
+
+        with G = tn 2^-f m the time numerator per code at the widest bus code and I_min
+        the smallest positive current (codes) the offset leaves. There the W error
+        delta = e(X_q) / 2^f moves t by t* delta / W <= min(A delta, T_cap delta / W_min),
+        and the numerator's relative error eps_g by t* eps_g, with t*^2 <= A W G I / W
+        <= A G_max I_max (the widest current code from the offset)."""
+        fmt = cand.formats
+        scale = 1 << fmt.x_frac_bits
+        tn = cand.bus_fields["bus.time_numerator"]
+        eps_g = cand.time_numerator_error / max(tn.lo, 1)
+        delta = cand.x_q_error / scale
+        cap = Fraction(sc.period_cap_ticks)
+        g_min = Fraction(tn.lo * fmt.current.scale, scale)
+        offset = fmt.current.offset_exact
+        residue = offset - math.floor(offset)
+        i_min = 1 - residue if residue else Fraction(1)
+        above = spec.accuracy.ill_conditioned_above
+        if above is None:
+            w_min = g_min * i_min / cap
+            spread_cap = None
+        else:
+            square = g_min * i_min / above  # W_min^2, taken from below (a smaller W_min is safe)
+            w_min = Fraction(math.isqrt(square * 2**80 // 1), 2**40)
+            spread_cap = above * delta
+        if w_min <= delta:
+            return Fraction(10**9)
+        spread = cap * delta / w_min
+        longest = cap
+        if spread_cap is not None:
+            spread = min(spread, spread_cap)
+            g_max = Fraction(tn.hi * fmt.current.scale, scale)
+            i_max = max(offset, sc.adc_full_scale - 1 - offset)
+            square = above * g_max * i_max  # t*^2, taken from above
+            longest = min(cap, Fraction(math.isqrt(math.ceil(square)) + 1))
+        e_off = fmt.current.offset_q.error
+        off = tn.hi * (1 + eps_g) * e_off / (w_min * scale)
+        return Fraction(1, 2) + (longest * eps_g + spread + off) / (1 - delta / w_min)
+
     def _w_ok(self, sc: Scaling, cand: _Candidate, target: Fraction) -> Fraction | None:
         hi = Fraction(4 * sc.period_counts)
         if self._time_bound(sc, cand, hi) > target:
@@ -172,6 +265,8 @@ class PaperMethod:
         reasons: list[str] = []
         #: the tightest t_com bound any format that fits reaches (at the widest W)
         reach: tuple[Fraction, int] | None = None
+        #: the tightest bound over the spec's well-conditioned points (`_region_bound`)
+        region: tuple[Fraction, int] | None = None
         safe = False  # some format proven free of overflow
         for f in range(MAX_FRACTION_BITS, -1, -1):
             best: tuple[Fraction, _Candidate] | None = None
@@ -189,6 +284,14 @@ class PaperMethod:
                     if reach is None or bound < reach[0]:
                         reach = (bound, f)
                     continue
+                if spec.accuracy.ill_conditioned_above is not None:
+                    # met at the widest W: the points of small current and small W
+                    # (`_region_bound`) are what X's format may still miss
+                    bound = self._region_bound(spec, sc, cand)
+                    if bound > time_target:
+                        if region is None or bound < region[0]:
+                            region = (bound, f)
+                        continue
                 key = w_ok
                 if best is None or key < best[0]:
                     best = (key, cand)
@@ -208,8 +311,12 @@ class PaperMethod:
             # message blamed accuracy.commutation_time_ticks, which no value could meet).
             timer = _fraction(spec.inverter.timer_clock_hz)
             raise FixedPointError(
-                _numerator_overflow(sc, c, timer, reasons[-1]), "hall.timer_clock"
+                _numerator_overflow(spec, sc, c, timer, reasons[-1]), "hall.timer_clock"
             )
+        if region is not None:
+            # a format met the target at the widest W and missed it only where a small
+            # current meets a small W: more bits of X, from a slower Hall clock
+            raise FixedPointError(_region_refusal(spec, sc, c, region), "hall.timer_clock")
         if reach is not None:
             # formats fit, none meets the target: say what they do meet (the internal
             # overflows of the ones that do not fit said nothing a user could act on)
