@@ -8,7 +8,8 @@ method's fail area (D_off = 0 and D_off = 1), Eq. 20's denominator W = 0 (with t
 currents at zero and at the range's ends), the exact ties where X is a whole count,
 and every pair of 8-bit Hall codes; the time-clamp set those of t_com = T and, for
 the resistance-aware rule, the steps of the sector's whole PWM periods where the
-current remains through it.
+current remains through it; the conditioning set (the paper's methods) the smallest
+positive W at currents just below the one whose Eq. 20 time reaches the latest end.
 """
 
 from __future__ import annotations
@@ -293,6 +294,79 @@ def _over_carrier(o: Oracle, ticks: npt.NDArray[np.int64]) -> npt.NDArray[np.flo
     carrier = Fraction(o.u.carrier_ticks)
     num, den = carrier.numerator, carrier.denominator
     return np.array([int(t) * den / num for t in ticks], dtype=np.float64)
+
+
+#: periods of the conditioning set, spread geometrically over the counter's range
+CONDITIONING_PERIODS = 48
+#: main duties swept per (T, B) for a method that takes one, and the refinement's steps
+MAIN_SWEEP = 64
+
+
+def conditioning_points(o: Oracle, dtype: np.dtype) -> Inputs:
+    """The paper's methods, where Eq. 20 is worst conditioned and still below the latest
+    end: the core's error in W moves t by t delta / W, largest where W is small and t
+    just below the latest end L(T), so at a current just below the code where Eq. 20
+    reaches L(T) (linear in the current: found from the full-scale code's time). At
+    `CONDITIONING_PERIODS` periods over the counter's range and every 4th bus code (the
+    range's ends too), at the operating main duty or, for a method that takes one, the
+    two of a sweep (refined) that give the smallest positive W; the current codes on
+    both sides of that crossing and the lowest code above zero current. (offset_
+    conventional broke its 16 ticks by up to 33 in range at such points, which no other
+    set held: a current 0.58 A, W 5.6 counts, a 49 888-tick sector.)"""
+    if o.method == "improved_r":
+        return make(dtype, *np.zeros((6, 0), dtype=np.int64))
+    forward = valid_edges(o)[0]
+    _, _, duty = operating_codes(o)
+    cap = o.u.hall_counter_max
+    periods = np.unique(np.geomspace(o.lim.period_min, cap, CONDITIONING_PERIODS).astype(np.int64))
+    buses = np.unique(np.r_[np.arange(o.lim.bus_min, o.lim.bus_max + 1, 4), o.lim.bus_max])
+    grid_t, grid_b = (a.ravel() for a in np.meshgrid(periods, buses))
+    p = o.u.pwm_counts
+    top = np.full(grid_t.size, o.u.adc_max)
+
+    def w_at(main: npt.NDArray[np.int64]) -> npt.NDArray[np.float64]:
+        on, off, _, _ = o.duties(grid_t, grid_b, main)
+        _, w = o.eq20(grid_t, grid_b, top, on, off)
+        return np.where(w > 0, w, np.inf)
+
+    if o.uses_main_duty:
+        sweep = np.linspace(0, p, MAIN_SWEEP + 1).round().astype(np.int64)
+        ws = np.stack([w_at(np.full(grid_t.size, m)) for m in sweep])
+        chosen = []
+        for rank in range(2):
+            best = sweep[np.argsort(ws, axis=0)[rank]]
+            step = -(-p // MAIN_SWEEP)
+            fine = np.stack(
+                [np.clip(best + d, 0, p) for d in range(-step, step + 1, max(1, step // 8))]
+            )
+            fine_w = np.stack([w_at(m) for m in fine])
+            chosen.append(fine[np.argmin(fine_w, axis=0), np.arange(grid_t.size)])
+        mains = np.concatenate(chosen)
+        grid_t, grid_b = np.tile(grid_t, 2), np.tile(grid_b, 2)
+        top = np.tile(top, 2)
+    else:
+        mains = np.full(grid_t.size, duty)
+    on, off, _, _ = o.duties(grid_t, grid_b, mains)
+    t_top, w = o.eq20(grid_t, grid_b, top, on, off)
+    zero = float(o.u.zero_current_code)
+    span = o.u.adc_max - zero
+    usable = (w > 0) & np.isfinite(t_top) & (t_top > 0) & (span > 0)
+    per_code = np.where(usable, t_top / max(span, 1e-30), 1.0)
+    latest = o.u.latest_end(grid_t).astype(np.float64)
+    crossing = zero + latest / per_code
+    lowest = math.floor(zero) + 1
+    rows = []
+    for k in np.flatnonzero(usable):
+        c = crossing[k]
+        codes = {lowest, *(math.floor(c) + d for d in (-2, -1, 0, 1))}
+        for code in sorted(codes):
+            if lowest <= code <= o.u.adc_max:
+                rows.append(
+                    (forward[1], forward[0], int(grid_t[k]), int(grid_b[k]), code, int(mains[k]))
+                )
+    if not rows:
+        return make(dtype, *np.zeros((6, 0), dtype=np.int64))
+    return make(dtype, *np.array(rows, dtype=np.int64).T)
 
 
 def time_clamp_points(o: Oracle, dtype: np.dtype, duties: object) -> Inputs:

@@ -161,6 +161,7 @@ def verify(
         "random": points.random_points(o, in_dtype, seed, random_count),
         "thresholds": points.thresholds(o, in_dtype),
         "time clamp": points.time_clamp_points(o, in_dtype, _time_model(o)),
+        "conditioning": points.conditioning_points(o, in_dtype),
     }
     checks = new_checks(tol)
     checks["twin"] = OutputCheck("C == bit-exact Python twin (sample)", "mismatches", None)
