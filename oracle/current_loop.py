@@ -110,6 +110,12 @@ class LoopModel:
 
     # ------------------------------------------------------------ exact, one value
 
+    def held_current(self, emf_v: float, duty: float, bus_v: float | None = None) -> float:
+        """The averaged plant's steady current at a constant duty (counts), >= 0."""
+        u_d = float(self.bus_nominal if bus_v is None else bus_v)
+        drive = (u_d * duty / self.pwm_counts / 2 + emf_v - u_d / 2) / float(self.resistance)
+        return max(0.0, drive)
+
     def step(self, x: Fraction, reference: int, measured: int) -> tuple[Fraction, Fraction]:
         """(duty, next integrator), counts, exact."""
         r, m = min(reference, self.code_max), min(measured, self.code_max)
@@ -185,17 +191,19 @@ class LoopModel:
         references: list[int],
         bus_v: float | None = None,
         current_a: float = 0.0,
+        state: Fraction = Fraction(0),
     ) -> tuple[list[int], list[float], list[float]]:
         """The exact controller on the averaged plant, the duty of period k applied in
         period k + 1 (the CCR preload): the measured codes, duties and currents per
         period. The plant is exact over a period for a constant duty:
         I' = a I + (1 - a) (U_d D / 2 + E - U_d / 2) / R, a = exp(-R T / L); the current
-        cannot reverse through the diodes (I >= 0)."""
+        cannot reverse through the diodes (I >= 0). `state`: the integrator (counts) it
+        starts from, the duty it holds applied the period before."""
         u_d = float(self.bus_nominal if bus_v is None else bus_v)
         r_ohm, l_h, t = float(self.resistance), float(self.inductance), float(self.period_s)
         a = float(np.exp(-r_ohm * t / l_h))
-        x = Fraction(0)
-        applied = 0.0
+        x = state
+        applied = float(min(max(state, Fraction(0)), Fraction(self.duty_max)))
         current = current_a
         measured, duties, currents = [], [], []
         for reference in references:

@@ -558,13 +558,41 @@ def test_windup_scenario_should_hold_the_unreachable_current_until_the_loop_satu
     ):
         spec = load_spec(path)
         model = loop_model(spec)
-        name, emf, refs = scenarios(spec, model)[-1]
-        assert name.startswith("windup")
+        last = scenarios(spec, model)[-1]
+        refs = last.references
+        assert last.name.startswith("windup") and last.state == 0
         drop = len(refs) - STEP_PERIODS
         assert drop >= at_least and refs[drop - 1] != refs[drop]
-        _, duties, _ = model.closed_loop(emf_v=emf, references=refs)
+        _, duties, _ = model.closed_loop(emf_v=last.emf_v, references=refs)
         assert all(d == model.duty_max for d in duties[drop - WINDUP_HELD : drop]), path.name
         assert duties[-1] < model.duty_max  # and it leaves saturation after the drop
+
+
+def test_windup_should_start_saturated_where_the_loop_never_saturates_from_rest(
+    tmp_path: Path,
+) -> None:
+    """init's Kv-30 6 V motor of 10 mohm and 20 uH: its integrator crawls, and from rest
+    the exact loop does not reach D_max within 4000 periods. The check said 'saturated
+    before the drop False' on a C that matched the model period for period; both loops
+    now start saturated (the port preloads its integrator too) and leave together."""
+    from codegen.control.current_loop import design, render_loop_files
+    from codegen.spec_loader import load_spec
+    from oracle.current_loop import loop_model
+    from verify.current_loop import build_host_loop, scenarios, trajectory_checks
+
+    spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "kv30_6v_20uh_windup.yaml")
+    model = loop_model(spec)
+    last = scenarios(spec, model)[-1]
+    assert last.name.startswith("windup") and "from D_max" in last.name
+    assert last.state == model.duty_max and last.current_a > 0
+    for name, text in render_loop_files(spec).items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text)
+    host = build_host_loop(tmp_path / "c", tmp_path / "build", design(spec).state_bits)
+    checks = trajectory_checks(spec, model, host, 1.0)
+    assert checks["loop_windup"].verdict == "PASS", checks["loop_windup"].note
+    assert "saturated before the drop True" in checks["loop_windup"].note
+    assert checks["loop_steps"].verdict == "PASS", checks["loop_steps"].note
 
 
 def test_step_responses_should_follow_the_c_through_an_admissible_anti_windup_flip(
@@ -586,7 +614,7 @@ def test_step_responses_should_follow_the_c_through_an_admissible_anti_windup_fl
     for name, text in render_loop_files(spec).items():
         (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
         (tmp_path / name).write_text(text)
-    host = build_host_loop(tmp_path / "c", tmp_path / "build", design(spec).fraction_bits)
+    host = build_host_loop(tmp_path / "c", tmp_path / "build", design(spec).state_bits)
     checks = trajectory_checks(spec, loop_model(spec), host, 1.0)
     assert checks["loop_steps"].verdict == "PASS", checks["loop_steps"].note
     assert checks["loop_steps"].max_error < 1.0

@@ -56,9 +56,10 @@ void loop_batch(const int32_t *x, const uint32_t *r, const uint32_t *m, uint32_t
         next[k] = bldc_current_loop_integrate(x[k], r[k], m[k]);
     }
 }
-void loop_run(const uint32_t *r, const uint32_t *m, uint32_t *duty, int32_t *state, size_t n)
+void loop_run(const uint32_t *r, const uint32_t *m, uint32_t *duty, int32_t *state, size_t n,
+              int32_t x0)
 {
-    int32_t x = 0;
+    int32_t x = x0;
     size_t k;
     for (k = 0; k < n; k++) {
         duty[k] = bldc_current_loop_duty(x, r[k], m[k]);
@@ -105,7 +106,9 @@ class HostLoop:
         )
         return duty.astype(np.int64), nxt.astype(np.int64)
 
-    def run(self, r: Ints, m: Ints) -> tuple[Ints, Ints]:
+    def run(self, r: Ints, m: Ints, x0: int = 0) -> tuple[Ints, Ints]:
+        """The C loop over a trajectory of references and measured codes, from the
+        integrator `x0` (the C's own format)."""
         r32 = np.ascontiguousarray(r, dtype=U32)
         m32 = np.ascontiguousarray(m, dtype=U32)
         duty = np.zeros(r32.size, dtype=U32)
@@ -113,6 +116,7 @@ class HostLoop:
         self.library.loop_run(
             *(a.ctypes.data_as(ctypes.c_void_p) for a in (r32, m32, duty, state)),
             ctypes.c_size_t(r32.size),
+            ctypes.c_int32(x0),
         )
         return duty.astype(np.int64), state.astype(np.int64)
 
@@ -262,8 +266,20 @@ def step_checks(
     return {"loop_duty": duty_check, "loop_integrator": state_check}
 
 
-def scenarios(spec: Spec, model: LoopModel) -> list[tuple[str, float, list[int]]]:
-    """(name, EMF in V, references per period) of the step responses."""
+@dataclass(frozen=True)
+class Scenario:
+    """A step response: references per period at an EMF, from an integrator state and
+    the plant current it holds (rest, or a loop already saturated at D_max)."""
+
+    name: str
+    emf_v: float
+    references: list[int]
+    state: Fraction = Fraction(0)  # counts
+    current_a: float = 0.0
+
+
+def scenarios(spec: Spec, model: LoopModel) -> list[Scenario]:
+    """The step responses: speeds across the range, and the windup scenario last."""
     c = spec.controller
     code = model.reference_code
     nominal = code(int(c.braking_current_nominal_a * 1000))
@@ -276,10 +292,14 @@ def scenarios(spec: Spec, model: LoopModel) -> list[tuple[str, float, list[int]]
         emf = float(k_e * speed)
         half = STEP_PERIODS // 2
         out.append(
-            (f"{float(speed):.0f} rpm: 0 -> nominal -> max", emf, [nominal] * half + [top] * half)
+            Scenario(
+                f"{float(speed):.0f} rpm: 0 -> nominal -> max", emf, [nominal] * half + [top] * half
+            )
         )
         out.append(
-            (f"{float(speed):.0f} rpm: nominal -> min", emf, [nominal] * half + [bottom] * half)
+            Scenario(
+                f"{float(speed):.0f} rpm: nominal -> min", emf, [nominal] * half + [bottom] * half
+            )
         )
     # saturation: at the EMF where the averaged plant's steady current at D_max,
     # (E - U_d (1 - D_max) / 2) / R, is midway between the smallest and the largest
@@ -291,17 +311,32 @@ def scenarios(spec: Spec, model: LoopModel) -> list[tuple[str, float, list[int]]
     middle_a = float(c.braking_current_min_a + c.braking_current_max_a) / 2
     slow = floor_v + r_ohm * middle_a
     where = f"{slow / float(k_e):.0f} rpm (D_max holds {middle_a:g} A)"
+    held = windup_periods(model, slow, top)
+    if held is not None:
+        out.append(
+            Scenario(
+                f"windup: max at {where}, then min", slow, [top] * held + [bottom] * STEP_PERIODS
+            )
+        )
+        return out
+    # The exact loop does not reach D_max from rest within WINDUP_PERIODS_MAX (a motor
+    # of tiny R and L: K_i = 2 R w_c / U_d leaves the integrator crawling): both loops
+    # start saturated, as the port preloads the integrator from a duty, at the current
+    # D_max holds, and hold the unreachable current 2 x WINDUP_HELD periods
     out.append(
-        (
-            f"windup: max at {where}, then min",
+        Scenario(
+            f"windup: max at {where} from D_max (not reached from rest in"
+            f" {WINDUP_PERIODS_MAX} periods), then min",
             slow,
-            [top] * windup_periods(model, slow, top) + [bottom] * STEP_PERIODS,
+            [top] * (2 * WINDUP_HELD) + [bottom] * STEP_PERIODS,
+            state=Fraction(model.duty_max),
+            current_a=model.held_current(slow, float(model.duty_max)),
         )
     )
     return out
 
 
-def windup_periods(model: LoopModel, emf_v: float, top: int) -> int:
+def windup_periods(model: LoopModel, emf_v: float, top: int) -> int | None:
     """How long the windup scenario asks for the unreachable current: 2 x STEP_PERIODS,
     or longer where the exact loop needs longer to saturate, so that it has been at D_max
     for WINDUP_HELD periods before the drop. From rest the current stays at zero until
@@ -321,9 +356,7 @@ def windup_periods(model: LoopModel, emf_v: float, top: int) -> int:
         ),
         None,
     )
-    if held is None:  # never saturates: the check reports it, at the usual length
-        return periods
-    return held
+    return held  # None: it never saturates from rest (the scenario starts saturated)
 
 
 def _admissible_state(
@@ -361,12 +394,19 @@ def trajectory_checks(
         "current loop: anti-windup (leaves saturation with the model)", "periods", None
     )
     windup.points = 0
-    for name, emf, refs in scenarios(spec, model):
-        measured, _, _ = model.closed_loop(emf_v=emf, references=refs)
+    for scenario in scenarios(spec, model):
+        name, refs = scenario.name, scenario.references
+        measured, _, _ = model.closed_loop(
+            emf_v=scenario.emf_v,
+            references=refs,
+            current_a=scenario.current_a,
+            state=scenario.state,
+        )
         r = np.array(refs, dtype=np.int64)
         m = np.array(measured, dtype=np.int64)
-        duty_c, state_c = host.run(r, m)
-        x = Fraction(0)
+        # the same state in the C's format (D_max is a whole count: exact)
+        duty_c, state_c = host.run(r, m, int(scenario.state * scale))
+        x = scenario.state
         duty_e = []
         for k in range(len(refs)):
             d, x_next = model.step(x, refs[k], measured[k])
