@@ -29,7 +29,11 @@ printed as x + k_i e, or x where v is outside [0, D_max]: one range test, no bra
 
 Fixed point: x and v in Q`f` counts (int32), the gains rounded to Q`f`, the inputs
 clamped to the ADC range first, so every intermediate is proven for every value of
-every parameter's C type; `f` is the largest that the proof accepts. The reference
+every parameter's C type; `f` is the largest that the proof accepts. Where k_i rounds
+too coarsely in Q`f` for the periods of a step response, x and k_i take Q(f + s) and v
+reads x rounded to Q`f` (`_widest_design`). The error claims count the errors r - m
+that can leave v unsaturated (`_error_limit`): beyond them both the exact and the
+printed v saturate, and both integrators hold. The reference
 conversion mA -> code is exact (nearest code, ties up) for every mA in the spec's
 braking range: computed in 64 bits with gains rounded up by less than half of the
 smallest distance between a value and a rounding boundary.
