@@ -17,7 +17,12 @@ commutation time meets the spec's target. The bounds come from the IR's error an
   for t* <= T_cap (beyond, both saturate at the sector). It falls as W grows; the design
   states W_ok, the smallest W (counts) where it meets the spec's target. Below W_ok
   Eq. 20 is ill-conditioned (the top-speed limit, where W -> 0) and the spec's declared
-  relaxation applies (checked by the verifier, not claimed here).
+  relaxation applies there: where one count of W moves t* by more than
+  ill_conditioned_above (A). Where it moves t* by less, `verify` holds the target even
+  below W_ok (a small current makes t* small at any W): `_region_bound` bounds the
+  error over those points, and a format that misses it is not taken (the refusal names
+  the Hall clock that gives X the bits). Without a declared relaxation the target holds
+  everywhere; the claim stays W >= W_ok and `verify` checks the rest.
 """
 
 from __future__ import annotations
