@@ -12,6 +12,7 @@ import itertools
 import os
 import sys
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import TypeVar
 
 import pytest
@@ -127,3 +128,36 @@ def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
         terminalreporter.section("spec fuzzing")
         for name, count in sorted(counts.items()):
             terminalreporter.write_line(f"{name}: {count}")
+
+
+@pytest.fixture
+def generate_and_verify(tmp_path: Path) -> Callable[..., tuple[object, object, Path]]:
+    """`generate` a spec into tmp_path/<folder> and `verify` it there (no progress bars):
+    (VerifyResult, Oracle, the generated folder). Small point counts by default: the
+    tests that call it each hold one motor to the spec's targets."""
+
+    def run(
+        spec: Path,
+        *,
+        seed: int,
+        random_count: int = 500,
+        stride: int = 9,
+        folder: str = "generated",
+    ) -> tuple[object, object, Path]:
+        from codegen.generate import render_all, write_tree
+        from verify.run import verify
+
+        generated = tmp_path / folder
+        write_tree(render_all(spec).files, generated)
+        result, _, _, o = verify(
+            spec,
+            generated,
+            tmp_path / f"build-{folder}",
+            seed=seed,
+            random_count=random_count,
+            exhaustive_stride=stride,
+            show_progress=False,
+        )
+        return result, o, generated
+
+    return run

@@ -4,6 +4,7 @@ and verified against the oracle; and one test for each bug the later ones expose
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
@@ -19,7 +20,7 @@ from emulation.pil.report import summary_line
 from sim import report
 from sim.drive import Drive
 from sim.table4 import table4_study
-from verify.run import verify
+from verify.run import VerifyResult, verify
 
 ROOT = Path(__file__).resolve().parents[1]
 ODD = ROOT / "tests" / "fixtures" / "odd"
@@ -107,7 +108,7 @@ def test_a_hall_clock_that_overflows_every_format_should_be_named(tmp_path: Path
 
 
 def test_a_core_that_misses_the_target_where_verify_holds_it_should_be_refused(
-    tmp_path: Path,
+    tmp_path: Path, generate_and_verify: Callable[..., tuple[VerifyResult, object, Path]]
 ) -> None:
     """50 mH on 24 V with a 1 MHz Hall clock: Eq. 20's numerator times the current code
     leaves X no fraction bit, so W errs by half a count, and where the spec holds t_com
@@ -127,17 +128,7 @@ def test_a_core_that_misses_the_target_where_verify_holds_it_should_be_refused(
     assert text.count("  timer_clock: 1 MHz\n") == 1
     named = tmp_path / "named.yaml"
     named.write_text(text.replace("  timer_clock: 1 MHz\n", "  timer_clock: 125 kHz\n"))
-    generated = tmp_path / "generated"
-    write_tree(render_all(named).files, generated)
-    result, _, _, _ = verify(
-        named,
-        generated,
-        tmp_path / "build",
-        seed=20261129,
-        random_count=500,
-        exhaustive_stride=3,
-        show_progress=False,
-    )
+    result, _, _ = generate_and_verify(named, seed=20261129, stride=3)
     failed = [f"{k}: {c.note}" for k, c in result.checks.items() if c.verdict != "PASS"]
     assert result.passed, failed
 

@@ -26,6 +26,7 @@ import pytest
 from codegen.core.module import build_core
 from codegen.errors import ExitCode
 from codegen.generate import render_all, write_tree
+from oracle.model import Oracle
 from verify.run import VerifyResult, verify
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -410,7 +411,9 @@ def fresh_cores() -> Iterator[None]:
     build_core.cache_clear()
 
 
-def test_verify_should_hold_eq20_where_it_is_worst_conditioned(tmp_path: Path) -> None:
+def test_verify_should_hold_eq20_where_it_is_worst_conditioned(
+    tmp_path: Path, generate_and_verify: Callable[..., tuple[VerifyResult, Oracle, Path]]
+) -> None:
     """offset_conventional without its declared relaxation asks 16 ticks everywhere. X in
     Q7 moves W by up to 1/256 count, and at W of a few counts and a current just below
     the one whose Eq. 20 time reaches the latest end the core is off by 33 ticks in range
@@ -426,17 +429,7 @@ def test_verify_should_hold_eq20_where_it_is_worst_conditioned(tmp_path: Path) -
     assert relaxation in text
     strict = tmp_path / "offset_conventional.yaml"
     strict.write_text(text.replace(relaxation, ""), encoding="utf-8")
-    generated = tmp_path / "generated"
-    write_tree(render_all(strict).files, generated)
-    result, _, _, o = verify(
-        strict,
-        generated,
-        tmp_path / "build",
-        seed=20261129,
-        random_count=500,
-        exhaustive_stride=9,
-        show_progress=False,
-    )
+    result, o, generated = generate_and_verify(strict, seed=20261129)
     time = result.checks["commutation_time"]
     assert time.verdict == "FAIL" and time.max_error > 30, (time.max_error, time.note)
     manifest = json.loads((generated / "manifest.json").read_text(encoding="utf-8"))
@@ -445,17 +438,7 @@ def test_verify_should_hold_eq20_where_it_is_worst_conditioned(tmp_path: Path) -
     # the other sets alone miss it
     rest = {k: v for k, v in result.sets.items() if k != "conditioning"}
     assert rest and all(v > 0 for v in rest.values())
-    relaxed = tmp_path / "relaxed"
-    write_tree(render_all(fixture).files, relaxed)
-    passed, _, _, _ = verify(
-        fixture,
-        relaxed,
-        tmp_path / "build-relaxed",
-        seed=20261129,
-        random_count=500,
-        exhaustive_stride=9,
-        show_progress=False,
-    )
+    passed, _, _ = generate_and_verify(fixture, seed=20261129, folder="relaxed")
     assert passed.passed, [k for k, c in passed.checks.items() if c.verdict != "PASS"]
 
 
