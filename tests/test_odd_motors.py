@@ -81,15 +81,20 @@ def test_pil_summary_should_count_the_braking_run() -> None:
     )
 
 
+def _hall_clock_refusal(path: Path) -> str:
+    """The core's refusal of the spec at `path`, which must name hall.timer_clock."""
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(path))
+    assert caught.value.key == "hall.timer_clock"
+    return str(caught.value)
+
+
 def test_a_hall_clock_that_overflows_every_format_should_be_named(tmp_path: Path) -> None:
     """A 72 MHz Hall clock against a 2.25 kHz PWM: Eq. 20's product overflows int32_t
     in every format, Q0 included. The refusal named accuracy.commutation_time_ticks,
     which no value could meet; it names hall.timer_clock and a clock that designs."""
     path = ROOT / "tests" / "fixtures" / "refused" / "hall72m_pwm2k25_centre.yaml"
-    with pytest.raises(FixedPointError) as caught:
-        build_core(load_spec(path))
-    assert caught.value.key == "hall.timer_clock"
-    message = str(caught.value)
+    message = _hall_clock_refusal(path)
     assert message.startswith("hall.timer_clock = 72000000 Hz: no format from Q0 to Q12 is safe")
     # Q0 would fit up to 27.5 MHz; X needs 3 bits where the spec holds t_com to 8 ticks
     assert message.endswith(
@@ -117,10 +122,7 @@ def test_a_core_that_misses_the_target_where_verify_holds_it_should_be_refused(
     it (35.5 ticks at 164 rpm). It is refused, naming the Hall clock that designs, and
     that clock's firmware verifies."""
     path = ROOT / "tests" / "fixtures" / "refused" / "l50mh_wide_sense.yaml"
-    with pytest.raises(FixedPointError) as caught:
-        build_core(load_spec(path))
-    assert caught.value.key == "hall.timer_clock"
-    message = str(caught.value)
+    message = _hall_clock_refusal(path)
     assert message.startswith("hall.timer_clock = 1000000 Hz: X's widest safe format, Q0 ")
     assert "by 40.81 Hall ticks where the spec holds it to" in message
     assert message.endswith("(allowed: <= 125000 Hz, 72000000 Hz / N for N >= 576: 125000 Hz)")
