@@ -821,3 +821,21 @@ def test_robustness_runs_from_the_cli_outside_the_repo(
         cli.main([*argv[:2], "--samples", "0"])
     assert caught.value.code == ExitCode.USAGE
     assert "argument --samples: 0: at least 2" in capsys.readouterr().err
+
+
+def test_init_should_write_a_duty_target_the_rule_meets_when_its_bound_is_printed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """improved_r on a 50 mH, 0.5 ohm, 300 V motor: the rule's duty bound is 3.2300x
+    counts; its refusal printed 3.230, init wrote 3.23 and the design refused that too
+    ("loads, but its fixed-point design does not fit"). The refusal prints the bound
+    rounded up, and init writes 3.24."""
+    argv = [
+        *("init", "lrhl", "--pole-pairs", "2", "--resistance", "0.5 ohm"),
+        *("--inductance", "50 mH", "--ke", "50 V/krpm", "--bus-voltage", "300 V"),
+        *("--braking-current", "2 A", "--method", "improved_r"),
+    ]
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    said = capsys.readouterr()
+    assert "init: note: accuracy.duty_counts = 3.24 counts: " in said.out + said.err, said

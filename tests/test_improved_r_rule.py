@@ -459,3 +459,21 @@ def test_the_rules_constants_should_round_their_exact_value(value: sp.Expr, expe
     from codegen.methods.improved_r.fixed import _round
 
     assert _round(value) == expected
+
+
+def test_a_rule_that_decides_no_end_should_not_claim_an_empty_bound() -> None:
+    """L/R = 5 s: the per-period decay is 1 - 2.5e-6, and the integer rule decides the end
+    at no design point whose commutation finishes. Its bounds were taken where the end is
+    decided alone: 0 counts and 0 ticks over an empty set, and init, generate and the
+    design's claims accepted it; `verify` found its duties 507 counts off. The duty bound
+    covers every design point (verify checks the duties everywhere), and the spec is
+    refused in one line naming the duty target."""
+    path = Path(__file__).parent / "fixtures" / "refused" / "improved_r_tau5s.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(path))
+    assert caught.value.key == "accuracy.duty_counts"
+    message = str(caught.value)
+    assert "the improved_r rule's duty bound 3569.738 counts over the design grid" in message
+    # the paper's motor keeps its claim: every point is within it, decided or not
+    d = build_core(load_spec(Path(__file__).parents[1] / "spec" / "paper_motor_improved_r.yaml"))
+    assert d.design.claims.duty_counts == 0.641

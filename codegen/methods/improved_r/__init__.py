@@ -95,8 +95,9 @@ class ImprovedR:
             "  Period clamped to [BLDC_PERIOD_MIN_TICKS, BLDC_PERIOD_MAX_TICKS]; current clamped at 0.",
             f"Claimed bounds over the design grid ({design.grid_points} points, the end decided at"
             f" {design.decided_points}):",
-            f"  duties <= {round_up_f(design.duty_bound)} counts, t_com <= "
-            f"{round_up_f(design.ticks_bound)} ticks of the rule's carrier boundary.",
+            f"  duties <= {round_up_f(design.duty_bound)} counts at every point, t_com <= "
+            f"{round_up_f(design.ticks_bound)} ticks of the rule's carrier boundary where the"
+            " end is decided.",
             "Flags: HIGH_SPEED when Sigma < P; FAIL_AREA_CLAMPED when no pair in [0, 1] holds the",
             "current (Sigma > 2P or Sigma < 0); TIME_CLAMPED when the turn-off current does not",
             "reach zero by the sector's last whole PWM period (then the pair is held over the",

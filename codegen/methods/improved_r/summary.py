@@ -109,9 +109,9 @@ def summary_lines(spec_path: str) -> list[str]:
         "",
         "## Accuracy (integer prototype against the real-arithmetic reference)",
         "",
-        f"* design grid: duty bound {design.duty_bound:.3f} counts, time bound"
-        f" {design.ticks_bound:.2f} ticks where the end is decided ({design.decided_points}"
-        f" of {design.grid_points} points)",
+        f"* design grid: duty bound {design.duty_bound:.3f} counts at all {design.grid_points}"
+        f" points, time bound {design.ticks_bound:.2f} ticks where the end is decided"
+        f" ({design.decided_points} of them)",
         f"* measured over {stats.points} points ({stats.finished} ending within the sector):"
         f" the carrier boundary differs from the reference's at {stats.end_mismatches},"
         f" |ticks| <= {stats.ticks_max:.2f}, |counts| <= {stats.counts_max:.3f}"
