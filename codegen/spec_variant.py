@@ -124,6 +124,13 @@ def spec_with_duty_target(spec_text: str, counts: str) -> str:
     return _replaced(spec_text, ("accuracy", "duty_counts"), counts, "a number of counts")
 
 
+def spec_with_time_target(spec_text: str, ticks: str) -> str:
+    """The spec YAML with accuracy.commutation_time_ticks replaced by `ticks`."""
+    return _replaced(
+        spec_text, ("accuracy", "commutation_time_ticks"), ticks, "a number of Hall ticks"
+    )
+
+
 #: The EMF shape the improved_r firmware takes where it refuses the spec's own (a shape
 #: that is not affine over the commutation): the paper's trapezoid.
 FALLBACK_SHAPE = "120 deg"

@@ -844,6 +844,8 @@ def render_report(results: Results, limits: Limits, figure_names: dict[str, str]
         "spec_name": spec.name,
         "quick": results.quick,
         "rule_duty_target": results.rule_duty_target,
+        "time_targets": results.time_targets,
+        "time_target": f"{float(spec.accuracy.commutation_time_ticks):g}",
         "rule_refused": results.rule_refused,
         "rule_shape_fallback": results.rule_shape_fallback,
         "duty_target": f"{float(spec.accuracy.duty_counts):g}",

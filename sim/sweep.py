@@ -122,6 +122,8 @@ class Results:
     quick: bool = False  # QUICK_POINTS speeds per study, not the report's density
     #: the duty target improved_r was held to, when the spec's is out of its reach
     rule_duty_target: str | None = None
+    #: compared paper methods held to a looser time target (Hall ticks) than the spec's
+    time_targets: dict[str, str] = field(default_factory=dict)
     #: why the rule's integer design refuses this motor: its rows are the rule in real
     #: arithmetic (sim/rule_stand_in.py), not a C core
     rule_refused: str | None = None
@@ -403,6 +405,7 @@ def run_all(spec: Spec, progress: bool = True, quick: bool = False) -> Results:
         seconds=seconds,
         quick=quick,
         rule_duty_target=cores.rule_duty_target,
+        time_targets=dict(cores.time_targets),
         rule_refused=cores.rule_refused,
         rule_shape_fallback=cores.shape_fallback,
     )

@@ -28,6 +28,7 @@ commutation time meets the spec's target. The bounds come from the IR's error an
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -115,6 +116,19 @@ def _numerator_overflow(
     )
 
 
+#: How the refusal of a time bound over the well-conditioned points names it (printed
+#: rounded up to 0.01 tick); `refused_time_bound` reads it back.
+REGION_REFUSAL = "bounds t_com's error by"
+_REGION_REFUSED = re.compile(re.escape(REGION_REFUSAL) + r" (\d+\.\d{2}) Hall ticks where")
+
+
+def refused_time_bound(message: str) -> Fraction | None:
+    """The t_com bound (Hall ticks) a paper core's refusal over the spec's
+    well-conditioned points names (`_region_refusal`), or None for another message."""
+    found = _REGION_REFUSED.search(message)
+    return Fraction(found.group(1)) if found else None
+
+
 def _region_refusal(
     spec: Spec, sc: Scaling, c: PaperConstants, region: tuple[Fraction, int]
 ) -> str:
@@ -132,8 +146,8 @@ def _region_refusal(
     divider = -(-timer // limit)
     return (
         f"hall.timer_clock = {float(clock):.10g} Hz: X's widest safe format, Q{f} (Eq. 20's"
-        f" numerator times the current code fills int32_t), bounds t_com's error by"
-        f" {float(bound):.4g} Hall ticks where the spec holds it to"
+        f" numerator times the current code fills int32_t), {REGION_REFUSAL}"
+        f" {math.ceil(bound * 100) / 100:.2f} Hall ticks where the spec holds it to"
         f" accuracy.commutation_time_ticks = {float(target):g} (where one count of W moves"
         f" it by at most accuracy.ill_conditioned_above = {float(above):g} ticks): half an LSB"
         f" of W times {float(above):g} ticks a count; each halving of the Hall clock gives X"

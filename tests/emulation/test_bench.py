@@ -258,3 +258,19 @@ def test_an_unknown_or_empty_section_should_be_refused_by_name(
     last = capsys.readouterr().err.strip().splitlines()[-1]  # argparse: usage, then the error
     assert "unknown section" in last and "allowed: size," in last, last
     assert last.startswith("bldc-codegen bench: error: argument --only:"), last  # its own name
+
+
+def test_the_peers_copy_should_take_the_time_bound_its_design_meets(tmp_path: Path) -> None:
+    """An improved_r motor whose 500 kHz Hall clock leaves the paper's improved rule (the
+    peers' closed form) too few bits of X for the spec's 8 ticks where the time is well
+    conditioned: `bench` exited 3 on the copy's refusal. The copy is generated for the
+    bound it meets (20.75 ticks), and the peers' line says so."""
+    from emulation.bench import _closed_form_spec
+
+    path = ROOT / "tests" / "fixtures" / "odd" / "drone_ir_80a_2k25.yaml"
+    bench = SimpleNamespace(spec=load_spec(path), spec_path=path, work=tmp_path, generated=None)
+    spec, generated, held = _closed_form_spec(bench)  # type: ignore[arg-type]
+    assert held == "20.75"
+    assert spec.controller.method == "improved"
+    assert float(spec.accuracy.commutation_time_ticks) == 20.75
+    assert (generated / "c" / "bldc_commutation.c").exists()
