@@ -137,6 +137,9 @@ class LoopDesign:
     #: one step from a given state: |duty - exact| (counts), |x' - exact| (counts)
     duty_claim: Fraction
     integrator_claim: Fraction
+    #: the integrator's drift over a ramp through the whole output range, 0 to D_max
+    #: (counts): D_max times k_i's relative rounding error
+    ramp_claim: Fraction = Fraction(0)
 
     @property
     def constants(self) -> tuple[IConst, ...]:
@@ -585,13 +588,14 @@ def _hold_claims(d: LoopDesign) -> None:
             f" {float(allowed):g} counts: {meets})",
             "current_loop.bandwidth",
         )
-    if d.duty_claim > allowed or step > integrator_step_tolerance_counts(d.spec):
+    if d.duty_claim + d.ramp_claim > allowed or step > integrator_step_tolerance_counts(d.spec):
         raise FixedPointError(
             f"accuracy.current_loop_duty_counts = {float(allowed):g} counts: the"
             f" braking-current PI's widest format ({_format_name(d)}) is off by up to"
             f" {float(d.duty_claim):.4f} counts in the duty and {step:.4f} counts a period"
             f" in the integrator, {step * periods:.4f} counts over a step response"
-            f" ({periods:.1f} PWM periods) (allowed: >="
+            f" ({periods:.1f} PWM periods), {float(d.ramp_claim):.4f} over a ramp from 0"
+            f" to D_max (allowed: >="
             f" {math.ceil(float(accuracy_needed(d)) * 1000) / 1000:g} counts)",
             "accuracy.current_loop_duty_counts",
         )
@@ -604,9 +608,13 @@ def _format_name(d: LoopDesign) -> str:
 
 def accuracy_needed(d: LoopDesign) -> Fraction:
     """The smallest accuracy.current_loop_duty_counts the design meets: its duty bound,
-    and its integrator bound a period over the periods of a step response."""
+    its integrator bound a period over the periods of a step response, and its duty
+    bound with the integrator's drift over a ramp through the whole output range (from
+    rest at a low EMF the current stays at zero until the duty passes 1 - 2E/U_d, and
+    the integrator ramps with one error for hundreds of periods: k_i's relative rounding
+    error times the ramp's travel, D_max; `verify`'s windup scenario is such a ramp)."""
     periods = Fraction(loop_periods_per_step_response(d.spec))
-    return max(d.duty_claim, d.integrator_claim * periods)
+    return max(d.duty_claim, d.integrator_claim * periods, d.duty_claim + d.ramp_claim)
 
 
 @lru_cache(maxsize=16)
@@ -708,6 +716,7 @@ def _candidate(spec: Spec, g: LoopGains, code_max: int, f: int, s: int) -> LoopD
         ranges=ranges,
         duty_claim=duty_claim,
         integrator_claim=integrator_claim,
+        ramp_claim=_ramp_drift(g, ki_q, f + s),
     )
 
 
@@ -720,12 +729,22 @@ def _error_limit(g: LoopGains, kp_q: int, f: int) -> int:
     return _floor(g.duty_max_counts / slowest)
 
 
+def _ramp_drift(g: LoopGains, ki_q: int, state_bits: int) -> Fraction:
+    """The integrator's drift over a ramp from 0 to D_max with one sign of error: the
+    exact one travels D_max = sum k_i e, the printed one sum KI e / 2^b, apart by D_max
+    |KI / 2^b - k_i| / k_i (x + KI e rounds nothing: x is in KI's format)."""
+    if g.ki_counts_per_code <= 0:
+        return Fraction(0)
+    error = abs(Fraction(ki_q, 2**state_bits) - g.ki_counts_per_code)
+    return g.duty_max_counts * error / g.ki_counts_per_code
+
+
 def _meets(d: LoopDesign) -> bool:
     """Whether `_hold_claims` accepts the design."""
     allowed = d.spec.accuracy.current_loop_duty_counts
     return (
         accuracy_needed(d) <= LOOP_DUTY_COUNTS_MAX
-        and d.duty_claim <= allowed
+        and d.duty_claim + d.ramp_claim <= allowed
         and d.integrator_claim <= integrator_step_tolerance_counts(d.spec)
     )
 
@@ -833,7 +852,8 @@ def loop_context(d: LoopDesign) -> dict[str, object]:
         f"{'' if d.state_shift == 0 else f' Q{d.state_bits}:'}"
         f" KI = {d.ki_q} ({float(Fraction(d.ki_q, 2**d.state_bits) / g.ki_counts_per_code - 1) * 1e6:+.1f} ppm)",
         f"claimed, one step from a given state (IR error analysis): duty <= {float(d.duty_claim):.4f}"
-        f" counts, integrator <= {float(d.integrator_claim):.4f} counts",
+        f" counts, integrator <= {float(d.integrator_claim):.4f} counts a step,"
+        f" {float(d.ramp_claim):.4f} over a ramp from 0 to D_max",
         f"reference: code = round((mA x {d.reference_scale} + {d.reference_offset}) / 2^{d.reference_shift}),"
         f" exact nearest code for every mA in [{d.milliamps_min}, {d.milliamps_max}]",
     ]
@@ -871,6 +891,7 @@ def manifest_entry(d: LoopDesign) -> dict[str, object]:
         "claims": {
             "duty_counts": float(d.duty_claim),
             "integrator_counts": float(d.integrator_claim),
+            "integrator_ramp_counts": float(d.ramp_claim),
         },
         "functions": {
             "duty": d.duty.c_name,

@@ -16,7 +16,7 @@
  *   K_i = 2 R w_c / U_d = 472.548 per A s (R = 1.805 ohm): zero at R/L, the plant's pole
  *   per period T = 1/20000 Hz in counts per code (P = 3600, a = 2.01416 mA per code): k_p = 1.64203, k_i = 0.171322
  *   Q17: KP = 215224 (-1.1 ppm), KI = 22455 (-21.2 ppm)
- *   claimed, one step from a given state (IR error analysis): duty <= 0.5034 counts, integrator <= 0.0070 counts
+ *   claimed, one step from a given state (IR error analysis): duty <= 0.5034 counts, integrator <= 0.0070 counts a step, 0.0676 over a ramp from 0 to D_max
  *   reference: code = round((mA x 16659268 + 68719476736) / 2^25), exact nearest code for every mA in [0, 2400]
  *
  *   e = r - m (codes), v = k_p e + x, D = clamp(v, 0, D_max) rounded to counts,

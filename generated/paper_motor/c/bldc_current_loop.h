@@ -16,7 +16,7 @@
  *   K_i = 2 R w_c / U_d = 109.956 per A s (R = 0.21 ohm): zero at R/L, the plant's pole
  *   per period T = 1/20000 Hz in counts per code (P = 3600, a = 16.1133 mA per code): k_p = 17.0088, k_i = 0.318915
  *   Q14: KP = 278672 (+0.6 ppm), KI = 5225 (-18.5 ppm)
- *   claimed, one step from a given state (IR error analysis): duty <= 0.5020 counts, integrator <= 0.0012 counts
+ *   claimed, one step from a given state (IR error analysis): duty <= 0.5020 counts, integrator <= 0.0012 counts a step, 0.0636 over a ramp from 0 to D_max
  *   reference: code = round((mA x 8329634 + 274877906944) / 2^27), exact nearest code for every mA in [0, 10000]
  *
  *   e = r - m (codes), v = k_p e + x, D = clamp(v, 0, D_max) rounded to counts,
