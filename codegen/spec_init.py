@@ -373,12 +373,68 @@ class Written:
     notes: tuple[str, ...] = ()
 
 
+#: The most significant digits a value is written with exactly (a datasheet's 0.123457
+#: ohm line to line is 0.0617285 ohm a phase, not a rounding of it).
+EXACT_DIGITS = 15
+
+
+def _exact_decimal(value: Fraction) -> str | None:
+    """`value` as a plain decimal when it has a finite one of at most EXACT_DIGITS
+    significant digits (its denominator is 2^a 5^b), else None."""
+    den = value.denominator
+    twos = fives = 0
+    while den % 2 == 0:
+        den //= 2
+        twos += 1
+    while den % 5 == 0:
+        den //= 5
+        fives += 1
+    if den != 1:
+        return None
+    places = max(twos, fives)
+    scaled = abs(value.numerator) * 10**places // value.denominator
+    if len(str(scaled).strip("0")) > EXACT_DIGITS:
+        return None
+    sign = "-" if value < 0 else ""
+    whole, frac = divmod(scaled, 10**places)
+    text = f"{whole}.{frac:0{places}d}".rstrip("0").rstrip(".") if places else str(whole)
+    return sign + text
+
+
 def _num(value: Fraction, digits: int = 6) -> str:
-    """A decimal with at most `digits` significant digits, no exponent for spec values."""
+    """A decimal for a spec value, no exponent: exact when it has a short one (see
+    EXACT_DIGITS), else rounded to `digits` significant digits."""
+    exact = _exact_decimal(value)
+    if exact is not None:
+        return exact
     text = f"{float(value):.{digits}g}"
     if "e" in text:
         text = f"{float(value):.{digits + 6}f}".rstrip("0").rstrip(".")
     return text
+
+
+#: Significant digits of a back-EMF constant with no finite decimal (1/Kv).
+KE_DIGITS = 9
+
+
+def _num_up(value: Fraction, digits: int = KE_DIGITS) -> str:
+    """`value` exactly when it has a short decimal, else rounded up at `digits`
+    significant digits: a k_e of 1/Kv written a hair large, never small, so that a
+    braking current the user put exactly at E(speed_max)/R still loads (the loader's
+    R I <= E(speed_max)); 1e-9 of k_e is far inside any datasheet's tolerance."""
+    exact = _exact_decimal(value)
+    if exact is not None or value <= 0:
+        return exact if exact is not None else _num(value, digits)
+    exponent = len(str(value.numerator)) - len(str(value.denominator))
+    while Fraction(10) ** (exponent + 1) <= value:
+        exponent += 1
+    while Fraction(10) ** exponent > value:
+        exponent -= 1
+    unit = Fraction(10) ** (exponent - digits + 1)
+    up = math.ceil(value / unit) * unit
+    exact_up = _exact_decimal(up)
+    assert exact_up is not None  # a whole number of a power of ten
+    return exact_up
 
 
 _DEFAULT = "assumption: bldc-codegen init default (the paper's motor, Table 3); replace"
@@ -437,7 +493,8 @@ def _motor(sheet: Datasheet) -> tuple[dict[str, str], dict[str, str], dict[str, 
             line_to_line = 1 / sheet.kv  # V per rpm
             sources["back_emf_constant"] = (
                 f"datasheet: Kv = {_num(sheet.kv)} rpm/V, so the line-to-line constant is"
-                f" 1/Kv = {_num(line_to_line * 1000)} V/krpm (bldc-codegen init)"
+                f" 1/Kv = {_num_up(line_to_line * 1000)} V/krpm (rounded up at the"
+                f" {KE_DIGITS}th digit; bldc-codegen init)"
             )
         else:
             assert sheet.ke_line_to_line is not None
@@ -445,8 +502,12 @@ def _motor(sheet: Datasheet) -> tuple[dict[str, str], dict[str, str], dict[str, 
             sources["back_emf_constant"] = (
                 f"datasheet: line-to-line back-EMF constant {sheet.ke_line_to_line[1]}"
             )
+        written = _num_up(line_to_line * 1000)
+        # what the loader reads: every value init derives from k_e (the default top
+        # speed, the hold speed) is derived from the written one
+        line_to_line = Fraction(written) / 1000
         si["ke"] = line_to_line / 2
-        values["back_emf_constant"] = f"{_num(line_to_line * 1000)} V/krpm"
+        values["back_emf_constant"] = f"{written} V/krpm"
         values["back_emf_convention"] = "line_to_line"
         sources["back_emf_convention"] = (
             "the datasheet's constant is line to line (2E of two conducting phases, Eq. 4);"

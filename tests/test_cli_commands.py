@@ -190,6 +190,29 @@ def test_init_converts_datasheet_values_and_records_each_conversion(
     assert "exists" in capsys.readouterr().err
 
 
+def test_init_should_write_what_loads_when_the_current_sits_exactly_at_e_over_r(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Kv 30 rpm/V at 300 rpm is E = 5 V a phase, and 10 ohm x 0.5 A is 5 V: the nominal
+    current sits exactly at E(speed_max)/R, which the loader allows. init wrote 1/Kv as
+    33.3333 V/krpm, 1 ppm small, and its own spec was refused ("allowed: <= 0.499999 A").
+    A constant with no finite decimal is now written rounded up at the 9th digit, and one
+    with a short decimal exactly (a line-to-line 123.4567 mH is 61.72835 mH)."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "edge", "--kv", "30", "--speed-max", "300 rpm", "--resistance", "10 ohm"]
+    argv += ["--braking-current", "0.5 A", "--inductance-line-to-line", "123.4567 mH"]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert "does not load" not in captured.out + captured.err
+    spec = load_spec(tmp_path / "spec" / "edge.yaml")
+    k_e = spec.motor.back_emf_constant_v_per_rpm
+    assert Fraction(1, 60) < k_e < Fraction(1, 60) * (1 + Fraction(1, 10**8))
+    assert spec.motor.phase_inductance_h == Fraction(6172835, 10**8)
+    text = (tmp_path / "spec" / "edge.yaml").read_text()
+    assert "back_emf_constant: 33.3333334 V/krpm" in text
+    assert "1/Kv = 33.3333334 V/krpm (rounded up" in text
+
+
 @pytest.mark.parametrize("method", ["improved", "improved_r", "conventional", "none"])
 def test_init_should_write_the_method_asked_for_with_its_ram_budget(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], method: str
@@ -584,8 +607,10 @@ def test_init_should_write_the_commutation_accuracy_its_core_can_meet(
 def test_init_should_refuse_in_one_line_a_motor_whose_core_meets_no_spec_target(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """The improved_r rule's duty bound on a 2.5 mH, 10 mohm motor is 56.09 counts over
-    every design point (46.76 where the end is decided), beyond the 16 a spec may ask:
+    """The improved_r rule's duty bound on a 2.5 mH, 10 mohm motor is 55.85 counts over
+    every design point (with init's 1/Kv rounded up at the 9th digit; 56.09 with it
+    rounded at the 6th, which moved the top speed and the design grid), beyond the 16 a
+    spec may ask:
     init keeps the target it wrote and reports `generate`'s refusal (exit 3), which names
     the bound and another method, instead of writing a spec its own loader refuses."""
     argv = [
@@ -597,7 +622,7 @@ def test_init_should_refuse_in_one_line_a_motor_whose_core_meets_no_spec_target(
     assert cli.main(argv) == ExitCode.SPEC
     err = capsys.readouterr().err.splitlines()
     assert err[0].startswith("error: spec/slow_l.yaml: accuracy.duty_counts: fixed-point"), err
-    assert "(allowed: >= 56.09 counts for controller.method improved_r, or another" in err[0]
+    assert "(allowed: >= 55.85 counts for controller.method improved_r, or another" in err[0]
     assert "duty_counts: 1.0\n" in (tmp_path / "spec" / "slow_l.yaml").read_text()
 
 
