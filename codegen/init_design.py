@@ -129,6 +129,8 @@ def meet_core_targets(
     names to what it meets through `rewrite` (write the spec with these targets, load
     it), until it designs or refuses for another reason."""
     notes: list[str] = []
+    #: the targets, notes and refusal before init first lowered the Hall clock
+    before_clock: tuple[Targets, int, FixedPointError] | None = None
     for _ in range(len(CORE_TARGETS) + 2):  # each target, the Hall clock, the last check
         refusal = core_refusal(spec)
         if refusal is None:
@@ -143,6 +145,21 @@ def meet_core_targets(
             # error): the spec keeps the target, and the refusal stands
             spec = rewrite(targets)
             break
+        if before_clock is None and adopted.targets.hall_clock_hz != targets.hall_clock_hz:
+            before_clock = (targets, len(notes), refusal)
         targets = adopted.targets
         notes.append(adopted.note)
+    if refusal is not None and before_clock is not None:
+        # a slower Hall clock did not make the design fit: the spec keeps the clock it
+        # had (a 10 kHz clock raises the slowest speed the timer measures tenfold, for
+        # nothing) and the refusal `generate` gives it; a note says what comes next
+        kept, count, first = before_clock
+        tried = targets.hall_clock_hz
+        spec = rewrite(kept)
+        notes = notes[:count]
+        notes.append(
+            f"at hall.timer_clock = {float(tried or 0):g} Hz, what the refusal below"
+            f" asks, the design still refuses: {refusal}"
+        )
+        refusal = first
     return CoreCheck(spec, tuple(notes), refusal)
