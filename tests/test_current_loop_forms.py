@@ -28,7 +28,8 @@ SPECS = [
 def _module(functions: tuple[Function, ...], constants: dict[str, int]) -> ModuleType:
     module = ModuleType("loop_forms")
     module.__dict__.update(constants)
-    source = "\n\n".join(py_printer.function_definition(f) for f in functions)
+    printed = [*py_printer.helpers(functions), *map(py_printer.function_definition, functions)]
+    source = "\n\n".join(printed)
     exec(compile(source, "loop_forms", "exec"), module.__dict__)
     return module
 

@@ -28,7 +28,13 @@ ODD = ROOT / "tests" / "fixtures" / "odd"
 
 @pytest.mark.parametrize(
     "name",
-    ["pp1_60krpm_20k", "pp30_5_to_120rpm", "rev_hall_centre_shunts_sc", "heavy_l_finer_integrator"],
+    [
+        "pp1_60krpm_20k",
+        "pp30_5_to_120rpm",
+        "rev_hall_centre_shunts_sc",
+        "heavy_l_finer_integrator",
+        "hv600_20mh_integrator_q4",
+    ],
 )
 def test_an_unusual_motor_should_regenerate_identically_and_verify(
     tmp_path: Path, name: str

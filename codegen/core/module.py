@@ -178,6 +178,7 @@ def core_context(core: Core) -> dict[str, object]:
         + [f"FLAG_{f.name} = {f.value}  # {f.doc}" for f in abi.FLAGS],
         "py_tables": [py_printer.table_definition(t) for t in table_list],
         "py_structs": [py_printer.named_tuple(s) for s in (*module.structs, *private_structs)],
+        "py_helpers": py_printer.helpers(functions, always=True),
         "py_functions": [py_printer.function_definition(fn) for fn in functions],
         "uses_main_duty": design.uses_main_duty,
     }

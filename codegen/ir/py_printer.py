@@ -53,7 +53,7 @@ from codegen.ir.nodes import (
     SVar,
     Table,
 )
-from codegen.ir.walk import long_division_parts
+from codegen.ir.walk import all_exprs, long_division_parts
 
 # Python precedence, higher binds tighter.
 ATOM, POWER, MULT, ADD, SHIFT, BAND, BOR, CMP, NOT, AND, OR, COND = (
@@ -326,3 +326,12 @@ def assignment(c: IConst) -> str:
     assert c.name is not None
     doc = f"  # {comment_text(c.doc)}" if c.doc else ""
     return f"{c.name} = {c.value}{doc}"
+
+
+def helpers(functions: tuple[Function, ...] | list[Function], always: bool = False) -> list[str]:
+    """The definitions a twin of `functions` needs beside them: `_c_div` where one of
+    them divides signed integers (C truncates toward zero, Python floors), or `always`."""
+    signed = any(
+        isinstance(e, IDiv) and e.ctype.signed for fn in functions for e in all_exprs(fn.body)
+    )
+    return [C_DIV] if signed or always else []
