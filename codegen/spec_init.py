@@ -80,6 +80,10 @@ HALL_CLOCKS_HZ = (
 ADC_REFERENCE_V = Fraction(33, 10)
 #: the smallest braking_current_nominal init writes (its sensing: at most 500 mV/A)
 BRAKING_CURRENT_MIN_A = Fraction(1, 10)
+#: the largest: init writes braking_current_max as twice it, within the loader's range
+BRAKING_CURRENT_MAX_A = (
+    Fraction(str(DATASHEET_RANGES["controller.braking_current_nominal"].high)) / 2
+)
 #: the ADC sample time written (sensing.adc_sample_time), ADC clock cycles
 SAMPLE_CYCLES = Fraction(15, 2)
 COUNTER_MAX = 65535
@@ -100,13 +104,15 @@ def _quantity(
     key: str,
     per_phase: bool = False,
     minimum: tuple[Fraction, str, str] | None = None,
+    maximum: tuple[Fraction, str, str] | None = None,
 ) -> Callable[[str], tuple[Fraction, str]]:
     """argparse type: a positive quantity whose spec value (the phase value, half of it,
     where `per_phase` converts a line-to-line one) is within the loader's range for `key`:
     a value no spec can hold (1e400 ohm) is said at its argument, not met later as a
     float overflow inside init or as an error about a value derived from it. `minimum`
     (SI value, as shown, why) is init's own lower bound, where it would write another
-    value than the one given."""
+    value than the one given; `maximum` its upper bound, where a value init derives from
+    this one would leave the loader's range."""
 
     def parse(text: str) -> tuple[Fraction, str]:
         try:
@@ -120,6 +126,10 @@ def _quantity(
         if minimum is not None and value < minimum[0]:
             raise argparse.ArgumentTypeError(
                 f"{text!r} is below {minimum[1]}, {minimum[2]} (allowed: >= {minimum[1]})"
+            )
+        if maximum is not None and value > maximum[0]:
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is above {maximum[1]}, {maximum[2]} (allowed: <= {maximum[1]})"
             )
         why = out_of_range(key, value / 2 if per_phase else value)
         if why is not None:
@@ -301,6 +311,11 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
                 BRAKING_CURRENT_MIN_A,
                 f"{_num(BRAKING_CURRENT_MIN_A)} A",
                 "the smallest nominal braking current init sizes the current sensing for",
+            ),
+            maximum=(
+                BRAKING_CURRENT_MAX_A,
+                f"{_num(BRAKING_CURRENT_MAX_A)} A",
+                "the largest whose braking_current_max, twice it, a spec holds",
             ),
         ),
         metavar="Q",

@@ -287,6 +287,8 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
         ("--poles", "3", "'3' is not an even whole number from 2 to 128"),
         # init wrote 0.1 A under the source 'nominal braking current 1e-3 A'
         ("--braking-current", "1e-3 A", "'1e-3 A' is below 0.1 A, the smallest nominal"),
+        # init wrote braking_current_max = 1200 A, which the loader refused (<= 1000 A)
+        ("--braking-current", "600 A", "'600 A' is above 500 A, the largest whose"),
         # a spec the loader refused (10285.7 counts, not whole): its exact neighbours
         ("--pwm-frequency", "7 kHz", "e.g. 7031.25 Hz (10240 counts) or 6400 Hz (11250 counts)"),
         ("--pwm-frequency", "2 kHz", "36000 TIM1 counts per period at 72 MHz"),
