@@ -861,5 +861,11 @@ def check_drive(
                 " rectifies into the bus, so the safe state there is the short circuit, whose"
                 f" peak current at speed_max is up to {peak:.1f} A (2 x the steady peak +"
                 " over_current): no safe state exists at the top of the speed range",
-                f">= {math.ceil(peak)} A, or a lower controller.speed_max",
+                # a rating the key cannot name is no way out: only the speed is
+                (
+                    f">= {math.ceil(peak)} A, or a controller.speed_max below"
+                    if math.ceil(peak) <= PROTECTION_AMPS_MAX
+                    else f"<= {PROTECTION_AMPS_MAX} A, with a controller.speed_max below"
+                )
+                + f" {float(n_rect):.1f} rpm, where all-off never rectifies",
             )

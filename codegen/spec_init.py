@@ -43,6 +43,7 @@ from codegen.spec_drive import (
     braking_current_peak,
     braking_ripple,
     end_sample_room_s,
+    rectifying_speed,
     short_circuit_peak,
 )
 from codegen.spec_loader import (
@@ -586,6 +587,20 @@ def _guarded_sector_s(pwm_hz: Fraction, dead_ns: Fraction, method: str) -> Fract
     return (carrier + guard) / keep
 
 
+def _short_peak(speed_rpm: Fraction, si: dict[str, Fraction], entry_a: Fraction | int) -> float:
+    """The loader's bound on the short circuit's peak current at this speed (init's
+    120 deg EMF), entered with `entry_a` flowing."""
+    return short_circuit_peak(
+        speed_rpm=float(speed_rpm),
+        k_e=float(si["ke"]),
+        pole_pairs=int(si["pole_pairs"]),
+        resistance_ohm=float(si["r"]),
+        inductance_h=float(si["l"]),
+        shape=BackEmfShape(),
+        current_at_entry_a=float(entry_a),
+    )
+
+
 def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> str:
     """The spec text for `name` from the datasheet values (see the module docstring),
     with `targets` as its accuracy targets."""
@@ -636,6 +651,19 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
                 )
                 + f"; below 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm; raise the PWM"
                 " frequency for more"
+            )
+        # above the speed where all-off rectifies (at the lowest bus) the safe state is
+        # the short circuit; where its peak is past any rating a spec may name (a stiff
+        # 2 uH, 10 mohm motor: 61.8 kA), the top speed stays below that speed, or the
+        # spec would name no safe state there (the loader refuses it)
+        n_rect = rectifying_speed(v_min, si["ke"], BackEmfShape())
+        if n_max >= n_rect and _short_peak(n_max, si, 0) > PROTECTION_AMPS_MAX:
+            n_max = max(Fraction(10), _round_down(n_rect * Fraction(99, 100), 10))
+            n_max_source = (
+                f"{derived} 99 % of {_num(n_rect)} rpm, rounded down, below the speed where"
+                " every switch off rectifies into the bus at bus_voltage_min: above it the"
+                " safe state is the short circuit, whose peak current there is beyond the"
+                f" {PROTECTION_AMPS_MAX} A a spec may name"
             )
     hall_clock: Fraction | int = next(
         (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),
@@ -688,22 +716,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     gain_mv = max(
         Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1650) / over_current, 1))
     )
-    short_bound = _round_up(
-        Fraction(
-            math.ceil(
-                short_circuit_peak(
-                    speed_rpm=float(n_max),
-                    k_e=float(si["ke"]),
-                    pole_pairs=int(pole_pairs),
-                    resistance_ohm=float(si["r"]),
-                    inductance_h=float(si["l"]),
-                    shape=BackEmfShape(),
-                    current_at_entry_a=float(over_current),
-                )
-            )
-        ),
-        1,
-    )
+    short_bound = _round_up(Fraction(math.ceil(_short_peak(n_max, si, over_current))), 1)
     # a bound past what a protection entry may name (a tiny, stiff motor's E/R at the
     # top speed): the entry's limit, noted, so that the loader judges the physics (does
     # the short circuit have to hold at speed_max?) rather than the number's range

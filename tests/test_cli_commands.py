@@ -213,6 +213,34 @@ def test_init_should_write_what_loads_when_the_current_sits_exactly_at_e_over_r(
     assert "1/Kv = 33.3333334 V/krpm (rounded up" in text
 
 
+def test_init_should_keep_a_stiff_motors_top_speed_where_all_off_is_safe(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """2 uH and 10 mohm on 600 V: above 12000 rpm (U_d/(lambda k_e) at the 480 V bus
+    minimum) all-off rectifies, so the safe state is the short circuit, whose peak at
+    init's 95 % top speed is 61.8 kA, past the 10 kA a spec may name. init wrote 10 kA,
+    which the loader refused, asking for ">= 61799 A" the key cannot hold. Without
+    --speed-max init now keeps the top speed below 12000 rpm (11880); with one, the
+    refusal names the way out the key has: a speed_max below 12000 rpm."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "stiff", "--pole-pairs", "2", "--ke", "20 V/krpm", "--resistance", "0.01 ohm"]
+    argv += ["--inductance", "2 uH", "--bus-voltage", "600 V", "--braking-current", "50 A"]
+    argv += ["--pwm-frequency", "80 kHz"]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert "does not load" not in captured.out + captured.err
+    spec = load_spec(tmp_path / "spec" / "stiff.yaml")
+    assert spec.controller.speed_max_rpm == 11880
+    assert (
+        "below the speed where every switch off rectifies"
+        in dict(spec.sources)["controller.speed_max"]
+    )
+    assert cli.main([*argv, "--force", "--speed-max", "14000 rpm"]) == ExitCode.SPEC
+    err = capsys.readouterr().err
+    assert "protection.short_circuit_current_max = '10000 A'" in err
+    assert "(allowed: <= 10000 A, with a controller.speed_max below 12000.0 rpm, where" in err
+
+
 @pytest.mark.parametrize("method", ["improved", "improved_r", "conventional", "none"])
 def test_init_should_write_the_method_asked_for_with_its_ram_budget(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], method: str
@@ -365,7 +393,8 @@ def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A tiny, stiff motor (0.1 mohm, 0.1 uH): its short-circuit bound at the paper's top
-    speed is about 256 kA. init had written that, and the loader refused the number it
+    speed is about 256 kA, 221.5 kA at the top speed init now keeps below the speed where
+    all-off rectifies (99 % of it: the test below). init had written the bound, and the loader refused the number it
     wrote (out of (0, 10000] A) instead of the values the user has to change; it writes
     the 10 kA a spec may name, says so in the source, and the loader's lines name the
     motor's real problems, not the rating."""
@@ -381,7 +410,7 @@ def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
     data, _ = read_yaml((tmp_path / "spec" / "tiny.yaml").read_bytes())
     assert data["protection"]["short_circuit_current_max"] == f"{PROTECTION_AMPS_MAX} A"
     note = data["sources"]["protection.short_circuit_current_max"]
-    assert "is 256364 A, beyond the 10000 A a spec may name" in note
+    assert "is 221500 A, beyond the 10000 A a spec may name" in note
 
 
 @pytest.mark.parametrize(("bus", "low", "high"), [("1000 V", 800, 1000), ("1 V", 1, "1.25")])
