@@ -27,8 +27,15 @@ from sim.drive import Drive
 
 #: Crossover of the current loop as a fraction of the PWM frequency.
 CROSSOVER_FRACTION = 1.0 / 20.0
-#: Periods the loop runs from rest; settled when the duty stays within one count.
+#: Periods the loop runs from rest at least; settled when the duty stays within one
+#: count. A winding slower than that (L/R of hundreds of PWM periods) gets
+#: TIME_CONSTANTS of its L/R, up to MAX_PERIODS_SLOW.
 MAX_PERIODS = 4000
+TIME_CONSTANTS = 30
+MAX_PERIODS_SLOW = 200_000
+#: How close the period-mean current must be to the steady one of the applied duty for a
+#: saturated duty to count as settled (of the larger of the two currents).
+SATURATED_TOLERANCE = 0.005
 
 
 @dataclass(frozen=True)
@@ -60,7 +67,8 @@ def settle(drive: Drive, speed_rpm: float, current_a: float, period_counts: int)
     current, integral, counts = 0.0, 0.0, 0
     stable, last = 0, -10
     periods = 0
-    while periods < MAX_PERIODS:
+    budget = min(MAX_PERIODS_SLOW, max(MAX_PERIODS, math.ceil(TIME_CONSTANTS / (decay * period))))
+    while periods < budget:
         periods += 1
         error = current_a - current
         # Braking: more duty, more current (a longer short through the bridge).
@@ -72,7 +80,15 @@ def settle(drive: Drive, speed_rpm: float, current_a: float, period_counts: int)
         applied = counts / period_counts
         target = (2.0 * emf - (1.0 - applied) * bus) / (2.0 * drive.resistance_ohm)
         current = factor * current + (1.0 - factor) * target
-        settled_error = abs(error) < 0.005 * current_a or counts in (0, period_counts)
+        # A saturated duty is where the loop rests only once the current has reached the
+        # steady value of that duty and it still cannot hold I (D = 1: R I >= E). A slow
+        # winding (L/R of 200 PWM periods) saturates at once, its current still rising:
+        # the loop had "settled" at D = 1 after 50 periods and reported 2 A for 1 A.
+        steady = abs(current - target) <= SATURATED_TOLERANCE * max(abs(target), current_a)
+        beyond = (counts == period_counts and target < current_a) or (
+            counts == 0 and target > current_a
+        )
+        settled_error = abs(error) < 0.005 * current_a or (steady and beyond)
         stable = stable + 1 if abs(counts - last) <= 1 and settled_error else 0
         last = counts
         if stable >= 50:
