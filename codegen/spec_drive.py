@@ -467,6 +467,29 @@ def line_to_line_peak(shape: BackEmfShape) -> Fraction:
     return max(abs(emf_at(shape, a) - emf_at(shape, a - 120)) for a in angles)
 
 
+def conducting_line_mean(shape: BackEmfShape) -> Fraction:
+    """The mean over a 60 deg sector of the conducting pair's line-to-line EMF, per unit
+    of 2E: what the two phases in series oppose to the bus between commutations on the
+    PWM average (phase a's sector [30, 90] deg from its rising zero crossing, with b
+    lagging by 120 deg; every sector alike by symmetry). 1 for the 120 deg trapezoid and
+    the paper's flat EMF; exact (the difference is piecewise linear, integrated between
+    its breakpoints)."""
+    low, high = Fraction(30), Fraction(90)
+    breaks = {Fraction(a) for a, _ in shape.points}
+    breaks |= {b + 180 for b in breaks} | {b - 180 for b in breaks}
+    cuts = sorted(
+        {low, high}
+        | {b for b in breaks if low < b < high}
+        | {b + 120 for b in breaks if low < b + 120 < high}
+    )
+
+    def line(angle: Fraction) -> Fraction:
+        return emf_at(shape, angle) - emf_at(shape, angle - 120)
+
+    area = sum((b - a) * (line(a) + line(b)) / 2 for a, b in itertools.pairwise(cuts))
+    return Fraction(area) / (high - low) / 2
+
+
 def rectifying_speed(bus_voltage_v: Fraction, k_e: Fraction, shape: BackEmfShape) -> Fraction:
     """The speed (rpm) above which the bridge's diodes conduct with every switch off:
     the peak line-to-line EMF lambda k_e n reaches the bus voltage."""

@@ -49,7 +49,7 @@ class Settled:
 
 def held_current(drive: Drive, speed_rpm: float, duty: float) -> float:
     """Braking current a main duty holds at this speed (period mean, steady state)."""
-    emf = drive.emf_v(speed_rpm)
+    emf = drive.hold_emf_v(speed_rpm)
     return (2.0 * emf - (1.0 - duty) * drive.bus_voltage_v) / (2.0 * drive.resistance_ohm)
 
 
@@ -59,7 +59,7 @@ def settle(drive: Drive, speed_rpm: float, current_a: float, period_counts: int)
     bus = drive.bus_voltage_v
     decay = drive.resistance_ohm / drive.inductance_h
     factor = math.exp(-decay * period)
-    emf = drive.emf_v(speed_rpm)
+    emf = drive.hold_emf_v(speed_rpm)
     # Plant per period on the mean: i+ = f i + (1 - f) (2E - (1 - D) U) / (2 R).
     crossover = 2.0 * math.pi * CROSSOVER_FRACTION * drive.pwm_frequency_hz
     gain = 2.0 * drive.inductance_h * crossover / bus  # duty per ampere

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from codegen.spec_drive import conducting_line_mean
 from codegen.spec_model import PwmAlignment, Spec
 from sim.emf import TRAPEZOID_120
 
@@ -51,6 +52,10 @@ class Drive:
     emf_frozen: bool = False
     #: the spec's controller.speed_min (0: the same as speed_min_rpm)
     spec_speed_min_rpm: float = 0.0
+    #: The conducting pair's mean line-to-line EMF over a sector per unit of 2E
+    #: (`codegen.spec_drive.conducting_line_mean`): 1 for the 120 deg trapezoid, 2 for a
+    #: table whose flat top is 2 (the loader's k_e is then half the trapezoid's)
+    hold_emf_factor: float = 1.0
 
     @staticmethod
     def from_spec(spec: Spec) -> Drive:
@@ -77,6 +82,7 @@ class Drive:
             emf_description=spec.motor.back_emf_shape.describe(),
             emf_frozen=spec.motor.back_emf_shape.frozen,
             spec_speed_min_rpm=float(spec.controller.speed_min_rpm),
+            hold_emf_factor=float(conducting_line_mean(spec.motor.back_emf_shape)),
         )
 
     def with_pwm_frequency(self, frequency_hz: float) -> Drive:
@@ -121,7 +127,16 @@ class Drive:
         return self.resistance_ohm / self.inductance_h
 
     def emf_v(self, speed_rpm: float) -> float:
+        """k_e n: the amplitude the shape's per-unit points scale (the plant's EMF)."""
         return self.emf_v_per_rpm * speed_rpm
+
+    def hold_emf_v(self, speed_rpm: float) -> float:
+        """Half the conducting pair's mean line-to-line EMF over a sector: the E of the
+        averaged circuit between commutations, (1 - D) U_d = 2E - 2 R I, which the main
+        duty balances. k_e n for the 120 deg trapezoid; the main-duty loop had taken k_e n
+        for every shape, so a table whose flat top is 2 got a duty that held another
+        current than the switched plant then carried."""
+        return self.emf_v(speed_rpm) * self.hold_emf_factor
 
     def sector_time_s(self, speed_rpm: float) -> float:
         """One Hall interval, 60 electrical degrees: 10 / (n p) seconds for n in rpm."""
@@ -137,7 +152,7 @@ class Drive:
         transistor at which the averaged voltage balances EMF and resistive drop. The
         periodic steady state of a linear RL circuit has exactly this average current.
         """
-        emf = self.emf_v(speed_rpm)
+        emf = self.hold_emf_v(speed_rpm)
         duty = 1.0 - (2.0 * emf - 2.0 * self.resistance_ohm * current_a) / self.bus_voltage_v
         return min(max(duty, 0.0), 1.0)
 

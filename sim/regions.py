@@ -81,7 +81,7 @@ def regions(drive: Drive) -> Regions:
     periods = np.array([commutation_periods(drive, float(s)) for s in speeds])
     finite = np.isfinite(periods)
     fewest = int(np.argmin(np.where(finite, periods, np.inf)))
-    limited = drive.resistance_ohm * drive.braking_current_a / drive.emf_v_per_rpm
+    limited = drive.resistance_ohm * drive.braking_current_a / drive.hold_emf_v(1.0)
     return Regions(
         current_limited_below_rpm=limited if limited > drive.speed_min_rpm else 0.0,
         cannot_hold_below_rpm=max(bounds.lowest_hold_rpm, 0.0),
