@@ -555,12 +555,32 @@ def _motor(sheet: Datasheet) -> tuple[dict[str, str], dict[str, str], dict[str, 
     return values, sources, si
 
 
-def _round_down(value: Fraction, step: int) -> Fraction:
+def _round_down(value: Fraction, step: int | Fraction) -> Fraction:
     return Fraction(math.floor(value / step) * step)
 
 
-def _round_up(value: Fraction, step: int) -> Fraction:
+def _round_up(value: Fraction, step: int | Fraction) -> Fraction:
     return Fraction(math.ceil(value / step) * step)
+
+
+def _speed_step(speed_rpm: Fraction) -> Fraction:
+    """The step init rounds a speed to: 10 rpm from 100 rpm up, else two significant
+    digits (a 2 rpm cut-off motor's 95 % top speed is 3.8 rpm: rounded to 10 rpm, with
+    a 10 rpm floor, init had written 10 rpm, above the limit, and a 0 rpm point)."""
+    if speed_rpm >= 100:
+        return Fraction(10)
+    step = Fraction(1)
+    while step > Fraction(1, 10**6) and speed_rpm < 10 * step:
+        step /= 10
+    return step
+
+
+def _speed_down(speed_rpm: Fraction) -> Fraction:
+    return _round_down(speed_rpm, _speed_step(speed_rpm))
+
+
+def _speed_up(speed_rpm: Fraction) -> Fraction:
+    return _round_up(speed_rpm, _speed_step(speed_rpm))
 
 
 @dataclass(frozen=True)
@@ -629,14 +649,14 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         n_max = sheet.speed_max[0]
         n_max_source = f"datasheet/application: top speed {sheet.speed_max[1]}"
     else:
-        n_max = max(Fraction(10), _round_down(n_limit * Fraction(95, 100), 10))
+        n_max = max(Fraction(1), _speed_down(n_limit * Fraction(95, 100)))
         n_max_source = f"{derived} 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm, rounded down"
         # the shortest sector must outlast the commutation end's guard, which holds one
         # current sample (the loader refuses a speed_max whose sector does not, and the
         # loop's first sample after an edge comes within it), so a many-pole motor's top
         # speed may sit below 95 %
         n_guarded = 60 / (_guarded_sector_s(pwm, dead_ns, method) * pole_pairs * 6)
-        n_cap = max(Fraction(10), _round_down(n_guarded * Fraction(95, 100), 10))
+        n_cap = max(Fraction(1), _speed_down(n_guarded * Fraction(95, 100)))
         if n_cap < n_max:
             n_max = n_cap
             n_max_source = (
@@ -658,7 +678,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         # spec would name no safe state there (the loader refuses it)
         n_rect = rectifying_speed(v_min, si["ke"], BackEmfShape())
         if n_max >= n_rect and _short_peak(n_max, si, 0) > PROTECTION_AMPS_MAX:
-            n_max = max(Fraction(10), _round_down(n_rect * Fraction(99, 100), 10))
+            n_max = max(Fraction(1), _speed_down(n_rect * Fraction(99, 100)))
             n_max_source = (
                 f"{derived} 99 % of {_num(n_rect)} rpm, rounded down, below the speed where"
                 " every switch off rectifies into the bus at bus_voltage_min: above it the"
@@ -673,7 +693,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         hall_clock = targets.hall_clock_hz
     fastest = Fraction(hall_clock * 10) / (pole_pairs * n_max)
     slowest_rpm = Fraction(hall_clock * 10) / (pole_pairs * COUNTER_MAX)
-    n_min = max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), 5))
+    n_min = max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), _speed_step(n_max) / 2))
     e_top = si["ke"] * n_max
     if sheet.braking_current is not None:
         i_nom = sheet.braking_current[0]
@@ -706,9 +726,9 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     budget = default_budget if targets.time_ticks is None else targets.time_ticks
     # In braking only the back-EMF drives the current, at most E/R: the lower point sits
     # where E is 1.5 x R x braking_current_nominal (a duty near 2/3), if 30 % is below it.
-    n_hold = _round_up(si["r"] * i_nom / si["ke"] * Fraction(3, 2), 10)
-    high = _round_down(n_max * 9 / 10, 10)
-    low = max(n_min, _round_down(n_max * Fraction(3, 10), 10))
+    n_hold = _speed_up(si["r"] * i_nom / si["ke"] * Fraction(3, 2))
+    high = _speed_down(n_max * 9 / 10)
+    low = max(n_min, _speed_down(n_max * Fraction(3, 10)))
     points = sorted({min(max(low, n_hold), high), high})
     bandwidth_hz = min(Fraction(1000), pwm / 10)
     over_current = _round_up(max(i_max * Fraction(3, 2), peak * Fraction(5, 4)), 1)

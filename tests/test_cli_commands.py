@@ -213,6 +213,25 @@ def test_init_should_write_what_loads_when_the_current_sits_exactly_at_e_over_r(
     assert "1/Kv = 33.3333334 V/krpm (rounded up" in text
 
 
+def test_init_should_round_a_very_slow_motors_speeds_to_two_digits(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """50 pole pairs, 1000 V/krpm on 8 V: U_d/(2 k_e) is 4 rpm. init rounded its speeds
+    to 10 rpm with a 10 rpm floor: speed_max 10 rpm (above the limit its own source
+    named), a 0 rpm operating point. Below 100 rpm a speed now keeps two digits."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "slow", "--pole-pairs", "50", "--ke", "1000 V/krpm"]
+    argv += ["--resistance", "1 ohm", "--inductance", "50 mH", "--bus-voltage", "8 V"]
+    argv += ["--braking-current", "100 mA", "--pwm-frequency", "20 kHz"]
+    assert cli.main(argv) == 0, capsys.readouterr().err
+    captured = capsys.readouterr()
+    assert "does not load" not in captured.out + captured.err
+    spec = load_spec(tmp_path / "spec" / "slow.yaml")
+    assert spec.controller.speed_max_rpm == Fraction(38, 10)
+    assert [p.speed_rpm for p in spec.operating_points] == [Fraction(11, 10), Fraction(34, 10)]
+    assert spec.controller.speed_min_rpm <= Fraction(11, 10)
+
+
 def test_init_should_keep_a_stiff_motors_top_speed_where_all_off_is_safe(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
