@@ -509,8 +509,13 @@ def _motor(sheet: Datasheet) -> tuple[dict[str, str], dict[str, str], dict[str, 
             line_to_line = 1 / sheet.kv  # V per rpm
             sources["back_emf_constant"] = (
                 f"datasheet: Kv = {_num(sheet.kv)} rpm/V, so the line-to-line constant is"
-                f" 1/Kv = {_num_up(line_to_line * 1000)} V/krpm (rounded up at the"
-                f" {KE_DIGITS}th digit; bldc-codegen init)"
+                f" 1/Kv = {_num_up(line_to_line * 1000)} V/krpm ("
+                + (
+                    ""
+                    if _exact_decimal(line_to_line * 1000) is not None
+                    else f"rounded up at the {KE_DIGITS}th digit; "
+                )
+                + "bldc-codegen init)"
             )
         else:
             assert sheet.ke_line_to_line is not None
