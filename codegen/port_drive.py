@@ -12,6 +12,7 @@ Resources (default mapping, DS5319 Table 5):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -21,7 +22,13 @@ from codegen.control.sensing import PHASES, sense_design
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
 from codegen.port_faults import FAULTS, PERMANENT
-from codegen.spec_drive import ADC_PRESCALER, ADC_SAMPLE_CYCLES, INJECTED_CONVERSIONS
+from codegen.spec_drive import (
+    ADC_CLOCK_HZ,
+    ADC_PRESCALER,
+    ADC_SAMPLE_CYCLES,
+    INJECTED_CONVERSIONS,
+    injected_sequence_s,
+)
 from codegen.spec_model import Spec
 
 LOOP_HEADER = current_loop.HEADER
@@ -231,6 +238,16 @@ def current_watch(spec: Spec) -> CurrentWatch:
     )
 
 
+def _sequence_counts(spec: Spec) -> int:
+    """TIM1 counts from an injected trigger to JEOC, rounded up, with one ADC cycle
+    more (the datasheet's PCLK2 cycle of an external trigger) and, centre-aligned, the
+    two counts the trigger age takes the peak for the rising edge after it."""
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    counts = injected_sequence_s(Fraction(spec.sensing.adc_sample_cycles)) * clock
+    counts += clock / ADC_CLOCK_HZ + (2 if spec.inverter.pwm_alignment != "edge" else 0)
+    return math.ceil(counts)
+
+
 def _adc2_sequence(spec: Spec) -> str:
     channels = spec.sensing.current_channels
     return " | ".join(f"({ch}u << ADC_SQR3_SQ{k + 1}_Pos)" for k, ch in enumerate(channels))
@@ -259,6 +276,25 @@ def drive_context(spec: Spec) -> dict[str, object]:
                 else f"the current sample: OC4REF (PWM mode 2) rises at CNT = {window.trigger_counts},"
                 f" {window.span_counts} counts before the samples end, 1 before the next period"
             ),
+        ),
+        _define(
+            "BLDC_PORT_SEQUENCE_COUNTS",
+            f"{_sequence_counts(spec)}u",
+            "TIM1 counts from an injected trigger to JEOC, one ADC cycle (and for the"
+            " centre-aligned trigger one count after the peak, two counts) over",
+        ),
+        _define(
+            "BLDC_PORT_TRIGGER_AGE(cnt, cr1)",
+            (
+                "((((cr1) & TIM_CR1_DIR) != 0u) ? BLDC_PORT_TIM1_ARR - (cnt)"
+                " : BLDC_PORT_TIM1_ARR + (cnt))"
+                if centre
+                else "(((cnt) >= BLDC_PORT_TIM1_CCR4) ? (cnt) - BLDC_PORT_TIM1_CCR4"
+                " : (cnt) + BLDC_PORT_TIM1_ARR + 1u - BLDC_PORT_TIM1_CCR4)"
+            ),
+            "TIM1 counts since the last injected trigger, from CNT and CR1 read before a"
+            " COM event restarts the carrier: "
+            + ("the counter's peak (down-counting: ARR - CNT since)" if centre else "CNT = CCR4"),
         ),
         _define(
             "BLDC_PORT_OC4_MODE",

@@ -411,16 +411,21 @@ def sense_window(
     )
 
 
+def injected_sequence_s(adc_sample_cycles: Fraction) -> Fraction:
+    """Seconds from an injected trigger to JEOC: the latency and INJECTED_CONVERSIONS
+    conversions."""
+    sequence = INJECTED_LATENCY_CYCLES + INJECTED_CONVERSIONS * (
+        Fraction(adc_sample_cycles) + ADC_CONVERSION_CYCLES
+    )
+    return sequence / ADC_CLOCK_HZ
+
+
 def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -> Fraction:
     """Seconds a commutation's end leaves before the next Hall edge for one current
     sample (part of the end's guard, `codegen.dead_time.commutation_guard_ticks`): the
     end restarts the carrier, the loop's trigger comes within one PWM period whatever
-    the alignment, and the injected sequence (its latency and INJECTED_CONVERSIONS
-    conversions) ends before JEOC runs the loop."""
-    sequence = INJECTED_LATENCY_CYCLES + INJECTED_CONVERSIONS * (
-        Fraction(adc_sample_cycles) + ADC_CONVERSION_CYCLES
-    )
-    return 1 / Fraction(pwm_frequency_hz) + sequence / ADC_CLOCK_HZ
+    the alignment, and the injected sequence ends before JEOC runs the loop."""
+    return 1 / Fraction(pwm_frequency_hz) + injected_sequence_s(adc_sample_cycles)
 
 
 def bus_fault_detection_s(adc_sample_cycles: Fraction, current_samples: int) -> Fraction:

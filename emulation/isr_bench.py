@@ -199,6 +199,7 @@ class PortRig:
             _register("TIM3", r) for r in ("SR", "CCR1", "CCR2", "CNT")
         )
         self.tim1_ccr = tuple(_register("TIM1", f"CCR{n}") for n in (1, 2, 3))
+        self.tim1_cnt, self.tim1_ccr4 = _register("TIM1", "CNT"), _register("TIM1", "CCR4")
         self.cc1if, self.cc2if = _bit("TIM3", "SR", "CC1IF"), _bit("TIM3", "SR", "CC2IF")
         self.uif = _bit("TIM3", "SR", "UIF")
         self.ispr0 = _register("NVIC", "ISPR0")
@@ -333,6 +334,10 @@ class PortRig:
     def commutation_end(self) -> CallResult:
         self.sim.write_u32(self.tim3_sr, self.cc2if)
         self.sim.write_u32(self.tim1_egr, 0)
+        # the end mid-period, long after the last injected trigger (its sequence taken):
+        # the port holds the loop through a sequence a trigger younger than the sequence
+        # began (BLDC_PORT_TRIGGER_AGE), which a counter left at 0 would be
+        self.sim.write_u32(self.tim1_cnt, max(self.sim.read_u32(self.tim1_ccr4) - 1, 0))
         return self.sim.call(HALL_HANDLER)
 
     def mark_unwritten(self) -> None:

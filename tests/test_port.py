@@ -499,6 +499,9 @@ static void edge(unsigned code, unsigned status, unsigned captured, unsigned cnt
 static void end_of_commutation(void)
 {
     fake_tim1.EGR = 0u;
+    /* the end mid-period, long after the last injected trigger (whose sequence the loop
+     * took): no sequence in flight by the trigger's age (BLDC_PORT_TRIGGER_AGE) */
+    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 - 1u;
     fake_tim3.SR = TIM_SR_CC2IF;
     timing_runs = 0u;
     %(hall)s();
@@ -777,6 +780,25 @@ int main(int argc, char **argv)
     end_of_commutation();
     show("end2");
 
+    /* A commutation end 10 counts after an injected trigger whose JSTRT the current
+     * loop's SR write had cleared (it ran after that trigger, which the carrier's
+     * restart at the Hall edge brought within the sequence before): that sequence,
+     * still converting, is not I; the next one is. */
+    plan(100u, 900u, 700u, 300u);
+    edge(seq[4], TIM_SR_CC1IF, 5000u, 10u);
+    fake_tim1.EGR = 0u;
+    fake_adc1.SR = 0u;
+    fake_tim3.SR = TIM_SR_CC2IF;
+    timing_runs = 0u;
+    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 + 10u; /* the trigger 10 counts before the end */
+    %(hall)s();
+    settle();
+    show("wiped_end");
+    adc(BUS_OK, OFFSET + 77u, 0u, 0u);
+    show("wiped");
+    adc(BUS_OK, OFFSET + 78u, 0u, 0u);
+    show("after_wiped");
+
     /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
 #define STEADY()                                              \
     do {                                                      \
@@ -785,7 +807,7 @@ int main(int argc, char **argv)
         hall_index = (hall_index + 1u) %% 6u;                  \
         end_of_commutation();                                 \
     } while (0)
-    unsigned hall_index = 3u;
+    unsigned hall_index = 4u;
 
     adc(BUS_OVER, OFFSET, 1u, 0u);
     show("over_voltage");
@@ -1209,6 +1231,20 @@ def test_current_should_be_sampled_only_between_commutations(
     assert host_run["steady_open"]["tim1.ccr2"] == 1500
     assert host_run["duty"]["tim1.ccr2"] == 1700
     assert host_run["clamp"]["tim1.ccr2"] == 3600
+
+
+def test_a_sequence_still_converting_at_the_end_should_not_be_i_even_without_jstrt(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    """The loop's SR write clears JSTRT and JEOC together; when it runs after the next
+    trigger (the carrier's restart at the Hall edge brings that trigger within the
+    sequence before), the next sequence's JSTRT is gone, and an end read only JSTRT:
+    the PIL's 1-pole-pair improved_r motor at 80 kHz centre-aligned closed its loop on 6
+    such samples in 1542 commutations, gate edges in their windows. The end reads the
+    trigger's age from TIM1's counter too: 10 counts old, that sequence is not I."""
+    offset = _loop_run_paper().offset
+    assert host_run["wiped"]["port.current"] != offset + 77  # held: still converting
+    assert host_run["after_wiped"]["port.current"] == offset + 78
 
 
 def test_current_loop_should_set_the_steady_switch_from_each_sample(

@@ -251,7 +251,7 @@ static struct {
     bldc_timing_t *timing;          /* what the next Hall edge applies: one of port_slots (it only reads it) */
     uint32_t pending;               /* record of the commutation running until its CC2 end, or 0 */
     uint32_t steady;                /* record whose incoming switch runs at main duty, or 0 */
-    uint32_t stale;                 /* ADC_SR_JSTRT: the injected sequence in flight at the commutation end began before it, or 0 */
+    uint32_t stale;                 /* injected sequences begun before the commutation end and not yet taken (0..2) */
     volatile uint32_t *steady_compare; /* its compare register (CCRx), set with `steady` */
     uint16_t period;                /* last Hall interval in ticks, for the next timing (16 bits: the inlined core's cap to the counter's range folds away) */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
@@ -489,17 +489,25 @@ static void port_on_commutation_end(uintptr_t anchor)
     volatile uint32_t *const compare = port_compare(tim1, PORT_RECORD_ON_CHANNEL(record));
     *compare = port.main_duty;
     tim1->CCER = PORT_RECORD_CCER_AFTER(record); /* a subset of the pattern in force: safe */
+    const uint32_t counter = tim1->CNT; /* the carrier before the COM event restarts it */
+    const uint32_t age = BLDC_PORT_TRIGGER_AGE(counter, tim1->CR1); /* CR1 read if centre-aligned */
     tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
     /* What the current loop needs of this record, found once here, not every period. */
     port.steady_compare = compare;
     port.steady = record;
-    /* An injected sequence that began before now (JSTRT: set at its trigger, cleared
-     * with JEOC by the current loop, which runs at this priority) was sampled while
-     * both switches commutated, through the sense slot of the sector before: no single
-     * signal was I then, and the new slot's shunt may carry nothing (the turn-on switch
-     * at D_on up to the whole period: its lower diode off, the zero code). The loop
-     * holds I and the duty through that sequence too. */
-    port.stale = PORT_AT(anchor, ADC1, ADC_TypeDef)->SR & ADC_SR_JSTRT;
+    /* An injected sequence that began before now was sampled while both switches
+     * commutated, through the sense slot of the sector before: no single signal was I
+     * then, and the new slot's shunt may carry nothing (the turn-on switch at D_on up
+     * to the whole period: its lower diode off, the zero code). The loop holds I and
+     * the duty through each such sequence: one still converting (JSTRT, or a trigger
+     * younger than the sequence: the current loop's SR write clears a JSTRT the next
+     * trigger set when it runs after that trigger, which the carrier's restart at the
+     * Hall edge brings within the previous sequence's conversions), and one ended but
+     * not yet taken (JEOC, with the next one possibly begun: two). */
+    const uint32_t status = PORT_AT(anchor, ADC1, ADC_TypeDef)->SR;
+    const uint32_t converting = ((status & ADC_SR_JSTRT) != 0u) ||
+                                (age < BLDC_PORT_SEQUENCE_COUNTS);
+    port.stale = ((status & ADC_SR_JEOC) != 0u) ? 2u : (uint32_t)converting;
     port.pending = 0u;
     /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the
      * Hall timeout (port_on_wrap). */
@@ -870,7 +878,7 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
         } else if (port_at_a_rail(measured) != 0u) {
             port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* at a watched rail */
         } else if (port.stale != 0u) {
-            port.stale = 0u; /* begun before the commutation end: not I; hold I and the duty */
+            --port.stale; /* begun before the commutation end: not I; hold I and the duty */
         } else if (port.reference <= BLDC_PORT_ADC_CODE_MAX) {
             port_run_loop(measured, port.reference);
         } else {
