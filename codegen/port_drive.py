@@ -271,7 +271,8 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "BLDC_PORT_TIM1_CCR4",
             f"{window.trigger_counts}u",
             (
-                "the current sample: the counter's peak (OC4REF in PWM mode 1 rises one count after it)"
+                "the current sample: the counter's peak (OC4REF in PWM mode 1, CCR4 = ARR - 1:"
+                " inactive at ARR - 1 counting up and at ARR, rising one count after the peak)"
                 if centre
                 else f"the current sample: OC4REF (PWM mode 2) rises at CNT = {window.trigger_counts},"
                 f" {window.span_counts} counts before the samples end, 1 before the next period"

@@ -345,10 +345,12 @@ class SenseWindow:
     edge; D_max keeps `guard` counts between the turn-off edge and the trigger.
 
     Centre-aligned (the counter runs 0 -> P -> 0): OFF is centred on the peak, from D
-    counting up to D counting down. The trigger is the peak itself (OC4REF in PWM mode 1
-    with CCR4 = ARR, which rises one count after it); D_max keeps `guard` counts between
-    the turn-off edge and the peak and ends the samples one count before the turn-on
-    edge.
+    counting up to D counting down. The trigger is the peak itself: OC4REF in PWM mode 1
+    with CCR4 = ARR - 1 is inactive at CNT = ARR - 1 counting up and at ARR, and rises
+    one count after the peak, at ARR - 1 counting down (RM0008 14.4.7 OC1M: counting
+    down, inactive while CNT > CCRx; CCR4 = ARR would hold OC4REF at 1, no trigger at
+    all); D_max keeps `guard` counts between the turn-off edge and the peak and ends the
+    samples one count before the turn-on edge.
     """
 
     alignment: str
@@ -394,7 +396,7 @@ def sense_window(
         trigger_time = trigger
         duty_max = trigger - guard
     else:
-        trigger = p
+        trigger = p - 1
         trigger_time = p + 1
         duty_max = min(p - 1 - span - 1, trigger_time - guard)
     shifted = tuple((trigger_time + a, trigger_time + b) for a, b in windows)

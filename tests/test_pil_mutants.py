@@ -134,6 +134,19 @@ MUTANTS = (
         "inside the window as the chip may take it",
     ),
     Mutant(
+        # RM0008 14.4.7: counting down, OC4REF (PWM mode 1) is inactive only while
+        # CNT > CCR4, so CCR4 = ARR holds it at 1: no rising edge, no trigger, no sample
+        # (the timer model had raised it one count after the peak, and the port had
+        # CCR4 = ARR: on the chip its current loop never ran)
+        "centre-aligned current trigger at CCR4 = ARR: OC4REF held at 1, no sample at all",
+        HEADER,
+        "#define BLDC_PORT_TIM1_CCR4 ",
+        "#define BLDC_PORT_TIM1_CCR4 900u /* mutant: = ARR, 40 kHz centre-aligned */",
+        SHORT_RATED,
+        "under_voltage",
+        "no injected sequence ended",
+    ),
+    Mutant(
         "current sample time 13.5 ADC cycles, not the spec's 7.5",
         HEADER,
         "#define BLDC_PORT_ADC_SMPR2 ",

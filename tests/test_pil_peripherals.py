@@ -426,15 +426,16 @@ def test_tim1_trgo_should_fire_on_the_oc4ref_rising_edge() -> None:
 
 
 def test_tim1_centre_aligned_trgo_should_rise_one_count_after_the_peak() -> None:
-    """RM0008 14.3.10: centre-aligned PWM mode 1 is active while CNT < CCRx, so OC4REF
-    with CCR4 = ARR (the port's current-sample trigger) rises one count after the peak,
-    counting down (CNT = ARR - 1), not at the next compare match of another channel
-    (the model once raised it at CCR3's match, late by ARR - CCR3 counts)."""
+    """RM0008 14.4.7 OC1M, PWM mode 1: counting down, inactive while CNT > CCRx. So
+    OC4REF with CCR4 = ARR - 1 (the port's centre-aligned current-sample trigger) is
+    inactive at ARR - 1 counting up and at ARR, and rises one count after the peak, at
+    CNT = ARR - 1 counting down; not at the next compare match of another channel (the
+    model once raised it at CCR3's match, late by ARR - CCR3 counts)."""
     m = machine()
     tim1_pwm(m, cms=1)
     write(m.tim1, "CCMR2", (6 << 4) | (1 << 3) | (6 << 12) | (1 << 11))  # OC3, OC4: PWM 1
     write(m.tim1, "CCR3", 60)
-    write(m.tim1, "CCR4", 99)
+    write(m.tim1, "CCR4", 98)
     write(m.tim1, "CR2", 7 << 4)  # TRGO = OC4REF
     edges: list[tuple[int, bool]] = []  # (CNT, counting down) at each rising edge
     m.tim1.trgo_listeners.append(lambda t: edges.append((m.tim1.cnt(t), m.tim1.counting_down(t))))
@@ -443,9 +444,59 @@ def test_tim1_centre_aligned_trgo_should_rise_one_count_after_the_peak() -> None
     assert set(edges) == {(98, True)}
 
 
+def test_tim1_centre_aligned_ccr_at_arr_should_hold_ocxref_active() -> None:
+    """RM0008 14.3.10, Figure "Center-aligned PWM waveforms (ARR=8)": CCRx = ARR holds
+    OCxREF at 1 in PWM mode 1 (active while CNT < ARR counting up, and counting down
+    from CNT = ARR on), so an OC4REF trigger with CCR4 = ARR never rises."""
+    m = machine()
+    tim1_pwm(m, cms=1)
+    write(m.tim1, "CCMR2", (6 << 4) | (1 << 3) | (6 << 12) | (1 << 11))
+    write(m.tim1, "CCR4", 99)
+    write(m.tim1, "CR2", 7 << 4)
+    edges: list[int] = []
+    m.tim1.trgo_listeners.append(edges.append)
+    start = m.now
+    at(m, start + 110)  # CCR4 preloaded: in force from the overflow at 99
+    edges.clear()
+    at(m, start + 1000)
+    assert edges == []
+    assert all(m.tim1.ref_level(4, t) for t in range(start + 110, start + 1000))
+
+
+def test_tim1_centre_aligned_pwm_should_be_on_for_twice_ccr_counts() -> None:
+    """RM0008 14.4.7 OC1M, PWM mode 1: active while CNT < CCRx counting up (0..ARR-1),
+    and from CNT = CCRx on counting down (ARR..1): 2 CCRx counts of the 2 ARR, centred on
+    the underflow, so the duty is CCRx / ARR (CCRx = 0: never on)."""
+    for ccr in (0, 1, 37, 98, 99):
+        m = machine()
+        tim1_pwm(m, cms=1)
+        write(m.tim1, "CCR1", ccr)
+        start = m.now
+        at(m, start + 2 * 99)  # CCR1 preloaded: in force from the overflow
+        first = m.now - m.now % (2 * 99) + 2 * 99  # the next underflow's start of a period
+        on = [m.tim1.ref_level(1, t) for t in range(first, first + 2 * 99)]
+        assert sum(on) == 2 * ccr, ccr
+        if 0 < ccr < 99:  # on at both ends: up to CCRx - 1, and down from CCRx
+            assert on[ccr - 1] and not on[ccr] and on[2 * 99 - ccr] and not on[2 * 99 - ccr - 1]
+
+
+def test_tim1_centre_aligned_should_load_a_compare_at_the_overflow() -> None:
+    """RM0008 14.3.4 with RCR = 0: an UEV at the overflow as well as the underflow, so a
+    preloaded CCRx written in a period's first half acts in its second half."""
+    m = machine()
+    tim1_pwm(m, cms=1)
+    start = m.now
+    at(m, start + 2 * 99 + 10)  # a period started at 198; counting up
+    write(m.tim1, "CCR1", 40)
+    at(m, start + 2 * 99 + 98)
+    assert m.tim1.ccr[1] == 0
+    at(m, start + 2 * 99 + 100)  # past the overflow at 297
+    assert m.tim1.ccr[1] == 40
+
+
 def test_tim1_gate_log_should_hold_every_centre_aligned_edge() -> None:
     """The plant reads the gates from the log: at every tick it must equal the outputs
-    evaluated afresh, the turn-on counting down (CNT = CCRx - 1) included."""
+    evaluated afresh, the turn-on counting down (at CNT = CCRx) included."""
     m = machine()
     tim1_pwm(m, cms=1)
     write(m.tim1, "CCR3", 60)

@@ -235,7 +235,7 @@ class AdvancedTimer(Timer):
         return level, now - 2 * cycle * tpc
 
     def _ref_at_position(self, channel: int, pos: int) -> bool:
-        active = self.cnt_of_position(pos) < self.ccr[channel]
+        active = self.pwm_active(pos, self.ccr[channel])
         return active if self.oc_mode(channel) == 6 else not active
 
     def output(self, channel: int, complementary: bool, now: int | None = None) -> bool | None:
@@ -320,10 +320,8 @@ class AdvancedTimer(Timer):
                 for channel in (1, 2, 3):
                     value = ccr[channel]
                     positions.add(base + value)
-                    if centre:
+                    if centre:  # counting down, at the match too (CNT = CCRx)
                         positions.add(base + 2 * arr - value)
-                # counting down, a PWM-mode output turns active one count after its match
-                positions.update(self.down_count_edges(base, base + cycle))
                 for position in positions:
                     tick = anchor_time + (position - anchor_pos) * tpc
                     ticks.add(tick)

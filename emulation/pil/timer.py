@@ -16,8 +16,10 @@ Behaviours, with their RM0008 sections (TIM1 numbering, 14.x; TIM3's are 15.x):
 * 14.3.9 / 14.4.7 output compare: CCxIF is set when the counter matches CCRx (in
   centre-aligned mode on the way up for CMS = 10, down for CMS = 01, both for 11);
   CCRx is preloaded when CCMRx.OCxPE = 1 (loaded at the UEV), immediate otherwise.
-* 14.3.10 PWM mode 1 (OCxM = 110): OCxREF active while CNT < CCRx; PWM mode 2 (111):
-  the inverse; CCRx > ARR: always active (mode 1). Force inactive/active (100/101);
+* 14.3.10 / 14.4.7 OCxM, PWM mode 1 (110): OCxREF active while CNT < CCRx counting up,
+  inactive while CNT > CCRx counting down (active from CNT = CCRx on the way down:
+  centre-aligned, a pulse of 2 CCRx counts, centred on the underflow); PWM mode 2
+  (111): the inverse; CCRx > ARR: always active (mode 1). Force inactive/active (100/101);
   frozen (000) holds OCxREF. Active/inactive-on-match and toggle are not modelled.
 * 14.4.2 CR2.MMS: TRGO from the UEV (010) or OCxREF (100..111); its rising edges reach
   the listeners (`trgo_listeners`, the ADC's external trigger).
@@ -79,6 +81,10 @@ class Timer(Peripheral):
         #: called with the tick at which the counter starts a PWM period from 0: an
         #: overflow (edge-aligned), an underflow (centre-aligned), UG or a slave reset
         self.period_listeners: list[Callable[[int], None]] = []
+        #: called with the tick of a centre-aligned counter's overflow (at ARR), the
+        #: update event in the middle of its PWM period (RCR = 0, 14.3.4): preloaded
+        #: CCRx written in the first half take effect there
+        self.half_period_listeners: list[Callable[[int], None]] = []
         self.update_count = 0
         self._tpc: int | None = None  # ticks per count, cached until PSC or a clock changes
         self._next: int | None = None  # counter_event(), cached until the state changes
@@ -358,11 +364,20 @@ class Timer(Peripheral):
                         found.append((pos, channel))
         return sorted(set(found))
 
+    def pwm_active(self, pos: int, value: int) -> bool:
+        """PWM mode 1's OCxREF at counter position `pos` for CCRx = `value` (14.4.7
+        OC1M): counting up active while CNT < CCRx, counting down inactive while
+        CNT > CCRx, so active from CNT = CCRx on (the counter goes 0..ARR-1 up, ARR..1
+        down: a pulse of 2 CCRx counts, CCRx / ARR of the period; CCRx = 0 never)."""
+        cnt = self.cnt_of_position(pos)
+        if self.centre_aligned and pos % (2 * self.arr if self.arr else 1) >= self.arr:
+            return cnt <= value
+        return cnt < value
+
     def down_count_edges(self, start: int, end: int) -> list[int]:
         """Positions in (start, end] where a PWM-mode OCxREF of a centre-aligned counter
-        changes level one count after its compare match: counting down, CNT < CCRx
-        becomes true at CNT = CCRx - 1 (14.3.10, PWM mode 1 active while CNT < CCRx),
-        not at the match. (Counting up the level changes at the match itself.)"""
+        changes level counting down: at the compare match, CNT going from CCRx + 1 to
+        CCRx (14.4.7: inactive while CNT > CCRx), whichever matches set CCxIF (CMS)."""
         if not self.centre_aligned:
             return []
         cycle = 2 * self.arr
@@ -374,7 +389,7 @@ class Timer(Peripheral):
             if not 0 < value <= self.arr:
                 continue
             base = (start // cycle) * cycle
-            for pos in (base + 2 * self.arr - value + 1, base + cycle + 2 * self.arr - value + 1):
+            for pos in (base + 2 * self.arr - value, base + cycle + 2 * self.arr - value):
                 if start < pos <= end:
                     found.append(pos)
         return sorted(set(found))
@@ -428,6 +443,9 @@ class Timer(Peripheral):
                     self.reanchor(self.arr if at_top else 0)
                     if not at_top:
                         self._period_started()
+                    else:
+                        for listener in self.half_period_listeners:
+                            listener(at)
                     self.trgo_update_pulse()
                 self.refresh_refs()
                 self.update_lines()
@@ -444,7 +462,7 @@ class Timer(Peripheral):
         if mode == OC_FORCE_ACTIVE:
             return True
         if mode in (OC_PWM1, OC_PWM2):
-            active = self.cnt(now) < self.ccr[channel]
+            active = self.pwm_active(self.position(now), self.ccr[channel])
             return active if mode == OC_PWM1 else not active
         raise PilError(
             f"{self.svd_name} channel {channel}: OC{channel}M = {mode:03b} is not modelled"
