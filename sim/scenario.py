@@ -91,6 +91,11 @@ class Case:
     post_duties: tuple[float, ...] | None = None
     #: Centre-aligned PWM as TIM1 runs it in the port (`Schedule.on_at_boundaries`).
     tim1_centre: bool = False
+    #: `pre_duty` (a tuple) and `post_duties` give two duties a carrier period, its
+    #: first half's and its second's: centre-aligned TIM1 loads the preloaded compare
+    #: values at the overflow in the middle of a period as well (RCR = 0), so the
+    #: emulated drive's loop, writing in a first half, changes the second.
+    duty_halves: bool = False
     #: How long before t = 0 the rotor passed the edge's angle (`BackEmf.lead_s`): the
     #: emulated drive's Hall-lines-to-COM-event delay; 0 in the simulation's own studies.
     emf_lead_s: float = 0.0
@@ -148,10 +153,12 @@ def schedule_for(case: Case, command: Command | None, end: float) -> Schedule:
         else previous_edge(case.edge).modulated_on
     )
     if isinstance(case.pre_duty, tuple):
-        bounds = [case.start_time + k * period for k in range(len(case.pre_duty))] + [0.0]
+        step = 0.5 * period if case.duty_halves else period
+        bounds = [min(case.start_time + k * step, 0.0) for k in range(len(case.pre_duty))]
         segments = [
             Segment(lo, hi, _only({pre_switch: duty}))
-            for lo, hi, duty in zip(bounds[:-1], bounds[1:], case.pre_duty, strict=True)
+            for lo, hi, duty in zip(bounds, [*bounds[1:], 0.0], case.pre_duty, strict=True)
+            if hi > lo
         ]
     else:
         segments = [Segment(case.start_time, 0.0, _only({pre_switch: case.pre_edge_duty}))]
@@ -197,11 +204,12 @@ def _after_edge(case: Case, command: Command, period: float, end: float) -> list
     middle = max(0.5 * case.sector_time_s, main_from) if case.mid_sector_takeover else end
     if case.post_duties and main_from < min(middle, end):
         # the current loop's duties as the chip ran them, one per carrier period
+        step = 0.5 * period if case.duty_halves else period
         k = 0
-        while main_from + k * period < min(middle, end):
+        while main_from + k * step < min(middle, end):
             duty = case.post_duties[min(k, len(case.post_duties) - 1)]
-            hi = min(main_from + (k + 1) * period, middle, end)
-            out.append(Segment(main_from + k * period, hi, _only({on: duty})))
+            hi = min(main_from + (k + 1) * step, middle, end)
+            out.append(Segment(main_from + k * step, hi, _only({on: duty})))
             k += 1
     elif main_from < min(middle, end):
         out.append(Segment(main_from, min(middle, end), _only({on: command.main_duty})))

@@ -150,7 +150,8 @@ class Commutation:
     sampled_code: int  # the firmware's I at the edge: its latest sample, ADC code
     #: the phase currents PRE_EDGE_PERIODS whole PWM periods before the cut one
     start_currents: tuple[float, float, float]
-    #: the steady switch's duty in force in each of those periods and the cut one
+    #: the steady switch's duty in force in each of those periods and the cut one (in
+    #: each half of each, centre-aligned: `duty_halves`)
     pre_duties: tuple[float, ...]
     #: what the timing handler read at its last run before the edge (port state), and
     #: how many reads of it were seen (READS)
@@ -166,7 +167,13 @@ class Commutation:
     period_deviations_pct: tuple[float, ...]
     deviation_worst_pct: float
     #: the turn-on switch's duty in force in each PWM period from the commutation end
+    #: (in each half, centre-aligned)
     post_duties: tuple[float, ...] = ()
+    #: `pre_duties` and `post_duties` hold two duties a period, the up-count's and the
+    #: down-count's: centre-aligned TIM1 loads preloaded compare values at its overflow
+    #: as well as at its underflow (RCR = 0), so the loop's write in a period's first
+    #: half takes effect in its second
+    duty_halves: bool = False
     #: the rotor's speed at the end of the window (the SIL holds `speed_rpm` throughout)
     window_speed_rpm: float | None = None
     #: the window's length from time 0, s
@@ -769,10 +776,20 @@ class BrakingLoop:
         speed = next((p.speed_rpm for p in periods if p.end >= start), self.plant.speed_rpm)
         on_channel = (int(edge.modulated_on[1:]) - 1) // 2
         end_tick = end_com if end_com is not None else start
+        halves = self.machine.tim1.centre_aligned
+
+        def duties(p: PeriodRecord, channel: int) -> tuple[float, ...]:
+            """The channel's duty in force in the period: centre-aligned, in each half
+            (the overflow's update event loads what the loop wrote in the first)."""
+            if halves:
+                return (p.compares[channel] / counts, p.half_compares[channel] / counts)
+            return (p.compares[channel] / counts,)
+
         post = tuple(
-            p.compares[on_channel] / counts
+            d
             for p in periods
             if end_tick <= p.start < following and p.start <= window[-1].end
+            for d in duties(p, on_channel)
         )
         off_channel = (int(edge.modulated_off[1:]) - 1) // 2
         during = self.com_compares[first]
@@ -792,7 +809,8 @@ class BrakingLoop:
             sampled_code=self.sampled_codes[index],
             previous_sampled_code=self.sampled_codes[index - 1] if index > 0 else None,
             start_currents=before[origin].start_currents,
-            pre_duties=tuple(p.compares[steady_channel - 1] / counts for p in before[origin:]),
+            pre_duties=tuple(d for p in before[origin:] for d in duties(p, steady_channel - 1)),
+            duty_halves=bool(halves),
             firmware_inputs=runs[-1],
             applied=applied,
             main_duty_after=after / counts,
@@ -842,6 +860,7 @@ def with_sil(spec: Spec, commutations: list[Commutation]) -> list[Commutation]:
             pre_duty=c.pre_duties,
             start_currents=c.start_currents,
             post_duties=c.post_duties or None,
+            duty_halves=c.duty_halves,
             tim1_centre=True,
             # the rotor crossed into the sector when the Hall lines changed (hall_tick),
             # the handler's COM event (time 0) comes after it

@@ -96,6 +96,11 @@ class PeriodRecord:
     speed_rpm: float  # at its end
     start_currents: tuple[float, float, float]  # the phase currents at its start
     compares: tuple[int, int, int]  # TIM1 CCR1..CCR3 in force from its start
+    #: TIM1 CCR1..CCR3 in force from the counter's overflow on: centre-aligned, the
+    #: update event in the middle of the period loads what the current loop wrote in
+    #: its first half (RM0008 14.3.4, RCR = 0); `compares` where the period has no
+    #: overflow (edge-aligned, or cut short before it)
+    half_compares: tuple[int, int, int] = (0, 0, 0)
 
 
 class _Recorder:
@@ -207,7 +212,9 @@ class MotorPlant:
         self._period = _Recorder()
         self._period_currents: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self._period_compares: tuple[int, int, int] = (0, 0, 0)
+        self._half_compares: tuple[int, int, int] = (0, 0, 0)
         self.tim1.period_listeners.append(self._period_started)
+        self.tim1.half_period_listeners.append(self._half_period)
 
     # ------------------------------------------------------------------ state
     @property
@@ -415,9 +422,15 @@ class MotorPlant:
                     self.speed_rpm,
                     self._period_currents,
                     self._period_compares,
+                    self._half_compares,
                 )
             )
         self._period_start = tick
         self._period = _Recorder()
         self._period_currents = tuple(float(v) for v in self.currents)  # type: ignore[assignment]
         self._period_compares = tuple(self.tim1.ccr[1:4])  # type: ignore[assignment]
+        self._half_compares = self._period_compares
+
+    def _half_period(self, _tick: int) -> None:
+        """A centre-aligned counter's overflow: the compare values in force from it on."""
+        self._half_compares = tuple(self.tim1.ccr[1:4])  # type: ignore[assignment]
