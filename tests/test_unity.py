@@ -17,6 +17,7 @@ from codegen.unity_cases import UnityCase, unity_cases
 from codegen.unity_render import TEST_PREFIX, render_unity_tests
 from verify.unity_run import (
     UnityRun,
+    build_host,
     parse_unity_output,
     qemu_available,
     run_host,
@@ -301,3 +302,17 @@ def test_expected_times_should_round_half_a_tick_up_as_the_core_does() -> None:
             )
         )
         assert abs(out.commutation_ticks - case.commutation_ticks) <= case.commutation_tolerance
+
+
+def test_a_relative_build_folder_should_resolve_against_the_current_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The compilers run in the generated folder (its includes are relative), so a
+    relative `--build build/u` had been taken relative to it: gcc could not create
+    build/u/host/test_runner.o there (`bldc-codegen unity SPEC --build build/u`)."""
+    monkeypatch.chdir(tmp_path)
+    generated = ROOT / "generated" / "paper_motor"
+    exe = build_host(generated, Path("build") / "u", unity_framework({}))
+    assert exe.is_absolute() and exe.is_file()
+    assert exe.parent == tmp_path / "build" / "u"
+    assert not (generated / "build").exists()

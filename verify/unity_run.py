@@ -243,6 +243,8 @@ def parse_unity_output(text: str) -> UnityOutput:
 
 
 def _run_tool(command: Sequence[str | Path], cwd: Path) -> None:
+    """Run a compiler or linker in `cwd` (the generated folder, whose includes are
+    relative); the caller passes its output paths absolute (`_absolute`)."""
     done = subprocess.run(
         [str(part) for part in command], cwd=cwd, capture_output=True, text=True, check=False
     )
@@ -268,6 +270,7 @@ def _objects(
     sources: Sequence[str | Path],
 ) -> list[Path]:
     """Our code with -Werror; Unity too when it is the stand-in."""
+    build_dir = build_dir.absolute()  # the compiler runs in `generated`: not relative to it
     build_dir.mkdir(parents=True, exist_ok=True)
     include = (*INCLUDES, f"-I{unity.include_dir}")
     objects = []
@@ -285,7 +288,7 @@ def build_host(
 ) -> Path:
     """Native test program with AddressSanitizer and UBSan, every finding fatal."""
     objects = _objects(HOST_CC, HOST_FLAGS, generated, build_dir, unity, sources)
-    exe = build_dir / "test_bldc_commutation"
+    exe = build_dir.absolute() / "test_bldc_commutation"
     _run_tool([HOST_CC, *HOST_FLAGS, *objects, "-o", exe], generated)
     return exe
 
@@ -296,7 +299,7 @@ def build_qemu(
     """Cortex-M3 image for mps2-an385: our start-up and semihosting, no libc."""
     flags = (*TARGET_FLAGS, *TARGET_DEFINES, f"-I{QEMU_DIR}")
     objects = _objects(TARGET_CC, flags, generated, build_dir, unity, (*sources, *TARGET_SUPPORT))
-    elf = build_dir / "test_bldc_commutation.elf"
+    elf = build_dir.absolute() / "test_bldc_commutation.elf"
     link = (
         "-nostdlib",
         f"-T{LINKER_SCRIPT}",
