@@ -33,6 +33,36 @@ def _at_least(low: int, high: int | None = None, why: str = "") -> Callable[[str
     return parse
 
 
+#: The schemes of a Dask scheduler's address the CLI takes (distributed's registered
+#: backends that reach another process; inproc is within one)
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+SCHEDULER_ALLOWED = f"[{'|'.join(SCHEDULER_SCHEMES)}://]host:port, port 1-65535"
+
+
+def scheduler_address(text: str) -> str:
+    """argparse type: a Dask scheduler's address, checked before Dask is imported (a
+    malformed one was an internal error from distributed's parser, "not a url"; a port
+    of 99999 waited 30 s for a connection)."""
+    address = text.strip()
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    host, colon, port = rest.rpartition(":")
+    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host  # IPv6
+    problem = None
+    if scheme not in SCHEDULER_SCHEMES:
+        problem = f"unknown scheme {scheme!r}"
+    elif not colon or not host or "/" in host or any(c.isspace() for c in host):
+        problem = "no host:port"
+    elif not port.isdigit() or not 1 <= int(port) <= 65535:
+        problem = f"port {port!r} is not a port"
+    if problem is not None:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a scheduler address: {problem} (allowed: {SCHEDULER_ALLOWED})"
+        )
+    return address
+
+
 #: Upper bounds of the campaign's sizes: the results take samples x speeds x methods x
 #: 3 doubles (100 000 x 100 x 4 x 3 x 8 B = 960 MB at most).
 SAMPLES_MAX = 100_000
@@ -75,6 +105,7 @@ def add_campaign_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--scheduler",
         metavar="ADDRESS",
+        type=scheduler_address,
         help="an existing Dask scheduler (e.g. tcp://host:8786) instead of a local cluster",
     )
     parser.add_argument("--chunk", type=_at_least(1), default=25, help="samples per Dask task (25)")

@@ -371,6 +371,16 @@ def test_init_should_refuse_a_value_no_spec_can_hold_at_its_argument(
         (["verify", "SPEC", "--random", "-5"], "argument --random: -5 is out of range"),
         (["all", "SPEC", "--random", "-5"], "argument --random: -5 is out of range"),
         (["robustness", "SPEC", "--seed", "x"], "argument --seed: 'x' is not a whole number"),
+        # distributed's own parser had raised ValueError (an internal error), and a
+        # port of 99999 waited 30 s for a connection
+        (
+            ["robustness", "SPEC", "--scheduler", "not a url"],
+            "argument --scheduler: 'not a url' is not a scheduler address: no host:port"
+            " (allowed: [tcp|tls|ws|wss|ucx://]host:port, port 1-65535)",
+        ),
+        (["robustness", "SPEC", "--scheduler", "bogus://x:1"], "unknown scheme 'bogus'"),
+        (["robustness", "SPEC", "--scheduler", "tcp://h:99999"], "port '99999' is not a port"),
+        (["robustness", "SPEC", "--scheduler", ""], "'' is not a scheduler address"),
     ],
 )
 def test_a_numeric_option_out_of_range_should_be_one_usage_line(
