@@ -12,7 +12,11 @@ Its fixed point is the exact steady duty (1 - D) U_d = 2E - 2 R I (`Drive.steady
 up to one count, which the tests check; the duty the simulation hands the C core is
 the PI's settled integer output. Where even D = 1 cannot hold I (R I >= E, the
 winding's own resistance limits a short-circuit brake to E / R), the PI saturates at
-D = 1 and the current it settles at is E / R: `Settled.limited` says so.
+D = 1 and the current it settles at is E / R: `Settled.limited` says so. Where one count
+moves the held current by more than the loop's settling band (U_d / (2 R P): 8.7 A on a
+0.2 mohm winding at 5 V and 1440 counts), no count holds I; the loop alternates between
+the two counts around the steady duty, the winding's L/R smoothing the current, and its
+mean duty is the steady one (`Settled.dithering`).
 
 `held_current` answers the converse question: which braking current does a given
 main duty hold (the paper quotes a main duty, not a current, for Fig. 13).
@@ -36,15 +40,21 @@ MAX_PERIODS_SLOW = 200_000
 #: How close the period-mean current must be to the steady one of the applied duty for a
 #: saturated duty to count as settled (of the larger of the two currents).
 SATURATED_TOLERANCE = 0.005
+#: The settling band: the loop rests on a count whose held current is this close to I
+#: (of I); else it alternates between two counts (`Settled.dithering`)
+SETTLED_TOLERANCE = 0.005
 
 
 @dataclass(frozen=True)
 class Settled:
-    duty: float  # the PI's output, rounded to counts
+    duty: float  # the PI's output, rounded to counts (dithering: the mean, steady duty)
     counts: int
     current_a: float  # the period-mean current it settles at
     limited: bool  # D = 1 and the current below the request: R I >= E
     periods: int  # PWM periods until the duty stayed within one count for 50 periods
+    #: no count holds I within SETTLED_TOLERANCE: the loop alternates between the two
+    #: around the steady duty, whose mean `duty` is (`counts` the nearer), holding I
+    dithering: bool = False
 
 
 def held_current(drive: Drive, speed_rpm: float, duty: float) -> float:
@@ -88,13 +98,25 @@ def settle(drive: Drive, speed_rpm: float, current_a: float, period_counts: int)
         beyond = (counts == period_counts and target < current_a) or (
             counts == 0 and target > current_a
         )
-        settled_error = abs(error) < 0.005 * current_a or (steady and beyond)
+        settled_error = abs(error) < SETTLED_TOLERANCE * current_a or (steady and beyond)
         stable = stable + 1 if abs(counts - last) <= 1 and settled_error else 0
         last = counts
         if stable >= 50:
             break
     applied = counts / period_counts
     held = held_current(drive, speed_rpm, applied)
+    exact = drive.steady_duty(speed_rpm, current_a)
+    if 0.0 < exact < 1.0 and abs(held - current_a) > SETTLED_TOLERANCE * current_a:
+        # no count holds I (a 0.2 mohm winding: 8.7 A a count, and the loop had rested
+        # on a count that holds 0 A, which the deviation is a fraction of)
+        return Settled(
+            duty=exact,
+            counts=round(exact * period_counts),
+            current_a=current_a,
+            limited=False,
+            periods=periods,
+            dithering=True,
+        )
     return Settled(
         duty=applied,
         counts=counts,

@@ -68,6 +68,29 @@ def test_current_loop_should_settle_at_the_steady_duty_or_saturate(path: str) ->
         assert held_current(drive, float(speed), loop.duty) == pytest.approx(loop.current_a)
 
 
+def test_a_count_coarser_than_the_settling_band_should_hold_the_current_on_the_mean() -> None:
+    """0.2 mohm at 5 V and 1440 counts: a count moves the held current by 8.7 A, and at
+    2500 rpm the PI rested on the count that holds 0 A (`simulate` then divided by it).
+    The loop alternates between the two counts around the steady duty; the mean holds I."""
+    drive = Drive.from_spec(load_spec(ROOT / "tests/fixtures/odd/lv5v_200a_coarse_counts.yaml"))
+    counts = round(72e6 / drive.pwm_frequency_hz)
+    step = drive.bus_voltage_v / (2 * drive.resistance_ohm * counts)
+    assert step > 8.0
+    dithered = 0
+    for speed in (2500.0, *np.linspace(drive.speed_min_rpm, drive.speed_max_rpm * 0.98, 7)):
+        loop = settle(drive, float(speed), drive.braking_current_a, counts)
+        exact = drive.steady_duty(float(speed), drive.braking_current_a)
+        if loop.limited:
+            continue
+        assert loop.current_a > 0.0
+        assert abs(loop.counts - exact * counts) <= 0.5 + 1e-9
+        assert abs(loop.current_a - drive.braking_current_a) <= 0.005 * drive.braking_current_a
+        dithered += loop.dithering
+        if loop.dithering:
+            assert loop.duty == exact
+    assert dithered >= 1
+
+
 @pytest.mark.parametrize("path", SPECS)
 def test_sweep_should_span_the_specs_own_speed_range(path: str) -> None:
     drive = Drive.from_spec(load_spec(ROOT / path))
