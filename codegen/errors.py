@@ -19,7 +19,11 @@ _MAX_VALUE_CHARS = 60
 
 def show_value(value: object) -> str:
     """repr() of a value, on one line and at most _MAX_VALUE_CHARS characters."""
-    text = repr(value)
+    return clipped(repr(value))
+
+
+def clipped(text: str) -> str:
+    """A value's text cut to _MAX_VALUE_CHARS characters (a warning's YAML list too)."""
     if len(text) > _MAX_VALUE_CHARS:
         text = text[: _MAX_VALUE_CHARS - 3] + "..."
     return text

@@ -179,17 +179,21 @@ def _pwm_frequency(text: str) -> tuple[Fraction, str]:
 
 
 def _kv(text: str) -> Fraction:
-    """argparse type: a speed constant in rpm/V whose line-to-line constant 1/Kv is
-    within the loader's range of motor.back_emf_constant."""
+    """argparse type: a speed constant in rpm/V whose line-to-line constant 1/Kv, halved
+    to the phase k_e (init writes the 120 deg trapezoid), is within the loader's range
+    of motor.back_emf_constant (a phase constant; line to line it is twice that)."""
     try:
         value = Fraction(text)
     except (ValueError, ZeroDivisionError):
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if value <= 0:
         raise argparse.ArgumentTypeError(f"{text} must be positive")
-    why = out_of_range("motor.back_emf_constant", 1 / value)
+    why = out_of_range("motor.back_emf_constant", 1 / value / 2)
     if why is not None:
-        raise argparse.ArgumentTypeError(f"{text} rpm/V gives 1/Kv, line to line: {why}")
+        raise argparse.ArgumentTypeError(
+            f"{text} rpm/V gives 1/Kv = {float(1 / value):g} V/rpm line to line, halved to the"
+            f" phase value: {why}"
+        )
     return value
 
 
@@ -275,7 +279,7 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
     )
     emf.add_argument(
         "--ke-line-to-line",
-        type=_quantity(units.EMF_CONSTANT, "motor.back_emf_constant"),
+        type=_quantity(units.EMF_CONSTANT, "motor.back_emf_constant", per_phase=True),
         metavar="Q",
         help="line-to-line back-EMF constant (= 2 k_e)",
     )

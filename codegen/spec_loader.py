@@ -434,7 +434,21 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
     convention = r.attempt(
         lambda: r.choice(sec, "back_emf_convention", "motor", ("phase", "line_to_line"))
     )
-    k_e = r.attempt(lambda: r.quantity(sec, "back_emf_constant", "motor", units.EMF_CONSTANT, _EMF))
+    # the range is the phase k_e's; a line-to-line constant is lambda times it (the
+    # same motor was accepted as 0.75 V/rpm phase and refused as 1.5 line to line, and
+    # a table of nearly no line-to-line EMF turned 1 V/rpm into a phase k_e of 1e297)
+    emf_range = _EMF
+    if convention == "line_to_line":
+        ltl = float(spec_drive.line_to_line_peak(shape))
+        emf_range = _Range(
+            _EMF.low * ltl if _EMF.low is not None else None,
+            _EMF.high * ltl if _EMF.high is not None else None,
+            f"V/rpm line to line (the phase k_e in {_EMF.describe()}, x {ltl:.4g} for this"
+            " EMF shape)",
+        )
+    k_e = r.attempt(
+        lambda: r.quantity(sec, "back_emf_constant", "motor", units.EMF_CONSTANT, emf_range)
+    )
     values = (
         r.attempt(lambda: r.quantity(sec, "rated_voltage", "motor", units.VOLTAGE, _VOLTS)),
         r.attempt(

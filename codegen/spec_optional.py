@@ -23,8 +23,10 @@ import math
 import re
 from collections.abc import Callable, Mapping
 from fractions import Fraction
+from functools import lru_cache
 from typing import Any, Protocol, TypeVar
 
+from codegen import spec_drive
 from codegen.errors import SpecError
 from codegen.spec_model import BackEmfShape, Inverter, Tolerances
 
@@ -52,6 +54,14 @@ def _plain(value: object) -> bool:
         and isinstance(value, (int, float))
         and (not isinstance(value, float) or math.isfinite(value))
     )
+
+
+@lru_cache(maxsize=64)
+def _interned(shape: BackEmfShape) -> BackEmfShape:
+    """The first loaded table equal to `shape`: the caches keyed by a shape then meet
+    the same object again, not an equal one compared point by point (a spec loaded
+    twice: 666 comparisons of a 3001-point table, 7 s)."""
+    return shape
 
 
 def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
@@ -97,7 +107,21 @@ def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
         raise r.error(
             path, raw, "a rising zero crossing needs a positive half period", _TABLE_ALLOWED
         )
-    return BackEmfShape(tuple(points), None)
+    shape = _interned(BackEmfShape(tuple(points), None))
+    # a pure triplen shape (e(theta) = e(theta - 120)) has no line-to-line EMF at all:
+    # every command divided by its peak (ZeroDivisionError); and a pair whose mean over
+    # its conducting sector is not positive drives no braking current
+    if spec_drive.line_to_line_peak(shape) == 0 or spec_drive.conducting_line_mean(shape) <= 0:
+        raise r.error(
+            path,
+            raw,
+            "no line-to-line EMF to brake with: e_a - e_b (b 120 deg behind) is"
+            f" {float(spec_drive.line_to_line_peak(shape)):g} E at its peak and"
+            f" {float(2 * spec_drive.conducting_line_mean(shape)):g} E on the conducting"
+            " sector's mean",
+            f"{_TABLE_ALLOWED}, whose line-to-line EMF is positive on the conducting sector",
+        )
+    return shape
 
 
 def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances | None:

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from codegen.errors import SpecError
+from codegen.spec_drive import line_to_line_peak
 from codegen.spec_loader import load_spec
 from codegen.spec_model import BackEmfShape
 from sim.drive import Drive
@@ -116,6 +117,12 @@ def test_measured_table_should_be_interpolated(tmp_path: Path) -> None:
         ("[[0, 0], [90, 1], [80, 1], [180, 0]]", ("motor.back_emf_shape[2]", "not above")),
         ("[[0, 0.1], [90, 1], [180, 0]]", ("motor.back_emf_shape", "0 at 0 deg and 180 deg")),
         ("[[0, 0], [90, 3], [180, 0]]", ("motor.back_emf_shape[1]", "-2 <= e/E <= 2")),
+        # a pure triplen shape: e_a - e_b = 0 everywhere (every command had divided by its
+        # line-to-line peak: ZeroDivisionError)
+        (
+            "[[0, 0], [30, -1], [90, 1], [150, -1], [180, 0]]",
+            ("motor.back_emf_shape", "no line-to-line EMF to brake with", "0 E at its peak"),
+        ),
     ],
 )
 def test_bad_emf_shape_should_name_the_key_and_the_allowed_range(
@@ -256,3 +263,49 @@ def test_a_shape_off_the_papers_edge_emfs_should_be_warned_of_under_the_papers_m
     assert resistance_aware != text
     path.write_text(resistance_aware, encoding="utf-8")
     assert not [w for w in load_spec(path).warnings if w.id == "emf-shape-not-paper"]
+
+
+def test_a_long_measured_table_should_load_and_be_warned_of_in_one_short_line(
+    tmp_path: Path,
+) -> None:
+    """A 2001-point measured sine: the loader's and the drive's checks evaluate the
+    table at every breakpoint of the line-to-line EMF (bisection, the shape's hash kept:
+    a 3001-point table had taken `generate` 150 s), and the warning names the table by
+    its first points, not all of them (90 kB on one line)."""
+    import math
+
+    points = [
+        [round(180 * k / 2000, 4), round(math.sin(math.pi * k / 2000), 6)] for k in range(2001)
+    ]
+    points[-1][1] = 0
+    spec = load_spec(_with_shape(tmp_path, str(points)))
+    shape = spec.motor.back_emf_shape
+    assert len(shape.points) == 2001
+    assert float(line_to_line_peak(shape)) == pytest.approx(math.sqrt(3), rel=1e-5)
+    (warning,) = [w for w in spec.warnings if w.id == "emf-shape-not-paper"]
+    line = str(warning)
+    assert "motor.back_emf_shape = [[0.0, 0.0], [0.09, 0.001571], [0.18, " in line
+    assert len(line) < 1000
+
+
+@pytest.mark.parametrize(
+    ("value", "refused"), [("1.5 V/rpm", False), ("2 V/rpm", False), ("2.5 V/rpm", True)]
+)
+def test_a_line_to_line_constant_should_be_held_to_the_phase_range_times_its_factor(
+    tmp_path: Path, value: str, refused: bool
+) -> None:
+    """The range [1e-5, 1] V/rpm is the phase k_e's; line to line (2 k_e for the 120 deg
+    trapezoid) it is twice that: the same motor had loaded as 0.75 V/rpm phase and been
+    refused as 1.5 V/rpm line to line."""
+    text = TEXT.replace(CONVENTION, "  back_emf_convention: line_to_line\n")
+    path = tmp_path / "ltl.yaml"
+    path.write_text(text.replace("back_emf_constant: 2.36 V/krpm", f"back_emf_constant: {value}"))
+    assert path.read_text() != TEXT
+    with pytest.raises(SpecError) as error:  # the paper motor's top speed is far too high
+        load_spec(path)
+    lines = [line for line in str(error.value).splitlines() if "motor.back_emf_constant" in line]
+    if not refused:
+        assert lines == []
+        return
+    assert len(lines) == 1
+    assert "(allowed: [2e-05, 2] V/rpm line to line (the phase k_e in [1e-05, 1] V/rpm" in lines[0]
