@@ -356,6 +356,16 @@ class _Builder:
                 f"a value of {len(text)} characters (at most {self.limits.max_scalar_chars})",
             )
         tag = node.tag
+        bad = _NOT_PRINTABLE.search(text)
+        if bad is not None:
+            # an escape in a quoted string ("\ud800", "\x07", "\0") writes what the
+            # document's text may not hold: a lone surrogate passed the loader and failed
+            # every writer (UnicodeEncodeError), a NUL reached DERIVATION.md
+            return Unreadable(
+                text[:80],
+                f"text with U+{ord(bad.group()):04X}, a character YAML's printable set"
+                " leaves out (a control character or a lone surrogate, from an escape)",
+            )
         if tag == _STR:
             return text
         if tag == _PLAIN:

@@ -144,3 +144,27 @@ def test_limits_are_configurable_and_lines_are_recorded() -> None:
     data, lines = read_yaml(b"a:\n  b: 1\n  c: [1, 2]\n'': 3\n")
     assert data == {"a": {"b": 1, "c": [1, 2]}, "": 3}
     assert lines == {"a": 2, "a.b": 2, "a.c": 3, "a.c[0]": 3, "a.c[1]": 3, "['']": 4}
+
+
+@pytest.mark.parametrize(
+    ("text", "shown", "code"),
+    [
+        ('"bad \\ud800 x"', "bad \ud800 x", "U+D800"),
+        ('"a \\x07 b"', "a \x07 b", "U+0007"),
+        ('"nul \\0"', "nul \x00", "U+0000"),
+        ("'\u0085 is fine'", None, None),
+        ('"tab\\there"', None, None),
+    ],
+)
+def test_an_escape_for_a_character_yaml_text_may_not_hold_should_be_unreadable(
+    text: str, shown: str | None, code: str | None
+) -> None:
+    """Escapes in a double-quoted string are valid YAML, but write characters the
+    document's own text may not hold: a lone surrogate passed the loader and failed
+    every writer (UnicodeEncodeError), a NUL reached DERIVATION.md."""
+    got = value(text)
+    if shown is None:
+        assert isinstance(got, str)
+        return
+    assert isinstance(got, Unreadable) and got.text == shown
+    assert got.problem.startswith(f"text with {code}, a character YAML's printable set")
