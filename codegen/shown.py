@@ -20,3 +20,10 @@ def on_one_line(text: str) -> str:
     """`text` as it is when every character prints, else quoted with Python's escapes
     (a path with a line break or an escape sequence in it, in a one-line message)."""
     return text if text.isprintable() else repr(text)
+
+
+def said(path: str | Path) -> str:
+    """`shown(path)` for a message line: quoted with Python's escapes where it holds a
+    line break or another character that does not print (`bldc-codegen init -o
+    $'new\\nline.yaml'` had split "init: wrote ..." over two lines)."""
+    return on_one_line(shown(path))

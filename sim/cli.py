@@ -17,7 +17,7 @@ from codegen.errors import DerivationError, ExitCode, SpecError
 from codegen.publish import os_error_line, require_folder_path
 from codegen.render import write_atomically
 from codegen.report_folder import refuse_strangers, staged_report
-from codegen.shown import shown
+from codegen.shown import said
 from codegen.spec_loader import load_spec
 
 EXIT_SPEC = 2
@@ -49,7 +49,7 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool, quick: boo
     results.seconds["figures and report"] = time.perf_counter() - figure_start
     total = time.perf_counter() - start
     timing = ", ".join(f"{k} {v:.1f} s" for k, v in results.seconds.items() if k != "total")
-    print(f"sim: {len(names)} figures + {REPORT_NAME} -> {shown(out)} [{total:.1f} s: {timing}]")
+    print(f"sim: {len(names)} figures + {REPORT_NAME} -> {said(out)} [{total:.1f} s: {timing}]")
     for point in results.operating:
         cells = []
         for (method, model, policy), metrics in sorted(point.metrics.items()):

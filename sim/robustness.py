@@ -39,7 +39,7 @@ import numpy as np
 from codegen.errors import ExitCode, SpecError
 from codegen.publish import os_error_line, require_folder_path
 from codegen.report_folder import refuse_strangers, staged_report
-from codegen.shown import shown
+from codegen.shown import said
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec, Tolerances
 from sim.drive import Drive
@@ -351,7 +351,7 @@ def run(args: argparse.Namespace) -> int:
     print(
         f"robustness: {runs} runs ({args.samples} samples x {len(campaign.speeds_rpm)} speeds x"
         f" {len(result.campaign.methods)} methods, {args.plant} plant) on {result.workers} workers in"
-        f" {result.seconds:.1f} s -> {shown(out)}: {', '.join(names)}"
+        f" {result.seconds:.1f} s -> {said(out)}: {', '.join(names)}"
     )
     return 0
 

@@ -924,3 +924,21 @@ def test_init_should_write_a_duty_target_the_rule_meets_when_its_bound_is_printe
     assert cli.main(argv) == 0, capsys.readouterr().err
     said = capsys.readouterr()
     assert "init: note: accuracy.duty_counts = 3.24 counts: " in said.out + said.err, said
+
+
+def test_a_path_with_a_line_break_should_stay_on_one_line_in_every_message(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """init's and generate's lines printed the path raw: `init -o $'new\\nline.yaml'`
+    split "init: wrote ..." over two lines; now it is quoted with its escapes."""
+    monkeypatch.chdir(tmp_path)
+    spec = "new\nline.yaml"
+    assert cli.main(["init", "m1", "-o", spec]) == 0
+    assert cli.main(["generate", spec, "-o", "o\nut"]) == 0
+    said = capsys.readouterr()
+    lines = (said.out + said.err).splitlines()
+    assert "init: wrote 'new\\nline.yaml'" in lines
+    assert any(line.startswith("generate: 21 files -> 'o\\nut' [") for line in lines), lines
+    assert cli.main(["init", "m1", "-o", spec]) == ExitCode.USAGE
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["error: 'new\\nline.yaml' exists; choose another -o FILE or pass --force"]

@@ -20,7 +20,7 @@ from codegen.argtypes import path_text
 from codegen.errors import ExitCode, SpecError
 from codegen.publish import check_target
 from codegen.render import PROJECT_ROOT, write_atomically
-from codegen.shown import shown
+from codegen.shown import said, shown
 
 
 def _init(args: argparse.Namespace) -> int:
@@ -32,13 +32,13 @@ def _init(args: argparse.Namespace) -> int:
         # replaced (the atomic rename would put a spec in place of /dev/null as root)
         kind = "a folder" if path.is_dir() else "not a regular file"
         print(
-            f"error: {shown(path)} is {kind}: -o takes the spec FILE to write",
+            f"error: {said(path)} is {kind}: -o takes the spec FILE to write",
             file=sys.stderr,
         )
         return int(ExitCode.ENVIRONMENT)
     if path.exists() and not args.force:
         print(
-            f"error: {shown(path)} exists; choose another -o FILE or pass --force",
+            f"error: {said(path)} exists; choose another -o FILE or pass --force",
             file=sys.stderr,
         )
         return int(ExitCode.USAGE)
@@ -47,7 +47,7 @@ def _init(args: argparse.Namespace) -> int:
     if args.json:
         emit_json({"spec": shown(written.path), "valid": written.error is None})
     else:
-        print(f"init: wrote {shown(written.path)}")
+        print(f"init: wrote {said(written.path)}")
     for note in written.notes:
         print(f"init: note: {note}", file=sys.stderr)
     if written.error is not None:
@@ -56,12 +56,12 @@ def _init(args: argparse.Namespace) -> int:
         state = "does not load yet" if isinstance(written.error, SpecError) else "loads, but"
         if not isinstance(written.error, SpecError):
             state += " its fixed-point design does not fit"
-        print(f"init: {shown(written.path)} {state}: edit the values above", file=sys.stderr)
+        print(f"init: {said(written.path)} {state}: edit the values above", file=sys.stderr)
         return int(ExitCode.SPEC)
     for warning in written.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     print(
-        f"init: next: edit it, then `bldc-codegen generate {shown(written.path)}`",
+        f"init: next: edit it, then `bldc-codegen generate {said(written.path)}`",
         file=sys.stderr,
     )
     return 0
@@ -222,10 +222,10 @@ def _audit(args: argparse.Namespace) -> int:
     )
     print(
         f"audit: {c.findings} findings ({c.errors} errors, {c.inconsistencies} inconsistencies,"
-        f" {c.minor} minor) -> {shown(paper_dir / 'AUDIT.md')}, AUDIT.html [{elapsed:.2f} s]"
+        f" {c.minor} minor) -> {said(paper_dir / 'AUDIT.md')}, AUDIT.html [{elapsed:.2f} s]"
     )
     if motor_out is not None and spec is not None:
-        print(f"audit: the derivation at {spec.name} -> {shown(motor_out)}")
+        print(f"audit: the derivation at {spec.name} -> {said(motor_out)}")
     return 0
 
 
@@ -272,7 +272,7 @@ def _generate(args: argparse.Namespace) -> int:
         "seconds": round(seconds, 3),
     }
     lines = [
-        f"generate: {len(result.files)} files -> {shown(target)} [{seconds:.2f} s]",
+        f"generate: {len(result.files)} files -> {said(target)} [{seconds:.2f} s]",
         f"generate: {design.summary}",
     ]
     summary["formats"] = design.formats

@@ -19,7 +19,7 @@ from codegen.errors import ExitCode, SpecError
 from codegen.publish import PublishError, os_error_line, require_folder_path
 from codegen.render import write_atomically
 from codegen.report_folder import refuse_strangers, staged_report
-from codegen.shown import shown
+from codegen.shown import said
 from codegen.spec_loader import load_spec
 from emulation import progress
 from emulation.pil import braking_report
@@ -250,7 +250,7 @@ def main(argv: list[str] | None = None) -> int:
             summary_line(
                 spec.name, len(outcomes) - len(bad), len(outcomes), result, braking_problems
             )
-            + f" -> {shown(target)}"
+            + f" -> {said(target)}"
         )
         for o in outcomes:
             print(
