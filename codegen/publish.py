@@ -208,11 +208,22 @@ def _owned(tree: Path) -> _Owned | None:
     # Manifests written before "generator" existed have spec_sha256 and files.
     if data.get("generator") != GENERATOR and "spec_sha256" not in data:
         return None
-    files = {str(name) for name in data["files"]}
+    # only names inside the tree: a manifest listing "../x" or "/tmp/x" (edited, or
+    # not ours) had its generate delete those files outside the output folder
+    files = {str(name) for name in data["files"] if _inside(str(name))}
     folders = {"/".join(n.split("/")[:i]) for n in files for i in range(1, n.count("/") + 1)}
-    folders |= {str(f) for f in data.get("folders", []) if isinstance(f, str)}
-    hashes = {str(k): str(v) for k, v in data["files"].items()}
+    folders |= {f for f in data.get("folders", []) if isinstance(f, str) and _inside(f)}
+    hashes = {str(k): str(v) for k, v in data["files"].items() if str(k) in files}
     return _Owned(frozenset(files | {MANIFEST}), frozenset(folders), hashes)
+
+
+def _inside(name: str) -> bool:
+    """Whether a manifest's entry names a place inside its tree: a relative POSIX path
+    of plain components (no "..", ".", empty part, backslash or NUL)."""
+    parts = name.split("/")
+    return bool(name) and all(
+        part not in ("", ".", "..") and "\\" not in part and "\0" not in part for part in parts
+    )
 
 
 def _complete(tree: Path) -> bool:
@@ -453,7 +464,9 @@ def _carry_over(old: Path, new: Path, result: PublishResult) -> bool:
     with contextlib.suppress(OSError):  # what cannot go stays, and `old` with it
         for name in sorted(owned.files - {MANIFEST}):
             path = old / name
-            if path.is_symlink() or path.is_file():
+            # not through a link: a linked sub-folder leads out of the tree
+            through_link = any((old / parent).is_symlink() for parent in Path(name).parents)
+            if not through_link and (path.is_symlink() or path.is_file()):
                 _unlink(path)
         for folder in sorted(merged, key=lambda path: -len(path.parts)):
             if folder.is_dir() and not any(folder.iterdir()):

@@ -42,12 +42,19 @@ def owned_names(out: Path, report: str, marker: str) -> frozenset[str] | None:
     tool's (a report folder from before the ledger, its report carrying `marker`)."""
     ledger = out / LEDGER
     if ledger.is_file():
-        return frozenset(n for n in ledger.read_text(encoding="utf-8").splitlines() if n)
+        # plain names only (a report folder is flat): a ledger line "/tmp/x" or "../x"
+        # had the next run delete that file outside the folder
+        names = ledger.read_text(encoding="utf-8", errors="replace").splitlines()
+        return frozenset(n for n in names if n not in ("", ".", "..") and _plain_name(n))
     try:
         head = (out / report).read_text(encoding="utf-8", errors="replace")[:2000]
     except OSError:
         return frozenset()
     return None if marker in head else frozenset()
+
+
+def _plain_name(name: str) -> bool:
+    return not any(c in name for c in "/\\\0")
 
 
 def strangers(out: Path, names: list[str], report: str, marker: str) -> list[Path]:

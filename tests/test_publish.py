@@ -313,3 +313,31 @@ def test_an_os_error_without_a_file_is_one_plain_line() -> None:
     assert line == "error: Timed out trying to connect to tcp://127.0.0.1:1 after 30 s"
     named = os_error_line(PermissionError(13, "Permission denied", "/x/y"))
     assert named == "error: /x/y: Permission denied"
+
+
+def test_a_manifest_naming_files_outside_its_tree_should_delete_none_of_them(
+    tmp_path: Path,
+) -> None:
+    """A manifest is the list of what bldc-codegen wrote; one edited (or not ours) to
+    name "../victim", an absolute path, or a file behind a linked sub-folder had the next
+    publish delete those files outside the output folder."""
+    target = tmp_path / "out" / "motor"
+    publish(OLD, target)
+    victims = [tmp_path / "out" / "victim.txt", tmp_path / "abs_victim.txt"]
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    victims.append(outside / "linked.txt")
+    for victim in victims:
+        victim.write_text("user data")
+    (target / "link").symlink_to(outside)
+    manifest = json.loads((target / MANIFEST).read_text())
+    manifest["files"]["../victim.txt"] = "0" * 64
+    manifest["files"][str(victims[1])] = "0" * 64
+    manifest["files"]["link/linked.txt"] = "0" * 64
+    manifest["folders"] = ["..", "/tmp"]
+    (target / MANIFEST).write_text(json.dumps(manifest))
+    publish(NEW, target)
+    assert all(victim.read_text() == "user data" for victim in victims)
+    assert (target / "link").is_symlink()  # a foreign entry: carried over
+    content = read_tree(target)
+    assert {name: content[name] for name in NEW} == NEW

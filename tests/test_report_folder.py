@@ -168,3 +168,21 @@ def test_a_staging_folder_of_a_process_gone_should_be_removed(tmp_path: Path) ->
     with staged_report(out, REPORT, MARKER) as staging:
         _write(staging, REPORT)
     assert not abandoned.exists() and alive.is_dir()
+
+
+def test_a_ledger_naming_files_outside_the_folder_should_delete_none_of_them(
+    tmp_path: Path,
+) -> None:
+    """A ledger line "/abs/victim" or "../victim" had the next report delete that file
+    outside the report folder: a report folder is flat, its ledger holds plain names."""
+    out = tmp_path / "out"
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT)
+    victims = [tmp_path / "victim.txt", tmp_path / "abs_victim.txt"]
+    for victim in victims:
+        victim.write_text("user data")
+    (out / LEDGER).write_text(f"{REPORT}\n../victim.txt\n{victims[1]}\n..\n")
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT)
+    assert all(victim.read_text() == "user data" for victim in victims)
+    assert (out / LEDGER).read_text().splitlines() == [REPORT]
