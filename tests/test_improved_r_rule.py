@@ -115,6 +115,23 @@ def test_an_emf_with_a_corner_in_the_sector_should_name_the_shape_key() -> None:
     assert "'flat' or '120 deg'" in str(error.value)
 
 
+def test_an_emf_table_whose_flat_top_is_not_at_one_should_name_the_shape_key() -> None:
+    """The 120 deg trapezoid scaled to 0.7: affine over the sector, but X sigma_0 / 4
+    is no whole number of quarters; it reached the integer design and failed there with
+    a ValueError (an internal error in generate, simulate, robustness and bench)."""
+    scaled = BackEmfShape(
+        tuple((a, v * Fraction(7, 10)) for a, v in BackEmfShape().points), flat_top_deg=None
+    )
+    with pytest.raises(ShapeError, match=r"\(\+0\.7, -0\.7, -0\.7\) E at the edge"):
+        affine_terms(scaled, derive().switching)
+    spec = _improved_r(load_spec(ROOT / "spec" / "paper_motor.yaml"), scaled)
+    build_core.cache_clear()
+    with pytest.raises(FixedPointError) as error:
+        build_core(spec)
+    assert error.value.key == "motor.back_emf_shape"
+    assert "scale motor.back_emf_constant instead of the table" in str(error.value)
+
+
 def test_decay_table_should_be_powers_of_the_step_decay(design: RuleDesign) -> None:
     rule = design.rule
     y1 = float(rule.constants.step_decay)
