@@ -161,7 +161,13 @@ def _report(exc: BaseException, args: argparse.Namespace) -> int:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    try:
+        # the parser imports every command: an interrupt there (Ctrl-C at once) had
+        # printed a 50-line traceback
+        args = build_parser().parse_args(argv)
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
     try:
         return int(args.func(args))
     except KeyboardInterrupt:

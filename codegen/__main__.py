@@ -1,5 +1,5 @@
 """Allow `python -m codegen ...`."""
 
-from bldc.cli import main
+from bldc.entry import main
 
 raise SystemExit(main())

@@ -278,3 +278,34 @@ def test_a_file_given_as_the_generated_folder_should_be_named_not_offered_as_an_
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "is a file, not a generated folder" in err[0], err
     assert " -o " not in err[0] and note.read_text() == "mine\n"
+
+
+def test_an_interrupt_while_the_command_line_loads_should_say_interrupted_in_one_line(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Ctrl-C in the first 0.2 s (Jinja2, SymPy loading; the parser importing every
+    command) had printed a 20-50 line traceback; now the one line a running command's
+    interrupt prints, status 130."""
+    import builtins
+
+    import bldc.cli
+    import bldc.entry
+
+    real = builtins.__import__
+
+    def interrupted(name: str, *args: object, **kwargs: object) -> object:
+        if name == "bldc.cli":
+            raise KeyboardInterrupt
+        return real(name, *args, **kwargs)  # type: ignore[arg-type]
+
+    with monkeypatch.context() as patch:
+        patch.setattr(builtins, "__import__", interrupted)
+        assert bldc.entry.main(["--help"]) == 130
+    assert capsys.readouterr().err == "interrupted\n"
+
+    def parser() -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(bldc.cli, "build_parser", parser)
+    assert bldc.cli.main(["derive", "x.yaml"]) == 130
+    assert capsys.readouterr().err == "interrupted\n"
