@@ -191,8 +191,7 @@ def _kv(text: str) -> Fraction:
     why = out_of_range("motor.back_emf_constant", 1 / value / 2)
     if why is not None:
         raise argparse.ArgumentTypeError(
-            f"{text} rpm/V gives 1/Kv = {float(1 / value):g} V/rpm line to line, halved to the"
-            f" phase value: {why}"
+            f"{text} rpm/V gives 1/Kv, line to line, halved to the phase value: {why}"
         )
     return value
 

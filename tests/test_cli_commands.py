@@ -319,8 +319,9 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
 @pytest.mark.parametrize(
     ("option", "value", "line"),
     [
-        ("--kv", "1e400", "motor.back_emf_constant = 1e-400 V/rpm is out of range"),
-        ("--kv", "1e-400", "motor.back_emf_constant = 1e+400 V/rpm is out of range"),
+        # 1/Kv is line to line: the phase k_e, half of it, is held to the range
+        ("--kv", "1e400", "motor.back_emf_constant = 5e-401 V/rpm is out of range"),
+        ("--kv", "1e-400", "motor.back_emf_constant = 5e+399 V/rpm is out of range"),
         ("--resistance", "1e400 ohm", "motor.phase_resistance = 1e+400 ohm is out of range"),
         (
             "--resistance-line-to-line",
