@@ -26,24 +26,32 @@ TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 TEMPLATE = "ROBUSTNESS.md.j2"
 FIGURE = "robustness.png"
 BAND_PCT = 3.0
+#: the driver where no parameter's rank correlation differs from 0 (nothing varies)
+NO_DRIVER = "none"
 LABELS = {
     "phase_resistance": "R",
     "phase_inductance": "L",
     "back_emf_constant": "k_e",
     "bus_voltage": "U_d",
     CARRIER_PHASE: "carrier phase",
+    NO_DRIVER: "none",
 }
 
 
 def _ranks(values: np.ndarray) -> np.ndarray:
+    """Ranks from 0, tied values sharing their mean rank (a parameter whose tolerance is
+    [0, 0] is one value: ranked by index, its ties had correlated +1 with a deviation
+    that did not vary either, and named it the driver)."""
     order = np.argsort(values, kind="stable")
     ranks = np.empty(len(values))
     ranks[order] = np.arange(len(values))
-    return ranks
+    _, inverse, counts = np.unique(values, return_inverse=True, return_counts=True)
+    sums = np.bincount(inverse, weights=ranks)
+    return (sums / counts)[inverse]
 
 
 def spearman(x: np.ndarray, y: np.ndarray) -> float:
-    """Rank correlation (no tie correction: the samples are continuous)."""
+    """Rank correlation, ties at their mean rank; 0 where either does not vary."""
     rx, ry = _ranks(x), _ranks(y)
     if np.std(ry) == 0.0 or np.std(rx) == 0.0:
         return 0.0
@@ -64,6 +72,8 @@ def statistics(result: CampaignResult) -> list[dict[str, object]]:
                 for p, name in enumerate(campaign.parameters)
             }
             driver = max(correlations, key=lambda n: abs(correlations[n]))
+            if correlations[driver] == 0.0:
+                driver = NO_DRIVER
             rows.append(
                 {
                     "method": method,

@@ -66,3 +66,18 @@ def test_robustness_should_refuse_bad_arguments_with_one_line(
         main([str(SPEC), "--samples", "1"])
     assert caught.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1].endswith("argument --samples: 1: at least 2")
+
+
+def test_a_parameter_that_does_not_vary_should_correlate_with_nothing() -> None:
+    """Tolerances of [0, 0]: every sample the same value. Ranked by index, its ties had
+    correlated +1.00 with a deviation that did not vary either, and every method's
+    driver was R; ties now share their mean rank, and no driver is named."""
+    from sim.robustness_report import _ranks, spearman
+
+    constant = np.full(8, 0.5)
+    assert spearman(constant, np.full(8, -12.0)) == 0.0
+    assert spearman(constant, np.arange(8.0)) == 0.0
+    assert list(_ranks(np.array([3.0, 1.0, 3.0, 2.0]))) == [2.5, 0.0, 2.5, 1.0]
+    x = np.array([0.1, 0.4, 0.2, 0.3])
+    assert spearman(x, 2 * x) == pytest.approx(1.0)
+    assert spearman(x, -x) == pytest.approx(-1.0)
