@@ -94,11 +94,41 @@ class Dimension:
         if ascii_unit != unit and ascii_unit in spellings:
             return ascii_unit
         unit = ascii_unit
+        # a prefix the spec does not take (`kohm`, `Mohm`, `nH`, `MV`) names a scale: a
+        # spelling of another scale is no typo of it (`kohm` was answered 'ohm', a
+        # factor of 1000; `MV` 'mV', of 1e9)
+        meant = self._prefixed_scales(unit)
+        if meant:
+            spellings = [k for k in spellings if self.scale(k) in meant]
         same_letters = [known for known in spellings if known.lower() == unit.lower()]
         if len(same_letters) == 1:
             return same_letters[0]
         close = difflib.get_close_matches(unit, spellings, n=1, cutoff=0.6)
         return close[0] if close else None
+
+    def _prefixed_scales(self, unit: str) -> set[Fraction]:
+        """The scales `unit` reads as, an SI prefix (case as written) on a spelling of
+        scale 1 (its letters in any case); empty where it reads as none."""
+        bases = [known for known, factor in self.scales if Fraction(factor) == 1]
+        return {
+            Fraction(factor)
+            for prefix, factor in _SI_PREFIXES.items()
+            for base in bases
+            if unit.startswith(prefix) and unit[len(prefix) :].lower() == base.lower()
+        }
+
+
+#: SI prefixes as a unit is written with them (micro as `u`), and their factors
+_SI_PREFIXES = {
+    "": "1",
+    "p": "1e-12",
+    "n": "1e-9",
+    "u": "1e-6",
+    "m": "1e-3",
+    "k": "1e3",
+    "M": "1e6",
+    "G": "1e9",
+}
 
 
 #: Unicode spellings of unit symbols and their ASCII ones in the spec's units (a

@@ -942,3 +942,30 @@ def test_a_conventional_drive_whose_commutations_fill_the_sectors_should_be_warn
     below = load_spec(odd / "rev_hall_centre_shunts_sc.yaml")
     assert below.controller.method == "conventional" and below.warnings == ()
     assert load_spec(DEFAULT_SPEC).warnings == ()
+
+
+@pytest.mark.parametrize(
+    ("dimension", "typed", "meant"),
+    [
+        ("RESISTANCE", "kohm", None),  # was 'ohm': 1000 times off
+        ("RESISTANCE", "\u00b5ohm", None),  # was 'ohm'
+        ("RESISTANCE", "Mohm", None),  # was 'mohm': 1e9 times off
+        ("VOLTAGE", "MV", None),  # was 'mV'
+        ("INDUCTANCE", "nH", None),  # was 'H'
+        ("INDUCTANCE", "MH", None),  # was 'mH'
+        ("INDUCTANCE", "mh", "mH"),
+        ("INDUCTANCE", "\u00b5H", "uH"),
+        ("VOLTAGE", "mv", "mV"),
+        ("RESISTANCE", "m\u03a9", "mohm"),
+        ("RESISTANCE", "mohms", "mohm"),
+        ("EMF_CONSTANT", "V/Krpm", "V/krpm"),
+    ],
+)
+def test_a_unit_suggestion_should_never_cross_an_si_prefix(
+    dimension: str, typed: str, meant: str | None
+) -> None:
+    """A prefix the spec does not take names a scale: no spelling of another scale is
+    offered as its typo ("'0.00021 kohm' ... did you mean 'ohm'?")."""
+    from codegen import units
+
+    assert getattr(units, dimension).suggest(typed) == meant
