@@ -54,6 +54,7 @@ import json
 import os
 import signal
 import sys
+import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -355,6 +356,23 @@ def require_folder_path(path: Path) -> None:
     a folder above it must be: before long work whose output goes there."""
     if file_in_the_way(path) is not None:
         raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(path))
+
+
+def require_writable_folder(path: Path) -> None:
+    """`require_folder_path`, and a folder can be made where `path` goes (probed by
+    making and removing one in the nearest folder that exists): before long work whose
+    output goes there. Raises OSError naming `path` (`simulate -o /proc/x` had simulated
+    for 9 s, then named its hidden staging folder)."""
+    require_folder_path(path)
+    existing = next((p for p in (path, *path.parents) if p.is_dir()), None)
+    if existing is None:
+        return
+    try:
+        probe = tempfile.mkdtemp(prefix=f".{path.name or 'out'}.probe-", dir=existing)
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
+    with contextlib.suppress(OSError):
+        os.rmdir(probe)
 
 
 def os_error_line(exc: OSError) -> str:

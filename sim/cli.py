@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from codegen.errors import DerivationError, ExitCode, SpecError
-from codegen.publish import os_error_line, require_folder_path
+from codegen.publish import os_error_line, require_writable_folder
 from codegen.render import write_atomically
 from codegen.report_folder import refuse_strangers, staged_report
 from codegen.shown import said
@@ -37,7 +37,7 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool, quick: boo
     start = time.perf_counter()
     spec = load_spec(spec_path)
     out = Path(output) if output else Path("generated") / spec.name / "simulation"
-    require_folder_path(out)  # before the run, not after it
+    require_writable_folder(out)  # before the run, not after it
     refuse_strangers(out, [REPORT_NAME], REPORT_NAME, REPORT_MARKER)  # a stranger's report
     results = run_all(spec, progress=progress, quick=quick)
     bounds = limits(results.drive)

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.errors import ExitCode, SpecError
-from codegen.publish import os_error_line, require_folder_path
+from codegen.publish import os_error_line, require_writable_folder
 from codegen.report_folder import refuse_strangers, staged_report
 from codegen.shown import said
 from codegen.spec_loader import load_spec
@@ -326,7 +326,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         spec = load_spec(args.spec)
         out = Path(args.output) if args.output else Path("generated") / spec.name / "robustness"
-        require_folder_path(out)  # before the campaign, not after it
+        require_writable_folder(out)  # before the campaign, not after it
         refuse_strangers(out, [REPORT_NAME], REPORT_NAME, REPORT_MARKER)  # a stranger's report
         campaign = build_campaign(spec, args.samples, args.speeds, methods, args.plant, args.seed)
         result = run_campaign(

@@ -186,3 +186,29 @@ def test_a_ledger_naming_files_outside_the_folder_should_delete_none_of_them(
         _write(staging, REPORT)
     assert all(victim.read_text() == "user data" for victim in victims)
     assert (out / LEDGER).read_text().splitlines() == [REPORT]
+
+
+def test_a_report_folder_where_none_can_be_made_should_be_refused_before_the_work(
+    tmp_path: Path,
+) -> None:
+    """`simulate -o /proc/x` had simulated for 9 s and then named its hidden staging
+    folder ("/proc/.x.staging-12490-wk2rdcsf: No such file or directory"); the folder is
+    probed first, and the error names the user's path."""
+    from codegen.publish import os_error_line, require_writable_folder
+
+    with pytest.raises(OSError) as caught:
+        require_writable_folder(Path("/proc/x"))
+    assert caught.value.filename == "/proc/x"
+    assert os_error_line(caught.value) == "error: /proc/x: No such file or directory"
+    require_writable_folder(tmp_path / "new" / "out")  # a place one can be made: no error
+    assert list(tmp_path.iterdir()) == []  # and the probe leaves nothing
+    result = subprocess.run(
+        [sys.executable, "-m", "codegen", "simulate", str(ROOT / "spec" / "paper_motor.yaml")]
+        + ["--quick", "--no-progress", "-o", "/proc/x"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert result.returncode == ExitCode.ENVIRONMENT
+    assert result.stderr.strip().splitlines() == ["error: /proc/x: No such file or directory"]

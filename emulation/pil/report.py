@@ -16,7 +16,7 @@ import tempfile
 from pathlib import Path
 
 from codegen.errors import ExitCode, SpecError
-from codegen.publish import PublishError, os_error_line, require_folder_path
+from codegen.publish import PublishError, os_error_line, require_writable_folder
 from codegen.render import write_atomically
 from codegen.report_folder import refuse_strangers, staged_report
 from codegen.shown import said
@@ -177,7 +177,7 @@ def main(argv: list[str] | None = None) -> int:
         out = Path.cwd() / (args.output or Path("generated") / spec.name / "pil")
         target = out / REPORT_NAME
         try:  # a stranger's PIL.md stops the run before it starts, not after it
-            require_folder_path(out)
+            require_writable_folder(out)
             refuse_strangers(out, [REPORT_NAME], REPORT_NAME, REPORT_MARKER)
         except (PublishError, OSError) as error:
             return _cannot_write(error)
