@@ -4,17 +4,30 @@ naming the option, the value and the allowed range, never a traceback further in
 from __future__ import annotations
 
 import argparse
+import re
 from collections.abc import Callable
+
+#: a decimal number as the spec writes one: ASCII digits, no digit groups (Python's
+#: int() and float() also take '1_000' and other scripts' digits, '١٢', which the spec
+#: refuses)
+_WHOLE = re.compile(r"[+-]?[0-9]+")
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+def plain_decimal(text: str) -> bool:
+    """Whether `text` is a decimal number in ASCII, as a spec writes one."""
+    return _DECIMAL.fullmatch(text.strip()) is not None
 
 
 def whole_number(low: int, high: int) -> Callable[[str], int]:
     """A whole number in [low, high]."""
 
     def parse(text: str) -> int:
-        try:
-            value = int(text, 10)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+        if _WHOLE.fullmatch(text.strip()) is None:
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not a whole number (ASCII digits, no '_')"
+            )
+        value = int(text, 10)
         if not low <= value <= high:
             raise argparse.ArgumentTypeError(f"{value} is out of range (allowed: [{low}, {high}])")
         return value
@@ -33,10 +46,9 @@ def decimal_number(low: float, high: float) -> Callable[[str], float]:
     """A finite number in [low, high]."""
 
     def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not plain_decimal(text):
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number (ASCII digits, no '_')")
+        value = float(text)
         if not low <= value <= high:  # NaN fails both comparisons
             raise argparse.ArgumentTypeError(
                 f"{text} is out of range (allowed: [{low:g}, {high:g}])"

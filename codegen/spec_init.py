@@ -31,6 +31,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from codegen import units
+from codegen.argtypes import plain_decimal
 from codegen.dead_time import (
     COMMUTATION_END_ALLOWANCE_S,
     SECTOR_SHORTENING_DEFAULT_PERCENT,
@@ -182,10 +183,9 @@ def _kv(text: str) -> Fraction:
     """argparse type: a speed constant in rpm/V whose line-to-line constant 1/Kv, halved
     to the phase k_e (init writes the 120 deg trapezoid), is within the loader's range
     of motor.back_emf_constant (a phase constant; line to line it is twice that)."""
-    try:
-        value = Fraction(text)
-    except (ValueError, ZeroDivisionError):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not plain_decimal(text):  # Fraction() takes '1_000' and '٦٢٥'; a spec does not
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number (ASCII digits, no '_')")
+    value = Fraction(text.strip())
     if value <= 0:
         raise argparse.ArgumentTypeError(f"{text} must be positive")
     why = out_of_range("motor.back_emf_constant", 1 / value / 2)

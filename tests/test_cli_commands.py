@@ -382,6 +382,11 @@ def test_init_should_refuse_a_value_no_spec_can_hold_at_its_argument(
         (["robustness", "SPEC", "--scheduler", "bogus://x:1"], "unknown scheme 'bogus'"),
         (["robustness", "SPEC", "--scheduler", "tcp://h:99999"], "port '99999' is not a port"),
         (["robustness", "SPEC", "--scheduler", ""], "'' is not a scheduler address"),
+        # int() and Fraction() take other scripts' digits and digit groups; a spec does not
+        (["verify", "SPEC", "--seed", "\u0661\u0662"], "is not a whole number (ASCII digits"),
+        (["verify", "SPEC", "--seed", "1_2"], "'1_2' is not a whole number (ASCII digits"),
+        (["init", "x", "--kv", "\u0666\u0662\u0665"], "is not a number (ASCII digits, no '_')"),
+        (["init", "x", "--kv", "1_000"], "argument --kv: '1_000' is not a number (ASCII"),
     ],
 )
 def test_a_numeric_option_out_of_range_should_be_one_usage_line(

@@ -202,9 +202,10 @@ def test_a_report_folder_where_none_can_be_made_should_be_refused_before_the_wor
     assert os_error_line(caught.value) == "error: /proc/x: No such file or directory"
     require_writable_folder(tmp_path / "new" / "out")  # a place one can be made: no error
     assert list(tmp_path.iterdir()) == []  # and the probe leaves nothing
+    spec = str(ROOT / "spec" / "paper_motor.yaml")
+    argv = [sys.executable, "-m", "codegen", "simulate", spec, "--quick", "--no-progress"]
     result = subprocess.run(
-        [sys.executable, "-m", "codegen", "simulate", str(ROOT / "spec" / "paper_motor.yaml")]
-        + ["--quick", "--no-progress", "-o", "/proc/x"],
+        [*argv, "-o", "/proc/x"],
         cwd=tmp_path,
         capture_output=True,
         text=True,
