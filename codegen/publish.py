@@ -254,8 +254,10 @@ def _locked(lock_path: Path) -> Iterator[None]:
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
+                # the lock `.<name>.bldc-codegen.lock` sits beside the folder it guards
+                target = lock_path.parent / lock_path.name[1 : -len(f".{_TAG}.lock")]
                 print(
-                    f"waiting for another bldc-codegen run writing {lock_path.parent}",
+                    f"waiting for another bldc-codegen run writing {on_one_line(str(target))}",
                     file=sys.stderr,
                 )
                 fcntl.flock(fd, fcntl.LOCK_EX)

@@ -341,3 +341,29 @@ def test_a_manifest_naming_files_outside_its_tree_should_delete_none_of_them(
     assert (target / "link").is_symlink()  # a foreign entry: carried over
     content = read_tree(target)
     assert {name: content[name] for name in NEW} == NEW
+
+
+def test_a_run_waiting_for_the_lock_should_name_the_folder_it_waits_to_write(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The lock `.<name>.bldc-codegen.lock` sits beside the folder: the wait's line had
+    named the folder above the one being written."""
+    import threading
+
+    lock = tmp_path / ".out.bldc-codegen.lock"
+    entered = threading.Event()
+
+    def wait() -> None:
+        with publish_module._locked(lock):
+            entered.set()
+
+    with publish_module._locked(lock):
+        waiter = threading.Thread(target=wait)
+        waiter.start()
+        waiter.join(timeout=0.5)
+        assert waiter.is_alive() and not entered.is_set()  # it waits
+    waiter.join(timeout=5)
+    assert entered.is_set()
+    assert f"waiting for another bldc-codegen run writing {tmp_path / 'out'}" in (
+        capsys.readouterr().err
+    )
