@@ -63,6 +63,12 @@ from codegen.spec_model import (
 )
 
 TIMER_CLOCK_HZ = 72_000_000
+#: --speed-max at least: init's upper operating point, 90 % of it rounded down to 0.1
+#: rpm, must be the 1 rpm a spec's speeds start at (1 rpm wrote a point at 0.9 rpm)
+SPEED_MAX_LOWEST_RPM = Fraction(12, 10)
+#: Slower Hall timer clocks, fastest first (72 MHz / N, N up to 64000 in TIM3's 16-bit
+#: prescaler): for a top speed of a few rpm, where the counter fills at 100 kHz
+SLOW_HALL_CLOCKS_HZ = (72_000, 36_000, 18_000, 9_000, 4_500, 2_250, 1_125)
 #: Hall timer clocks that divide the 72 MHz timer clock, slowest first.
 HALL_CLOCKS_HZ = (
     100_000,
@@ -327,7 +333,16 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--speed-max",
-        type=_quantity(units.SPEED, "controller.speed_max"),
+        type=_quantity(
+            units.SPEED,
+            "controller.speed_max",
+            minimum=(
+                SPEED_MAX_LOWEST_RPM,
+                f"{_num(SPEED_MAX_LOWEST_RPM)} rpm",
+                "the lowest top speed whose operating point, at 90 % of it, is at least"
+                " the 1 rpm a spec's speeds start at",
+            ),
+        ),
         metavar="Q",
         help="top speed (default: 95 %% of U_d/(2 k_e), where 2E reaches the bus)",
     )
@@ -583,6 +598,15 @@ def _speed_step(speed_rpm: Fraction) -> Fraction:
     return step
 
 
+def _lowest_speed(
+    hall_clock: Fraction | int, pole_pairs: Fraction | int, n_max: Fraction
+) -> Fraction:
+    """speed_min init writes: 1.1 x the speed whose 60 deg sector fills the 16-bit Hall
+    counter at `hall_clock`, 1 rpm at least."""
+    slowest_rpm = Fraction(hall_clock * 10) / (pole_pairs * COUNTER_MAX)
+    return max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), _speed_step(n_max) / 2))
+
+
 def _speed_down(speed_rpm: Fraction) -> Fraction:
     return _round_down(speed_rpm, _speed_step(speed_rpm))
 
@@ -697,11 +721,19 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         (clock for clock in HALL_CLOCKS_HZ if clock * 10 / (pole_pairs * n_max) >= 500),
         HALL_CLOCKS_HZ[-1],
     )
+    slow_clock = False
     if targets.hall_clock_hz is not None:
         hall_clock = targets.hall_clock_hz
+    elif _lowest_speed(hall_clock, pole_pairs, n_max) >= _speed_down(n_max * 9 / 10):
+        # a top speed of a few rpm: the 16-bit counter at 100 kHz fills above it (a 2-pole
+        # motor's --speed-max 5 rpm got speed_min 16.8 rpm, a spec its loader refused);
+        # the fastest slower clock whose counter holds a sector below 90 % of it
+        slow = [
+            c for c in SLOW_HALL_CLOCKS_HZ if _lowest_speed(c, pole_pairs, n_max) < n_max * 9 / 10
+        ]
+        hall_clock, slow_clock = (slow[0], True) if slow else (hall_clock, False)
     fastest = Fraction(hall_clock * 10) / (pole_pairs * n_max)
-    slowest_rpm = Fraction(hall_clock * 10) / (pole_pairs * COUNTER_MAX)
-    n_min = max(Fraction(1), _round_up(slowest_rpm * Fraction(11, 10), _speed_step(n_max) / 2))
+    n_min = _lowest_speed(hall_clock, pole_pairs, n_max)
     e_top = si["ke"] * n_max
     if sheet.braking_current is not None:
         i_nom = sheet.braking_current[0]
@@ -738,6 +770,8 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     high = _speed_down(n_max * 9 / 10)
     low = max(n_min, _speed_down(n_max * Fraction(3, 10)))
     points = sorted({min(max(low, n_hold), high), high})
+    if points[-1] - points[0] < 1:  # the reports name a point by its speed in whole rpm
+        points = [high]
     bandwidth_hz = min(Fraction(1000), pwm / 10)
     over_current = _round_up(max(i_max * Fraction(3, 2), peak * Fraction(5, 4)), 1)
     # the sensing reads every current below the trip: 1.65 V of mid-rail headroom at it
@@ -770,7 +804,10 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         ),
         "hall.sequence": "assumption: the paper's Table 1 order; check your motor's wiring",
         "hall.timer_clock": (
-            f"{derived} the slowest 72 MHz / N giving >= 500 ticks per 60 deg at speed_max"
+            f"{derived} the fastest 72 MHz / N whose 16-bit counter holds a 60 deg sector"
+            " below 90 % of speed_max (a slower clock than the 100 kHz init takes at least)"
+            if slow_clock
+            else f"{derived} the slowest 72 MHz / N giving >= 500 ticks per 60 deg at speed_max"
             if targets.hall_clock_hz is None
             else f"{derived} what the commutation core's fixed-point design takes (a faster"
             " clock leaves Eq. 20's X too few fraction bits on this motor)"

@@ -948,3 +948,28 @@ def test_a_path_with_a_line_break_should_stay_on_one_line_in_every_message(
     assert cli.main(["init", "m1", "-o", spec]) == ExitCode.USAGE
     err = capsys.readouterr().err.splitlines()
     assert err == ["error: 'new\\nline.yaml' exists; choose another -o FILE or pass --force"]
+
+
+def test_init_should_write_a_loadable_spec_for_a_top_speed_of_a_few_rpm(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`--speed-max 3 rpm` on a 46-pole hub motor: the 16-bit Hall counter at init's
+    slowest 100 kHz fills above 3 rpm for a 2-pole motor (speed_min 16.8 rpm, a spec its
+    loader refused), so init takes a slower clock there; its two operating points came
+    within 1 rpm of each other (2.3 and 2.7 rpm), one is kept; `--speed-max 1 rpm` is
+    refused at the option (its 90 % point, 0.9 rpm, is below a spec's 1 rpm)."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "hub", "--pole-pairs", "23", "--ke", "600 V/krpm", "--resistance", "0.5 ohm"]
+    assert cli.main([*argv, "--speed-max", "3 rpm", "--bus-voltage", "48 V"]) == 0
+    spec = load_spec(tmp_path / "spec" / "hub.yaml")
+    assert spec.controller.speed_max_rpm == 3 and len(spec.operating_points) == 1
+    assert cli.main(["init", "two", "--pole-pairs", "1", "--speed-max", "5 rpm"]) in (0, 3)
+    text = (tmp_path / "spec" / "two.yaml").read_text()
+    assert "  timer_clock: 18 kHz\n" in text and "  speed_min: 3.05 rpm\n" in text
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as caught:
+        cli.main(["init", "one", "--speed-max", "1 rpm"])
+    assert caught.value.code == ExitCode.USAGE
+    assert "argument --speed-max: '1 rpm' is below 1.2 rpm" in capsys.readouterr().err
