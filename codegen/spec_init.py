@@ -308,7 +308,15 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
     )
     group.add_argument(
         "--bus-voltage",
-        type=_quantity(units.VOLTAGE, "inverter.bus_voltage_nominal"),
+        type=_quantity(
+            units.VOLTAGE,
+            "inverter.bus_voltage_nominal",
+            # init writes 0.8 and 1.25 times it as bus_voltage_min and max, within the
+            # loader's [1, 1000] V: at 1 V both min and nominal were 1 V, a nominal bus
+            # the drive reads as under-voltage
+            minimum=(Fraction(5, 4), "1.25 V", "whose 0.8 x is the 1 V a spec's bus starts at"),
+            maximum=(Fraction(800), "800 V", "whose 1.25 x is the 1000 V a spec's bus ends at"),
+        ),
         metavar="Q",
         help="nominal DC bus voltage (range: 0.8 to 1.25 times it)",
     )

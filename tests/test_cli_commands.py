@@ -448,7 +448,7 @@ def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
     assert "is 221500 A, beyond the 10000 A a spec may name" in note
 
 
-@pytest.mark.parametrize(("bus", "low", "high"), [("1000 V", 800, 1000), ("1 V", 1, "1.25")])
+@pytest.mark.parametrize(("bus", "low", "high"), [("800 V", 640, 1000), ("1.25 V", 1, "1.57")])
 def test_init_should_keep_the_bus_range_within_the_voltages_a_spec_holds(
     tmp_path: Path,
     monkeypatch: pytest.MonkeyPatch,
@@ -457,9 +457,11 @@ def test_init_should_keep_the_bus_range_within_the_voltages_a_spec_holds(
     low: object,
     high: object,
 ) -> None:
-    """--bus-voltage takes 1 to 1000 V, and init writes 0.8 and 1.25 x it: a 1000 V bus
-    had written a 1250 V bus_voltage_max and a 1 V one a 0.8 V minimum, which the spec
-    then refused. Each is held to the loader's voltages, and its source says so."""
+    """--bus-voltage takes 1.25 to 800 V, and init writes 0.8 and 1.25 x it: a 1000 V
+    bus had written a 1250 V bus_voltage_max and a 1 V one a 0.8 V minimum, which the
+    spec then refused. Each is held to the loader's voltages, and its source says so;
+    1 V and 1000 V are refused at the option (held to the loader's 1 V, the minimum was
+    the nominal bus, which the drive reads as under-voltage)."""
     from codegen.spec_loader import load_spec
 
     monkeypatch.chdir(tmp_path)
@@ -470,8 +472,13 @@ def test_init_should_keep_the_bus_range_within_the_voltages_a_spec_holds(
     assert spec.inverter.bus_voltage_min_v == Fraction(str(low))
     assert spec.inverter.bus_voltage_max_v == Fraction(str(high))
     sources = dict(spec.sources)
-    held = sources["inverter.bus_voltage_max" if bus == "1000 V" else "inverter.bus_voltage_min"]
-    assert ("at most 1000 V" if bus == "1000 V" else "at least 1 V") in held
+    held = sources["inverter.bus_voltage_max" if bus == "800 V" else "inverter.bus_voltage_min"]
+    assert ("at most 1000 V" if bus == "800 V" else "at least 1 V") in held
+    for refused in ("1 V", "1000 V"):
+        with pytest.raises(SystemExit) as caught:
+            cli.main(["init", "bus_out", "--bus-voltage", refused])
+        assert caught.value.code == ExitCode.USAGE
+        assert f"argument --bus-voltage: '{refused}' is" in capsys.readouterr().err
 
 
 def test_init_should_put_the_lower_operating_point_where_the_current_can_be_held(

@@ -969,3 +969,26 @@ def test_a_unit_suggestion_should_never_cross_an_si_prefix(
     from codegen import units
 
     assert getattr(units, dimension).suggest(typed) == meant
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "edge", "allowed"),
+    [
+        ("bus_voltage_min: 20 V", "bus_voltage_min: 24 V", "min", ">= bus_voltage_min +"),
+        ("bus_voltage_max: 30 V", "bus_voltage_max: 24 V", "max", "<= bus_voltage_max -"),
+    ],
+)
+def test_a_nominal_bus_within_a_code_of_a_trip_should_be_refused(
+    tmp_path: Path, old: str, new: str, edge: str, allowed: str
+) -> None:
+    """The analog watchdog trips below bus_voltage_min's code and above
+    bus_voltage_max's: a nominal bus at the minimum latched UNDER_VOLTAGE in every PIL
+    scenario (init wrote one for a 1 V bus)."""
+    untoleranced = _replace("  bus_voltage: [-16, 25]", "  bus_voltage: [0, 0]")(DEFAULT_TEXT)
+    path = _write(tmp_path, _replace(old, new)(untoleranced))
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+    lines = [line for line in str(caught.value).splitlines() if "within one bus-ADC code" in line]
+    assert len(lines) == 1
+    assert "inverter.bus_voltage_nominal = '24 V'" in lines[0]
+    assert f"of bus_voltage_{edge} = 24 V" in lines[0] and f"(allowed: {allowed}" in lines[0]
