@@ -248,6 +248,16 @@ def _sequence_counts(spec: Spec) -> int:
     return math.ceil(counts)
 
 
+def _sequence_min_counts(spec: Spec) -> int:
+    """TIM1 counts from an injected trigger to JEOC at the least, in the trigger age's
+    terms: the exact time rounded down (centre-aligned the age counts from the peak, one
+    count before the trigger's edge). A sequence younger than this has not ended: a JEOC
+    set then is an older sequence's."""
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    counts = injected_sequence_s(Fraction(spec.sensing.adc_sample_cycles)) * clock
+    return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0)
+
+
 def _adc2_sequence(spec: Spec) -> str:
     channels = spec.sensing.current_channels
     return " | ".join(f"({ch}u << ADC_SQR3_SQ{k + 1}_Pos)" for k, ch in enumerate(channels))
@@ -283,6 +293,12 @@ def drive_context(spec: Spec) -> dict[str, object]:
             f"{_sequence_counts(spec)}u",
             "TIM1 counts from an injected trigger to JEOC, one ADC cycle (and for the"
             " centre-aligned trigger one count after the peak, two counts) over",
+        ),
+        _define(
+            "BLDC_PORT_SEQUENCE_MIN_COUNTS",
+            f"{_sequence_min_counts(spec)}u",
+            "TIM1 counts from an injected trigger to JEOC at the least (the trigger age's"
+            " terms): a younger sequence has not ended, so a JEOC set then is an older one's",
         ),
         _define(
             "BLDC_PORT_TRIGGER_AGE(cnt, cr1)",

@@ -799,6 +799,26 @@ int main(int argc, char **argv)
     adc(BUS_OK, OFFSET + 78u, 0u, 0u);
     show("after_wiped");
 
+    /* A commutation end just after the last sequence's JEOC, its loop step not yet run
+     * (the end's priority is the loop's): that one sequence is not I, the next one is.
+     * Counting two whenever JEOC was set dropped the one sample a commutation filling
+     * its sector leaves before the next edge (a 64-pole-pair centre-aligned motor: the
+     * timing ran on a sample two sectors old). */
+    plan(100u, 900u, 700u, 300u);
+    edge(seq[5], TIM_SR_CC1IF, 5000u, 10u);
+    fake_tim1.EGR = 0u;
+    fake_adc1.SR = ADC_SR_JSTRT | ADC_SR_JEOC;
+    fake_tim3.SR = TIM_SR_CC2IF;
+    timing_runs = 0u;
+    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 + BLDC_PORT_SEQUENCE_COUNTS + 5u; /* it ended */
+    %(hall)s();
+    settle();
+    show("ended_end");
+    adc(BUS_OK, OFFSET + 81u, 0u, 0u);
+    show("ended");
+    adc(BUS_OK, OFFSET + 82u, 0u, 0u);
+    show("after_ended");
+
     /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
 #define STEADY()                                              \
     do {                                                      \
@@ -1245,6 +1265,17 @@ def test_a_sequence_still_converting_at_the_end_should_not_be_i_even_without_jst
     offset = _loop_run_paper().offset
     assert host_run["wiped"]["port.current"] != offset + 77  # held: still converting
     assert host_run["after_wiped"]["port.current"] == offset + 78
+
+
+def test_a_sequence_ended_before_the_end_should_hold_one_sample_not_two(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    """An end just after the last sequence's JEOC, its loop step still to run: that
+    sequence is stale, the next one is I (JEOC had counted two: the next sample too was
+    dropped, the only one a commutation filling its sector leaves before the next edge)."""
+    offset = _loop_run_paper().offset
+    assert host_run["ended"]["port.current"] != offset + 81  # the ended sequence: held
+    assert host_run["after_ended"]["port.current"] == offset + 82
 
 
 def test_current_loop_should_set_the_steady_switch_from_each_sample(

@@ -503,11 +503,15 @@ static void port_on_commutation_end(uintptr_t anchor)
      * younger than the sequence: the current loop's SR write clears a JSTRT the next
      * trigger set when it runs after that trigger, which the carrier's restart at the
      * Hall edge brings within the previous sequence's conversions), and one ended but
-     * not yet taken (JEOC, with the next one possibly begun: two). */
+     * not yet taken (JEOC): that is the last trigger's, unless the last trigger is too
+     * young to have ended, when it is an older one's and the last still converts (two;
+     * counting two whenever JEOC was set dropped the one sample a commutation filling
+     * its sector leaves before the next edge). */
     const uint32_t status = PORT_AT(anchor, ADC1, ADC_TypeDef)->SR;
     const uint32_t converting = ((status & ADC_SR_JSTRT) != 0u) ||
                                 (age < BLDC_PORT_SEQUENCE_COUNTS);
-    port.stale = ((status & ADC_SR_JEOC) != 0u) ? 2u : (uint32_t)converting;
+    const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS);
+    port.stale = ((status & ADC_SR_JEOC) != 0u) ? 1u + unended : (uint32_t)converting;
     port.pending = 0u;
     /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the
      * Hall timeout (port_on_wrap). */
