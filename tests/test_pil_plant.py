@@ -942,6 +942,25 @@ def test_a_centre_aligned_80_khz_motor_should_agree_with_the_sil_within_half_a_p
     assert worst <= 0.5, [(c.index, round(c.difference_pp or 0.0, 2)) for c in measured]
 
 
+def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loop(
+    tmp_path: Path,
+) -> None:
+    """A 128-pole centre-aligned conventional motor whose commutations fill their sectors
+    (about 5 PWM periods at 600 rpm): between a commutation's end and the next edge one
+    sequence samples I. An end just after the last sequence's JEOC counted two stale
+    sequences, dropped that sample, and the timing ran on a current two sectors old
+    (`make pil`, at 1.49 M ticks); the end now counts the one that ended."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "conv64_centre_fills.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    base = braking_setup(spec, short=False)
+    setup = replace(base, max_edges=100, trace_seconds=0.0)
+    result = BrakingLoop(elf, generated / "c" / "stm32f103_port.c", spec, setup).run_braking()
+    assert result.edges > 80
+    assert result.outcome.violations == (), result.outcome.violations
+
+
 def test_the_comparator_should_see_the_braking_current_and_never_trip_the_paper_run(
     paper_run: tuple[BrakingLoop, BrakingResult],
 ) -> None:
