@@ -218,8 +218,13 @@ class Commutation:
         pil = self.extended_deviations_pct[:n] or self.period_deviations_pct
         sil = self.sil_extended_deviations_pct[:n] or self.sil_period_deviations_pct
         if len(pil) < n or len(sil) < n:
-            pil, sil = self.period_deviations_pct, self.sil_period_deviations_pct
-        pairs = zip(pil, sil, strict=False)
+            # a run whose trace ends with its sector (the SIL's, or the PIL's at the next
+            # edge) has no period past it: the periods both have (the PIL's extra period
+            # before the next edge had been set against nothing: 4-5 pp "apart" on a
+            # motor whose current reached zero late in its sector)
+            m = min(len(self.period_deviations_pct), len(self.sil_period_deviations_pct))
+            pil, sil = self.period_deviations_pct[:m], self.sil_period_deviations_pct[:m]
+        pairs = zip(pil, sil, strict=True)
         periods = max((abs(a - b) for a, b in pairs), default=0.0)
         extremes = abs(max(map(abs, pil), default=0.0) - max(map(abs, sil), default=0.0))
         return max(periods, extremes)
@@ -753,18 +758,21 @@ class BrakingLoop:
         sign = edge.current_signs[nc]
 
         def window_of(ticks: int) -> list[PeriodRecord]:
-            """Every period overlapping [start, start + ticks), and the one after."""
+            """Every period overlapping [start, start + ticks), and the one after, within
+            the sector: a period from the next edge on is the next commutation's (a
+            commutation whose current reached zero late in its sector had its window run
+            into the next one, where the SIL's, which ends with the sector, does not)."""
             inside = [p for p in periods if p.start >= start and p.start < start + ticks]
             if not inside:
                 inside = [p for p in periods if p.start >= start][:1]
-            later = [p for p in periods if p.start >= inside[-1].end]
+            later = [p for p in periods if p.start >= inside[-1].end and p.start < following]
             return inside + later[:1]
 
         def deviations_of(window: list[PeriodRecord]) -> tuple[float, ...]:
             return tuple((sign * p.currents[nc] - current) / current * 100 for p in window)
 
         window = window_of(length)
-        later = [p for p in periods if p.start >= window[-1].end]
+        later = [p for p in periods if p.start >= window[-1].end and p.start < following]
         deviations = deviations_of(window)
         extended = deviations_of(window + later[:2])
         worst = max(deviations, key=abs)
