@@ -57,9 +57,15 @@ def test_a_failed_step_should_report_why_not_the_specs_warnings() -> None:
     assert failed.lines == ["error: no design meets"]
 
 
-@pytest.mark.parametrize(("option", "value"), [("--ms", "-5"), ("--amps", "nan")])
+@pytest.mark.parametrize(
+    ("option", "value", "said"),
+    [
+        ("--ms", "-5", "-5 is out of range"),
+        ("--amps", "nan", "'nan' is not a number (ASCII digits, no '_')"),
+    ],
+)
 def test_pil_main_should_refuse_a_bad_number_in_one_usage_line(
-    capsys: pytest.CaptureFixture[str], option: str, value: str
+    capsys: pytest.CaptureFixture[str], option: str, value: str, said: str
 ) -> None:
     """`python -m emulation.pil --ms -5` once divided by zero (a traceback)."""
     from emulation.pil.__main__ import main
@@ -68,7 +74,7 @@ def test_pil_main_should_refuse_a_bad_number_in_one_usage_line(
         main([str(ROOT / "spec" / "paper_motor.yaml"), option, value])
     assert caught.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert f"argument {option}: {value} is out of range" in err[-1]
+    assert f"argument {option}: {said}" in err[-1]
 
 
 def test_an_exceeded_budget_should_name_its_key_and_what_the_image_needs() -> None:
