@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen.port_drive import HANDLERS
+from codegen.report_folder import record_written, refuse_strangers
 from codegen.stack_usage import StackReport, read_call_graph, stack_report
 
 CFLAGS = [
@@ -53,6 +54,12 @@ CUBE_SOURCE = ("it", "firmware/stm32f1xx_it.c")
 FLASH_SECTIONS = (".isr_vector", ".text", ".rodata", ".data", ".RamFunc")
 RAM_SECTIONS = (".data", ".bss", ".RamFunc")
 ELF = "firmware.elf"
+MAP = "firmware.map"
+#: what the build writes beside the objects
+IMAGE_FILES = (ELF, "firmware.bin", "firmware.hex", MAP)
+#: text the head of a map this build wrote holds (its first object's discarded
+#: sections): a build folder from before the ledger counts as the tool's by it
+MAP_MARKER = "core.o"
 
 
 @dataclass(frozen=True)
@@ -132,6 +139,13 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
     builds the port's alternatives with them). Each object's stack frames and call graph
     are written beside it (-fstack-usage `<name>.su`, -fcallgraph-info `<name>.ci`); the
     image as ELF, binary, Intel hex and a link map."""
+    # a file of the build's names that bldc-codegen did not write stops it before it
+    # starts (`firmware --build DIR` had overwritten a user's firmware.map and main.o)
+    written = [
+        *(f"{name}{ext}" for name in (*SOURCES, CUBE_SOURCE[0]) for ext in (".o", ".su", ".ci")),
+        *IMAGE_FILES,
+    ]
+    refuse_strangers(build_dir, written, MAP, MAP_MARKER)
     build_dir.mkdir(parents=True, exist_ok=True)
     # the reports of every object this build may write (a Cube-style one of a former
     # build included), and no other file: the folder may hold the user's own
@@ -180,6 +194,7 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
             ["arm-none-eabi-objcopy", "-O", kind, str(elf), str(build_dir / f"firmware.{suffix}")],
             check=True,
         )
+    record_written(build_dir, written, MAP, MAP_MARKER)
     sizes = {name: section_sizes(obj) for name, obj in objects.items()}
     sizes[ELF] = section_sizes(elf)
     return sizes

@@ -77,7 +77,7 @@ def refuse_strangers(out: Path, names: list[str], report: str, marker: str) -> N
     paths = strangers(out, names, report, marker)
     if paths:
         raise PublishError(
-            f"{paths[0]} is in the way and was not written by bldc-codegen (the report"
+            f"{paths[0]} is in the way and was not written by bldc-codegen (the"
             f" folder's {LEDGER} does not list it): move it away or choose another output"
             " folder"
         )
@@ -112,6 +112,13 @@ def staged_report(out: Path, report: str, marker: str) -> Iterator[Path]:
             _write_ledger(out, {n for n in names if (out / n).is_file()})
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def record_written(out: Path, names: list[str], report: str, marker: str) -> None:
+    """Add `names`, just written into `out` in place (a firmware build's objects and
+    image), to its ledger: the next run replaces them, and nothing else of the folder's."""
+    owned = owned_names(out, report, marker)
+    _write_ledger(out, set(owned or ()) | {n for n in names if (out / n).is_file()})
 
 
 def _write_ledger(out: Path, names: set[str]) -> None:

@@ -10,6 +10,7 @@ import pytest
 
 from codegen.build_firmware import build
 from codegen.firmware import tim3_irq_number, vector_table
+from codegen.report_folder import LEDGER
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -63,10 +64,36 @@ def test_a_build_folder_should_keep_the_users_own_stack_reports(tmp_path: Path) 
     mine = {tmp_path / "notes.su": "user", tmp_path / "graph.ci": "user"}
     for path, text in mine.items():
         path.write_text(text)
-    (tmp_path / "it.su").write_text("stale")  # a former Cube-style build's
+    (tmp_path / "it.su").write_text("stale")  # a former Cube-style build's, in its ledger
+    (tmp_path / LEDGER).write_text("it.su\n")
     build(ROOT / "generated" / "paper_motor", tmp_path)
     assert all(path.read_text() == text for path, text in mine.items())
     assert not (tmp_path / "it.su").exists() and (tmp_path / "core.su").is_file()
+
+
+def test_a_build_folder_holding_a_users_file_of_a_build_name_should_be_refused(
+    tmp_path: Path,
+) -> None:
+    """`firmware --build DIR` wrote its objects and image straight into DIR and
+    replaced a user's `firmware.map` and `main.o`; a file of the build's names that DIR's
+    ledger does not list stops the build before it starts, and a former build's own
+    files (its ledger, or a map from before the ledger) are replaced."""
+    from codegen.publish import PublishError
+
+    (tmp_path / "main.o").write_text("mine")
+    with pytest.raises(PublishError, match=r"main\.o is in the way"):
+        build(ROOT / "generated" / "paper_motor", tmp_path)
+    assert (tmp_path / "main.o").read_text() == "mine" and not (tmp_path / "core.o").exists()
+    (tmp_path / "main.o").unlink()
+    build(ROOT / "generated" / "paper_motor", tmp_path)
+    assert "main.o" in (tmp_path / LEDGER).read_text().split()
+    build(ROOT / "generated" / "paper_motor", tmp_path)  # its own files: replaced
+    legacy = tmp_path / "legacy"
+    legacy.mkdir()
+    (legacy / "main.o").write_text("old object")
+    (legacy / "firmware.map").write_text("\nDiscarded input sections\n .text 0x0 0x0 x/core.o\n")
+    build(ROOT / "generated" / "paper_motor", legacy)  # a build folder from before the ledger
+    assert (legacy / "main.o").read_bytes() != b"old object"
 
 
 # ------------------------------------------------------------ Cube integration
