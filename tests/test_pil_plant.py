@@ -898,6 +898,26 @@ def test_a_run_that_compares_nothing_should_say_why_each_edge_was_not_compared(
     ]
 
 
+def _fixture_braking(tmp_path: Path, name: str, max_edges: int | None = None) -> BrakingResult:
+    """A braking run of tests/fixtures/pil/`name`, generated and linked under tmp_path,
+    compared with the SIL: the short run, or the whole run's first `max_edges` edges."""
+    path = ROOT / "tests" / "fixtures" / "pil" / name
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = braking_setup(spec, short=max_edges is None)
+    if max_edges is not None:
+        setup = replace(setup, max_edges=max_edges, trace_seconds=0.0)
+    return brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+
+
+def _compared(result: BrakingResult, at_least: int) -> list[Commutation]:
+    """The commutations compared with the SIL: at least `at_least` of them."""
+    measured = [c for c in result.commutations if c.difference_pp is not None]
+    assert len(measured) >= at_least, result.unmeasured
+    return measured
+
+
 def test_a_fast_low_inductance_motor_should_agree_with_the_sil_within_a_point(
     tmp_path: Path,
 ) -> None:
@@ -906,14 +926,9 @@ def test_a_fast_low_inductance_motor_should_agree_with_the_sil_within_a_point(
     rpm with 7 pole pairs that is 0.8 electrical degrees, and with 10 uH a phase the
     EMF's shift moves the currents enough to put every measured commutation 1.0-1.34 pp
     from the SIL. With the lead (`Case.emf_lead_s`) they agree within 0.5 pp."""
-    path = ROOT / "tests" / "fixtures" / "pil" / "kv_drone_40k.yaml"
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    elf = build_firmware(path, tmp_path, generated)
-    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, braking_setup(spec, short=True))
+    result = _fixture_braking(tmp_path, "kv_drone_40k.yaml")
     assert braking_report.problems(result) == []
-    measured = [c for c in result.commutations if c.difference_pp is not None]
-    assert len(measured) >= 10, result.unmeasured
+    measured = _compared(result, 10)
     worst = max(c.difference_pp or 0.0 for c in measured)
     assert worst <= 0.5, [(c.index, round(c.difference_pp or 0.0, 2)) for c in measured]
     assert all(c.com_tick - c.hall_tick > 50 for c in measured)  # the lead is there to take
@@ -929,14 +944,9 @@ def test_a_centre_aligned_80_khz_motor_should_agree_with_the_sil_within_half_a_p
     the SIL took the duty of each period from its start. On an 80 kHz conventional motor
     whose commutations modulate both switches for 7-10 periods, every commutation read
     0.3-1.16 pp from the SIL, the PIL's current lower; now within 0.5 pp."""
-    path = ROOT / "tests" / "fixtures" / "pil" / "conv_80k_centre.yaml"
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    elf = build_firmware(path, tmp_path, generated)
-    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, braking_setup(spec, short=True))
+    result = _fixture_braking(tmp_path, "conv_80k_centre.yaml")
     assert braking_report.problems(result) == []
-    measured = [c for c in result.commutations if c.difference_pp is not None]
-    assert len(measured) >= 10, result.unmeasured
+    measured = _compared(result, 10)
     assert all(c.duty_halves and len(c.pre_duties) % 2 == 0 for c in measured)
     worst = max(c.difference_pp or 0.0 for c in measured)
     assert worst <= 0.5, [(c.index, round(c.difference_pp or 0.0, 2)) for c in measured]
@@ -950,13 +960,7 @@ def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loo
     sequence samples I. An end just after the last sequence's JEOC counted two stale
     sequences, dropped that sample, and the timing ran on a current two sectors old
     (`make pil`, at 1.49 M ticks); the end now counts the one that ended."""
-    path = ROOT / "tests" / "fixtures" / "pil" / "conv64_centre_fills.yaml"
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    elf = build_firmware(path, tmp_path, generated)
-    base = braking_setup(spec, short=False)
-    setup = replace(base, max_edges=100, trace_seconds=0.0)
-    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+    result = _fixture_braking(tmp_path, "conv64_centre_fills.yaml", max_edges=100)
     assert result.edges > 80
     assert result.outcome.violations == (), result.outcome.violations
     # its turn-off currents reach zero late in their sectors: the PIL's window held a
@@ -966,8 +970,7 @@ def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loo
     # down; over these first 100 edges it still settles)
     apart = [p for p in braking_report.problems(result) if "apart" in p or "windows" in p]
     assert apart == []
-    measured = [c for c in result.commutations if c.difference_pp is not None]
-    assert len(measured) >= 8 and max(c.difference_pp or 0.0 for c in measured) < 1.0
+    assert max(c.difference_pp or 0.0 for c in _compared(result, 8)) < 1.0
 
 
 def test_the_comparator_should_see_the_braking_current_and_never_trip_the_paper_run(

@@ -654,6 +654,31 @@ static void show(const char *step)
     fake_nvic_cleared = 0u;
 }
 
+/* A Hall edge into sector `code`, then its commutation end with ADC1's SR and TIM1's
+ * counter as given, then two injected sequences of currents `first` and `second`:
+ * `<tag>_end`, `<tag>` and `after_<tag>` show the port after each. */
+static void end_then_two_samples(unsigned code, uint32_t sr, uint32_t cnt, unsigned first,
+                                 unsigned second, const char *tag)
+{
+    char name[64];
+    plan(100u, 900u, 700u, 300u);
+    edge(code, TIM_SR_CC1IF, 5000u, 10u);
+    fake_tim1.EGR = 0u;
+    fake_adc1.SR = sr;
+    fake_tim3.SR = TIM_SR_CC2IF;
+    timing_runs = 0u;
+    fake_tim1.CNT = cnt;
+    %(hall)s();
+    settle();
+    snprintf(name, sizeof name, "%%s_end", tag);
+    show(name);
+    adc(BUS_OK, first, 0u, 0u);
+    show(tag);
+    adc(BUS_OK, second, 0u, 0u);
+    snprintf(name, sizeof name, "after_%%s", tag);
+    show(name);
+}
+
 static void clear(const char *step)
 {
     char name[64];
@@ -784,40 +809,18 @@ int main(int argc, char **argv)
      * loop's SR write had cleared (it ran after that trigger, which the carrier's
      * restart at the Hall edge brought within the sequence before): that sequence,
      * still converting, is not I; the next one is. */
-    plan(100u, 900u, 700u, 300u);
-    edge(seq[4], TIM_SR_CC1IF, 5000u, 10u);
-    fake_tim1.EGR = 0u;
-    fake_adc1.SR = 0u;
-    fake_tim3.SR = TIM_SR_CC2IF;
-    timing_runs = 0u;
-    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 + 10u; /* the trigger 10 counts before the end */
-    %(hall)s();
-    settle();
-    show("wiped_end");
-    adc(BUS_OK, OFFSET + 77u, 0u, 0u);
-    show("wiped");
-    adc(BUS_OK, OFFSET + 78u, 0u, 0u);
-    show("after_wiped");
+    /* the trigger 10 counts before the end */
+    end_then_two_samples(seq[4], 0u, BLDC_PORT_TIM1_CCR4 + 10u, OFFSET + 77u, OFFSET + 78u,
+                         "wiped");
 
     /* A commutation end just after the last sequence's JEOC, its loop step not yet run
      * (the end's priority is the loop's): that one sequence is not I, the next one is.
      * Counting two whenever JEOC was set dropped the one sample a commutation filling
      * its sector leaves before the next edge (a 64-pole-pair centre-aligned motor: the
      * timing ran on a sample two sectors old). */
-    plan(100u, 900u, 700u, 300u);
-    edge(seq[5], TIM_SR_CC1IF, 5000u, 10u);
-    fake_tim1.EGR = 0u;
-    fake_adc1.SR = ADC_SR_JSTRT | ADC_SR_JEOC;
-    fake_tim3.SR = TIM_SR_CC2IF;
-    timing_runs = 0u;
-    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 + BLDC_PORT_SEQUENCE_COUNTS + 5u; /* it ended */
-    %(hall)s();
-    settle();
-    show("ended_end");
-    adc(BUS_OK, OFFSET + 81u, 0u, 0u);
-    show("ended");
-    adc(BUS_OK, OFFSET + 82u, 0u, 0u);
-    show("after_ended");
+    end_then_two_samples(seq[5], ADC_SR_JSTRT | ADC_SR_JEOC,
+                         BLDC_PORT_TIM1_CCR4 + BLDC_PORT_SEQUENCE_COUNTS + 5u, /* it ended */
+                         OFFSET + 81u, OFFSET + 82u, "ended");
 
     /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
 #define STEADY()                                              \
