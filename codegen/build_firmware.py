@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen.port_drive import HANDLERS
-from codegen.report_folder import record_written, refuse_strangers
+from codegen.report_folder import claim_build_names
 from codegen.stack_usage import StackReport, read_call_graph, stack_report
 
 CFLAGS = [
@@ -145,8 +145,7 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
         *(f"{name}{ext}" for name in (*SOURCES, CUBE_SOURCE[0]) for ext in (".o", ".su", ".ci")),
         *IMAGE_FILES,
     ]
-    refuse_strangers(build_dir, written, MAP, MAP_MARKER)
-    build_dir.mkdir(parents=True, exist_ok=True)
+    claim_build_names(build_dir, written, MAP, MAP_MARKER)
     # the reports of every object this build may write (a Cube-style one of a former
     # build included), and no other file: the folder may hold the user's own
     for name in (*SOURCES, CUBE_SOURCE[0]):
@@ -194,7 +193,6 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
             ["arm-none-eabi-objcopy", "-O", kind, str(elf), str(build_dir / f"firmware.{suffix}")],
             check=True,
         )
-    record_written(build_dir, written, MAP, MAP_MARKER)
     sizes = {name: section_sizes(obj) for name, obj in objects.items()}
     sizes[ELF] = section_sizes(elf)
     return sizes

@@ -35,12 +35,17 @@ from codegen.render import write_atomically
 
 #: the names of the files bldc-codegen wrote into a report folder, one per line
 LEDGER = ".bldc-codegen-report"
+#: the same for a firmware build folder: its own, so that a report written into the
+#: folder never takes the image for a former report's files (and deletes it)
+BUILD_LEDGER = ".bldc-codegen-build"
 
 
-def owned_names(out: Path, report: str, marker: str) -> frozenset[str] | None:
+def owned_names(
+    out: Path, report: str, marker: str, ledger_name: str = LEDGER
+) -> frozenset[str] | None:
     """The names of `out`'s files the tool wrote; None when every name counts as the
     tool's (a report folder from before the ledger, its report carrying `marker`)."""
-    ledger = out / LEDGER
+    ledger = out / ledger_name
     if ledger.is_file():
         # plain names only (a report folder is flat): a ledger line "/tmp/x" or "../x"
         # had the next run delete that file outside the folder
@@ -57,11 +62,13 @@ def _plain_name(name: str) -> bool:
     return not any(c in name for c in "/\\\0")
 
 
-def strangers(out: Path, names: list[str], report: str, marker: str) -> list[Path]:
+def strangers(
+    out: Path, names: list[str], report: str, marker: str, ledger_name: str = LEDGER
+) -> list[Path]:
     """The files of `out` that `names` would replace and the tool did not write."""
     if not out.is_dir():
         return []
-    owned = owned_names(out, report, marker)
+    owned = owned_names(out, report, marker, ledger_name)
     found = []
     for name in names:
         path = out / name
@@ -72,14 +79,16 @@ def strangers(out: Path, names: list[str], report: str, marker: str) -> list[Pat
     return found
 
 
-def refuse_strangers(out: Path, names: list[str], report: str, marker: str) -> None:
+def refuse_strangers(
+    out: Path, names: list[str], report: str, marker: str, ledger_name: str = LEDGER
+) -> None:
     """Raise PublishError when a file of `names` in `out` is a stranger's."""
-    paths = strangers(out, names, report, marker)
+    paths = strangers(out, names, report, marker, ledger_name)
     if paths:
         raise PublishError(
             f"{paths[0]} is in the way and was not written by bldc-codegen (the"
-            f" folder's {LEDGER} does not list it): move it away or choose another output"
-            " folder"
+            f" folder's {ledger_name} does not list it): move it away or choose another"
+            " output folder"
         )
 
 
@@ -114,15 +123,18 @@ def staged_report(out: Path, report: str, marker: str) -> Iterator[Path]:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def record_written(out: Path, names: list[str], report: str, marker: str) -> None:
-    """Add `names`, just written into `out` in place (a firmware build's objects and
-    image), to its ledger: the next run replaces them, and nothing else of the folder's."""
-    owned = owned_names(out, report, marker)
-    _write_ledger(out, set(owned or ()) | {n for n in names if (out / n).is_file()})
+def claim_build_names(out: Path, names: list[str], report: str, marker: str) -> None:
+    """Refuse a stranger's file of `names` in `out`, then list `names` in its build
+    ledger before any is written in place (a firmware build's objects and image): a
+    build interrupted or failed half-way leaves files the next one knows as its own."""
+    refuse_strangers(out, names, report, marker, BUILD_LEDGER)
+    owned = owned_names(out, report, marker, BUILD_LEDGER)
+    out.mkdir(parents=True, exist_ok=True)
+    _write_ledger(out, set(owned or ()) | set(names), BUILD_LEDGER)
 
 
-def _write_ledger(out: Path, names: set[str]) -> None:
-    write_atomically(out / LEDGER, "".join(f"{n}\n" for n in sorted(names)))
+def _write_ledger(out: Path, names: set[str], ledger_name: str = LEDGER) -> None:
+    write_atomically(out / ledger_name, "".join(f"{n}\n" for n in sorted(names)))
 
 
 def _remove_abandoned_staging(out: Path) -> None:

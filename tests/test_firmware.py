@@ -10,7 +10,7 @@ import pytest
 
 from codegen.build_firmware import build
 from codegen.firmware import tim3_irq_number, vector_table
-from codegen.report_folder import LEDGER
+from codegen.report_folder import BUILD_LEDGER
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -65,7 +65,7 @@ def test_a_build_folder_should_keep_the_users_own_stack_reports(tmp_path: Path) 
     for path, text in mine.items():
         path.write_text(text)
     (tmp_path / "it.su").write_text("stale")  # a former Cube-style build's, in its ledger
-    (tmp_path / LEDGER).write_text("it.su\n")
+    (tmp_path / BUILD_LEDGER).write_text("it.su\n")
     build(ROOT / "generated" / "paper_motor", tmp_path)
     assert all(path.read_text() == text for path, text in mine.items())
     assert not (tmp_path / "it.su").exists() and (tmp_path / "core.su").is_file()
@@ -86,7 +86,7 @@ def test_a_build_folder_holding_a_users_file_of_a_build_name_should_be_refused(
     assert (tmp_path / "main.o").read_text() == "mine" and not (tmp_path / "core.o").exists()
     (tmp_path / "main.o").unlink()
     build(ROOT / "generated" / "paper_motor", tmp_path)
-    assert "main.o" in (tmp_path / LEDGER).read_text().split()
+    assert "main.o" in (tmp_path / BUILD_LEDGER).read_text().split()
     build(ROOT / "generated" / "paper_motor", tmp_path)  # its own files: replaced
     legacy = tmp_path / "legacy"
     legacy.mkdir()
@@ -94,6 +94,44 @@ def test_a_build_folder_holding_a_users_file_of_a_build_name_should_be_refused(
     (legacy / "firmware.map").write_text("\nDiscarded input sections\n .text 0x0 0x0 x/core.o\n")
     build(ROOT / "generated" / "paper_motor", legacy)  # a build folder from before the ledger
     assert (legacy / "main.o").read_bytes() != b"old object"
+
+
+def test_a_build_interrupted_half_way_should_leave_files_the_next_build_knows(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The build lists its names in its ledger before it writes them: recorded only at
+    the end, a build interrupted (Ctrl-C, a compile error) after its first object had
+    left core.o unlisted, and every later build into the folder refused it."""
+    import codegen.build_firmware as build_module
+
+    real = subprocess.run
+    calls = []
+
+    def failing(args: list[str], **kwargs: object) -> object:
+        calls.append(args)
+        if len(calls) == 2:  # after core.o: the second compile fails
+            raise subprocess.CalledProcessError(1, args)
+        return real(args, **kwargs)  # type: ignore[call-overload]
+
+    with monkeypatch.context() as patch:
+        patch.setattr(build_module.subprocess, "run", failing)
+        with pytest.raises(subprocess.CalledProcessError):
+            build(ROOT / "generated" / "paper_motor", tmp_path)
+    assert (tmp_path / "core.o").is_file() and not (tmp_path / "firmware.elf").exists()
+    build(ROOT / "generated" / "paper_motor", tmp_path)  # its own half-build: replaced
+    assert (tmp_path / "firmware.elf").is_file()
+
+
+def test_a_report_written_into_a_build_folder_should_leave_the_image(tmp_path: Path) -> None:
+    """The build keeps its own ledger: in the report folders' one, `simulate -o` into a
+    build folder took the image for a former report's files and deleted it."""
+    from codegen.report_folder import staged_report
+
+    build(ROOT / "generated" / "paper_motor", tmp_path)
+    with staged_report(tmp_path, "REPORT.md", "<!-- report") as staging:
+        (staging / "REPORT.md").write_text("<!-- report -->\n")
+    assert (tmp_path / "firmware.elf").is_file() and (tmp_path / "core.o").is_file()
+    assert (tmp_path / "REPORT.md").is_file()
 
 
 # ------------------------------------------------------------ Cube integration
