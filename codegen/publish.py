@@ -366,6 +366,10 @@ def require_writable_folder(path: Path) -> None:
     output goes there. Raises OSError naming `path` (`simulate -o /proc/x` had simulated
     for 9 s, then named its hidden staging folder)."""
     require_folder_path(path)
+    if path.is_symlink() and not path.exists():  # the staging's rename fails there, late
+        raise FileExistsError(
+            errno.EEXIST, "a symbolic link to nothing is there (give a folder)", str(path)
+        )
     existing = next((p for p in (path, *path.parents) if p.is_dir()), None)
     if existing is None:
         return

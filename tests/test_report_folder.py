@@ -202,6 +202,14 @@ def test_a_report_folder_where_none_can_be_made_should_be_refused_before_the_wor
     assert os_error_line(caught.value) == "error: /proc/x: No such file or directory"
     require_writable_folder(tmp_path / "new" / "out")  # a place one can be made: no error
     assert list(tmp_path.iterdir()) == []  # and the probe leaves nothing
+    dangling = tmp_path / "dangling"
+    dangling.symlink_to(tmp_path / "nowhere" / "x")  # failed only after the work
+    with pytest.raises(FileExistsError) as link:
+        require_writable_folder(dangling)
+    assert os_error_line(link.value) == (
+        f"error: {dangling}: a symbolic link to nothing is there (give a folder)"
+    )
+    dangling.unlink()
     spec = str(ROOT / "spec" / "paper_motor.yaml")
     argv = [sys.executable, "-m", "codegen", "simulate", spec, "--quick", "--no-progress"]
     result = subprocess.run(
