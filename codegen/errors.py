@@ -18,7 +18,12 @@ _MAX_VALUE_CHARS = 60
 
 
 def show_value(value: object) -> str:
-    """repr() of a value, on one line and at most _MAX_VALUE_CHARS characters."""
+    """repr() of a value, on one line and at most _MAX_VALUE_CHARS characters; YAML's
+    own words for its null and booleans (`poles: ~` had read `= None`)."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
     return clipped(repr(value))
 
 

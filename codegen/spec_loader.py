@@ -806,9 +806,9 @@ _RELAXATION = ("ill_conditioned_above", "ill_conditioned_counts")
 def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoint, ...] | None:
     allowed = f"1 to {MAX_OPERATING_POINTS} mappings {{speed, main_duty}}"
     raw = r.attempt(lambda: r.raw(data, "operating_points", "", allowed))
-    if raw is None:
+    if raw is None and "operating_points" not in data:  # reported as missing
         return None
-    if not isinstance(raw, list):
+    if not isinstance(raw, list):  # a null value included (it had reached the physics: a TypeError)
         r.report("operating_points", raw, f"must be a list, got {type_name(raw)}", allowed)
         return None
     if not raw:
@@ -892,9 +892,9 @@ def _covered(path: str, named: set[str]) -> bool:
 
 def _sources(r: _Reader, data: Mapping[str, Any]) -> tuple[tuple[str, str], ...] | None:
     raw = r.attempt(lambda: r.raw(data, "sources", "", "a mapping of key paths to descriptions"))
-    if raw is None:
+    if raw is None and "sources" not in data:  # reported as missing
         return None
-    if not isinstance(raw, Mapping):
+    if not isinstance(raw, Mapping):  # `sources: ~` included (it had skipped the check)
         r.report(
             "sources",
             raw,

@@ -688,6 +688,24 @@ BAD_SPECS = [
         ("reserved", "generated/paper/ holds the paper's audit", "any other"),
         id="name-of-the-paper-audit-folder",
     ),
+    pytest.param(
+        _edit(lambda d: d.update(operating_points=None)),
+        "operating_points",
+        ("operating_points = null: must be a list, got an empty value (null)",),
+        id="operating-points-null",  # had reached the physics checks: a TypeError
+    ),
+    pytest.param(
+        _edit(lambda d: d.update(sources=None)),
+        "sources",
+        ("sources = null: must map key paths", "got an empty value (null)"),
+        id="sources-null",  # had skipped the provenance check: exit 0
+    ),
+    pytest.param(
+        _edit(lambda d: d["motor"].update(poles=True)),
+        "motor.poles",
+        ("motor.poles = true: ",),
+        id="poles-boolean-in-yamls-words",
+    ),
 ]
 
 
