@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Mapping
+from decimal import Decimal, localcontext
 from fractions import Fraction
 from functools import lru_cache
 from typing import Any, Protocol, TypeVar
@@ -46,6 +47,30 @@ class _Errors(Protocol):
     def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError: ...
 
     def attempt(self, read: Callable[[], T]) -> T | None: ...
+
+
+def _digits(value: Fraction, digits: int) -> str:
+    """`value` to `digits` significant digits, exactly (a float rounds 24 x (1 -
+    0.16666666666666668) to 20)."""
+    with localcontext() as context:
+        context.prec = digits
+        shown = +(Decimal(value.numerator) / Decimal(value.denominator))
+    return f"{shown.normalize():f}"
+
+
+def _apart(value: Fraction, limit: Fraction) -> int:
+    """The fewest significant digits, from 4, that show `value` apart from `limit`."""
+    for digits in range(4, 40):
+        if _digits(value, digits) != _digits(limit, digits):
+            return digits
+    return 40
+
+
+def _inward(value: Fraction, up: bool) -> str:
+    """`value` with 4 decimals, rounded up (a lower bound) or down (an upper one)."""
+    scaled = value * 10_000
+    whole = math.ceil(scaled) if up else math.floor(scaled)
+    return f"{whole / 10_000:g}"
 
 
 def _plain(value: object) -> bool:
@@ -156,13 +181,20 @@ def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances | None
     nominal = inverter.bus_voltage_nominal_v
     low_v, high_v = (nominal * (1 + p) for p in pairs["bus_voltage"])
     if low_v < inverter.bus_voltage_min_v or high_v > inverter.bus_voltage_max_v:
-        lowest = float((inverter.bus_voltage_min_v / nominal - 1) * 100)
-        highest = float((inverter.bus_voltage_max_v / nominal - 1) * 100)
+        lowest = (inverter.bus_voltage_min_v / nominal - 1) * 100
+        highest = (inverter.bus_voltage_max_v / nominal - 1) * 100
+        low_at, high_at = (
+            _apart(low_v, inverter.bus_voltage_min_v),
+            _apart(high_v, inverter.bus_voltage_max_v),
+        )
         raise r.error(
             f"{TOLERANCES_KEY}.bus_voltage",
             raw["bus_voltage"],
-            f"puts the bus at {float(low_v):g}-{float(high_v):g} V, outside the inverter's"
-            f" {float(inverter.bus_voltage_min_v):g}-{float(inverter.bus_voltage_max_v):g} V",
-            f"[{lowest:.4g}, {highest:.4g}] %",
+            f"puts the bus at {_digits(low_v, low_at)}-{_digits(high_v, high_at)} V, outside"
+            f" the inverter's {_digits(inverter.bus_voltage_min_v, low_at)}-"
+            f"{_digits(inverter.bus_voltage_max_v, high_at)} V",
+            # rounded inwards: a bound copied from here is accepted (-16.67 % of 24 V is
+            # below a 20 V minimum, and the message had said "20-30 V, outside 20-30 V")
+            f"[{_inward(lowest, up=True)}, {_inward(highest, up=False)}] %",
         )
     return Tolerances(**pairs)

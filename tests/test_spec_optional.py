@@ -309,3 +309,19 @@ def test_a_line_to_line_constant_should_be_held_to_the_phase_range_times_its_fac
         return
     assert len(lines) == 1
     assert "(allowed: [2e-05, 2] V/rpm line to line (the phase k_e in [1e-05, 1] V/rpm" in lines[0]
+
+
+def test_a_bus_tolerance_just_past_the_inverters_range_should_show_the_difference(
+    tmp_path: Path,
+) -> None:
+    """-16.666666666666668 % of 24 V is a hair below 20 V: the refusal had said "puts
+    the bus at 20-30 V, outside the inverter's 20-30 V (allowed: [-16.67, 25] %)", and
+    the allowed bound it gave was itself refused. The voltage shows the difference and
+    the bounds are rounded inwards, so that a bound copied from the message loads."""
+    section = TOLERANCES.replace("[-16, 25]", "[-16.666666666666668, 25]")
+    with pytest.raises(SpecError) as error:
+        load_spec(_with_tolerances(tmp_path, section))
+    message = str(error.value)
+    assert "puts the bus at 19.9999999999999997-30 V, outside the inverter's 20-30 V" in message
+    assert "(allowed: [-16.6666, 25] %)" in message
+    load_spec(_with_tolerances(tmp_path, TOLERANCES.replace("[-16, 25]", "[-16.6666, 25]")))
