@@ -15,6 +15,7 @@ import pytest
 from codegen.control import current_loop
 from codegen.ir import py_printer
 from codegen.ir.nodes import Function, SLet
+from codegen.methods.base import FixedPointError
 from codegen.spec_loader import load_spec
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -155,3 +156,17 @@ def test_a_finer_integrator_should_round_nothing_and_keep_its_forms_equal() -> N
                     r,
                     m,
                 )
+
+
+def test_a_refusal_on_the_ramps_drift_should_name_the_ramp_not_the_step() -> None:
+    """A 64-pole 5 mH motor of 2.5 mohm: the PI's widest format drifts 0.025 counts
+    over a step response but 63 over a ramp from 0 to D_max; the refusal had said the
+    step's "drifts 0.0250 counts, more than the 16 counts" the key may be."""
+    path = ROOT / "tests" / "fixtures" / "refused" / "pi_ramp_drift_64p.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        current_loop.design(load_spec(path))
+    message = str(caught.value)
+    assert "over a ramp from 0 to D_max the PI's widest format" in message
+    assert "drifts 0.0" not in message
+    d = current_loop.widest_design(load_spec(path))
+    assert d.duty_claim + d.ramp_claim > 16 >= d.integrator_claim * 100

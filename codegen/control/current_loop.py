@@ -591,11 +591,25 @@ def _hold_claims(d: LoopDesign) -> None:
                         f" {math.ceil(float(needed) * 1000) / 1000:g} counts"
                     )
                 )
+        drift = step * periods
+        ramp = float(d.duty_claim + d.ramp_claim)
+        if drift >= ramp:
+            why = (
+                f"a braking-current step response takes {periods:.1f} PWM periods, over"
+                f" which the PI's integrator, off by up to {step:.4f} counts a period in its"
+                f" widest format ({_format_name(d)}), drifts {drift:.4f} counts"
+            )
+        else:
+            # the ramp's bound, not the step's, is over (the message had named the
+            # step's drift, 0.025 counts, as "more than 16 counts")
+            why = (
+                f"over a ramp from 0 to D_max the PI's widest format ({_format_name(d)}) is"
+                f" off by up to {ramp:.4f} counts (its duty {float(d.duty_claim):.4f}, its"
+                f" integrator's drift {float(d.ramp_claim):.4f}: k_i's rounding over the"
+                " ramp's periods)"
+            )
         raise FixedPointError(
-            f"current_loop.bandwidth = {float(bandwidth):g} Hz: a braking-current step"
-            f" response takes {periods:.1f} PWM periods, over which the PI's integrator,"
-            f" off by up to {step:.4f} counts a period in its widest format"
-            f" ({_format_name(d)}), drifts {step * periods:.4f} counts, more than the"
+            f"current_loop.bandwidth = {float(bandwidth):g} Hz: {why}, more than the"
             f" {LOOP_DUTY_COUNTS_MAX} counts accuracy.current_loop_duty_counts may be"
             f" (allowed: a bandwidth whose PI meets accuracy.current_loop_duty_counts ="
             f" {float(allowed):g} counts: {meets})",
