@@ -107,11 +107,14 @@ def _step(label: str) -> None:
 def _write(path: Path, text: str) -> None:
     _step(f"write {path.name}")
     data = text.encode("utf-8")
-    with open(path, "wb") as stream:
-        stream.write(data)
-        stream.flush()
-        _step(f"fsync {path.name}")
-        os.fsync(stream.fileno())
+    try:
+        with open(path, "wb") as stream:
+            stream.write(data)
+            stream.flush()
+            _step(f"fsync {path.name}")
+            os.fsync(stream.fileno())
+    except OSError as exc:  # a write's ENOSPC names no file
+        raise OSError(exc.errno, exc.strerror, str(exc.filename or path)) from None
 
 
 def _fsync_dir(path: Path) -> None:
@@ -552,6 +555,7 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
         raise PublishError(f"{p.target} exists and is not a folder")
     if not p.target.exists():
         return
+    _require_writable_tree(p.target)
     owned = _owned(p.target)
     mine = owned.files if owned else frozenset()
     for name in files:
@@ -570,6 +574,23 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
                 f"{path} is in the way and was not written by bldc-codegen (its manifest"
                 " does not list it): move it away or choose another output folder"
             )
+
+
+def _require_writable_tree(target: Path) -> None:
+    """PublishError naming the first folder of `target` (itself included, not through a
+    link) whose entries this user cannot move: the publish moves the user's files from
+    the old tree into the new one, and a read-only folder kept them in the hidden old
+    tree (`generate -o` a mode-555 folder: exit 0, the user's file moved aside, and
+    every later run stopped on the leftover)."""
+    for folder, subfolders, _ in os.walk(target):
+        here = Path(folder)
+        if not os.access(here, os.W_OK | os.X_OK):
+            raise PublishError(
+                f"{here} is not writable by this user: the files bldc-codegen did not write"
+                " there could not be carried into the new tree (make it writable, e.g."
+                " chmod u+w, or choose another output folder)"
+            )
+        subfolders[:] = sorted(d for d in subfolders if not (here / d).is_symlink())
 
 
 def refuse_foreign(target: Path, names: Iterable[str]) -> None:
@@ -606,11 +627,11 @@ def publish(files: Mapping[str, str], target: Path) -> PublishResult:
             if p.target.exists():
                 _take_over_metadata(p.staging, p.target)
                 result.atomic_exchange = _exchange(p.staging, p.target)
-        except OSError:
+        except OSError as exc:
             # Nothing is published (a full disk, a target that cannot be replaced): the
             # staged tree, all of it ours, goes, instead of waiting for the next run.
             _discard(p.staging)
-            raise
+            raise _named_in_target(exc, p) from None
         if p.target.exists():
             if result.atomic_exchange:
                 _rename(p.staging, p.retired)
@@ -630,6 +651,15 @@ def publish(files: Mapping[str, str], target: Path) -> PublishResult:
     for note in result.notes:
         print(f"warning: {note}", file=sys.stderr)
     return result
+
+
+def _named_in_target(exc: OSError, p: _Paths) -> OSError:
+    """`exc` naming the file of the target it was writing, not the hidden staging
+    folder's (a full disk had said "error: No space left on device" and no path)."""
+    where = Path(str(exc.filename)) if exc.filename else p.staging
+    if where == p.staging or p.staging in where.parents:
+        where = p.target / where.relative_to(p.staging)
+    return OSError(exc.errno, exc.strerror, str(where))
 
 
 def _take_over_metadata(staging: Path, target: Path) -> None:

@@ -10,6 +10,7 @@ new one, every foreign file in place and no leftovers.
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import shutil
@@ -367,3 +368,57 @@ def test_a_run_waiting_for_the_lock_should_name_the_folder_it_waits_to_write(
     assert f"waiting for another bldc-codegen run writing {tmp_path / 'out'}" in (
         capsys.readouterr().err
     )
+
+
+@pytest.mark.parametrize("read_only", ["", "c"])
+def test_a_read_only_folder_of_the_tree_is_refused_before_anything_moves(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, read_only: str
+) -> None:
+    """A folder of the old tree this user cannot write (the target, or a subfolder)
+    would keep the user's files in the hidden old tree: refused first (as root, which
+    `os.access` lets write anything, the mode is simulated through `os.access`)."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    write_foreign(target)
+    locked = target / read_only if read_only else target
+    before = read_tree(target)
+    real_access = os.access
+
+    def access(path: object, mode: int, **kwargs: object) -> bool:
+        if Path(str(path)) == locked and mode & os.W_OK:
+            return False
+        return real_access(path, mode, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(publish_module.os, "access", access)
+    locked.chmod(0o555)
+    try:
+        with pytest.raises(PublishError, match=f"{locked} is not writable by this user"):
+            publish(NEW, target)
+    finally:
+        locked.chmod(0o755)
+    assert read_tree(target) == before
+    assert leftovers(tmp_path, target) == []
+
+
+def test_a_full_disk_names_the_file_of_the_target_and_publishes_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A write's ENOSPC carries no file name: the error names the target's file (not
+    the hidden staging folder's, nor nothing: "error: No space left on device")."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    before = read_tree(target)
+
+    def full(fd: int) -> None:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(publish_module.os, "fsync", full)
+    with pytest.raises(OSError) as raised:
+        publish(NEW, target)
+    monkeypatch.undo()
+    assert raised.value.errno == errno.ENOSPC
+    assert Path(str(raised.value.filename)) == target / MANIFEST
+    line = publish_module.os_error_line(raised.value)
+    assert line == f"error: {target / MANIFEST}: No space left on device"
+    assert read_tree(target) == before
+    assert leftovers(tmp_path, target) == []
