@@ -1048,4 +1048,11 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
         # no format at all (a k_i below one LSB, a core no target rescues): said now, not
         # by `generate` after "init: next: ... generate" (a 1 mohm, 500 mH motor)
         return Written(path, DesignRefusal(str(path), exc.key, str(exc)), (), notes)
+    from codegen.init_load import over_budget
+
+    load = over_budget(spec)
+    if load is not None:
+        # the bench flags it after a build; said here, where the PWM frequency and the
+        # top speed are still being chosen (an 80 kHz motor: 32 % in the bench)
+        notes = (*notes, load)
     return Written(path, None, spec.warnings, notes)

@@ -1,0 +1,70 @@
+"""`init`'s estimate of the drive's CPU load at the top speed, before anything is built.
+
+`make bench` measures the load from the generated firmware's own cycles
+(`emulation.bench._cpu_load`); `init` has no firmware yet, so it prices the same events
+with the worst handler cycles the bench measured on the checked-in motors (2 flash wait
+states, entry and exit included). A sector at the top speed holds the Hall edge, its
+EXTI, the commutation end and three timing runs (each priced as a bus change: the bus
+handler and the timing run it pends), and one current-loop run per PWM period. The
+estimate errs high for `improved_r`, whose search is shorter in a short sector; it is a
+warning that the motor needs measuring, not a figure to hold the firmware to."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+from codegen.spec_model import Spec
+
+CPU_HZ = 72_000_000
+
+#: Hall edge 119 + its EXTI 57 + commutation end 129 (the worst of the checked-in
+#: motors' `make bench` figures, cycles)
+EDGE_EVENTS_CYCLES = 305
+#: one timing run priced as a bus change (TIM1_UP, then the timing run it pends): 398
+#: on the paper's methods, 1478 on `improved_r` (spec/paper_motor*.yaml's bench)
+TIMING_CYCLES = {"improved_r": 1480}
+TIMING_CYCLES_DEFAULT = 400
+#: the current loop's JEOC handler, once per PWM period (136-142 on the checked-in motors)
+LOOP_CYCLES = 142
+
+
+@dataclass(frozen=True)
+class LoadEstimate:
+    percent: float
+    commutation_percent: float
+    loop_percent: float
+    sector_us: float
+
+
+def estimate(spec: Spec) -> LoadEstimate:
+    """The load over one sector at `controller.speed_max`."""
+    sector_s = Fraction(60) / (spec.controller.speed_max_rpm * spec.motor.pole_pairs * 6)
+    sector_cycles = sector_s * CPU_HZ
+    timing = TIMING_CYCLES.get(str(spec.controller.method), TIMING_CYCLES_DEFAULT)
+    commutation = Fraction(EDGE_EVENTS_CYCLES + 3 * timing) / sector_cycles
+    loop = Fraction(LOOP_CYCLES) * spec.inverter.pwm_frequency_hz / CPU_HZ
+    return LoadEstimate(
+        percent=float(100 * (commutation + loop)),
+        commutation_percent=float(100 * commutation),
+        loop_percent=float(100 * loop),
+        sector_us=float(sector_s * 1_000_000),
+    )
+
+
+def over_budget(spec: Spec) -> str | None:
+    """A warning when the estimate passes `firmware.cpu_load_budget`, else None."""
+    load = estimate(spec)
+    budget = float(spec.firmware.cpu_load_budget_percent)
+    if load.percent <= budget:
+        return None
+    return (
+        f"firmware.cpu_load_budget: the drive may take up to about {load.percent:.0f} % of"
+        f" the CPU at controller.speed_max ({float(spec.controller.speed_max_rpm):g} rpm,"
+        f" a {load.sector_us:.0f} us sector: the commutation's handlers"
+        f" {load.commutation_percent:.0f} %, the current loop at"
+        f" {float(spec.inverter.pwm_frequency_hz) / 1000:g} kHz {load.loop_percent:.0f} %),"
+        f" over its {budget:g} % (an estimate from the checked-in motors' handler cycles;"
+        " `bldc-codegen bench` measures this motor's): a lower PWM frequency or top speed"
+        " lowers it"
+    )

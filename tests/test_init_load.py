@@ -1,0 +1,46 @@
+"""init's estimate of the CPU load at the top speed (`codegen.init_load`): said where
+the PWM frequency and the top speed are chosen, before the bench can measure it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from bldc import cli
+from codegen.init_load import estimate, over_budget
+from codegen.spec_loader import load_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_estimate_should_err_high_on_the_default_motor() -> None:
+    """The bench measures 4.81 % at 5000 rpm (a 2000-tick sector of 2 ms): the estimate, from
+    the worst handler cycles of the checked-in motors, is above it and under budget."""
+    spec = load_spec(ROOT / "spec" / "paper_motor.yaml")
+    load = estimate(spec)
+    assert 4.81 < load.percent < 8
+    assert load.sector_us == pytest.approx(2000)
+    assert over_budget(spec) is None
+
+
+def test_a_fast_improved_r_motor_should_be_warned_of() -> None:
+    """The 40 kHz drone fixture: the bench measures 51 % at its top speed."""
+    spec = load_spec(ROOT / "tests" / "fixtures" / "pil" / "kv_drone_40k.yaml")
+    warning = over_budget(spec)
+    assert warning is not None and warning.startswith("firmware.cpu_load_budget: ")
+    assert "over its 25 %" in warning and "lower PWM frequency or top speed" in warning
+    assert estimate(spec).percent > 51
+
+
+def test_init_should_say_when_its_motor_may_pass_the_cpu_budget(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A 1-pole-pair Kv 2000 improved_r motor on 24 V: 45 600 rpm, a 219 us sector."""
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "fast", "--pole-pairs", "1", "--kv", "2000", "--bus-voltage", "24 V"]
+    assert cli.main([*argv, "--method", "improved_r"]) == 0
+    said = capsys.readouterr()
+    assert "init: note: firmware.cpu_load_budget: the drive may take up to" in said.err
+    assert cli.main(["init", "slow", "--bus-voltage", "24 V"]) == 0
+    assert "cpu_load_budget" not in capsys.readouterr().err
