@@ -20,6 +20,7 @@ import hashlib
 import math
 import os
 import re
+import unicodedata
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from decimal import Context, Decimal
@@ -890,6 +891,20 @@ def _covered(path: str, named: set[str]) -> bool:
     return False
 
 
+def _hidden_character(text: str) -> str | None:
+    """The first character of `text` a reader cannot see for what it is, named (U+202E),
+    else None: a control character other than a line break or a tab, or a Unicode format
+    character (the bidirectional overrides and isolates, zero-width joiners: the
+    "Trojan Source" characters that make text read other than it is)."""
+    for char in text:
+        if char in "\n\r\t":
+            continue
+        if unicodedata.category(char) in ("Cc", "Cf"):
+            name = unicodedata.name(char, "")
+            return f"U+{ord(char):04X}" + (f" ({name})" if name else "")
+    return None
+
+
 def _sources(r: _Reader, data: Mapping[str, Any]) -> tuple[tuple[str, str], ...] | None:
     raw = r.attempt(lambda: r.raw(data, "sources", "", "a mapping of key paths to descriptions"))
     if raw is None and "sources" not in data:  # reported as missing
@@ -911,6 +926,11 @@ def _sources(r: _Reader, data: Mapping[str, Any]) -> tuple[tuple[str, str], ...]
             continue
         if len(text) > _MAX_SOURCE_CHARS:
             r.report(path, text, f"a source of {len(text)} characters", f"<= {_MAX_SOURCE_CHARS}")
+            continue
+        if (hidden := _hidden_character(text)) is not None:
+            r.report(
+                path, text, f"holds the invisible or control character {hidden}", "printable text"
+            )
             continue
         key_text = str(key)
         # A key of the schema that the spec lacks is reported where it is missing.
@@ -1452,6 +1472,14 @@ def load_spec(path: str | Path) -> Spec:
                 description,
                 f"a description of {len(description)} characters",
                 f"<= {_MAX_DESCRIPTION_CHARS}",
+            )
+        elif (hidden := _hidden_character(description)) is not None:
+            r.report(
+                "description",
+                description,
+                f"holds the invisible or control character {hidden}",
+                "printable text (a right-to-left override had been accepted and printed into"
+                " DERIVATION.md)",
             )
     motor = _motor(r, data)
     inverter = _inverter(r, data)

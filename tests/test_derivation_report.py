@@ -113,3 +113,36 @@ def test_derivation_should_not_repeat_the_paper_audit(motor: tuple[Spec, str]) -
     assert "(../paper/AUDIT.md)" in text
     first = text.splitlines()[0]
     assert "templates/audit/DERIVATION.md.j2" in first and spec.sha256 in first
+
+
+def test_a_description_should_stay_plain_text_in_the_report(tmp_path: Path) -> None:
+    """A spec's description opens DERIVATION.md's first paragraph: a heading, a script
+    and a list item written into it had been printed as such."""
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    line = next(x for x in text.splitlines() if x.startswith("description: "))
+    hostile = 'description: "- x\\n\\n# Injected heading\\n<script>alert(1)</script> [a](b)"'
+    path = tmp_path / "hostile.yaml"
+    path.write_text(text.replace(line, hostile), encoding="utf-8")
+    report = render_derivation(derive(), load_spec(path))
+    first = next(p for p in report.split("\n\n") if "Commutation method" in p)
+    assert first.startswith(
+        "\\- x \\# Injected heading &lt;script&gt;alert(1)&lt;/script&gt; \\[a\\](b). "
+    ), first
+    assert "\n# Injected" not in report and "<script>" not in report
+
+
+@pytest.mark.parametrize("char", ["\u202e", "\u200b", "\u2066"])
+def test_an_invisible_character_in_the_spec_text_should_be_refused(
+    tmp_path: Path, char: str
+) -> None:
+    """A right-to-left override, a zero-width space or a left-to-right isolate in the
+    description or a source: the text reads other than it is (accepted before; raw
+    control characters the YAML reader refuses)."""
+    from codegen.errors import SpecError
+
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    for old in ("description: Table 3", 'motor.poles: "'):
+        path = tmp_path / "hidden.yaml"
+        path.write_text(text.replace(old, old + char, 1), encoding="utf-8")
+        with pytest.raises(SpecError, match=f"invisible or control character U\\+{ord(char):04X}"):
+            load_spec(path)

@@ -11,6 +11,7 @@ values and rounded only when printed.
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -154,6 +155,18 @@ def _switching(derivation: Derivation, spec: Spec) -> list[dict[str, str]]:
     return rows
 
 
+def _markdown_text(text: str) -> str:
+    """The spec's own words as plain text of one Markdown paragraph: whitespace runs
+    (line breaks included) become one space, HTML's specials are entities and
+    Markdown's are escaped, so a description cannot open a heading, a list, a link or a
+    script (`# Injected heading` and `<script>` had been written into DERIVATION.md)."""
+    text = " ".join(text.split())
+    text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    text = re.sub(r"([\\`*_\[\]#|!])", r"\\\1", text)
+    # nor a list item: the description starts its line
+    return re.sub(r"^([-+]|\d+(?=[.)]))", r"\\\1", text)
+
+
 def render_derivation(derivation: Derivation, spec: Spec) -> str:
     low, high = _fail_bounds(derivation)
     controller = spec.controller
@@ -161,7 +174,7 @@ def render_derivation(derivation: Derivation, spec: Spec) -> str:
         TEMPLATE,
         provenance=provenance(f"templates/{TEMPLATE}", spec),
         spec_name=spec.name,
-        description=spec.description.rstrip("."),
+        description=_markdown_text(spec.description).rstrip("."),
         method=controller.method,
         bus_nominal=f"{_fmt(spec.inverter.bus_voltage_nominal_v)} V",
         k_e=f"{_fmt(spec.motor.back_emf_constant_v_per_rpm * 1000)} V/krpm",
