@@ -38,6 +38,8 @@ _WIDTH = re.compile(r"^\s*(?P<number>[-+]?(?:\d+\.?\d*|\.\d+))\s*(?:deg|°)\s*$"
 _WIDTH_ALLOWED = (
     "'flat', '<w> deg' with 0 < w < 180 electrical degrees, or a table of [angle_deg, e/E]"
 )
+#: The most points a measured EMF table may hold (0.05 deg apart over the half period).
+TABLE_POINTS_MAX = 3601
 _TABLE_ALLOWED = "[[0, 0], ..., [180, 0]]: angles rising from 0 to 180 deg, |e/E| <= 2"
 _PERCENT_LOW, _PERCENT_HIGH = -90.0, 400.0
 T = TypeVar("T")
@@ -104,6 +106,14 @@ def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
         return BackEmfShape.trapezoid(width)
     if not isinstance(raw, list):
         raise r.error(path, raw, "must be a flat-top width or a table", _WIDTH_ALLOWED)
+    if len(raw) > TABLE_POINTS_MAX:
+        raise r.error(
+            path,
+            raw,
+            f"a table of {len(raw)} points: every command evaluates it at each breakpoint",
+            f"3 to {TABLE_POINTS_MAX} points, one every 0.05 deg at the finest (resample a"
+            " finer capture)",
+        )
     points: list[tuple[Fraction, Fraction]] = []
     for index, item in enumerate(raw):
         where = f"{path}[{index}]"

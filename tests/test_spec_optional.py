@@ -148,7 +148,7 @@ def test_tolerances_should_load_as_fractions(tmp_path: Path) -> None:
         (
             "bus_voltage: [-16, 25]",
             "bus_voltage: [-20, 25]",
-            ("tolerances.bus_voltage", "19.2", "[-16.67, 25] %"),
+            ("tolerances.bus_voltage", "19.2", "[-16.6666, 25] %"),
         ),
         (
             "phase_inductance: [-15, 15]",
@@ -325,3 +325,25 @@ def test_a_bus_tolerance_just_past_the_inverters_range_should_show_the_differenc
     assert "puts the bus at 19.9999999999999997-30 V, outside the inverter's 20-30 V" in message
     assert "(allowed: [-16.6666, 25] %)" in message
     load_spec(_with_tolerances(tmp_path, TOLERANCES.replace("[-16, 25]", "[-16.6666, 25]")))
+
+
+@pytest.mark.parametrize(
+    ("points", "fragment"),
+    [
+        (3602, "a table of 3602 points: every command evaluates it at each breakpoint"),
+        (4001, "a motor.back_emf_shape table at most 3601 points"),
+    ],
+)
+def test_a_table_longer_than_allowed_should_say_how_many_points_it_may_hold(
+    tmp_path: Path, points: int, fragment: str
+) -> None:
+    """A 4901-point table had been refused as "more than 10000 values", which named
+    neither the table nor its limit."""
+    import math
+
+    n = points - 1
+    table = [[round(180 * k / n, 5), round(math.sin(math.pi * k / n), 6)] for k in range(points)]
+    table[-1][1] = 0
+    with pytest.raises(SpecError, match=r"motor\.back_emf_shape") as error:
+        load_spec(_with_shape(tmp_path, str(table)))
+    assert fragment in str(error.value)
