@@ -1030,18 +1030,27 @@ def write_new_spec(name: str, sheet: Datasheet, path: Path) -> Written:
         return load_spec(path)
 
     try:
-        needed = accuracy_needed(widest_design(spec))
-        if spec.accuracy.current_loop_duty_counts < needed <= LOOP_DUTY_COUNTS_MAX:
-            # the PI's widest format cannot meet 1 count: the spec says what it does meet
-            # (beyond what a spec may ask, the design's refusal below names what builds:
-            # a 1 H, 100 ohm motor's 35.5 counts had been written, and refused by the loader)
-            targets = replace(targets, loop_counts=_round_up(needed * 100, 1) / 100)
-            spec = rewrite(targets)
-        design(spec)
+        loop_refusal: FixedPointError | None = None
+        try:
+            needed = accuracy_needed(widest_design(spec))
+            if spec.accuracy.current_loop_duty_counts < needed <= LOOP_DUTY_COUNTS_MAX:
+                # the PI's widest format cannot meet 1 count: the spec says what it does
+                # meet (beyond what a spec may ask, the design's refusal below names what
+                # builds: a 1 H, 100 ohm motor's 35.5 counts had been written, and refused
+                # by the loader)
+                targets = replace(targets, loop_counts=_round_up(needed * 100, 1) / 100)
+                spec = rewrite(targets)
+            design(spec)
+        except FixedPointError as exc:
+            loop_refusal = exc
         checked = meet_core_targets(spec, targets, rewrite)
         spec, notes = checked.spec, checked.notes
+        # the refusal `generate` gives: it designs the core before the loop (init had
+        # named the PI's bandwidth where generate named the Hall clock)
         if checked.refusal is not None:
             raise checked.refusal
+        if loop_refusal is not None:
+            raise loop_refusal
     except SpecError as exc:
         return Written(path, exc, (), notes)
     except FixedPointError as exc:

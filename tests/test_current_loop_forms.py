@@ -6,6 +6,7 @@ the cheap one is used; the general one must be what a loop with k_i > k_p gets."
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
 from types import ModuleType
@@ -170,3 +171,17 @@ def test_a_refusal_on_the_ramps_drift_should_name_the_ramp_not_the_step() -> Non
     assert "drifts 0.0" not in message
     d = current_loop.widest_design(load_spec(path))
     assert d.duty_claim + d.ramp_claim > 16 >= d.integrator_claim * 100
+
+
+def test_a_pi_whose_k_p_overflows_should_name_a_bandwidth_that_fits() -> None:
+    """1 H and 500 A on 3.3 V: k_p e overflows int32 in every Q format at 1 kHz; the
+    refusal had named no allowed value. k_p scales with the bandwidth: 200 Hz fits."""
+    path = ROOT / "tests" / "fixtures" / "refused" / "pi_kp_overflow_1h.yaml"
+    spec = load_spec(path)
+    with pytest.raises(FixedPointError) as caught:
+        current_loop.design(spec)
+    message = str(caught.value)
+    assert message.startswith("current_loop.bandwidth = 1000 Hz: no Q format of the")
+    assert message.endswith("(allowed: a bandwidth of at most about 200 Hz, whose k_p fits)")
+    slower = replace(spec, current_loop=replace(spec.current_loop, bandwidth_hz=Fraction(200)))
+    current_loop.widest_design(slower)  # fits (what accuracy it meets is another matter)

@@ -44,3 +44,23 @@ def test_init_should_say_when_its_motor_may_pass_the_cpu_budget(
     assert "init: note: firmware.cpu_load_budget: the drive may take up to" in said.err
     assert cli.main(["init", "slow", "--bus-voltage", "24 V"]) == 0
     assert "cpu_load_budget" not in capsys.readouterr().err
+
+
+def test_init_should_give_the_refusal_generate_gives(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """1 H and 500 A on 3.3 V: neither the core nor the PI fits. generate designs the
+    core first and names the Hall clock; init had named the PI's bandwidth."""
+    monkeypatch.chdir(tmp_path)
+    argv = [
+        *("init", "stiff", "--pole-pairs", "50", "--kv", "5"),
+        *("--resistance-line-to-line", "5 mohm", "--inductance-line-to-line", "1 H"),
+        *("--bus-voltage", "3.3 V", "--braking-current", "500 A", "--method", "conventional"),
+        *("--pwm-frequency", "100 kHz"),
+    ]
+    assert cli.main(argv) == 3
+    init_errors = [x for x in capsys.readouterr().err.splitlines() if x.startswith("error: ")]
+    assert cli.main(["generate", "spec/stiff.yaml", "-o", "out"]) == 3
+    generate_errors = [x for x in capsys.readouterr().err.splitlines() if x.startswith("error: ")]
+    assert init_errors == generate_errors
+    assert init_errors[0].startswith("error: spec/stiff.yaml: hall.timer_clock: ")

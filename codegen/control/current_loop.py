@@ -700,10 +700,46 @@ def _widest_design(spec: Spec, explain: bool) -> LoopDesign:
             )
             raise _integrator_below_one_lsb(spec, g, finest)
         return plain
+    slower = _slower_fitting_bandwidth(spec) if explain else None
+    allowed = (
+        f"a bandwidth of at most about {float(slower):g} Hz, whose k_p fits"
+        if slower is not None
+        else "no bandwidth from 1 Hz up: a current code of more amperes (a smaller"
+        " adc.current_gain) or a smaller inductance shrinks k_p"
+    )
     raise FixedPointError(
-        f"no Q format of the braking-current PI fits int32 for every input ({last})",
+        f"current_loop.bandwidth = {float(spec.current_loop.bandwidth_hz):g} Hz: no Q format"
+        f" of the braking-current PI fits int32 for every input ({last}) (allowed:"
+        f" {allowed})",
         "current_loop.bandwidth",
     )
+
+
+def _slower_fitting_bandwidth(spec: Spec) -> Fraction | None:
+    """The highest bandwidth below the spec's, of a few per decade down to the loader's
+    1 Hz, in whose Q formats the PI fits int32 (k_p scales with it); None where none."""
+    from dataclasses import replace
+
+    bandwidth = spec.current_loop.bandwidth_hz
+    candidates = sorted(
+        {
+            Fraction(str(nice)) * 10**decade
+            for decade in range(5)
+            for nice in _NICE_BANDWIDTHS
+            if Fraction(str(nice)) * 10**decade < bandwidth
+        },
+        reverse=True,
+    )
+    for candidate in candidates:
+        trial = replace(spec, current_loop=replace(spec.current_loop, bandwidth_hz=candidate))
+        try:
+            _widest_design(trial, explain=False)
+        except FixedPointError as exc:
+            if "fits int32" in str(exc):
+                continue
+            return candidate  # fits; refused for another reason, said when it is set
+        return candidate
+    return None
 
 
 def _candidate(spec: Spec, g: LoopGains, code_max: int, f: int, s: int) -> LoopDesign | None:
