@@ -16,8 +16,10 @@ affine, a numerical minimax elsewhere.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 import numpy.typing as npt
@@ -46,15 +48,21 @@ def _rising_zero(phase: int) -> float:
     raise ValueError(f"phase {phase} never rises")
 
 
-def _wave(table: tuple[Floats, Floats], angle: float) -> float:
-    """e/E at `angle` from the half-period `table` (angles, values as floats, converted
-    once per shape: per call, a 3001-point table's conversions took 15 s of a load)."""
-    angle %= 360.0
-    sign = 1.0
-    if angle >= 180.0:
-        angle -= 180.0
-        sign = -1.0
-    return sign * float(np.interp(angle, table[0], table[1]))
+def _wave(
+    points: tuple[tuple[Fraction, Fraction], ...], angles: list[Fraction], angle: Fraction
+) -> Fraction:
+    """e/E at `angle` from the half-period table, exactly (linear between its points;
+    `angles` its angles, for the bisection)."""
+    angle %= 360
+    sign = 1
+    if angle >= 180:
+        angle -= 180
+        sign = -1
+    k = bisect.bisect_left(angles, angle)
+    if angles[k] == angle:
+        return sign * points[k][1]
+    (a0, e0), (a1, e1) = points[k - 1], points[k]
+    return sign * (e0 + (e1 - e0) * (angle - a0) / (a1 - a0))
 
 
 @dataclass(frozen=True)
@@ -101,32 +109,47 @@ def edge_emf(shape: BackEmfShape) -> EdgeEmf:
         phi = signs[0] - 2 * signs[1] + signs[2]
         return EdgeEmf(np.array([0.0, 1.0]), np.full(2, sigma), np.full(2, phi), True)
     zeros = [_rising_zero(p) for p in ROLES]
-    corner_angles = {float(a) for a, _ in shape.points} | {float(a) + 180 for a, _ in shape.points}
-    breaks = {0.0, 1.0}
+    # the corners' places in exact arithmetic (the table's angles are exact fractions):
+    # one corner reached from two phases had given two breaks 1e-15 apart, whose
+    # spurious slopes (+-0.7) kept every one as a corner of the forcing (771 of them
+    # on a 3001-point table, each a term of every evaluation of the rule: `verify` ran
+    # for more than 10 minutes)
+    corner_angles = {Fraction(a) for a, _ in shape.points} | {
+        Fraction(a) + 180 for a, _ in shape.points
+    }
+    exact: set[Fraction] = {Fraction(0), Fraction(1)}
     for z in zeros:
         for c in corner_angles:
-            offset = (z + c - EDGE_ANGLE) % 360.0
-            if 0.0 < offset < 60.0:
-                breaks.add(offset / 60.0)
-    xs = np.array(sorted(breaks))
-    table = (
-        np.array([float(a) for a, _ in shape.points]),
-        np.array([float(v) for _, v in shape.points]),
-    )
-    values = np.array([[_wave(table, EDGE_ANGLE + 60.0 * x - zeros[p]) for p in ROLES] for x in xs])
-    a, b, c = values[:, 0], values[:, 1], values[:, 2]
-    sigma, phi = 2 * a - b - c, a - 2 * b + c
-    # keep only real slope changes (a table point where no slope changes is no corner)
+            offset = (Fraction(z) + c - Fraction(EDGE_ANGLE)) % 360
+            if 0 < offset < 60:
+                exact.add(offset / 60)
+    xs = sorted(exact)
+    points = tuple(shape.points)
+    angles = [a for a, _ in points]
+    edge = Fraction(EDGE_ANGLE)
+    values = [
+        [_wave(points, angles, edge + 60 * x - Fraction(zeros[p])) for p in ROLES] for x in xs
+    ]
+    sigma = [2 * a - b - c for a, b, c in values]
+    phi = [a - 2 * b + c for a, b, c in values]
+    # keep only real slope changes (a table point where no slope changes is no corner),
+    # decided exactly: in floats, a 3001-point table's affine stretch kept 292 corners
+    # of 1e-12 (its slopes' rounding), each a term of every evaluation of the rule
     keep = [0]
-    for j in range(1, xs.size - 1):
+    for j in range(1, len(xs) - 1):
         s_left = (sigma[j] - sigma[j - 1]) / (xs[j] - xs[j - 1])
         s_right = (sigma[j + 1] - sigma[j]) / (xs[j + 1] - xs[j])
         p_left = (phi[j] - phi[j - 1]) / (xs[j] - xs[j - 1])
         p_right = (phi[j + 1] - phi[j]) / (xs[j + 1] - xs[j])
-        if abs(s_left - s_right) > 1e-12 or abs(p_left - p_right) > 1e-12:
+        if s_left != s_right or p_left != p_right:
             keep.append(j)
-    keep.append(xs.size - 1)
-    out = EdgeEmf(xs[keep], sigma[keep], phi[keep], False)
+    keep.append(len(xs) - 1)
+    out = EdgeEmf(
+        np.array([float(xs[j]) for j in keep]),
+        np.array([float(sigma[j]) for j in keep]),
+        np.array([float(phi[j]) for j in keep]),
+        False,
+    )
     if out.affine:
         return out
     return EdgeEmf(out.breaks, out.sigma, out.phi, False, _hold_table(out))
