@@ -436,6 +436,7 @@ def check_target(target: Path) -> Path:
     it does any work."""
     p = _paths(target)
     _refuse_the_working_folder(p.target)
+    _refuse_inside_another_tree(p.target)
     if p.target.exists() and not p.target.is_dir():
         raise PublishError(f"{p.target} exists and is not a folder")
     blocker = file_in_the_way(p.target)
@@ -576,6 +577,24 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
             )
 
 
+def _refuse_inside_another_tree(target: Path) -> None:
+    """PublishError when `target` is a folder of another generated tree (a folder above
+    it holds a manifest of ours that lists a folder or file at or below it): the two
+    trees' files interleave there and each run moves the other's aside (`generate -o
+    out/motor/c` had been accepted)."""
+    for above in target.parents:
+        owned = _owned(above)
+        if owned is None:
+            continue
+        rel = target.relative_to(above).as_posix()
+        if rel in owned.folders or any(name.startswith(f"{rel}/") for name in owned.files):
+            raise PublishError(
+                f"{target} is inside the generated tree {above} (its manifest lists"
+                f" {rel}/): each run would move the other's files aside; choose a folder"
+                " outside it"
+            )
+
+
 def _require_writable_tree(target: Path) -> None:
     """PublishError naming the first folder of `target` (itself included, not through a
     link) whose entries this user cannot move: the publish moves the user's files from
@@ -609,6 +628,7 @@ def publish(files: Mapping[str, str], target: Path) -> PublishResult:
             raise ValueError(f"unsafe output path {name!r}")
     p = _paths(target)
     _refuse_the_working_folder(p.target)
+    _refuse_inside_another_tree(p.target)  # before its lock file is made there
     p.target.parent.mkdir(parents=True, exist_ok=True)
     result = PublishResult(p.target, atomic_exchange=False)
     with _locked(p.lock), signals_deferred():

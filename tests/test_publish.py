@@ -422,3 +422,20 @@ def test_a_full_disk_names_the_file_of_the_target_and_publishes_nothing(
     assert line == f"error: {target / MANIFEST}: No space left on device"
     assert read_tree(target) == before
     assert leftovers(tmp_path, target) == []
+
+
+def test_a_target_inside_another_generated_tree_should_be_refused(tmp_path: Path) -> None:
+    """`generate -o out/motor/c`, inside the tree of `generate -o out/motor`: the two
+    trees' files interleaved there, each run moving the other's aside. A folder the
+    manifest does not list (the user's own, or a new one below a listed folder) stays a
+    place to publish: the outer tree carries it over as it carries the user's files."""
+    outer = tmp_path / "motor"
+    publish(OLD, outer)
+    before = read_tree(outer)
+    for inner in (outer / "c", outer / "firmware"):
+        with pytest.raises(PublishError, match="is inside the generated tree"):
+            publish(NEW, inner)
+    assert read_tree(outer) == before
+    for mine in (outer / "mine", outer / "c" / "deeper"):
+        publish(NEW, mine)
+        assert read_tree(mine) == NEW
