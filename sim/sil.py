@@ -248,7 +248,14 @@ def prepare_cores(spec: Spec, methods: tuple[str, ...], build_dir: Path = BUILD_
     outputs = _generate_all(spec, variants, toolchain, build_dir)
     fallback = None
     refused = outputs.get((SHAPED_METHOD, None))
-    if isinstance(refused, str) and shape_refused(refused):  # any other error: below
+    # a stand-in shape only for a compared rule: where the spec's own method is the
+    # rule, its refusal is the spec's (simulate had run the stand-in's core and said
+    # "the spec's own method is another" of an improved_r spec generate refuses)
+    if (
+        spec.controller.method != SHAPED_METHOD
+        and isinstance(refused, str)
+        and shape_refused(refused)
+    ):  # any other error: below
         fallback = FALLBACK_SHAPE
         retry = {
             (SHAPED_METHOD, None): spec_with_emf_shape(variants[(SHAPED_METHOD, None)], fallback)

@@ -229,6 +229,28 @@ def test_a_shape_improved_r_refuses_should_fall_back_to_the_paper_trapezoid(
     assert "back_emf_shape: 120 deg" in fallback
 
 
+def test_an_improved_r_spec_whose_shape_its_design_refuses_should_be_refused_as_generate_does(
+    tmp_path: Path,
+) -> None:
+    """The stand-in shape is for a rule compared on another method's motor: where the
+    spec's own method is improved_r, `simulate` had run the stand-in's core and said
+    "the spec's own method is another" of a spec `generate` refuses."""
+    from sim.sil import SpecRefusedError
+
+    text = spec_with_emf_shape(SPEC.read_text(encoding="utf-8"), "150 deg")
+    text = text.replace("name: paper_motor", "name: shaped_ir").replace(
+        "method: improved\n", "method: improved_r\n"
+    )
+    path = tmp_path / "shaped_ir.yaml"
+    path.write_text(text, encoding="utf-8")
+    shaped = load_spec(path)
+    assert shaped.controller.method == "improved_r"
+    with pytest.raises(SpecRefusedError) as refused:
+        prepare_cores(shaped, ("improved", "improved_r"), tmp_path / "build")
+    assert str(refused.value).startswith(f"{path}: motor.back_emf_shape: fixed-point design: ")
+    assert "trapezoid, 150 deg flat top" in str(refused.value)
+
+
 def test_a_rule_out_of_the_motors_duty_target_should_be_simulated_at_the_bound_it_meets(
     tmp_path: Path,
 ) -> None:
