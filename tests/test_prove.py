@@ -36,6 +36,7 @@ from verify.frama_c import (
     run_eva,
 )
 from verify.prove import (
+    StaleGeneratedError,
     _looping,
     _passes,
     establish,
@@ -43,6 +44,7 @@ from verify.prove import (
     main,
     shipped_output,
     target_at,
+    target_for,
 )
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -285,6 +287,31 @@ def test_prove_should_establish_every_spec(tmp_path: Path, spec: Path) -> None:
     assert text.startswith(f"# Proof of the `{name}` core: PROVEN")
     assert "NOT PROVEN" not in text
     assert "| 0 |" in text
+
+
+def test_prove_should_take_the_generated_folder_under_the_current_one(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A user's motor generated into generated/<name> under their own folder is the
+    one proven, PROOF.md beside it (prove had regenerated it into build/); --generated
+    names another folder, and one without the spec's current output is refused."""
+    from codegen.generate import generate
+
+    monkeypatch.chdir(tmp_path)
+    spec = tmp_path / "mine.yaml"
+    text = SPECS["paper_motor"].read_text(encoding="utf-8")
+    spec.write_text(text.replace("name: paper_motor", "name: mine_motor"), encoding="utf-8")
+    generate(spec, Path("generated") / "mine_motor", tmp_path)
+    target = target_for(str(spec), tmp_path / "build")
+    assert target.root == tmp_path / "generated" / "mine_motor"
+    assert not (tmp_path / "build").exists()
+    generate(spec, tmp_path / "elsewhere", tmp_path)
+    assert target_for(str(spec), tmp_path / "build", tmp_path / "elsewhere").root == (
+        tmp_path / "elsewhere"
+    )
+    spec.write_text(spec.read_text(encoding="utf-8") + "\n# edited\n", encoding="utf-8")
+    with pytest.raises(StaleGeneratedError, match=r"does not hold .* current output"):
+        target_for(str(spec), tmp_path / "build", tmp_path / "elsewhere")
 
 
 def test_prove_should_exit_with_one_line_on_a_bad_spec(

@@ -82,22 +82,41 @@ class Target:
     plan: dict[str, object]
 
 
-def shipped_output(spec: Spec) -> Path | None:
-    """generated/<name>/ when it holds this spec's current output, else None."""
-    shipped = PROJECT_ROOT / "generated" / spec.name
-    manifest = shipped / "manifest.json"
-    current = (
-        manifest.is_file()
-        and json.loads(manifest.read_text(encoding="utf-8")).get("spec_sha256") == spec.sha256
-        and (shipped / "proof" / "plan.json").is_file()
-    )
-    return shipped if current else None
+class StaleGeneratedError(ValueError):
+    """--generated names a folder without the spec's current output."""
 
 
-def target_for(spec_path: str, build: Path) -> Target:
-    """The shipped output of this spec, or a fresh generation of it in build/."""
+def shipped_output(spec: Spec, folders: tuple[Path, ...] = ()) -> Path | None:
+    """The first of `folders`, then generated/<name>/ under the current folder, then
+    the project's, that holds this spec's current output; else None (a user's motor
+    generated under their own folder had been regenerated into build/ and proven
+    there, its PROOF.md written beside the copy)."""
+    candidates = (*folders, Path("generated") / spec.name, PROJECT_ROOT / "generated" / spec.name)
+    for shipped in candidates:
+        manifest = shipped / "manifest.json"
+        try:
+            recorded = json.loads(manifest.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if (
+            isinstance(recorded, dict)
+            and recorded.get("spec_sha256") == spec.sha256
+            and (shipped / "proof" / "plan.json").is_file()
+        ):
+            return shipped.resolve()
+    return None
+
+
+def target_for(spec_path: str, build: Path, generated: Path | None = None) -> Target:
+    """The shipped output of this spec (in `generated` first), or a fresh generation of
+    it in build/."""
     spec = load_spec(spec_path)
-    root = shipped_output(spec)
+    if generated is not None and shipped_output(spec, (generated,)) != generated.resolve():
+        raise StaleGeneratedError(
+            f"{generated} does not hold {spec_path}'s current output: regenerate with"
+            f" `bldc-codegen generate {spec_path} -o {generated}`"
+        )
+    root = shipped_output(spec, () if generated is None else (generated,))
     if root is None:
         root = build / spec.name
         write_tree(render_all(spec_path).files, root)
@@ -520,16 +539,29 @@ def main(argv: list[str] | None = None) -> int:
         default=Path("build") / "prove",
         help="work folder (default build/prove under the current folder)",
     )
+    parser.add_argument(
+        "--generated",
+        type=Path,
+        default=None,
+        help="the spec's generated folder, where PROOF.md is written (one spec only;"
+        " default generated/<name> under the current folder, then the project's, where"
+        " it is the spec's current output; else a fresh generation under --build)",
+    )
     args = parser.parse_args(argv)
+    if args.generated is not None and len(args.specs) > 1:
+        parser.error(f"--generated {args.generated}: one spec only (got {len(args.specs)})")
     # absolute: Frama-C runs in a folder of its own, where a relative include folder
     # named nothing (a relative --build failed to parse, reported as the environment's)
     args.build = args.build.resolve()
     start = time.monotonic()
     try:
-        targets = [target_for(s, args.build) for s in args.specs]
+        targets = [target_for(s, args.build, args.generated) for s in args.specs]
     except (SpecError, FixedPointError) as exc:  # the design's refusal names its key
         print(f"prove: {exc}", file=sys.stderr)
         return int(EXIT_SPEC)
+    except StaleGeneratedError as exc:
+        print(f"prove: {exc}", file=sys.stderr)
+        return int(ExitCode.STALE)
     try:
         tools = find_tools(args.build)
         outcomes = prove(targets, tools, args.build, max(1, args.jobs))
