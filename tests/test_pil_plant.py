@@ -1108,3 +1108,19 @@ def test_the_motor_in_the_loop_faults_should_brake_a_rotor_friction_stops_at_onc
     fault = next(f for f in PLANT_FAULTS if f.key == "over_voltage")
     outcome = run_plant_fault(elf, port, spec, fault)
     assert outcome.problems == [], outcome.problems
+
+
+def test_the_period_the_next_edge_cuts_should_be_in_neither_window(tmp_path: Path) -> None:
+    """A 5 kHz conventional motor whose commutation runs to its sector's last period:
+    the PIL's window held the period the next edge's carrier restart cuts short (the
+    next commutation's start, which the SIL's trace, ending with the sector, does not
+    hold); it was the PIL's worst (-55.9 % against the SIL's -45.1 %) while the
+    comparison, cut to the periods both had, said 0.02 pp. Every period of a window
+    ends by the next edge, and the worsts differ by no more than the difference."""
+    result = _fixture_braking(tmp_path, "conv_5k_dead3us.yaml")
+    measured = _compared(result, 3)
+    for c in measured:
+        assert c.difference_pp is not None and c.sil_worst_pct is not None
+        apart = abs(abs(c.deviation_worst_pct) - abs(c.sil_worst_pct))
+        assert apart <= c.difference_pp + 1e-9, (c.index, c.deviation_worst_pct, c.sil_worst_pct)
+        assert abs(c.window_lengths[0] - c.window_lengths[1]) <= 1
