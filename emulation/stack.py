@@ -71,8 +71,12 @@ def frame_of(frames: dict[str, Frame], symbol: str) -> Frame | None:
     return frames.get(clone["name"]) if clone else None
 
 
-def static_depth(image: ArmImage, frames: dict[str, Frame], handler: str) -> StaticDepth:
-    """The deepest frame sum over the handler's static call paths (no recursion)."""
+def static_depth(
+    image: ArmImage, frames: dict[str, Frame], handler: str, skip: frozenset[str] = frozenset()
+) -> StaticDepth:
+    """The deepest frame sum over the handler's static call paths (no recursion), not
+    through the functions in `skip` (thread mode's interrupts-masked ones, which no
+    handler stacks on)."""
     graph = call_graph(image, handler)
     known = {f: frame_of(frames, f) for f in graph.functions}
     missing = tuple(sorted(f for f, frame in known.items() if frame is None or not frame.bounded))
@@ -82,7 +86,9 @@ def static_depth(image: ArmImage, frames: dict[str, Frame], handler: str) -> Sta
             raise ValueError(f"{handler}: recursion through {function}: no static bound")
         frame = frame_of(frames, function)
         own = frame.bytes if frame is not None else 0
-        below = [deepest(c, (*above, function)) for c in sorted(graph.calls[function])]
+        below = [
+            deepest(c, (*above, function)) for c in sorted(graph.calls[function]) if c not in skip
+        ]
         best = max(below, default=(0, ()))
         return own + best[0], (function, *best[1])
 

@@ -102,3 +102,15 @@ def test_a_function_without_a_frame_should_make_the_bound_unknown(tmp_path: Path
     del frames["leaf"]
     depth = static_depth(load_elf(elf), frames, "root")
     assert depth.bytes is None and depth.missing == ("leaf",)
+
+
+def test_a_skipped_call_should_leave_the_depth_without_its_path(tmp_path: Path) -> None:
+    """Thread mode's interrupts-masked calls stack alone: the depth under preemption
+    skips them (the bench had put main's masked start-up under every handler level, 424 B
+    where make firmware's nesting gives 380 B)."""
+    elf = _build(tmp_path)
+    frames = read_frames(tmp_path)
+    image = load_elf(elf)
+    depth = static_depth(image, frames, "root", skip=frozenset({"middle"}))
+    assert depth.path == ("root", "shallow")
+    assert depth.bytes == frames["root"].bytes + frames["shallow"].bytes
