@@ -323,6 +323,14 @@ def run(args: argparse.Namespace) -> int:
     if bad or not methods:
         print(f"error: --methods {args.methods!r}: allowed {', '.join(METHODS)}", file=sys.stderr)
         return EXIT_SPEC
+    repeated = list(dict.fromkeys(m for m in methods if methods.count(m) > 1))
+    if repeated:  # `improved,improved` ran every row twice
+        print(
+            f"error: --methods {args.methods!r}: {', '.join(repeated)} given more than once"
+            f" (allowed: each of {', '.join(METHODS)} once)",
+            file=sys.stderr,
+        )
+        return EXIT_SPEC
     try:
         spec = load_spec(args.spec)
         out = Path(args.output) if args.output else Path("generated") / spec.name / "robustness"

@@ -9,6 +9,8 @@ import numpy as np
 import pytest
 from dask.distributed import LocalCluster
 
+from bldc import cli
+from codegen.errors import ExitCode
 from codegen.spec_loader import load_spec
 from sim.drive import Drive
 from sim.robustness import build_campaign, latin_hypercube, main, perturbed
@@ -66,6 +68,21 @@ def test_robustness_should_refuse_bad_arguments_with_one_line(
         main([str(SPEC), "--samples", "1"])
     assert caught.value.code == 2
     assert capsys.readouterr().err.splitlines()[-1].endswith("argument --samples: 1: at least 2")
+
+
+def test_a_method_given_twice_should_be_refused_not_run_twice(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """`--methods improved,improved` ran every row twice (and its report listed it
+    twice); it is a usage error now, naming the option and the method, before any work."""
+    assert main([str(SPEC), "--methods", "improved,none,improved"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "error: --methods 'improved,none,improved': improved given more than once"
+        " (allowed: each of none, conventional, improved, improved_r once)"
+    ]
+    assert cli.main(["robustness", str(SPEC), "--methods", "none,none"]) == ExitCode.USAGE
+    assert "--methods 'none,none': none given more than once" in capsys.readouterr().err
 
 
 def test_a_parameter_that_does_not_vary_should_correlate_with_nothing() -> None:
