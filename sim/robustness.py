@@ -296,7 +296,8 @@ def run_campaign(
     return CampaignResult(campaign, values, time.perf_counter() - start, used)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def argument_parser() -> argparse.ArgumentParser:
+    """`python -m sim.robustness`'s options (the report states its command in them)."""
     parser = argparse.ArgumentParser(
         prog="python -m sim.robustness", description=__doc__.splitlines()[0]
     )
@@ -308,7 +309,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="output folder (default: generated/<spec name>/robustness in the current folder)",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    return run(parser.parse_args(argv))
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    return run(argument_parser().parse_args(argv))
 
 
 def run(args: argparse.Namespace) -> int:
