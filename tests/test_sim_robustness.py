@@ -3,9 +3,15 @@ cores on Dask (a LocalCluster, or a scheduler's address), a byte-stable report."
 
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
+import psutil
 import pytest
 from dask.distributed import LocalCluster
 
@@ -128,3 +134,81 @@ def test_a_parameter_that_does_not_vary_should_correlate_with_nothing() -> None:
     x = np.array([0.1, 0.4, 0.2, 0.3])
     assert spearman(x, 2 * x) == pytest.approx(1.0)
     assert spearman(x, -x) == pytest.approx(-1.0)
+
+
+def _group(pgid: int) -> list[psutil.Process]:
+    """The live processes of a process group (a zombie has ended)."""
+    alive = []
+    for process in psutil.process_iter():
+        try:
+            if os.getpgid(process.pid) == pgid and process.status() != psutil.STATUS_ZOMBIE:
+                alive.append(process)
+        except (ProcessLookupError, psutil.Error):
+            continue
+    return alive
+
+
+def _worker_at(pid: int, stage: str) -> bool:
+    """A worker process (a child of `pid`) is there: spawned ("starting": the cluster
+    is starting), or with a compiled core mapped ("running": its first task runs)."""
+    try:
+        children = psutil.Process(pid).children(recursive=True)
+    except psutil.Error:
+        return False
+    for child in children:
+        try:
+            if stage == "starting" and "--multiprocessing-fork" in child.cmdline():
+                return True
+            if stage == "running" and any("libbldc_" in m.path for m in child.memory_maps()):
+                return True
+        except psutil.Error:
+            continue
+    return False
+
+
+@pytest.mark.heavy(seconds=10)
+@pytest.mark.parametrize("stage", ["starting", "running"])
+def test_ctrl_c_should_say_interrupted_in_one_line_and_leave_no_worker(
+    tmp_path: Path, stage: str
+) -> None:
+    """A terminal's Ctrl-C reaches the whole process group: the Dask workers had
+    stopped mid-task and printed 48-93 lines of tracebacks (CancelledError,
+    KeyboardInterrupt, the nanny's errors) around the one line `interrupted`. The
+    workers keep SIGINT blocked now; the command closes them, quietly, and exits 130,
+    also when the Ctrl-C comes while the cluster starts (it is held until it is up)."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine\n")
+    argv = [sys.executable, "-m", "bldc", "robustness", str(SPEC), "-o", str(out)]
+    # one worker, one method at one speed, one sample a task: it stops within a task
+    argv += ["--samples", "2000", "--speeds", "1", "--methods", "improved", "--workers", "1"]
+    argv += ["--chunk", "1"]
+    process = subprocess.Popen(
+        [*argv, "--no-progress"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # its own process group, as a terminal's job
+        # SIGINT as a terminal leaves it (a background or xdist runner may ignore it)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not _worker_at(process.pid, stage):
+            assert process.poll() is None, process.communicate()
+            assert time.monotonic() < deadline, f"no worker {stage} in 60 s"
+            time.sleep(0.1)
+        os.killpg(process.pid, signal.SIGINT)
+        stdout, stderr = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.communicate()
+    assert (process.returncode, stderr, stdout) == (130, "interrupted\n", "")
+    deadline = time.monotonic() + 10
+    while _group(process.pid) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert _group(process.pid) == []
+    assert [p.name for p in out.iterdir()] == ["notes.txt"]  # the user's file alone
+    assert (out / "notes.txt").read_text() == "mine\n"
