@@ -89,6 +89,15 @@ class _Formatter(argparse.RawDescriptionHelpFormatter):
         return text
 
 
+def _add_traceback(parser: argparse.ArgumentParser, default: object) -> None:
+    parser.add_argument(
+        "--traceback",
+        action="store_true",
+        default=default,
+        help="on an internal error, print the full Python traceback instead of one line",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     import bldc.commands  # noqa: F401  (registers the commands)
 
@@ -99,11 +108,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=_Formatter,
     )
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
-    parser.add_argument(
-        "--traceback",
-        action="store_true",
-        help="on an internal error, print the full Python traceback instead of one line",
-    )
+    _add_traceback(parser, default=False)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for command in COMMANDS.values():
         child = sub.add_parser(
@@ -113,6 +118,9 @@ def build_parser() -> argparse.ArgumentParser:
             formatter_class=_Formatter,
         )
         command.arguments(child)
+        # after the command too (`generate SPEC --traceback`), as the internal-error line
+        # says; SUPPRESS leaves a --traceback given before the command in place
+        _add_traceback(child, default=argparse.SUPPRESS)
         child.set_defaults(func=command.run)
     return parser
 

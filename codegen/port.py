@@ -476,9 +476,13 @@ def render_port_files(
     return {
         REGS_HEADER: render_regs_header(spec),
         PORT_HEADER: render(
-            PORT_HEADER_TEMPLATE, provenance=provenance(PORT_HEADER_TEMPLATE, spec), **ctx
+            PORT_HEADER_TEMPLATE,
+            provenance=provenance(f"templates/{PORT_HEADER_TEMPLATE}", spec),
+            **ctx,
         ),
         PORT_SOURCE: render(
-            PORT_SOURCE_TEMPLATE, provenance=provenance(PORT_SOURCE_TEMPLATE, spec), **ctx
+            PORT_SOURCE_TEMPLATE,
+            provenance=provenance(f"templates/{PORT_SOURCE_TEMPLATE}", spec),
+            **ctx,
         ),
     }

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -68,12 +69,21 @@ def spec_label(spec: Spec) -> str:
     return shown if shown != f"<{WITHHELD}>" else f"<{spec.name}.yaml, {WITHHELD}>"
 
 
+def regenerate_hint(spec: Spec) -> str:
+    """The command that writes a spec's generated files again, as their first line says
+    it: `bldc-codegen generate` on the spec as the line shows it (spec_label), quoted for
+    a shell. It had said `make`, which generates the default spec only."""
+    label = spec_label(spec)
+    return f"bldc-codegen generate {label if label.startswith('<') else shlex.quote(label)}"
+
+
 def provenance(template: str, spec: Spec) -> str:
-    """One line naming the template, the spec and its hash; no time, no version. Safe
-    inside a C, Python or Markdown comment whatever the spec's path (spec_label)."""
+    """One line naming the template (its path from the project root: templates/...),
+    the spec and its hash, and the command that regenerates it; no time, no version.
+    Safe inside a C, Python or Markdown comment whatever the spec's path (spec_label)."""
     return (
         f"Generated from template {template} with spec {spec_label(spec)}"
-        f" (sha256 {spec.sha256}). Do not edit: regenerate with `make`."
+        f" (sha256 {spec.sha256}). Do not edit: regenerate with `{regenerate_hint(spec)}`."
     )
 
 

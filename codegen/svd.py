@@ -632,4 +632,8 @@ def regs_context(device: Device | None = None) -> dict[str, object]:
 
 def render_regs_header(spec: Spec, device: Device | None = None) -> str:
     """Text of stm32f103_regs.h (spec-independent content; the spec only names the run)."""
-    return render(REGS_TEMPLATE, provenance=provenance(REGS_TEMPLATE, spec), **regs_context(device))
+    return render(
+        REGS_TEMPLATE,
+        provenance=provenance(f"templates/{REGS_TEMPLATE}", spec),
+        **regs_context(device),
+    )

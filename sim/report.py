@@ -839,6 +839,9 @@ def render_report(results: Results, limits: Limits, figure_names: dict[str, str]
     drive = results.drive
     lookup = _Lookup(results)
     context = {
+        # every option that changes the report (--quick), so that rerunning it rewrites this
+        "command": f"python -m sim {project_relative(spec.source_path)}"
+        + (" --quick" if results.quick else ""),
         "spec_path": project_relative(spec.source_path),
         "spec_sha256": spec.sha256,
         "spec_name": spec.name,

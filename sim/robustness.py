@@ -28,11 +28,14 @@ own method's design, as `generate SPEC` says), 4 the cores cannot be built.
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -44,6 +47,9 @@ from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec, Tolerances
 from sim.drive import Drive
 from sim.robustness_args import add_campaign_arguments
+
+if TYPE_CHECKING:
+    from dask.distributed import Client, LocalCluster
 
 EXIT_SPEC = 2
 EXIT_REFUSED = 3
@@ -219,6 +225,66 @@ class CampaignResult:
     workers: int
 
 
+@contextmanager
+def sigint_kept_from_workers() -> Iterator[None]:
+    """SIGINT blocked in this thread while the local cluster starts: the threads Dask
+    starts inherit the block, and the worker processes they spawn too, across exec, so
+    the workers never see a terminal's Ctrl-C. It reaches the whole process group: each
+    worker had stopped mid-task and printed its tracebacks (48-93 lines) around our one
+    line `interrupted`; now this process alone is interrupted and closes them. A Ctrl-C
+    while the cluster starts is held, not lost (SIG_IGN, inherited the same way, would
+    have dropped it): it interrupts once the cluster is up, which the caller then has to
+    close."""
+    import signal
+    import threading
+    from multiprocessing import resource_tracker
+
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signal handlers are the main thread's, and so is a Ctrl-C
+        return
+    # multiprocessing starts its resource tracker at its first spawn, and unblocks SIGINT
+    # in the spawning thread as it does so: started now, it leaves the block alone
+    resource_tracker.ensure_running()
+    held: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, _frame: held.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # one held runs the handler above
+        signal.signal(signal.SIGINT, previous)
+    if held and callable(previous):
+        previous(signal.SIGINT, None)  # Python's default raises KeyboardInterrupt
+
+
+def local_cluster(workers: int) -> LocalCluster:
+    from dask.distributed import LocalCluster
+
+    return LocalCluster(
+        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+    )
+
+
+@contextmanager
+def quiet_dask(interrupted: bool, local_client: Client | None) -> Iterator[None]:
+    """Dask's log lines off while an interrupted campaign closes its cluster: the
+    workers' tasks end cancelled, and each worker (of our own cluster, `local_client`)
+    and the nanny here had logged it, a WARNING with a coroutine's repr, after which
+    `interrupted` was no longer the one line. A campaign that was not interrupted
+    closes as it did."""
+    if not interrupted:
+        yield
+        return
+    if local_client is not None:
+        with suppress(Exception):  # a worker that is gone has nothing to say
+            local_client.run(logging.disable, logging.CRITICAL)
+    logging.disable(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logging.disable(logging.NOTSET)
+
+
 def run_campaign(
     spec: Spec,
     campaign: Campaign,
@@ -227,7 +293,7 @@ def run_campaign(
     chunk: int,
     progress: bool,
 ) -> CampaignResult:
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import Client, as_completed
     from tqdm import tqdm
 
     from sim.sil import SilError, prepare_cores
@@ -253,14 +319,13 @@ def run_campaign(
     scaling = core_set.scaling
     start = time.perf_counter()
     cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
-        )
-        client = Client(cluster)
+    client = None
+    interrupted = False
     try:
+        if not scheduler:
+            with sigint_kept_from_workers():
+                cluster = local_cluster(workers)
+        client = Client(scheduler or cluster)
         blocks = [
             (k, campaign.samples[k : k + chunk]) for k in range(0, len(campaign.samples), chunk)
         ]
@@ -288,15 +353,21 @@ def run_campaign(
             bar.update(block.shape[0] * block.shape[1] * block.shape[2])
         bar.close()
         used = len(client.scheduler_info().get("workers", {})) or workers
+    except KeyboardInterrupt:
+        interrupted = True
+        raise
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with quiet_dask(interrupted, client if cluster is not None else None):
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()
     values = np.concatenate([pieces[k] for k in sorted(pieces)], axis=0)
     return CampaignResult(campaign, values, time.perf_counter() - start, used)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def argument_parser() -> argparse.ArgumentParser:
+    """`python -m sim.robustness`'s options (the report states its command in them)."""
     parser = argparse.ArgumentParser(
         prog="python -m sim.robustness", description=__doc__.splitlines()[0]
     )
@@ -308,7 +379,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         help="output folder (default: generated/<spec name>/robustness in the current folder)",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    return run(parser.parse_args(argv))
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    return run(argument_parser().parse_args(argv))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -322,6 +397,14 @@ def run(args: argparse.Namespace) -> int:
     bad = [m for m in methods if m not in METHODS]
     if bad or not methods:
         print(f"error: --methods {args.methods!r}: allowed {', '.join(METHODS)}", file=sys.stderr)
+        return EXIT_SPEC
+    repeated = list(dict.fromkeys(m for m in methods if methods.count(m) > 1))
+    if repeated:  # `improved,improved` ran every row twice
+        print(
+            f"error: --methods {args.methods!r}: {', '.join(repeated)} given more than once"
+            f" (allowed: each of {', '.join(METHODS)} once)",
+            file=sys.stderr,
+        )
         return EXIT_SPEC
     try:
         spec = load_spec(args.spec)

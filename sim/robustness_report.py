@@ -20,7 +20,8 @@ import numpy as np
 from codegen.render import environment, project_relative, write_atomically
 from codegen.spec_model import Spec
 from sim.drive import MAX_SECTOR_PERIODS, Drive
-from sim.robustness import CARRIER_PHASE, REPORT_NAME, CampaignResult
+from sim.robustness import CARRIER_PHASE, REPORT_NAME, Campaign, CampaignResult
+from sim.robustness_args import METHOD_NAMES
 
 TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 TEMPLATE = "ROBUSTNESS.md.j2"
@@ -89,6 +90,22 @@ def statistics(result: CampaignResult) -> list[dict[str, object]]:
                 }
             )
     return rows
+
+
+def report_command(spec: Spec, campaign: Campaign) -> str:
+    """The command that writes this report again: every option that changes it (the
+    methods too, unless all four in their order; not the output folder, the workers or
+    the chunk size, which change nothing in it)."""
+    words = [
+        "python -m sim.robustness",
+        project_relative(spec.source_path),
+        f"--samples {len(campaign.samples)}",
+        f"--speeds {len(campaign.speeds_rpm)}",
+    ]
+    if campaign.methods != tuple(METHOD_NAMES.split(",")):
+        words.append(f"--methods {','.join(campaign.methods)}")
+    words += [f"--plant {campaign.plant}", f"--seed {campaign.seed}"]
+    return " ".join(words)
 
 
 def figure(spec: Spec, result: CampaignResult, stats: list[dict[str, object]], out: Path) -> str:
@@ -207,11 +224,7 @@ def write_report(spec: Spec, result: CampaignResult, out: Path) -> list[str]:
             summary=summary,
             figure=name,
             band=f"{BAND_PCT:g}",
-            command=(
-                f"python -m sim.robustness {project_relative(spec.source_path)}"
-                f" --samples {len(campaign.samples)} --speeds {len(campaign.speeds_rpm)}"
-                f" --plant {campaign.plant} --seed {campaign.seed}"
-            ),
+            command=report_command(spec, campaign),
         )
     )
     write_atomically(out / REPORT_NAME, text)

@@ -33,7 +33,7 @@ def test_audit_should_write_the_paper_report_that_states_its_provenance(tmp_path
         assert f"templates/{template}" in provenance
         assert "spec/paper_printed.yaml" in provenance
         assert digest in provenance
-        assert "Do not edit" in provenance
+        assert "Do not edit: regenerate with `bldc-codegen audit`." in provenance  # not `make`
         assert str(ROOT) not in report  # no absolute paths
 
 
@@ -227,6 +227,47 @@ def test_the_provenance_line_never_carries_comment_terminators() -> None:
         # Other reports (sim's SIMULATION.md, verify's JSON) show paths the same way.
         assert project_relative(ROOT / evil) == "<path withheld: unsafe characters>"
     assert project_relative(ROOT / "spec" / "my motor+v2.yaml") == "spec/my motor+v2.yaml"
+
+
+def test_every_generated_header_cites_its_template_from_the_root_and_its_command(
+    tmp_path: Path,
+) -> None:
+    """The port's files cited `c/stm32f103_port.c.j2` where the others cite
+    `templates/c/...`, and every header said "regenerate with `make`", which generates
+    the default spec only (and nothing for a spec outside the project). Each cites its
+    template from the project root now, and the command for its own spec."""
+    import re
+    import shutil
+
+    from codegen.generate import render_all
+
+    inside = render_all(SPEC).files
+    outside = tmp_path / "my motor.yaml"
+    shutil.copyfile(SPEC, outside)
+    elsewhere = render_all(outside).files
+    cited = re.compile(r"Generated from template (\S+) with spec (.+?) \(sha256 [0-9a-f]{64}\)")
+    for files, spec, command in (
+        (inside, "spec/paper_motor.yaml", "bldc-codegen generate spec/paper_motor.yaml"),
+        (elsewhere, "my motor.yaml", "bldc-codegen generate 'my motor.yaml'"),
+    ):
+        headed = 0
+        for name, text in files.items():
+            if "regenerate with" not in text[:600]:
+                continue
+            headed += 1
+            first = text[:600].splitlines()[1 if name.endswith(".json") else 0]
+            assert "`make`" not in first, name
+            assert f"Do not edit: regenerate with `{command}`." in first, (name, first)
+            match = cited.search(first)
+            if name.endswith(".json"):  # the proof plan names its generator, not a template
+                assert match is None and "codegen/proof/harness.py" in first, name
+                continue
+            assert match is not None, (name, first)
+            template, shown = match.groups()
+            assert template.startswith("templates/"), (name, template)
+            assert (ROOT / template).is_file(), (name, template)
+            assert shown == spec, name
+        assert headed == len(files) - 1, sorted(files)  # all but manifest.json
 
 
 def test_generate_killed_after_its_atomic_exchange_leaves_a_complete_tree(tmp_path: Path) -> None:

@@ -88,6 +88,28 @@ def test_an_internal_error_is_one_line_saying_where(
         cli.main(["--traceback", "derive", str(SPEC)])
 
 
+def test_traceback_is_accepted_before_and_after_every_command(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The internal-error line says "run with --traceback"; `generate SPEC --traceback`
+    was a usage error (exit 2), only `--traceback generate SPEC` worked."""
+    parser = cli.build_parser()
+    for name in EXPECTED:
+        words = ["new_motor"] if name == "init" else [str(SPEC)]
+        assert parser.parse_args([name, *words]).traceback is False, name
+        assert parser.parse_args(["--traceback", name, *words]).traceback is True, name
+        assert parser.parse_args([name, *words, "--traceback"]).traceback is True, name
+
+    def broken(*_: object) -> None:
+        raise ZeroDivisionError("planted")
+
+    monkeypatch.setattr("codegen.derivation.figures.spec_figures", broken)
+    with pytest.raises(ZeroDivisionError):
+        cli.main(["derive", str(SPEC), "--traceback"])
+    assert cli.main(["derive", str(SPEC)]) == ExitCode.INTERNAL
+    assert "run with --traceback" in capsys.readouterr().err
+
+
 def test_a_command_is_one_registration(capsys: pytest.CaptureFixture[str]) -> None:
     def run(args: argparse.Namespace) -> int:
         print(f"pil {args.spec}")

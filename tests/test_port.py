@@ -176,7 +176,7 @@ def test_every_port_file_should_start_with_its_provenance(spec: Spec) -> None:
     for name, text in files.items():
         first = text.splitlines()[0]
         assert first.startswith(
-            f"/* Generated from template c/{name}.j2 with spec spec/paper_motor.yaml"
+            f"/* Generated from template templates/c/{name}.j2 with spec spec/paper_motor.yaml"
         )
         assert spec.sha256 in first
     assert files == port.render_port_files(spec)  # byte-stable

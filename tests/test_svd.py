@@ -94,7 +94,7 @@ def test_header_should_take_the_nvic_address_from_the_svd(header: str) -> None:
 
 def test_header_should_start_with_provenance_and_be_guarded_for_cube(header: str) -> None:
     first = header.splitlines()[0]
-    assert first.startswith("/* Generated from template c/stm32f103_regs.h.j2")
+    assert first.startswith("/* Generated from template templates/c/stm32f103_regs.h.j2")
     assert "Do not edit" in first
     assert '#if defined(USE_CMSIS_DEVICE_HEADER)\n\n#include "stm32f1xx.h"' in header
 

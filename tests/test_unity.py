@@ -89,7 +89,9 @@ def test_every_rendered_file_should_begin_with_its_provenance(generated: Path) -
     for name in ("test_bldc_commutation.c", "test_runner.c"):
         first = (generated / "tests" / name).read_text().splitlines()[0]
         assert first.startswith(f"/* Generated from template templates/unity/{name}.j2 with")
-        assert first.endswith("Do not edit: regenerate with `make`. */")
+        assert first.endswith(
+            "Do not edit: regenerate with `bldc-codegen generate spec/paper_motor.yaml`. */"
+        )
 
 
 def test_runner_should_run_every_case_once(generated: Path, cases: list[UnityCase]) -> None:

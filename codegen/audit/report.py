@@ -295,7 +295,7 @@ def _provenance(template: str) -> str:
     return (
         f"Generated from template templates/{template} with"
         f" {project_relative(DEFAULT_TRANSCRIPTION)} (sha256 {digest}). Do not edit:"
-        " regenerate with `make`."
+        " regenerate with `bldc-codegen audit`."
     )
 
 

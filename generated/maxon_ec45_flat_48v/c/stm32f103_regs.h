@@ -1,4 +1,4 @@
-/* Generated from template c/stm32f103_regs.h.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/stm32f103_regs.h.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `bldc-codegen generate spec/example_maxon_ec45_flat_48v.yaml`. */
 #ifndef STM32F103_REGS_H
 #define STM32F103_REGS_H
 

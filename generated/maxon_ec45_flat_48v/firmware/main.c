@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `bldc-codegen generate spec/example_maxon_ec45_flat_48v.yaml`. */
 /* Firmware entry for the project's own build: the clock tree, the port, the watchdog,
  * then sleep. The Hall edge and the commutation end run in the TIM3 interrupt, the
  * current loop in the ADC's, the next edge's timing in TIM1_TRG_COM. Thread mode hands

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `bldc-codegen generate spec/example_maxon_ec45_flat_48v.yaml`. */
 /* Minimal start-up for the project's own firmware build: vector table with the
  * CMSIS handler names, .data copy, .bss clear, then main(). A Cube project uses its
  * own start-up file instead; the port's handlers drop into it by name. */

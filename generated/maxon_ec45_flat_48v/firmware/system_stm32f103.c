@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/system_stm32f103.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/system_stm32f103.c.j2 with spec spec/example_maxon_ec45_flat_48v.yaml (sha256 4e4bc402b3ee91505838c88f91659557d0005f5a8b56d60c19ecc3e2f665b3c6). Do not edit: regenerate with `bldc-codegen generate spec/example_maxon_ec45_flat_48v.yaml`. */
 /*
  * Clock tree (RM0008 7.2): HSE 8 MHz -> PLL x 9 = 72 MHz SYSCLK; AHB / 1, APB2 / 1
  * (TIM1, ADC1 at 72 MHz), APB1 / 2 (36 MHz, its timers at 72 MHz: TIM3), ADC / 6 =

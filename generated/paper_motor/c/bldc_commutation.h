@@ -1,4 +1,4 @@
-/* Generated from template templates/c/bldc_commutation.h.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.h.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor.yaml`. */
 #ifndef BLDC_COMMUTATION_H
 #define BLDC_COMMUTATION_H
 

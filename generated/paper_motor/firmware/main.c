@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor.yaml`. */
 /* Firmware entry for the project's own build: the clock tree, the port, the watchdog,
  * then sleep. The Hall edge and the commutation end run in the TIM3 interrupt, the
  * current loop in the ADC's, the next edge's timing in TIM1_TRG_COM. Thread mode hands

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor.yaml`. */
 /* Minimal start-up for the project's own firmware build: vector table with the
  * CMSIS handler names, .data copy, .bss clear, then main(). A Cube project uses its
  * own start-up file instead; the port's handlers drop into it by name. */

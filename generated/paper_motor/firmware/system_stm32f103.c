@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/system_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/system_stm32f103.c.j2 with spec spec/paper_motor.yaml (sha256 6e149e81b56aaf0ac5791d1ff3459c01b1ba7fdb119982156e9fd60cd3b42049). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor.yaml`. */
 /*
  * Clock tree (RM0008 7.2): HSE 8 MHz -> PLL x 9 = 72 MHz SYSCLK; AHB / 1, APB2 / 1
  * (TIM1, ADC1 at 72 MHz), APB1 / 2 (36 MHz, its timers at 72 MHz: TIM3), ADC / 6 =

@@ -1,4 +1,4 @@
-/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
+/* Generated from template templates/c/bldc_commutation.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`. */
 #include "bldc_commutation.h"
 
 #define N_X_HIGH 2396667768u /* N_X >> 11, round(K_X 2^7), K_X = 3.834668e+10 */

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/main.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`. */
 /* Firmware entry for the project's own build: the clock tree, the port, the watchdog,
  * then sleep. The Hall edge and the commutation end run in the TIM3 interrupt, the
  * current loop in the ADC's, the next edge's timing in TIM1_TRG_COM. Thread mode hands

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/startup_stm32f103.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`. */
 /* Minimal start-up for the project's own firmware build: vector table with the
  * CMSIS handler names, .data copy, .bss clear, then main(). A Cube project uses its
  * own start-up file instead; the port's handlers drop into it by name. */

@@ -1,4 +1,4 @@
-/* Generated from template templates/firmware/system_stm32f103.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
+/* Generated from template templates/firmware/system_stm32f103.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`. */
 /*
  * Clock tree (RM0008 7.2): HSE 8 MHz -> PLL x 9 = 72 MHz SYSCLK; AHB / 1, APB2 / 1
  * (TIM1, ADC1 at 72 MHz), APB1 / 2 (36 MHz, its timers at 72 MHz: TIM3), ADC / 6 =

@@ -1,4 +1,4 @@
-/* Generated from template templates/proof/harness.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
+/* Generated from template templates/proof/harness.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`. */
 /*
  * Frama-C EVA harness of this core and the current loop (`make prove`;
  * codegen/proof/harness.py explains it).

@@ -1,4 +1,4 @@
-# Generated from template templates/python/bldc_float.py.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`.
+# Generated from template templates/python/bldc_float.py.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`.
 """Floating-point physics of the commutation rule (method "improved_r").
 
 Each function is printed by SymPy from the derivation (codegen/derivation), so this is

@@ -1,4 +1,4 @@
-/* Generated from template templates/unity/test_runner.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `make`. */
+/* Generated from template templates/unity/test_runner.c.j2 with spec spec/paper_motor_improved_r.yaml (sha256 9f5d9c8963649549b4e129e1bd9cd35baa3c8e343f67f4b67f06c6141ed1f434). Do not edit: regenerate with `bldc-codegen generate spec/paper_motor_improved_r.yaml`. */
 /* Generated Unity runner: calls every test of test_bldc_commutation.c in order; the
  * exit status is the number of failed tests. */
 #include "unity.h"
