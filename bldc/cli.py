@@ -129,6 +129,23 @@ def _one_line(text: object) -> str:
     return " ".join(str(text).split())
 
 
+def _internal(exc: BaseException) -> bool:
+    """Whether `_report` calls `exc` an internal error (a bug), the one --traceback
+    shows whole."""
+    base = sys.modules.get("codegen.methods.base")
+    design = getattr(base, "FixedPointError", None) if base else None
+    known: tuple[type[BaseException], ...] = (
+        SpecError,
+        StaleOutputError,
+        PublishError,
+        subprocess.CalledProcessError,
+        OSError,
+    )
+    if design is not None:
+        known = (*known, design)
+    return not isinstance(exc, known)
+
+
 def _report(exc: BaseException, args: argparse.Namespace) -> int:
     """The exit status for an exception, after printing it on stderr as error lines."""
     # The design's errors come from modules that import SymPy: look them up only if
@@ -188,8 +205,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 128 + 13
     except Exception as exc:
-        if args.traceback or os.environ.get("BLDC_CODEGEN_TRACEBACK"):
+        wanted = args.traceback or os.environ.get("BLDC_CODEGEN_TRACEBACK")
+        if wanted and _internal(exc):
             raise
+        # a bad spec, stale output, the environment: the same line and status with the
+        # flag (it had re-raised every error: a refused spec exited 1, not 3)
         return _report(exc, args)
 
 

@@ -110,6 +110,26 @@ def test_traceback_is_accepted_before_and_after_every_command(
     assert "run with --traceback" in capsys.readouterr().err
 
 
+def test_traceback_should_leave_a_users_error_its_line_and_status(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--traceback shows an internal error whole; a bad spec or stale output keeps its
+    one line and its status (the flag had re-raised every error: a refused spec exited
+    1, not 3, and stale output 1, not 4)."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(SPEC.read_text(encoding="utf-8").replace("poles: 2", "poles: 3"), "utf-8")
+    for argv in (["--traceback", "generate", str(bad)], ["derive", str(bad), "--traceback"]):
+        assert cli.main(argv) == ExitCode.SPEC, argv
+        err = capsys.readouterr().err
+        assert "Traceback" not in err and err.startswith("error: "), err
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert cli.main(["verify", str(SPEC), "--generated", str(empty), "--traceback"]) == (
+        ExitCode.STALE
+    )
+    assert "Traceback" not in capsys.readouterr().err
+
+
 def test_a_command_is_one_registration(capsys: pytest.CaptureFixture[str]) -> None:
     def run(args: argparse.Namespace) -> int:
         print(f"pil {args.spec}")
