@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 import re
 import shlex
+import unicodedata
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -56,17 +57,32 @@ def project_relative(path: str | Path) -> str:
         shown = resolved.relative_to(PROJECT_ROOT).as_posix()
     except ValueError:
         shown = resolved.name
-    if _SAFE_PATH.match(shown) and "--" not in shown:
+    if _safe_path(shown):
         return shown
     return f"<{WITHHELD}>"
 
 
+def _safe_path(shown: str) -> bool:
+    """_SAFE_PATH's characters, and letters and digits beyond ASCII (`motör.yaml` had
+    been withheld: none of them ends a comment, and UTF-8 is what every file is
+    written in); never a control, format (bidirectional) or other invisible one."""
+    if "--" in shown or not 0 < len(shown) <= 200:
+        return False
+    plain = "".join(c if c.isascii() or not _letter_or_digit(c) else "a" for c in shown)
+    return bool(_SAFE_PATH.match(plain))
+
+
+def _letter_or_digit(char: str) -> bool:
+    return unicodedata.category(char)[0] in "LNM"
+
+
 def spec_label(spec: Spec) -> str:
     """The spec's path as generated files may show it (project_relative), or, when that
-    is withheld, `<name.yaml, path withheld: ...>` after the spec's own name, a checked
+    is withheld, `<the spec named NAME, path withheld: ...>` after its own name, a checked
     identifier. The hash beside it identifies the file either way."""
     shown = project_relative(spec.source_path)
-    return shown if shown != f"<{WITHHELD}>" else f"<{spec.name}.yaml, {WITHHELD}>"
+    # the spec's name, not a file name: `<paper_motor.yaml, ...>` had named another file
+    return shown if shown != f"<{WITHHELD}>" else f"<the spec named {spec.name}, {WITHHELD}>"
 
 
 def regenerate_hint(spec: Spec) -> str:

@@ -201,7 +201,7 @@ def test_a_spec_path_cannot_inject_code_into_generated_files(tmp_path: Path) -> 
         if path.is_file() and path.suffix in (".c", ".h", ".py", ".md", ".ld")
     }
     for name, line in first_lines.items():
-        assert "<paper_motor.yaml, path withheld: unsafe characters>" in line, name
+        assert "<the spec named paper_motor, path withheld: unsafe characters>" in line, name
         assert "*/" not in line[2:-2] and "-->" not in line[4:-3], name
     for source in sorted((out / "c").glob("*.c")):
         subprocess.run(
@@ -222,11 +222,17 @@ def test_the_provenance_line_never_carries_comment_terminators() -> None:
     assert "with spec spec/paper_motor.yaml (sha256" in provenance("t.j2", spec)
     for evil in ("spec/a */b.yaml", "spec/a\nb.yaml", "spec/a-->b.yaml", "spec/a??/b.yaml"):
         text = provenance("t.j2", dataclasses.replace(spec, source_path=str(ROOT / evil)))
-        assert "<paper_motor.yaml, path withheld: unsafe characters>" in text, evil
+        assert "<the spec named paper_motor, path withheld: unsafe characters>" in text, evil
         assert spec.sha256 in text
         # Other reports (sim's SIMULATION.md, verify's JSON) show paths the same way.
         assert project_relative(ROOT / evil) == "<path withheld: unsafe characters>"
     assert project_relative(ROOT / "spec" / "my motor+v2.yaml") == "spec/my motor+v2.yaml"
+    # letters and digits beyond ASCII are shown (`motör.yaml` had been withheld and its
+    # spec named `paper_motor.yaml`, another file); an invisible character is not
+    for shown in ("spec/motör.yaml", "spec/モーター٣.yaml", "spec/mo\u0308tor.yaml"):
+        assert project_relative(ROOT / shown) == shown
+    for hidden in ("spec/mot\u202eor.yaml", "spec/mo\u200btor.yaml", "spec/mo\u00a0tor.yaml"):
+        assert project_relative(ROOT / hidden) == "<path withheld: unsafe characters>", hidden
 
 
 def test_every_generated_header_cites_its_template_from_the_root_and_its_command(
