@@ -556,8 +556,8 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
         raise PublishError(f"{p.target} exists and is not a folder")
     if not p.target.exists():
         return
-    _require_writable_tree(p.target)
     owned = _owned(p.target)
+    _require_writable_tree(p.target, owned, files)
     mine = owned.files if owned else frozenset()
     for name in files:
         parts = name.split("/")
@@ -595,21 +595,26 @@ def _refuse_inside_another_tree(target: Path) -> None:
             )
 
 
-def _require_writable_tree(target: Path) -> None:
-    """PublishError naming the first folder of `target` (itself included, not through a
-    link) whose entries this user cannot move: the publish moves the user's files from
-    the old tree into the new one, and a read-only folder kept them in the hidden old
-    tree (`generate -o` a mode-555 folder: exit 0, the user's file moved aside, and
-    every later run stopped on the leftover)."""
-    for folder, subfolders, _ in os.walk(target):
-        here = Path(folder)
+def _require_writable_tree(target: Path, owned: _Owned | None, files: Mapping[str, str]) -> None:
+    """PublishError naming the first folder whose entries the publish moves one by one
+    and this user cannot move: the target and each of its folders the old or the new
+    tree has (not through a link; a folder of the user's own moves whole, by one rename
+    in its parent). A read-only one kept the user's files in the hidden old tree
+    (`generate -o` a mode-555 folder: exit 0, the user's file moved aside, and every
+    later run stopped on the leftover)."""
+    new = {"/".join(n.split("/")[:i]) for n in files for i in range(1, n.count("/") + 1)}
+    listed = new | (set(owned.folders) if owned else set())
+    for rel in ["", *sorted(listed)]:
+        here = target / rel if rel else target
+        through_link = any((target / parent).is_symlink() for parent in Path(rel).parents)
+        if not here.is_dir() or here.is_symlink() or through_link:
+            continue
         if not os.access(here, os.W_OK | os.X_OK):
             raise PublishError(
                 f"{here} is not writable by this user: the files bldc-codegen did not write"
                 " there could not be carried into the new tree (make it writable, e.g."
                 " chmod u+w, or choose another output folder)"
             )
-        subfolders[:] = sorted(d for d in subfolders if not (here / d).is_symlink())
 
 
 def refuse_foreign(target: Path, names: Iterable[str]) -> None:

@@ -90,7 +90,9 @@ def regenerate_hint(spec: Spec) -> str:
     it: `bldc-codegen generate` on the spec as the line shows it (spec_label), quoted for
     a shell. It had said `make`, which generates the default spec only."""
     label = spec_label(spec)
-    return f"bldc-codegen generate {label if label.startswith('<') else shlex.quote(label)}"
+    if label.startswith("<"):  # withheld: `generate <the spec named ...>` reads as a redirect
+        return "bldc-codegen generate SPEC"
+    return f"bldc-codegen generate {shlex.quote(label)}"
 
 
 def provenance(template: str, spec: Spec) -> str:

@@ -891,15 +891,23 @@ def _covered(path: str, named: set[str]) -> bool:
     return False
 
 
+#: The bidirectional embeddings, overrides, isolates and marks: the "Trojan Source"
+#: characters that make text read in another order than it is stored. Other format
+#: characters are text (a zero-width joiner in an emoji or a Persian word, a soft
+#: hyphen), and are kept.
+_BIDI_CONTROLS = frozenset(
+    "\u061c\u200e\u200f\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069"
+)
+
+
 def _hidden_character(text: str) -> str | None:
     """The first character of `text` a reader cannot see for what it is, named (U+202E),
-    else None: a control character other than a line break or a tab, or a Unicode format
-    character (the bidirectional overrides and isolates, zero-width joiners: the
-    "Trojan Source" characters that make text read other than it is)."""
+    else None: a control character other than a line break or a tab, or a bidirectional
+    control."""
     for char in text:
         if char in "\n\r\t":
             continue
-        if unicodedata.category(char) in ("Cc", "Cf"):
+        if unicodedata.category(char) == "Cc" or char in _BIDI_CONTROLS:
             name = unicodedata.name(char, "")
             return f"U+{ord(char):04X}" + (f" ({name})" if name else "")
     return None

@@ -72,7 +72,9 @@ def _inward(value: Fraction, up: bool) -> str:
     """`value` with 4 decimals, rounded up (a lower bound) or down (an upper one)."""
     scaled = value * 10_000
     whole = math.ceil(scaled) if up else math.floor(scaled)
-    return f"{whole / 10_000:g}"
+    sign = "-" if whole < 0 else ""
+    units, tenths = divmod(abs(whole), 10_000)  # exactly: :g kept 6 digits (123.457)
+    return f"{sign}{units}.{tenths:04d}".rstrip("0").rstrip(".")
 
 
 def _plain(value: object) -> bool:

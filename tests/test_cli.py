@@ -202,6 +202,7 @@ def test_a_spec_path_cannot_inject_code_into_generated_files(tmp_path: Path) -> 
     }
     for name, line in first_lines.items():
         assert "<the spec named paper_motor, path withheld: unsafe characters>" in line, name
+        assert "generate <" not in line, name  # a shell would read a redirect there
         assert "*/" not in line[2:-2] and "-->" not in line[4:-3], name
     for source in sorted((out / "c").glob("*.c")):
         subprocess.run(

@@ -131,13 +131,13 @@ def test_a_description_should_stay_plain_text_in_the_report(tmp_path: Path) -> N
     assert "\n# Injected" not in report and "<script>" not in report
 
 
-@pytest.mark.parametrize("char", ["\u202e", "\u200b", "\u2066"])
+@pytest.mark.parametrize("char", ["\u202e", "\u200f", "\u2066"])
 def test_an_invisible_character_in_the_spec_text_should_be_refused(
     tmp_path: Path, char: str
 ) -> None:
-    """A right-to-left override, a zero-width space or a left-to-right isolate in the
-    description or a source: the text reads other than it is (accepted before; raw
-    control characters the YAML reader refuses)."""
+    """A right-to-left override, a right-to-left mark or a left-to-right isolate in the
+    description or a source: the text reads in another order than it is stored
+    (accepted before; raw control characters the YAML reader refuses)."""
     from codegen.errors import SpecError
 
     text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
@@ -146,3 +146,39 @@ def test_an_invisible_character_in_the_spec_text_should_be_refused(
         path.write_text(text.replace(old, old + char, 1), encoding="utf-8")
         with pytest.raises(SpecError, match=f"invisible or control character U\\+{ord(char):04X}"):
             load_spec(path)
+
+
+@pytest.mark.parametrize(
+    "text", ["Motör 24 V – 3 kW", "👩\u200d🔧 fitter's motor", "می\u200cخواهم", "hub\u00admotor"]
+)
+def test_text_with_joiners_and_soft_hyphens_should_load(tmp_path: Path, text: str) -> None:
+    """A zero-width joiner (an emoji sequence, a Persian word) and a soft hyphen are
+    text, not hidden controls (the first check refused every format character)."""
+    source = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    line = next(x for x in source.splitlines() if x.startswith("description: "))
+    path = tmp_path / "text.yaml"
+    path.write_text(source.replace(line, f'description: "{text}"'), encoding="utf-8")
+    assert load_spec(path).description == text
+
+
+@pytest.mark.parametrize(
+    ("description", "shown"),
+    [
+        ("1.5 kW hub motor", "1.5 kW hub motor. "),
+        ("3. phase motor", "3\\. phase motor. "),
+        ("2) second", "2\\) second. "),
+        ("-5 V rail", "-5 V rail. "),
+    ],
+)
+def test_a_leading_number_should_be_escaped_only_where_it_would_start_a_list(
+    tmp_path: Path, description: str, shown: str
+) -> None:
+    """`1.5 kW` starts no list: the first escape had put a backslash before its digits,
+    shown in the text."""
+    source = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    line = next(x for x in source.splitlines() if x.startswith("description: "))
+    path = tmp_path / "number.yaml"
+    path.write_text(source.replace(line, f'description: "{description}"'), encoding="utf-8")
+    report = render_derivation(derive(), load_spec(path))
+    first = next(p for p in report.split("\n\n") if "Commutation method" in p)
+    assert first.startswith(shown), first

@@ -400,6 +400,35 @@ def test_a_read_only_folder_of_the_tree_is_refused_before_anything_moves(
     assert leftovers(tmp_path, target) == []
 
 
+def test_a_read_only_folder_of_the_users_own_should_move_whole(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A folder the user made inside the output, read-only: it moves by one rename in
+    its (writable) parent, and is carried over (the first refusal had walked every
+    folder and refused it)."""
+    target = tmp_path / "motor"
+    publish(OLD, target)
+    archive = target / "mydata" / "archive"
+    archive.mkdir(parents=True)
+    (archive / "run1.csv").write_text("1,2\n", encoding="utf-8")
+    real_access = os.access
+
+    def access(path: object, mode: int, **kwargs: object) -> bool:
+        if Path(str(path)) == archive and mode & os.W_OK:
+            return False
+        return real_access(path, mode, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(publish_module.os, "access", access)
+    archive.chmod(0o555)
+    try:
+        result = publish(NEW, target)
+    finally:
+        archive.chmod(0o755)
+    assert "mydata" in result.carried_over
+    assert (target / "mydata" / "archive" / "run1.csv").read_text(encoding="utf-8") == "1,2\n"
+    assert owned_part(read_tree(target)) == {**NEW, "mydata/archive/run1.csv": "1,2\n"}
+
+
 def test_a_full_disk_names_the_file_of_the_target_and_publishes_nothing(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -347,3 +347,20 @@ def test_a_table_longer_than_allowed_should_say_how_many_points_it_may_hold(
     with pytest.raises(SpecError, match=r"motor\.back_emf_shape") as error:
         load_spec(_with_shape(tmp_path, str(table)))
     assert fragment in str(error.value)
+
+
+def test_an_allowed_bus_bound_above_100_percent_should_keep_four_decimals(tmp_path: Path) -> None:
+    """A 24 V bus whose inverter takes 53.6296272 V: the upper bound is 123.4567 %, and
+    the refusal had offered 123.457 (6 significant digits, rounded outwards), which it
+    refused in turn."""
+    section = TOLERANCES.replace("[-16, 25]", "[-10, 200]")
+    source = _with_tolerances(tmp_path, section)
+    source.write_text(
+        source.read_text(encoding="utf-8").replace(
+            "bus_voltage_max: 30 V", "bus_voltage_max: 53.6296272 V"
+        ),
+        encoding="utf-8",
+    )
+    with pytest.raises(SpecError) as error:
+        load_spec(source)
+    assert "(allowed: [-16.6666, 123.4567] %)" in str(error.value)

@@ -113,8 +113,9 @@ def target_for(spec_path: str, build: Path, generated: Path | None = None) -> Ta
     spec = load_spec(spec_path)
     if generated is not None and shipped_output(spec, (generated,)) != generated.resolve():
         raise StaleGeneratedError(
-            f"{generated} does not hold {spec_path}'s current output: regenerate with"
-            f" `bldc-codegen generate {spec_path} -o {generated}`"
+            f"{generated} does not hold {spec_path}'s current output: give the folder"
+            f" `bldc-codegen generate {spec_path} -o DIR` wrote (into a folder of another"
+            " spec's output it would replace that)"
         )
     root = shipped_output(spec, () if generated is None else (generated,))
     if root is None:

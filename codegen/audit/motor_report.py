@@ -163,8 +163,11 @@ def _markdown_text(text: str) -> str:
     text = " ".join(text.split())
     text = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
     text = re.sub(r"([\\`*_\[\]#|!])", r"\\\1", text)
-    # nor a list item: the description starts its line
-    return re.sub(r"^([-+]|\d+(?=[.)]))", r"\\\1", text)
+    # nor a list item, which the description would start at its line's start: a bullet
+    # or a number and its `.` or `)`, each followed by a space (`1.5 kW` is no item,
+    # and a backslash before its digits had shown in the text)
+    text = re.sub(r"^([-+])(?=\s|$)", r"\\\1", text)
+    return re.sub(r"^(\d{1,9})([.)])(?=\s|$)", r"\1\\\2", text)
 
 
 def render_derivation(derivation: Derivation, spec: Spec) -> str:
