@@ -383,7 +383,13 @@ def argument_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    return run(argument_parser().parse_args(argv))
+    """`python -m sim.robustness` (what `make robustness` runs): a Ctrl-C is one line and
+    status 130, as in `bldc-codegen robustness` (it had ended in a traceback)."""
+    try:
+        return run(argument_parser().parse_args(argv))
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
 
 
 def run(args: argparse.Namespace) -> int:

@@ -212,3 +212,18 @@ def test_ctrl_c_should_say_interrupted_in_one_line_and_leave_no_worker(
     assert _group(process.pid) == []
     assert [p.name for p in out.iterdir()] == ["notes.txt"]  # the user's file alone
     assert (out / "notes.txt").read_text() == "mine\n"
+
+
+def test_the_module_entry_should_end_a_ctrl_c_in_one_line(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`python -m sim.robustness`, what `make robustness` runs, had ended a Ctrl-C with
+    Python's traceback (the CLI's `robustness` says `interrupted`, 130)."""
+    import sim.robustness as robustness
+
+    def interrupted(_: object) -> int:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(robustness, "run", interrupted)
+    assert main([str(SPEC)]) == 130
+    assert capsys.readouterr().err == "interrupted\n"
