@@ -62,38 +62,6 @@ def psi(y: Floats) -> tuple[Floats, Floats]:
     return psi1, psi2
 
 
-#: Slope changes of the EMF's forcing summed one by one (the paper's trapezoids have
-#: one or two); more (a measured table: up to a thousand in a sector) are summed as one
-#: array, each point's corners at once (a 3001-point table's Unity cases had taken
-#: `generate` 140 s, almost all of it in `psi` called once per corner).
-FEW_CORNERS = 8
-#: Points below which the corners are summed as one array (above, each corner's array
-#: over the points is as fast: 140 ms for 1000 corners at 3000 points, 0.3 ms at 1 point
-#: where the loop took 29 ms).
-FEW_POINTS = 1000
-#: Elements of one corners x points block (memory: a few arrays of 8 B each).
-_BLOCK_ELEMENTS = 1 << 16
-
-
-def _corner_ramps(
-    corners: tuple[tuple[float, float], ...], fraction: Floats, rho: Floats
-) -> Floats:
-    """sum_j change_j late_j^2 / 2 psi2(rho late_j), late_j = max(fraction - x_j, 0),
-    elementwise over the broadcast of `fraction` and `rho`."""
-    at = np.array([a for a, _ in corners])[:, None]
-    change = np.array([c for _, c in corners])[:, None]
-    f, r = np.broadcast_arrays(np.asarray(fraction, dtype=float), np.asarray(rho, dtype=float))
-    flat_f, flat_r = f.ravel(), r.ravel()
-    out = np.empty(flat_f.size)
-    step = max(1, _BLOCK_ELEMENTS // at.shape[0])
-    for start in range(0, flat_f.size, step):
-        block = slice(start, start + step)
-        late = np.maximum(flat_f[None, block] - at, 0.0)
-        _, q2 = psi(flat_r[None, block] * late)
-        out[block] = (change * late**2 / 2 * q2).sum(axis=0)
-    return out.reshape(f.shape)
-
-
 @dataclass(frozen=True)
 class Pair:
     """A commutation's outcome at a given end: the held sum, the pair before and after
@@ -136,13 +104,10 @@ class Commutation:
         y = self.rho * fraction
         p1, p2 = psi(y)
         ramp = f0 * fraction * p1 + slope * fraction**2 / 2 * p2
-        if len(corners) > FEW_CORNERS and max(np.size(fraction), np.size(self.rho)) < FEW_POINTS:
-            ramp = ramp + _corner_ramps(corners, fraction, self.rho)
-        else:
-            for at, change in corners:
-                late = np.maximum(fraction - at, 0.0)
-                _, q2 = psi(self.rho * late)
-                ramp = ramp + change * late**2 / 2 * q2
+        for at, change in corners:
+            late = np.maximum(fraction - at, 0.0)
+            _, q2 = psi(self.rho * late)
+            ramp = ramp + change * late**2 / 2 * q2
         driven = (2 * off - on - self.p) * fraction * p1
         return self.a * np.exp(-y) + driven + self.x / 4 * ramp + shift
 

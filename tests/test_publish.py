@@ -10,6 +10,7 @@ new one, every foreign file in place and no leftovers.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import json
 import os
@@ -370,6 +371,26 @@ def test_a_run_waiting_for_the_lock_should_name_the_folder_it_waits_to_write(
     )
 
 
+@contextlib.contextmanager
+def read_only_folder(folder: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """`folder` at mode 555 for the block, and unwritable through `os.access` too (root,
+    whom the mode does not stop, is what the tests run as)."""
+    real_access = os.access
+
+    def access(path: object, mode: int, **kwargs: object) -> bool:
+        if Path(str(path)) == folder and mode & os.W_OK:
+            return False
+        return real_access(path, mode, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(publish_module.os, "access", access)
+    folder.chmod(0o555)
+    try:
+        yield
+    finally:
+        folder.chmod(0o755)
+        monkeypatch.undo()
+
+
 @pytest.mark.parametrize("read_only", ["", "c"])
 def test_a_read_only_folder_of_the_tree_is_refused_before_anything_moves(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, read_only: str
@@ -382,20 +403,9 @@ def test_a_read_only_folder_of_the_tree_is_refused_before_anything_moves(
     write_foreign(target)
     locked = target / read_only if read_only else target
     before = read_tree(target)
-    real_access = os.access
-
-    def access(path: object, mode: int, **kwargs: object) -> bool:
-        if Path(str(path)) == locked and mode & os.W_OK:
-            return False
-        return real_access(path, mode, **kwargs)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(publish_module.os, "access", access)
-    locked.chmod(0o555)
-    try:
-        with pytest.raises(PublishError, match=f"{locked} is not writable by this user"):
-            publish(NEW, target)
-    finally:
-        locked.chmod(0o755)
+    refused = pytest.raises(PublishError, match=f"{locked} is not writable by this user")
+    with read_only_folder(locked, monkeypatch), refused:
+        publish(NEW, target)
     assert read_tree(target) == before
     assert leftovers(tmp_path, target) == []
 
@@ -411,19 +421,8 @@ def test_a_read_only_folder_of_the_users_own_should_move_whole(
     archive = target / "mydata" / "archive"
     archive.mkdir(parents=True)
     (archive / "run1.csv").write_text("1,2\n", encoding="utf-8")
-    real_access = os.access
-
-    def access(path: object, mode: int, **kwargs: object) -> bool:
-        if Path(str(path)) == archive and mode & os.W_OK:
-            return False
-        return real_access(path, mode, **kwargs)  # type: ignore[arg-type]
-
-    monkeypatch.setattr(publish_module.os, "access", access)
-    archive.chmod(0o555)
-    try:
+    with read_only_folder(archive, monkeypatch):
         result = publish(NEW, target)
-    finally:
-        archive.chmod(0o755)
     assert "mydata" in result.carried_over
     assert (target / "mydata" / "archive" / "run1.csv").read_text(encoding="utf-8") == "1,2\n"
     assert owned_part(read_tree(target)) == {**NEW, "mydata/archive/run1.csv": "1,2\n"}
