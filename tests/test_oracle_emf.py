@@ -1,16 +1,14 @@
 """The oracle's EMF around the edge (`oracle.emf_shape`) on long measured tables: the
-corners of the forcing decided exactly, and the rule's sum over many corners."""
+corners of the forcing decided exactly."""
 
 from __future__ import annotations
 
 import math
 from fractions import Fraction
 
-import numpy as np
 import pytest
 
 from codegen.spec_model import BackEmfShape
-from oracle import rule
 from oracle.emf_shape import edge_emf
 
 
@@ -49,18 +47,3 @@ def test_a_sine_should_keep_its_real_corners_only() -> None:
     corners = emf.forcing_terms()[2]
     assert 0 < len(corners) < len(emf.breaks)
     assert all(abs(change) > 1e-6 for _, change in corners)
-
-
-@pytest.mark.parametrize("points", [1, 7, 400])
-def test_the_corners_summed_as_one_array_should_equal_the_sum_one_by_one(points: int) -> None:
-    rng = np.random.default_rng(points)
-    places, changes = np.linspace(0.01, 0.99, 50), rng.normal(size=50)
-    corners = tuple((float(a), float(c)) for a, c in zip(places, changes, strict=True))
-    fraction, rho = rng.uniform(0, 1, points), rng.uniform(0, 3, points)
-    one_by_one = np.zeros(points)
-    for at, change in corners:
-        late = np.maximum(fraction - at, 0.0)
-        one_by_one += change * late**2 / 2 * rule.psi(rho * late)[1]
-    summed = rule._corner_ramps(corners, fraction, rho)
-    assert summed == pytest.approx(one_by_one, rel=1e-12, abs=1e-14)
-    assert rule._corner_ramps(corners, 0.5, 0.25).shape == ()
