@@ -244,21 +244,36 @@ def plant(model: PlantModel) -> Plant:
 
 
 def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
-    """Currents at the run's start such that the last pre-edge period averages I.
+    """Currents at the run's start such that the last whole pre-edge period averages I.
 
     The averaged plant holds I exactly. The switched plant's ripple makes the
     instantaneous value at a carrier start differ from the period average, so the
     start value is solved for: the period average is affine in it (linear circuit).
+    A whole period, not the one the edge's carrier restart cuts short: the current loop
+    holds I as a whole period's mean, and the edge at carrier phase p finds the current
+    where the steady ripple is p into its period (at a small p just past the valley,
+    not at I, which the cut period's mean had made it: a step of the ripple's half
+    height between phase 0 and phase 0+).
     """
     if case.start_currents is not None:
         return np.array(case.start_currents, dtype=float)
     magnitude = case.current_a
     if model != "switched":
         return case.edge_currents(magnitude)
-    run = plant(model)
+    return case.edge_currents(_switched_start_magnitude(case))
+
+
+@lru_cache(maxsize=256)
+def _switched_start_magnitude(case: Case) -> float:
+    """`pre_edge_state`'s solve on the switched plant. It depends on the case alone, not
+    on the command: every method at one edge, and both runs of `sim.runs.simulate`,
+    share it."""
+    magnitude = case.current_a
+    run = plant("switched")
     schedule = schedule_for(case, None, 0.0)
     off = case.edge.turn_off
     sign = case.edge.current_signs[off]
+    period = case.drive.pwm_period_s
 
     def last_mean(start_magnitude: float) -> float:
         trace = run(
@@ -269,12 +284,14 @@ def pre_edge_state(case: Case, model: PlantModel) -> np.ndarray:
             0.0,
             case.edge_currents(start_magnitude),
         )
-        return sign * float(trace.period_currents[-1, off])
+        whole = np.flatnonzero(
+            np.abs(trace.period_ends - trace.period_starts - period) < 1e-9 * period
+        )
+        return sign * float(trace.period_currents[whole[-1], off])
 
     low, high = last_mean(magnitude), last_mean(magnitude + 1.0)
     gain = high - low
-    start = magnitude + (magnitude - low) / gain if gain > 1e-9 else magnitude
-    return case.edge_currents(start)
+    return magnitude + (magnitude - low) / gain if gain > 1e-9 else magnitude
 
 
 def run_case(case: Case, command: Command, model: PlantModel, end: float) -> Trace:

@@ -723,8 +723,9 @@ class BrakingLoop:
         periods = self.plant.periods
         full = round(TICK_HZ / self.spec.inverter.pwm_frequency_hz)
         # the period the COM event cuts short (the carrier restarts there): I is the
-        # turn-off current's mean over it, as `sim.scenario.pre_edge_state` solves the
-        # simulation's last pre-edge period (cut at t = 0 by the same restart)
+        # turn-off current's mean over it (the SIL it is compared with is handed the
+        # chip's currents, so this sets only the reference; `sim.scenario.pre_edge_state`
+        # solves its own start for the last whole period, the loop's mean, instead)
         before = [p for p in periods if p.end <= start]
         if len(before) < PRE_EDGE_PERIODS + 1 or before[-1].end != start:
             return f"fewer than {PRE_EDGE_PERIODS + 1} PWM periods recorded before it"
