@@ -56,7 +56,11 @@ def simulate_spec(spec_path: str, output: str | None, progress: bool, quick: boo
             if model == "switched":
                 run = point.runs[(method, model, policy)]
                 label = f"D {run.command.main_duty:.3f}, {run.case.current_a:.1f} A"
-                cells.append(f"{method} ({label}) {metrics.deviation_worst_pct:+.1f} %")
+                at = point.phases[(method, model, policy)]
+                cells.append(
+                    f"{method} ({label}) {metrics.deviation_worst_pct:+.1f} % at carrier phase"
+                    f" {at:.2f}"
+                )
         print(f"sim: {point.speed_rpm:g} rpm: " + ", ".join(cells))
     return 0
 

@@ -62,6 +62,11 @@ def frac(value: float | None) -> str:
     return "not within 60 deg" if value is None else f"{value:.2f}"
 
 
+def phase(value: float) -> str:
+    """A carrier phase of the Hall edge, fraction of a PWM period."""
+    return f"{value:.3f}"
+
+
 def flags(names: tuple[str, ...]) -> str:
     return ", ".join(names) if names else "-"
 
@@ -108,6 +113,7 @@ def _operating_rows(results: Results) -> list[dict[str, object]]:
             for method in METHODS:
                 run = point.runs[(method, "switched", policy)]
                 metrics = point.metrics[(method, "switched", policy)]
+                zero = point.phase_zero[(method, "switched", policy)]
                 out.append(
                     {
                         "speed": f"{point.speed_rpm:g}",
@@ -118,6 +124,8 @@ def _operating_rows(results: Results) -> list[dict[str, object]]:
                         "duties": f"{run.command.on_duty(0):.3f} / {run.command.off_duty(0):.3f}",
                         "flags": flags(point.flags[(method, policy)]),
                         "cells": _metrics_cells(metrics),
+                        "phase": phase(point.phases[(method, "switched", policy)]),
+                        "phase_zero": pct(zero.deviation_worst_pct),
                         "averaged_worst": pct(
                             point.metrics[(method, "averaged", policy)].deviation_worst_pct
                         ),
@@ -205,7 +213,12 @@ def _claims(results: Results, lookup: _Lookup) -> list[dict[str, str]]:
         none = point.metrics[("none", "switched", STEADY)].deviation_worst_pct
         better &= abs(improved) < abs(none)
         halved &= abs(improved) <= 0.5 * abs(none)
-        cells.append(f"{point.speed_rpm:g} rpm: improved {pct(improved)} vs none {pct(none)}")
+        cells.append(
+            f"{point.speed_rpm:g} rpm: improved {pct(improved)} vs none {pct(none)}"
+            f" (each at its worst carrier phase of the Hall edge,"
+            f" {phase(point.phases[('improved', 'switched', STEADY)])} and"
+            f" {phase(point.phases[('none', 'switched', STEADY)])})"
+        )
     verdict = REPRODUCED if halved else (CONDITIONAL if better else REFUTED)
     out.append(
         _claim(
@@ -272,7 +285,9 @@ def _claims(results: Results, lookup: _Lookup) -> list[dict[str, str]]:
         if r.speed_rpm <= results.drive.boundary_speed_rpm
     ]
     static = bool(low) and all(
-        r.on_duty == 1.0 and r.metrics.on_transitions is not None and r.metrics.on_transitions <= 1
+        r.on_duty == 1.0
+        and r.at_phase_zero.on_transitions is not None
+        and r.at_phase_zero.on_transitions <= 1
         for r in low
     )
     boundary = results.drive.boundary_speed_rpm
@@ -495,6 +510,9 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
                 "in_target": low <= speed <= high,
                 "improved": pct(lookup.row("improved", speed).metrics.deviation_worst_pct),
                 "improved_r": pct(rule.metrics.deviation_worst_pct),
+                "phase": phase(rule.carrier_phase),
+                "phase_zero": pct(rule.at_phase_zero.deviation_worst_pct),
+                "flat_phase": phase(lookup.row(IMPROVED_R, speed, shape="flat").carrier_phase),
                 "within": abs(rule.metrics.deviation_worst_pct) <= TARGET_PCT,
                 "compares": f"{raw['turn_on_compare']} / {raw['turn_off_compare']}",
                 "ticks": f"{raw['commutation_ticks']} / {raw['in.hall_period_ticks']}",
@@ -529,6 +547,12 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
     ]
     paper = worst("improved")
     ideal = worst(IDEAL_METHODS[0])
+    # the edge on a carrier boundary: what this report judged by before it took the
+    # worst carrier phase (that is the rule's best case where its commutation swells)
+    zero = max(
+        (lookup.row(IMPROVED_R, s) for s in in_target),
+        key=lambda r: abs(r.at_phase_zero.deviation_worst_pct),
+    )
     covers = speeds[0] <= low and speeds[-1] >= high
     lengths = [
         lookup.row(IMPROVED_R, s).commanded_time_s / results.drive.pwm_period_s for s in in_target
@@ -546,6 +570,12 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         "rows": rows,
         "worst": pct(main.metrics.deviation_worst_pct),
         "worst_speed": f"{main.speed_rpm:g}",
+        "worst_phase": phase(main.carrier_phase),
+        "flat_phase": phase(flat.carrier_phase),
+        "paper_phase": phase(paper.carrier_phase),
+        "zero_worst": pct(zero.at_phase_zero.deviation_worst_pct),
+        "zero_speed": f"{zero.speed_rpm:g}",
+        "zero_met": abs(zero.at_phase_zero.deviation_worst_pct) <= TARGET_PCT,
         "flat_worst": pct(flat.metrics.deviation_worst_pct),
         "flat_speed": f"{flat.speed_rpm:g}",
         "averaged_worst": pct(averaged.metrics.deviation_worst_pct),
@@ -739,7 +769,9 @@ def _figures(results: Results, names: dict[str, str]) -> list[dict[str, str]]:
         for method, policy in figure_keys(point):
             figure = PAPER_FIGURES.get((index, method, policy))
             run = point.runs[(method, "switched", policy)]
-            metrics = point.metrics[(method, "switched", policy)]
+            # the figure's: the edge on a carrier boundary
+            metrics = point.phase_zero[(method, "switched", policy)]
+            worst = point.metrics[(method, "switched", policy)]
             duty = "the loop's settled" if policy == STEADY else "the spec's"
             out.append(
                 {
@@ -753,6 +785,8 @@ def _figures(results: Results, names: dict[str, str]) -> list[dict[str, str]]:
                     else "no counterpart in the paper",
                     "worst": pct(metrics.deviation_worst_pct),
                     "peak": pct(metrics.deviation_peak_pct),
+                    "over_phase": pct(worst.deviation_worst_pct),
+                    "over_phase_at": phase(point.phases[(method, "switched", policy)]),
                     "note": _figure_note(run, metrics, point.flags[(method, policy)]),
                 }
             )

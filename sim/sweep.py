@@ -23,6 +23,7 @@ from tqdm import tqdm
 
 from codegen.audit.transcription import Table4Row, load_transcription
 from codegen.spec_model import Spec
+from sim.carrier_phase import worst_over_phase
 from sim.clamp import ClampScan, clamp_scans
 from sim.command import Command
 from sim.current_loop import Settled, held_current, settle
@@ -67,9 +68,20 @@ class SweepRow:
     off_duty: float
     commanded_time_s: float
     flags: tuple[str, ...]
+    #: Switched plant: at the carrier phase of the Hall edge where the worst per-period
+    #: deviation is largest (`sim.carrier_phase`); averaged plant: the one run.
     metrics: CommutationMetrics
     #: The C core's inputs ("in." keys) and outputs; empty for the Python ideal.
     core_outputs: dict[str, int] = field(default_factory=dict)
+    #: The carrier phase of `metrics` (fraction of a PWM period; 0: on a boundary).
+    carrier_phase: float = 0.0
+    #: The metrics with the edge on a carrier boundary (phase 0), what the paper's
+    #: figures are compared with; None: `metrics` are those (averaged plant).
+    phase_zero: CommutationMetrics | None = None
+
+    @property
+    def at_phase_zero(self) -> CommutationMetrics:
+        return self.metrics if self.phase_zero is None else self.phase_zero
 
 
 #: The point policy: the spec's quoted main duty at the current it holds.
@@ -92,6 +104,11 @@ class OperatingPoint:
     metrics: dict[tuple[str, str, str], CommutationMetrics]
     #: (method, policy) -> the controller's flags.
     flags: dict[tuple[str, str], tuple[str, ...]]
+    #: (method, "switched", policy) -> the carrier phase of the Hall edge at which
+    #: `metrics` (the worst over the phase) are measured; `runs` are at phase 0.
+    phases: dict[tuple[str, str, str], float] = field(default_factory=dict)
+    #: (method, "switched", policy) -> the metrics at phase 0 (the paper's figures).
+    phase_zero: dict[tuple[str, str, str], CommutationMetrics] = field(default_factory=dict)
 
     @property
     def point_brakes(self) -> bool:
@@ -174,6 +191,18 @@ class _Job:
     current_a: float
     limited: bool
 
+    @property
+    def judged(self) -> bool:
+        """A run the report judges (a verdict against a band or another method): every
+        firmware method on the spec's EMF and `improved_r` on the flat one, switched
+        plant. These are taken at their worst carrier phase; the comparison lines (the
+        Python ideal, the paper methods on the flat EMF, the fixed duties) at phase 0."""
+        if self.model != "switched" or self.duty_policy != STEADY:
+            return False
+        return self.method in METHODS and (
+            self.emf_shape == DEFAULT_SHAPE or self.method == IMPROVED_R
+        )
+
 
 def _point_duties(spec: Spec) -> tuple[float, ...]:
     return tuple(sorted({float(p.main_duty) for p in spec.operating_points}))
@@ -227,7 +256,12 @@ def _jobs(
 def _row(controller: Controller, drive: Drive, job: _Job) -> SweepRow:
     case = Case(drive, paper_edge(), job.speed_rpm, job.current_a, job.emf_shape)
     command = controller.command(job.method, case, job.main_duty)
-    run = simulate(case, command, job.model)
+    phase, phase_zero = 0.0, None
+    if job.judged:
+        scan = worst_over_phase(case, command, job.model)
+        run, phase, phase_zero = scan.worst, scan.phase, scan.at_zero
+    else:
+        run = simulate(case, command, job.model)
     return SweepRow(
         speed_rpm=job.speed_rpm,
         method=job.method,
@@ -243,6 +277,8 @@ def _row(controller: Controller, drive: Drive, job: _Job) -> SweepRow:
         flags=controller.flag_names(command),
         metrics=run.metrics,
         core_outputs=command.core_outputs,
+        carrier_phase=phase,
+        phase_zero=phase_zero,
     )
 
 
@@ -272,6 +308,8 @@ def operating_point(
     runs: dict[tuple[str, str, str], Run] = {}
     metrics: dict[tuple[str, str, str], CommutationMetrics] = {}
     flags: dict[tuple[str, str], tuple[str, ...]] = {}
+    phases: dict[tuple[str, str, str], float] = {}
+    phase_zero: dict[tuple[str, str, str], CommutationMetrics] = {}
     loop = settle(drive, speed, drive.braking_current_a, controller.period_counts)
     point_current = held_current(drive, speed, duty)
     settings = [(STEADY, loop.duty, loop.current_a)]
@@ -283,12 +321,17 @@ def operating_point(
             command = controller.command(method, case, main)
             flags[(method, policy)] = controller.flag_names(command)
             for model in ("switched", "averaged"):
-                measured = simulate(case, command, model)
-                metrics[(method, model, policy)] = measured.metrics
-                runs[(method, model, policy)] = simulate(
-                    case, command, model, figure_end(case, measured)
-                )
-    return OperatingPoint(speed, duty, point_current, loop, runs, metrics, flags)
+                key = (method, model, policy)
+                scan = worst_over_phase(case, command, model)
+                metrics[key] = scan.worst.metrics
+                if model == "switched":
+                    phases[key] = scan.phase
+                    phase_zero[key] = scan.at_zero
+                # the figure: the edge on a carrier boundary, as the paper's are compared
+                runs[key] = simulate(case, command, model, figure_end(case, scan.zero))
+    return OperatingPoint(
+        speed, duty, point_current, loop, runs, metrics, flags, phases, phase_zero
+    )
 
 
 def _optimum_row(
