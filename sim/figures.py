@@ -100,15 +100,15 @@ def currents_figure(point: OperatingPoint, method: str, policy: str, out: Path) 
 
 
 def _series(
-    results: Results, method: str, attribute: str, **match: object
+    results: Results, method: str, attribute: str, phase_zero: bool = False, **match: object
 ) -> tuple[np.ndarray, np.ndarray]:
+    """`attribute` of the rows' metrics: at the worst carrier phase of the Hall edge where
+    the row is judged so, or (`phase_zero`) with the edge on a carrier boundary."""
     rows = results.rows(method=method, **match)
     speeds = np.array([r.speed_rpm for r in rows])
+    picked = [r.at_phase_zero if phase_zero else r.metrics for r in rows]
     values = np.array(
-        [
-            np.nan if getattr(r.metrics, attribute) is None else getattr(r.metrics, attribute)
-            for r in rows
-        ],
+        [np.nan if getattr(m, attribute) is None else getattr(m, attribute) for m in picked],
         dtype=float,
     )
     return speeds, values
@@ -228,7 +228,8 @@ def commutation_time_figure(results: Results, out: Path) -> str:
     for method in METHODS:
         colour = METHOD_COLOURS[method]
         match = {"model": "switched", "emf_shape": DEFAULT_SHAPE, "duty_policy": STEADY}
-        speeds, actual = _series(results, method, "commutation_fraction", **match)
+        # the edge on a carrier boundary: Eq. 20's time against the plant, as the paper
+        speeds, actual = _series(results, method, "commutation_fraction", True, **match)
         ax.plot(
             speeds,
             actual,
