@@ -386,13 +386,14 @@ def test_a_check_with_nothing_to_judge_should_say_so_and_why(
     low = [replace(c, current_a=0.1 * result.setup.current_a) for c in result.commutations]
     none = replace(empty, commutations=low)
     assert braking_report.problems(none) == []
-    (held_check, _), (sil, why) = braking_report.not_judged(none)
-    assert (held_check, sil) == ("the held braking current", "SIL vs PIL")
+    (held_check, _), (steady, _), (sil, why) = braking_report.not_judged(none)
+    assert (held_check, steady, sil) == ("the held braking current", "steady braking", "SIL vs PIL")
     assert why.startswith(f"none of the {len(low)} measured commutations was compared")
     text = "\n".join(braking_report.section(none, []))
     assert "* SIL vs PIL: not judged: none of the" in text
     assert "* Braking current held by the loop: not judged: 0 steady samples" in text
-    assert "(the held braking current, SIL vs PIL not judged: see above)" in text
+    assert "* Steady braking: not judged: none of the" in text
+    assert "(the held braking current, steady braking, SIL vs PIL not judged: see above)" in text
 
 
 def _integral_gain(change: Callable[[int], int]) -> Callable[[Path], None]:
@@ -1124,3 +1125,40 @@ def test_the_period_the_next_edge_cuts_should_be_in_neither_window(tmp_path: Pat
         apart = abs(abs(c.deviation_worst_pct) - abs(c.sil_worst_pct))
         assert apart <= c.difference_pp + 1e-9, (c.index, c.deviation_worst_pct, c.sil_worst_pct)
         assert abs(c.window_lengths[0] - c.window_lengths[1]) <= 1
+
+
+def test_a_brake_whose_current_collapses_at_its_edges_should_fail(tmp_path: Path) -> None:
+    """A conventional motor with a 150 deg flat-top EMF at 4570 rpm (hunt A, a13): its
+    incoming phase's EMF is flat for the last 15 deg of each sector, so it conducts
+    through its diode before its edge (1.6 A, where the 120 deg twin's takes 0.2 A),
+    and the loop, back from a commutation that took 61 % of the sector, overshoots and
+    is at 0 or near it at the edge. Eq. 20 on that main duty (0.036) has no positive
+    denominator: the commutation runs to its latest end at a duty under which no braking
+    current flows, the current falls to 0.44 A of 5 A, the loop saturates at D_max, and
+    so on from sector to sector, while its loop could drive 50 A. The run passed: the
+    low commutations were listed, not compared, and the held current's mean was the
+    command. Each edge where the loop's D_max drives twice the command now holds at
+    least half of it, or the run fails; the 120 deg twin held 5.0-5.3 A."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "conv_150emf_erratic.yaml"
+    generated = generate(path, tmp_path / "generated")
+    result = _short_run(path, generated, build_firmware(path, tmp_path, generated))
+    found = braking_report.problems(result)
+    assert len(found) == 1 and found[0].startswith("the braking is not steady: at "), found
+    steady = braking_report.steady_braking_check(result)
+    assert isinstance(steady, braking_report.SteadyBraking), steady
+    assert steady.low and min(c.current_a for c in steady.low) < 0.1 * result.setup.current_a
+    duties = [c.main_duty for c in steady.judged]
+    assert min(duties) < 0.05 and max(duties) > 0.9, duties
+    text = "\n".join(braking_report.section(result, []))
+    assert "* Result: FAIL: the braking is not steady" in text
+    assert "* Steady braking: I at the " in text
+
+
+def test_a_steady_brake_should_pass_the_steadiness_check(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """The paper motor's short run holds 5 A at every edge: judged, none below half."""
+    _, result = paper_run
+    steady = braking_report.steady_braking_check(result)
+    assert isinstance(steady, braking_report.SteadyBraking), steady
+    assert len(steady.judged) == len(result.commutations) and not steady.low
