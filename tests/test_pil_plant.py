@@ -1139,7 +1139,8 @@ def test_a_brake_whose_current_collapses_at_its_edges_should_fail(tmp_path: Path
     low commutations were listed, not compared, and the held current's mean was the
     command. Each edge where the loop's D_max drives twice the command now holds at
     least half of it, with a main duty within half of D_max of the edge before, or the
-    run fails; the 120 deg twin held 5.0-5.3 A, its duty 0.18-0.27."""
+    run fails; the 120 deg twin held 5.0-5.3 A, its duty 0.18-0.27, over its first 40
+    edges (its full run swings too, at 3500-4300 rpm: 0.49 A at one edge)."""
     path = ROOT / "tests" / "fixtures" / "pil" / "conv_150emf_erratic.yaml"
     generated = generate(path, tmp_path / "generated")
     result = _short_run(path, generated, build_firmware(path, tmp_path, generated))
