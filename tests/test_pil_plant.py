@@ -386,13 +386,14 @@ def test_a_check_with_nothing_to_judge_should_say_so_and_why(
     low = [replace(c, current_a=0.1 * result.setup.current_a) for c in result.commutations]
     none = replace(empty, commutations=low)
     assert braking_report.problems(none) == []
-    (held_check, _), (sil, why) = braking_report.not_judged(none)
-    assert (held_check, sil) == ("the held braking current", "SIL vs PIL")
+    (held_check, _), (steady, _), (sil, why) = braking_report.not_judged(none)
+    assert (held_check, steady, sil) == ("the held braking current", "steady braking", "SIL vs PIL")
     assert why.startswith(f"none of the {len(low)} measured commutations was compared")
     text = "\n".join(braking_report.section(none, []))
     assert "* SIL vs PIL: not judged: none of the" in text
     assert "* Braking current held by the loop: not judged: 0 steady samples" in text
-    assert "(the held braking current, SIL vs PIL not judged: see above)" in text
+    assert "* Steady braking: not judged: none of the" in text
+    assert "(the held braking current, steady braking, SIL vs PIL not judged: see above)" in text
 
 
 def _integral_gain(change: Callable[[int], int]) -> Callable[[Path], None]:
@@ -1124,3 +1125,57 @@ def test_the_period_the_next_edge_cuts_should_be_in_neither_window(tmp_path: Pat
         apart = abs(abs(c.deviation_worst_pct) - abs(c.sil_worst_pct))
         assert apart <= c.difference_pp + 1e-9, (c.index, c.deviation_worst_pct, c.sil_worst_pct)
         assert abs(c.window_lengths[0] - c.window_lengths[1]) <= 1
+
+
+def test_a_brake_whose_current_collapses_at_its_edges_should_fail(tmp_path: Path) -> None:
+    """A conventional motor with a 150 deg flat-top EMF at 4570 rpm (hunt A, a13): its
+    incoming phase's EMF is flat for the last 15 deg of each sector, so it conducts
+    through its diode before its edge (up to 1.6 A, median 0.72 A, in the last period;
+    the 120 deg twin's at most 0.31 A), and the loop, back from a commutation of L/(2R),
+    61 % of the sector at the steady duty, overshoots and is at 0 or near it at the edge. Eq. 20 on that main duty (0.036) has no positive
+    denominator: the commutation runs to its latest end at a duty under which no braking
+    current flows, the current falls to 0.44 A of 5 A, the loop saturates at D_max, and
+    so on from sector to sector, while its loop could drive 50 A. The run passed: the
+    low commutations were listed, not compared, and the held current's mean was the
+    command. Each edge where the loop's D_max drives twice the command now holds at
+    least half of it, with a main duty within half of D_max of the edge before, or the
+    run fails; the 120 deg twin held 5.0-5.3 A, its duty 0.18-0.27, over its first 40
+    edges (its full run swings too, at 3500-4300 rpm: 0.49 A at one edge)."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "conv_150emf_erratic.yaml"
+    generated = generate(path, tmp_path / "generated")
+    result = _short_run(path, generated, build_firmware(path, tmp_path, generated))
+    found = braking_report.problems(result)
+    assert len(found) == 1 and found[0].startswith("the braking is not steady: of the "), found
+    assert "held less than 0.5 x the command's 5 A" in found[0], found
+    assert "the main duty moved by more than 0.5 x D_max" in found[0], found
+    steady = braking_report.steady_braking_check(result)
+    assert isinstance(steady, braking_report.SteadyBraking), steady
+    assert steady.low and min(c.current_a for c in steady.low) < 0.1 * result.setup.current_a
+    duties = [c.main_duty for c in steady.judged]
+    assert min(duties) < 0.05 and max(duties) > 0.9, duties
+    text = "\n".join(braking_report.section(result, []))
+    assert "* Result: FAIL: the braking is not steady" in text
+    assert "* Steady braking: at the " in text
+
+
+def test_a_main_duty_that_jumps_between_edges_should_fail_the_steadiness_check(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """The paper motor's short run holds 5 A at every edge with a duty that stays put:
+    judged, none below half, no jump. The 150 deg EMF motor's 20 kHz twin never fell
+    below 2.6 A, but its main duty jumped 0.17 to 0.74 between two edges (and 0.19 to
+    0.93 in its full run): a duty that moves by more than half of D_max from one edge
+    to the next fails, whatever the current."""
+    _, result = paper_run
+    steady = braking_report.steady_braking_check(result)
+    assert isinstance(steady, braking_report.SteadyBraking), steady
+    assert len(steady.judged) == len(result.commutations) and steady.steady
+    assert braking_report.problems(result) == []
+    cs = result.commutations
+    jumped = [replace(c, main_duty=0.9) if k == 3 else c for k, c in enumerate(cs)]
+    swinging = replace(result, commutations=jumped)
+    steady = braking_report.steady_braking_check(swinging)
+    assert isinstance(steady, braking_report.SteadyBraking)
+    assert not steady.low and [b.index for _, b in steady.swings] == [cs[3].index, cs[4].index]
+    (line,) = [p for p in braking_report.problems(swinging) if "not steady" in p]
+    assert "at 2 the main duty moved by more than 0.5 x D_max" in line, line

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from itertools import pairwise
 from pathlib import Path
 
 import matplotlib
@@ -357,6 +358,123 @@ def held_current_check(result: BrakingResult) -> HeldCurrent | NotJudged:
     )
 
 
+#: A steady brake holds the command at every Hall edge where its loop can, with a duty
+#: that stays put from one edge to the next. Judged wherever the loop's largest duty
+#: would drive STEADY_HEADROOM times the command through the averaged plant
+#: (`oracle.current_loop`: (D U_d / 2 + E - U_d / 2) / R at D_max, E = k_e n), so that
+#: the loop has the command itself to spare for the commutation's dip; below it, near
+#: the hold speed, the saturated loop legitimately lets the current fall (the end of
+#: the Maxon's run: 0.72 and 0.84 A of 1.2 A at 983 and 1044 rpm, where D_max drives
+#: under 2.4 A). There I (the turn-off current's mean over the last pre-edge period)
+#: must be at least COMPARED_FRACTION of the command, and the main duty at the edge
+#: must move by at most DUTY_SWING of the loop's range [0, D_max] from one edge to the
+#: next (the duty that holds I moves by 2 k_e dn / U_d, a fraction of a count a sector).
+#: A conventional 150 deg EMF motor at 4570 rpm, whose loop could drive 50 A there, held
+#: 0.44 A of 5 A at one edge: its commutation time (Eq. 20 on the loop's latest duty,
+#: caught mid-overshoot at 0.036) ran the whole sector at a duty under which no braking
+#: current flows, and the loop then saturated at D_max; the duty swung 0.035-0.97 and
+#: the run passed, the low commutations being listed, not compared. Its 20 kHz twin held
+#: at least 2.6 A, but its duty jumped 0.21 to 0.93 between two edges.
+STEADY_HEADROOM = 2.0
+#: The fraction of D_max the main duty may move between consecutive judged edges: at
+#: most 0.29 of the range on the runs that brake steadily (the 128-pole conventional
+#: fixtures whose commutations fill their sectors, alternating 0.55-0.78), at least
+#: 0.57 on the ones that do not (the 150 deg EMF motors; a 5 kHz conventional motor
+#: below 1300 rpm, its duty at D_max at one edge in three)
+DUTY_SWING = 0.5
+
+
+@dataclass(frozen=True)
+class SteadyBraking:
+    """The braking current and the main duty at the Hall edges where the loop can hold
+    the command (`STEADY_HEADROOM`), from the first edge whose I reached
+    COMPARED_FRACTION of it on (a loop still converging from rest rises to it: the
+    1-pole-pair 55 krpm fixture)."""
+
+    judged: tuple[Commutation, ...]
+    #: the judged commutations whose I fell below COMPARED_FRACTION of the command
+    low: tuple[Commutation, ...]
+    #: (edge before, edge) of consecutive judged edges whose main duties differ by more
+    #: than DUTY_SWING x D_max
+    swings: tuple[tuple[Commutation, Commutation], ...]
+    #: D_max as a duty (the oracle's, counts over the PWM period's)
+    duty_max: float
+    #: the slowest speed judged, rpm: the loop's largest duty drives STEADY_HEADROOM x
+    #: the command there
+    slowest_rpm: float
+
+    @property
+    def steady(self) -> bool:
+        return not self.low and not self.swings
+
+
+def steady_braking_check(result: BrakingResult) -> SteadyBraking | NotJudged:
+    """`SteadyBraking` of the run, or why it judged nothing. The command is the run's,
+    D_max, R and U_d the oracle's (`loop_model`), k_e the spec's: nothing of the
+    generator's design."""
+    command = result.setup.current_a
+    cs = result.commutations
+    if not cs:
+        return NotJudged("no commutation was measured")
+    first = next((k for k, c in enumerate(cs) if c.current_a >= COMPARED_FRACTION * command), None)
+    if first is None:
+        return NotJudged(
+            f"none of the {len(cs)} measured commutations carried {COMPARED_FRACTION:g} x the"
+            " command at its edge (the loop still converging on it)"
+        )
+    loop = loop_model(result.spec)
+    k_e = float(result.spec.motor.back_emf_constant_v_per_rpm)
+    judged = tuple(
+        c
+        for c in cs[first:]
+        if loop.held_current(k_e * c.speed_rpm, loop.duty_max) >= STEADY_HEADROOM * command
+    )
+    if not judged:
+        return NotJudged(
+            f"no measured commutation at a speed where the loop's D_max drives"
+            f" {STEADY_HEADROOM:g} x the command"
+        )
+    duty_max = loop.duty_max / loop.pwm_counts
+    low = tuple(c for c in judged if c.current_a < COMPARED_FRACTION * command)
+    swings = tuple(
+        (a, b)
+        for a, b in pairwise(judged)
+        if b.index == a.index + 1 and abs(b.main_duty - a.main_duty) > DUTY_SWING * duty_max
+    )
+    return SteadyBraking(judged, low, swings, duty_max, min(c.speed_rpm for c in judged))
+
+
+def steady_braking_problem(result: BrakingResult, steady: SteadyBraking) -> str:
+    """The failure line of an unsteady brake: where, how low the current and how far the
+    duty jumped, and the main duty and the deviation over the judged edges."""
+    command = result.setup.current_a
+    found = []
+    if steady.low:
+        lowest = min(steady.low, key=lambda c: c.current_a)
+        found.append(
+            f"{len(steady.low)} held less than {COMPARED_FRACTION:g} x the command's"
+            f" {command:g} A before the edge (the lowest {lowest.current_a:.3f} A, commutation"
+            f" {lowest.index} at {lowest.speed_rpm:.0f} rpm)"
+        )
+    if steady.swings:
+        a, b = max(steady.swings, key=lambda pair: abs(pair[1].main_duty - pair[0].main_duty))
+        found.append(
+            f"at {len(steady.swings)} the main duty moved by more than {DUTY_SWING:g} x D_max"
+            f" ({DUTY_SWING * steady.duty_max:.3f}) from the edge before (the most"
+            f" {a.main_duty:.3f} to {b.main_duty:.3f}, commutation {b.index} at"
+            f" {b.speed_rpm:.0f} rpm)"
+        )
+    duties = [c.main_duty for c in steady.judged]
+    deviations = [c.deviation_worst_pct for c in steady.judged]
+    return (
+        f"the braking is not steady: of the {len(steady.judged)} Hall edges from"
+        f" {steady.slowest_rpm:.0f} rpm up, where the loop's D_max would drive"
+        f" {STEADY_HEADROOM:g} x the command, {'; '.join(found)}; over those edges the main"
+        f" duty ranged {min(duties):.3f}-{max(duties):.3f} and the deviation"
+        f" {min(deviations):+.1f} % to {max(deviations):+.1f} %"
+    )
+
+
 def zero_current_code(result: BrakingResult) -> int:
     """The code the spec's sensing chain gives for 0 A (an ideal ADC: floor(V / VREF x
     2^bits), as `emulation.pil.adc` converts)."""
@@ -429,6 +547,9 @@ def problems(result: BrakingResult) -> list[str]:
             f" {held.reference_code} ({result.setup.current_a:g} A; allowed"
             f" {held.allowed_codes:.1f} codes): it does not hold the commanded braking current"
         )
+    steady = steady_braking_check(result)
+    if isinstance(steady, SteadyBraking) and not steady.steady:
+        out.append(steady_braking_problem(result, steady))
     if not result.commutations:
         why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
         if "fills its sector" in why and result.setup.max_edges is not None:
@@ -464,6 +585,28 @@ def _held_line(result: BrakingResult) -> str:
     )
 
 
+def _steady_line(result: BrakingResult) -> str:
+    """The steady-braking check's bullet: its figures and their basis, or why it judged
+    nothing."""
+    steady = steady_braking_check(result)
+    if isinstance(steady, NotJudged):
+        return f"* Steady braking: not judged: {steady.reason}."
+    command = result.setup.current_a
+    currents = [c.current_a for c in steady.judged]
+    pairs = pairwise(steady.judged)
+    moves = [abs(b.main_duty - a.main_duty) for a, b in pairs if b.index == a.index + 1]
+    return (
+        f"* Steady braking: at the {len(steady.judged)} Hall edges from"
+        f" {steady.slowest_rpm:.0f} rpm up (where the loop's D_max would drive"
+        f" {STEADY_HEADROOM:g} x the command, by the averaged plant of"
+        f" `oracle.current_loop`) I ranged {min(currents):.3f}-{max(currents):.3f} A and the"
+        f" main duty moved by at most {max(moves, default=0.0):.3f} from one edge to the"
+        f" next; required: I at least {COMPARED_FRACTION:g} x the command's {command:g} A"
+        f" ({len(steady.low)} below) and a move of at most {DUTY_SWING:g} x D_max,"
+        f" {DUTY_SWING * steady.duty_max:.3f} ({len(steady.swings)} beyond)."
+    )
+
+
 def not_judged(result: BrakingResult) -> list[tuple[str, str]]:
     """(check, why) of every check of the braking run that had nothing to judge: no
     pass, and no failure of the firmware either (the report and the console say so)."""
@@ -472,6 +615,9 @@ def not_judged(result: BrakingResult) -> list[tuple[str, str]]:
     if isinstance(held, NotJudged):
         out.append(("the held braking current", held.reason))
     cs = result.commutations
+    steady = steady_braking_check(result)
+    if cs and isinstance(steady, NotJudged):
+        out.append(("steady braking", steady.reason))
     if cs and not any(compared(result, c) for c in cs):
         low = sum(1 for c in cs if not held_current(result, c))
         out.append(
@@ -627,6 +773,7 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
             f" command, {slowing} where the rotor slows too much within the window)."
         )
     lines.append(_held_line(result))
+    lines.append(_steady_line(result))
     unjudged = not_judged(result)
     lines += [
         f"* Result: {'PASS' if not found else 'FAIL: ' + '; '.join(found[:8])}"
