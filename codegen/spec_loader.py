@@ -1503,7 +1503,8 @@ def load_spec(path: str | Path) -> Spec:
     sources = _sources(r, data)
     silenced = _silenced(r, data)
     tolerances = None
-    if spec_optional.TOLERANCES_KEY in data and inverter is not None:
+    if spec_optional.TOLERANCES_KEY in data:
+        # read without a valid inverter too: each bad pair is named with its range
         tolerances = r.attempt(
             lambda: spec_optional.tolerances(r, data[spec_optional.TOLERANCES_KEY], inverter)
         )

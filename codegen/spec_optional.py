@@ -161,9 +161,11 @@ def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
     return shape
 
 
-def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances | None:
+def tolerances(r: _Errors, raw: object, inverter: Inverter | None) -> Tolerances | None:
     """`tolerances` (raw YAML value) -> relative (low, high) per parameter; None once
-    every bad key's error is recorded through `r.attempt`."""
+    every bad key's error is recorded through `r.attempt`. Each pair is read even when
+    the inverter is refused (None), so a bad one is named with its allowed range; only
+    the bus pair's check against the inverter's range then waits for a valid inverter."""
     allowed = f"[low %, high %] with {_PERCENT_LOW:g} < low <= high <= {_PERCENT_HIGH:g}"
     if not isinstance(raw, Mapping):
         raise r.error(TOLERANCES_KEY, raw, "must map parameters to [low %, high %]", allowed)
@@ -190,6 +192,8 @@ def tolerances(r: _Errors, raw: object, inverter: Inverter) -> Tolerances | None
     pairs = {key: value for key, value in read.items() if value is not None}
     if len(pairs) < len(TOLERANCE_KEYS):
         return None  # each error is recorded
+    if inverter is None:
+        return None  # the inverter's own error is recorded
     nominal = inverter.bus_voltage_nominal_v
     low_v, high_v = (nominal * (1 + p) for p in pairs["bus_voltage"])
     if low_v < inverter.bus_voltage_min_v or high_v > inverter.bus_voltage_max_v:

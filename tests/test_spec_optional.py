@@ -364,3 +364,27 @@ def test_an_allowed_bus_bound_above_100_percent_should_keep_four_decimals(tmp_pa
     with pytest.raises(SpecError) as error:
         load_spec(source)
     assert "(allowed: [-16.6666, 123.4567] %)" in str(error.value)
+
+
+def test_a_bad_tolerance_should_be_named_with_its_range_when_the_inverter_is_refused_too(
+    tmp_path: Path,
+) -> None:
+    """The tolerances were read only once the inverter was valid: with a negative PWM
+    frequency beside it, a 5000-character tolerance was reported by the fallback for
+    values too long to read, with no allowed range (the hostile fuzzer's finding). Each
+    pair is read now, the bus pair's check against the inverter's range waiting for a
+    valid inverter."""
+    section = TOLERANCES.replace("[-10, 40]", '"' + "x" * 5000 + '"')
+    section = section.replace("[-16, 25]", "[-99, 900]")
+    path = _with_tolerances(tmp_path, section)
+    text = path.read_text(encoding="utf-8")
+    assert text.count("pwm_frequency: 20 kHz") == 1
+    path.write_text(text.replace("pwm_frequency: 20 kHz", "pwm_frequency: -5 kHz"))
+    with pytest.raises(SpecError) as error:
+        load_spec(path)
+    lines = str(error.value).splitlines()
+    assert any("inverter.pwm_frequency" in line for line in lines), lines
+    (long,) = [line for line in lines if "tolerances.phase_resistance" in line]
+    assert "(allowed: [low %, high %] with" in long, long
+    (bus,) = [line for line in lines if "tolerances.bus_voltage" in line]
+    assert "(allowed: [low %, high %] with" in bus, bus
