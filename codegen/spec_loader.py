@@ -1434,7 +1434,11 @@ def load_spec(path: str | Path) -> Spec:
         data, lines = read_yaml(raw_bytes)
     except YamlError as exc:
         raise MultiSpecError(
-            [SpecError(exc.path or "<document>", NOT_READ, exc.problem, "", source, exc.line)]
+            [
+                SpecError(
+                    exc.path or "<document>", NOT_READ, exc.problem, exc.allowed, source, exc.line
+                )
+            ]
         ) from None
     if not isinstance(data, Mapping):
         raise MultiSpecError(

@@ -65,10 +65,13 @@ _VALUES_HINT = "a spec holds about 120, and a motor.back_emf_shape table at most
 class YamlError(ValueError):
     """A document this reader refuses. `path` is the key path ('' if unknown)."""
 
-    def __init__(self, problem: str, line: int | None = None, path: str = "") -> None:
+    def __init__(
+        self, problem: str, line: int | None = None, path: str = "", allowed: str = ""
+    ) -> None:
         self.problem = " ".join(problem.split())  # always one line
         self.line = line
         self.path = path
+        self.allowed = allowed  # what the document may hold there, where it is a rule
         super().__init__(self.problem)
 
 
@@ -181,6 +184,11 @@ _NAN_RE = re.compile(r"(?:\.nan|\.NaN|\.NAN)\Z")
 #: YAML 1.2 c-printable, minus the byte-order mark inside the text.
 _NOT_PRINTABLE = re.compile(
     "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufefe\uff00-\ufffd\U00010000-\U0010ffff]"
+)
+#: `_NOT_PRINTABLE`'s complement in words, for the refusal of a document that holds one
+PRINTABLE = (
+    "YAML's printable characters: tab, line feed, carriage return, U+0020-U+007E, U+0085"
+    " and U+00A0 upward, less the surrogates, U+FEFF inside the text, U+FFFE and U+FFFF"
 )
 
 
@@ -471,6 +479,7 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
             " control characters)",
             line,
             _key_near(text, line),
+            PRINTABLE,
         )
     composer = _Composer(text, limits)
     try:

@@ -104,6 +104,20 @@ def test_hostile_documents_are_refused_in_one_line(
     assert caught.value.path == path
 
 
+@pytest.mark.parametrize("character", ["\x00", "\x17", "\x7f", "\x9f", "\ufffe"])
+def test_a_character_outside_yamls_printable_set_is_refused_with_the_set_it_may_hold(
+    character: str,
+) -> None:
+    """The refusal named the character and the key but no allowed range (the hostile
+    fuzzer's seeds 5-7: U+0017 in a value, U+0000 in the name): it names YAML's
+    printable set, which every listed character is outside of."""
+    with pytest.raises(YamlError) as caught:
+        read_yaml(f"a: 1\nb: x{character}y\n".encode("utf-8", "surrogatepass"))
+    assert f"character U+{ord(character):04X} is not allowed" in caught.value.problem
+    assert caught.value.path == "b"
+    assert caught.value.allowed.startswith("YAML's printable characters: tab, line feed")
+
+
 @pytest.mark.parametrize(
     ("text", "shown", "problem"),
     [
