@@ -506,9 +506,12 @@ class Adc(Peripheral):
         """The earliest of the injected conversion's end, the regular alarm and the
         calibration's end (asked at every step of the machine: no lists)."""
         first = self.queue[0].end if self.queue else None
-        for t in (self._regular_alarm(), self.calibration_end):
-            if t is not None and (first is None or t < first):
-                first = t
+        alarm = self._alarm if self._alarm_known else self._regular_alarm()
+        if alarm is not None and (first is None or alarm < first):
+            first = alarm
+        calibration = self.calibration_end
+        if calibration is not None and (first is None or calibration < first):
+            first = calibration
         return first
 
     def on_event(self, now: int) -> None:

@@ -565,28 +565,39 @@ class Machine:
 
     # ------------------------------------------------------------------ time
     def next_event(self) -> int | None:
-        times = [t for p in self._timed if (t := p.next_event()) is not None]
-        return min(times) if times else None
+        first = None
+        for p in self._timed:
+            t = p.next_event()
+            if t is not None and (first is None or t < first):
+                first = t
+        return first
 
     def _process_events(self) -> None:
         """The peripherals' events due by now, in time order: the earliest first, at its
         own tick (the CPU may have run past several in one block or exception entry, and
         one event can undo another's cause: a pin change back before TIM3's filter took
         the first one)."""
+        timed = self._timed
         for _ in range(10_000):
-            due = [
-                (t, p) for p in self._timed if (t := p.next_event()) is not None and t <= self.now
-            ]
-            if not due:
+            now = self.now
+            first: int | None = None
+            hits: list[Peripheral] = []  # those due at `first`, asked before any runs
+            for p in timed:
+                t = p.next_event()
+                if t is None or t > now:
+                    continue
+                if first is None or t < first:
+                    first, hits = t, [p]
+                elif t == first:
+                    hits.append(p)
+            if first is None:
                 return
-            first = min(t for t, _ in due)
-            saved, self.now = self.now, first
+            self.now = first
             try:
-                for t, p in due:
-                    if t == first:
-                        p.on_event(first)
+                for p in hits:
+                    p.on_event(first)
             finally:
-                self.now = saved
+                self.now = now
         raise PilError(f"peripheral events do not settle at tick {self.now}")
 
     def _raise_error(self) -> None:

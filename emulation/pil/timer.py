@@ -59,6 +59,9 @@ class Timer(Peripheral):
     def __init__(self, machine: Machine, svd_name: str) -> None:
         super().__init__(machine, svd_name)
         self.cr1 = 0
+        #: CR1.CEN and CR1.CMS, kept beside CR1 (`_set_cr1`): asked at every event
+        self.running = False
+        self.centre_aligned = 0
         self.cr2 = 0
         self.smcr = 0
         self.dier = 0
@@ -140,13 +143,12 @@ class Timer(Peripheral):
         return self.ccr_preload[channel]
 
     # ------------------------------------------------------------- configuration
-    @property
-    def running(self) -> bool:
-        return bool(self.cr1 & CR1_CEN)
-
-    @property
-    def centre_aligned(self) -> int:
-        return (self.cr1 >> 5) & 3  # CMS (bits(self.cr1, 5, 2), inline: asked at every event)
+    def _set_cr1(self, value: int) -> None:
+        """CR1 and what is read from it at every event: `running` (CEN) and
+        `centre_aligned` (CMS, 0 for edge-aligned)."""
+        self.cr1 = value
+        self.running = bool(value & CR1_CEN)
+        self.centre_aligned = (value >> 5) & 3
 
     def cc_select(self, channel: int) -> int:
         return (self.ccmr[(channel - 1) // 2] >> (8 * ((channel - 1) % 2))) & 3
@@ -178,7 +180,7 @@ class Timer(Peripheral):
     def position(self, now: int) -> int:
         if not self.running:
             return self.anchor_pos
-        return self.anchor_pos + (now - self.anchor_time) // self.ticks_per_count()
+        return self.anchor_pos + (now - self.anchor_time) // (self._tpc or self.ticks_per_count())
 
     def cnt_of_position(self, pos: int) -> int:
         if self.centre_aligned:
@@ -225,7 +227,7 @@ class Timer(Peripheral):
         was_running = self.running
         if was_running:
             self.reanchor()
-        self.cr1 = value & 0x3FF
+        self._set_cr1(value & 0x3FF)
         if self.running and not was_running:
             self.anchor_time = self.machine.now
             self.processed_until = self.machine.now
@@ -369,10 +371,14 @@ class Timer(Peripheral):
         OC1M): counting up active while CNT < CCRx, counting down inactive while
         CNT > CCRx, so active from CNT = CCRx on (the counter goes 0..ARR-1 up, ARR..1
         down: a pulse of 2 CCRx counts, CCRx / ARR of the period; CCRx = 0 never)."""
-        cnt = self.cnt_of_position(pos)
-        if self.centre_aligned and pos % (2 * self.arr if self.arr else 1) >= self.arr:
-            return cnt <= value
-        return cnt < value
+        arr = self.arr
+        if not self.centre_aligned:
+            return pos % (arr + 1) < value
+        # `cnt_of_position` inline (asked for every output at every gate change)
+        phase = pos % (2 * arr if arr else 1)
+        if phase >= arr:
+            return (phase if phase <= arr else 2 * arr - phase) <= value
+        return phase < value
 
     def down_count_edges(self, start: int, end: int) -> list[int]:
         """Positions in (start, end] where a PWM-mode OCxREF of a centre-aligned counter
