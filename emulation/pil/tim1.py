@@ -30,7 +30,6 @@ also held through the previous PWM period.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from emulation.pil.bus import PilError, bits, svd_interrupt
@@ -70,15 +69,6 @@ def dead_time_counts(dtg: int) -> int:
     if dtg >> 5 == 0b110:
         return (32 + (dtg & 0x1F)) * 8
     return (32 + (dtg & 0x1F)) * 16
-
-
-@dataclass
-class _Instant:
-    """What the six outputs at one instant share, each computed at most once: the dead
-    time, and each channel's OCxREF level and the tick it took it (`_ref_edges`)."""
-
-    dead: int | None = None
-    refs: dict[int, tuple[bool, int]] = field(default_factory=dict)
 
 
 class AdvancedTimer(Timer):
@@ -236,11 +226,12 @@ class AdvancedTimer(Timer):
         """OCxREF at `now` and the tick it took that level (register state in force):
         the latest of its turns to that level at a compare match or an update in this
         PWM period or the one before, else two periods back."""
-        level = self.ref_level(channel, now)
         mode = self.oc_mode(channel)
         if not self.running or mode not in (6, 7):
-            return level, -(10**12)
+            return self.ref_level(channel, now), -(10**12)
         pos = self.position(now)
+        active = self.pwm_active(pos, self.ccr[channel])  # `ref_level`, the position known
+        level = active if mode == 6 else not active
         cycle = self.cycle_counts()
         base = (pos // cycle) * cycle
         latest = None
@@ -280,57 +271,42 @@ class AdvancedTimer(Timer):
         """Level of OCx (or OCxN) at `now` (default: the machine's time); None where
         the timer does not drive the pin (Table 83 "output disabled")."""
         now = self.machine.now if now is None else now
-        return self._output(channel, complementary, now, _Instant())
+        return self._channel(channel, now)[1 if complementary else 0]
 
-    def _output(self, channel: int, complementary: bool, now: int, known: _Instant) -> bool | None:
-        """`output`, with what the outputs at one instant share kept in `known` (the
-        state cannot change between the six outputs of `gates`)."""
-        shift = 4 * (channel - 1)
-        ccer = self.ccer
-        enabled = bool(ccer >> shift & 1)
-        enabled_n = bool(ccer >> (shift + 2) & 1)
-        polarity = bool(ccer >> (shift + 1) & 1)
-        polarity_n = bool(ccer >> (shift + 3) & 1)
-        own_polarity = polarity_n if complementary else polarity
+    def _channel(self, channel: int, now: int) -> tuple[bool | None, bool | None]:
+        """(OCx, OCxN) of `channel` at `now` (14.4.9 Table 83), from one look at its
+        CCER bits and at most one at its OCxREF (`_ref_edges`)."""
+        enables = self.ccer >> 4 * (channel - 1)
+        enabled, polarity = bool(enables & 1), bool(enables & 2)
+        enabled_n, polarity_n = bool(enables & 4), bool(enables & 8)
         if not enabled and not enabled_n:
-            return None
-        if known.dead is None:
-            known.dead = self.dead_time_ticks()
-        dead = known.dead
-        if not self.moe:
-            if not self.bdtr & BDTR_OSSI:
-                return None
+            return None, None
+        dead = self.dead_time_ticks()
+        bdtr = self.bdtr
+        if not bdtr & BDTR_MOE:
+            if not bdtr & BDTR_OSSI:
+                return None, None
             cleared = self.moe_cleared_at if self.moe_cleared_at is not None else -(10**12)
             if now - cleared < dead:
-                return own_polarity
-            idle_bit = 8 + 2 * (channel - 1) + (1 if complementary else 0)
-            return bool(self.cr2 >> idle_bit & 1)
-        own = enabled_n if complementary else enabled
-        if not own:
-            return own_polarity if self.bdtr & BDTR_OSSR else None
-        if channel not in known.refs:
-            known.refs[channel] = self._ref_edges(channel, now)
-        level, since = known.refs[channel]
-        if complementary and enabled:
-            # 14.4.9 Table 83: OCxN is the complement of OCxREF only with both outputs
-            # enabled; CCxE = 0, CCxNE = 1 gives OCxN = OCxREF xor CCxNP
-            level = not level
+                return polarity, polarity_n
+            idle = self.cr2 >> (8 + 2 * (channel - 1))
+            return bool(idle & 1), bool(idle & 2)
+        level, since = self._ref_edges(channel, now)
         if enabled and enabled_n:
-            level = level and now - since >= dead
-        return level != own_polarity
+            # complementary with dead time: each output's rising edge delayed by DT
+            after_dead = now - since >= dead
+            return (level and after_dead) != polarity, (not level and after_dead) != polarity_n
+        # one output enabled: OCx = OCxREF xor CCxP or OCxN = OCxREF xor CCxNP (not the
+        # complement of OCxREF), the other at its polarity (OSSR = 1) or not driven
+        idle_level = bool(bdtr & BDTR_OSSR)
+        if enabled:
+            return level != polarity, polarity_n if idle_level else None
+        return polarity if idle_level else None, level != polarity_n
 
     def gates(self, now: int | None = None) -> tuple[bool | None, ...]:
         """(CH1, CH1N, CH2, CH2N, CH3, CH3N) at `now`."""
         now = self.machine.now if now is None else now
-        known = _Instant()
-        return (
-            self._output(1, False, now, known),
-            self._output(1, True, now, known),
-            self._output(2, False, now, known),
-            self._output(2, True, now, known),
-            self._output(3, False, now, known),
-            self._output(3, True, now, known),
-        )
+        return self._channel(1, now) + self._channel(2, now) + self._channel(3, now)
 
     # ------------------------------------------------------------- the gate record
     def record_gates(self) -> None:

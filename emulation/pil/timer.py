@@ -46,6 +46,12 @@ CR1_CEN, CR1_UDIS, CR1_URS, CR1_OPM, CR1_DIR, CR1_ARPE = 1, 2, 4, 8, 16, 128
 OC_FROZEN, OC_FORCE_INACTIVE, OC_FORCE_ACTIVE, OC_PWM1, OC_PWM2 = 0, 4, 5, 6, 7
 
 
+#: (channel, CCMRx index, CCxS shift) of channels 1..4
+_CC_FIELDS = tuple(
+    (channel, (channel - 1) // 2, 8 * ((channel - 1) % 2)) for channel in range(1, 5)
+)
+
+
 def cc_flag(channel: int) -> int:
     """CCxIF bit of channel 1..4."""
     return 1 << channel
@@ -345,21 +351,22 @@ class Timer(Peripheral):
     def _channel_events(self, start: int, end: int) -> list[tuple[int, int]]:
         """(position, channel) compare matches with start < position <= end."""
         found = []
-        for channel in range(1, 5):
-            if self.is_input(channel):
+        arr, centre, ccmr = self.arr, self.centre_aligned, self.ccmr
+        for channel, index, shift in _CC_FIELDS:
+            if (ccmr[index] >> shift) & 3:  # `is_input`, inline: asked at every event
                 continue
             value = self.ccr[channel]
-            if value > self.arr:
+            if value > arr:
                 continue
-            if self.centre_aligned:
-                cycle = 2 * self.arr
+            if centre:
+                cycle = 2 * arr
                 base = (start // cycle) * cycle
-                for offset in (value, 2 * self.arr - value):
+                for offset in (value, 2 * arr - value):
                     for pos in (base + offset, base + cycle + offset):
                         if start < pos <= end and self._centre_flags(pos, cycle):
                             found.append((pos, channel))
             else:
-                cycle = self.arr + 1
+                cycle = arr + 1
                 base = (start // cycle) * cycle
                 for pos in (base + value, base + cycle + value):
                     if start < pos <= end:
@@ -409,7 +416,7 @@ class Timer(Peripheral):
         return (after // step + 1) * step
 
     def next_event(self) -> int | None:
-        return self.counter_event()
+        return self._next if self._next_valid else self.counter_event()
 
     def counter_event(self) -> int | None:
         """The next compare match or UEV of the counter."""
