@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -44,6 +45,12 @@ class LegVoltages:
     def reversible(self) -> np.ndarray:
         """Legs whose voltage depends on the current sign: a zero crossing is an event."""
         return np.abs(self.positive - self.negative) > VOLTAGE_TOLERANCE
+
+    @cached_property
+    def floats(self) -> tuple[list[float], list[float], list[bool]]:
+        """(positive, negative, reversible) as Python lists, made once per legs (the
+        emulated drive's plant keeps one per gate state and asks at every piece)."""
+        return self.positive.tolist(), self.negative.tolist(), self.reversible().tolist()
 
 
 @dataclass(frozen=True)

@@ -120,7 +120,7 @@ def run_piece(
     emf0, emf1 = emf.affine(lo, hi)
     period = schedule.period_index(0.5 * (lo + hi))
     e0, e1 = emf0.tolist(), emf1.tolist()
-    legs_at = _LegFloats(legs.positive.tolist(), legs.negative.tolist(), legs.reversible().tolist())
+    legs_at = _LegFloats(*legs.floats)
     inductance, decay = drive.inductance_h, drive.decay_rate
     i = currents.tolist()
     t = lo

@@ -278,6 +278,8 @@ class MotorPlant:
         """The six gates in force at `tick` (which must be recorded): True where on."""
         log = self.tim1.gate_log
         assert log is not None
+        if log[-1][0] <= tick:  # the gates in force now: the sensing's usual question
+            return tuple(g is True for g in log[-1][1])
         index = bisect.bisect_right(log, tick, key=lambda entry: entry[0]) - 1
         return tuple(g is True for g in log[max(index, 0)][1])
 
@@ -287,11 +289,9 @@ class MotorPlant:
         into the bridge through each."""
         currents = self.currents_at(tick).tolist()
         legs = self._legs(self.gates_at(tick))
+        positive, negative, _ = legs.floats
         conducting, voltages = resolve_floats(
-            legs.positive.tolist(),
-            legs.negative.tolist(),
-            currents,
-            self._emf().floats(tick / TICK_HZ),
+            positive, negative, currents, self._emf().floats(tick / TICK_HZ)
         )
         phase = [currents[k] if conducting[k] and voltages[k] == 0.0 else 0.0 for k in range(3)]
         # sum() adds as numpy's sum of three did: from 0, left to right
