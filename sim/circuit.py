@@ -18,7 +18,9 @@ a transistor turning on and a diode clamping to a rail.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -44,6 +46,12 @@ class LegVoltages:
         """Legs whose voltage depends on the current sign: a zero crossing is an event."""
         return np.abs(self.positive - self.negative) > VOLTAGE_TOLERANCE
 
+    @cached_property
+    def floats(self) -> tuple[list[float], list[float], list[bool]]:
+        """(positive, negative, reversible) as Python lists, made once per legs (the
+        emulated drive's plant keeps one per gate state and asks at every piece)."""
+        return self.positive.tolist(), self.negative.tolist(), self.reversible().tolist()
+
 
 @dataclass(frozen=True)
 class Topology:
@@ -65,42 +73,81 @@ class Topology:
         self, emf0: np.ndarray, emf1: np.ndarray, inductance: float
     ) -> tuple[np.ndarray, np.ndarray]:
         """(c0, c1) of di/dt = c0 + c1 t - (R/L) i for every phase (0 where floating)."""
-        phases = [k for k, on in enumerate(self.conducting.tolist()) if on]
-        if len(phases) < 2:
-            return np.zeros(3), np.zeros(3)
-        u, e0, e1 = self.voltages.tolist(), emf0.tolist(), emf1.tolist()
-        neutral0 = sum(u[k] - e0[k] for k in phases) / len(phases)
-        neutral1 = -(sum(e1[k] for k in phases) / len(phases))
-        c0 = [0.0, 0.0, 0.0]
-        c1 = [0.0, 0.0, 0.0]
-        for k in phases:
-            c0[k] = (u[k] - e0[k] - neutral0) / inductance
-            c1[k] = (-e1[k] - neutral1) / inductance
+        c0, c1 = forcing_of(
+            self.conducting.tolist(),
+            self.voltages.tolist(),
+            emf0.tolist(),
+            emf1.tolist(),
+            inductance,
+        )
         return np.array(c0), np.array(c1)
 
     def floating_voltage(
         self, emf0: np.ndarray, emf1: np.ndarray, phase: int
     ) -> tuple[float, float]:
         """(v0, v1) of the floating phase's terminal voltage v = v0 + v1 t = u_n + e_x."""
-        phases = [k for k, on in enumerate(self.conducting.tolist()) if on]
-        u, e0, e1 = self.voltages.tolist(), emf0.tolist(), emf1.tolist()
-        neutral0 = sum(u[k] - e0[k] for k in phases) / len(phases)
-        neutral1 = -(sum(e1[k] for k in phases) / len(phases))
-        return neutral0 + e0[phase], neutral1 + e1[phase]
+        return floating_voltage_of(
+            self.conducting.tolist(), self.voltages.tolist(), emf0.tolist(), emf1.tolist(), phase
+        )
+
+
+def forcing_of(
+    conducting: Sequence[bool],
+    u: Sequence[float],
+    e0: Sequence[float],
+    e1: Sequence[float],
+    inductance: float,
+) -> tuple[list[float], list[float]]:
+    """`Topology.forcing` on Python floats (the switched plant's pieces): the conducting
+    set, the terminal voltages `u` and the EMF's (e0, e1)."""
+    phases = [k for k, on in enumerate(conducting) if on]
+    c0 = [0.0, 0.0, 0.0]
+    c1 = [0.0, 0.0, 0.0]
+    if len(phases) < 2:
+        return c0, c1
+    neutral0 = sum(u[k] - e0[k] for k in phases) / len(phases)
+    neutral1 = -(sum(e1[k] for k in phases) / len(phases))
+    for k in phases:
+        c0[k] = (u[k] - e0[k] - neutral0) / inductance
+        c1[k] = (-e1[k] - neutral1) / inductance
+    return c0, c1
+
+
+def floating_voltage_of(
+    conducting: Sequence[bool],
+    u: Sequence[float],
+    e0: Sequence[float],
+    e1: Sequence[float],
+    phase: int,
+) -> tuple[float, float]:
+    """`Topology.floating_voltage` on Python floats."""
+    phases = [k for k, on in enumerate(conducting) if on]
+    neutral0 = sum(u[k] - e0[k] for k in phases) / len(phases)
+    neutral1 = -(sum(e1[k] for k in phases) / len(phases))
+    return neutral0 + e0[phase], neutral1 + e1[phase]
 
 
 def resolve(legs: LegVoltages, currents: np.ndarray, emf: np.ndarray) -> Topology:
-    """Conducting set and terminal voltages for the present currents and EMFs (on Python
-    floats: it runs once a piece of the switched plant)."""
-    i, e = currents.tolist(), emf.tolist()
-    positive, negative = legs.positive.tolist(), legs.negative.tolist()
+    """Conducting set and terminal voltages for the present currents and EMFs."""
+    conducting, voltages = resolve_floats(
+        legs.positive.tolist(), legs.negative.tolist(), currents.tolist(), emf.tolist()
+    )
+    return Topology(np.array(conducting, dtype=bool), np.array(voltages, dtype=float))
+
+
+def resolve_floats(
+    positive: Sequence[float], negative: Sequence[float], i: Sequence[float], e: Sequence[float]
+) -> tuple[list[bool], list[float]]:
+    """`resolve` on Python floats (it runs once a piece of the switched plant, where
+    numpy's per-call overhead on three-element vectors was most of the time): the legs'
+    `positive` and `negative` voltages, the currents `i` and the EMFs `e`; the
+    conducting set and the terminal voltages."""
     conducting = [value != 0.0 for value in i]
     voltages = [
         (positive[k] if i[k] > 0.0 else negative[k]) if conducting[k] else 0.0 for k in range(3)
     ]
     if sum(conducting) < 2:
-        start, start_voltages = _start_pair(legs, emf)
-        conducting, voltages = start.tolist(), start_voltages.tolist()
+        conducting, voltages = _start_pair(positive, negative, e)
     while sum(conducting) >= 2:
         on = [k for k in range(3) if conducting[k]]
         neutral = sum(voltages[k] - e[k] for k in on) / len(on)
@@ -119,25 +166,27 @@ def resolve(legs: LegVoltages, currents: np.ndarray, emf: np.ndarray) -> Topolog
             break
         conducting[best] = True
         voltages[best] = best_voltage
-    return Topology(np.array(conducting, dtype=bool), np.array(voltages, dtype=float))
+    return conducting, voltages
 
 
-def _start_pair(legs: LegVoltages, emf: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _start_pair(
+    positive: Sequence[float], negative: Sequence[float], emf: Sequence[float]
+) -> tuple[list[bool], list[float]]:
     """With no current anywhere, the pair (in, out) whose loop voltage drives a current."""
     best, margin = None, VOLTAGE_TOLERANCE
     for into in range(3):
         for out_of in range(3):
             if into == out_of:
                 continue
-            drive = legs.positive[into] - legs.negative[out_of] - (emf[into] - emf[out_of])
+            drive = positive[into] - negative[out_of] - (emf[into] - emf[out_of])
             if drive > margin:
                 best, margin = (into, out_of), drive
-    conducting = np.zeros(3, dtype=bool)
-    voltages = np.zeros(3)
+    conducting = [False, False, False]
+    voltages = [0.0, 0.0, 0.0]
     if best is not None:
-        conducting[list(best)] = True
-        voltages[best[0]] = legs.positive[best[0]]
-        voltages[best[1]] = legs.negative[best[1]]
+        conducting[best[0]] = conducting[best[1]] = True
+        voltages[best[0]] = positive[best[0]]
+        voltages[best[1]] = negative[best[1]]
     return conducting, voltages
 
 
@@ -156,13 +205,20 @@ def threshold_crossing(now: float, rate: float, threshold: float, falling: bool)
 def balanced(currents: np.ndarray) -> np.ndarray:
     """Remove the rounding residue of sum i = 0 from the phases that carry current."""
     i = currents.tolist()
+    out = balanced_floats(i)
+    return currents if out is i else np.array(out)
+
+
+def balanced_floats(i: list[float]) -> list[float]:
+    """`balanced` on Python floats: a new list, or `i` itself where nothing changes."""
     carriers = [k for k in range(3) if i[k] != 0.0]
     count = len(carriers)
     if count == 1:
-        return np.zeros(3)  # a lone phase cannot carry current in a star winding
+        return [0.0, 0.0, 0.0]  # a lone phase cannot carry current in a star winding
     if count >= 2:
         residue = (i[0] + i[1] + i[2]) / count
+        out = list(i)
         for k in carriers:
-            i[k] -= residue
-        return np.array(i)
-    return currents
+            out[k] -= residue
+        return out
+    return i

@@ -14,12 +14,20 @@ Each piece in between is the closed-form solution of di/dt = c0 + c1 t - (R/L) i
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from itertools import pairwise
 
 import numpy as np
 
 from sim import closed_form
-from sim.circuit import LegVoltages, Topology, balanced, resolve, threshold_crossing
+from sim.circuit import (
+    LegVoltages,
+    balanced_floats,
+    floating_voltage_of,
+    forcing_of,
+    resolve_floats,
+    threshold_crossing,
+)
 from sim.drive import Drive
 from sim.emf import BackEmf
 from sim.schedule import Schedule
@@ -104,63 +112,77 @@ def run_piece(
     EMFs affine in between (no corner of `emf.affine` inside): every diode event found
     exactly, each stretch recorded in `builder` (points, events, the carrier period's
     charge and energy from `schedule.period_index`). The emulated drive's plant
-    (emulation/pil/plant.py) advances its motor with this same function."""
+    (emulation/pil/plant.py) advances its motor with this same function.
+
+    Within the piece the three-element vectors are Python floats (numpy's per-call
+    overhead on them was most of the plant's time), each element computed as numpy
+    computed it; `builder` gets each point as an array and each charge as a tuple."""
     emf0, emf1 = emf.affine(lo, hi)
     period = schedule.period_index(0.5 * (lo + hi))
-    reversible = legs.reversible()
+    e0, e1 = emf0.tolist(), emf1.tolist()
+    legs_at = _LegFloats(*legs.floats)
+    inductance, decay = drive.inductance_h, drive.decay_rate
+    i = currents.tolist()
     t = lo
     for _ in range(_MAX_EVENTS_PER_PIECE):
         if t >= hi:
             break
-        topology = resolve(legs, currents, emf0 + emf1 * t)
-        c0, c1 = topology.forcing(emf0, emf1, drive.inductance_h)
-        local_c0 = c0 + c1 * t
+        emf_now = [e0[0] + e1[0] * t, e0[1] + e1[1] * t, e0[2] + e1[2] * t]
+        conducting, voltages = resolve_floats(legs_at.positive, legs_at.negative, i, emf_now)
+        c0, c1 = forcing_of(conducting, voltages, e0, e1, inductance)
+        local_c0 = [c0[0] + c1[0] * t, c0[1] + c1[1] * t, c0[2] + c1[2] * t]
         step, event = _next_event(
-            drive, topology, legs, reversible, emf0, emf1, currents, local_c0, c1, t, hi - t
+            decay, conducting, voltages, legs_at, e0, e1, i, local_c0, c1, t, hi - t
         )
-        new = np.array(
-            closed_form.currents(
-                currents.tolist(), local_c0.tolist(), c1.tolist(), drive.decay_rate, step
-            )
-        )
-        charge, energy = _quadrature(drive, currents, local_c0, c1, emf0, emf1, t, step)
+        new = list(closed_form.currents(i, local_c0, c1, decay, step))
+        charge, energy = _quadrature(decay, i, local_c0, c1, e0, e1, t, step)
         builder.accumulate(period, step, charge, energy)
         t += step
         if event is not None:
             if event.kind == "zero":
                 new[event.phase] = 0.0
             builder.events.append(Event(t, event.kind, event.phase))
-        new = balanced(new)
-        currents = new
+        i = balanced_floats(new)
+        currents = np.array(i)
         builder.point(t, currents)
     return currents
 
 
+@dataclass(frozen=True)
+class _LegFloats:
+    """`LegVoltages` of one piece as Python floats, and which legs are reversible."""
+
+    positive: list[float]
+    negative: list[float]
+    reversible: list[bool]
+
+
 def _next_event(
-    drive: Drive,
-    topology: Topology,
-    legs: LegVoltages,
-    reversible: np.ndarray,
-    emf0: np.ndarray,
-    emf1: np.ndarray,
-    currents: np.ndarray,
-    c0: np.ndarray,
-    c1: np.ndarray,
+    decay_rate: float,
+    conducting: list[bool],
+    voltages: list[float],
+    legs: _LegFloats,
+    emf0: list[float],
+    emf1: list[float],
+    currents: list[float],
+    c0: list[float],
+    c1: list[float],
     t: float,
     horizon: float,
 ) -> tuple[float, Event | None]:
     best, event = horizon, None
+    count = sum(conducting)
     for phase in range(3):
-        if topology.conducting[phase]:
-            if not reversible[phase]:
+        if conducting[phase]:
+            if not legs.reversible[phase]:
                 continue
             zero = closed_form.first_zero(
-                currents[phase], c0[phase], c1[phase], drive.decay_rate, horizon
+                currents[phase], c0[phase], c1[phase], decay_rate, horizon
             )
             if zero is not None and zero < best:
                 best, event = zero, Event(0.0, "zero", phase)
-        elif topology.count >= 2:
-            v0, v1 = topology.floating_voltage(emf0, emf1, phase)
+        elif count >= 2:
+            v0, v1 = floating_voltage_of(conducting, voltages, emf0, emf1, phase)
             now = v0 + v1 * t
             for threshold, falling in ((legs.positive[phase], True), (legs.negative[phase], False)):
                 crossing = threshold_crossing(now, v1, threshold, falling)
@@ -170,28 +192,26 @@ def _next_event(
 
 
 def _quadrature(
-    drive: Drive,
-    currents: np.ndarray,
-    c0: np.ndarray,
-    c1: np.ndarray,
-    emf0: np.ndarray,
-    emf1: np.ndarray,
+    decay_rate: float,
+    i0: list[float],
+    k0: list[float],
+    k1: list[float],
+    emf0: list[float],
+    emf1: list[float],
     t: float,
     step: float,
-) -> tuple[np.ndarray, float]:
-    """int i dt and int sum e_x i_x dt over [t, t + step] (on Python floats: numpy's
-    per-call overhead on three-element vectors was most of the plant's time)."""
-    i0, k0, k1 = currents.tolist(), c0.tolist(), c1.tolist()
-    (ea, eb, ec), (sa, sb, sc) = emf0.tolist(), emf1.tolist()
+) -> tuple[tuple[float, float, float], float]:
+    """int i dt and int sum e_x i_x dt over [t, t + step]."""
+    (ea, eb, ec), (sa, sb, sc) = emf0, emf1
     qa = qb = qc = 0.0
     energy = 0.0
     for node, weight in zip(_GL_NODES, _GL_WEIGHTS, strict=True):
         tau = node * step
-        ia, ib, ic = closed_form.currents(i0, k0, k1, drive.decay_rate, tau)
+        ia, ib, ic = closed_form.currents(i0, k0, k1, decay_rate, tau)
         now = t + tau
         scale = weight * step
         qa += scale * ia
         qb += scale * ib
         qc += scale * ic
         energy += scale * ((ea + sa * now) * ia + (eb + sb * now) * ib + (ec + sc * now) * ic)
-    return np.array((qa, qb, qc)), energy
+    return (qa, qb, qc), energy

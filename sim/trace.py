@@ -8,6 +8,7 @@ period that a carrier restart cuts short is averaged over its own length).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -81,7 +82,9 @@ class TraceBuilder:
         self.times.append(t)
         self.currents.append(np.array(currents, dtype=float))
 
-    def accumulate(self, period: int, duration: float, charge: np.ndarray, energy: float) -> None:
+    def accumulate(
+        self, period: int, duration: float, charge: Sequence[float], energy: float
+    ) -> None:
         """Add int i dt (3,) and int sum e i dt over `duration` seconds of `period`."""
         if period not in self._charge:
             self._charge[period] = np.zeros(3)

@@ -401,12 +401,18 @@ class Adc(Peripheral):
         """The regular conversions from `run`'s state on, without changing it:
         (end, sampled, rank, channel, last of the sequence)."""
         channels, rank, start = run.channels, run.rank, run.start
+        # (sampling, whole conversion) ticks per rank: SMPRx and ADCCLK cannot change
+        # while the caller walks the steps
+        timing = []
+        for _, channel in channels:
+            sample = self._sample_half_cycles(channel)
+            timing.append((self._ticks(sample), self._ticks(sample + CONVERSION_HALF_CYCLES)))
         while True:
             channel = channels[rank - 1][1]
-            sample = self._sample_half_cycles(channel)
-            end = start + self._ticks(sample + CONVERSION_HALF_CYCLES)
+            sample_ticks, conversion_ticks = timing[rank - 1]
+            end = start + conversion_ticks
             last = rank == len(channels)
-            yield end, start + self._ticks(sample), rank, channel, last
+            yield end, start + sample_ticks, rank, channel, last
             if last and not self.cr2 & CR2_CONT:
                 return
             rank = 1 if last else rank + 1
@@ -506,9 +512,12 @@ class Adc(Peripheral):
         """The earliest of the injected conversion's end, the regular alarm and the
         calibration's end (asked at every step of the machine: no lists)."""
         first = self.queue[0].end if self.queue else None
-        for t in (self._regular_alarm(), self.calibration_end):
-            if t is not None and (first is None or t < first):
-                first = t
+        alarm = self._alarm if self._alarm_known else self._regular_alarm()
+        if alarm is not None and (first is None or alarm < first):
+            first = alarm
+        calibration = self.calibration_end
+        if calibration is not None and (first is None or calibration < first):
+            first = calibration
         return first
 
     def on_event(self, now: int) -> None:

@@ -34,6 +34,7 @@ flash, the watchdog's reset) and anything not modelled raises `PilError`.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -497,7 +498,7 @@ class Machine:
                     f"stack overflow: the exception frame at 0x{frame_sp:08x} would overwrite"
                     f" static data ending at 0x{self.image.static_ram_end:08x}"
                 )
-            values = [uc.reg_read(r) for r in _FRAME[:6]] + [return_address, xpsr]
+            values = [*uc.reg_read_batch(_FRAME[:6]), return_address, xpsr]
             uc.mem_write(frame_sp, b"".join((v & 0xFFFFFFFF).to_bytes(4, "little") for v in values))
             uc.reg_write(uc_arm.UC_ARM_REG_SP, frame_sp)
             exc_return = EXC_RETURN_HANDLER if self.nvic.active else EXC_RETURN_THREAD_MSP
@@ -538,9 +539,10 @@ class Machine:
             self._enter(chained, self.read_u32(frame_sp + 24), exc_return)
             return
         frame_sp = uc.reg_read(uc_arm.UC_ARM_REG_SP)
-        words = [self.read_u32(frame_sp + 4 * k) for k in range(8)]
-        for register, value in zip(_FRAME[:6], words[:6], strict=True):
-            uc.reg_write(register, value)
+        # the frame in one read and its six core registers in one write (each unicorn
+        # call costs microseconds of Python: this runs at every exception return)
+        words = struct.unpack("<8I", uc.mem_read(frame_sp, 32))
+        uc.reg_write_batch(list(zip(_FRAME[:6], words[:6], strict=True)))
         xpsr = words[7]
         uc.reg_write(uc_arm.UC_ARM_REG_XPSR, xpsr & ~(1 << 9))
         uc.reg_write(uc_arm.UC_ARM_REG_SP, frame_sp + 32 + (4 if xpsr & (1 << 9) else 0))
@@ -565,28 +567,39 @@ class Machine:
 
     # ------------------------------------------------------------------ time
     def next_event(self) -> int | None:
-        times = [t for p in self._timed if (t := p.next_event()) is not None]
-        return min(times) if times else None
+        first = None
+        for p in self._timed:
+            t = p.next_event()
+            if t is not None and (first is None or t < first):
+                first = t
+        return first
 
     def _process_events(self) -> None:
         """The peripherals' events due by now, in time order: the earliest first, at its
         own tick (the CPU may have run past several in one block or exception entry, and
         one event can undo another's cause: a pin change back before TIM3's filter took
         the first one)."""
+        timed = self._timed
         for _ in range(10_000):
-            due = [
-                (t, p) for p in self._timed if (t := p.next_event()) is not None and t <= self.now
-            ]
-            if not due:
+            now = self.now
+            first: int | None = None
+            hits: list[Peripheral] = []  # those due at `first`, asked before any runs
+            for p in timed:
+                t = p.next_event()
+                if t is None or t > now:
+                    continue
+                if first is None or t < first:
+                    first, hits = t, [p]
+                elif t == first:
+                    hits.append(p)
+            if first is None:
                 return
-            first = min(t for t, _ in due)
-            saved, self.now = self.now, first
+            self.now = first
             try:
-                for t, p in due:
-                    if t == first:
-                        p.on_event(first)
+                for p in hits:
+                    p.on_event(first)
             finally:
-                self.now = saved
+                self.now = now
         raise PilError(f"peripheral events do not settle at tick {self.now}")
 
     def _raise_error(self) -> None:

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,7 +48,7 @@ from codegen.spec_model import Spec
 from emulation.pil.bus import NotYetKnownError, PilError
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.tim1 import AdvancedTimer
-from sim.circuit import LegVoltages, resolve
+from sim.circuit import LegVoltages, resolve_floats
 from sim.drive import Drive
 from sim.emf import Waveform, rising_zero_deg
 from sim.scenario import switching_table
@@ -107,7 +107,7 @@ class _Recorder:
     """What `run_piece` reports into: the period's charge and energy, points, events."""
 
     def __init__(self) -> None:
-        self.charge = np.zeros(3)
+        self.charge = [0.0, 0.0, 0.0]  # A s, per phase (floats: it is summed every piece)
         self.energy = 0.0
         self.covered = 0.0
         self.events: list[Event] = []
@@ -116,10 +116,18 @@ class _Recorder:
     def point(self, t: float, currents: np.ndarray) -> None:
         self.points.append((t, currents))
 
-    def accumulate(self, _period: int, duration: float, charge: np.ndarray, energy: float) -> None:
-        self.charge += charge
+    def accumulate(
+        self, _period: int, duration: float, charge: Sequence[float], energy: float
+    ) -> None:
+        self.add_charge(charge)
         self.energy += energy
         self.covered += duration
+
+    def add_charge(self, charge: Sequence[float]) -> None:
+        total = self.charge
+        total[0] += charge[0]
+        total[1] += charge[1]
+        total[2] += charge[2]
 
 
 class _OnePeriod:
@@ -141,17 +149,26 @@ class _Emf:
     amplitude: float  # E = k_e n, V
 
     def values(self, t: float) -> np.ndarray:
+        return np.array(self.floats(t))
+
+    def floats(self, t: float) -> list[float]:
+        """`values` as Python floats (asked at every piece and every current sample)."""
         angle = self.angle0 + self.rate * (t - self.t0)
-        waveform, zeros = self.plant.waveform, self.plant.zeros
-        return self.amplitude * np.array([waveform(angle - zeros[p]) for p in range(3)])
+        waveform, zeros, amplitude = self.plant.waveform, self.plant.zeros, self.amplitude
+        return [
+            amplitude * waveform(angle - zeros[0]),
+            amplitude * waveform(angle - zeros[1]),
+            amplitude * waveform(angle - zeros[2]),
+        ]
 
     def affine(self, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
         if hi <= lo:
             return self.values(lo), np.zeros(3)
         a, b = lo + 0.25 * (hi - lo), lo + 0.75 * (hi - lo)
-        start, end = self.values(a), self.values(b)
-        slope = (end - start) / (b - a)
-        return start - slope * a, slope
+        start, end = self.floats(a), self.floats(b)
+        width = b - a
+        slope = [(end[k] - start[k]) / width for k in range(3)]
+        return np.array([start[k] - slope[k] * a for k in range(3)]), np.array(slope)
 
 
 @dataclass
@@ -261,6 +278,8 @@ class MotorPlant:
         """The six gates in force at `tick` (which must be recorded): True where on."""
         log = self.tim1.gate_log
         assert log is not None
+        if log[-1][0] <= tick:  # the gates in force now: the sensing's usual question
+            return tuple(g is True for g in log[-1][1])
         index = bisect.bisect_right(log, tick, key=lambda entry: entry[0]) - 1
         return tuple(g is True for g in log[max(index, 0)][1])
 
@@ -268,13 +287,15 @@ class MotorPlant:
     def shunt_currents(self, tick: int) -> tuple[float, float, float, float]:
         """(DC link, low-side A, B, C) at `tick`: the current from the negative rail up
         into the bridge through each."""
-        currents = self.currents_at(tick)
-        gates = self.gates_at(tick)
-        legs = self._legs(gates)
-        topology = resolve(legs, currents, self._emf().values(tick / TICK_HZ))
-        low = topology.conducting & (topology.voltages == 0.0)
-        phase = np.where(low, currents, 0.0)
-        return float(phase.sum()), float(phase[0]), float(phase[1]), float(phase[2])
+        currents = self.currents_at(tick).tolist()
+        legs = self._legs(self.gates_at(tick))
+        positive, negative, _ = legs.floats
+        conducting, voltages = resolve_floats(
+            positive, negative, currents, self._emf().floats(tick / TICK_HZ)
+        )
+        phase = [currents[k] if conducting[k] and voltages[k] == 0.0 else 0.0 for k in range(3)]
+        # sum() adds as numpy's sum of three did: from 0, left to right
+        return sum(phase), phase[0], phase[1], phase[2]
 
     def currents_at(self, tick: int) -> np.ndarray:
         """The phase currents at `tick`: advanced to it, or re-run from the last point
@@ -382,7 +403,7 @@ class MotorPlant:
                 self.trace.extend(recorder.points)
             if len(self._history) > 2 * _HISTORY:
                 del self._history[:_HISTORY]
-            self._period.charge += recorder.charge
+            self._period.add_charge(recorder.charge)
             self._period.energy += recorder.energy
             self._period.covered += recorder.covered
             step = hi - t
@@ -417,7 +438,7 @@ class MotorPlant:
                 PeriodRecord(
                     self._period_start,
                     tick,
-                    tuple(float(v) for v in record.charge / length),  # type: ignore[arg-type]
+                    tuple(v / length for v in record.charge),  # type: ignore[arg-type]
                     record.energy / length,
                     self.speed_rpm,
                     self._period_currents,

@@ -303,10 +303,11 @@ class Rcc(Peripheral):
         self.hse_failure_at = at
 
     def next_event(self) -> int | None:
-        times = [
-            t for t in (self.hse_ready_at, self.pll_ready_at, self.hse_failure_at) if t is not None
-        ]
-        return min(times) if times else None
+        first = None  # asked at every step of the machine: no lists
+        for t in (self.hse_ready_at, self.pll_ready_at, self.hse_failure_at):
+            if t is not None and (first is None or t < first):
+                first = t
+        return first
 
     def on_event(self, now: int) -> None:
         if self.hse_ready_at is not None and self.hse_ready_at <= now:

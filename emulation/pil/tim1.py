@@ -30,7 +30,6 @@ also held through the previous PWM period.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from emulation.pil.bus import PilError, bits, svd_interrupt
@@ -57,6 +56,8 @@ BREAK_PIN = 12
 _OCM_MASK = (0x0070 | 0x7000, 0x0070)
 #: CCER bits preloaded with CCPC: CCxE, CCxNE of channels 1..3
 _CCER_PRELOADED = 0b0101_0101_0101
+#: entries the per-compare-value caches keep (a braking run moves CCRx every period)
+_CACHE_LIMIT = 4096
 
 
 def dead_time_counts(dtg: int) -> int:
@@ -68,15 +69,6 @@ def dead_time_counts(dtg: int) -> int:
     if dtg >> 5 == 0b110:
         return (32 + (dtg & 0x1F)) * 8
     return (32 + (dtg & 0x1F)) * 16
-
-
-@dataclass
-class _Instant:
-    """What the six outputs at one instant share, each computed at most once: the dead
-    time, and each channel's OCxREF level and the tick it took it (`_ref_edges`)."""
-
-    dead: int | None = None
-    refs: dict[int, tuple[bool, int]] = field(default_factory=dict)
 
 
 class AdvancedTimer(Timer):
@@ -100,6 +92,14 @@ class AdvancedTimer(Timer):
         #: (tick, gates) at every change of the six outputs, once `record_gates()` ran
         self.gate_log: list[tuple[int, tuple[bool | None, ...]]] | None = None
         self._flushed = 0
+        #: the dead time in ticks, cached until BDTR is written or a clock changes
+        self._dead: int | None = None
+        #: per (OCxM, CCRx, ARR, CMS): the positions within a PWM period where OCxREF
+        #: turns inactive and active (`_ref_turns`)
+        self._turns: dict[tuple[int, int, int, int], tuple[tuple[int, ...], tuple[int, ...]]] = {}
+        #: per (CMS, ARR, CCR1..3): the positions within a PWM period where an output may
+        #: change (`_candidates`)
+        self._changes: dict[tuple[int, int, int, int, int], tuple[int, ...]] = {}
         self.readers |= {"BDTR": lambda: self.bdtr, "RCR": lambda: self.rcr}
         self.writers |= {"BDTR": self._write_bdtr, "RCR": self._write_rcr}
         for index, pin in enumerate(CHANNEL_PINS):
@@ -165,6 +165,7 @@ class AdvancedTimer(Timer):
             raise PilError("TIM1.BDTR.LOCK != 0 is not modelled")
         was_on = self.moe
         self.bdtr = value & 0xFFFF
+        self._dead = None
         if self.moe and self.break_input_active():
             self.bdtr &= ~BDTR_MOE  # 14.3.12: MOE cannot be set while the break is active
         if was_on and not self.moe:
@@ -211,28 +212,56 @@ class AdvancedTimer(Timer):
 
     # ------------------------------------------------------------- outputs
     def dead_time_ticks(self) -> int:
-        rcc = self.machine.rcc
-        t_dts = rcc.ticks_of(rcc.timer_hz(self.APB), "TIM1CLK")
-        return dead_time_counts(self.bdtr & 0xFF) * t_dts
+        if self._dead is None:
+            rcc = self.machine.rcc
+            t_dts = rcc.ticks_of(rcc.timer_hz(self.APB), "TIM1CLK")
+            self._dead = dead_time_counts(self.bdtr & 0xFF) * t_dts
+        return self._dead
+
+    def clock_changed(self, now: int) -> None:
+        self._dead = None
+        super().clock_changed(now)
 
     def _ref_edges(self, channel: int, now: int) -> tuple[bool, int]:
-        """OCxREF at `now` and the tick it took that level (register state in force)."""
-        level = self.ref_level(channel, now)
-        if not self.running or self.oc_mode(channel) not in (6, 7):
-            return level, -(10**12)
-        tpc = self.ticks_per_count()
+        """OCxREF at `now` and the tick it took that level (register state in force):
+        the latest of its turns to that level at a compare match or an update in this
+        PWM period or the one before, else two periods back."""
+        mode = self.oc_mode(channel)
+        if not self.running or mode not in (6, 7):
+            return self.ref_level(channel, now), -(10**12)
         pos = self.position(now)
-        value = self.ccr[channel]
+        active = self.pwm_active(pos, self.ccr[channel])  # `ref_level`, the position known
+        level = active if mode == 6 else not active
         cycle = self.cycle_counts()
         base = (pos // cycle) * cycle
-        offsets = (value, 2 * self.arr - value, 0) if self.centre_aligned else (value, 0)
-        candidates = [start + offset for start in (base - cycle, base) for offset in offsets]
-        for candidate in sorted([c for c in candidates if c <= pos], reverse=True):
-            before = self._ref_at_position(channel, candidate - 1)
-            after = self._ref_at_position(channel, candidate)
-            if before != after and after == level:
-                return level, self.time_of_position(candidate)
-        return level, now - 2 * cycle * tpc
+        latest = None
+        for offset in self._ref_turns(channel, mode)[level]:
+            for candidate in (base + offset, base - cycle + offset):
+                if candidate <= pos and (latest is None or candidate > latest):
+                    latest = candidate
+        if latest is not None:
+            return level, self.time_of_position(latest)
+        return level, now - 2 * cycle * self.ticks_per_count()
+
+    def _ref_turns(self, channel: int, mode: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
+        """(turns inactive, turns active): the positions of a compare match or an
+        update, relative to a period's start, where OCxREF changes level. OCxREF at a
+        position depends only on it modulo the period, so these hold for every period
+        while OCxM, CCRx, ARR and CMS stay (kept per those)."""
+        value, arr, centre = self.ccr[channel], self.arr, self.centre_aligned
+        key = (mode, value, arr, centre)
+        turns = self._turns.get(key)
+        if turns is None:
+            offsets = (value, 2 * arr - value, 0) if centre else (value, 0)
+            found: tuple[list[int], list[int]] = ([], [])
+            for offset in offsets:
+                after = self._ref_at_position(channel, offset)
+                if self._ref_at_position(channel, offset - 1) != after:
+                    found[after].append(offset)
+            if len(self._turns) >= _CACHE_LIMIT:
+                self._turns.clear()
+            turns = self._turns[key] = (tuple(found[0]), tuple(found[1]))
+        return turns
 
     def _ref_at_position(self, channel: int, pos: int) -> bool:
         active = self.pwm_active(pos, self.ccr[channel])
@@ -242,57 +271,42 @@ class AdvancedTimer(Timer):
         """Level of OCx (or OCxN) at `now` (default: the machine's time); None where
         the timer does not drive the pin (Table 83 "output disabled")."""
         now = self.machine.now if now is None else now
-        return self._output(channel, complementary, now, _Instant())
+        return self._channel(channel, now)[1 if complementary else 0]
 
-    def _output(self, channel: int, complementary: bool, now: int, known: _Instant) -> bool | None:
-        """`output`, with what the outputs at one instant share kept in `known` (the
-        state cannot change between the six outputs of `gates`)."""
-        shift = 4 * (channel - 1)
-        ccer = self.ccer
-        enabled = bool(ccer >> shift & 1)
-        enabled_n = bool(ccer >> (shift + 2) & 1)
-        polarity = bool(ccer >> (shift + 1) & 1)
-        polarity_n = bool(ccer >> (shift + 3) & 1)
-        own_polarity = polarity_n if complementary else polarity
+    def _channel(self, channel: int, now: int) -> tuple[bool | None, bool | None]:
+        """(OCx, OCxN) of `channel` at `now` (14.4.9 Table 83), from one look at its
+        CCER bits and at most one at its OCxREF (`_ref_edges`)."""
+        enables = self.ccer >> 4 * (channel - 1)
+        enabled, polarity = bool(enables & 1), bool(enables & 2)
+        enabled_n, polarity_n = bool(enables & 4), bool(enables & 8)
         if not enabled and not enabled_n:
-            return None
-        if known.dead is None:
-            known.dead = self.dead_time_ticks()
-        dead = known.dead
-        if not self.moe:
-            if not self.bdtr & BDTR_OSSI:
-                return None
+            return None, None
+        dead = self.dead_time_ticks()
+        bdtr = self.bdtr
+        if not bdtr & BDTR_MOE:
+            if not bdtr & BDTR_OSSI:
+                return None, None
             cleared = self.moe_cleared_at if self.moe_cleared_at is not None else -(10**12)
             if now - cleared < dead:
-                return own_polarity
-            idle_bit = 8 + 2 * (channel - 1) + (1 if complementary else 0)
-            return bool(self.cr2 >> idle_bit & 1)
-        own = enabled_n if complementary else enabled
-        if not own:
-            return own_polarity if self.bdtr & BDTR_OSSR else None
-        if channel not in known.refs:
-            known.refs[channel] = self._ref_edges(channel, now)
-        level, since = known.refs[channel]
-        if complementary and enabled:
-            # 14.4.9 Table 83: OCxN is the complement of OCxREF only with both outputs
-            # enabled; CCxE = 0, CCxNE = 1 gives OCxN = OCxREF xor CCxNP
-            level = not level
+                return polarity, polarity_n
+            idle = self.cr2 >> (8 + 2 * (channel - 1))
+            return bool(idle & 1), bool(idle & 2)
+        level, since = self._ref_edges(channel, now)
         if enabled and enabled_n:
-            level = level and now - since >= dead
-        return level != own_polarity
+            # complementary with dead time: each output's rising edge delayed by DT
+            after_dead = now - since >= dead
+            return (level and after_dead) != polarity, (not level and after_dead) != polarity_n
+        # one output enabled: OCx = OCxREF xor CCxP or OCxN = OCxREF xor CCxNP (not the
+        # complement of OCxREF), the other at its polarity (OSSR = 1) or not driven
+        idle_level = bool(bdtr & BDTR_OSSR)
+        if enabled:
+            return level != polarity, polarity_n if idle_level else None
+        return polarity if idle_level else None, level != polarity_n
 
     def gates(self, now: int | None = None) -> tuple[bool | None, ...]:
         """(CH1, CH1N, CH2, CH2N, CH3, CH3N) at `now`."""
         now = self.machine.now if now is None else now
-        known = _Instant()
-        return (
-            self._output(1, False, now, known),
-            self._output(1, True, now, known),
-            self._output(2, False, now, known),
-            self._output(2, True, now, known),
-            self._output(3, False, now, known),
-            self._output(3, True, now, known),
-        )
+        return self._channel(1, now) + self._channel(2, now) + self._channel(3, now)
 
     # ------------------------------------------------------------- the gate record
     def record_gates(self) -> None:
@@ -312,21 +326,35 @@ class AdvancedTimer(Timer):
             cycle = self.cycle_counts()
             first = (self.position(start) // cycle - 1) * cycle
             last = self.position(end) + cycle
-            centre, arr, ccr = self.centre_aligned, self.arr, self.ccr
+            offsets = self._change_offsets()
             # time_of_position, with the anchor and the count's length taken once
             anchor_time, anchor_pos, tpc = self.anchor_time, self.anchor_pos, self.ticks_per_count()
             for base in range(first, last + 1, cycle):
-                positions = {base, base + arr} if centre else {base}
-                for channel in (1, 2, 3):
-                    value = ccr[channel]
-                    positions.add(base + value)
-                    if centre:  # counting down, at the match too (CNT = CCRx)
-                        positions.add(base + 2 * arr - value)
-                for position in positions:
-                    tick = anchor_time + (position - anchor_pos) * tpc
-                    ticks.add(tick)
-                    ticks.add(tick + dead)
+                base_tick = anchor_time + (base - anchor_pos) * tpc
+                for offset in offsets:
+                    tick = base_tick + offset * tpc
+                    if tick + dead > start and tick <= end:
+                        ticks.add(tick)
+                        ticks.add(tick + dead)
         return sorted([t for t in ticks if start < t <= end])
+
+    def _change_offsets(self) -> tuple[int, ...]:
+        """The positions, relative to a period's start, of its update events and of
+        channels 1..3's compare matches (counting down too, CNT = CCRx, centre-aligned),
+        kept per CMS, ARR and CCR1..3."""
+        centre, arr, ccr = self.centre_aligned, self.arr, self.ccr
+        key = (centre, arr, ccr[1], ccr[2], ccr[3])
+        offsets = self._changes.get(key)
+        if offsets is None:
+            found = {0, arr} if centre else {0}
+            for channel in (1, 2, 3):
+                found.add(ccr[channel])
+                if centre:
+                    found.add(2 * arr - ccr[channel])
+            if len(self._changes) >= _CACHE_LIMIT:
+                self._changes.clear()
+            offsets = self._changes[key] = tuple(sorted(found))
+        return offsets
 
     def _flush(self, until: int) -> None:
         """Log the changes up to `until` that the state in force makes by itself."""

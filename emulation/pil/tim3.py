@@ -95,7 +95,7 @@ class HallTimer(Timer):
         super().write_ccmr(index, value)
 
     def next_event(self) -> int | None:
-        base = super().next_event()
+        base = self._next if self._next_valid else self.counter_event()
         if self.pending_edge is None:
             return base
         return self.pending_edge[0] if base is None else min(base, self.pending_edge[0])

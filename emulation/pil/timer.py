@@ -46,6 +46,12 @@ CR1_CEN, CR1_UDIS, CR1_URS, CR1_OPM, CR1_DIR, CR1_ARPE = 1, 2, 4, 8, 16, 128
 OC_FROZEN, OC_FORCE_INACTIVE, OC_FORCE_ACTIVE, OC_PWM1, OC_PWM2 = 0, 4, 5, 6, 7
 
 
+#: (channel, CCMRx index, CCxS shift) of channels 1..4
+_CC_FIELDS = tuple(
+    (channel, (channel - 1) // 2, 8 * ((channel - 1) % 2)) for channel in range(1, 5)
+)
+
+
 def cc_flag(channel: int) -> int:
     """CCxIF bit of channel 1..4."""
     return 1 << channel
@@ -59,6 +65,9 @@ class Timer(Peripheral):
     def __init__(self, machine: Machine, svd_name: str) -> None:
         super().__init__(machine, svd_name)
         self.cr1 = 0
+        #: CR1.CEN and CR1.CMS, kept beside CR1 (`_set_cr1`): asked at every event
+        self.running = False
+        self.centre_aligned = 0
         self.cr2 = 0
         self.smcr = 0
         self.dier = 0
@@ -140,13 +149,12 @@ class Timer(Peripheral):
         return self.ccr_preload[channel]
 
     # ------------------------------------------------------------- configuration
-    @property
-    def running(self) -> bool:
-        return bool(self.cr1 & CR1_CEN)
-
-    @property
-    def centre_aligned(self) -> int:
-        return (self.cr1 >> 5) & 3  # CMS (bits(self.cr1, 5, 2), inline: asked at every event)
+    def _set_cr1(self, value: int) -> None:
+        """CR1 and what is read from it at every event: `running` (CEN) and
+        `centre_aligned` (CMS, 0 for edge-aligned)."""
+        self.cr1 = value
+        self.running = bool(value & CR1_CEN)
+        self.centre_aligned = (value >> 5) & 3
 
     def cc_select(self, channel: int) -> int:
         return (self.ccmr[(channel - 1) // 2] >> (8 * ((channel - 1) % 2))) & 3
@@ -178,7 +186,7 @@ class Timer(Peripheral):
     def position(self, now: int) -> int:
         if not self.running:
             return self.anchor_pos
-        return self.anchor_pos + (now - self.anchor_time) // self.ticks_per_count()
+        return self.anchor_pos + (now - self.anchor_time) // (self._tpc or self.ticks_per_count())
 
     def cnt_of_position(self, pos: int) -> int:
         if self.centre_aligned:
@@ -225,7 +233,7 @@ class Timer(Peripheral):
         was_running = self.running
         if was_running:
             self.reanchor()
-        self.cr1 = value & 0x3FF
+        self._set_cr1(value & 0x3FF)
         if self.running and not was_running:
             self.anchor_time = self.machine.now
             self.processed_until = self.machine.now
@@ -343,21 +351,22 @@ class Timer(Peripheral):
     def _channel_events(self, start: int, end: int) -> list[tuple[int, int]]:
         """(position, channel) compare matches with start < position <= end."""
         found = []
-        for channel in range(1, 5):
-            if self.is_input(channel):
+        arr, centre, ccmr = self.arr, self.centre_aligned, self.ccmr
+        for channel, index, shift in _CC_FIELDS:
+            if (ccmr[index] >> shift) & 3:  # `is_input`, inline: asked at every event
                 continue
             value = self.ccr[channel]
-            if value > self.arr:
+            if value > arr:
                 continue
-            if self.centre_aligned:
-                cycle = 2 * self.arr
+            if centre:
+                cycle = 2 * arr
                 base = (start // cycle) * cycle
-                for offset in (value, 2 * self.arr - value):
+                for offset in (value, 2 * arr - value):
                     for pos in (base + offset, base + cycle + offset):
                         if start < pos <= end and self._centre_flags(pos, cycle):
                             found.append((pos, channel))
             else:
-                cycle = self.arr + 1
+                cycle = arr + 1
                 base = (start // cycle) * cycle
                 for pos in (base + value, base + cycle + value):
                     if start < pos <= end:
@@ -369,10 +378,14 @@ class Timer(Peripheral):
         OC1M): counting up active while CNT < CCRx, counting down inactive while
         CNT > CCRx, so active from CNT = CCRx on (the counter goes 0..ARR-1 up, ARR..1
         down: a pulse of 2 CCRx counts, CCRx / ARR of the period; CCRx = 0 never)."""
-        cnt = self.cnt_of_position(pos)
-        if self.centre_aligned and pos % (2 * self.arr if self.arr else 1) >= self.arr:
-            return cnt <= value
-        return cnt < value
+        arr = self.arr
+        if not self.centre_aligned:
+            return pos % (arr + 1) < value
+        # `cnt_of_position` inline (asked for every output at every gate change)
+        phase = pos % (2 * arr if arr else 1)
+        if phase >= arr:
+            return (phase if phase <= arr else 2 * arr - phase) <= value
+        return phase < value
 
     def down_count_edges(self, start: int, end: int) -> list[int]:
         """Positions in (start, end] where a PWM-mode OCxREF of a centre-aligned counter
@@ -403,7 +416,7 @@ class Timer(Peripheral):
         return (after // step + 1) * step
 
     def next_event(self) -> int | None:
-        return self.counter_event()
+        return self._next if self._next_valid else self.counter_event()
 
     def counter_event(self) -> int | None:
         """The next compare match or UEV of the counter."""
