@@ -1179,3 +1179,28 @@ def test_a_main_duty_that_jumps_between_edges_should_fail_the_steadiness_check(
     assert not steady.low and [b.index for _, b in steady.swings] == [cs[3].index, cs[4].index]
     (line,) = [p for p in braking_report.problems(swinging) if "not steady" in p]
     assert "at 2 the main duty moved by more than 0.5 x D_max" in line, line
+
+
+def test_the_steadiness_line_should_count_the_edges_it_could_not_judge(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """The check judges measured commutations alone. A 14-pole centre-aligned motor's
+    full run (a regression hunt) measured 498 of its 1608 Hall edges (its top-speed
+    commutations fill their sectors; others had a carrier restart before the edge) and
+    the report read "at the 260 Hall edges from 4869 rpm up ... moved by at most 0.069",
+    silent on the edges between 11 638 and 4869 rpm it never saw, and "Commutations
+    measured: 498" did not say of how many. Both lines now count them."""
+    _, result = paper_run
+    cs = result.commutations
+    assert braking_report.steady_braking_check(result).unmeasured == 0  # type: ignore[union-attr]
+    gapped = replace(
+        result,
+        commutations=[c for k, c in enumerate(cs) if k not in (1, 2)],
+        unmeasured={"no turn-off current at the edge": 2},
+    )
+    steady = braking_report.steady_braking_check(gapped)
+    assert isinstance(steady, braking_report.SteadyBraking)
+    assert steady.unmeasured == 2, steady.unmeasured
+    text = "\n".join(braking_report.section(gapped, []))
+    assert "2 Hall edges at these speeds were not measured" in text, text
+    assert "2 more Hall edges were not measured: 2 x no turn-off current at the edge" in text

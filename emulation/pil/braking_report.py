@@ -23,6 +23,7 @@ from emulation.pil.braking import (
     BRAKING_EDGES,
     BRAKING_MOTOR_S,
     READS,
+    SETTLING_EDGES,
     BrakingResult,
     BrakingSetup,
     Commutation,
@@ -402,6 +403,10 @@ class SteadyBraking:
     #: the slowest speed judged, rpm: the loop's largest duty drives STEADY_HEADROOM x
     #: the command there
     slowest_rpm: float
+    #: Hall edges after the settling ones, up to the last judged one (so at speeds the
+    #: check covers), that were not measured (`BrakingResult.unmeasured` says why) and so
+    #: not judged: a commutation filling its sector, a carrier restart before the edge
+    unmeasured: int = 0
 
     @property
     def steady(self) -> bool:
@@ -441,7 +446,12 @@ def steady_braking_check(result: BrakingResult) -> SteadyBraking | NotJudged:
         for a, b in pairwise(judged)
         if b.index == a.index + 1 and abs(b.main_duty - a.main_duty) > DUTY_SWING * duty_max
     )
-    return SteadyBraking(judged, low, swings, duty_max, min(c.speed_rpm for c in judged))
+    last = judged[-1].index
+    measured = sum(1 for c in cs if c.index <= last)
+    unmeasured = last + 1 - SETTLING_EDGES - measured
+    return SteadyBraking(
+        judged, low, swings, duty_max, min(c.speed_rpm for c in judged), unmeasured
+    )
 
 
 def steady_braking_problem(result: BrakingResult, steady: SteadyBraking) -> str:
@@ -585,6 +595,15 @@ def _held_line(result: BrakingResult) -> str:
     )
 
 
+def _unmeasured_clause(result: BrakingResult) -> str:
+    """How many Hall edges after the settling ones were not measured, and why."""
+    if not result.unmeasured:
+        return ""
+    count = sum(result.unmeasured.values())
+    why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
+    return f"; {count} more Hall edges were not measured: {why}"
+
+
 def _steady_line(result: BrakingResult) -> str:
     """The steady-braking check's bullet: its figures and their basis, or why it judged
     nothing."""
@@ -604,6 +623,13 @@ def _steady_line(result: BrakingResult) -> str:
         f" next; required: I at least {COMPARED_FRACTION:g} x the command's {command:g} A"
         f" ({len(steady.low)} below) and a move of at most {DUTY_SWING:g} x D_max,"
         f" {DUTY_SWING * steady.duty_max:.3f} ({len(steady.swings)} beyond)."
+        + (
+            f" {steady.unmeasured} Hall edges at these speeds were not measured (see"
+            " 'Commutations measured') and are not judged: the check covers the measured"
+            " ones alone."
+            if steady.unmeasured
+            else ""
+        )
     )
 
 
@@ -721,7 +747,9 @@ def section(result: BrakingResult, figures: list[str]) -> list[str]:
         f"* Invariants (every step, as in the fault scenarios):"
         f" {'kept' if not result.outcome.violations else '; '.join(result.outcome.violations[:5])}.",
         f"* Commutations measured: {len(result.commutations)} (the first"
-        " few edges after the attach settle the Hall interval, the loop and the timing).",
+        " few edges after the attach settle the Hall interval, the loop and the timing)"
+        + _unmeasured_clause(result)
+        + ".",
     ]
     if worst is not None and worst.difference_pp is not None:
         lines.append(
