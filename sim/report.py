@@ -563,6 +563,10 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         "high": f"{TARGET_HIGH_RPM:g}",
         "judged_low": f"{low:g}",
         "judged_high": f"{high:g}",
+        # no swept speed inside the band (a quick run's few speeds): judged over them all
+        "none_in_band": not any(low <= s <= high for s in speeds),
+        "swept_low": f"{speeds[0]:g}",
+        "swept_high": f"{speeds[-1]:g}",
         "band_missed": (low, high) != _overlap(results.drive),
         "tolerance": f"{TARGET_PCT:g}",
         "is_target_spec": _is_target_motor(results.drive),
@@ -600,9 +604,16 @@ def _target(results: Results, lookup: _Lookup) -> dict[str, object]:
         "covers_range": covers,
         "periods_low": f"{min(lengths):.1f}" if lengths else "-",
         "periods_high": f"{max(lengths):.1f}" if lengths else "-",
-        "ripple_low": f"{min(ripples):.0f}" if ripples else "-",
-        "ripple_high": f"{max(ripples):.0f}" if ripples else "-",
+        "ripple": _span(ripples),
     }
+
+
+def _span(values: list[float]) -> str:
+    """'a-b' of the values to whole units, or the one figure where both read the same."""
+    if not values:
+        return "-"
+    low, high = f"{min(values):.0f}", f"{max(values):.0f}"
+    return low if low == high else f"{low}-{high}"
 
 
 def _overlap(drive: Drive) -> tuple[float, float]:
