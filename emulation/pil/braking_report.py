@@ -561,7 +561,7 @@ def problems(result: BrakingResult) -> list[str]:
     if isinstance(steady, SteadyBraking) and not steady.steady:
         out.append(steady_braking_problem(result, steady))
     if not result.commutations:
-        why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
+        why = _unmeasured_reasons(result)
         if "fills its sector" in why and result.setup.max_edges is not None:
             why += "; the full run (`make pil`) compares them at the lower speeds it brakes to"
         elif "fills its sector" in why:
@@ -595,12 +595,17 @@ def _held_line(result: BrakingResult) -> str:
     )
 
 
+def _unmeasured_reasons(result: BrakingResult) -> str:
+    """'n x reason; ...' of the Hall edges after the settling ones that were not measured."""
+    return "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
+
+
 def _unmeasured_clause(result: BrakingResult) -> str:
     """How many Hall edges after the settling ones were not measured, and why."""
     if not result.unmeasured:
         return ""
     count = sum(result.unmeasured.values())
-    why = "; ".join(f"{n} x {reason}" for reason, n in sorted(result.unmeasured.items()))
+    why = _unmeasured_reasons(result)
     return f"; {count} more Hall edges were not measured: {why}"
 
 
