@@ -192,6 +192,16 @@ PRINTABLE = (
 )
 
 
+#: the printable characters YAML 1.1 takes for line breaks and YAML 1.2 for text
+_AMBIGUOUS_BREAK = re.compile("[\x85\u2028\u2029]")
+#: what a spec's raw text may hold: the printable set less those three
+PRINTABLE_UNAMBIGUOUS = (
+    "YAML's printable characters less U+0085, U+2028 and U+2029: tab, line feed, carriage"
+    " return, U+0020-U+007E and U+00A0 upward, less the surrogates, U+FEFF inside the"
+    " text, U+FFFE and U+FFFF"
+)
+
+
 class _Composer(Reader, Scanner, Parser, Composer, BaseResolver):
     """PyYAML's scanner and parser; composing with a depth limit, recursive
     aliases refused, and scalars left unresolved for the core schema."""
@@ -480,6 +490,20 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
             line,
             _key_near(text, line),
             PRINTABLE,
+        )
+    ambiguous = _AMBIGUOUS_BREAK.search(text)
+    if ambiguous is not None:
+        # YAML 1.2 reads U+0085, U+2028 and U+2029 as text, PyYAML (YAML 1.1) as line
+        # breaks: one in a comment ended the comment there and the rest of its line was
+        # read as a key (a "malformed YAML" line that pointed at the wrong line)
+        line = text.count("\n", 0, ambiguous.start()) + 1
+        raise YamlError(
+            f"character U+{ord(ambiguous.group()):04X} is not allowed raw in a spec: a line"
+            " break to YAML 1.1 readers and text to YAML 1.2 (write it as an escape in a"
+            " double-quoted string)",
+            line,
+            _key_near(text, line),
+            PRINTABLE_UNAMBIGUOUS,
         )
     composer = _Composer(text, limits)
     try:

@@ -119,6 +119,32 @@ def test_a_character_outside_yamls_printable_set_is_refused_with_the_set_it_may_
 
 
 @pytest.mark.parametrize(
+    ("document", "line", "path"),
+    [
+        ("a: 1\n# a note \x85 more: x: y\nb: 2\n", 2, "a"),
+        ("a: 1\nb: 2  # \u2029 - z\nc: 3\n", 2, "b"),
+        ('a: 1\nb: "x\u2028y"\nc: 3\n', 2, "b"),
+    ],
+)
+def test_a_raw_character_yaml_versions_read_apart_is_refused_on_its_own_line(
+    document: str, line: int, path: str
+) -> None:
+    """U+0085 in a comment was a line break to PyYAML and text to YAML 1.2: the rest of
+    the comment's line was read as a key ("malformed YAML" on line 3, at `a.more`), and
+    U+2028 in a quoted value moved every later line's number by one. Raw, they are
+    refused on their own line; as escapes in a double-quoted string they are text."""
+    with pytest.raises(YamlError) as caught:
+        read_yaml(document.encode())
+    assert "is not allowed raw in a spec" in caught.value.problem
+    assert caught.value.line == line
+    assert caught.value.path == path
+    assert "less U+0085, U+2028 and U+2029" in caught.value.allowed
+    values, lines = read_yaml(b'a: 1\nb: "x\\u2028y\\x85"\nc: 3\n')
+    assert values == {"a": 1, "b": "x\u2028y\x85", "c": 3}
+    assert lines["c"] == 3
+
+
+@pytest.mark.parametrize(
     ("text", "shown", "problem"),
     [
         ("9" * 100, "9" * 80, "a number of 100 characters (at most 64)"),
@@ -166,7 +192,7 @@ def test_limits_are_configurable_and_lines_are_recorded() -> None:
         ('"bad \\ud800 x"', "bad \ud800 x", "U+D800"),
         ('"a \\x07 b"', "a \x07 b", "U+0007"),
         ('"nul \\0"', "nul \x00", "U+0000"),
-        ("'\u0085 is fine'", None, None),
+        ('"\\x85 is fine"', None, None),
         ('"tab\\there"', None, None),
     ],
 )
