@@ -24,6 +24,7 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.port_faults import FAULTS, PERMANENT
 from codegen.spec_drive import (
     ADC_CLOCK_HZ,
+    ADC_CONVERSION_CYCLES,
     ADC_PRESCALER,
     ADC_SAMPLE_CYCLES,
     INJECTED_CONVERSIONS,
@@ -250,11 +251,22 @@ def _sequence_counts(spec: Spec) -> int:
 
 def _sequence_min_counts(spec: Spec) -> int:
     """TIM1 counts from an injected trigger to JEOC at the least, in the trigger age's
-    terms: the exact time rounded down (centre-aligned the age counts from the peak, one
-    count before the trigger's edge). A sequence younger than this has not ended: a JEOC
-    set then is an older sequence's."""
+    terms: the conversions' exact time rounded down (centre-aligned the age counts from
+    the peak, one count before the trigger's edge). A sequence younger than this has not
+    ended: a JEOC set then is an older sequence's.
+
+    The injection latency is left out: DS5319 gives only its largest value (3 ADC cycles,
+    INJECTED_LATENCY_CYCLES), so at the least it is none. With it (18 counts at 12 MHz
+    ADCCLK) a sequence that had ended when a commutation end read its age, up to 18
+    counts short of that bound, read as still converting and its JEOC as an older one's:
+    two stale sequences, so the next one, begun after the end, was dropped too (at top
+    speed on a 24 kHz centre-aligned 7-pole-pair motor and a 20 kHz edge-aligned one,
+    the timing then ran on a sample older than two sectors)."""
     clock = Fraction(spec.inverter.timer_clock_hz)
-    counts = injected_sequence_s(Fraction(spec.sensing.adc_sample_cycles)) * clock
+    cycles = INJECTED_CONVERSIONS * (
+        Fraction(spec.sensing.adc_sample_cycles) + ADC_CONVERSION_CYCLES
+    )
+    counts = cycles / ADC_CLOCK_HZ * clock
     return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0)
 
 
@@ -298,7 +310,8 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "BLDC_PORT_SEQUENCE_MIN_COUNTS",
             f"{_sequence_min_counts(spec)}u",
             "TIM1 counts from an injected trigger to JEOC at the least (the trigger age's"
-            " terms): a younger sequence has not ended, so a JEOC set then is an older one's",
+            " terms, no injection latency: the datasheet gives only its largest): a younger"
+            " sequence has not ended, so a JEOC set then is an older one's",
         ),
         _define(
             "BLDC_PORT_TRIGGER_AGE(cnt, cr1)",

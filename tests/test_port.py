@@ -10,6 +10,7 @@ RM0008 without hardware.
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 import shutil
 import subprocess
@@ -822,6 +823,15 @@ int main(int argc, char **argv)
                          BLDC_PORT_TIM1_CCR4 + BLDC_PORT_SEQUENCE_COUNTS + 5u, /* it ended */
                          OFFSET + 81u, OFFSET + 82u, "ended");
 
+    /* The same end where the sequence has just ended with no injection latency (the
+     * datasheet gives only its largest, 3 ADC cycles): its JEOC is still the last
+     * trigger's. The bound that took the latency for certain counted two here and
+     * dropped the next sample too (`make pil` on a 24 kHz centre-aligned and a 20 kHz
+     * edge-aligned motor: the timing ran on a sample older than two sectors). */
+    end_then_two_samples(seq[0], ADC_SR_JSTRT | ADC_SR_JEOC,
+                         BLDC_PORT_TIM1_CCR4 + CONVERSIONS_COUNTS, /* it has just ended */
+                         OFFSET + 83u, OFFSET + 84u, "ended_unlatched");
+
     /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
 #define STEADY()                                              \
     do {                                                      \
@@ -830,7 +840,7 @@ int main(int argc, char **argv)
         hall_index = (hall_index + 1u) %% 6u;                  \
         end_of_commutation();                                 \
     } while (0)
-    unsigned hall_index = 4u;
+    unsigned hall_index = 5u;
 
     adc(BUS_OVER, OFFSET, 1u, 0u);
     show("over_voltage");
@@ -1051,6 +1061,18 @@ def _loop_run(spec: Spec) -> LoopRun:
     )
 
 
+def _conversions_counts(spec: Spec) -> int:
+    """TIM1 counts from an edge-aligned injected trigger to JEOC with no injection
+    latency (the emulated ADC's, and the chip's at the least): the conversions alone,
+    rounded up to the count at which the sequence has ended."""
+    from codegen.spec_drive import ADC_CLOCK_HZ, ADC_CONVERSION_CYCLES, INJECTED_CONVERSIONS
+
+    cycles = INJECTED_CONVERSIONS * (
+        Fraction(spec.sensing.adc_sample_cycles) + ADC_CONVERSION_CYCLES
+    )
+    return math.ceil(cycles / ADC_CLOCK_HZ * Fraction(spec.inverter.timer_clock_hz))
+
+
 def _build_harness(
     directory: Path, spec: Spec, *, watchdog_reset: bool = False, calibration_stuck: bool = False
 ) -> Path:
@@ -1067,6 +1089,7 @@ def _build_harness(
         f"-DLOOP_MA={run.milliamps}u",
         f"-DLOOP_STEPS={len(run.measured)}u",
         f"-DFAST_PERIOD={run.fast_period}u",
+        f"-DCONVERSIONS_COUNTS={_conversions_counts(spec)}u",
         f"-DWATCHDOG_RESET={int(watchdog_reset)}",
         f"-DCALIBRATION_STUCK={int(calibration_stuck)}",
     ]
@@ -1279,6 +1302,22 @@ def test_a_sequence_ended_before_the_end_should_hold_one_sample_not_two(
     offset = _loop_run_paper().offset
     assert host_run["ended"]["port.current"] != offset + 81  # the ended sequence: held
     assert host_run["after_ended"]["port.current"] == offset + 82
+
+
+def test_a_sequence_ended_without_injection_latency_should_hold_one_sample_not_two(
+    host_run: dict[str, dict[str, int]], spec: Spec
+) -> None:
+    """An end at the earliest count the last sequence can have ended (no injection
+    latency: DS5319 gives only its largest, 3 ADC cycles): its JEOC is the last
+    trigger's, one stale sequence. BLDC_PORT_SEQUENCE_MIN_COUNTS took the latency for
+    certain (498 counts, the conversions 480): two were counted and the next sample,
+    begun after the end, dropped too; on a motor whose commutations fill their sectors
+    the timing then ran on a sample older than two sectors (`make pil`, 24 kHz
+    centre-aligned and 20 kHz edge-aligned motors)."""
+    assert spec.inverter.pwm_alignment == "edge"  # the harness's CNT is CCR4 + the age
+    offset = _loop_run_paper().offset
+    assert host_run["ended_unlatched"]["port.current"] != offset + 83  # the ended one: held
+    assert host_run["after_ended_unlatched"]["port.current"] == offset + 84
 
 
 def test_current_loop_should_set_the_steady_switch_from_each_sample(
