@@ -974,6 +974,50 @@ def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loo
     assert max(c.difference_pp or 0.0 for c in _compared(result, 8)) < 1.0
 
 
+def _latency_for_certain(copy: Path) -> None:
+    """A port mutant for `link_mutant`: BLDC_PORT_SEQUENCE_MIN_COUNTS with the datasheet's
+    largest injection latency taken for certain (the bound before it was left out)."""
+    from codegen.spec_drive import ADC_CLOCK_HZ, INJECTED_LATENCY_CYCLES
+
+    header = copy / "c" / "stm32f103_port.h"
+    text = header.read_text(encoding="utf-8")
+    (bound,) = re.findall(r"#define BLDC_PORT_SEQUENCE_MIN_COUNTS (\d+)u", text)
+    spec = load_spec(ROOT / "tests" / "fixtures" / "pil" / "conv_cen_ps.yaml")
+    latency = INJECTED_LATENCY_CYCLES * Fraction(spec.inverter.timer_clock_hz) / ADC_CLOCK_HZ
+    line = f"#define BLDC_PORT_SEQUENCE_MIN_COUNTS {bound}u"
+    header.write_text(
+        text.replace(line, f"#define BLDC_PORT_SEQUENCE_MIN_COUNTS {int(bound) + int(latency)}u")
+    )
+
+
+def test_a_commutation_end_just_after_jeoc_should_leave_the_next_sample_to_the_loop(
+    tmp_path: Path,
+) -> None:
+    """A 24 kHz centre-aligned conventional motor near its top speed, its commutations
+    nearly filling their sectors: a commutation end came 6 ticks after the last
+    sequence's JEOC (trigger age 487). The port's bound for a sequence to have ended
+    took the injection latency for certain (499 counts; the conversions take 481 with
+    none): it counted two stale sequences, dropped the next sample, begun after the end,
+    and the timing read a current older than two sectors (`make pil`, Hall edge 215).
+    The first 230 edges of the full run keep every invariant; the same port with the
+    latency in its bound (the mutant) breaks the timing's current source again."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "conv_cen_ps.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = replace(braking_setup(spec, short=False), max_edges=230, trace_seconds=0.0)
+    port = generated / "c" / "stm32f103_port.c"
+    result = brake(elf, port, spec, setup, sil=False)
+    assert result.edges >= 230
+    assert result.outcome.violations == (), result.outcome.violations
+    mutant = link_mutant(generated, tmp_path / "mutant", _latency_for_certain)
+    port = tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c"
+    broken = brake(mutant, port, spec, setup, sil=False)
+    assert any(
+        "no conversion of the current channel(s) [0, 2, 3]" in v for v in broken.outcome.violations
+    ), "the fixture lost its point: the latency-bound port kept the invariant"
+
+
 def test_the_comparator_should_see_the_braking_current_and_never_trip_the_paper_run(
     paper_run: tuple[BrakingLoop, BrakingResult],
 ) -> None:
