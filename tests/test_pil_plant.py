@@ -65,7 +65,7 @@ from sim.schedule import OFF, Schedule, Segment
 from sim.switched import simulate_switched
 
 #: the whole module (its motors braking share module-scoped runs): one queued unit
-pytestmark = pytest.mark.heavy(seconds=57)
+pytestmark = pytest.mark.heavy(seconds=73)
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
