@@ -24,10 +24,10 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.port_faults import FAULTS, PERMANENT
 from codegen.spec_drive import (
     ADC_CLOCK_HZ,
-    ADC_CONVERSION_CYCLES,
     ADC_PRESCALER,
     ADC_SAMPLE_CYCLES,
     INJECTED_CONVERSIONS,
+    injected_conversions_s,
     injected_sequence_s,
 )
 from codegen.spec_model import Spec
@@ -263,10 +263,7 @@ def _sequence_min_counts(spec: Spec) -> int:
     speed on a 24 kHz centre-aligned 7-pole-pair motor and a 20 kHz edge-aligned one,
     the timing then ran on a sample older than two sectors)."""
     clock = Fraction(spec.inverter.timer_clock_hz)
-    cycles = INJECTED_CONVERSIONS * (
-        Fraction(spec.sensing.adc_sample_cycles) + ADC_CONVERSION_CYCLES
-    )
-    counts = cycles / ADC_CLOCK_HZ * clock
+    counts = injected_conversions_s(Fraction(spec.sensing.adc_sample_cycles)) * clock
     return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0)
 
 

@@ -414,13 +414,18 @@ def sense_window(
     )
 
 
-def injected_sequence_s(adc_sample_cycles: Fraction) -> Fraction:
-    """Seconds from an injected trigger to JEOC: the latency and INJECTED_CONVERSIONS
-    conversions."""
-    sequence = INJECTED_LATENCY_CYCLES + INJECTED_CONVERSIONS * (
-        Fraction(adc_sample_cycles) + ADC_CONVERSION_CYCLES
+def injected_conversions_s(adc_sample_cycles: Fraction) -> Fraction:
+    """Seconds the INJECTED_CONVERSIONS conversions of an injected sequence take: from
+    its trigger to JEOC at the least (DS5319 gives only the largest injection latency)."""
+    return (
+        INJECTED_CONVERSIONS * (Fraction(adc_sample_cycles) + ADC_CONVERSION_CYCLES) / ADC_CLOCK_HZ
     )
-    return sequence / ADC_CLOCK_HZ
+
+
+def injected_sequence_s(adc_sample_cycles: Fraction) -> Fraction:
+    """Seconds from an injected trigger to JEOC at the most: the latency and
+    INJECTED_CONVERSIONS conversions."""
+    return INJECTED_LATENCY_CYCLES / ADC_CLOCK_HZ + injected_conversions_s(adc_sample_cycles)
 
 
 def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -> Fraction:
