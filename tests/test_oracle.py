@@ -213,3 +213,39 @@ def test_the_period_range_should_be_every_interval_the_timer_reads_in_the_speed_
     assert (lim.period_min, lim.period_max) == expected
     sc = scaling(spec, derive())
     assert (sc.period_min_ticks, sc.period_max_ticks) == expected
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "spec/paper_motor_improved_r.yaml",
+        "tests/fixtures/odd/pp24_flat_ir.yaml",
+        "tests/fixtures/specs/short_sector_2k5_ir.yaml",
+    ],
+)
+def test_the_rules_zero_should_be_the_bisections_within_its_width(path: str) -> None:
+    """`Commutation.zero` narrows its brackets by false position (Illinois) and stops at
+    ZERO_WIDTH_TICKS: against 56 plain bisection steps of the same g, written here, over
+    the whole input box (zero currents, whose g(0) = 0, included) and the verifier's
+    shifts, every zero within two widths and every carrier-boundary end the same."""
+    from oracle.rule import ZERO_WIDTH_TICKS
+
+    o = oracle(load_spec(ROOT / path))
+    rng = np.random.default_rng(11)
+    period = rng.integers(o.lim.period_min, o.lim.period_max + 1, 4000)
+    bus = rng.integers(o.lim.bus_min, o.lim.bus_max + 1, 4000)
+    current = rng.integers(0, o.u.adc_max + 1, 4000)
+    com = o.rule(period, bus, current)
+    for shift in (0.0, -0.01, 0.01, -1.0, 1.0):
+        unfinished = com.current(np.ones_like(com.x), shift) > 0
+        lo, hi = np.zeros_like(com.x), np.ones_like(com.x)
+        for _ in range(56):
+            mid = 0.5 * (lo + hi)
+            above = com.current(mid, shift) > 0
+            lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
+        bisected = np.where(unfinished, 1.0, 0.5 * (lo + hi))
+        z, flag = com.zero(shift)
+        assert np.array_equal(flag, unfinished)
+        ticks = com.sector_ticks
+        assert np.max(np.abs(z - bisected) * ticks) <= 2 * ZERO_WIDTH_TICKS
+        assert np.array_equal(com.end_after(z * ticks), com.end_after(bisected * ticks))

@@ -22,7 +22,7 @@ where it happened, the bound, and a verdict; a point outside its bound is a fail
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
@@ -30,7 +30,6 @@ import numpy.typing as npt
 
 from codegen.spec_model import Spec
 from oracle.model import Oracle
-from oracle.rule import Commutation
 from verify.points import FIELDS
 
 Floats = npt.NDArray[np.float64]
@@ -389,7 +388,7 @@ class _ActiveSet:
         row_inv = row_inv.ravel()
         point = (row_uniq >> 20).astype(np.int64)
         end = (row_uniq & ((1 << 20) - 1)).astype(np.int64)
-        sub = _subset(com, point)
+        sub = com.take(point)
         at = sub.pair_at(np.maximum(end, 1))
         on_exp, off_exp = at.on[row_inv], at.off[row_inv]
         on_err = np.abs(self.on_c - on_exp)
@@ -409,19 +408,6 @@ class _ActiveSet:
         wrong |= ((end_lo[rows] > n_rows) & ~clamped) | ((end_hi[rows] <= n_rows) & clamped)
         forward = np.where(relaxed, 0.0, forward)
         return _Result(on_err, off_err, forward, use, relaxed, wrong)
-
-
-def _subset(com: Commutation, index: Ints) -> Commutation:
-    """The commutation quantities of a subset of its points (repeated as indexed)."""
-    return replace(
-        com,
-        x=com.x[index],
-        y=com.y[index],
-        a=com.a[index],
-        rho=com.rho[index],
-        sector_ticks=com.sector_ticks[index],
-        latest_ticks=com.latest_ticks[index],
-    )
 
 
 def _distance(value: Floats, lo: Floats, hi: Floats) -> Floats:
