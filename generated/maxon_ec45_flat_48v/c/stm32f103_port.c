@@ -508,7 +508,10 @@ static void port_on_commutation_end(uintptr_t anchor)
      * not yet taken (JEOC): that is the last trigger's, unless the last trigger is too
      * young to have ended, when it is an older one's and the last still converts (two;
      * counting two whenever JEOC was set dropped the one sample a commutation filling
-     * its sector leaves before the next edge). */
+     * its sector leaves before the next edge). The counter is read before SR on
+     * purpose: a sequence that ends between the two reads counts two (its successor,
+     * a clean sample, is dropped), never one (a sample begun before the end taken as
+     * I), which reading SR first would allow. */
     const uint32_t status = PORT_AT(anchor, ADC1, ADC_TypeDef)->SR;
     const uint32_t converting = ((status & ADC_SR_JSTRT) != 0u) ||
                                 (age < BLDC_PORT_SEQUENCE_COUNTS);
