@@ -444,21 +444,38 @@ class _Builder:
         )
 
 
+#: YAML's line breaks (PyYAML's too, once U+0085, U+2028 and U+2029 are refused)
+_LINE_BREAK = re.compile(r"\r\n|\r|\n")
+
+
+def _line_at(text: str, index: int) -> int:
+    """The 1-based line of `text[index]`, counted by YAML's line breaks (a file with
+    carriage returns alone had every refusal of a character on line 1)."""
+    return len(_LINE_BREAK.findall(text, 0, index)) + 1
+
+
 def _key_near(text: str, line: int) -> str:
     """The block-mapping key path in force at `line` (1-based), read from indentation:
-    a best guess for naming the key of a syntax error, '' if none is found."""
+    a best guess for naming the key of a syntax error, '' if none is found. Characters
+    a spec may not hold are left out first, so that one inside a key or its indentation
+    names that key, not the one before it."""
     stack: list[tuple[int, str]] = []
     # a tab in the indentation is what PyYAML refuses there: count it as one column
-    key_line = re.compile(r"^(?P<indent>[ \t]*)(?P<key>[A-Za-z_][A-Za-z0-9_.\[\]]*)\s*:(?:\s|$)")
-    for number, content in enumerate(text.splitlines()[:line], start=1):
+    key_line = re.compile(
+        r"^(?P<indent>[ \t]*)"
+        r"(?:\"(?P<double>[^\"]*)\"|'(?P<single>[^']*)'|(?P<key>[A-Za-z_][A-Za-z0-9_.\[\]]*))"
+        r"\s*:(?:\s|$)"
+    )
+    clean = _AMBIGUOUS_BREAK.sub("", _NOT_PRINTABLE.sub("", text))
+    for content in _LINE_BREAK.split(clean)[:line]:
         match = key_line.match(content)
         if match is None:
             continue
         indent = len(match.group("indent"))
         while stack and stack[-1][0] >= indent:
             stack.pop()
-        stack.append((indent, _short_key(match.group("key"))))
-        del number
+        key = next(k for k in match.group("double", "single", "key") if k is not None)
+        stack.append((indent, _short_key(key)))
     return ".".join(key for _, key in stack)
 
 
@@ -474,8 +491,8 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        line = raw[: exc.start].count(b"\n") + 1
         before = raw[: exc.start].decode("utf-8", "replace")
+        line = _line_at(before, len(before))
         raise YamlError(
             f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})",
             line,
@@ -483,7 +500,7 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
         ) from None
     bad = _NOT_PRINTABLE.search(text)
     if bad is not None:
-        line = text.count("\n", 0, bad.start()) + 1
+        line = _line_at(text, bad.start())
         raise YamlError(
             f"character U+{ord(bad.group()):04X} is not allowed in YAML (binary or"
             " control characters)",
@@ -496,11 +513,16 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
         # YAML 1.2 reads U+0085, U+2028 and U+2029 as text, PyYAML (YAML 1.1) as line
         # breaks: one in a comment ended the comment there and the rest of its line was
         # read as a key (a "malformed YAML" line that pointed at the wrong line)
-        line = text.count("\n", 0, ambiguous.start()) + 1
+        line = _line_at(text, ambiguous.start())
+        char = ambiguous.group()
+        instead = (
+            "remove it (a C1 control character, which no spec value may hold)"
+            if char == "\x85"
+            else f"remove it, or write it as the escape \\u{ord(char):04X} in a double-quoted string"
+        )
         raise YamlError(
-            f"character U+{ord(ambiguous.group()):04X} is not allowed raw in a spec: a line"
-            " break to YAML 1.1 readers and text to YAML 1.2 (write it as an escape in a"
-            " double-quoted string)",
+            f"character U+{ord(char):04X} is not allowed raw in a spec: a line break to YAML"
+            f" 1.1 readers and text to YAML 1.2; {instead}",
             line,
             _key_near(text, line),
             PRINTABLE_UNAMBIGUOUS,

@@ -104,6 +104,15 @@ def test_hostile_documents_are_refused_in_one_line(
     assert caught.value.path == path
 
 
+def test_a_control_character_in_a_file_of_carriage_returns_is_placed_on_its_line() -> None:
+    """A file whose lines end in carriage returns alone had every refusal of a character
+    on line 1, at `<document>`: lines are counted by YAML's line breaks."""
+    with pytest.raises(YamlError) as caught:
+        read_yaml(b"m:\r  a: 1\r  b: x\x07y\r")
+    assert caught.value.line == 3
+    assert caught.value.path == "m.b"
+
+
 @pytest.mark.parametrize("character", ["\x00", "\x17", "\x7f", "\x9f", "\ufffe"])
 def test_a_character_outside_yamls_printable_set_is_refused_with_the_set_it_may_hold(
     character: str,
@@ -124,6 +133,13 @@ def test_a_character_outside_yamls_printable_set_is_refused_with_the_set_it_may_
         ("a: 1\n# a note \x85 more: x: y\nb: 2\n", 2, "a"),
         ("a: 1\nb: 2  # \u2029 - z\nc: 3\n", 2, "b"),
         ('a: 1\nb: "x\u2028y"\nc: 3\n', 2, "b"),
+        # inside a key, its indentation or a quoted key: that key, not the one before
+        ("m:\n  a: 1\n  phase_\u2028resistance: 2\n", 3, "m.phase_resistance"),
+        ("m:\n  a: 1\n  \u2029b: 2\n", 3, "m.b"),
+        ('m:\n  a: 1\n  "b\x85": 2\n', 3, "m.b"),
+        # carriage returns alone end the lines, as PyYAML reads them
+        ("m:\r  a: 1\r  b: x\u2028\r", 3, "m.b"),
+        ("m:\r\n  a: 1\r\n  b\u2028: x\r\n", 3, "m.b"),
     ],
 )
 def test_a_raw_character_yaml_versions_read_apart_is_refused_on_its_own_line(
@@ -136,6 +152,7 @@ def test_a_raw_character_yaml_versions_read_apart_is_refused_on_its_own_line(
     with pytest.raises(YamlError) as caught:
         read_yaml(document.encode())
     assert "is not allowed raw in a spec" in caught.value.problem
+    assert "remove it" in caught.value.problem
     assert caught.value.line == line
     assert caught.value.path == path
     assert "less U+0085, U+2028 and U+2029" in caught.value.allowed
