@@ -143,7 +143,9 @@ class Commutation:
         bisection steps took 56. Only the sign of g moves the bracket, so the false
         position picks points but never decides the zero (on 200 000 random points of
         each of seven improved_r motors at six shifts: within 2.2e-9 ticks of the
-        bisection's zero, every carrier-boundary end the same)."""
+        bisection's zero; a carrier-boundary end differs only where the zero lies that
+        close to a boundary, 22 of 100 000 points on a 40 kHz motor, inside the window
+        of ends the verifier allows)."""
         ones = np.ones_like(self.x)
         g_one = self.current(ones, shift)
         unfinished = g_one > 0

@@ -227,7 +227,8 @@ def test_the_rules_zero_should_be_the_bisections_within_its_width(path: str) -> 
     """`Commutation.zero` narrows its brackets by false position (Illinois) and stops at
     ZERO_WIDTH_TICKS: against 56 plain bisection steps of the same g, written here, over
     the whole input box (zero currents, whose g(0) = 0, included) and the verifier's
-    shifts, every zero within two widths and every carrier-boundary end the same."""
+    shifts, every zero within two widths and every carrier-boundary end the same but
+    where the zero lies within that of a boundary."""
     from oracle.rule import ZERO_WIDTH_TICKS
 
     o = oracle(load_spec(ROOT / path))
@@ -248,4 +249,7 @@ def test_the_rules_zero_should_be_the_bisections_within_its_width(path: str) -> 
         assert np.array_equal(flag, unfinished)
         ticks = com.sector_ticks
         assert np.max(np.abs(z - bisected) * ticks) <= 2 * ZERO_WIDTH_TICKS
-        assert np.array_equal(com.end_after(z * ticks), com.end_after(bisected * ticks))
+        periods = bisected * ticks / com.carrier_ticks
+        on_a_boundary = np.abs(periods - np.rint(periods)) * com.carrier_ticks <= 4e-9
+        differ = com.end_after(z * ticks) != com.end_after(bisected * ticks)
+        assert not (differ & ~on_a_boundary).any()
