@@ -675,10 +675,11 @@ def section_rule(b: Bench, report: Report) -> None:
     started = time.perf_counter()
     try:
         rule = rule_bench.run(b.spec_path, b.work / "rule", quick=b.quick)
-    except FixedPointError as error:
+    except (FixedPointError, SpecError) as error:
         if b.spec.controller.method == rule_bench.METHOD:
             raise  # the spec's own firmware: the design refusal is the spec's error
-        # a copy for comparison, which the rule's integer design cannot take on this
+        # a copy for comparison, which the rule's integer design (or the loader, for a
+        # top speed whose sector holds no PWM period past the guard) cannot take on this
         # motor: nothing to measure, and the spec's own firmware is unaffected
         report.say(
             f"{rule_bench.METHOD}: not measured: its copy of this motor cannot be designed"

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import random
+import re
 from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
@@ -494,3 +495,29 @@ def test_a_rule_that_decides_no_end_should_not_claim_an_empty_bound() -> None:
     # the paper's motor keeps its claim: every point is within it, decided or not
     d = build_core(load_spec(Path(__file__).parents[1] / "spec" / "paper_motor_improved_r.yaml"))
     assert d.design.claims.duty_counts == 0.641
+
+
+def test_a_top_speed_whose_sector_holds_no_pwm_period_should_be_refused_naming_speed_max(
+    tmp_path: Path,
+) -> None:
+    """The rule ends a commutation on a carrier boundary: where the shortest sector, less
+    the end's guard and margin, holds no PWM period, the design is refused. It named
+    controller.method, "allowed: a spec whose accuracy targets and ranges the rule's
+    integer formats can meet"; it names controller.speed_max and the fastest speed that
+    holds one, and that speed designs while 0.1 rpm more does not."""
+    path = Path(__file__).parent / "fixtures" / "refused" / "improved_r_sector_no_period.yaml"
+    with pytest.raises(FixedPointError) as caught:
+        build_core(load_spec(path))
+    assert caught.value.key == "controller.speed_max"
+    message = str(caught.value)
+    assert message.startswith("controller.speed_max = 34060 rpm: the shortest sector (587 ticks)")
+    allowed = re.search(r"allowed: <= ([0-9.]+) rpm for controller.method improved_r", message)
+    assert allowed is not None and allowed.group(1) == "33783.7"
+    text = path.read_text(encoding="utf-8")
+    at = tmp_path / "at.yaml"
+    at.write_text(text.replace("speed_max: 34060 rpm", "speed_max: 33783.7 rpm"), "utf-8")
+    build_core(load_spec(at))
+    above = tmp_path / "above.yaml"
+    above.write_text(text.replace("speed_max: 34060 rpm", "speed_max: 33783.8 rpm"), "utf-8")
+    with pytest.raises(FixedPointError, match=re.escape("controller.speed_max = 33783.8 rpm")):
+        build_core(load_spec(above))

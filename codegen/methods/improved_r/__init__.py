@@ -12,6 +12,7 @@ the commutation end: ending on a boundary leaves the ripple's phase alone).
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 from codegen.core.conditioning import CoreLimits
@@ -21,6 +22,7 @@ from codegen.methods.base import Claims, CoreDesign, FixedPointError
 from codegen.methods.improved_r.constants import rule_constants
 from codegen.methods.improved_r.design import (
     RuleFormatError,
+    SectorTooShortError,
     design_rule,
     reachable_duty_target,
 )
@@ -45,6 +47,17 @@ class ImprovedR:
             ) from None
         try:
             design = design_rule(c, sc.current_code_max, limits)
+        except SectorTooShortError as exc:
+            # the top speed's sector is the cause: named with the speed that holds one
+            # period (this had named controller.method, with no value to change to)
+            # the Hall timer reads floor(T) ticks of a sector T = 10 f_hall / (p n)
+            top = 10 * float(sc.hall_clock_hz) / (float(sc.pole_pairs) * exc.period_needed)
+            raise FixedPointError(
+                f"controller.speed_max = {float(spec.controller.speed_max_rpm):g} rpm: {exc}"
+                f" (allowed: <= {math.floor(top * 10) / 10:g} rpm for controller.method"
+                " improved_r, or a higher PWM frequency or a shorter dead time)",
+                "controller.speed_max",
+            ) from None
         except RuleFormatError as exc:
             # a target the formats miss is named as such, with the value they do meet
             # (the "duty bound ... exceeds the target" wording stays: the simulation and

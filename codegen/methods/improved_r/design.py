@@ -49,6 +49,16 @@ class RuleFormatError(ValueError):
     """No integer format of the rule meets the spec's ranges and accuracy targets."""
 
 
+class SectorTooShortError(RuleFormatError):
+    """The shortest sector, less the end's guard and margin, holds no PWM period: the
+    commutation cannot end on a carrier boundary. `period_needed`: the shortest Hall
+    period (ticks) that holds one."""
+
+    def __init__(self, message: str, period_needed: int) -> None:
+        super().__init__(message)
+        self.period_needed = period_needed
+
+
 #: How a refusal for the duty target begins; `refused_duty_bound` reads the bound back.
 DUTY_REFUSAL = "duty bound"
 _DUTY_REFUSED = re.compile(
@@ -136,12 +146,14 @@ def _ramp_bits(c: RuleConstants) -> int:
 
 def _formats(c: RuleConstants, limits: CoreLimits) -> tuple[FixedRule, tuple[ProvenRange, ...]]:
     if c.periods(c.period_low) < 1:
-        raise RuleFormatError(
+        needed = next(t for t in range(c.period_low, 2**20) if c.periods(t) >= 1)
+        raise SectorTooShortError(
             f"the shortest sector ({c.period_low} ticks), less the {c.guard_ticks}-tick guard"
             " and the hall.sector_shortening margin a commutation ends by before the sector"
             " does, is shorter than one PWM period"
             f" ({float(c.carrier_ticks):g} ticks): the commutation cannot end on a carrier"
-            " boundary"
+            " boundary",
+            needed,
         )
     fq = _ramp_bits(c)
     reasons = []
