@@ -681,8 +681,9 @@ def inertia_note(spec: Spec, setup: BrakingSetup) -> str:
     own = braking_edges(spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
     seconds = braking_seconds(spec, setup.start_rpm, setup.stop_rpm, setup.current_a)
     fewest, most = BRAKING_EDGES
+    edges = f"about {own:.0f} Hall edges" if own >= 1 else "less than one Hall edge"
     return (
-        f" The spec's own inertia would take about {own:.0f} Hall edges and"
+        f" The spec's own inertia would take {edges} and"
         f" {seconds:.3g} s over this range (at k_t I and the spec's viscous friction), outside the"
         f" {fewest} to {most} edges and {BRAKING_MOTOR_S:g} s of motor time a run takes,"
         f" so the run scales it to take about {own * setup.inertia_scale:.0f}; the speed"

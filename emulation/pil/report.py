@@ -53,7 +53,9 @@ def render(
         "",
         f"Spec `{shown.as_posix()}` (sha256 {digest}); written by"
         " `emulation/pil/report.py` (`make pil`). The drive firmware on the emulated"
-        " STM32F103 (emulation/pil), the inputs set by each scenario; no motor model yet.",
+        " STM32F103 (emulation/pil), the inputs set by each scenario; the braking run and"
+        " the scenarios marked 'motor in the loop' drive the simulated motor"
+        " (emulation/pil/plant.py).",
         "",
         f"PWM period {1e6 / pwm_hz:.2f} us. Latency: the cause to TIM1's MOE cleared (the"
         " bridge in its safe state), limit one PWM period unless stated.",
