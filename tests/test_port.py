@@ -781,6 +781,13 @@ int main(int argc, char **argv)
     show("end1");
     adc(BUS_OK, OFFSET + 300u, 0u, 0u); /* steady: I sampled; open loop leaves the duty */
     show("steady_open");
+    /* A bus change while the interval is still unknown (edge1 read a wrapped counter):
+     * the bus state is new, the timing waits for the next edge's run, which has the
+     * interval (with the sampled current it would commutate for most of a sector). */
+    bus_runs = 0u;
+    adc(BUS_OK + 3u, OFFSET + 300u, 0u, 0u);
+    show("bus_unknown_interval");
+    adc(BUS_OK, OFFSET + 300u, 0u, 0u);
     bldc_port_set_main_duty(1700u);
     settle();
     show("duty");
@@ -1247,6 +1254,24 @@ def test_a_bus_sample_during_a_bus_change_should_be_served_by_a_rerun(
     assert r["in.bus"] == _loop_run_paper().bus_ok + 40
 
 
+def test_no_timing_should_run_on_a_sampled_current_while_the_interval_is_unknown(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    """In the first sector after arming TIM3 has wrapped: the core would take the
+    interval for the slowest speed and, with the current the loop sampled, compute a
+    commutation most of a sector long for the next edge at the rotor's true speed (a
+    run pended there tripped BKIN at 15 A on the second edge in the PIL). A bus change
+    there waits, its state and the timing (bldc_port_status() reads the bus state with
+    the published timing's inputs), for the first sample after the next edge; the runs
+    of that sector's COM events read no sample (the first end's run: current 0)."""
+    r = host_run["bus_unknown_interval"]
+    assert r["in.busruns"] == 0  # the bus state waits
+    assert r["in.runs"] == host_run["steady_open"]["in.runs"]  # no timing run with it
+    assert host_run["end1"]["in.cur"] == 0  # the end's own run: no sample yet
+    # once the interval is known the timing follows the loop again (edge2's run)
+    assert host_run["edge2"]["in.period"] != 65535
+
+
 def test_hall_edge_should_apply_the_precomputed_pattern_at_one_com_event(
     host_run: dict[str, dict[str, int]],
 ) -> None:
@@ -1459,6 +1484,9 @@ def test_an_explicit_clear_should_rearm_the_bridge_once_the_cause_is_gone(
     assert r["tim1.ccer"] == CC4E  # armed, every switch off until the next edge
     assert r["tim3.dier"] == 0x6
     assert r["tim1.dier"] & 0x80  # the break interrupt on again
+    # no held current: the first sector's timing runs (its interval unknown) read none,
+    # not the sample from before the fault (test_no_timing_should_run_on_a_sampled_...)
+    assert r["port.current"] == 0
 
 
 @pytest.mark.parametrize("step", ["over_voltage", "over_voltage_regular", "under_voltage"])

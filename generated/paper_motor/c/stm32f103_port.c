@@ -263,7 +263,7 @@ static struct {
     uint32_t all_off_span;          /* ... for this many intervals (0: none; port_set_safe_region) */
     uint32_t reference;             /* braking-current reference, ADC code, or BLDC_PORT_OPEN_LOOP */
     int32_t integrator;             /* the PI's x, Q BLDC_LOOP_FRAC_BITS counts */
-    uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation) */
+    uint32_t current;               /* I, ADC code: the last steady sample (held through a commutation); 0 from arming until the first */
     /* The inputs of the published timing beside `bus`, which only the timing handler
      * writes: bldc_port_status() computes its flags from them. */
     uint16_t timed_period;          /* the Hall interval it took */
@@ -743,6 +743,21 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
     port.timing = next;
 }
 
+/* 1 if a timing run now may take the held current, else 0. While the Hall interval is
+ * unknown (TIM3 wrapped: the first sector after arming) the core takes it for the
+ * slowest speed, and with a real current computes a commutation most of a sector long,
+ * which the next edge would apply at the rotor's true speed: an over-current (a timing
+ * run pended in that sector with a sampled current tripped BKIN at 15 A on the second
+ * edge, make pil). The Hall edge's and the commutation end's own runs there read no
+ * sample (port_arm clears the held current; the loop samples only after the first
+ * end); a bus change (its state too, which bldc_port_status() reads with the published
+ * timing's inputs) or a new open-loop duty then waits for the next edge, after which
+ * the loop's next sample outside the band pends it again. */
+static inline uint32_t port_timing_may_run(void)
+{
+    return (uint32_t)((port.period != BLDC_PORT_TIM3_ARR) || (port.current == 0u));
+}
+
 /* The bus voltage moved beyond the hysteresis: its new state, then the timing with it.
  * TIM1's update vector, which TIM1 itself never raises (DIER.UIE stays 0): the current
  * loop pends it. It runs at the timing handler's priority, so neither preempts the
@@ -752,7 +767,7 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
  * band meanwhile changes nothing. */
 void TIM1_UP_IRQHandler(void)
 {
-    if (port.bus_moved != 0u) {
+    if ((port.bus_moved != 0u) && (port_timing_may_run() != 0u)) {
         port_update_bus();
         NVIC_SetPendingIRQ(TIM1_TRG_COM_IRQn);
     }
@@ -1115,6 +1130,7 @@ static void port_arm(void)
     port.pending = 0u;
     port.steady = 0u;
     port.integrator = 0;
+    port.current = 0u; /* no sample until the first commutation end (port_timing_may_run) */
     port.previous_pins = port_read_pins();
     TIM3->CNT = BLDC_PORT_TIM3_ARR; /* the next tick wraps: the first interval reads as unknown */
     TIM3->SR = 0u;
