@@ -694,6 +694,7 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
     rig = PortRig(spec, elf)
     rig.prime(inputs.buses[0], inputs.currents[0], inputs.periods[0])
     sequence = spec.hall.sequence
+    wrapped = (1 << spec.hall.counter_bits) - 1  # TIM3's ARR: a wrap reads as it
     step = 0
     points = []
     bus_changes = []
@@ -701,6 +702,15 @@ def timing_sweep(spec: Spec, elf: Path, inputs: Sweep) -> TimingSweep:
         for bus in inputs.buses:
             for current in inputs.currents:
                 for duty in inputs.duties:
+                    if period == wrapped:
+                        # the port holds a bus change (and an open-loop duty's run) while
+                        # the last interval reads as the counter's wrap, the speed unknown
+                        # (`port_timing_may_run`): an edge at the sweep's first period
+                        # first, as the rotor's next one would give, so that the point's
+                        # inputs reach its timing
+                        rig.hall_edge(sequence[step % 6], inputs.periods[0])
+                        rig.commutation_end()
+                        step += 1
                     runs = rig.set_inputs(bus, current, duty)
                     if BUS_HANDLER in runs:
                         bus_changes.append(rig.total(runs.values()))
