@@ -185,20 +185,18 @@ _NAN_RE = re.compile(r"(?:\.nan|\.NaN|\.NAN)\Z")
 _NOT_PRINTABLE = re.compile(
     "[^\x09\x0a\x0d\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufefe\uff00-\ufffd\U00010000-\U0010ffff]"
 )
+_ABOVE_LATIN1 = "U+00A0 upward, less the surrogates, U+FEFF inside the text, U+FFFE and U+FFFF"
 #: `_NOT_PRINTABLE`'s complement in words, for the refusal of a document that holds one
 PRINTABLE = (
     "YAML's printable characters: tab, line feed, carriage return, U+0020-U+007E, U+0085"
-    " and U+00A0 upward, less the surrogates, U+FEFF inside the text, U+FFFE and U+FFFF"
+    f" and {_ABOVE_LATIN1}"
 )
-
-
 #: the printable characters YAML 1.1 takes for line breaks and YAML 1.2 for text
 _AMBIGUOUS_BREAK = re.compile("[\x85\u2028\u2029]")
 #: what a spec's raw text may hold: the printable set less those three
 PRINTABLE_UNAMBIGUOUS = (
     "YAML's printable characters less U+0085, U+2028 and U+2029: tab, line feed, carriage"
-    " return, U+0020-U+007E and U+00A0 upward, less the surrogates, U+FEFF inside the"
-    " text, U+FFFE and U+FFFF"
+    f" return, U+0020-U+007E and {_ABOVE_LATIN1}"
 )
 
 

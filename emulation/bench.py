@@ -679,8 +679,8 @@ def section_rule(b: Bench, report: Report) -> None:
         if b.spec.controller.method == rule_bench.METHOD:
             raise  # the spec's own firmware: the design refusal is the spec's error
         # a copy for comparison, which the rule's integer design (or the loader, for a
-        # top speed whose sector holds no PWM period past the guard) cannot take on this
-        # motor: nothing to measure, and the spec's own firmware is unaffected
+        # value only the rule's copy is held to) cannot take on this motor: nothing to
+        # measure, and the spec's own firmware is unaffected
         report.say(
             f"{rule_bench.METHOD}: not measured: its copy of this motor cannot be designed"
             f" ({' '.join(str(error).split())})"

@@ -152,45 +152,51 @@ class Commutation:
         g_zero = self.current(np.zeros_like(self.x), shift)
         z = np.ones_like(self.x)
         index = np.flatnonzero(~unfinished)
+        n = index.size
+        # the open points' state, filtered together as points close
+        st = {
+            "lo": np.zeros(n),
+            "hi": np.ones(n),
+            "g_lo": g_zero[index],
+            "g_hi": g_one[index],
+            "side": np.zeros(n, dtype=np.int8),  # the end the last step moved: +1 lo, -1 hi
+            "width_back": np.full(n, 2.0),  # the bracket's width two steps back
+            "width_last": np.full(n, 2.0),  # and one step back
+            "tolerance": ZERO_WIDTH_TICKS / np.maximum(self.sector_ticks[index], 1.0),
+        }
         open_ = self.take(index)
-        lo, hi = np.zeros(index.size), np.ones(index.size)
-        g_lo, g_hi = g_zero[index], g_one[index]
-        bracketed = g_lo > 0  # g(lo) > 0 >= g(hi): false position may step
-        moved_lo = np.zeros(index.size, dtype=bool)  # the last step moved lo
-        moved_hi = np.zeros(index.size, dtype=bool)  # the last step moved hi
-        widths = (np.full(index.size, 2.0), np.full(index.size, 2.0))  # two steps back
-        tolerance = ZERO_WIDTH_TICKS / np.maximum(open_.sector_ticks, 1.0)
         for _ in range(ZERO_STEPS_MAX):
             if index.size == 0:
                 break
+            lo, hi, g_lo, g_hi = st["lo"], st["hi"], st["g_lo"], st["g_hi"]
             width = hi - lo
-            mid = 0.5 * (lo + hi)
             with np.errstate(divide="ignore", invalid="ignore"):
                 secant = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
-            step = bracketed & (width <= 0.5 * widths[0]) & (secant > lo) & (secant < hi)
-            c = np.where(step, secant, mid)
+            # g(lo) > 0 >= g(hi) once lo has moved (or g(0) > 0): false position may step
+            step = (g_lo > 0) & (width <= 0.5 * st["width_back"]) & (secant > lo) & (secant < hi)
+            c = np.where(step, secant, 0.5 * (lo + hi))
             stuck = (c == lo) | (c == hi)  # the bracket is as narrow as floats make it
-            widths = (widths[1], width)
             g = open_.current(c, shift)
             above = g > 0
-            # Illinois: the end kept twice running has its value halved (moved_lo: the last
-            # step moved lo, so hi was kept)
-            g_hi = np.where(above & moved_lo, 0.5 * g_hi, g_hi)
-            g_lo = np.where(~above & moved_hi, 0.5 * g_lo, g_lo)
-            lo, g_lo = np.where(above, c, lo), np.where(above, g, g_lo)
-            hi, g_hi = np.where(above, hi, c), np.where(above, g_hi, g)
-            moved_lo, moved_hi = above, ~above
-            bracketed = bracketed | above
-            done = ((hi - lo) <= tolerance) | stuck
+            # Illinois: the end kept twice running has its value halved
+            g_hi = np.where(above & (st["side"] > 0), 0.5 * g_hi, g_hi)
+            g_lo = np.where(~above & (st["side"] < 0), 0.5 * g_lo, g_lo)
+            st.update(
+                lo=np.where(above, c, lo),
+                g_lo=np.where(above, g, g_lo),
+                hi=np.where(above, hi, c),
+                g_hi=np.where(above, g_hi, g),
+                side=np.where(above, 1, -1).astype(np.int8),
+                width_back=st["width_last"],
+                width_last=width,
+            )
+            done = ((st["hi"] - st["lo"]) <= st["tolerance"]) | stuck
             if done.any():
-                z[index[done]] = 0.5 * (lo[done] + hi[done])
+                z[index[done]] = 0.5 * (st["lo"][done] + st["hi"][done])
                 keep = np.flatnonzero(~done)
                 index, open_ = index[keep], open_.take(keep)
-                lo, hi, g_lo, g_hi = lo[keep], hi[keep], g_lo[keep], g_hi[keep]
-                bracketed, moved_lo, moved_hi = bracketed[keep], moved_lo[keep], moved_hi[keep]
-                widths = (widths[0][keep], widths[1][keep])
-                tolerance = tolerance[keep]
-        z[index] = 0.5 * (lo + hi)
+                st = {key: value[keep] for key, value in st.items()}
+        z[index] = 0.5 * (st["lo"] + st["hi"])
         return z, unfinished
 
     @property

@@ -50,8 +50,7 @@ class ImprovedR:
         except SectorTooShortError as exc:
             # the top speed's sector is the cause: named with the speed that holds one
             # period (this had named controller.method, with no value to change to)
-            # the Hall timer reads floor(T) ticks of a sector T = 10 f_hall / (p n)
-            top = 10 * float(sc.hall_clock_hz) / (float(sc.pole_pairs) * exc.period_needed)
+            top = float(sc.speed_rpm(exc.period_needed))
             raise FixedPointError(
                 f"controller.speed_max = {float(spec.controller.speed_max_rpm):g} rpm: {exc}"
                 f" (allowed: <= {math.floor(top * 10) / 10:g} rpm for controller.method"
