@@ -31,8 +31,17 @@ from codegen.spec_drive import (
     injected_sequence_s,
 )
 from codegen.spec_model import Spec
+from codegen.system_clock import SYSCLK_HZ
 
 LOOP_HEADER = current_loop.HEADER
+
+#: CPU cycles from the commutation end's load of TIM1 CNT to its load of ADC1 SR, at
+#: the most: the CR1 load between them (centre-aligned), each APB2 load a few cycles
+#: (PM0056 3.3.1: LDR 2, plus the bridge); the age's arithmetic is kept after both
+#: (BLDC_PORT_AFTER_LOADS). About three times the 5 and 7 cycles the bench's model
+#: measures (tests/emulation/test_end_reads.py). A higher-priority interrupt between the
+#: two loads only counts one more stale sequence (a clean sample dropped), never fewer.
+END_READ_GAP_CYCLES = 16
 
 #: RM0008 TIMx_CCMRx.OCxM: 110 PWM mode 1, 111 PWM mode 2.
 OC_MODE_PWM1 = 6
@@ -261,10 +270,17 @@ def _sequence_min_counts(spec: Spec) -> int:
     counts short of that bound, read as still converting and its JEOC as an older one's:
     two stale sequences, so the next one, begun after the end, was dropped too (at top
     speed on a 24 kHz centre-aligned 7-pole-pair motor and a 20 kHz edge-aligned one,
-    the timing then ran on a sample older than two sectors)."""
+    the timing then ran on a sample older than two sectors).
+
+    Less the counts between the commutation end's reads of TIM1's CNT and ADC1's SR
+    (END_READ_GAP_CYCLES): a sequence that ends between them reads as young yet ended.
+    A JEOC that is an older sequence's while the last trigger is this young would need
+    the loop's interrupt held off that long after it, several times the longest handler
+    above it."""
     clock = Fraction(spec.inverter.timer_clock_hz)
     counts = injected_conversions_s(Fraction(spec.sensing.adc_sample_cycles)) * clock
-    return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0)
+    read_gap = math.ceil(END_READ_GAP_CYCLES * clock / SYSCLK_HZ)
+    return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0) - read_gap
 
 
 def _adc2_sequence(spec: Spec) -> str:
@@ -307,8 +323,14 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "BLDC_PORT_SEQUENCE_MIN_COUNTS",
             f"{_sequence_min_counts(spec)}u",
             "TIM1 counts from an injected trigger to JEOC at the least (the trigger age's"
-            " terms, no injection latency: the datasheet gives only its largest): a younger"
-            " sequence has not ended, so a JEOC set then is an older one's",
+            " terms, no injection latency: the datasheet gives only its largest), less the"
+            " commutation end's gap between its CNT and SR reads: a younger sequence has not"
+            " ended, so a JEOC set then is an older one's",
+        ),
+        _define(
+            "BLDC_PORT_AGE_CR1(tim1)",
+            "((tim1)->CR1)" if centre else "0u",
+            "what BLDC_PORT_TRIGGER_AGE takes of CR1: its DIR bit (centre-aligned), else no read",
         ),
         _define(
             "BLDC_PORT_TRIGGER_AGE(cnt, cr1)",

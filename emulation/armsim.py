@@ -32,6 +32,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from enum import Enum
 from pathlib import Path
 from typing import NamedTuple
 
@@ -90,6 +91,16 @@ _ACCESS_NAMES = {
     UC_MEM_WRITE_PROT: "write to read-only address",
     UC_MEM_FETCH_PROT: "instruction fetch from non-executable address",
 }
+
+
+class WriteRule(Enum):
+    """How a store to a register combines with the word there (`combine_on_write`)."""
+
+    SET = "write 1 to set"
+    CLEAR = "rc_w0"
+
+
+SET, CLEAR = WriteRule.SET, WriteRule.CLEAR
 
 
 class SimulationError(RuntimeError):
@@ -351,6 +362,8 @@ class CortexM3Sim:
         self._accesses: list[Access] = []  # of the instruction running now
         self._fault: tuple[int, int, int, int] | None = None  # access, address, size, pc
         self._done_on_read: dict[int, int] = {}  # register -> bits that read as done
+        self._write_rules: dict[int, WriteRule] = {}  # register -> how a write acts
+        self._written: list[tuple[int, int]] = []  # (register, word before the write)
         self._uc.hook_add(UC_HOOK_CODE, self._on_instruction)
         self._uc.hook_add(UC_HOOK_MEM_READ | UC_HOOK_MEM_WRITE, self._on_access)
         self._uc.hook_add(UC_HOOK_MEM_INVALID, self._on_invalid_access)
@@ -370,6 +383,7 @@ class CortexM3Sim:
 
     def _on_instruction(self, uc: Uc, address: int, size: int, _data: object) -> None:
         self._close_step()
+        self._apply_write_rules()
         span = self._it_span
         if span is not None and not span[0] <= address < span[1]:
             # the first instruction outside the block: no IT state may remain (#2309)
@@ -395,6 +409,9 @@ class CortexM3Sim:
             cycles = estimate_cycles(self._steps, self).cycles & 0xFFFF_FFFF
             uc.mem_write(address, cycles.to_bytes(4, "little"))
             return
+        if access != UC_MEM_READ and address in self._write_rules:
+            # the hook runs before the store: the word it replaces, for the rule after it
+            self._written.append((address, int.from_bytes(uc.mem_read(address, 4), "little")))
         mask = self._done_on_read.get(address) if access == UC_MEM_READ else None
         if mask:
             word = int.from_bytes(uc.mem_read(address, 4), "little")
@@ -405,6 +422,22 @@ class CortexM3Sim:
         the time software polls it (such as ADC_CR2.CAL, the calibration), which plain
         memory would otherwise hold set forever."""
         self._done_on_read[address] = self._done_on_read.get(address, 0) | mask
+
+    def combine_on_write(self, address: int, rule: WriteRule) -> None:
+        """A register whose bits a store does not simply replace: `SET` for write 1 to
+        set (an NVIC ISPR word: a 0 bit leaves its interrupt's pending state, PM0056
+        4.3.4), `CLEAR` for rc_w0 (a status register: a 0 bit clears its flag, a 1 bit
+        leaves it, RM0008). Plain memory would take a store's word as the register's."""
+        self._write_rules[address] = rule
+
+    def _apply_write_rules(self) -> None:
+        """Combine each word stored to a ruled register since the last instruction began
+        with the word it replaced."""
+        for address, before in self._written:
+            stored = self.read_u32(address)
+            combined = before | stored if self._write_rules[address] is SET else before & stored
+            self.write_u32(address, combined)
+        self._written = []
 
     def _close_step(self) -> None:
         """Attach the accesses made since the last instruction began to that instruction."""
@@ -476,6 +509,7 @@ class CortexM3Sim:
             raise SimulationError(self._failure(name, str(error))) from None
         finally:
             self._close_step()
+            self._apply_write_rules()
         pc = uc.reg_read(uc_arm.UC_ARM_REG_PC)
         if pc != RETURN_ADDRESS:
             raise SimulationError(

@@ -36,7 +36,16 @@ from codegen.port_drive import current_watch
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
-from emulation.armsim import ArmImage, CallResult, CortexM3Sim, Step, Symbol, load_elf
+from emulation.armsim import (
+    CLEAR,
+    SET,
+    ArmImage,
+    CallResult,
+    CortexM3Sim,
+    Step,
+    Symbol,
+    load_elf,
+)
 from emulation.cycles import CycleBreakdown, UdivMode, entry_cycles, estimate_cycles, isr_cycles
 from emulation.memory import STM32F103_72MHZ, MemoryTiming
 from emulation.progress import progress
@@ -212,6 +221,12 @@ class PortRig:
         self.adc_dr = _register("ADC1", "DR")
         self.adc2_sr, self.adc2_dr = _register("ADC2", "SR"), _register("ADC2", "DR")
         self.jeoc, self.awd = _bit("ADC1", "SR", "JEOC"), _bit("ADC1", "SR", "AWD")
+        # Stores that do not replace the word: the NVIC's set-pending words (a 0 bit
+        # leaves its interrupt; the port's pend writes rely on it) and the status
+        # registers the port clears by writing 0 to a flag and 1 to the rest.
+        self.sim.combine_on_write(self.ispr0, SET)
+        for peripheral in ("TIM1", "TIM3", "ADC1", "ADC2"):
+            self.sim.combine_on_write(_register(peripheral, "SR"), CLEAR)
         tim1_irqs = load_device().peripheral("TIM1").interrupts
         (self.timing_irq,) = [i.value for i in tim1_irqs if i.name.startswith("TIM1_TRG_COM")]
         (self.bus_irq,) = [i.value for i in tim1_irqs if i.name.startswith("TIM1_UP")]

@@ -980,17 +980,20 @@ def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loo
 def _latency_for_certain(copy: Path) -> None:
     """A port mutant for `link_mutant`: BLDC_PORT_SEQUENCE_MIN_COUNTS with the datasheet's
     largest injection latency taken for certain (the bound before it was left out)."""
+    from codegen.port_drive import END_READ_GAP_CYCLES
     from codegen.spec_drive import ADC_CLOCK_HZ, INJECTED_LATENCY_CYCLES
+    from codegen.system_clock import SYSCLK_HZ
 
     header = copy / "c" / "stm32f103_port.h"
     text = header.read_text(encoding="utf-8")
     (bound,) = re.findall(r"#define BLDC_PORT_SEQUENCE_MIN_COUNTS (\d+)u", text)
     spec = load_spec(ROOT / "tests" / "fixtures" / "pil" / "conv_cen_ps.yaml")
-    latency = INJECTED_LATENCY_CYCLES * Fraction(spec.inverter.timer_clock_hz) / ADC_CLOCK_HZ
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    latency = INJECTED_LATENCY_CYCLES * clock / ADC_CLOCK_HZ
+    gap = math.ceil(END_READ_GAP_CYCLES * clock / SYSCLK_HZ)  # the reads' gap back in too
     line = f"#define BLDC_PORT_SEQUENCE_MIN_COUNTS {bound}u"
-    header.write_text(
-        text.replace(line, f"#define BLDC_PORT_SEQUENCE_MIN_COUNTS {int(bound) + int(latency)}u")
-    )
+    before = int(bound) + gap + int(latency)
+    header.write_text(text.replace(line, f"#define BLDC_PORT_SEQUENCE_MIN_COUNTS {before}u"))
 
 
 def test_a_commutation_end_just_after_jeoc_should_leave_the_next_sample_to_the_loop(

@@ -839,6 +839,15 @@ int main(int argc, char **argv)
                          BLDC_PORT_TIM1_CCR4 + CONVERSIONS_COUNTS, /* it has just ended */
                          OFFSET + 83u, OFFSET + 84u, "ended_unlatched");
 
+    /* The same sequence ending between the end's read of TIM1's counter and its read of
+     * ADC1's SR (the compiled handler has them 5 to 7 cycles apart): the counter reads
+     * 8 counts short of its conversions, and its JEOC is set. Still the last trigger's:
+     * the next sample is I (an end landing there sector after sector had dropped the one
+     * clean sample of two sectors running, `make pil`). */
+    end_then_two_samples(seq[1], ADC_SR_JSTRT | ADC_SR_JEOC,
+                         BLDC_PORT_TIM1_CCR4 + CONVERSIONS_COUNTS - 8u,
+                         OFFSET + 85u, OFFSET + 86u, "ended_between_reads");
+
     /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
 #define STEADY()                                              \
     do {                                                      \
@@ -1343,6 +1352,19 @@ def test_a_sequence_ended_without_injection_latency_should_hold_one_sample_not_t
     offset = _loop_run_paper().offset
     assert host_run["ended_unlatched"]["port.current"] != offset + 83  # the ended one: held
     assert host_run["after_ended_unlatched"]["port.current"] == offset + 84
+
+
+def test_a_sequence_ending_between_the_ends_two_reads_should_hold_one_sample_not_two(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    """The end reads TIM1's counter, then ADC1's SR; a sequence that ends between the two
+    reads has a JEOC yet an age short of its conversions. It is the last trigger's: one
+    stale sequence, the next is I. The bound had no room for the reads' gap, and the SR
+    read came after the end's other work: an end that landed there sector after sector
+    (a steady braking's ends keep their phase to the carrier) counted two each time."""
+    offset = _loop_run_paper().offset
+    assert host_run["ended_between_reads"]["port.current"] != offset + 85
+    assert host_run["after_ended_between_reads"]["port.current"] == offset + 86
 
 
 def test_current_loop_should_set_the_steady_switch_from_each_sample(

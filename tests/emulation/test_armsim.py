@@ -199,3 +199,26 @@ def test_writes_to_flash_and_unknown_symbols_should_be_refused(sim: CortexM3Sim)
         sim.call("add3", [1, 2, 3, 4, 5])
     with pytest.raises(SimulationError, match=r"cannot read 4 bytes at 0x50000000"):
         sim.read_u32(0x5000_0000)
+
+
+ISPR0 = 0xE000_E200  # NVIC set-pending word
+TIM3_SR = 0x4000_0410
+
+
+def test_a_store_of_zeros_should_leave_set_pending_bits_and_rc_w0_flags(sim: CortexM3Sim) -> None:
+    """PM0056 4.3.4: a 0 written to an ISPR bit does nothing; RM0008: a 1 written to an
+    rc_w0 flag leaves it. The port pends two handlers with two writes to one ISPR word
+    and clears one status flag by writing 1 to the others: as plain memory the rig read
+    the last word written (the bench lost a bus change the port had pended)."""
+    from emulation.armsim import CLEAR, SET
+
+    sim.write_u32(ISPR0, 0)
+    sim.call("store_twice", args=(ISPR0, 1 << 25, 0))
+    assert sim.read_u32(ISPR0) == 0  # plain memory: the last word
+    sim.combine_on_write(ISPR0, SET)
+    sim.call("store_twice", args=(ISPR0, 1 << 25, 1 << 26))
+    assert sim.read_u32(ISPR0) == (1 << 25) | (1 << 26)
+    sim.write_u32(TIM3_SR, 0b1111)
+    sim.combine_on_write(TIM3_SR, CLEAR)
+    sim.call("store_twice", args=(TIM3_SR, ~0b0100 & 0xFFFF_FFFF, ~0b0001 & 0xFFFF_FFFF))
+    assert sim.read_u32(TIM3_SR) == 0b1010

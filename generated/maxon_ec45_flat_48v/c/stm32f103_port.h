@@ -153,7 +153,8 @@
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
 #define BLDC_PORT_TIM1_CCR4 3296u /* the current sample: OC4REF (PWM mode 2) rises at CNT = 3296, 303 counts before the samples end, 1 before the next period */
 #define BLDC_PORT_SEQUENCE_COUNTS 504u /* TIM1 counts from an injected trigger to JEOC, one ADC cycle (and for the centre-aligned trigger one count after the peak, two counts) over */
-#define BLDC_PORT_SEQUENCE_MIN_COUNTS 480u /* TIM1 counts from an injected trigger to JEOC at the least (the trigger age's terms, no injection latency: the datasheet gives only its largest): a younger sequence has not ended, so a JEOC set then is an older one's */
+#define BLDC_PORT_SEQUENCE_MIN_COUNTS 464u /* TIM1 counts from an injected trigger to JEOC at the least (the trigger age's terms, no injection latency: the datasheet gives only its largest), less the commutation end's gap between its CNT and SR reads: a younger sequence has not ended, so a JEOC set then is an older one's */
+#define BLDC_PORT_AGE_CR1(tim1) 0u /* what BLDC_PORT_TRIGGER_AGE takes of CR1: its DIR bit (centre-aligned), else no read */
 #define BLDC_PORT_TRIGGER_AGE(cnt, cr1) (((cnt) >= BLDC_PORT_TIM1_CCR4) ? (cnt) - BLDC_PORT_TIM1_CCR4 : (cnt) + BLDC_PORT_TIM1_ARR + 1u - BLDC_PORT_TIM1_CCR4) /* TIM1 counts since the last injected trigger, from CNT and CR1 read before a COM event restarts the carrier: CNT = CCR4 */
 #define BLDC_PORT_OC4_MODE 7u /* OC4M: PWM mode 2 (rising at CNT = CCR4) */
 #define BLDC_PORT_ADC_JSQR ((3u << ADC_JSQR_JL_Pos) | (0u << ADC_JSQR_JSQ1_Pos) | (2u << ADC_JSQR_JSQ2_Pos) | (3u << ADC_JSQR_JSQ3_Pos) | (4u << ADC_JSQR_JSQ4_Pos)) /* JL = 3: JSQ1..JSQ4 land in JDR1..JDR4; JSQ1 IN0, JSQ2 IN2, JSQ3 IN3, JSQ4 IN4 */

@@ -124,6 +124,15 @@
 #define BLDC_PORT_SEQUENCE()
 #endif
 
+/* Keep the compiler from computing with `value` before the accesses above this point:
+ * the value is taken as rewritten here, after them. For two loads that must follow
+ * each other with nothing between (the commutation end's CNT and SR). */
+#if defined(__GNUC__)
+#define BLDC_PORT_AFTER_LOADS(value) __asm__ volatile("" : "+r"(value) : : "memory")
+#else
+#define BLDC_PORT_AFTER_LOADS(value) ((void)(value))
+#endif
+
 /* Branch hints: lay the rare paths out of line, so the Hall edge runs straight through. */
 #if defined(__GNUC__)
 #define BLDC_PORT_RARE(condition) __builtin_expect((condition) != 0, 0)
@@ -489,8 +498,13 @@ static void port_on_commutation_end(uintptr_t anchor)
     volatile uint32_t *const compare = port_compare(tim1, PORT_RECORD_ON_CHANNEL(record));
     *compare = port.main_duty;
     tim1->CCER = PORT_RECORD_CCER_AFTER(record); /* a subset of the pattern in force: safe */
-    const uint32_t counter = tim1->CNT; /* the carrier before the COM event restarts it */
-    const uint32_t age = BLDC_PORT_TRIGGER_AGE(counter, tim1->CR1); /* CR1 read if centre-aligned */
+    ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
+    uint32_t counter = tim1->CNT; /* the carrier before the COM event restarts it */
+    uint32_t cr1 = BLDC_PORT_AGE_CR1(tim1);
+    const uint32_t status = adc1->SR; /* just after the counter: see below */
+    BLDC_PORT_AFTER_LOADS(counter); /* the age's arithmetic after the SR load, not between */
+    BLDC_PORT_AFTER_LOADS(cr1);
+    const uint32_t age = BLDC_PORT_TRIGGER_AGE(counter, cr1);
     tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
     /* What the current loop needs of this record, found once here, not every period. */
     port.steady_compare = compare;
@@ -507,10 +521,16 @@ static void port_on_commutation_end(uintptr_t anchor)
      * young to have ended, when it is an older one's and the last still converts (two;
      * counting two whenever JEOC was set dropped the one sample a commutation filling
      * its sector leaves before the next edge). The counter is read before SR on
-     * purpose: a sequence that ends between the two reads counts two (its successor,
-     * a clean sample, is dropped), never one (a sample begun before the end taken as
-     * I), which reading SR first would allow. */
-    const uint32_t status = PORT_AT(anchor, ADC1, ADC_TypeDef)->SR;
+     * purpose, and SR straight after it: a sequence that ends between the two reads
+     * has its JEOC set and an age up to the reads' gap short of its conversions, and
+     * BLDC_PORT_SEQUENCE_MIN_COUNTS leaves that gap out, so it counts one (the last
+     * trigger's), not two. Reading SR first, a sequence ending between the reads
+     * could read as neither converting (its JSTRT cleared) nor ended, and a sample
+     * begun before the end be taken as I. With SR read after the end's other work, an
+     * end that kept landing at a JEOC (a steady braking's ends keep their phase to the
+     * carrier, sector after sector) counted two each time and dropped the one clean
+     * sample of two sectors running (`make pil`, conv_cen_ps at top speed, once the
+     * timing ran later in the sector). */
     const uint32_t converting = ((status & ADC_SR_JSTRT) != 0u) ||
                                 (age < BLDC_PORT_SEQUENCE_COUNTS);
     const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS);

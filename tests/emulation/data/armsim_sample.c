@@ -87,3 +87,11 @@ __attribute__((naked)) uint32_t multiply_high(uint32_t a, uint32_t b)
                      "umull r4, r0, r0, r1\n"
                      "pop {r4, pc}\n");
 }
+
+/* Two stores to one register: the second replaces the first in plain memory, not in a
+ * set-pending or an rc_w0 register. */
+void store_twice(volatile uint32_t *reg, uint32_t first, uint32_t second)
+{
+    *reg = first;
+    *reg = second;
+}
