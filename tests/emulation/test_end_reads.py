@@ -11,12 +11,12 @@ from pathlib import Path
 import pytest
 
 from codegen.build_firmware import build
-from emulation.pil.build import generate
 from codegen.port_drive import END_READ_GAP_CYCLES
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from emulation.cycles import estimate_cycles
 from emulation.isr_bench import PortRig, _register
+from emulation.pil.build import generate
 
 SPECS = ("spec/paper_motor.yaml", "tests/fixtures/pil/conv_cen_ps.yaml")
 
