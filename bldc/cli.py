@@ -214,3 +214,11 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 __all__ = ["COMMANDS", "EXIT_DERIVATION", "EXIT_SPEC", "Command", "ExitCode", "main", "register"]
+
+if __name__ == "__main__":
+    # `python -m bldc.cli` as `python -m bldc`: through the entry point, which imports
+    # this module by its name (run as __main__ it would be a second copy, with no
+    # commands registered in it), so it does not exit 0 having done nothing
+    from bldc.entry import main as entry
+
+    raise SystemExit(entry())
