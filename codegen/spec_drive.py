@@ -428,6 +428,19 @@ def injected_sequence_s(adc_sample_cycles: Fraction) -> Fraction:
     return INJECTED_LATENCY_CYCLES / ADC_CLOCK_HZ + injected_conversions_s(adc_sample_cycles)
 
 
+#: PWM periods the 60 deg sector at the top speed holds at the least for a braking the
+#: current loop holds steady. The port computes the next edge's timing at the COM
+#: events, from the loop's state before the previous edge; with few loop samples a
+#: sector that state is stale and the braking locked into a two-sector cycle (make pil,
+#: odd and even edges at 0.22-3.16 A and 1.41-3.34 A of a 3 A command). Measured with
+#: the PWM frequency alone varied: a 1-pole-pair improved_r motor failed at 3.52
+#: periods, passed at 3.76 with its duty moving 0.457 of the 0.485 allowed between
+#: edges and at 4.23 with 0.224; an improved one failed at 2.81 and passed from 3.16
+#: (0.176); conventional ones passed from 2.19. `init` derives no faster top speed; the
+#: loader warns (few-pwm-periods-per-sector) where a spec's is.
+STEADY_SECTOR_PWM_PERIODS = Fraction(9, 2)
+
+
 def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -> Fraction:
     """Seconds a commutation's end leaves before the next Hall edge for one current
     sample (part of the end's guard, `codegen.dead_time.commutation_guard_ticks`): the

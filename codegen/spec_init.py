@@ -41,6 +41,7 @@ from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import (
     PROTECTION_AMPS_MAX,
+    STEADY_SECTOR_PWM_PERIODS,
     braking_current_peak,
     braking_ripple,
     end_sample_room_s,
@@ -695,13 +696,18 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         # current sample (the loader refuses a speed_max whose sector does not, and the
         # loop's first sample after an edge comes within it), so a many-pole motor's top
         # speed may sit below 95 %
-        n_guarded = 60 / (_guarded_sector_s(pwm, dead_ns, method) * pole_pairs * 6)
+        guarded_s = _guarded_sector_s(pwm, dead_ns, method)
+        steady_s = STEADY_SECTOR_PWM_PERIODS / pwm
+        n_guarded = 60 / (max(guarded_s, steady_s) * pole_pairs * 6)
         n_cap = max(Fraction(1), _speed_down(n_guarded * Fraction(95, 100)))
         if n_cap < n_max:
             n_max = n_cap
-            n_max_source = (
-                f"{derived} 95 % of {_num(n_guarded)} rpm, rounded down, the speed whose"
-                " 60 deg sector outlasts the commutation end's guard and margin (the end"
+            why = (
+                f" 60 deg sector holds {_num(STEADY_SECTOR_PWM_PERIODS)} PWM periods (the"
+                " timing takes the loop's state from before the previous edge: with fewer"
+                " loop samples a sector the braking locked into a two-sector cycle, make pil)"
+                if steady_s >= guarded_s
+                else " 60 deg sector outlasts the commutation end's guard and margin (the end"
                 " leaves room for one current sample before the next edge)"
                 + (
                     " by one PWM period (the resistance-aware rule ends a commutation on a"
@@ -709,6 +715,10 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
                     if method == "improved_r"
                     else ""
                 )
+            )
+            n_max_source = (
+                f"{derived} 95 % of {_num(n_guarded)} rpm, rounded down, the speed whose"
+                + why
                 + f"; below 95 % of U_d/(2 k_e) = {_num(n_limit)} rpm; raise the PWM"
                 " frequency for more"
             )

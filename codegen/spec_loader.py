@@ -95,6 +95,8 @@ WARNINGS: dict[str, str] = {
     " its commutation, L/(2R) with the loop's steady duty, fills the sector",
     "emf-shape-not-paper": "controller.method improved or conventional with a back-EMF shape"
     " whose EMFs at the Hall edge are not the paper's (+E, -E, -E)",
+    "few-pwm-periods-per-sector": "the 60 deg sector at speed_max holds fewer than"
+    " STEADY_SECTOR_PWM_PERIODS (4.5) PWM periods, too few loop samples for a steady braking",
 }
 
 #: Electrical angles, from each phase's rising zero crossing, of the non-commutating,
@@ -1225,6 +1227,25 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             " 25 mH motor held 0.29 A of its 1.5 A command at some edges, its main duty"
             " swinging 0.28 to 0.97); controller.method improved ends its commutations"
             " within the sector",
+        )
+    periods = inverter.pwm_frequency_hz * 10 / (motor.pole_pairs * controller.speed_max_rpm)
+    if periods < spec_drive.STEADY_SECTOR_PWM_PERIODS:
+        steady_rpm = (
+            inverter.pwm_frequency_hz
+            * 10
+            / (motor.pole_pairs * spec_drive.STEADY_SECTOR_PWM_PERIODS)
+        )
+        r.warn(
+            "few-pwm-periods-per-sector",
+            "controller.speed_max",
+            _raw(data, "controller.speed_max"),
+            f"the 60 deg sector at speed_max holds {_g(periods)} PWM periods, fewer than"
+            f" {_g(spec_drive.STEADY_SECTOR_PWM_PERIODS)}: the port computes each edge's"
+            " timing from the current loop's state before the previous edge, and with so"
+            " few loop samples a sector the braking may lock into a two-sector cycle there"
+            " (`make pil` judges it: a 1-pole-pair motor at 2.35 periods held 0.21 A of its"
+            f" 3 A command at some edges); steady up to about {_g(steady_rpm)} rpm at this"
+            " PWM frequency, or raise it",
         )
     if controller.method in ("improved", "conventional"):
         _warn_edge_emfs(r, data, motor, inverter, controller)

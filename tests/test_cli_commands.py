@@ -551,8 +551,11 @@ def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sector
     (52.7 us at 20 kHz, edge-aligned), and init wrote a spec its own loader refused
     (exit 3). init now takes 95 % of the fastest speed whose sector, less its 1/16
     margin, outlasts the commutation end's guard (0.5 us dead time + 4 us + one current
-    sample, a 50 us period and 6.9 us of the ADC's sequence: 3053 rpm): 2900 rpm, says
-    why in `sources`, and the spec loads."""
+    sample, a 50 us period and 6.9 us of the ADC's sequence: 3053 rpm), and now below
+    that 95 % of the speed whose sector holds STEADY_SECTOR_PWM_PERIODS (4.5 at 20 kHz:
+    889 rpm; with fewer loop samples a sector the braking locked into a two-sector
+    cycle): 840 rpm, says why in `sources`, and the spec loads without the warning the
+    loader gives a faster one."""
     from codegen.spec_loader import load_spec
 
     monkeypatch.chdir(tmp_path)
@@ -560,8 +563,9 @@ def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sector
     captured = capsys.readouterr()
     assert "error" not in captured.err
     spec = load_spec(tmp_path / "spec" / "hub50pp.yaml")
-    assert spec.controller.speed_max_rpm == 2900
-    assert "outlasts the commutation end's guard" in dict(spec.sources)["controller.speed_max"]
+    assert spec.controller.speed_max_rpm == 840
+    assert "holds 4.5 PWM periods" in dict(spec.sources)["controller.speed_max"]
+    assert "few-pwm-periods-per-sector" not in [w.id for w in spec.warnings]
     # a motor the sector does not limit keeps 95 % of U_d/(2 k_e)
     assert cli.main(["init", "pp7", "--pole-pairs", "7", "-o", "pp7.yaml"]) == 0
     capsys.readouterr()
@@ -749,7 +753,8 @@ def test_init_should_keep_the_rules_shortest_sector_longer_than_a_pwm_period(
     ticks) holds no 500-tick PWM period, and the rule's design refused it (exit 3). init
     now caps the top speed where that sector, less the guard with its room for a
     current sample (a PWM period and the ADC's sequence), holds one period more (95 % of
-    2391 rpm: 2270) and says why in `sources`."""
+    2391 rpm: 2270), and now where it holds STEADY_SECTOR_PWM_PERIODS (4.5 at 8 kHz: 95 %
+    of 1185 rpm, 1120), and says why in `sources`; the rule's design takes it."""
     from codegen.spec_loader import load_spec
 
     argv = [
@@ -760,8 +765,9 @@ def test_init_should_keep_the_rules_shortest_sector_longer_than_a_pwm_period(
     monkeypatch.chdir(tmp_path)
     assert cli.main(argv) == 0, capsys.readouterr().err
     spec = load_spec(tmp_path / "spec" / "pp15.yaml")
-    assert spec.controller.speed_max_rpm == 2270
-    assert "by one PWM period" in dict(spec.sources)["controller.speed_max"]
+    assert spec.controller.speed_max_rpm == 1120
+    assert "holds 4.5 PWM periods" in dict(spec.sources)["controller.speed_max"]
+    assert "few-pwm-periods-per-sector" not in [w.id for w in spec.warnings]
 
 
 REFUSED = ROOT / "tests" / "fixtures" / "refused" / "heavy_l_pi_one_count.yaml"
