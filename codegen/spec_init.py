@@ -163,27 +163,51 @@ _PWM_QUANTITY = _quantity(units.FREQUENCY, "inverter.pwm_frequency")
 
 
 def _pwm_frequency(text: str) -> tuple[Fraction, str]:
-    """argparse type: a PWM frequency the written spec can hold: init writes an
-    edge-aligned TIM1 at 72 MHz, whose period must be a whole number of counts in
-    [256, PERIOD_COUNTS_MAX] (the loader's rule); a frequency between two of them is
-    refused with its neighbours, not written into a spec the loader then refuses."""
+    """argparse type: a PWM frequency the written spec can hold: init writes a TIM1 at
+    72 MHz, whose edge-aligned period must be a whole number of counts in [256,
+    PERIOD_COUNTS_MAX] (the loader's rule); a frequency between two of them is refused
+    with its neighbours, not written into a spec the loader then refuses. Centre-aligned
+    the half period must be one (`pwm_alignment_error`)."""
     value, shown = _PWM_QUANTITY(text)
-    counts = Fraction(TIMER_CLOCK_HZ) / value
+    problem = _period_problem(text, value, "edge")
+    if problem is not None:
+        raise argparse.ArgumentTypeError(problem)
+    return value, shown
+
+
+def _period_problem(text: str, value: Fraction, alignment: str) -> str | None:
+    """Why a PWM frequency gives no period TIM1 can count at 72 MHz with this alignment
+    (edge: the period, centre: half of it, a whole number of counts in [256,
+    PERIOD_COUNTS_MAX]), with the nearest frequencies that do; None if it does."""
+    clock = Fraction(TIMER_CLOCK_HZ) / (2 if alignment == "center" else 1)
+    counts = clock / value
     low, high = 256, PERIOD_COUNTS_MAX
     if low <= counts <= high and counts.denominator == 1:
-        return value, shown
+        return None
     # the nearest periods either side whose frequency a spec can write exactly (a
     # terminating decimal: 72 MHz / 10285 counts is 7000.486... Hz and has none)
-    exact = [n for n in range(low, high + 1) if _terminating(Fraction(TIMER_CLOCK_HZ, n))]
+    exact = [n for n in range(low, high + 1) if _terminating(clock / n)]
     below = [n for n in exact if n <= counts]
     above = [n for n in exact if n >= counts]
     near = sorted({*below[-1:], *above[:1]})
-    options = " or ".join(f"{_num(Fraction(TIMER_CLOCK_HZ, n), 12)} Hz ({n} counts)" for n in near)
-    raise argparse.ArgumentTypeError(
-        f"{text!r} gives {_num(counts)} TIM1 counts per period at 72 MHz (edge-aligned);"
-        f" the period must be a whole number of counts in [{low}, {high}]"
-        f" (allowed: 72 MHz / N for a whole N in [{low}, {high}], e.g. {options})"
+    options = " or ".join(f"{_num(clock / n, 12)} Hz ({n} counts)" for n in near)
+    part, whole = ("half period", "36 MHz") if alignment == "center" else ("period", "72 MHz")
+    return (
+        f"{text!r} gives {_num(counts)} TIM1 counts per {part} at 72 MHz ({alignment}-aligned);"
+        f" the {part} must be a whole number of counts in [{low}, {high}]"
+        f" (allowed: {whole} / N for a whole N in [{low}, {high}], e.g. {options})"
     )
+
+
+def pwm_alignment_error(sheet: Datasheet) -> str | None:
+    """The one line `init` refuses a centre-aligned PWM frequency with, before it writes
+    anything: its half period is no whole number of TIM1 counts (the option's own check
+    is the edge-aligned period's, which argparse makes without the alignment)."""
+    if sheet.pwm_alignment != "center" or sheet.pwm_frequency is None:
+        return None
+    value, text = sheet.pwm_frequency
+    problem = _period_problem(text, value, "center")
+    return None if problem is None else f"argument --pwm-frequency: {problem}"
 
 
 def _kv(text: str) -> Fraction:
@@ -359,7 +383,13 @@ def add_datasheet_arguments(parser: argparse.ArgumentParser) -> None:
         "--pwm-frequency",
         type=_pwm_frequency,
         metavar="Q",
-        help="PWM frequency, edge-aligned",
+        help="PWM frequency",
+    )
+    group.add_argument(
+        "--pwm-alignment",
+        choices=("edge", "center"),
+        help="TIM1's carrier: edge-aligned (default) or centre-aligned (the current sample"
+        " at the counter's peak, half the PWM ripple)",
     )
     parser.add_argument(
         "--method",
@@ -388,6 +418,7 @@ class Datasheet:
     braking_current: tuple[Fraction, str] | None = None
     speed_max: tuple[Fraction, str] | None = None
     pwm_frequency: tuple[Fraction, str] | None = None
+    pwm_alignment: str | None = None
     method: str | None = None
 
     @classmethod
@@ -685,6 +716,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     n_limit = bus / (2 * si["ke"])
     pole_pairs = si["pole_pairs"]
     pwm = sheet.pwm_frequency[0] if sheet.pwm_frequency else Fraction(20_000)
+    alignment = sheet.pwm_alignment or "edge"
     dead_ns = min(Fraction(500), _round_down(Fraction(10**9, 100) / pwm, 10))
     if sheet.speed_max is not None:
         n_max = sheet.speed_max[0]
@@ -767,7 +799,8 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         )
     i_max = 2 * i_nom
     # the current the sensing must read and the comparator let through: braking_current_max
-    # plus the PWM ripple above the loop's sample (edge-aligned, the default: a whole ripple)
+    # plus the PWM ripple above the loop's sample (edge-aligned, the default: a whole
+    # ripple; centre-aligned the sample sits at the ripple's middle)
     ripple = braking_ripple(
         bus_voltage_max_v=v_max,
         pwm_frequency_hz=pwm,
@@ -777,7 +810,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         speed_min_rpm=n_min,
         speed_max_rpm=n_max,
         current_max_a=i_max,
-        alignment="edge",
+        alignment=alignment,
     )
     peak = braking_current_peak(i_max, ripple)
     default_budget = min(Fraction(8), _round_down(fastest / 20, 1))
@@ -815,7 +848,11 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
             if sheet.pwm_frequency
             else "assumption: bldc-codegen init default, 20 kHz (above the audible range)"
         ),
-        "inverter.pwm_alignment": "assumption: bldc-codegen init default, edge-aligned TIM1",
+        "inverter.pwm_alignment": (
+            f"datasheet/board: {alignment}-aligned TIM1 (init --pwm-alignment)"
+            if sheet.pwm_alignment
+            else "assumption: bldc-codegen init default, edge-aligned TIM1"
+        ),
         "inverter.timer_clock": "STM32F103 TIM1 clock (APB2 at 72 MHz)",
         "inverter.dead_time": (
             f"{derived} 500 ns, at most 1 % of the PWM period; check your gate driver"
@@ -843,7 +880,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
             f"{derived} full scale (3.3 V - offset) / gain at least protection.over_current,"
             " so that every current below the trip reads (that is at least 1.25 x the braking"
             f" current's peak, braking_current_max + {_num(_round_up(ripple.above_sample * 10, 1) / 10)} A"
-            " of PWM ripple, edge-aligned); set your shunt x amplifier gain"
+            f" of PWM ripple, {alignment}-aligned); set your shunt x amplifier gain"
         ),
         "adc.current_offset": "assumption: bipolar current sense biased at mid-rail",
         "controller.method": METHOD_SOURCES[method],
@@ -936,7 +973,7 @@ inverter:
   bus_voltage_min: {_num(v_min)} V
   bus_voltage_max: {_num(v_max)} V
   pwm_frequency: {_num(pwm / 1000)} kHz
-  pwm_alignment: edge
+  pwm_alignment: {alignment}
   timer_clock: 72 MHz
   dead_time: {_num(dead_ns)} ns
 

@@ -572,6 +572,40 @@ def test_init_should_keep_a_many_pole_motors_top_speed_inside_the_sampled_sector
     assert load_spec(tmp_path / "pp7.yaml").controller.speed_max_rpm == 4830
 
 
+def test_init_should_write_a_centre_aligned_carrier_when_asked(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """init wrote edge-aligned PWM only, so a centre-aligned board's spec was edited by
+    hand after it, its source still saying "init default, edge-aligned", and what init
+    checks (the ripple above the sample, the current gain) was an edge-aligned carrier's
+    (a helper's 23-pole-pair 60 kHz motor: a sample-window warning init never gave).
+    `--pwm-alignment center` writes it and says where it came from; a frequency whose
+    half period is no whole number of TIM1 counts is refused in one line, before
+    anything is written."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "cen", "-o", "cen.yaml", "--pole-pairs", "4", "--pwm-frequency", "40 kHz"]
+    assert cli.main([*argv, "--pwm-alignment", "center"]) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    spec = load_spec(tmp_path / "cen.yaml")
+    assert spec.inverter.pwm_alignment == "center"
+    assert "init --pwm-alignment" in dict(spec.sources)["inverter.pwm_alignment"]
+    edge = ["init", "edge", "-o", "edge.yaml", "--pole-pairs", "4", "--pwm-frequency", "40 kHz"]
+    assert cli.main(edge) == 0
+    capsys.readouterr()
+    gain = dict(load_spec(tmp_path / "edge.yaml").sources)["adc.current_gain"]
+    assert "edge-aligned" in gain and "center-aligned" in dict(spec.sources)["adc.current_gain"]
+    odd = ["init", "odd", "-o", "odd.yaml", "--pwm-frequency", "64 kHz", "--pwm-alignment"]
+    assert cli.main([*odd, "center"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("error: argument --pwm-frequency: '64 kHz' gives 562.5 TIM1 counts")
+    assert "(allowed: 36 MHz / N" in err[0] and "62500 Hz (576 counts)" in err[0], err
+    assert not (tmp_path / "odd.yaml").exists()
+    assert cli.main([*odd, "edge"]) == 0  # 1125 counts: a whole edge-aligned period
+
+
 def test_init_should_never_replace_a_folder_or_a_fifo_even_with_force(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
