@@ -1,5 +1,6 @@
 """`python -m emulation`: the `make bench` driver (emulation/bench.py)."""
 
+from codegen.interrupts import exit_status
 from emulation.bench import main
 
-raise SystemExit(main())
+raise SystemExit(exit_status(main))

@@ -62,6 +62,7 @@ from unicorn import (
 )
 from unicorn import arm_const as uc_arm
 
+from codegen.interrupts import interrupts_noted
 from emulation.cycles import disassemble, estimate_cycles
 
 PAGE = 0x1000  # unicorn maps whole 4 KiB pages
@@ -504,7 +505,8 @@ class CortexM3Sim:
         self._fault = None
         self._it_span = None
         try:
-            uc.emu_start(entry | 1, RETURN_ADDRESS, count=max_instructions)
+            with interrupts_noted():  # a Ctrl-C in a hook is raised after the call
+                uc.emu_start(entry | 1, RETURN_ADDRESS, count=max_instructions)
         except UcError as error:
             raise SimulationError(self._failure(name, str(error))) from None
         finally:

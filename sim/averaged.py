@@ -20,6 +20,7 @@ from itertools import pairwise
 import casadi as ca
 import numpy as np
 
+from codegen.interrupts import interrupts_noted
 from sim.circuit import LegVoltages, Topology, balanced, resolve, threshold_crossing
 from sim.drive import Drive
 from sim.emf import BackEmf
@@ -70,7 +71,9 @@ def _step(
             [drive.decay_rate, 1.0 / drive.inductance_h],
         )
     )
-    return np.array(_integrator()(x0=state, p=params)["xf"]).ravel()
+    with interrupts_noted():  # CasADi drops a KeyboardInterrupt raised in CVODES
+        final = _integrator()(x0=state, p=params)["xf"]
+    return np.array(final).ravel()
 
 
 def simulate_averaged(

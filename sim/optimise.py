@@ -27,6 +27,7 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+from codegen.interrupts import interrupts_noted
 from sim.scenario import Case
 
 #: Weight of tau / T_sector against the mean squared relative deviation.
@@ -117,7 +118,8 @@ def optimise(case: Case, guess_on: float, guess_off: float, guess_time: float) -
         )
     )
     evaluate = _evaluator()
-    _, fastest_end, _ = evaluate([1.0, 0.0, sector], fixed)
+    with interrupts_noted():  # CasADi drops a KeyboardInterrupt raised in its solver
+        _, fastest_end, _ = evaluate([1.0, 0.0, sector], fixed)
     finishes = float(fastest_end) <= 0.0
     guess_time = min(max(guess_time, 1e-6), sector)
     guess = [min(max(guess_on, 0.0), 1.0), min(max(guess_off, 0.0), 1.0), guess_time]
@@ -127,10 +129,11 @@ def optimise(case: Case, guess_on: float, guess_off: float, guess_time: float) -
         bounds = ([0.0, 0.0, sector], [1.0, 1.0, sector])
         guess[2] = sector
     solver = _solver(finishes)
-    result = solver(x0=guess, p=fixed, lbx=bounds[0], ubx=bounds[1], lbg=0, ubg=0)
-    solution = np.array(result["x"]).ravel()
-    status = str(solver.stats()["return_status"])
-    _, _, mean_square = evaluate(solution, fixed)
+    with interrupts_noted():
+        result = solver(x0=guess, p=fixed, lbx=bounds[0], ubx=bounds[1], lbg=0, ubg=0)
+        solution = np.array(result["x"]).ravel()
+        status = str(solver.stats()["return_status"])
+        _, _, mean_square = evaluate(solution, fixed)
     return Optimum(
         speed_rpm=case.speed_rpm,
         # Ipopt may end a hair outside the bounds (bound_relax_factor, 1e-8): a duty is

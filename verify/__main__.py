@@ -10,6 +10,8 @@ from pathlib import Path
 from codegen.argtypes import POINTS, SEED
 from codegen.errors import ExitCode, SpecError
 from codegen.freshness import regenerate_command
+from codegen.publish import PublishError
+from codegen.report_folder import staged_report
 from codegen.spec_loader import load_spec
 from verify.run import DEFAULT_RANDOM_POINTS, StaleOutputError, plot, table, verify, write_json
 
@@ -20,6 +22,12 @@ EXIT_FAILED, EXIT_SPEC, EXIT_STALE = (
     int(ExitCode.SPEC),
     int(ExitCode.STALE),
 )
+
+
+#: what verify writes into generated/<name>/verify/, and the text its report holds that
+#: says it is the tool's (`codegen.report_folder`: a folder from before its ledger)
+REPORT_NAME, FIGURE_NAME = "report.json", "error_vs_speed.png"
+REPORT_MARKER = '"spec_sha256"'
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -67,11 +75,20 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_STALE
     print(table(result, o))
     out = generated / "verify"
-    write_json(result, tol, o, out / "report.json")
-    plot(evaluated, tol, result.motor, out / "error_vs_speed.png")
-    print(f"verify: wrote {out / 'report.json'} and {out / 'error_vs_speed.png'}")
+    # the report and its figure staged and moved in together (a Ctrl-C between the two
+    # writes had left a new report.json beside the former run's figure)
+    try:
+        with staged_report(out, REPORT_NAME, REPORT_MARKER) as staging:
+            write_json(result, tol, o, staging / REPORT_NAME)
+            plot(evaluated, tol, result.motor, staging / FIGURE_NAME)
+    except PublishError as exc:  # a file in the folder the tool did not write
+        print(f"verify: {exc}", file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)
+    print(f"verify: wrote {out / REPORT_NAME} and {out / FIGURE_NAME}")
     return 0 if result.passed else EXIT_FAILED
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from codegen.interrupts import exit_status
+
+    raise SystemExit(exit_status(main))

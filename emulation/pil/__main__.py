@@ -81,4 +81,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from codegen.interrupts import exit_status
+
+    raise SystemExit(exit_status(main))

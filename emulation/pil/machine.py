@@ -58,6 +58,7 @@ from unicorn import (
 )
 from unicorn import arm_const as uc_arm
 
+from codegen.interrupts import interrupts_noted, raise_noted
 from emulation.cycles import decode, disassemble, thumb_instruction_size
 from emulation.memory import (
     STM32F103_72MHZ,
@@ -611,7 +612,13 @@ class Machine:
             raise PilError(fault)
 
     def run_until(self, until: int) -> None:
-        """Run the firmware and the peripherals until tick `until`."""
+        """Run the firmware and the peripherals until tick `until`. A Ctrl-C while the
+        firmware runs (in a hook: unicorn drops an exception raised there) is raised
+        once its block returns (`codegen.interrupts`)."""
+        with interrupts_noted():
+            self._run_until(until)
+
+    def _run_until(self, until: int) -> None:
         while True:
             self._process_events()
             for listener in self.listeners:
@@ -644,6 +651,7 @@ class Machine:
             if self.error is None and self._fault is None:
                 pc = self.uc.reg_read(uc_arm.UC_ARM_REG_PC)
                 self._fault = f"unicorn stopped at pc 0x{pc:08x}: {error}: a HardFault on the chip"
+        raise_noted()
         self.now = max(self.now, self._block_end)
         self._raise_error()
         if self._returning:

@@ -284,4 +284,6 @@ def summary_line(
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    from codegen.interrupts import exit_status
+
+    raise SystemExit(exit_status(main))

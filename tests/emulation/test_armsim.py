@@ -222,3 +222,34 @@ def test_a_store_of_zeros_should_leave_set_pending_bits_and_rc_w0_flags(sim: Cor
     sim.combine_on_write(TIM3_SR, CLEAR)
     sim.call("store_twice", args=(TIM3_SR, ~0b0100 & 0xFFFF_FFFF, ~0b0001 & 0xFFFF_FFFF))
     assert sim.read_u32(TIM3_SR) == 0b1010
+
+
+def test_a_ctrl_c_in_a_hook_should_stop_the_call(sim: CortexM3Sim) -> None:
+    """Unicorn runs its hooks as ctypes callbacks, which print and drop an exception
+    raised in them: a Ctrl-C that landed in one was lost and `bench` ran on to exit 0
+    (a helper's hunt). The call notes it, lets the hook finish, and raises it once
+    emu_start returns."""
+    import os
+    import signal
+
+    from unicorn import UC_HOOK_CODE
+
+    fired: list[int] = []
+    finished: list[int] = []
+
+    def interrupt(*_: object) -> None:
+        if not fired:
+            fired.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+            # raised here, the exception would be at the binding's mercy (its wrapper
+            # re-raises some after emu_start; one raised in ctypes' own frames is lost)
+            finished.append(1)
+
+    handle = sim._uc.hook_add(UC_HOOK_CODE, interrupt)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.call("store_twice", args=(TIM3_SR, 1, 2))
+    finally:
+        sim._uc.hook_del(handle)
+    assert fired and finished  # the hook ran to its end: the SIGINT was only noted
+    assert sim.call("store_twice", args=(TIM3_SR, 1, 2)).instructions > 0  # and runs again

@@ -1,0 +1,58 @@
+"""Ctrl-C across native code that calls back into Python.
+
+Unicorn runs its hooks as ctypes callbacks and CasADi checks for signals inside its
+solvers: a KeyboardInterrupt raised there is printed and dropped ("Exception ignored on
+calling ctypes callback function", "rhsQB failed: KeyboardInterrupt") and the native
+call goes on, so `bench` and `simulate` ran to their end after a Ctrl-C and exited 0,
+`simulate` once publishing an integration the interrupt had cut short. Inside
+`interrupts_noted()` SIGINT is noted instead of raised; `raise_noted()`, called once the
+native call has returned, raises it, and so does the block's end if nothing did.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import sys
+import threading
+from collections.abc import Callable, Iterator
+
+#: SIGINTs noted inside `interrupts_noted` and not yet raised
+_noted: list[int] = []
+
+
+def _note(signum: int, _frame: object) -> None:
+    _noted.append(signum)
+
+
+def raise_noted() -> None:
+    """Raise KeyboardInterrupt if a SIGINT was noted (then forget it); cheap otherwise."""
+    if _noted:
+        _noted.clear()
+        raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def interrupts_noted() -> Iterator[None]:
+    """SIGINT noted, not raised, in the block (see the module's doc). Outside the main
+    thread handlers cannot be set and the block runs as it is."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, _note)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    raise_noted()
+
+
+def exit_status(main: Callable[[], int]) -> int:
+    """`main()`'s status, or 130 after one line on stderr if Ctrl-C ended it: what
+    `bldc-codegen` gives, for the modules make runs directly (`python -m emulation`
+    printed a traceback ending in unicorn's mem_read)."""
+    try:
+        return main()
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130

@@ -1,0 +1,50 @@
+"""Ctrl-C across native code (codegen/interrupts.py) and at the modules make runs."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from codegen.interrupts import interrupts_noted, raise_noted
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def test_a_sigint_in_the_block_should_be_raised_when_asked_not_where_it_landed() -> None:
+    reached = []
+    with pytest.raises(KeyboardInterrupt), interrupts_noted():
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.01)  # the handler has run: noted, nothing raised
+        reached.append("after the signal")
+        raise_noted()
+        reached.append("past raise_noted")
+    assert reached == ["after the signal"]
+    # the block's end raises one left noted
+    with pytest.raises(KeyboardInterrupt), interrupts_noted():
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.01)
+    raise_noted()  # nothing left: no exception
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_the_bench_module_should_say_interrupted_in_one_line() -> None:
+    """`python -m emulation` (make bench) printed a traceback ending in unicorn's mem_read
+    on Ctrl-C; it says "interrupted" and exits 130, as bldc-codegen does."""
+    bench = subprocess.Popen(
+        [sys.executable, "-m", "emulation", "spec/paper_motor.yaml", "--no-progress"],
+        cwd=ROOT,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(4.0)  # past the build, into the emulated handlers
+    bench.send_signal(signal.SIGINT)
+    _, err = bench.communicate(timeout=60)
+    assert bench.returncode == 130, err
+    assert "Traceback" not in err and err.strip().splitlines()[-1] == "interrupted", err
