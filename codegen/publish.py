@@ -559,6 +559,7 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
     owned = _owned(p.target)
     _require_writable_tree(p.target, owned, files)
     mine = owned.files if owned else frozenset()
+    found: list[Path] = []
     for name in files:
         parts = name.split("/")
         for depth in range(1, len(parts) + 1):
@@ -571,10 +572,24 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
                 continue
             if depth == len(parts) and not real_dir and not path.is_symlink() and rel in mine:
                 break
-            raise PublishError(
-                f"{path} is in the way and was not written by bldc-codegen (its manifest"
-                " does not list it): move it away or choose another output folder"
-            )
+            if path not in found:
+                found.append(path)
+            break
+    if found:
+        raise PublishError(
+            f"{in_the_way(found, p.target)} not written by bldc-codegen (its manifest does"
+            " not list it): move it away or choose another output folder"
+        )
+
+
+def in_the_way(paths: list[Path], folder: Path) -> str:
+    """The start of the one line that names every file in the way (the first in full,
+    the others in `folder`'s terms; a user had learnt of them one run at a time)."""
+    if len(paths) == 1:
+        return f"{paths[0]} is in the way and was"
+    others = [str(path.relative_to(folder)) for path in paths[1:]]
+    shown = ", ".join(others[:5]) + (f" and {len(others) - 5} more" if len(others) > 5 else "")
+    return f"{paths[0]} and {len(others)} more there ({shown}) are in the way and were"
 
 
 def _refuse_inside_another_tree(target: Path) -> None:

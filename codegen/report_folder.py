@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from codegen.publish import PublishError, signals_deferred
+from codegen.publish import PublishError, in_the_way, signals_deferred
 from codegen.render import write_atomically
 
 #: the names of the files bldc-codegen wrote into a report folder, one per line
@@ -86,9 +86,8 @@ def refuse_strangers(
     paths = strangers(out, names, report, marker, ledger_name)
     if paths:
         raise PublishError(
-            f"{paths[0]} is in the way and was not written by bldc-codegen (the"
-            f" folder's {ledger_name} does not list it): move it away or choose another"
-            " output folder"
+            f"{in_the_way(paths, out)} not written by bldc-codegen (the folder's"
+            f" {ledger_name} does not list it): move it away or choose another output folder"
         )
 
 

@@ -192,6 +192,13 @@ def test_generate_refuses_to_overwrite_a_file_it_did_not_write(
     assert cli.main(["generate", str(SPEC), "-o", str(out)]) == int(cli.ExitCode.ENVIRONMENT)
     assert "DERIVATION.md is in the way" in capsys.readouterr().err
     assert sorted(p.name for p in out.iterdir()) == ["DERIVATION.md"]
+    # every file in the way in the one line (a user had learnt of them one run at a time)
+    (out / "c").mkdir()
+    (out / "c" / "bldc_commutation.c").write_text("/* mine */\n")
+    assert cli.main(["generate", str(SPEC), "-o", str(out)]) == int(cli.ExitCode.ENVIRONMENT)
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "DERIVATION.md and 1 more there (c/bldc_commutation.c) are in the way" in line, line
+    assert (out / "c" / "bldc_commutation.c").read_text() == "/* mine */\n"
 
 
 def test_a_spec_path_cannot_inject_code_into_generated_files(tmp_path: Path) -> None:
