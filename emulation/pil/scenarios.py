@@ -476,13 +476,30 @@ class Run:
 
 
 def _check_safe_state(
-    run: Run, at: int, bus_v: float, what: str, *, inputs_known: bool = True
+    run: Run,
+    at: int,
+    bus_v: float,
+    what: str,
+    *,
+    inputs_known: bool = True,
+    complete_by: int | None = None,
 ) -> None:
     """The gates at `at` are a safe state, the one the spec requires at the run's speed
     (`inputs_known` False: the port has no Hall interval yet, or reads no bus voltage;
-    one safe at that speed and bus)."""
-    gates = run.machine.tim1.gates(at)
+    one safe at that speed and bus). With `complete_by`, at `at` (the break's dead time,
+    in hardware) no switch is on that the safe state has off, and at `complete_by` the
+    safe state is whole: the idle levels reach only the channels the sector left
+    enabled, and the port's trip handler enables the others (a floating phase's pair
+    stays off until then)."""
     required = required_safe_state(run.spec, run.rpm, bus_v, inputs_known=inputs_known)
+    if complete_by is not None:
+        allowed = required if required is not None else SHORT_CIRCUIT  # ALL_OFF within it
+        on = _gates_in_force(run, at)
+        if any(g and not a for g, a in zip(on, allowed, strict=True)):
+            run.violations.append(f"gates {on} {what}: a switch on that the safe state has off")
+        at = complete_by
+        what = f"{what}, whole by one PWM period on"
+    gates = _gates_in_force(run, at)
     if gates not in (ALL_OFF, SHORT_CIRCUIT):
         run.violations.append(f"gates {gates} {what}: no safe state")
     elif required is not None and gates != required:
@@ -494,6 +511,17 @@ def _check_safe_state(
             f" protection.short_circuit_current_max"
             f" {float(run.spec.protection.short_circuit_current_max_a):g} A)"
         )
+
+
+def _gates_in_force(run: Run, at: int) -> tuple[bool, ...]:
+    """The six gates in force at tick `at` (the run is taken there first if it is not
+    yet): from TIM1's gate record, not from its registers now, which may hold a state
+    set after `at` (an under-voltage's short, set 57 us after the cause, had been read
+    as in force at 50 us). A pin TIM1 does not drive is off, as the plant takes it (the
+    gate driver's pull-down)."""
+    if run.machine.now < at:
+        run.machine.run_until(at)
+    return tuple(g is True for g in run.machine.tim1.gates_at(at))
 
 
 def default_rpm(spec: Spec) -> float:
@@ -605,7 +633,12 @@ def _break_after_the_first_edge(run: Run) -> Outcome:
     run.run_until_tripped(run.board.pwm_period_ticks())
     tim1 = run.machine.tim1
     _check_safe_state(
-        run, cause + tim1.dead_time_ticks(), bus_v, "after the dead time", inputs_known=False
+        run,
+        cause + tim1.dead_time_ticks(),
+        bus_v,
+        "after the dead time",
+        inputs_known=False,
+        complete_by=cause + run.board.pwm_period_ticks(),
     )
     return run.outcome(
         "BKIN in the first sector after start-up",
@@ -647,8 +680,10 @@ def _break_at(run: Run, bus_v: float, name: str, note: str) -> Outcome:
     # the safe state after the dead time: every switch off, or the three lower switches
     # on (the short circuit, where all-off would rectify into the bus); gates are
     # (CH1, CH1N, CH2, CH2N, CH3, CH3N), the upper switches on CHx
-    _check_safe_state(run, cause + tim1.dead_time_ticks(), bus_v, "after the dead time")
-    return run.outcome(name, "OVER_CURRENT", cause, run.board.pwm_period_ticks(), note)
+    period = run.board.pwm_period_ticks()
+    after = cause + tim1.dead_time_ticks()
+    _check_safe_state(run, after, bus_v, "after the dead time", complete_by=cause + period)
+    return run.outcome(name, "OVER_CURRENT", cause, period, note)
 
 
 #: How far either side of the rectifying speed the boundary scenarios brake: wide enough
@@ -1266,7 +1301,8 @@ def _hse_fails_running(run: Run) -> Outcome:
         # PLL's, so the lower switches close nine dead times (at 72 MHz) after the break
         dead = run.machine.tim1.dead_time_ticks()
         bus = float(run.spec.inverter.bus_voltage_nominal_v)
-        _check_safe_state(run, cleared + dead + 1, bus, "after the dead time")
+        whole = cleared + run.board.pwm_period_ticks()
+        _check_safe_state(run, cleared + dead + 1, bus, "after the dead time", complete_by=whole)
     return run.outcome(
         "HSE fails while braking",
         "CLOCK",

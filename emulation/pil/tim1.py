@@ -30,6 +30,7 @@ also held through the previous PWM period.
 
 from __future__ import annotations
 
+import bisect
 from typing import TYPE_CHECKING
 
 from emulation.pil.bus import PilError, bits, svd_interrupt
@@ -307,6 +308,22 @@ class AdvancedTimer(Timer):
         """(CH1, CH1N, CH2, CH2N, CH3, CH3N) at `now`."""
         now = self.machine.now if now is None else now
         return self._channel(1, now) + self._channel(2, now) + self._channel(3, now)
+
+    def gates_at(self, at: int) -> tuple[bool | None, ...]:
+        """The outputs in force at tick `at`, now or earlier, from the gate record.
+        `gates(at)` evaluates the registers as they are now at `at`: for a past tick it
+        judged that instant by a state set after it (a scenario checking the safe state
+        one period after an under-voltage saw the short the firmware set at 57 us, not
+        the all-off in force at 50 us)."""
+        now = self.machine.now
+        if at >= now:
+            return self.gates(at)
+        log = self.gate_log
+        if log is None or at < log[0][0]:
+            raise ValueError(f"no gate record at tick {at}: record_gates() first")
+        self._flush(now)
+        index = bisect.bisect_right(log, at, key=lambda entry: entry[0]) - 1
+        return log[index][1]
 
     # ------------------------------------------------------------- the gate record
     def record_gates(self) -> None:

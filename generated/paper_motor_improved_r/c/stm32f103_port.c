@@ -796,11 +796,35 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
 {
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
     adc->CR1 = BLDC_PORT_ADC_CR1 & ~ADC_CR1_AWDIE;
-    const uint32_t over = (adc->DR > BLDC_PORT_ADC_HTR) ||
-                          (adc->JDR2 > BLDC_PORT_ADC_HTR) ||
-                          (adc->JDR3 > BLDC_PORT_ADC_HTR) ||
-                          (adc->JDR4 > BLDC_PORT_ADC_HTR);
-    port_trip(anchor, over ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
+    /* The bus conversions now: the regular group's latest and the injected sequence's
+     * bus slots; the one outside the window is the conversion that tripped. */
+    uint32_t lowest = adc->DR & 0xFFFFu;
+    uint32_t highest = lowest;
+    {
+        const uint32_t code = adc->JDR2 & 0xFFFFu;
+        lowest = (code < lowest) ? code : lowest;
+        highest = (code > highest) ? code : highest;
+    }
+    {
+        const uint32_t code = adc->JDR3 & 0xFFFFu;
+        lowest = (code < lowest) ? code : lowest;
+        highest = (code > highest) ? code : highest;
+    }
+    {
+        const uint32_t code = adc->JDR4 & 0xFFFFu;
+        lowest = (code < lowest) ? code : lowest;
+        highest = (code > highest) ? code : highest;
+    }
+    const uint32_t over = (uint32_t)(highest > BLDC_PORT_ADC_HTR);
+    port_trip(anchor, (over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
+    /* MOE is clear: the idle levels act at once. They had been chosen from the last
+     * injected sample, the bus before the fault; chosen now from the conversion that
+     * tripped (a low bus makes all-off rectify where it did not: at 98 % of the top
+     * speed an under-voltage left the bridge all-off, rectifying, until the next
+     * sample's bus change, 57-64 us after the cause on a 50 us period; a helper's
+     * hunt). The next injected sample's bus change takes the bus state over. */
+    port_set_safe_region((over != 0u) ? highest : lowest);
+    PORT_AT(anchor, TIM1, TIM_TypeDef)->CR2 = port_safe_state_cr2(port.period);
 }
 
 /* ADC2's analog watchdog: a conversion of a current channel, at any instant, read at a
