@@ -798,20 +798,20 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
     adc->CR1 = BLDC_PORT_ADC_CR1 & ~ADC_CR1_AWDIE;
     /* The bus conversions now: the regular group's latest and the injected sequence's
      * bus slots; the one outside the window is the conversion that tripped. */
-    uint32_t lowest = adc->DR & 0xFFFFu;
+    uint32_t lowest = (uint16_t)adc->DR; /* DATA: bits 15:0 */
     uint32_t highest = lowest;
     {
-        const uint32_t code = adc->JDR2 & 0xFFFFu;
+        const uint32_t code = (uint16_t)adc->JDR2;
         lowest = (code < lowest) ? code : lowest;
         highest = (code > highest) ? code : highest;
     }
     {
-        const uint32_t code = adc->JDR3 & 0xFFFFu;
+        const uint32_t code = (uint16_t)adc->JDR3;
         lowest = (code < lowest) ? code : lowest;
         highest = (code > highest) ? code : highest;
     }
     {
-        const uint32_t code = adc->JDR4 & 0xFFFFu;
+        const uint32_t code = (uint16_t)adc->JDR4;
         lowest = (code < lowest) ? code : lowest;
         highest = (code > highest) ? code : highest;
     }
