@@ -183,12 +183,15 @@ COMPARED_FRACTION = 0.5
 #: Each phase's EMF then lags the SIL's, linearly, by dE = k_e (n_0 - n_end) at the
 #: window's end; two phases' lags across 2L, at half that on average over the window T_w,
 #: move the non-commutating current by about dE T_w / (2 L) (the winding's R makes it
-#: less: the estimate runs 1.1-2 x the measured). Where it is more than the agreement
-#: itself (in % of I) the SIL's held speed alone is expected to part the two runs, and
+#: less: the estimate runs 1.1-2 x the measured). Where it is more than half the
+#: agreement (in % of I) the SIL's held speed is expected to take too much of it, and
 #: the commutation is listed, not compared: a 300 V 12 mH motor 0.3 % slower at the end
 #: of a 3.2 ms window (1.66 pp estimated, 1.43 pp measured); the fast 14-pole fixture,
-#: 2.4 % slower two sectors from its stop (2.0 and 1.22).
-SPEED_DRIFT_PP = AGREEMENT_PP
+#: 2.4 % slower two sectors from its stop (2.0 and 1.22). Half the agreement, so that
+#: the rest of it is left to everything else: at the whole of it the 40 kHz 2 us
+#: fixture's full run parted by 1.07 pp at a commutation whose drift alone was estimated
+#: at 0.79 pp, and the compared commutations' differences followed their drifts.
+SPEED_DRIFT_PP = AGREEMENT_PP / 2
 
 
 def speed_drift_pp(spec: Spec, c: Commutation) -> float:
