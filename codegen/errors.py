@@ -121,6 +121,8 @@ class ExitCode(IntEnum):
     ENVIRONMENT = 5
     #: A bug in bldc-codegen (an unexpected exception); the message says where.
     INTERNAL = 70
+    #: Ctrl-C: one line, `interrupted` (the shell's 128 + SIGINT).
+    INTERRUPTED = 130
 
 
 def internal_error_line(exc: BaseException, root: Path) -> str:

@@ -17,6 +17,8 @@ import sys
 import threading
 from collections.abc import Callable, Iterator
 
+from codegen.errors import ExitCode
+
 #: SIGINTs noted inside `interrupts_noted` and not yet raised
 _noted: list[int] = []
 
@@ -55,4 +57,4 @@ def exit_status(main: Callable[[], int]) -> int:
         return main()
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
-        return 130
+        return int(ExitCode.INTERRUPTED)
