@@ -54,6 +54,13 @@ HALL_FILTER_SAMPLES = 8
 #: code of ADC noise then costs no recomputation.
 BUS_HYSTERESIS_CODES = 1
 
+#: While a fault is latched the bus watchdog watches the bound below which all-off
+#: rectifies at the Hall interval now (BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES): the short
+#: circuit is left for all-off only once the bus reads this many codes above the bound,
+#: so ADC noise about the bound (a few codes) raises no interrupt at each conversion. The
+#: way into the short circuit has none: a bus at or below the bound interrupts at once.
+FAULTED_BUS_HYSTERESIS_CODES = 8
+
 
 @dataclass(frozen=True)
 class Pin:
@@ -461,6 +468,7 @@ def port_context(
         ),
         **_peripheral_region(),
         "bus_hysteresis_codes": BUS_HYSTERESIS_CODES,
+        "faulted_bus_hysteresis_codes": FAULTED_BUS_HYSTERESIS_CODES,
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",
         "bus_hysteresis_duty_text": f"{float(stale):.3g} counts",

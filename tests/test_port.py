@@ -220,15 +220,21 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     assert "<bldc_port_init>:" in dump
     assert "__aeabi_" not in dump
     # hardware divides only for the safe state's interval bound floor(K / B): in the
-    # bus-change handler (once per change beyond the hysteresis) and in the analog
-    # watchdog's trip, after MOE is clear (the bus that tripped); no other handler divides
+    # bus-change handler (once per change beyond the hysteresis), in the analog
+    # watchdog's trip, after MOE is clear (the bus that tripped), and while faulted for
+    # the bus's bound floor(K / T) at the Hall interval (the watchdog's window, MOE
+    # clear); no other handler divides
     divides = [
         name
         for name, body in re.findall(r"<(\w+)>:\n(.*?)(?:\n\n|\Z)", dump, re.S)
         for _ in re.findall(r"\b[us]div\b", body)
     ]
     bus_handler = port.port_context(spec)["handler"]["bus"]  # type: ignore[index]
-    assert bus_handler in divides and set(divides) <= {bus_handler, "port_bus_fault"}, divides
+    assert bus_handler in divides and set(divides) <= {
+        bus_handler,
+        "port_bus_fault",
+        "port_watch_while_faulted",
+    }, divides
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
     # nothing else leaves the object but the core and the current loop's reference (the
     # port's own static functions are its cold paths), and the Hall edge calls neither
@@ -639,7 +645,7 @@ static void show(const char *step)
     seen_duty = duty;
     timing_runs = runs;
     printf("%%s tim1 ccer=%%lu ccr1=%%lu ccr2=%%lu ccr3=%%lu ccr4=%%lu egr=%%lu bdtr=%%lu cr2=%%lu "
-           "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu sr=%%lu adc cr1=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
+           "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu sr=%%lu adc cr1=%%lu htr=%%lu ltr=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
            "runs=%%u busruns=%%u breaks=%%u edge egr=%%lu sr=%%lu port faults=%%lu safe=%%lu "
            "current=%%lu status=%%lu nvic cleared=%%lu adc2 cr1=%%lu sr=%%lu exti pr=%%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
@@ -648,7 +654,8 @@ static void show(const char *step)
            (unsigned long)fake_tim1.BDTR, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.DIER, (unsigned long)fake_tim3.DIER,
            (unsigned long)fake_tim3.CCR2, (unsigned long)fake_tim3.EGR,
-           (unsigned long)fake_tim3.SR, (unsigned long)fake_adc1.CR1, (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
+           (unsigned long)fake_tim3.SR, (unsigned long)fake_adc1.CR1,
+           (unsigned long)fake_adc1.HTR, (unsigned long)fake_adc1.LTR, (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
            (unsigned long)seen_duty, timing_runs, bus_runs, break_runs, raw_egr, raw_sr,
            (unsigned long)bldc_port_faults(), (unsigned long)bldc_port_safe_state(),
            (unsigned long)bldc_port_current_code(), status,
@@ -1513,17 +1520,32 @@ def test_an_explicit_clear_should_rearm_the_bridge_once_the_cause_is_gone(
     assert r["port.current"] == 0
 
 
+ADC_CODE_MAX = 4095
+
+
 @pytest.mark.parametrize("step", ["over_voltage", "over_voltage_regular", "under_voltage"])
-def test_a_bus_fault_should_silence_the_watchdog_interrupt_until_the_clear(
+def test_a_bus_fault_should_open_its_side_of_the_watchdog_window_until_the_clear(
     host_run: dict[str, dict[str, int]], step: str
 ) -> None:
     # The regular group converts the bus every few microseconds and raises AWD each time
-    # while the bus stays outside: its interrupt goes off with the trip (no interrupt
-    # storm at the Hall edge's priority) and comes back with the clear.
-    assert host_run["init"]["adc.cr1"] & AWDIE
-    assert host_run[step]["adc.cr1"] == host_run["init"]["adc.cr1"] & ~AWDIE
-    assert host_run[f"{step}_held"]["adc.cr1"] & AWDIE == 0
-    assert host_run[f"{step}_cleared"]["adc.cr1"] == host_run["init"]["adc.cr1"]
+    # while the bus stays outside: the latched fault's side of the window opens (no
+    # interrupt storm at the Hall edge's priority), the other side still watches, and
+    # the clear gives back the bus's range. The interrupt stays on throughout: while
+    # faulted it also follows the safe state's bound (test_the_faulted_window_...).
+    init = host_run["init"]
+    assert init["adc.cr1"] & AWDIE
+    for moment in (step, f"{step}_held"):
+        r = host_run[moment]
+        assert r["adc.cr1"] == init["adc.cr1"]
+        if step.startswith("over"):
+            assert r["adc.htr"] == ADC_CODE_MAX
+            assert r["adc.ltr"] >= init["adc.ltr"]
+        else:
+            assert r["adc.ltr"] == 0
+            assert r["adc.htr"] <= init["adc.htr"]
+    cleared = host_run[f"{step}_cleared"]
+    assert cleared["adc.cr1"] == init["adc.cr1"]
+    assert (cleared["adc.htr"], cleared["adc.ltr"]) == (init["adc.htr"], init["adc.ltr"])
 
 
 def test_an_over_voltage_seen_first_in_jdr2_should_latch_over_voltage(
@@ -1723,6 +1745,35 @@ int main(void)
                 : RULE_UNKNOWN ? (rectifying || wrapped)
                                : (rectifying && t >= RULE_V);
             const uint32_t cr2 = port_safe_state_cr2(t);
+            /* While faulted (a fault of no bus), the watchdog's window at t: the codes
+             * whose bus needs the short circuit at t are [0, need] (none: -1); with
+             * all-off in force every one of them is outside the window (LTR above them,
+             * or an empty window: the short at that conversion), the code that chose the region is inside it (no
+             * interrupt at each conversion), and the short is left within the
+             * hysteresis above `need`. */
+            port.faults = BLDC_FAULT_HALL_TIMEOUT;
+            port.period = (uint16_t)t;
+            port_watch_while_faulted(port_peripherals());
+            port.faults = 0u;
+            const unsigned long ltr = fake_adc1.LTR, htr = fake_adc1.HTR;
+            long need = -1;
+            if (!RULE_BOTH && RULE_UNKNOWN && wrapped) {
+                need = 4095;
+            } else if (!RULE_BOTH && (RULE_UNKNOWN || t >= RULE_V)) {
+                need = (t == 0u) ? 4095 : (long)((RULE_K / t > 4095ull) ? 4095ull : RULE_K / t);
+            }
+            const int in_range = (b >= BLDC_PORT_ADC_LTR) && (b <= BLDC_PORT_ADC_HTR);
+            if ((!short_circuit && need >= 0 && ltr <= htr && ltr <= (unsigned long)need)
+                || (in_range && (ltr > b || htr < b))
+                || (short_circuit && in_range && need >= 0
+                    && need + (long)BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES < (long)BLDC_PORT_ADC_HTR
+                    && htr > (unsigned long)need + BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES)) {
+                if (wrong < 5ul) {
+                    printf("B %lu T %lu: faulted window [%lu, %lu], need %ld\n", (unsigned long)b,
+                           (unsigned long)t, ltr, htr, need);
+                }
+                ++wrong;
+            }
             if ((cr2 & ois) != (short_circuit ? ois : 0u) || (cr2 & ~ois) != BLDC_PORT_TIM1_CR2) {
                 if (wrong < 5ul) {
                     printf("B %lu T %lu: CR2 %#lx\n", (unsigned long)b, (unsigned long)t,

@@ -826,6 +826,82 @@ def _above_rectifying(run: Run) -> Outcome:
     return _rectifying_side(run, +1)
 
 
+#: The bus falls from FALL_FROM x to FALL_TO x the peak line EMF of the run's speed
+#: (at least to FALL_NEAREST x where the bus range ends above FALL_TO x): all-off is the
+#: safe state before (where the spec prefers it), the short circuit after; either side
+#: clear of the bus code's and the Hall interval's quantisation (under 0.1 % and 0.3 %
+#: on the fixtures) and of the firmware's hysteresis (8 codes, 0.2 % of full scale)
+FALL_FROM, FALL_TO, FALL_NEAREST = 1.03, 0.97, 0.99
+#: ... and the bus stays this far inside the spec's range, so no bus fault latches
+BUS_RANGE_INSIDE = 0.01
+
+
+def bus_fall_while_faulted(spec: Spec) -> tuple[float, float, float] | None:
+    """A speed 1 % inside the controller's range, as low as the bus range allows (the
+    short circuit's current is then the least), and two bus voltages 1 % inside the
+    inverter's either side of the peak line EMF at that speed: (rpm, from V, to V);
+    None where no speed and bus of the ranges have both."""
+    per_rpm = peak_line_emf_v(spec, 1.0)
+    inverter, controller = spec.inverter, spec.controller
+    floor_v = float(inverter.bus_voltage_min_v) * (1 + BUS_RANGE_INSIDE)
+    ceiling_v = float(inverter.bus_voltage_max_v) * (1 - BUS_RANGE_INSIDE)
+    bottom = float(controller.speed_min_rpm) * (1 + SPEED_RANGE_INSIDE)
+    top = float(controller.speed_max_rpm) * (1 - SPEED_RANGE_INSIDE)
+    rpm = min(max(floor_v / (FALL_TO * per_rpm), bottom), top)
+    line = rpm * per_rpm
+    low, high = max(line * FALL_TO, floor_v), line * FALL_FROM
+    if rpm < bottom or low > line * FALL_NEAREST or high > ceiling_v:
+        return None
+    return rpm, high, low
+
+
+def _bus_falls_while_faulted(run: Run) -> Outcome:
+    """The break input latches a fault with the bus above the rotor's peak line EMF
+    (all-off does not rectify: the spec's preference holds), then the bus falls, within
+    its range, below that EMF just after an injected sample (the sampled path's worst
+    instant): the safe state one PWM period on is the spec's at the new bus (the short
+    circuit where all-off now rectifies). The firmware had waited for the next injected
+    sample's bus change, 53.5-56.7 us on a 50 us period (a helper's hunt)."""
+    name = "bus falls while faulted"
+    chosen = bus_fall_while_faulted(run.spec)
+    if chosen is None:
+        nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+        return _break_at(
+            run,
+            nominal,
+            name,
+            "no speed of the controller's range has a peak line EMF the bus range can fall"
+            " across: the break at the default speed",
+        )
+    run.rpm, high, low = chosen
+    period = run.board.pwm_period_ticks()
+    run.board.set_bus_voltage(high)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
+    cause = run.machine.now
+    run.board.set_break(True)
+    run.run_until_tripped(period)
+    _check_safe_state(run, cause + period, high, "one PWM period after the break")
+    # two whole sectors: the first edge ends the sector the trip's wait ran on in (a
+    # longer interval: a slower rotor to the port), the second measures the speed
+    run.turn(2)
+    _after_a_sample(run)
+    fall = run.machine.now
+    run.board.set_bus_voltage(low)
+    _check_safe_state(run, fall + period, low, "one PWM period after the bus fell")
+    moved = [t for t, gates in run.machine.tim1.gate_log or [] if t >= fall]
+    after = f", the gates changed {(moved[0] - fall) / TICK_HZ * 1e6:.1f} us on" if moved else ""
+    return run.outcome(
+        name,
+        "OVER_CURRENT",
+        cause,
+        period,
+        f"the break at {run.rpm:.0f} rpm (peak line EMF"
+        f" {peak_line_emf_v(run.spec, run.rpm):.2f} V) with the bus at {high:.2f} V, then"
+        f" the bus at {low:.2f} V from just after an injected sample, two sectors later{after}",
+    )
+
+
 def _hall_unplugged(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS - 1)
     # into a sector whose code has one line high (7 then raises two together)
@@ -1333,6 +1409,7 @@ SCENARIOS = (
     Scenario("above_rectifying", _above_rectifying),
     Scenario("below_short_rating", _below_short_rating),
     Scenario("above_short_rating", _above_short_rating),
+    Scenario("bus_falls_while_faulted", _bus_falls_while_faulted),
     Scenario("hall_unplugged", _hall_unplugged),
     Scenario("hall_glitch", _hall_glitch),
     Scenario("hall_spike", _hall_spike),
