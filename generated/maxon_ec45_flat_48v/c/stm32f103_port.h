@@ -228,6 +228,15 @@
 #define BLDC_PORT_BUS_HYSTERESIS_CODES 1u
 #endif
 
+/* While a fault is latched, the bus watchdog's window keeps the safe state's region
+ * with the bus: a bus at or below the bound where all-off rectifies at the Hall interval
+ * now interrupts at its conversion (the short circuit then, within a few microseconds),
+ * and the short circuit is left for all-off only once the bus reads this many codes
+ * above that bound, so ADC noise about it raises no interrupt at every conversion. */
+#ifndef BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES
+#define BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES 8u
+#endif
+
 /*
  * Start-up. bldc_port_init() enables the clocks of GPIOA, GPIOB, AFIO, TIM1, TIM3, ADC1
  * and ADC2, calibrates both ADCs, routes the Hall lines to the EXTI, configures TIM1 (PWM, dead time, break input, the ADC trigger),

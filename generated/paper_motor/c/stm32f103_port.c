@@ -382,6 +382,11 @@ BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
     port.pending = 0u;
     port.steady = 0u;
     port.faults |= fault;
+    /* The bus watchdog's window for the fault (port_watch_while_faulted) is set by the
+     * ADC interrupt's faulted path, pended here to run next, tail-chained at this
+     * priority: the trip itself stays short (a handler of this priority ahead of a
+     * commutation end delays its switch-off, bench's end-guard figure). */
+    NVIC_SetPendingIRQ(ADC1_2_IRQn);
 }
 
 /* The Hall edge refused to commutate: find out why. The edge stored its record, pins
@@ -647,6 +652,57 @@ static uint32_t port_safe_state_cr2(uint32_t period)
                                               : BLDC_PORT_TIM1_CR2;
 }
 
+/* While a fault is latched: the bus watchdog's window [LTR, HTR]. A bus fault latched
+ * opens its side (an over-voltage, HTR at full scale; an under-voltage, LTR at 0), so a
+ * bus that stays outside raises no interrupt at each regular conversion (every few
+ * microseconds, at the Hall edge's priority), while the other side still latches its
+ * fault. Where the safe state's region at the Hall interval T now depends on the bus
+ * (all-off rectifies for T B <= K, i.e. B <= floor(K / T)), the window also keeps the
+ * bus on the side of that bound the region in force was chosen for: all-off, LTR above
+ * the bound, so a bus falling to it interrupts at that conversion and the short follows
+ * within microseconds (it had waited for the next injected sample's bus change, up to
+ * 53.5-56.7 us after the cause on a 50 us period; a helper's hunt); the short, HTR
+ * BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES above the bound. A window that does not hold
+ * the bus (the region chosen from an older code) interrupts at the next conversion,
+ * which chooses the region afresh (port_bus_fault). At the Hall edge's priority or
+ * with interrupts masked. */
+BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
+{
+    const uint32_t faults = port.faults;
+    uint32_t low = ((faults & BLDC_FAULT_UNDER_VOLTAGE) != 0u) ? 0u : BLDC_PORT_ADC_LTR;
+    uint32_t high = ((faults & BLDC_FAULT_OVER_VOLTAGE) != 0u) ? BLDC_PORT_ADC_CODE_MAX
+                                                                 : BLDC_PORT_ADC_HTR;
+#if !BLDC_PORT_SHORT_WHERE_BOTH
+    const uint32_t period = port.period;
+#if BLDC_PORT_SHORT_WHILE_UNKNOWN
+    /* a wrapped interval is the short at every bus code */
+    const uint32_t follows = (uint32_t)((period - 1u) < (BLDC_PORT_TIM3_ARR - 1u));
+#else
+    /* the short only where rated: all-off at every bus code below the rated interval */
+    const uint32_t follows = (uint32_t)((period != 0u) && (period >= BLDC_PORT_SHORT_VALID_PERIOD));
+#endif
+    if (follows != 0u) {
+        const uint32_t bound = BLDC_PORT_RECTIFYING_PRODUCT / period; /* T >= 1: no UDIV by 0 */
+        if (port_short_circuit(period) != 0u) {
+            high = (bound >= high - BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES)
+                       ? high
+                       : bound + BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES;
+        } else if (bound >= BLDC_PORT_ADC_CODE_MAX) {
+            /* every code needs the short (all-off was chosen from no reading: the
+             * start-up code): an empty window, the next conversion chooses afresh */
+            low = BLDC_PORT_ADC_CODE_MAX;
+            high = 0u;
+        } else {
+            low = (bound >= low) ? bound + 1u : low;
+        }
+    }
+#endif
+    ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
+    adc->LTR = low;
+    adc->HTR = high;
+    adc->CR1 = BLDC_PORT_ADC_CR1; /* AWDIE: on again after the clear's masked arming */
+}
+
 /* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
  * break (EGR.BG) clears MOE at once, in hardware, and the break interrupt, at the Hall
  * edge's priority, completes the safe state and latches `requested`. */
@@ -672,7 +728,18 @@ static void port_update_bus(void)
     const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
-    port_set_safe_region(code);
+    if (BLDC_PORT_RARE(port.faults != 0u)) {
+        /* the safe state in force follows at once, and the watchdog's window with it,
+         * masked: the bus watchdog's handler sets all three too */
+        const uint32_t primask = __get_PRIMASK();
+        __disable_irq();
+        port_set_safe_region(code);
+        TIM1->CR2 = port_safe_state_cr2(port.period);
+        port_watch_while_faulted(port_peripherals());
+        __set_PRIMASK(primask);
+    } else {
+        port_set_safe_region(code);
+    }
     port.bus = bldc_bus_condition(code);
     if (BLDC_PORT_RARE((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u)) {
         port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
@@ -813,19 +880,20 @@ static inline void port_pend_if_bus_moved(uint32_t bus)
  * every JDRx of the bus, since the watchdog flags the first injected bus conversion at
  * its end, before the later ones of the sequence are written, and the regular group,
  * interrupted by the injected sequence (RM0008 11.3.9), may not have converted since
- * the bus stepped. The
- * regular group converts the bus every few microseconds and sets AWD again each time
- * the bus is still outside: its interrupt goes off until the fault is cleared (else
- * the ADC interrupt would take the CPU at the Hall edge's priority); the fault is
- * latched, and bldc_port_clear_faults() reads the bus itself. */
+ * the bus stepped. Not faulted: the bus left its range, a fault. Faulted: the window is
+ * port_watch_while_faulted()'s; a bus out of range latches its fault (the safe state is
+ * in force already), and the safe state's region is chosen again from the bus. Either
+ * way the window then follows the fault and the region, so a bus that stays where it
+ * is raises no interrupt at each conversion; bldc_port_clear_faults() reads the bus
+ * itself. */
 BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
 {
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
-    adc->CR1 = BLDC_PORT_ADC_CR1 & ~ADC_CR1_AWDIE;
     /* The bus conversions now: the regular group's latest and the injected sequence's
      * bus slots; the one outside the window is the conversion that tripped. */
-    uint32_t lowest = (uint16_t)adc->DR; /* DATA: bits 15:0 */
-    uint32_t highest = lowest;
+    const uint32_t latest = (uint16_t)adc->DR; /* DATA: bits 15:0 */
+    uint32_t lowest = latest;
+    uint32_t highest = latest;
     {
         const uint32_t code = (uint16_t)adc->JDR2;
         lowest = (code < lowest) ? code : lowest;
@@ -842,15 +910,21 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
         highest = (code > highest) ? code : highest;
     }
     const uint32_t over = (uint32_t)(highest > BLDC_PORT_ADC_HTR);
-    port_trip(anchor, (over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
-    /* MOE is clear: the idle levels act at once. They had been chosen from the last
-     * injected sample, the bus before the fault; chosen now from the conversion that
-     * tripped (a low bus makes all-off rectify where it did not: at 98 % of the top
-     * speed an under-voltage left the bridge all-off, rectifying, until the next
-     * sample's bus change, 57-64 us after the cause on a 50 us period; a helper's
-     * hunt). The next injected sample's bus change takes the bus state over. */
-    port_set_safe_region((over != 0u) ? highest : lowest);
+    const uint32_t under = (uint32_t)(lowest < BLDC_PORT_ADC_LTR);
+    if (port.faults == 0u) {
+        port_trip(anchor, (over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
+    } else {
+        port.faults |= ((over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : 0u) |
+                       ((under != 0u) ? BLDC_FAULT_UNDER_VOLTAGE : 0u);
+    }
+    /* MOE is clear: the idle levels act at once. Chosen from the conversion out of
+     * range, where one is (a low bus makes all-off rectify where it did not: at 98 % of
+     * the top speed an under-voltage had left the bridge all-off, rectifying, until the
+     * next sample's bus change, 57-64 us after the cause on a 50 us period; a helper's
+     * hunt), else from the latest conversion, the bus crossing the rectifying bound. */
+    port_set_safe_region((over != 0u) ? highest : (under != 0u) ? lowest : latest);
     PORT_AT(anchor, TIM1, TIM_TypeDef)->CR2 = port_safe_state_cr2(port.period);
+    port_watch_while_faulted(anchor);
 }
 
 /* ADC2's analog watchdog: a conversion of a current channel, at any instant, read at a
@@ -866,18 +940,22 @@ BLDC_PORT_COLD static void port_current_rail(uintptr_t anchor)
 
 /* While faulted, every PWM period: the Hall interval from the capture TIM3 still makes
  * (its interrupts are off) and the safe state of the region the rotor is in now, so a
- * decelerating rotor leaves the short circuit for all-off where that becomes valid. */
+ * decelerating rotor leaves the short circuit for all-off where that becomes valid;
+ * the bus watchdog's window for that interval. */
 BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
 {
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t status = tim3->SR;
-    if ((status & (TIM_SR_CC1IF | TIM_SR_UIF)) == 0u) {
-        return;
+    if ((status & (TIM_SR_CC1IF | TIM_SR_UIF)) != 0u) {
+        const uint32_t captured = tim3->CCR1; /* clears CC1IF */
+        tim3->SR = ~TIM_SR_UIF;
+        port.period =
+            (uint16_t)(((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured);
+        TIM1->CR2 = port_safe_state_cr2(port.period);
     }
-    const uint32_t captured = tim3->CCR1; /* clears CC1IF */
-    tim3->SR = ~TIM_SR_UIF;
-    port.period = (uint16_t)(((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured);
-    TIM1->CR2 = port_safe_state_cr2(port.period);
+    /* the bound moves with the interval; every period, so a window left behind by a
+     * region changed meanwhile (a bus change preempted by the trip) lasts one at most */
+    port_watch_while_faulted(anchor);
 }
 
 /* 1 if a current sample `code` is at a rail that zero current does not read on (0 and full scale):
@@ -923,10 +1001,11 @@ static inline void port_run_loop(uint32_t measured, uint32_t reference)
 BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uint32_t bus,
                                           uint32_t measured)
 {
-    /* A watchdog acts while its interrupt is on, i.e. until it has tripped: the regular
-     * conversions set AWD again at every conversion outside the window (RM0008 11.3.7,
-     * whatever AWDIE), and a trip each PWM period would raise a COM event, and so a
-     * timing run, each period while the fault is latched. */
+    /* ADC1's watchdog: a bus fault, or while faulted the bus crossing the safe state's
+     * bound (its window is port_watch_while_faulted()'s, which opens a latched fault's
+     * side: a trip each PWM period would raise a COM event, and so a timing run). ADC2's
+     * acts while its interrupt is on, i.e. until it has tripped: the conversions set AWD
+     * again at every one outside the window (RM0008 11.3.7, whatever AWDIE). */
     ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
     if (((status & ADC_SR_AWD) != 0u) && ((adc1->CR1 & ADC_CR1_AWDIE) != 0u)) {
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
@@ -1167,8 +1246,10 @@ static void port_arm(void)
     TIM1->EGR = TIM_EGR_COMG; /* all off before MOE */
     TIM1->SR = ~TIM_SR_BIF;
     TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+    ADC1->HTR = BLDC_PORT_ADC_HTR; /* the bus's range again (the faulted window's) */
+    ADC1->LTR = BLDC_PORT_ADC_LTR;
     ADC1->SR = ~ADC_SR_AWD;
-    ADC1->CR1 = BLDC_PORT_ADC_CR1; /* the bus watchdog's interrupt again */
+    ADC1->CR1 = BLDC_PORT_ADC_CR1;
     ADC2->SR = ~ADC_SR_AWD;
     ADC2->CR1 = BLDC_PORT_ADC2_CR1; /* the current watchdog's too */
     port.pending = 0u;
