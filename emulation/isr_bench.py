@@ -527,7 +527,11 @@ def bench(
     rig.prime(inputs.buses[0], inputs.currents[0], periods[0])
     runs = [(d, p) for d in (1, -1) for p in periods]
     for direction, period in progress(runs, f"bench {spec.name} handlers"):
-        sequence = spec.hall.sequence if direction > 0 else tuple(reversed(spec.hall.sequence))
+        # backwards from the code the forward runs end on (their last, the sequence's
+        # last): a first edge to that code again is a repeated code, HALL_SEQUENCE, and
+        # the rest of the sweep had measured a faulted drive (a bus change's faulted path)
+        back = tuple(reversed(spec.hall.sequence))
+        sequence = spec.hall.sequence if direction > 0 else back[1:] + back[:1]
         for bus in inputs.buses:
             for current in inputs.currents:
                 for duty in inputs.duties:
@@ -553,6 +557,9 @@ def bench(
                             switches_off.append(_cycles_to_store(rig, end, rig.tim1_egr))
                         if rig.com_event() and index == 0:
                             measure_timing(rig.timing())
+    latched = rig.sim.call("bldc_port_faults").return_value
+    if latched != 0:
+        raise AssertionError(f"the handler sweep latched faults {latched:#x}: a faulted drive")
     lines = [rig.cost(rig.hall_lines(code)) for code in spec.hall.sequence]
     loop, faults, to_moe = current_loop_runs(rig, inputs)
     return Stats(
@@ -613,11 +620,14 @@ def current_loop_runs(
     to_moe: dict[str, int] = {}
 
     def rearm(after: str) -> None:
-        """Clear what is latched (the Hall-edge sweep's refused pairs latch
-        HALL_SEQUENCE) and prime the drive again: each fault path is measured from the
-        armed drive, as it trips from there (a bus fault found with another latched only
-        adds its bit: MOE is clear already)."""
+        """The drive armed afresh through its own API, the rotor in the sequence's first
+        sector, and primed: each fault path is measured from the armed drive, as it trips
+        from there. A clear re-arms (reads the pins) only with a fault latched, so one is
+        raised first (the clear had left the pins of the last edge, and prime's edge
+        from them latched HALL_SEQUENCE: every fault path after the first had been
+        measured with it latched, which a bus fault now only adds its bit to)."""
         rig.com_event()
+        rig.hall_lines(7)  # HALL_INVALID: a Hall code 0/7 on the lines, the EXTI's trip
         rig.pended()
         rig.stage_hall(spec.hall.sequence[0])
         rig.adc_sample(sc.bus_code_min, sc.current_offset_code)
@@ -625,6 +635,9 @@ def current_loop_runs(
         if left != 0:
             raise AssertionError(f"{after}: the fault did not clear ({left:#x})")
         rig.prime(sc.bus_code_min, sc.current_offset_code, inputs.periods[0])
+        latched = rig.sim.call("bldc_port_faults").return_value
+        if latched != 0:
+            raise AssertionError(f"{after}: re-armed and primed with faults {latched:#x}")
 
     def fault(name: str, run: Callable[[], CallResult]) -> None:
         result = run()

@@ -591,7 +591,12 @@ static uint32_t port_rectifying_max(uint32_t bus_code)
  * one unsigned compare, T - from < span (mod 2^32: from + span <= 2^32), whatever the
  * policy: two compares joined cost a branch laid out of line, and from flash a taken
  * branch waits for its target. */
-static void port_set_safe_region(uint32_t bus_code)
+typedef struct {
+    uint32_t from; /* port.all_off_from */
+    uint32_t span; /* port.all_off_span */
+} port_region_t;
+
+static inline port_region_t port_region_of(uint32_t bus_code)
 {
 #if BLDC_PORT_SHORT_WHERE_BOTH && !BLDC_PORT_SHORT_WHILE_UNKNOWN && \
     (BLDC_PORT_SHORT_VALID_PERIOD < BLDC_PORT_TIM3_ARR)
@@ -635,8 +640,17 @@ static void port_set_safe_region(uint32_t bus_code)
     const uint32_t from = none ? 0u : rectifying_max + 1u;
     const uint32_t span = none ? UINT32_MAX : BLDC_PORT_SHORT_VALID_PERIOD - from;
 #endif
-    port.all_off_from = from;
-    port.all_off_span = span;
+    const port_region_t region = {from, span};
+    return region;
+}
+
+/* The region at a bus code, set. At the Hall edge's priority (or masked): the bus-change
+ * handler, below it, stores the pair masked (port_update_bus). */
+static void port_set_safe_region(uint32_t bus_code)
+{
+    const port_region_t region = port_region_of(bus_code);
+    port.all_off_from = region.from;
+    port.all_off_span = region.span;
 }
 
 /* 1 where the safe state of this Hall interval is the short circuit, else 0. */
@@ -703,6 +717,14 @@ BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
     adc->CR1 = BLDC_PORT_ADC_CR1; /* AWDIE: on again after the clear's masked arming */
 }
 
+/* While faulted, the bus changed (port_update_bus, masked): the safe state of the new
+ * region at once, and the watchdog's window for it. */
+BLDC_PORT_COLD static void port_follow_bus_while_faulted(void)
+{
+    TIM1->CR2 = port_safe_state_cr2(port.period);
+    port_watch_while_faulted(port_peripherals());
+}
+
 /* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
  * break (EGR.BG) clears MOE at once, in hardware, and the break interrupt, at the Hall
  * edge's priority, completes the safe state and latches `requested`. */
@@ -728,18 +750,18 @@ static void port_update_bus(void)
     const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
+    /* The region's pair stored whole, masked: the bus watchdog's handler, above this
+     * one, sets it too (and while faulted the safe state and its window with it, which
+     * follow here as well). The divide before the mask. */
+    const port_region_t region = port_region_of(code);
+    const uint32_t primask = __get_PRIMASK();
+    __disable_irq();
+    port.all_off_from = region.from;
+    port.all_off_span = region.span;
     if (BLDC_PORT_RARE(port.faults != 0u)) {
-        /* the safe state in force follows at once, and the watchdog's window with it,
-         * masked: the bus watchdog's handler sets all three too */
-        const uint32_t primask = __get_PRIMASK();
-        __disable_irq();
-        port_set_safe_region(code);
-        TIM1->CR2 = port_safe_state_cr2(port.period);
-        port_watch_while_faulted(port_peripherals());
-        __set_PRIMASK(primask);
-    } else {
-        port_set_safe_region(code);
+        port_follow_bus_while_faulted();
     }
+    __set_PRIMASK(primask);
     port.bus = bldc_bus_condition(code);
     if (BLDC_PORT_RARE((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u)) {
         port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
