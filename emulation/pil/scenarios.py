@@ -1241,6 +1241,85 @@ def _hall_sequence(run: Run) -> Outcome:
     )
 
 
+#: How far above the speed from which all-off rectifies the stuck-line scenario brakes
+#: (at most 1 % inside speed_max): a two-sector interval then reads as a speed well
+#: below it
+STUCK_ABOVE = 1.3
+#: ... and how many sectors it turns with the line stuck
+STUCK_SECTORS = 8
+
+
+def hall_stuck_speed(spec: Spec) -> tuple[float, float] | None:
+    """A bus voltage of the spec's range and a speed inside the controller's, at least
+    RECTIFYING_MARGIN above the one from which all-off rectifies into that bus (up to
+    STUCK_ABOVE x it): (bus V, rpm); None where there is none."""
+    boundary = rectifying_boundary(spec)
+    if boundary is None:
+        return None
+    bus_v, rpm = boundary
+    fast = min(rpm * STUCK_ABOVE, float(spec.controller.speed_max_rpm) * (1 - SPEED_RANGE_INSIDE))
+    if fast < rpm * (1 + RECTIFYING_MARGIN):
+        return None
+    return bus_v, fast
+
+
+def _hall_line_stuck(run: Run) -> Outcome:
+    """A Hall line stops changing while the rotor brakes faster than the speed from
+    which all-off rectifies: the next code with it stuck is 000 or 111 (HALL_INVALID),
+    and the other two lines go on changing, every other interval two sectors long. From
+    one PWM period after the trip to STUCK_SECTORS sectors on, the gates are a state
+    safe at the rotor's speed and bus, which the port no longer knows (the short
+    circuit there). The firmware had taken the two-sector intervals as the rotor's and
+    chosen all-off, rectifying, 17.6 ms after the trip on the paper motor (a hunt)."""
+    name = "Hall line stuck above the rectifying speed"
+    chosen = hall_stuck_speed(run.spec)
+    if chosen is None:
+        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
+        note = (
+            "no bus voltage of the spec's range rectifies inside the controller's speed range:"
+            " the line stuck at the default speed"
+        )
+    else:
+        bus_v, run.rpm = chosen
+        rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
+        note = (
+            f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off rectifies from"
+            f" {rectifying:.0f} rpm)"
+        )
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS)
+    sequence = run.spec.hall.sequence
+    now, following = sequence[run.sector], sequence[(run.sector + 1) % 6]
+    stuck = (now ^ following).bit_length() - 1  # the line the next edge would change
+    level = now >> stuck & 1
+    cause = run.machine.now
+    for _ in range(STUCK_SECTORS):
+        run._finish_sector()
+        run.sector = (run.sector + 1) % 6
+        code = sequence[run.sector] & ~(1 << stuck) | level << stuck
+        run.board.set_hall(code)
+        run._due = run.machine.now + run.sector_ticks()
+        run.machine.run_for(run.sector_ticks())
+    run.run_until_tripped(run.board.pwm_period_ticks())
+    cleared = run.machine.tim1.moe_cleared_at
+    period = run.board.pwm_period_ticks()
+    if cleared is not None:
+        start = cleared + period
+        changes = [t for t, _ in run.machine.tim1.gate_log or [] if t > start]
+        for at in [start, *changes]:
+            _check_safe_state(
+                run, at, bus_v, "with the Hall line stuck, the speed unknown", inputs_known=False
+            )
+    return run.outcome(
+        name,
+        "HALL_INVALID",
+        cause,
+        2 * run.sector_ticks(),
+        f"{note}; line {stuck} stuck from the next edge on, {STUCK_SECTORS} sectors;"
+        " the trip comes with the first code of the stuck line (000 or 111), a sector on",
+    )
+
+
 def _over_speed(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.rpm = 1.25 * float(run.spec.controller.speed_max_rpm)
@@ -1417,6 +1496,7 @@ SCENARIOS = (
     Scenario("current_sensor_low", _current_sensor_low),
     Scenario("current_sensor_high", _current_sensor_high),
     Scenario("hall_sequence", _hall_sequence),
+    Scenario("hall_line_stuck", _hall_line_stuck),
     Scenario("over_speed", _over_speed),
     Scenario("rotor_stops", _rotor_stops),
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),

@@ -934,10 +934,11 @@ BLDC_PORT_COLD static void port_current_rail(uintptr_t anchor)
     port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR);
 }
 
-/* While faulted, every PWM period: the Hall interval from the capture TIM3 still makes
- * (its interrupts are off) and the safe state of the region the rotor is in now, so a
- * decelerating rotor leaves the short circuit for all-off where that becomes valid;
- * the bus watchdog's window for that interval. */
+/* While faulted, every PWM period (and at once after each trip, which pends this): the
+ * Hall interval from the capture TIM3 still makes (its interrupts are off) and the safe
+ * state of the region the rotor is in now, so a decelerating rotor leaves the short
+ * circuit for all-off where that becomes valid; the bus watchdog's window for that
+ * interval. */
 BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
 {
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
@@ -947,8 +948,16 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
         tim3->SR = ~TIM_SR_UIF;
         port.period =
             (uint16_t)(((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured);
-        TIM1->CR2 = port_safe_state_cr2(port.period);
     }
+    /* A Hall line's fault: the lines' intervals are not the rotor's. A stuck line makes
+     * every other interval two sectors long, and a rotor above the speed from which
+     * all-off rectifies read as one below it: all-off while it rectified (a hunt: the
+     * paper motor at 1.3 x that speed, all-off 17.6 ms after the trip). The speed is
+     * then unknown, as before the first edges: the safe state one safe at any speed. */
+    if ((port.faults & (BLDC_FAULT_HALL_INVALID | BLDC_FAULT_HALL_SEQUENCE)) != 0u) {
+        port.period = (uint16_t)BLDC_PORT_TIM3_ARR;
+    }
+    TIM1->CR2 = port_safe_state_cr2(port.period);
     /* the bound moves with the interval; every period, so a window left behind by a
      * region changed meanwhile (a bus change preempted by the trip) lasts one at most */
     port_watch_while_faulted(anchor);
