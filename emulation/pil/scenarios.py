@@ -1151,6 +1151,46 @@ def _bus_stuck_at_zero(run: Run) -> Outcome:
     )
 
 
+def _bus_stuck_at_full_scale(run: Run) -> Outcome:
+    """The bus divider's ADC input stuck at the reference (its lower resistor open)
+    while the bus is in fact at a voltage of the spec's range, the rotor RECTIFYING_MARGIN
+    above the speed from which all-off rectifies into it: OVER_VOLTAGE, and one PWM period
+    on a state safe at that speed and the real bus (the short circuit there), since the
+    port cannot tell a bus that is over from an ADC stuck high. The firmware had chosen
+    the region from the reading: all-off, rectifying (a hunt)."""
+    boundary = rectifying_boundary(run.spec)
+    if boundary is None:
+        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
+        note = (
+            "no bus voltage of the spec's range rectifies inside the controller's speed"
+            " range: at the default speed and the nominal bus"
+        )
+    else:
+        bus_v, rpm = boundary
+        run.rpm = rpm * (1 + RECTIFYING_MARGIN)
+        note = (
+            f"the bus in fact at {bus_v:.2f} V, where all-off rectifies from {rpm:.0f} rpm;"
+            f" the rotor at {run.rpm:.0f} rpm"
+        )
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS - 1)
+    run.into_sector(1 / 3)
+    cause = run.machine.now
+    adc = run.spec.adc
+    run.board.set_bus_voltage(1.05 * float(adc.reference_v * adc.bus_voltage_divider))
+    period = run.board.pwm_period_ticks()
+    run.run_until_tripped(2 * period)
+    _check_safe_state(run, cause + period, bus_v, "one PWM period on", inputs_known=False)
+    _check_quiet_while_faulted(run)
+    return run.outcome(
+        "bus ADC stuck at full scale",
+        "OVER_VOLTAGE",
+        cause,
+        period,
+        f"the bus divider's ADC input at the reference from mid-sector on; {note}",
+    )
+
+
 def _after_a_sample(run: Run) -> None:
     """Run on to just after an injected sequence's end: the instant a cause that only
     the sampled current would show waits longest (a whole PWM period) for the next."""
@@ -1500,6 +1540,7 @@ SCENARIOS = (
     Scenario("over_speed", _over_speed),
     Scenario("rotor_stops", _rotor_stops),
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
+    Scenario("bus_stuck_at_full_scale", _bus_stuck_at_full_scale),
     Scenario("reversal", _reversal),
     Scenario("current_loop_stalls", _current_loop_stalls),
     Scenario("hse_fails", _hse_fails, hse_fails=True),

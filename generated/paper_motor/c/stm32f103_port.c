@@ -666,6 +666,20 @@ static uint32_t port_safe_state_cr2(uint32_t period)
                                               : BLDC_PORT_TIM1_CR2;
 }
 
+/* The bus code the safe state's region is chosen for, while faulted: the reading, or,
+ * with an over-voltage latched, 0 (the region of a bus that may be anywhere: the short
+ * wherever it is rated, since at a bus reading 0 all-off rectifies at every speed). A
+ * reading above the range is a bus that is over, or a bus ADC stuck high (the divider's
+ * lower resistor open: the input clamped at the reference) with the bus anywhere, which
+ * the port cannot tell apart; chosen from the reading, all-off rectified into a bus that
+ * was in fact at its nominal voltage, the rotor above the speed where that begins (a
+ * hunt). On a bus that is over, the short is the safe state too: it sends no current
+ * into the bus at any speed. */
+static inline uint32_t port_region_code(uint32_t code)
+{
+    return ((port.faults & BLDC_FAULT_OVER_VOLTAGE) != 0u) ? 0u : code;
+}
+
 /* While a fault is latched: the bus watchdog's window [LTR, HTR]. A bus fault latched
  * opens its side (an over-voltage, HTR at full scale; an under-voltage, LTR at 0), so a
  * bus that stays outside raises no interrupt at each regular conversion (every few
@@ -695,7 +709,8 @@ BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
     /* the short only where rated: all-off at every bus code below the rated interval */
     const uint32_t follows = (uint32_t)((period != 0u) && (period >= BLDC_PORT_SHORT_VALID_PERIOD));
 #endif
-    if (follows != 0u) {
+    /* an over-voltage latched: the region is the bus unknown's (port_region_code) */
+    if ((follows != 0u) && ((faults & BLDC_FAULT_OVER_VOLTAGE) == 0u)) {
         const uint32_t bound = BLDC_PORT_RECTIFYING_PRODUCT / period; /* T >= 1: no UDIV by 0 */
         if (port_short_circuit(period) != 0u) {
             high = (bound >= high - BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES)
@@ -721,6 +736,9 @@ BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
  * region at once, and the watchdog's window for it. */
 BLDC_PORT_COLD static void port_follow_bus_while_faulted(void)
 {
+    if ((port.faults & BLDC_FAULT_OVER_VOLTAGE) != 0u) {
+        port_set_safe_region(0u); /* the bus unknown (port_region_code) */
+    }
     TIM1->CR2 = port_safe_state_cr2(port.period);
     port_watch_while_faulted(port_peripherals());
 }
@@ -943,8 +961,9 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
      * range, where one is (a low bus makes all-off rectify where it did not: at 98 % of
      * the top speed an under-voltage had left the bridge all-off, rectifying, until the
      * next sample's bus change, 57-64 us after the cause on a 50 us period; a helper's
-     * hunt), else from the latest conversion, the bus crossing the rectifying bound. */
-    port_set_safe_region((over != 0u) ? highest : (under != 0u) ? lowest : latest);
+     * hunt), else from the latest conversion, the bus crossing the rectifying bound;
+     * with an over-voltage latched, the bus unknown (port_region_code). */
+    port_set_safe_region(port_region_code((under != 0u) ? lowest : latest));
     PORT_AT(anchor, TIM1, TIM_TypeDef)->CR2 = port_safe_state_cr2(port.period);
     port_watch_while_faulted(anchor);
 }
