@@ -732,17 +732,6 @@ BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
     adc->CR1 = BLDC_PORT_ADC_CR1; /* AWDIE: on again after the clear's masked arming */
 }
 
-/* While faulted, the bus changed (port_update_bus, masked): the safe state of the new
- * region at once, and the watchdog's window for it. */
-BLDC_PORT_COLD static void port_follow_bus_while_faulted(void)
-{
-    if ((port.faults & BLDC_FAULT_OVER_VOLTAGE) != 0u) {
-        port_set_safe_region(0u); /* the bus unknown (port_region_code) */
-    }
-    TIM1->CR2 = port_safe_state_cr2(port.period);
-    port_watch_while_faulted(port_peripherals());
-}
-
 /* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
  * break (EGR.BG) clears MOE at once, in hardware, and the break interrupt, at the Hall
  * edge's priority, completes the safe state and latches `requested`. */
@@ -769,15 +758,16 @@ static void port_update_bus(void)
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
     /* The region's pair stored whole, masked: the bus watchdog's handler, above this
-     * one, sets it too (and while faulted the safe state and its window with it, which
-     * follow here as well). The divide before the mask. */
+     * one, sets it too. Not while faulted: then the bus watchdog's window keeps the
+     * region with the bus (port_watch_while_faulted, its hysteresis included; a
+     * sample's code here, with none, had moved the safe state to and fro each period
+     * on a bus rippling about the bound). The divide before the mask. */
     const port_region_t region = port_region_of(code);
     const uint32_t primask = __get_PRIMASK();
     __disable_irq();
-    port.all_off_from = region.from;
-    port.all_off_span = region.span;
-    if (BLDC_PORT_RARE(port.faults != 0u)) {
-        port_follow_bus_while_faulted();
+    if (port.faults == 0u) {
+        port.all_off_from = region.from;
+        port.all_off_span = region.span;
     }
     __set_PRIMASK(primask);
     port.bus = bldc_bus_condition(code);
@@ -949,11 +939,21 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
         lowest = (code < lowest) ? code : lowest;
         highest = (code > highest) ? code : highest;
     }
-    const uint32_t over = (uint32_t)(highest > BLDC_PORT_ADC_HTR);
-    const uint32_t under = (uint32_t)(lowest < BLDC_PORT_ADC_LTR);
+    uint32_t over = (uint32_t)(highest > BLDC_PORT_ADC_HTR);
+    uint32_t under = (uint32_t)(lowest < BLDC_PORT_ADC_LTR);
     if (port.faults == 0u) {
         port_trip(anchor, (over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
     } else {
+        /* Faulted: the window is narrower than the range, and the injected slots may
+         * hold the sample before the bus moved (up to a PWM period old): each entry had
+         * chosen the region from that sample again and re-armed a window the bus was
+         * outside, an entry at every conversion and the wrong region until the next
+         * sample (a helper's hunt: all-off, rectifying, 53 us after a bus fall that
+         * followed an over-voltage). The regular group's latest alone: if the bus is
+         * still outside, the next conversion interrupts again. */
+        over = (uint32_t)(latest > BLDC_PORT_ADC_HTR);
+        under = (uint32_t)(latest < BLDC_PORT_ADC_LTR);
+        lowest = latest;
         port.faults |= ((over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : 0u) |
                        ((under != 0u) ? BLDC_FAULT_UNDER_VOLTAGE : 0u);
     }
