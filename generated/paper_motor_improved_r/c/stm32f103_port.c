@@ -369,6 +369,7 @@ BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
  * phase makes that hold for all three phases. TIM3 stops raising its interrupts (a Hall
  * edge must not apply a pattern), and one it has already pended finds nothing to do.
  * Called at the Hall edge's priority or with interrupts masked. */
+static void port_set_safe_region(uint32_t bus_code);
 BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
 {
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
@@ -382,6 +383,11 @@ BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
     port.pending = 0u;
     port.steady = 0u;
     port.faults |= fault;
+    if ((fault & BLDC_FAULT_OVER_VOLTAGE) != 0u) {
+        /* the bus unknown (port_region_code), whichever path latched it: the core's
+         * flag through the software break, too, had kept the region of the reading */
+        port_set_safe_region(0u);
+    }
     /* The bus watchdog's window for the fault (port_watch_while_faulted) is set by the
      * ADC interrupt's faulted path, pended here to run next, tail-chained at this
      * priority: the trip itself stays short (a handler of this priority ahead of a
