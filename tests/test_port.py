@@ -892,6 +892,8 @@ int main(int argc, char **argv)
     timing_runs = 0u;
     adc(0u, OFFSET, 1u, 0u); /* the regular conversions keep setting AWD */
     show("under_voltage_again");
+    adc(0u, OFFSET, 0u, 0u); /* the next sample, its conversions inside the window */
+    show("under_voltage_sampled");
     clear("under_voltage_held");
     adc(BUS_OK, OFFSET, 0u, 0u);
     clear("under_voltage_cleared");
@@ -1544,19 +1546,29 @@ def test_a_bus_fault_should_open_its_side_of_the_watchdog_window_until_the_clear
     # The regular group converts the bus every few microseconds and raises AWD each time
     # while the bus stays outside: the latched fault's side of the window opens (no
     # interrupt storm at the Hall edge's priority), the other side still watches, and
-    # the clear gives back the bus's range. The interrupt stays on throughout: while
-    # faulted it also follows the safe state's bound (test_the_faulted_window_...).
+    # the clear gives back the bus's range. After the watchdog's own entry its
+    # interrupt is off until the next faulted tick (an injected sample's entry), which
+    # turns it on again: while faulted it follows the safe state's bound as well.
     init = host_run["init"]
     assert init["adc.cr1"] & AWDIE
     for moment in (step, f"{step}_held"):
         r = host_run[moment]
-        assert r["adc.cr1"] == init["adc.cr1"]
+        # the under-voltage's held moment follows a sample without AWD (`..._sampled`)
+        sampled = moment == "under_voltage_held"
+        assert r["adc.cr1"] == init["adc.cr1"] & (~0 if sampled else ~AWDIE)
         if step.startswith("over"):
             assert r["adc.htr"] == ADC_CODE_MAX
             assert r["adc.ltr"] >= init["adc.ltr"]
         else:
             assert r["adc.ltr"] == 0
             assert r["adc.htr"] <= init["adc.htr"]
+    if step == "under_voltage":
+        # an entry with AWD again (faulted: judged whatever AWDIE): off still; the next
+        # sample's entry without it: on again
+        again = host_run["under_voltage_again"]
+        assert again["adc.cr1"] == init["adc.cr1"] & ~AWDIE
+        assert again["adc.ltr"] == 0
+        assert host_run["under_voltage_sampled"]["adc.cr1"] == init["adc.cr1"]
     cleared = host_run[f"{step}_cleared"]
     assert cleared["adc.cr1"] == init["adc.cr1"]
     assert (cleared["adc.htr"], cleared["adc.ltr"]) == (init["adc.htr"], init["adc.ltr"])
@@ -1782,7 +1794,7 @@ int main(void)
              * hysteresis above `need`. */
             port.faults = BLDC_FAULT_HALL_TIMEOUT;
             port.period = (uint16_t)t;
-            port_watch_while_faulted(port_peripherals());
+            port_watch_while_faulted(port_peripherals(), 1u);
             port.faults = 0u;
             const unsigned long ltr = fake_adc1.LTR, htr = fake_adc1.HTR;
             long need = -1;

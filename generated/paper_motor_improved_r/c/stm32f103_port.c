@@ -700,7 +700,7 @@ static inline uint32_t port_region_code(uint32_t code)
  * the bus (the region chosen from an older code) interrupts at the next conversion,
  * which chooses the region afresh (port_bus_fault). At the Hall edge's priority or
  * with interrupts masked. */
-BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
+BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor, uint32_t interrupt)
 {
     const uint32_t faults = port.faults;
     uint32_t low = ((faults & BLDC_FAULT_UNDER_VOLTAGE) != 0u) ? 0u : BLDC_PORT_ADC_LTR;
@@ -735,7 +735,9 @@ BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor)
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
     adc->LTR = low;
     adc->HTR = high;
-    adc->CR1 = BLDC_PORT_ADC_CR1; /* AWDIE: on again after the clear's masked arming */
+    /* AWDIE as asked: off after an entry the watchdog raised (port_bus_fault) until
+     * the next faulted tick */
+    adc->CR1 = (interrupt != 0u) ? BLDC_PORT_ADC_CR1 : (BLDC_PORT_ADC_CR1 & ~ADC_CR1_AWDIE);
 }
 
 /* A fault found below the Hall edge's priority (the timing handler, the NMI): a software
@@ -945,7 +947,14 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
      * with an over-voltage latched, the bus unknown (port_region_code). */
     port_set_safe_region(port_region_code((under != 0u) ? lowest : latest));
     PORT_AT(anchor, TIM1, TIM_TypeDef)->CR2 = port_safe_state_cr2(port.period);
-    port_watch_while_faulted(anchor);
+    /* Its interrupt off until the next faulted tick without a watchdog entry (the
+     * next injected sample's, or the run a trip pends) turns it on again: a bus
+     * rippling across the window's edges faster than the hysteresis had one entry per
+     * crossing, up to one per regular conversion (1.7 us) at the Hall edge's priority
+     * (a helper's hunt: 138 entries a ms at +-20 codes and 37 kHz). A crossing
+     * meanwhile sets AWD all the same, and the next conversion outside the window
+     * interrupts once it is on: within a PWM period. */
+    port_watch_while_faulted(anchor, 0u);
 }
 
 /* ADC2's analog watchdog: a conversion of a current channel, at any instant, read at a
@@ -964,7 +973,7 @@ BLDC_PORT_COLD static void port_current_rail(uintptr_t anchor)
  * state of the region the rotor is in now, so a decelerating rotor leaves the short
  * circuit for all-off where that becomes valid; the bus watchdog's window for that
  * interval. */
-BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
+BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
 {
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t status = tim3->SR;
@@ -985,7 +994,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor)
     TIM1->CR2 = port_safe_state_cr2(port.period);
     /* the bound moves with the interval; every period, so a window left behind by a
      * region changed meanwhile (a bus change preempted by the trip) lasts one at most */
-    port_watch_while_faulted(anchor);
+    port_watch_while_faulted(anchor, (uint32_t)(watched == 0u));
 }
 
 /* 1 if a current sample `code` is at a rail that zero current does not read on (0 and full scale):
@@ -1036,8 +1045,17 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
      * side: a trip each PWM period would raise a COM event, and so a timing run). ADC2's
      * acts while its interrupt is on, i.e. until it has tripped: the conversions set AWD
      * again at every one outside the window (RM0008 11.3.7, whatever AWDIE). */
+    /* Faulted, AWD is acted on whatever AWDIE: its interrupt is off after each of its
+     * entries (port_bus_fault) until an entry without it (the next injected sample's,
+     * or a trip's pended run) turns it on again, and the conversions set AWD
+     * meanwhile (one during the entry pends a second entry, which had turned it on
+     * again at once: an entry per crossing, 129 a ms, on a rippling bus). So a bus
+     * still crossing the window is judged once a PWM period, at the injected sample. */
     ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
-    if (((status & ADC_SR_AWD) != 0u) && ((adc1->CR1 & ADC_CR1_AWDIE) != 0u)) {
+    const uint32_t watched =
+        (uint32_t)(((status & ADC_SR_AWD) != 0u) &&
+                   (((adc1->CR1 & ADC_CR1_AWDIE) != 0u) || (port.faults != 0u)));
+    if (watched != 0u) {
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
     }
     ADC_TypeDef *const adc2 = PORT_AT(anchor, ADC2, ADC_TypeDef);
@@ -1060,7 +1078,7 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
             port.current = measured; /* open loop: I for the timing, the duty stays */
         }
     } else if (port.faults != 0u) {
-        port_faulted_tick(anchor);
+        port_faulted_tick(anchor, watched);
     }
 }
 
