@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from codegen.port_faults import FAULT
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from emulation.pil.build import build_firmware, checked_in
@@ -341,3 +342,50 @@ def test_a_wait_for_an_instant_that_never_comes_should_end_the_scenario() -> Non
     assert 100 * WAIT_PERIODS <= run.machine.now < 100 * WAIT_PERIODS + 7
     Run.wait_for(run, lambda: run.machine.now >= 1500, 7, "never")  # type: ignore[arg-type]
     assert 1500 <= run.machine.now < 1507
+
+
+def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> None:
+    """While OVER_VOLTAGE is latched the safe state's region is the bus unknown's (the
+    short wherever rated); after the clear it must be the bus's again. It had outlived
+    the clear until the bus moved beyond the hysteresis (a helper's hunt): a later break
+    where the paper motor prefers all-off (all-off not rectifying) took the short for
+    8 us, until the faulted watchdog's window chose again."""
+    from emulation.pil.safe_state import ALL_OFF
+    from emulation.pil.scenarios import SETTLE_SECTORS, Run, bus_fall_while_faulted
+
+    path = SPECS["paper_motor"]
+    elf = build_firmware(path, tmp_path_factory.mktemp("ov_clear"), checked_in(path))
+    spec = load_spec(str(path))
+    run = Run(elf, spec)
+    chosen = bus_fall_while_faulted(spec)
+    assert chosen is not None
+    run.rpm, high, _ = chosen
+    period = run.board.pwm_period_ticks()
+    run.board.set_bus_voltage(high)
+    run.turn(SETTLE_SECTORS)
+    run.board.set_bus_voltage(1.05 * float(spec.inverter.bus_voltage_max_v))
+    run.turn(2)
+    assert run.board.symbol("app_faults") == FAULT["OVER_VOLTAGE"]
+    run.board.set_bus_voltage(high)
+    run.turn(3)
+    run.machine.write_symbol_u32("app_clear_request", 1)
+    for _ in range(20):
+        run.machine.run_for(period)
+        if run.machine.read_symbol_u32("app_clear_request") == 0:
+            break
+    assert run.machine.read_symbol_u32("app_clear_result") == 0
+    run.turn(SETTLE_SECTORS + 4)
+    run.into_sector(1 / 3)
+    cause = run.machine.now
+    run.board.set_break(True)
+    run.run_until_tripped(period)
+    changes = [
+        (t, tuple(g is True for g in gates))
+        for t, gates in run.machine.tim1.gate_log or []
+        if t > cause + run.machine.tim1.dead_time_ticks()
+    ]
+    assert changes and all(gates == ALL_OFF for _, gates in changes), [
+        ((t - cause) / 72, g) for t, g in changes
+    ]

@@ -1341,6 +1341,12 @@ BLDC_PORT_NOINLINE static uint32_t port_clear_masked(void)
     const uint32_t remaining = port_present_causes(latched);
     port.faults = remaining;
     if ((latched != 0u) && (remaining == 0u)) {
+        /* The region of the bus now (the last injected sample): while faulted only the
+         * bus watchdog moved it, and an over-voltage had set the bus unknown's, which
+         * outlived the clear (the short at every interval) until the bus moved beyond
+         * the hysteresis (a helper's hunt: a later break took the short for 8 us where
+         * the spec prefers all-off). */
+        port_set_safe_region((uint16_t)ADC1->JDR4);
         port_arm();
     }
     return remaining;
