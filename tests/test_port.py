@@ -223,7 +223,8 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
     # bus-change handler (once per change beyond the hysteresis), in the analog
     # watchdog's trip, after MOE is clear (the bus that tripped), and while faulted for
     # the bus's bound floor(K / T) at the Hall interval (the watchdog's window, MOE
-    # clear); no other handler divides
+    # clear), and the clear in thread mode (the region of the bus's last sample); no
+    # other handler divides
     divides = [
         name
         for name, body in re.findall(r"<(\w+)>:\n(.*?)(?:\n\n|\Z)", dump, re.S)
@@ -234,6 +235,7 @@ def test_port_should_compile_for_cortex_m3_without_division_or_float_helpers(
         bus_handler,
         "port_bus_fault",
         "port_watch_while_faulted",
+        "port_clear_masked",  # thread mode, masked: the region of the bus at the clear
     }, divides
     called = set(re.findall(r"R_ARM_THM_(?:CALL|JUMP24)\s+(\w+)", dump))
     # nothing else leaves the object but the core and the current loop's reference (the
