@@ -1151,6 +1151,15 @@ def _bus_stuck_at_zero(run: Run) -> Outcome:
     )
 
 
+def _no_rectifying_speed(run: Run, instead: str) -> tuple[float, str]:
+    """The nominal bus and the note of a scenario that needs all-off to rectify inside
+    the controller's speed range where no bus of the spec's range makes it."""
+    return float(run.spec.inverter.bus_voltage_nominal_v), (
+        f"no bus voltage of the spec's range rectifies inside the controller's speed range:"
+        f" {instead}"
+    )
+
+
 def _bus_stuck_at_full_scale(run: Run) -> Outcome:
     """The bus divider's ADC input stuck at the reference (its lower resistor open)
     while the bus is in fact at a voltage of the spec's range, the rotor RECTIFYING_MARGIN
@@ -1160,11 +1169,7 @@ def _bus_stuck_at_full_scale(run: Run) -> Outcome:
     the region from the reading: all-off, rectifying (a hunt)."""
     boundary = rectifying_boundary(run.spec)
     if boundary is None:
-        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
-        note = (
-            "no bus voltage of the spec's range rectifies inside the controller's speed"
-            " range: at the default speed and the nominal bus"
-        )
+        bus_v, note = _no_rectifying_speed(run, "at the default speed and the nominal bus")
     else:
         bus_v, rpm = boundary
         run.rpm = rpm * (1 + RECTIFYING_MARGIN)
@@ -1314,11 +1319,7 @@ def _hall_line_stuck(run: Run) -> Outcome:
     name = "Hall line stuck above the rectifying speed"
     chosen = hall_stuck_speed(run.spec)
     if chosen is None:
-        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
-        note = (
-            "no bus voltage of the spec's range rectifies inside the controller's speed range:"
-            " the line stuck at the default speed"
-        )
+        bus_v, note = _no_rectifying_speed(run, "the line stuck at the default speed")
     else:
         bus_v, run.rpm = chosen
         rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
