@@ -402,6 +402,10 @@ BLDC_PORT_COLD static void port_refuse(void)
     const uintptr_t anchor = port_peripherals();
     const uint32_t pins = port.previous_pins;
     if (port.pending == PORT_RECORD_INVALID) {
+        /* The interval of an edge to a wrong code is no sector's (a stuck line's next
+         * edge comes two sectors on): the safe state keeps the interval the last timing
+         * ran with, the last edge that was right (its timing runs after this). */
+        port.period = port.timed_period;
         /* 000 and 111 read as the same pin levels in any order */
         port_trip(anchor, ((pins == 0u) || (pins == 7u)) ? BLDC_FAULT_HALL_INVALID
                                                          : BLDC_FAULT_HALL_SEQUENCE);
@@ -977,6 +981,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
 {
     TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
     const uint32_t status = tim3->SR;
+    const uint32_t held = port.period;
     if ((status & (TIM_SR_CC1IF | TIM_SR_UIF)) != 0u) {
         const uint32_t captured = tim3->CCR1; /* clears CC1IF */
         tim3->SR = ~TIM_SR_UIF;
@@ -986,10 +991,14 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
     /* A Hall line's fault: the lines' intervals are not the rotor's. A stuck line makes
      * every other interval two sectors long, and a rotor above the speed from which
      * all-off rectifies read as one below it: all-off while it rectified (a hunt: the
-     * paper motor at 1.3 x that speed, all-off 17.6 ms after the trip). The speed is
-     * then unknown, as before the first edges: the safe state one safe at any speed. */
+     * paper motor at 1.3 x that speed, all-off 17.6 ms after the trip). So the interval
+     * only shortens then: the last right one (the trip's), or a shorter capture (a
+     * rotor speeding up; a stuck line's one-sector intervals), never a longer one nor a
+     * wrap. Taking the speed as unknown instead put the short on a rotor at 40 000 rpm
+     * whose Hall connector came off (fast40k: over the comparator's threshold, a second
+     * fault, where all-off was safe and preferred). */
     if ((port.faults & (BLDC_FAULT_HALL_INVALID | BLDC_FAULT_HALL_SEQUENCE)) != 0u) {
-        port.period = (uint16_t)BLDC_PORT_TIM3_ARR;
+        port.period = (uint16_t)((held < port.period) ? held : port.period);
     }
     TIM1->CR2 = port_safe_state_cr2(port.period);
     /* the bound moves with the interval; every period, so a window left behind by a
