@@ -369,7 +369,6 @@ BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
  * phase makes that hold for all three phases. TIM3 stops raising its interrupts (a Hall
  * edge must not apply a pattern), and one it has already pended finds nothing to do.
  * Called at the Hall edge's priority or with interrupts masked. */
-static void port_set_safe_region(uint32_t bus_code);
 BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
 {
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
@@ -383,11 +382,6 @@ BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
     port.pending = 0u;
     port.steady = 0u;
     port.faults |= fault;
-    if ((fault & BLDC_FAULT_OVER_VOLTAGE) != 0u) {
-        /* the bus unknown (port_region_code), whichever path latched it: the core's
-         * flag through the software break, too, had kept the region of the reading */
-        port_set_safe_region(0u);
-    }
     /* The bus watchdog's window for the fault (port_watch_while_faulted) is set by the
      * ADC interrupt's faulted path, pended here to run next, tail-chained at this
      * priority: the trip itself stays short (a handler of this priority ahead of a
@@ -676,18 +670,19 @@ static uint32_t port_safe_state_cr2(uint32_t period)
                                               : BLDC_PORT_TIM1_CR2;
 }
 
-/* The bus code the safe state's region is chosen for, while faulted: the reading, or,
- * with an over-voltage latched, 0 (the region of a bus that may be anywhere: the short
+/* The bus code the safe state's region is chosen for, while faulted: the reading, or 0
+ * for a reading at full scale (the region of a bus that may be anywhere: the short
  * wherever it is rated, since at a bus reading 0 all-off rectifies at every speed). A
- * reading above the range is a bus that is over, or a bus ADC stuck high (the divider's
- * lower resistor open: the input clamped at the reference) with the bus anywhere, which
- * the port cannot tell apart; chosen from the reading, all-off rectified into a bus that
- * was in fact at its nominal voltage, the rotor above the speed where that begins (a
- * hunt). On a bus that is over, the short is the safe state too: it sends no current
- * into the bus at any speed. */
+ * reading at the rail is a bus ADC stuck high (the divider's lower resistor open: the
+ * input clamped at the reference) with the bus anywhere, or a bus far over; chosen from
+ * the reading, all-off rectified into a bus that was in fact at its nominal voltage, the
+ * rotor above the speed where that begins (a hunt). A reading over the range but below
+ * the rail is a bus that is over, measured: its region is its own (all the bus range
+ * over, the short had put a braking rotor's short-circuit current over the comparator:
+ * OVER_CURRENT as well, where all-off was safe and preferred). */
 static inline uint32_t port_region_code(uint32_t code)
 {
-    return ((port.faults & BLDC_FAULT_OVER_VOLTAGE) != 0u) ? 0u : code;
+    return (code >= BLDC_PORT_ADC_CODE_MAX) ? 0u : code;
 }
 
 /* While a fault is latched: the bus watchdog's window [LTR, HTR]. A bus fault latched
@@ -719,8 +714,9 @@ BLDC_PORT_COLD static void port_watch_while_faulted(uintptr_t anchor, uint32_t i
     /* the short only where rated: all-off at every bus code below the rated interval */
     const uint32_t follows = (uint32_t)((period != 0u) && (period >= BLDC_PORT_SHORT_VALID_PERIOD));
 #endif
-    /* an over-voltage latched: the region is the bus unknown's (port_region_code) */
-    if ((follows != 0u) && ((faults & BLDC_FAULT_OVER_VOLTAGE) == 0u)) {
+    if (follows != 0u) {
+        /* a reading at the rail is the bus unknown (port_region_code): outside */
+        high = (high >= BLDC_PORT_ADC_CODE_MAX) ? BLDC_PORT_ADC_CODE_MAX - 1u : high;
         const uint32_t bound = BLDC_PORT_RECTIFYING_PRODUCT / period; /* T >= 1: no UDIV by 0 */
         if (port_short_circuit(period) != 0u) {
             high = (bound >= high - BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES)
@@ -969,6 +965,7 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
         over = (uint32_t)(latest > BLDC_PORT_ADC_HTR);
         under = (uint32_t)(latest < BLDC_PORT_ADC_LTR);
         lowest = latest;
+        highest = latest;
         port.faults |= ((over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : 0u) |
                        ((under != 0u) ? BLDC_FAULT_UNDER_VOLTAGE : 0u);
     }
@@ -977,8 +974,9 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
      * the top speed an under-voltage had left the bridge all-off, rectifying, until the
      * next sample's bus change, 57-64 us after the cause on a 50 us period; a helper's
      * hunt), else from the latest conversion, the bus crossing the rectifying bound;
-     * with an over-voltage latched, the bus unknown (port_region_code). */
-    port_set_safe_region(port_region_code((under != 0u) ? lowest : latest));
+     * a reading at the rail, the bus unknown (port_region_code). */
+    port_set_safe_region(
+        port_region_code((over != 0u) ? highest : (under != 0u) ? lowest : latest));
     PORT_AT(anchor, TIM1, TIM_TypeDef)->CR2 = port_safe_state_cr2(port.period);
     /* Its interrupt off until the next faulted tick without a watchdog entry (the
      * next injected sample's, or the run a trip pends) turns it on again: a bus
