@@ -782,11 +782,8 @@ static void port_update_bus(void)
     __set_PRIMASK(primask);
     port.bus = bldc_bus_condition(code);
     if (BLDC_PORT_RARE((port.bus.flags & BLDC_FLAG_INPUT_SATURATED) != 0u)) {
-        const uint32_t fault = (code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
-                                                          : BLDC_FAULT_UNDER_VOLTAGE;
-        if ((port.faults & fault) == 0u) { /* the watchdog latched it already: no second trip */
-            port_request_trip(fault);
-        }
+        port_request_trip((code > BLDC_BUS_CODE_MAX) ? BLDC_FAULT_OVER_VOLTAGE
+                                                     : BLDC_FAULT_UNDER_VOLTAGE);
     }
 }
 
