@@ -163,7 +163,7 @@ check-generated: setup
 	for spec in $(SPECS); do \
 	  name=$$(sed -n 's/^name: *//p' $$spec | head -n 1); \
 	  $(PY) -m codegen generate $$spec -o "$$tmp/$$name" >/dev/null || exit 1; \
-	  if ! diff -ru -x verify -x simulation -x robustness -x pil -x PROOF.md generated/$$name "$$tmp/$$name"; then \
+	  if ! diff -ru -x verify -x simulation -x robustness -x pil -x PROOF.md -x __pycache__ generated/$$name "$$tmp/$$name"; then \
 	    echo "generated/$$name is stale: run 'make generate SPEC=$$spec' and commit it"; exit 1; \
 	  fi; \
 	done; \
