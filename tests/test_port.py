@@ -1037,15 +1037,7 @@ int main(int argc, char **argv)
     /* Faulted, the bus watchdog's entry with an injected bus slot still holding a
      * sample from before the bus moved (below the range) and the regular group's
      * latest in it: the latest decides, nothing more is latched. */
-    SET(fake_adc1.JDR2, 0u);
-    SET(fake_adc1.JDR3, BUS_OK);
-    SET(fake_adc1.JDR4, BUS_OK);
-    SET(fake_adc1.DR, BUS_OK);
-    fake_adc1.SR = ADC_SR_AWD;
-    fake_tim3.SR = 0u;
-    fake_tim1.EGR = 0u;
-    %(adc)s();
-    settle();
+    adc_first_bus(0u, BUS_OK);
     show("faulted_stale_injected");
     return 0;
 }
