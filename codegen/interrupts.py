@@ -7,6 +7,13 @@ call goes on, so `bench` and `simulate` ran to their end after a Ctrl-C and exit
 `simulate` once publishing an integration the interrupt had cut short. Inside
 `interrupts_noted()` SIGINT is noted instead of raised; `raise_noted()`, called once the
 native call has returned, raises it, and so does the block's end if nothing did.
+
+Pure Python can drop one too: distributed's garbage-collector callback (in every process
+with a Dask client) runs at any allocation, and a KeyboardInterrupt raised while it runs
+is printed ("Exception ignored in: <bound method GCDiagnosis._gc_callback ...>") and
+lost; `robustness` then ran its campaign to the end, published its report and exited 0.
+Inside `interrupts_kept()` SIGINT raises as Python's default does and is noted too: a
+dropped one is raised again at the next `raise_noted()`, and at the block's end.
 """
 
 from __future__ import annotations
@@ -27,6 +34,11 @@ def _note(signum: int, _frame: object) -> None:
     _noted.append(signum)
 
 
+def _note_and_raise(signum: int, _frame: object) -> None:
+    _noted.append(signum)
+    raise KeyboardInterrupt
+
+
 def raise_noted() -> None:
     """Raise KeyboardInterrupt if a SIGINT was noted (then forget it); cheap otherwise."""
     if _noted:
@@ -44,6 +56,25 @@ def interrupts_noted() -> Iterator[None]:
     previous = signal.signal(signal.SIGINT, _note)
     try:
         yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    raise_noted()
+
+
+@contextlib.contextmanager
+def interrupts_kept() -> Iterator[None]:
+    """SIGINT raised and noted in the block (see the module's doc): a KeyboardInterrupt
+    that something swallowed is raised again at `raise_noted()` or the block's end; one
+    that propagates forgets the note. Outside the main thread the block runs as it is."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, _note_and_raise)
+    try:
+        yield
+    except KeyboardInterrupt:
+        _noted.clear()  # this one got through
+        raise
     finally:
         signal.signal(signal.SIGINT, previous)
     raise_noted()

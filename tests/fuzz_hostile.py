@@ -33,6 +33,7 @@ import contextlib
 import os
 import random
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -413,13 +414,21 @@ def design(spec: object) -> str:
 
 
 def load_phase(seed: int, count: int, only: int | None, limit: float, do_design: bool) -> int:
+    scratch = Path(tempfile.mkdtemp(prefix="bldc-hostile-"))
+    try:
+        return _load_cases(scratch / "fuzz.yaml", seed, count, only, limit, do_design)
+    finally:  # a run left its scratch folder in /tmp
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _load_cases(
+    path: Path, seed: int, count: int, only: int | None, limit: float, do_design: bool
+) -> int:
     from codegen.errors import SpecError
     from codegen.spec_loader import load_spec
 
     counts: Counter[str] = Counter()
     findings: Counter[str] = Counter()
-    scratch = Path(tempfile.mkdtemp(prefix="bldc-hostile-"))
-    path = scratch / "fuzz.yaml"
     numbers = [only] if only is not None else range(count)
     for number in numbers:
         case = make_case(number, seed)
