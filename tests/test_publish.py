@@ -19,6 +19,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -359,16 +360,21 @@ def test_a_run_waiting_for_the_lock_should_name_the_folder_it_waits_to_write(
         with publish_module._locked(lock):
             entered.set()
 
+    said = ""
     with publish_module._locked(lock):
         waiter = threading.Thread(target=wait)
         waiter.start()
-        waiter.join(timeout=0.5)
+        # until it says it waits (a fixed half second had let a slow start reach the
+        # lock after its release, on a loaded machine: no wait, no line)
+        deadline = time.monotonic() + 30
+        while "waiting for" not in said and time.monotonic() < deadline:
+            waiter.join(timeout=0.05)
+            said += capsys.readouterr().err
         assert waiter.is_alive() and not entered.is_set()  # it waits
-    waiter.join(timeout=5)
+    waiter.join(timeout=30)
     assert entered.is_set()
-    assert f"waiting for another bldc-codegen run writing {tmp_path / 'out'}" in (
-        capsys.readouterr().err
-    )
+    said += capsys.readouterr().err
+    assert f"waiting for another bldc-codegen run writing {tmp_path / 'out'}" in said
 
 
 @contextlib.contextmanager
