@@ -47,37 +47,34 @@ def raise_noted() -> None:
 
 
 @contextlib.contextmanager
-def interrupts_noted() -> Iterator[None]:
-    """SIGINT noted, not raised, in the block (see the module's doc). Outside the main
-    thread handlers cannot be set and the block runs as it is."""
+def _sigint_handled_by(handler: Callable[[int, object], None]) -> Iterator[None]:
+    """`handler` takes SIGINT in the block; a KeyboardInterrupt that leaves the block
+    forgets what was noted (it got through), and one noted and not raised is raised at
+    the block's end. Outside the main thread handlers cannot be set and the block runs
+    as it is."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, _note)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    raise_noted()
-
-
-@contextlib.contextmanager
-def interrupts_kept() -> Iterator[None]:
-    """SIGINT raised and noted in the block (see the module's doc): a KeyboardInterrupt
-    that something swallowed is raised again at `raise_noted()` or the block's end; one
-    that propagates forgets the note. Outside the main thread the block runs as it is."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, _note_and_raise)
+    previous = signal.signal(signal.SIGINT, handler)
     try:
         yield
     except KeyboardInterrupt:
-        _noted.clear()  # this one got through
+        _noted.clear()
         raise
     finally:
         signal.signal(signal.SIGINT, previous)
     raise_noted()
+
+
+def interrupts_noted() -> contextlib.AbstractContextManager[None]:
+    """SIGINT noted, not raised, in the block (see the module's doc)."""
+    return _sigint_handled_by(_note)
+
+
+def interrupts_kept() -> contextlib.AbstractContextManager[None]:
+    """SIGINT raised and noted in the block (see the module's doc): a KeyboardInterrupt
+    that something swallowed is raised again at `raise_noted()` or the block's end."""
+    return _sigint_handled_by(_note_and_raise)
 
 
 def exit_status(main: Callable[[], int]) -> int:
