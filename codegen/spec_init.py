@@ -163,16 +163,11 @@ _PWM_QUANTITY = _quantity(units.FREQUENCY, "inverter.pwm_frequency")
 
 
 def _pwm_frequency(text: str) -> tuple[Fraction, str]:
-    """argparse type: a PWM frequency the written spec can hold: init writes a TIM1 at
-    72 MHz, whose edge-aligned period must be a whole number of counts in [256,
-    PERIOD_COUNTS_MAX] (the loader's rule); a frequency between two of them is refused
-    with its neighbours, not written into a spec the loader then refuses. Centre-aligned
-    the half period must be one (`pwm_alignment_error`)."""
-    value, shown = _PWM_QUANTITY(text)
-    problem = _period_problem(text, value, "edge")
-    if problem is not None:
-        raise argparse.ArgumentTypeError(problem)
-    return value, shown
+    """argparse type: a PWM frequency within the loader's range. Whether TIM1 can count
+    its period depends on the alignment, which argparse does not know here: that is
+    `pwm_frequency_error`'s (the edge-aligned check made here had refused 2 kHz
+    centre-aligned, a half period of 18000 counts, for its 36000-count whole period)."""
+    return _PWM_QUANTITY(text)
 
 
 def _period_problem(text: str, value: Fraction, alignment: str) -> str | None:
@@ -199,14 +194,15 @@ def _period_problem(text: str, value: Fraction, alignment: str) -> str | None:
     )
 
 
-def pwm_alignment_error(sheet: Datasheet) -> str | None:
-    """The one line `init` refuses a centre-aligned PWM frequency with, before it writes
-    anything: its half period is no whole number of TIM1 counts (the option's own check
-    is the edge-aligned period's, which argparse makes without the alignment)."""
-    if sheet.pwm_alignment != "center" or sheet.pwm_frequency is None:
+def pwm_frequency_error(sheet: Datasheet) -> str | None:
+    """The one line `init` refuses a PWM frequency with, before it writes anything: at
+    the alignment asked for (edge by default) its period, centre-aligned its half
+    period, is no whole number of TIM1 counts in the loader's range; with the nearest
+    frequencies that are."""
+    if sheet.pwm_frequency is None:
         return None
     value, text = sheet.pwm_frequency
-    problem = _period_problem(text, value, "center")
+    problem = _period_problem(text, value, sheet.pwm_alignment or "edge")
     return None if problem is None else f"argument --pwm-frequency: {problem}"
 
 

@@ -379,9 +379,6 @@ def test_init_should_refuse_a_quantity_not_above_zero_in_one_line(
         ("--braking-current", "1e-3 A", "'1e-3 A' is below 0.1 A, the smallest nominal"),
         # init wrote braking_current_max = 1200 A, which the loader refused (<= 1000 A)
         ("--braking-current", "600 A", "'600 A' is above 500 A, the largest whose"),
-        # a spec the loader refused (10285.7 counts, not whole): its exact neighbours
-        ("--pwm-frequency", "7 kHz", "e.g. 7031.25 Hz (10240 counts) or 6400 Hz (11250 counts)"),
-        ("--pwm-frequency", "2 kHz", "36000 TIM1 counts per period at 72 MHz"),
     ],
 )
 def test_init_should_refuse_a_value_no_spec_can_hold_at_its_argument(
@@ -604,6 +601,46 @@ def test_init_should_write_a_centre_aligned_carrier_when_asked(
     assert "(allowed: 36 MHz / N" in err[0] and "62500 Hz (576 counts)" in err[0], err
     assert not (tmp_path / "odd.yaml").exists()
     assert cli.main([*odd, "edge"]) == 0  # 1125 counts: a whole edge-aligned period
+
+
+@pytest.mark.parametrize(
+    ("frequency", "alignment", "line"),
+    [
+        # a spec the loader refused (10285.7 counts, not whole): its exact neighbours
+        ("7 kHz", "edge", "e.g. 7031.25 Hz (10240 counts) or 6400 Hz (11250 counts)"),
+        ("2 kHz", "edge", "36000 TIM1 counts per period at 72 MHz (edge-aligned)"),
+        ("1 kHz", "center", "36000 TIM1 counts per half period at 72 MHz (center-aligned)"),
+    ],
+)
+def test_init_should_judge_the_pwm_period_at_the_alignment_asked_for(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    frequency: str,
+    alignment: str,
+    line: str,
+) -> None:
+    """The option's own check was the edge-aligned period's, made before argparse knew
+    the alignment: `--pwm-frequency "2 kHz" --pwm-alignment center` (a half period of
+    18000 counts, which the loader takes) was refused for the 36000-count whole period,
+    the line saying edge-aligned (a helper's hunt: every centre-aligned frequency from
+    1098.7 to 2197 Hz). The period is judged at the alignment asked for, edge by default,
+    in one line before anything is written."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "m", "-o", "m.yaml", "--pwm-frequency", frequency]
+    argv += [] if alignment == "edge" else ["--pwm-alignment", alignment]
+    assert cli.main(argv) == ExitCode.USAGE
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("error: argument --pwm-frequency: "), err
+    assert line in err[0] and "(allowed: " in err[0], err
+    assert not (tmp_path / "m.yaml").exists()
+    if frequency == "2 kHz":  # its half period is whole: centre-aligned it is written
+        argv += ["--pwm-alignment", "center"]
+        assert cli.main(argv) == 0, capsys.readouterr().err
+        spec = load_spec(tmp_path / "m.yaml")
+        assert (spec.inverter.pwm_frequency_hz, spec.inverter.pwm_alignment) == (2000, "center")
 
 
 def test_init_should_never_replace_a_folder_or_a_fifo_even_with_force(

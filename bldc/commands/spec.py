@@ -24,7 +24,7 @@ from codegen.shown import said, shown
 
 
 def _init(args: argparse.Namespace) -> int:
-    from codegen.spec_init import Datasheet, pwm_alignment_error, write_new_spec
+    from codegen.spec_init import Datasheet, pwm_frequency_error, write_new_spec
 
     path = Path(args.output) if args.output else Path("spec") / f"{args.name}.yaml"
     if path.exists() and not path.is_file():
@@ -43,7 +43,7 @@ def _init(args: argparse.Namespace) -> int:
         )
         return int(ExitCode.USAGE)
     sheet = Datasheet.from_arguments(args)
-    refused = pwm_alignment_error(sheet)
+    refused = pwm_frequency_error(sheet)
     if refused is not None:
         print(f"error: {refused}", file=sys.stderr)
         return int(ExitCode.USAGE)
