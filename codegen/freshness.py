@@ -31,6 +31,32 @@ def regenerate_command(spec: Spec, generated: Path) -> str:
     return f"bldc-codegen generate {shlex.quote(spec.source_path)}{output}"
 
 
+def another_spec(spec: Spec, generated: Path, manifest: object) -> str | None:
+    """Why `generated` is not to be regenerated for `spec`: it holds another spec's
+    output (the manifest names another spec), which `generate SPEC -o` that folder
+    would replace; None if it is this spec's (any version) or the manifest names none.
+    The stale-output line had said "another version of the spec: regenerate with
+    `bldc-codegen generate SPEC -o DIR`", and that command overwrote the other motor's
+    output (a helper's hunt)."""
+    name = manifest.get("spec_name") if isinstance(manifest, dict) else None
+    if not isinstance(name, str) or name == spec.name:
+        return None
+    source = manifest.get("spec") if isinstance(manifest, dict) else None
+    default = Path("generated") / spec.name
+    where = (
+        "give -o a folder of its own"
+        if generated.resolve() == default.resolve()
+        else f"`bldc-codegen generate {shlex.quote(spec.source_path)}` writes {spec.name}'s"
+        f" into {shown(default)}"
+    )
+    return (
+        f"{said(generated)} holds the output of another spec, {name!r}"
+        f"{f' (from {source})' if isinstance(source, str) else ''}, not of {spec.name!r}"
+        f" ({spec.source_path}): give the folder generated from {spec.source_path}"
+        f" (regenerating into this one would replace the output of {name!r}; {where})"
+    )
+
+
 def check_fresh(spec: Spec, generated: Path) -> None:
     """Raise StaleOutputError unless `generated` holds this spec's current output."""
     if generated.exists() and not generated.is_dir():
@@ -52,6 +78,9 @@ def check_fresh(spec: Spec, generated: Path) -> None:
         raise StaleOutputError(
             f"{said(generated)} holds only the audit's DERIVATION.md, no generated output: {fix}"
         )
+    other = another_spec(spec, generated, manifest)
+    if other is not None:
+        raise StaleOutputError(other)
     recorded = manifest.get("spec_sha256") if isinstance(manifest, dict) else None
     if recorded != spec.sha256:
         raise StaleOutputError(

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -152,6 +153,38 @@ def _copy_generated(tmp_path: Path, name: str = "paper_motor") -> Path:
     target = tmp_path / "generated" / name
     shutil.copytree(ROOT / "generated" / name, target)
     return target
+
+
+def test_a_folder_of_another_specs_output_should_not_be_offered_for_regeneration(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`verify B.yaml --generated DIR` with DIR holding motor A's output said "DIR was
+    generated from another version of the spec: regenerate with `bldc-codegen generate
+    B.yaml -o DIR`", and that command replaced A's output (a helper's hunt). Every
+    command that reads a generated folder now names the spec whose output it holds and
+    does not offer to overwrite it; another version of the same spec still gets the
+    regenerate line."""
+    monkeypatch.chdir(tmp_path)
+    generated = _copy_generated(tmp_path)  # paper_motor's
+    other = tmp_path / "mine.yaml"
+    other.write_text(SPEC.read_text().replace("name: paper_motor", "name: mine_motor"))
+    for command in ("firmware", "verify", "unity"):
+        argv = [command, str(other), "--generated", str(generated)]
+        assert cli.main(argv) == ExitCode.STALE, command
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1, err
+        assert (
+            "holds the output of another spec, 'paper_motor' (from spec/paper_motor.yaml)"
+            in (err[0])
+        ), err
+        assert "regenerate with" not in err[0] and f"-o {generated}" not in err[0], err
+        assert "writes mine_motor's into generated/mine_motor" in err[0], err
+    # the folder named after the spec, holding another's: no command to run into it
+    os.rename(generated, tmp_path / "generated" / "mine_motor")
+    assert cli.main(["verify", str(other)]) == ExitCode.STALE
+    err = capsys.readouterr().err
+    assert "holds the output of another spec" in err and "give -o a folder of its own" in err
+    assert (tmp_path / "generated" / "mine_motor" / "c").is_dir()  # untouched
 
 
 def test_commands_that_read_generated_output_refuse_stale_output(

@@ -21,7 +21,7 @@ def test_a_failing_command_should_raise_its_own_message_and_print_nothing(
     with pytest.raises(RuntimeError) as refused:
         build_firmware(HUB, tmp_path / "a", paper)
     assert str(refused.value).startswith(f"bldc-codegen firmware {HUB}: error: ")
-    assert "another version of the spec" in str(refused.value)
+    assert "holds the output of another spec, 'paper_motor'" in str(refused.value)
     with pytest.raises(RuntimeError) as missing:
         build_firmware(HUB.with_name("no_such_motor.yaml"), tmp_path / "b")
     assert "bldc-codegen generate" in str(missing.value)

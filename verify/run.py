@@ -19,7 +19,7 @@ from types import ModuleType
 import numpy as np
 from tqdm import tqdm
 
-from codegen.freshness import regenerate_command
+from codegen.freshness import another_spec, regenerate_command
 from codegen.render import save_figure_atomically, write_atomically
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -76,6 +76,9 @@ def read_manifest(generated: Path, spec: Spec, spec_arg: str) -> dict[str, objec
     if not path.is_file():
         raise FileNotFoundError(f"no manifest in {generated}: run `{fix}`")
     manifest = json.loads(path.read_text(encoding="utf-8"))
+    other = another_spec(spec, generated, manifest)
+    if other is not None:
+        raise StaleOutputError(other)
     if manifest.get("spec_sha256") != spec.sha256:
         raise StaleOutputError(
             f"{generated} was generated from another version of {spec_arg} "
