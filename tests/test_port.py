@@ -44,6 +44,7 @@ STUB_CORE_HEADER = """\
 #define BLDC_EDGE_NONE           0xFFu
 #define BLDC_EDGE_COUNT          12u
 #define BLDC_PERIOD_NEVER        0x10000u
+#define BLDC_PERIOD_MIN_TICKS    {period_min}u
 #define BLDC_FLAG_INPUT_SATURATED 0x04u
 #define BLDC_BUS_CODE_MAX        {bus_max}u
 typedef struct {{
@@ -88,7 +89,10 @@ def _write_port(directory: Path, spec: Spec, period: int | None = None) -> None:
             (directory / name[2:]).write_text(text, encoding="utf-8")
     full_scale = sc.period_counts if period is None else period
     (directory / "bldc_commutation.h").write_text(
-        STUB_CORE_HEADER.format(period=full_scale, bus_max=sc.bus_code_max), encoding="utf-8"
+        STUB_CORE_HEADER.format(
+            period=full_scale, bus_max=sc.bus_code_max, period_min=sc.period_min_ticks
+        ),
+        encoding="utf-8",
     )
 
 
@@ -982,10 +986,13 @@ int main(int argc, char **argv)
     hall_index = (hall_index + 2u) %% 6u;
     STEADY();
 
-    plan(6000u, 900u, 700u, 300u);
-    edge(seq[(hall_index + 1u) %% 6u], TIM_SR_CC1IF, 5000u, 10u); /* below the minimum period */
+    plan(BLDC_PERIOD_MIN_TICKS, 900u, 700u, 300u);
+    edge(seq[(hall_index + 1u) %% 6u], TIM_SR_CC1IF, BLDC_PERIOD_MIN_TICKS - 1u, 10u); /* below the minimum period */
     hall_index = (hall_index + 1u) %% 6u;
     show("over_speed");
+    clear("over_speed_held"); /* the last interval measured is still over speed */
+    fake_tim3.CCR1 = BLDC_PERIOD_MIN_TICKS; /* the rotor slower: the faulted tick takes it */
+    adc_with(BUS_OK, OFFSET, 0u, TIM_SR_CC1IF);
     clear("over_speed_cleared");
     STEADY();
 
@@ -1478,6 +1485,7 @@ def test_each_fault_should_reach_the_safe_state_at_once_and_latch(
         "current_sensor",
         "hall_invalid",
         "over_current",
+        "over_speed",
     ],
 )
 def test_a_fault_should_not_clear_while_its_cause_is_present(
@@ -1494,6 +1502,7 @@ def test_a_fault_should_not_clear_while_its_cause_is_present(
             "current_sensor": "CURRENT_SENSOR",
             "hall_invalid": "HALL_INVALID",
             "over_current": "OVER_CURRENT",
+            "over_speed": "OVER_SPEED",
         }[step],
     )
 

@@ -34,7 +34,7 @@ from emulation.pil.bus import PilError
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import SHORT_CIRCUIT, short_circuit_bound_a
-from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, shorten_quiet_wait
+from emulation.pil.scenarios import FAULT, MAIN_WAIT_PERIODS, Outcome, shorten_quiet_wait
 
 #: Hall edges braked before the cause: the loop, the timing and the commutations run
 EDGES_BEFORE = SETTLING_EDGES + 2
@@ -233,8 +233,30 @@ def run_plant_fault(elf: Path, port_source: Path, spec: Spec, fault: PlantFault)
         return loop.run.outcome(fault.key, "never", None, None, "aborted")
     if peak is None:
         return outcome
+    note = f"{outcome.note}; shorted after the trip, peak phase current {peak:.1f} A"
+    faults = outcome.faults
+    over = FAULT["OVER_CURRENT"]
+    tripped = loop.machine.tim1.moe_cleared_at
+    crossed = [cross for cross, _, _ in loop.comparator.trips]
+    if (
+        outcome.expected != "OVER_CURRENT"
+        and faults & over
+        and tripped is not None
+        and crossed
+        and min(crossed) > tripped
+    ):
+        # The short's own current over the comparator's level, after the trip: latched
+        # as the break interrupt now latches every over-current while another fault is
+        # (a helper's hunt: it had stayed off, and one was lost), a consequence of the
+        # safe state, not of the cause.
+        faults &= ~over
+        note += (
+            f"; OVER_CURRENT latched as well, the short circuit's current over the"
+            f" comparator's {loop.comparator.trip_a:g} A after the trip (its consequence)"
+        )
     return replace(
         outcome,
+        faults=faults,
         violations=(*outcome.violations, *problems),
-        note=f"{outcome.note}; shorted after the trip, peak phase current {peak:.1f} A",
+        note=note,
     )

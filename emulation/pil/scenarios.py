@@ -1385,6 +1385,131 @@ def _over_speed(run: Run) -> Outcome:
     )
 
 
+def _clear(run: Run) -> int:
+    """main's clear (app_clear_request), run until main has answered; its answer (the
+    faults left latched)."""
+    machine = run.machine
+    machine.write_symbol_u32("app_clear_request", 1)
+    run.wait_for(
+        lambda: machine.read_symbol_u32("app_clear_request") == 0,
+        TICK_HZ // 1_000_000,
+        "main did not answer the clear",
+    )
+    return machine.read_symbol_u32("app_clear_result")
+
+
+def _moe_set_since(run: Run, since: int, what: str) -> None:
+    """A violation if any gate switched on since `since` outside a safe state: a clear
+    that re-armed into a cause (MOE set, the gates off or switching)."""
+    tim1 = run.machine.tim1
+    tim1.gates_at(run.machine.now)  # the record up to now
+    for at, gates in tim1.gate_log or []:
+        on = tuple(g is True for g in gates)
+        if at >= since and on not in (ALL_OFF, SHORT_CIRCUIT):
+            run.violations.append(f"gates {on} {(at - since) / TICK_HZ * 1e6:.2f} us {what}")
+            return
+    if tim1.moe:
+        run.violations.append(f"MOE set {what}")
+
+
+def _break_while_faulted(run: Run) -> Outcome:
+    """An over-current while another fault is latched: an over-voltage trips the drive,
+    the bus comes back, then the comparator goes active and stays; main asks for the
+    clear. The over-current must be latched as it comes (one PWM period), and the clear
+    must keep the bridge off and answer OVER_CURRENT alone (the bus is back). The break
+    interrupt had stayed off after the over-voltage's own break request: the over-current
+    was latched by nobody, the clear answered 0 and armed the bridge into it (its
+    re-armed break caught it 3 us later, all-off meanwhile where the short was due; a
+    helper's hunt)."""
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    period = run.board.pwm_period_ticks()
+    run.board.set_bus_voltage(nominal)
+    run.turn(SETTLE_SECTORS)
+    run.into_sector(1 / 3)
+    run.board.set_bus_voltage(1.1 * float(run.spec.inverter.bus_voltage_max_v))
+    run.run_until_tripped(period)
+    run.board.set_bus_voltage(nominal)
+    run.machine.run_for(2 * period)
+    cause = run.machine.now
+    run.board.set_break(True)
+    run.machine.run_for(period)
+    over = FAULT["OVER_CURRENT"]
+    run.wait_for(  # main publishes what the break handler latched at once
+        lambda: (run.board.symbol("app_faults") & over) != 0,
+        TICK_HZ // 1_000_000,
+        "OVER_CURRENT was not latched",
+    )
+    answer = _clear(run)
+    if answer != over:
+        run.violations.append(f"the clear answered {answer:#x}, not OVER_CURRENT alone")
+    run.machine.run_for(2 * period)
+    _moe_set_since(run, cause, "after the break, with a fault latched")
+    return run.outcome(
+        "over-current while faulted",
+        "OVER_CURRENT",
+        None,
+        None,
+        "an over-voltage latched, the bus back, then BKIN active and held; main clears: the"
+        " over-current latched and the clear refused, the bridge off throughout",
+    )
+
+
+def _break_pulse(run: Run) -> Outcome:
+    """A comparator pulse shorter than the break interrupt's entry (200 ns mid-sector):
+    TIM1 clears MOE in hardware, and the handler found the input inactive by then and
+    latched nothing, so the drive stopped with no fault and no clear re-armed it (a
+    helper's hunt: up to 1.5 us at a Hall edge). A break no request explains is an
+    over-current."""
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    run.board.set_bus_voltage(nominal)
+    run.turn(SETTLE_SECTORS)
+    run.into_sector(1 / 3)
+    cause = run.machine.now + 10
+    width = round(200e-9 * TICK_HZ)
+    run.board.set_break(True, at=cause)
+    run.board.set_break(False, at=cause + width)
+    period = run.board.pwm_period_ticks()
+    run.run_until_tripped(period)
+    return run.outcome(
+        "BKIN pulse of 200 ns",
+        "OVER_CURRENT",
+        cause,
+        period,
+        "the comparator active for 200 ns mid-sector, shorter than the break interrupt's"
+        " entry: MOE clears in hardware and the handler reads the input inactive",
+    )
+
+
+def _clear_over_speed(run: Run) -> Outcome:
+    """main clears an over-speed while the rotor is still over speed: the clear must
+    refuse (the interval the faulted drive keeps measuring is still short) and the safe
+    state hold. It had re-armed: all-off with MOE set, which at 1.25 x speed_max
+    rectifies into the bus, until the second edge tripped again (about 1.5 sectors; a
+    helper's hunt)."""
+    outcome = _over_speed(run)
+    if outcome.faults != FAULT["OVER_SPEED"]:
+        return replace(outcome, name="clear while over speed")
+    since = run.machine.now
+    answer = _clear(run)
+    if answer != FAULT["OVER_SPEED"]:
+        run.violations.append(f"the clear answered {answer:#x}, not OVER_SPEED")
+    for _ in range(3):  # sectors on at the same speed, the faulted drive measuring them
+        run.sector = (run.sector + 1) % 6
+        run.board.set_hall(run.spec.hall.sequence[run.sector])
+        run.machine.run_for(run.sector_ticks())
+    _moe_set_since(run, since, "after the clear at over-speed")
+    bus = float(run.spec.inverter.bus_voltage_nominal_v)
+    _check_safe_state(run, run.machine.now, bus, "three sectors after the clear")
+    return run.outcome(
+        "clear while over speed",
+        "OVER_SPEED",
+        None,
+        None,
+        "the over-speed scenario, then main clears with the rotor still at 1.25 x"
+        " controller.speed_max: refused, the safe state kept for three sectors",
+    )
+
+
 def _current_loop_stalls(run: Run) -> Outcome:
     """The watchdog guards the current loop: braking for longer than
     firmware.watchdog_timeout, it must not reset (the firmware refreshes it); then the
@@ -1539,6 +1664,9 @@ SCENARIOS = (
     Scenario("hall_sequence", _hall_sequence),
     Scenario("hall_line_stuck", _hall_line_stuck),
     Scenario("over_speed", _over_speed),
+    Scenario("clear_over_speed", _clear_over_speed),
+    Scenario("break_while_faulted", _break_while_faulted),
+    Scenario("break_pulse", _break_pulse),
     Scenario("rotor_stops", _rotor_stops),
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
     Scenario("bus_stuck_at_full_scale", _bus_stuck_at_full_scale),

@@ -1144,8 +1144,14 @@ BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
 /* A break: the input went active (over-current), or software asked for one
  * (port_request_trip()). TIM1 has already cleared MOE in hardware, so every enabled
  * output is at its idle level; this completes the safe state for all three phases and
- * latches the fault. BIF cannot be cleared while the input stays active (RM0008
- * TIMx_SR), so the break interrupt stays off until the fault is cleared. */
+ * latches the fault. A break no request explains is the input's, an over-current, even
+ * if the input reads inactive by now: a pulse shorter than this entry had stopped the
+ * drive with nothing latched, so no clear re-armed it (a helper's hunt: 200 ns mid-
+ * sector, up to 1.5 us at a Hall edge). BIF cannot be cleared while the input stays
+ * active (RM0008 TIMx_SR), so once OVER_CURRENT is latched the break interrupt stays off
+ * until the clear; while it is not (a software request: the bus backstop, the NMI) it
+ * stays on, so an over-current during another fault is latched too (it had been lost,
+ * and the clear re-armed into it). */
 void TIM1_BRK_IRQHandler(void)
 {
     const uintptr_t anchor = port_peripherals();
@@ -1155,8 +1161,13 @@ void TIM1_BRK_IRQHandler(void)
     const uint32_t level = (GPIOB->IDR >> 12) & 1u;
     const uint32_t requested = port.requested;
     port.requested = 0u;
-    port_trip(anchor, requested |
-                          ((level == BLDC_PORT_BREAK_ACTIVE_HIGH) ? BLDC_FAULT_OVER_CURRENT : 0u));
+    const uint32_t input = ((requested == 0u) || (level == BLDC_PORT_BREAK_ACTIVE_HIGH))
+                               ? BLDC_FAULT_OVER_CURRENT
+                               : 0u;
+    port_trip(anchor, requested | input);
+    if ((port.faults & BLDC_FAULT_OVER_CURRENT) == 0u) {
+        tim1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE; /* a BIF set since: at once, again */
+    }
 }
 
 /* The Hall lines read alike at the EXTI's entry: confirm, then trip. Two reads
@@ -1280,36 +1291,45 @@ static uint32_t port_read_pins(void)
     return ((GPIOA->IDR >> 6) & 3u) | ((GPIOB->IDR >> 0 & 1u) << 2);
 }
 
-/* The faults whose cause is still present, of those latched. */
+/* The faults a clear keeps latched: the permanent ones latched, and every fault whose
+ * cause is present now, latched or not (only the latched ones' had been looked at: an
+ * over-current, a current rail or an over-speed that came while another fault was
+ * latched was cleared with it, and the clear re-armed into its cause; a helper's
+ * hunt). Over-speed (the clear had re-armed a rotor over speed to all-off,
+ * rectifying, until its second edge): the interval the faulted tick keeps from TIM3's
+ * captures, against the core's top-speed bound. */
 static uint32_t port_present_causes(uint32_t latched)
 {
     uint32_t present = latched & BLDC_PORT_FAULTS_PERMANENT;
     if ((((GPIOB->IDR >> 12) & 1u) == BLDC_PORT_BREAK_ACTIVE_HIGH)) {
-        present |= latched & BLDC_FAULT_OVER_CURRENT;
+        present |= BLDC_FAULT_OVER_CURRENT;
+    }
+    if (port.period < BLDC_PERIOD_MIN_TICKS) {
+        present |= BLDC_FAULT_OVER_SPEED;
     }
     /* the bus: the last injected sample and the regular group's latest */
     const uint32_t bus = ADC1->JDR4;
     const uint32_t now = ADC1->DR;
     if ((bus > BLDC_PORT_ADC_HTR) || (now > BLDC_PORT_ADC_HTR)) {
-        present |= latched & BLDC_FAULT_OVER_VOLTAGE;
+        present |= BLDC_FAULT_OVER_VOLTAGE;
     }
     if ((bus < BLDC_PORT_ADC_LTR) || (now < BLDC_PORT_ADC_LTR)) {
-        present |= latched & BLDC_FAULT_UNDER_VOLTAGE;
+        present |= BLDC_FAULT_UNDER_VOLTAGE;
     }
     const uint32_t currents[3] = {ADC1->JDR1, ADC1->JDR2, ADC1->JDR3};
     for (uint32_t k = 0u; k < 3u; ++k) {
         if (port_at_a_rail(currents[k]) != 0u) {
-            present |= latched & BLDC_FAULT_CURRENT_SENSOR;
+            present |= BLDC_FAULT_CURRENT_SENSOR;
         }
     }
     /* ADC2's latest conversion (the sequence's last current channel), at a watched rail */
     const uint32_t watched = ADC2->DR & ADC_DR_DATA_Msk;
     if ((watched < BLDC_PORT_CURRENT_LTR) || (watched > BLDC_PORT_CURRENT_HTR)) {
-        present |= latched & BLDC_FAULT_CURRENT_SENSOR;
+        present |= BLDC_FAULT_CURRENT_SENSOR;
     }
     const uint32_t pins = port_read_pins();
     if ((pins == 0u) || (pins == 7u)) {
-        present |= latched & BLDC_FAULT_HALL_INVALID;
+        present |= BLDC_FAULT_HALL_INVALID;
     }
     return present;
 }
@@ -1337,6 +1357,14 @@ static void port_arm(void)
     TIM3->SR = 0u;
     TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS;
     TIM1->BDTR = BLDC_PORT_TIM1_BDTR | TIM_BDTR_MOE;
+    if (*(const volatile uint32_t *)&port.requested != 0u) { /* read after the store */
+        /* A trip requested meanwhile: the NMI (the clock failure), which masking does not
+         * hold off, between the break flag's clear above and MOE: off again at once, and
+         * the break interrupt, pending, latches it (MOE had stayed set for 13-18 us,
+         * every switch off, until then; a helper's hunt). A request after this read
+         * clears MOE by its own software break. */
+        TIM1->BDTR = BLDC_PORT_TIM1_BDTR;
+    }
 }
 
 /* The clear proper. Its only caller masks interrupts around it, so no handler stacks
@@ -1345,9 +1373,28 @@ static void port_arm(void)
 BLDC_PORT_NOINLINE static uint32_t port_clear_masked(void)
 {
     const uint32_t latched = port.faults;
+    if (latched == 0u) {
+        return 0u; /* nothing to clear: each cause's own path watches the running drive */
+    }
     const uint32_t remaining = port_present_causes(latched);
     port.faults = remaining;
-    if ((latched != 0u) && (remaining == 0u)) {
+    if (remaining != 0u) {
+        /* Partly cleared: the bridge stays in its safe state, and what watches a cause no
+         * longer latched watches again (each path turns its interrupt off once it has
+         * latched, until this; only arming had turned them on: an over-current or a
+         * current rail after a partial clear was lost), the bus window too (an
+         * over-voltage's side stayed open). */
+        const uintptr_t anchor = port_peripherals();
+        if ((remaining & BLDC_FAULT_OVER_CURRENT) == 0u) {
+            TIM1->SR = ~TIM_SR_BIF;
+            TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+        }
+        if ((remaining & BLDC_FAULT_CURRENT_SENSOR) == 0u) {
+            ADC2->SR = ~ADC_SR_AWD;
+            ADC2->CR1 = BLDC_PORT_ADC2_CR1;
+        }
+        port_watch_while_faulted(anchor, (uint32_t)((ADC1->CR1 & ADC_CR1_AWDIE) != 0u));
+    } else {
         /* The region of the bus now (the last injected sample): while faulted only the
          * bus watchdog moved it, and an over-voltage had set the bus unknown's, which
          * outlived the clear (the short at every interval) until the bus moved beyond
