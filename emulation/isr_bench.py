@@ -294,16 +294,22 @@ class PortRig:
         self.sim.write_u32(self.tim1_egr, 0)
         return com
 
-    def adc_sample(self, bus: int, current: int, *, status: int | None = None) -> CallResult:
+    def adc_sample(
+        self, bus: int, current: int, *, status: int | None = None, capture: int | None = None
+    ) -> CallResult:
         """The injected conversions end (JEOC): every current channel reads `current`,
-        the bus `bus`; no Hall counter overflow pending. The current-loop handler."""
+        the bus `bus`; no Hall counter overflow pending, and with `capture` a Hall
+        interval TIM3 captured (what a faulted drive's tick takes). The current-loop
+        handler."""
         for address in self.adc_jdr[:3]:
             self.sim.write_u32(address, current)
         self.sim.write_u32(self.adc_jdr[3], bus)
         self.sim.write_u32(self.adc_dr, bus)  # the regular group's latest, the same bus
         self.sim.write_u32(self.adc2_dr, current)  # ADC2's latest conversion of the current
         self.sim.write_u32(self.adc_sr, self.jeoc if status is None else status)
-        self.sim.write_u32(self.tim3_sr, 0)
+        if capture is not None:
+            self.sim.write_u32(self.tim3_ccr1, capture)
+        self.sim.write_u32(self.tim3_sr, 0 if capture is None else self.cc1if)
         return self.sim.call(ADC_HANDLER)
 
     def current_rail(self, raw: int) -> CallResult:
@@ -627,6 +633,11 @@ def current_loop_runs(
         from them latched HALL_SEQUENCE: every fault path after the first had been
         measured with it latched, which a bus fault now only adds its bit to)."""
         rig.com_event()
+        if rig.sim.call("bldc_port_faults").return_value != 0:
+            # the faulted drive measures the rotor at the sweep's first interval (before
+            # the Hall lines' trip below, whose intervals it lets only shorten): an
+            # over-speed's own short one is a cause the clear keeps
+            rig.adc_sample(sc.bus_code_min, sc.current_offset_code, capture=inputs.periods[0])
         rig.hall_lines(7)  # HALL_INVALID: a Hall code 0/7 on the lines, the EXTI's trip
         rig.pended()
         rig.stage_hall(spec.hall.sequence[0])

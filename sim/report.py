@@ -457,9 +457,17 @@ def _table4(results: Results) -> dict[str, object]:
         )
     scan = []
     for current, counts in study.improved.items():
+        # the current the loop settles at, where the motor cannot hold the one asked for
+        # (a 0.8 A motor's 4, 5 and 6 A rows had read alike under their own labels)
+        held = [c.current_a for c in counts if abs(c.current_a - current) > 0.01 * current]
+        label = f"{current:g}"
+        if held:
+            low, high = min(c.current_a for c in counts), max(c.current_a for c in counts)
+            span = f"{low:.3g}" if f"{low:.3g}" == f"{high:.3g}" else f"{low:.3g}-{high:.3g}"
+            label += f" (held: {span})"
         scan.append(
             {
-                "current": f"{current:g}",
+                "current": label,
                 "counts": ", ".join(f"{c.on_pulses}/{c.off_pulses}" for c in counts),
             }
         )
@@ -469,7 +477,8 @@ def _table4(results: Results) -> dict[str, object]:
         "scan_speeds": ", ".join(
             f"{c.speed_rpm:g}" for c in next(iter(study.improved.values()), ())
         ),
-        "reproducing": ", ".join(f"{a:g} A" for a in study.reproducing_a) or "none",
+        "reproducing": ", ".join(f"{a:g} A" for a in study.reproducing_a)
+        or "none of these currents",
         "reference": "-" if reference is None else f"{reference:g}",
         "khz": f"{study.pwm_frequency_hz / 1e3:g}",
         "outside": _table4_outside(results),

@@ -155,3 +155,33 @@ def test_report_should_present_improved_r_as_the_c_core(
     ]
     assert safe != list(results.sweep)
     switching_figure(dataclasses.replace(results, sweep=tuple(safe)), tmp_path)
+
+
+def test_table4_scan_should_say_the_current_the_loop_holds_where_it_is_not_the_one_asked() -> None:
+    """A 0.8 A motor's 4, 5 and 6 A rows of the Table 4 scan read alike under their own
+    labels (the loop settles at what the motor can hold), and "reproduced at **none**"
+    read as a current (a helper's hunt): the scan names the current held, and no
+    reproducing current reads as none of those scanned."""
+    from types import SimpleNamespace
+
+    from sim.report import _table4
+    from sim.table4 import CountRow, Table4Study
+
+    def rows(held: float) -> tuple[CountRow, ...]:
+        return tuple(CountRow(rpm, held, 1, 3, 80.0) for rpm in (1000.0, 1500.0))
+
+    study = Table4Study(
+        pwm_frequency_hz=20e3,
+        improved={1.0: rows(1.0), 4.0: rows(0.8), 5.0: rows(0.8)},
+        reproducing_a=(),
+        conventional_at_reproducing=(),
+        spec_improved=rows(0.5),
+        spec_conventional=rows(0.5),
+        conventional_duty=(),
+    )
+    results = SimpleNamespace(
+        table4_study=study, table4=(), drive=SimpleNamespace(boundary_speed_rpm=2500.0)
+    )
+    table = _table4(results)  # type: ignore[arg-type]
+    assert [s["current"] for s in table["scan"]] == ["1", "4 (held: 0.8)", "5 (held: 0.8)"]
+    assert table["reproducing"] == "none of these currents"
