@@ -46,6 +46,7 @@ from codegen.spec_drive import (
     braking_ripple,
     end_sample_room_s,
     rectifying_speed,
+    sense_window,
     short_circuit_peak,
 )
 from codegen.spec_loader import (
@@ -95,6 +96,8 @@ BRAKING_CURRENT_MAX_A = (
 )
 #: the ADC sample time written (sensing.adc_sample_time), ADC clock cycles
 SAMPLE_CYCLES = Fraction(15, 2)
+#: the settling time written (sensing.settling_time)
+SETTLING_TIME_S = Fraction(1, 10**6)
 COUNTER_MAX = 65535
 
 
@@ -814,6 +817,22 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     # In braking only the back-EMF drives the current, at most E/R: the lower point sits
     # where E is 1.5 x R x braking_current_nominal (a duty near 2/3), if 30 % is below it.
     n_hold = _speed_up(si["r"] * i_nom / si["ke"] * Fraction(3, 2))
+    # ... and where the loop can hold it: the duty it needs there, 1 - (2E - 2RI) / U_d,
+    # within the largest the current sample leaves (the loader's own check; a 100 kHz
+    # centre-aligned spec init wrote had its lower point at 1440 rpm needing 0.804 of a
+    # 0.781 D_max, and warned of it: a helper's hunt)
+    period_counts = TIMER_CLOCK_HZ // int(pwm) // (2 if alignment == "center" else 1)
+    window = sense_window(
+        alignment=alignment,
+        period_counts=period_counts,
+        timer_clock_hz=Fraction(TIMER_CLOCK_HZ),
+        dead_time_counts=math.ceil(dead_ns * TIMER_CLOCK_HZ / 10**9),
+        settling_time_s=SETTLING_TIME_S,
+        adc_sample_cycles=SAMPLE_CYCLES,
+        current_samples=1,  # the DC-link shunt init writes
+    )
+    d_max = Fraction(window.duty_max_counts, period_counts)
+    n_hold = max(n_hold, _speed_up(((1 - d_max) * bus + 2 * si["r"] * i_nom) / (2 * si["ke"])))
     high = _speed_down(n_max * 9 / 10)
     low = max(n_min, _speed_down(n_max * Fraction(3, 10)))
     points = sorted({min(max(low, n_hold), high), high})
@@ -1021,7 +1040,7 @@ sensing:
   topology: dc_link_shunt
   current_channels: [0]
   bus_voltage_channel: 1
-  settling_time: 1 us
+  settling_time: {_num(SETTLING_TIME_S * 10**6)} us
   adc_sample_time: {_num(SAMPLE_CYCLES)}
 
 current_loop:

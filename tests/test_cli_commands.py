@@ -1132,3 +1132,22 @@ def test_init_should_write_a_loadable_spec_for_a_top_speed_of_a_few_rpm(
         cli.main(["init", "one", "--speed-max", "1 rpm"])
     assert caught.value.code == ExitCode.USAGE
     assert "argument --speed-max: '1 rpm' is below 1.2 rpm" in capsys.readouterr().err
+
+
+def test_init_should_place_its_lower_point_where_the_loop_can_hold_the_current(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """init's lower operating point sat where E = 1.5 R I, whatever the current sample's
+    window left of the duty: at 100 kHz centre-aligned its 1440 rpm point needed a duty
+    of 0.804 where D_max is 0.781, and the loader warned of init's own spec
+    (`current-sense-window`; a helper's hunt). It now sits where the nominal current
+    needs at most D_max."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "c1", "-o", "c1.yaml", "--pwm-frequency", "100 kHz"]
+    assert cli.main([*argv, "--pwm-alignment", "center"]) == 0, capsys.readouterr().err
+    assert "current-sense-window" not in capsys.readouterr().err
+    spec = load_spec(tmp_path / "c1.yaml")
+    assert not [w for w in spec.warnings if "current-sense-window" in w]
+    assert len(spec.operating_points) == 2
