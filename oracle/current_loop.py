@@ -68,6 +68,16 @@ def programmed_dead_time_counts(dead_s: Fraction, clock_hz: Fraction) -> int:
     raise ValueError(f"dead time of {wanted} counts beyond TIM1's range")
 
 
+def dtg_dead_time_counts(dtg: int) -> int:
+    """The dead time a TIM1 BDTR.DTG code programs, in TIM1 clocks (t_DTS with CKD = 00),
+    read from RM0008's TIMx_BDTR table: the top bits pick the segment, the rest count
+    its steps above the segment's base."""
+    for prefix, bits, base, step in ((0b0, 1, 0, 1), (0b10, 2, 64, 2), (0b110, 3, 32, 8)):
+        if dtg >> (8 - bits) == prefix:
+            return (base + (dtg & ((1 << (8 - bits)) - 1))) * step
+    return (32 + (dtg & 0x1F)) * 16  # 111xxxxx
+
+
 def duty_max(spec: Spec) -> int:
     inv = spec.inverter
     centre = inv.pwm_alignment == "center"
