@@ -1312,7 +1312,10 @@ static uint32_t port_present_causes(uint32_t latched)
     if ((((GPIOB->IDR >> 12) & 1u) == BLDC_PORT_BREAK_ACTIVE_HIGH)) {
         present |= BLDC_FAULT_OVER_CURRENT;
     }
-    if (port.period < BLDC_PERIOD_MIN_TICKS) {
+    /* (not while a Hall line's fault is latched: its intervals are not the rotor's, and
+     * the faulted tick keeps the shortest, a bounce's included, for the safe state) */
+    if (((latched & (BLDC_FAULT_HALL_INVALID | BLDC_FAULT_HALL_SEQUENCE)) == 0u) &&
+        (port.period < BLDC_PERIOD_MIN_TICKS)) {
         present |= BLDC_FAULT_OVER_SPEED;
     }
     /* the bus: the last injected sample and the regular group's latest */
