@@ -389,3 +389,22 @@ def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
     assert changes and all(gates == ALL_OFF for _, gates in changes), [
         ((t - cause) / 72, g) for t, g in changes
     ]
+
+
+@pytest.mark.heavy(seconds=12)
+def test_a_stalled_current_loop_should_reset_within_the_time_out_at_100_khz(
+    tmp_path: Path,
+) -> None:
+    """main() slept with WFI after its watchdog test: the current loop's last run (the
+    injected sequence in flight when TRGO was lost) came between the two, waited for
+    the next interrupt, a Hall edge 4.8 ms on, and its refresh put the reset that much
+    past firmware.watchdog_timeout (`make pil` on this 100 kHz fixture; at 20 kHz the
+    sequence usually ended while main slept). main now looks and sleeps with interrupts
+    masked."""
+    from emulation.pil.build import generate as generate_fixture
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "l20uh_100v_100k.yaml"
+    elf = build_firmware(path, tmp_path, generate_fixture(path, tmp_path / "generated"))
+    scenario = next(s for s in SCENARIOS if s.key == "current_loop_stalls")
+    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    assert outcome.problems == [], outcome.problems

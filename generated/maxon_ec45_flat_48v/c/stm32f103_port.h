@@ -286,6 +286,10 @@ uint32_t bldc_port_current_code(void);
  * firmware refreshes the independent watchdog only then. */
 uint32_t bldc_port_alive(void);
 
+/* Nonzero when the current loop has run since the last bldc_port_alive(), which it
+ * does not consume: main() looks with interrupts masked before it sleeps. */
+uint32_t bldc_port_alive_pending(void);
+
 /* For the NMI handler when the clock security system reports an HSE failure
  * (RCC_CIR.CSSF): outputs to their idle level at once, BLDC_FAULT_CLOCK, and the safe
  * state completed by the break interrupt. */

@@ -1259,6 +1259,11 @@ uint32_t bldc_port_current_code(void)
     return port.current;
 }
 
+uint32_t bldc_port_alive_pending(void)
+{
+    return (uint32_t)(port.heartbeat != port.heartbeat_seen);
+}
+
 uint32_t bldc_port_alive(void)
 {
     const uint32_t beat = port.heartbeat;

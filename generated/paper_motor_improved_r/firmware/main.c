@@ -31,7 +31,17 @@ int main(void)
     uint32_t handed = UINT32_MAX;
     uint32_t handed_duty = UINT32_MAX;
     for (;;) {
-        __asm__ volatile("wfi");
+        /* Sleep only with nothing left to do, the look and the WFI with interrupts
+         * masked (an interrupt pending wakes WFI all the same, and is taken at the
+         * unmask; ARMv7-M B1.5.19): a current-loop run between the watchdog's test
+         * below and the WFI waited for the next interrupt, up to a Hall sector later,
+         * and its refresh put the reset after a stalled current loop that much past
+         * firmware.watchdog_timeout (make pil, a 100 kHz fixture: 4.8 ms). */
+        __asm__ volatile("cpsid i" ::: "memory");
+        if (bldc_port_alive_pending() == 0u) {
+            __asm__ volatile("wfi");
+        }
+        __asm__ volatile("cpsie i" ::: "memory");
         const uint32_t command = app_braking_current_ma;
         if (command != handed) {
             handed = command;
