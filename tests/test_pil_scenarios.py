@@ -353,7 +353,7 @@ def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
     where the paper motor prefers all-off (all-off not rectifying) took the short for
     8 us, until the faulted watchdog's window chose again."""
     from emulation.pil.safe_state import ALL_OFF
-    from emulation.pil.scenarios import SETTLE_SECTORS, Run, bus_fall_while_faulted
+    from emulation.pil.scenarios import SETTLE_SECTORS, Run, bus_fall_while_faulted, clear_faults
 
     path = SPECS["paper_motor"]
     elf = build_firmware(path, tmp_path_factory.mktemp("ov_clear"), checked_in(path))
@@ -370,12 +370,7 @@ def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
     assert run.board.symbol("app_faults") == FAULT["OVER_VOLTAGE"]
     run.board.set_bus_voltage(high)
     run.turn(3)
-    run.machine.write_symbol_u32("app_clear_request", 1)
-    for _ in range(20):
-        run.machine.run_for(period)
-        if run.machine.read_symbol_u32("app_clear_request") == 0:
-            break
-    assert run.machine.read_symbol_u32("app_clear_result") == 0
+    assert clear_faults(run) == 0
     run.turn(SETTLE_SECTORS + 4)
     run.into_sector(1 / 3)
     cause = run.machine.now

@@ -1385,7 +1385,7 @@ def _over_speed(run: Run) -> Outcome:
     )
 
 
-def _clear(run: Run) -> int:
+def clear_faults(run: Run) -> int:
     """main's clear (app_clear_request), run until main has answered; its answer (the
     faults left latched)."""
     machine = run.machine
@@ -1398,9 +1398,9 @@ def _clear(run: Run) -> int:
     return machine.read_symbol_u32("app_clear_result")
 
 
-def _moe_set_since(run: Run, since: int, what: str) -> None:
-    """A violation if any gate switched on since `since` outside a safe state: a clear
-    that re-armed into a cause (MOE set, the gates off or switching)."""
+def _kept_safe_since(run: Run, since: int, what: str) -> None:
+    """A violation if any gate state since `since` is no safe state, or MOE is set now:
+    a clear that re-armed into a cause."""
     tim1 = run.machine.tim1
     tim1.gates_at(run.machine.now)  # the record up to now
     for at, gates in tim1.gate_log or []:
@@ -1439,11 +1439,11 @@ def _break_while_faulted(run: Run) -> Outcome:
         TICK_HZ // 1_000_000,
         "OVER_CURRENT was not latched",
     )
-    answer = _clear(run)
+    answer = clear_faults(run)
     if answer != over:
         run.violations.append(f"the clear answered {answer:#x}, not OVER_CURRENT alone")
     run.machine.run_for(2 * period)
-    _moe_set_since(run, cause, "after the break, with a fault latched")
+    _kept_safe_since(run, cause, "after the break, with a fault latched")
     return run.outcome(
         "over-current while faulted",
         "OVER_CURRENT",
@@ -1490,14 +1490,14 @@ def _clear_over_speed(run: Run) -> Outcome:
     if outcome.faults != FAULT["OVER_SPEED"]:
         return replace(outcome, name="clear while over speed")
     since = run.machine.now
-    answer = _clear(run)
+    answer = clear_faults(run)
     if answer != FAULT["OVER_SPEED"]:
         run.violations.append(f"the clear answered {answer:#x}, not OVER_SPEED")
     for _ in range(3):  # sectors on at the same speed, the faulted drive measuring them
         run.sector = (run.sector + 1) % 6
         run.board.set_hall(run.spec.hall.sequence[run.sector])
         run.machine.run_for(run.sector_ticks())
-    _moe_set_since(run, since, "after the clear at over-speed")
+    _kept_safe_since(run, since, "after the clear at over-speed")
     bus = float(run.spec.inverter.bus_voltage_nominal_v)
     _check_safe_state(run, run.machine.now, bus, "three sectors after the clear")
     return run.outcome(

@@ -1344,18 +1344,31 @@ static uint32_t port_present_causes(uint32_t latched)
 
 /* Arm the bridge: every output off, then MOE; TIM3 measures afresh (the first interval
  * is unknown) and the current loop starts from zero. Interrupts masked by the caller. */
+/* The detectors of the causes `kept` does not hold latched watch again: the break
+ * interrupt and ADC2's current watchdog, each of which turns itself off once it has
+ * latched its fault (a cause that stays would raise it at every chance). Interrupts
+ * masked by the caller: the clear, arming or partly. */
+static void port_rewatch(uint32_t kept)
+{
+    if ((kept & BLDC_FAULT_OVER_CURRENT) == 0u) {
+        TIM1->SR = ~TIM_SR_BIF;
+        TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+    }
+    if ((kept & BLDC_FAULT_CURRENT_SENSOR) == 0u) {
+        ADC2->SR = ~ADC_SR_AWD;
+        ADC2->CR1 = BLDC_PORT_ADC2_CR1;
+    }
+}
+
 static void port_arm(void)
 {
     TIM1->CCER = BLDC_PORT_CCER_OFF;
     TIM1->EGR = TIM_EGR_COMG; /* all off before MOE */
-    TIM1->SR = ~TIM_SR_BIF;
-    TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
+    port_rewatch(0u);
     ADC1->HTR = BLDC_PORT_ADC_HTR; /* the bus's range again (the faulted window's) */
     ADC1->LTR = BLDC_PORT_ADC_LTR;
     ADC1->SR = ~ADC_SR_AWD;
     ADC1->CR1 = BLDC_PORT_ADC_CR1;
-    ADC2->SR = ~ADC_SR_AWD;
-    ADC2->CR1 = BLDC_PORT_ADC2_CR1; /* the current watchdog's too */
     port.pending = 0u;
     port.steady = 0u;
     port.integrator = 0;
@@ -1392,16 +1405,9 @@ BLDC_PORT_NOINLINE static uint32_t port_clear_masked(void)
          * latched, until this; only arming had turned them on: an over-current or a
          * current rail after a partial clear was lost), the bus window too (an
          * over-voltage's side stayed open). */
-        const uintptr_t anchor = port_peripherals();
-        if ((remaining & BLDC_FAULT_OVER_CURRENT) == 0u) {
-            TIM1->SR = ~TIM_SR_BIF;
-            TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
-        }
-        if ((remaining & BLDC_FAULT_CURRENT_SENSOR) == 0u) {
-            ADC2->SR = ~ADC_SR_AWD;
-            ADC2->CR1 = BLDC_PORT_ADC2_CR1;
-        }
-        port_watch_while_faulted(anchor, (uint32_t)((ADC1->CR1 & ADC_CR1_AWDIE) != 0u));
+        port_rewatch(remaining);
+        port_watch_while_faulted(port_peripherals(),
+                                 (uint32_t)((ADC1->CR1 & ADC_CR1_AWDIE) != 0u));
     } else {
         /* The region of the bus now (the last injected sample): while faulted only the
          * bus watchdog moved it, and an over-voltage had set the bus unknown's, which
