@@ -4,9 +4,10 @@
 (`emulation.bench._cpu_load`); `init` has no firmware yet, so it prices the same events
 with the worst handler cycles the bench measured on the checked-in motors (2 flash wait
 states, entry and exit included). A sector at the top speed holds the Hall edge, its
-EXTI, the commutation end and three timing runs (each priced as a bus change: the bus
-handler and the timing run it pends), and one current-loop run per PWM period it
-starts. The
+EXTI, the commutation end, two timing runs and the bus changes the port's gate lets a
+noisy bus pend (one per `bus_min_periods` PWM periods: one, or two where the sector is
+not a whole number of periods), each timing run priced as a bus change (the bus handler
+and the timing run it pends), and one current-loop run per PWM period it starts. The
 estimate errs high for `improved_r`, whose search is shorter in a short sector; it is a
 warning that the motor needs measuring, not a figure to hold the firmware to."""
 
@@ -16,6 +17,7 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+from codegen.port import bus_min_periods
 from codegen.spec_model import Spec
 
 CPU_HZ = 72_000_000
@@ -28,8 +30,8 @@ EDGE_EVENTS_CYCLES = 305
 #: the bus-change handler waits while the Hall interval is unknown: 398 and 1478 before)
 TIMING_CYCLES = {"improved_r": 1490}
 TIMING_CYCLES_DEFAULT = 415
-#: the current loop's JEOC handler, once per PWM period (136-142 on the checked-in motors)
-LOOP_CYCLES = 142
+#: the current loop's JEOC handler, once per PWM period (146-148 on the checked-in motors)
+LOOP_CYCLES = 148
 
 
 @dataclass(frozen=True)
@@ -45,10 +47,11 @@ def estimate(spec: Spec) -> LoadEstimate:
     sector_s = Fraction(60) / (spec.controller.speed_max_rpm * spec.motor.pole_pairs * 6)
     sector_cycles = sector_s * CPU_HZ
     timing = TIMING_CYCLES.get(str(spec.controller.method), TIMING_CYCLES_DEFAULT)
-    commutation = Fraction(EDGE_EVENTS_CYCLES + 3 * timing) / sector_cycles
     # a current-loop run for each PWM period the sector starts, whole ones counted up,
     # as the bench counts them (the mean rate had put a 274 us sector under its 28.3 %)
     periods = math.ceil(spec.inverter.pwm_frequency_hz * sector_s)
+    changes = -(-periods // bus_min_periods(sector_s, spec.inverter.pwm_frequency_hz))
+    commutation = Fraction(EDGE_EVENTS_CYCLES + (2 + changes) * timing) / sector_cycles
     loop = Fraction(LOOP_CYCLES * periods) / sector_cycles
     return LoadEstimate(
         percent=float(100 * (commutation + loop)),

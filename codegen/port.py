@@ -13,6 +13,7 @@ Table 5):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -60,6 +61,14 @@ BUS_HYSTERESIS_CODES = 1
 #: so ADC noise about the bound (a few codes) raises no interrupt at each conversion. The
 #: way into the short circuit has none: a bus at or below the bound interrupts at once.
 FAULTED_BUS_HYSTERESIS_CODES = 8
+
+
+def bus_min_periods(shortest_sector_s: Fraction, pwm_frequency_hz: Fraction) -> int:
+    """PWM periods from one bus change to the next at the earliest
+    (BLDC_PORT_BUS_MIN_PERIODS): the shortest sector's whole periods, at least one. A
+    noisy or rippling bus then costs at most one bus change a top-speed sector, the rate
+    the CPU-load budget prices, at every speed."""
+    return max(1, math.floor(shortest_sector_s * pwm_frequency_hz))
 
 
 @dataclass(frozen=True)
@@ -390,6 +399,9 @@ def port_context(
     volts = sc.volts_per_bus_code
     # X = k_x / (T B) counts: a bus code H off moves it most at the top speed and the
     # lowest bus code.
+    gate = bus_min_periods(
+        Fraction(sc.period_min_ticks) / spec.hall.timer_clock_hz, inv.pwm_frequency_hz
+    )
     stale = (
         sc.k_x
         * BUS_HYSTERESIS_CODES
@@ -472,6 +484,8 @@ def port_context(
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",
         "bus_hysteresis_duty_text": f"{float(stale):.3g} counts",
+        "bus_min_periods": gate,
+        "bus_min_periods_text": f"{float(Fraction(gate) / inv.pwm_frequency_hz) * 1e6:.4g} us",
     }
 
 

@@ -42,6 +42,7 @@ tests use it); its figures are not the headline ones.
 from __future__ import annotations
 
 import argparse
+import re
 import statistics
 import subprocess
 import sys
@@ -512,12 +513,23 @@ def section_handlers(b: Bench, report: Report) -> Stats:
     return stats
 
 
+def bus_min_periods(generated: Path) -> int:
+    """The port's gate on bus changes as built: PWM periods from one to the next."""
+    header = (generated / "c" / "stm32f103_port.h").read_text(encoding="utf-8")
+    found = re.search(r"^#define BLDC_PORT_BUS_MIN_PERIODS (\d+)u$", header, re.M)
+    if found is None:
+        raise ValueError(f"{generated}: the port header defines no BLDC_PORT_BUS_MIN_PERIODS")
+    return int(found.group(1))
+
+
 def _cpu_load(b: Bench, stats: Stats, sector: int) -> Figure:
     """The CPU load of every interrupt over one sector, at the worst speed of the sweep.
 
     At each swept period T_i the sector holds the Hall edge, its EXTI, the commutation
-    end, three timing runs (after the edge, after the end, one a bus sample pends through
-    the bus-change handler) and one current-loop run per PWM period. The timing runs are
+    end, two timing runs (after the edge, after the end), the bus changes a bus sample
+    may pend through the bus-change handler (one per BLDC_PORT_BUS_MIN_PERIODS PWM
+    periods at most, the port's gate, which a noisy or rippling bus reaches; rounded
+    up, so at least one) and one current-loop run per PWM period. The timing runs are
     priced at the worst of a cached run and a whole bus change (both handlers) measured
     at T_i or at the next swept period, and the sector at T_i:
     an upper bound for every speed between the two, as far as the sweep's runs are the
@@ -526,6 +538,7 @@ def _cpu_load(b: Bench, stats: Stats, sector: int) -> Figure:
     overstates the load at every speed.
     """
     hall, lines, end, loop = stats.hall, stats.hall_lines, stats.end, stats.current_loop
+    gate = bus_min_periods(b.generated)
     fixed = hall.cycles_worst + lines.cycles_worst + end.cycles_worst
     pwm_hz = int(b.spec.inverter.pwm_frequency_hz)
     clock = int(b.spec.hall.timer_clock_hz)
@@ -539,12 +552,13 @@ def _cpu_load(b: Bench, stats: Stats, sector: int) -> Figure:
         timing = max(cycles, by_period[index + 1][1]) if index + 1 < len(by_period) else cycles
         cycles_in_sector = sector if index == 0 else ticks * CPU_HZ // clock
         periods = -(-pwm_hz * cycles_in_sector // CPU_HZ)  # PWM periods per sector, up
-        load = fixed + 3 * timing + periods * loop.cycles_worst
+        changes = -(-periods // gate)
+        load = fixed + (2 + changes) * timing + periods * loop.cycles_worst
         share = 100.0 * load / cycles_in_sector
         if worst is None or share > worst[0]:
-            worst = (share, ticks, cycles_in_sector, timing, periods, load)
+            worst = (share, ticks, cycles_in_sector, timing, periods, load, changes)
     assert worst is not None
-    share, ticks, cycles_in_sector, timing, periods, load = worst
+    share, ticks, cycles_in_sector, timing, periods, load, changes = worst
     rpm = 60.0 * clock / (6 * ticks * b.spec.motor.pole_pairs)
     return Figure(
         "CPU load at the worst speed, every interrupt",
@@ -553,8 +567,9 @@ def _cpu_load(b: Bench, stats: Stats, sector: int) -> Figure:
         float(b.spec.firmware.cpu_load_budget_percent),
         detail=f"at {rpm:.0f} rpm (a {ticks}-tick sector; the worst of {len(by_period)} swept"
         f" speeds, the top one {by_period[0][0]} ticks): Hall edge {hall.cycles_worst} + its"
-        f" EXTI {lines.cycles_worst} + end {end.cycles_worst} + 3 timing runs (after the"
-        " edge, after the end, one a bus sample pends) at the worst of a cached run and a"
+        f" EXTI {lines.cycles_worst} + end {end.cycles_worst} + {2 + changes} timing runs"
+        f" (after the edge, after the end, {changes} a bus sample pends: one per {gate} PWM"
+        " periods at most) at the worst of a cached run and a"
         f" bus change (both handlers) at this speed or the next swept one, {timing} + {periods} current-loop runs (one per"
         f" PWM period) at {loop.cycles_worst} = {load} cycles of {cycles_in_sector}",
         decimals=2,

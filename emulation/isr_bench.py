@@ -73,6 +73,12 @@ TIMING_FUNCTION = "bldc_commutation_timing"
 CPU_HZ = 72_000_000
 #: Log-spaced Hall periods from the top speed to the slowest one in `bench`'s sweep.
 BENCH_PERIOD_POINTS = 12
+#: The bench's firmware takes a bus change at any sample: it steps the bus code from
+#: point to point, where the port's gate (BLDC_PORT_BUS_MIN_PERIODS PWM periods from one
+#: change to the next) would leave most of them waiting. The gate spaces the changes and
+#: does not change what one costs (its compare takes an immediate either way); the CPU
+#: load prices the default gate's spacing (`emulation.bench.bus_min_periods`).
+BUS_GATE_OPEN = ("BLDC_PORT_BUS_MIN_PERIODS=1u",)
 #: A value no TIM1 compare register takes (duties are 0..P): marks "not written".
 UNWRITTEN = 0xFFFF
 
@@ -491,7 +497,7 @@ def bench(
     spec = load_spec(spec_path)
     if inputs is None:
         inputs = sweep(spec, scaling(spec, derive()))
-    build(generated, build_dir, defines=defines)
+    build(generated, build_dir, defines=(*BUS_GATE_OPEN, *defines))
     rig = PortRig(spec, build_dir / "firmware.elf", timing)
     timing_symbol = rig.image.symbols.get(TIMING_FUNCTION)
     hall_edge: list[Sample] = []

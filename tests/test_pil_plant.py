@@ -981,7 +981,9 @@ def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loo
     # down; over these first 100 edges it still settles)
     apart = [p for p in braking_report.problems(result) if "apart" in p or "windows" in p]
     assert apart == []
-    assert max(c.difference_pp or 0.0 for c in _compared(result, 8)) < 1.0
+    # 9 compared before the port's bus gate (a bus change waits up to 4 PWM periods
+    # here), 7 with it: two more ends fall within the two periods before their edge
+    assert max(c.difference_pp or 0.0 for c in _compared(result, 7)) < 1.0
 
 
 def _latency_for_certain(copy: Path) -> None:

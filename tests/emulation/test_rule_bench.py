@@ -29,7 +29,13 @@ from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from emulation.armsim import load_elf
 from emulation.callgraph import reached_functions
-from emulation.isr_bench import BUS_HANDLER, HALL_HANDLER, TIMING_HANDLER, timing_sweep
+from emulation.isr_bench import (
+    BUS_GATE_OPEN,
+    BUS_HANDLER,
+    HALL_HANDLER,
+    TIMING_HANDLER,
+    timing_sweep,
+)
 from emulation.rule_bench import (
     METHOD,
     RuleVariant,
@@ -62,7 +68,7 @@ def variant(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Path, Pa
     spec = improved_r_spec(PAPER, work)
     generated, build_dir = work / "generated", work / "build"
     generate(spec, generated, PROJECT_ROOT)
-    build(generated, build_dir)
+    build(generated, build_dir, defines=BUS_GATE_OPEN)
     yield spec, generated, build_dir
 
 

@@ -283,6 +283,9 @@ static struct {
     uint32_t heartbeat;             /* current-loop runs, for the watchdog */
     uint32_t heartbeat_seen;        /* its value at the last bldc_port_alive() */
     bldc_bus_t bus;                 /* bldc_bus_condition(bus_code), cached */
+    /* last: a field added above shifts the others' offsets, and the handlers' loads of
+     * them past 124 bytes take 32-bit encodings (a timing handler 2 cycles slower) */
+    uint32_t bus_taken;             /* `heartbeat` at the last bus change: the next waits BLDC_PORT_BUS_MIN_PERIODS runs */
 } port;
 
 /* The published timing and the one being computed, each in a 16-byte slot. The pair
@@ -764,6 +767,7 @@ static void port_request_trip(uint32_t fault)
 static void port_update_bus(void)
 {
     port.bus_moved = 0u;
+    port.bus_taken = port.heartbeat; /* a word the current loop writes above this: atomic */
     const uint32_t code = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 (RM0008 11.12.9) */
     port.bus_code = (uint16_t)code;
     port.bus_low = code - BLDC_PORT_BUS_HYSTERESIS_CODES;
@@ -908,9 +912,13 @@ void TIM1_UP_IRQHandler(void)
     (((volatile uint32_t *)NVIC_ISPR_BASE)[(uint32_t)TIM1_UP_IRQn >> 5u] =  \
          (uint32_t)(moved) << ((uint32_t)TIM1_UP_IRQn & 31u))
 #endif
-static inline void port_pend_if_bus_moved(uint32_t bus)
+static inline void port_pend_if_bus_moved(uint32_t bus, uint32_t beat)
 {
-    const uint32_t moved = (uint32_t)((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES);
+    /* Out of the band, and at least BLDC_PORT_BUS_MIN_PERIODS runs since the last change
+     * (mod 2^32: after 2^32 runs without one, a change may wait that long once). */
+    const uint32_t moved =
+        (uint32_t)((bus - port.bus_low) > 2u * BLDC_PORT_BUS_HYSTERESIS_CODES) &
+        (uint32_t)((beat - port.bus_taken) >= BLDC_PORT_BUS_MIN_PERIODS);
     port.bus_moved = moved; /* the latest sample decides: back in the band, no change */
     BLDC_PORT_PEND_BUS_WHEN(moved);
 }
@@ -1087,7 +1095,7 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
     if (((adc2->SR & ADC_SR_AWD) != 0u) && ((adc2->CR1 & ADC_CR1_AWDIE) != 0u)) {
         port_current_rail(anchor); /* tripped: the faulted tick below runs */
     }
-    port_pend_if_bus_moved(bus);
+    port_pend_if_bus_moved(bus, port.heartbeat);
     const uint32_t steady = port.steady;
     if ((steady != 0u) && (port.pending == 0u)) {
         if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
@@ -1118,7 +1126,8 @@ BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
     ADC_TypeDef *const adc = PORT_AT(anchor, ADC1, ADC_TypeDef);
     const uint32_t status = adc->SR;
     adc->SR = ~(ADC_SR_JEOC | ADC_SR_JSTRT | ADC_SR_AWD); /* rc_w0: the others stay */
-    ++port.heartbeat;
+    const uint32_t beat = port.heartbeat + 1u;
+    port.heartbeat = beat;
     const uint32_t bus = adc->JDR4;
     const uint32_t steady = port.steady;
     const uint32_t measured = *port.steady_sense; /* the JDRx of I in this sector */
@@ -1137,7 +1146,7 @@ BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
         port_adc_other(anchor, status, bus, measured);
         return;
     }
-    port_pend_if_bus_moved(bus);
+    port_pend_if_bus_moved(bus, beat);
     port_run_loop(measured, reference);
 }
 
@@ -1373,6 +1382,9 @@ static void port_arm(void)
     port.steady = 0u;
     port.integrator = 0;
     port.current = 0u; /* no sample until the first commutation end (port_timing_may_run) */
+    /* a bus that moved while faulted (its state may be the fault's, saturated: the
+     * bridge held off) is taken at the next sample, not a gate later */
+    port.bus_taken = port.heartbeat - BLDC_PORT_BUS_MIN_PERIODS;
     port.previous_pins = port_read_pins();
     TIM3->CNT = BLDC_PORT_TIM3_ARR; /* the next tick wraps: the first interval reads as unknown */
     TIM3->SR = 0u;
@@ -1667,6 +1679,7 @@ void bldc_port_init(uint32_t start_faults)
     port.bus_code = BLDC_PORT_BUS_UNKNOWN;
     port.bus_low = 0u - BLDC_PORT_BUS_HYSTERESIS_CODES;
     port.bus_moved = 0u;
+    port.bus_taken = 0u - BLDC_PORT_BUS_MIN_PERIODS; /* the first sample may change it */
     port_set_safe_region(BLDC_PORT_BUS_UNKNOWN);
     port.bus = bldc_bus_condition(BLDC_PORT_BUS_UNKNOWN);
     port.period = BLDC_PORT_TIM3_ARR;

@@ -228,6 +228,19 @@
 #define BLDC_PORT_BUS_HYSTERESIS_CODES 1u
 #endif
 
+/* PWM periods (current-loop runs) from one bus change to the next at the earliest: the
+ * whole PWM periods of the shortest sector (the top speed's), 200 us. A bus
+ * ADC with noise of a few codes, or a rippling bus, leaves the band at almost every
+ * sample, and each change costs the bus state and a timing run: one every PWM period had
+ * doubled the CPU load at 100 kHz. At most one a top-speed sector is the rate the
+ * CPU-load budget prices (`make bench`), at every speed. The price: a bus change waits
+ * up to this long; the analog watchdog, not this, guards the range, and while faulted
+ * the safe state's region follows the bus at each conversion. Define 1 to take every
+ * change at the next sample. */
+#ifndef BLDC_PORT_BUS_MIN_PERIODS
+#define BLDC_PORT_BUS_MIN_PERIODS 4u
+#endif
+
 /* While a fault is latched, the bus watchdog's window keeps the safe state's region
  * with the bus: a bus at or below the bound where all-off rectifies at the Hall interval
  * now interrupts at its conversion (the short circuit then, within a few microseconds),
