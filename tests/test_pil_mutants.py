@@ -329,6 +329,16 @@ MUTANTS = (
         "hall_off_marks",
         "share one level",
     ),
+    Mutant(
+        # the gate at one PWM period: on a noisy bus a bus change almost every period
+        "bus changes ungated: one a PWM period on a noisy bus",
+        HEADER,
+        "#define BLDC_PORT_BUS_MIN_PERIODS ",
+        "#define BLDC_PORT_BUS_MIN_PERIODS 1u",
+        PAPER,
+        "bus_noise",
+        "more than one per top-speed sector",
+    ),
 )
 
 
