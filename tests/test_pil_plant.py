@@ -970,8 +970,12 @@ def test_a_commutation_filling_its_sector_should_leave_its_one_sample_to_the_loo
     (about 5 PWM periods at 600 rpm): between a commutation's end and the next edge one
     sequence samples I. An end just after the last sequence's JEOC counted two stale
     sequences, dropped that sample, and the timing ran on a current two sectors old
-    (`make pil`, at 1.49 M ticks); the end now counts the one that ended."""
-    result = _fixture_braking(tmp_path, "conv64_centre_fills.yaml", max_edges=100)
+    (`make pil`, at 1.49 M ticks); the end now counts the one that ended. 120 edges: how
+    many commutations can be compared (a carrier restart within two periods before one
+    leaves it unmeasured) moves with the handlers' cycles, i.e. their place in flash;
+    the refusal's safe state, cold code ahead of them, took the first 100 edges' from 9
+    to 7 (120 edges: 10)."""
+    result = _fixture_braking(tmp_path, "conv64_centre_fills.yaml", max_edges=120)
     assert result.edges > 80
     assert result.outcome.violations == (), result.outcome.violations
     # its turn-off currents reach zero late in their sectors: the PIL's window held a
