@@ -480,6 +480,10 @@ def port_context(
         ),
         **_peripheral_region(),
         "bus_hysteresis_codes": BUS_HYSTERESIS_CODES,
+        # TIM1's dead time in processor cycles, rounded up: the refusal's wait between a
+        # switch off and its partner on, where TIM1 inserts none (single-output mode)
+        "dead_time_cycles": -(-dead.dts_ticks * CPU_HZ // clk),
+        "dead_time_text": _time(dead.programmed_s),
         "faulted_bus_hysteresis_codes": FAULTED_BUS_HYSTERESIS_CODES,
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",

@@ -317,11 +317,17 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
     regular_us = (sample + 12.5) / 12.0  # one regular conversion of the bus at 12 MHz
     # a handler of the same priority ahead: the Hall edge, the current loop, or the Hall
     # lines' EXTI waiting out its confirmation (rare: a glitch or an unplug)
-    wait = max(
+    wait_end = max(
         stats.hall.cycles_worst,
         stats.current_loop.cycles_worst,
         *(s.cycles_worst for n, s in stats.fault_paths.items() if "EXTI" in n),
     )
+    # ... and ahead of a fault's handler, a refused Hall edge too (rare: a reversal), the
+    # longest of them once the refusal's short circuit waits out the dead time (250
+    # cycles on the paper motor). Not ahead of a commutation end: the TIM3 handler takes
+    # a pending end first, and a refusal drops the commutation running or starts its own.
+    refused = stats.hall_refused.cycles_worst if stats.hall_refused is not None else 0
+    wait = max(wait_end, refused)
     figures = []
     worst: tuple[float, str, str] | None = None  # (us, fault, how it adds up)
     for name, cycles in stats.fault_to_moe.items():
@@ -362,7 +368,7 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
                 f" {period_us:.1f} us",
             )
         )
-    figures.append(_end_guard_figure(b, stats, wait))
+    figures.append(_end_guard_figure(b, stats, wait_end))
     if worst is not None:
         figures.append(
             Figure(
@@ -412,7 +418,7 @@ def section_handlers(b: Bench, report: Report) -> Stats:
     if stats.hall_refused is not None:
         report.add(
             Figure(
-                "Hall edge refused (a reversal: all off, no fault) worst",
+                "Hall edge refused (a reversal: all-off or the short, no fault) worst",
                 stats.hall_refused.cycles_worst,
                 "cycles",
                 detail=f"{stats.hall_refused.calls} edges; rare (the rotor reverses at standstill)",

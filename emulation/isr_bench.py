@@ -455,7 +455,7 @@ class Stats:
     functions inside those runs (no entry or exit)."""
 
     hall: HandlerStats  # edges that commutate
-    hall_refused: HandlerStats | None  # edges refused without a fault (a reversal: all off)
+    hall_refused: HandlerStats | None  # refused, no fault: the region's safe state
     end: HandlerStats
     timing: HandlerStats | None  # runs on the cached bus state
     timing_bus: HandlerStats | None  # bus changes: the bus-change handler + the timing it pends
@@ -576,7 +576,7 @@ def bench(
     loop, faults, to_moe = current_loop_runs(rig, inputs)
     return Stats(
         hall=_stats("Hall edge (TIM3 CC1)", hall_edge),
-        hall_refused=_stats("Hall edge refused (all off)", refused) if refused else None,
+        hall_refused=_stats("Hall edge refused (safe state)", refused) if refused else None,
         end=_stats("commutation end (TIM3 CC2)", commutation_end),
         timing=_stats(f"{TIMING_HANDLER}, bus state cached", cached) if cached else None,
         timing_bus=_stats(BUS_CHANGE, recomputed) if recomputed else None,

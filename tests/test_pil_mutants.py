@@ -303,6 +303,28 @@ MUTANTS = (
         "ticks after its partner turned off",
     ),
     Mutant(
+        # the port before the fix: a refused edge turned every switch off, whatever the
+        # region (the paper motor at 4408 rpm on 20.2 V: rectifying until the next edge)
+        "refusal all-off in every region: all-off where it rectifies, MOE set, no fault",
+        PORT,
+        "    if (port_short_circuit(port.period) == 0u) {",
+        "    if ((port_short_circuit(port.period) & 0u) == 0u) { /* mutant: all-off */",
+        PAPER,
+        "hall_back_step",
+        "not the short circuit",
+    ),
+    Mutant(
+        # the refusal hands a phase from one switch to the other with no wait: the lower
+        # switch on 33 ticks after its upper partner turned off (dead time 72 ticks)
+        "refusal's dead-time wait dropped: into and out of its short with no dead time",
+        PORT,
+        "#define BLDC_PORT_DEAD_TIME_CYCLES ",
+        "#define BLDC_PORT_DEAD_TIME_CYCLES 1u /* mutant: no wait */",
+        HUB,
+        "hall_back_step",
+        "after its partner turned off",
+    ),
+    Mutant(
         "Hall time-out interrupt never enabled: the current loop's next look finds the wrap",
         PORT,
         "    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE;\n}",

@@ -966,6 +966,18 @@ int main(int argc, char **argv)
     wrap();
     show("wrap_idle");
     STEADY();
+    /* The same reversal at an interval where all-off would rectify into the bus: the
+     * lower switches on (each alone, at the full scale), MOE kept, no fault; the next
+     * valid edge (forward again) commutates from there. */
+    hall_index = (hall_index + 5u) %% 6u;
+    edge(seq[hall_index], TIM_SR_CC1IF, FAST_PERIOD, 10u);
+    show("reversal_short");
+    edge(seq[(hall_index + 1u) %% 6u], TIM_SR_CC1IF, FAST_PERIOD, 10u);
+    hall_index = (hall_index + 1u) %% 6u;
+    show("out_of_short");
+    end_of_commutation();
+    show("out_of_short_end");
+    STEADY();
 
     edge(7u, TIM_SR_CC1IF, 5000u, 10u);
     show("hall_invalid");
@@ -1221,6 +1233,7 @@ def _fault(name: str) -> int:
 
 CC4E = 1 << 12
 SAFE_CCER = 0x555 | CC4E  # CC1E, CC1NE, CC2E, CC2NE, CC3E, CC3NE
+SHORT_CCER = 0x444 | CC4E  # CC1NE, CC2NE, CC3NE: the lower switches, MOE set
 MOE = 0x8000
 AWDIE = 1 << 6  # ADC_CR1.AWDIE
 OIS_SHORT = (1 << 9) | (1 << 11) | (1 << 13)  # OIS1N, OIS2N, OIS3N
@@ -1723,6 +1736,32 @@ def test_a_wrap_should_be_the_hall_timeout_only_while_the_bridge_switches(
     assert r["tim3.dier"] == 0x6
     assert r["tim3.sr"] & 1  # UIF
     assert r["tim1.bdtr"] & MOE
+
+
+def test_a_reversal_should_take_the_safe_state_of_the_region_without_a_fault(
+    host_run: dict[str, dict[str, int]], spec: Spec
+) -> None:
+    from codegen.derivation import derive
+    from codegen.fixedpoint.scaling import scaling
+
+    full_scale = scaling(spec, derive()).period_counts
+    # at the slow interval (all-off does not rectify): every output off
+    assert host_run["wrap_idle"]["tim1.ccer"] == CC4E
+    # where all-off would rectify into the bus: each lower switch alone, on all period
+    r = host_run["reversal_short"]
+    assert r["tim1.ccer"] == SHORT_CCER
+    assert (r["tim1.ccr1"], r["tim1.ccr2"], r["tim1.ccr3"]) == (full_scale,) * 3
+    assert r["port.faults"] == 0 and r["tim1.bdtr"] & MOE
+    # forward again: the edge's commutation, its end scheduled, no fault
+    out = host_run["out_of_short"]
+    assert out["port.faults"] == 0 and out["tim1.bdtr"] & MOE
+    assert out["tim3.ccr2"] == 300  # the plan's commutation ticks
+    assert out["tim1.ccer"] not in (CC4E, SHORT_CCER, SAFE_CCER)
+    assert bin(out["tim1.ccer"] & 0xFFF).count("1") == 2  # the turn-on and turn-off switch
+    for channel in range(3):  # no phase with both switches enabled
+        assert (out["tim1.ccer"] >> 4 * channel) & 0b101 != 0b101
+    end = host_run["out_of_short_end"]
+    assert end["port.faults"] == 0 and bin(end["tim1.ccer"] & 0xFFF).count("1") == 1
 
 
 def test_the_drive_should_switch_again_after_a_clear(host_run: dict[str, dict[str, int]]) -> None:

@@ -1623,19 +1623,29 @@ def _reversal(run: Run) -> Outcome:
     fault), but a phase whose other switch is on
     now must not hand over from one switch to the other in one COM event: TIM1 inserts
     no dead time between the two outputs of a channel enabled one at a time (RM0008
-    Table 83), so the gate invariant sees it."""
+    Table 83), so the gate invariant sees it. The refused edge leaves the safe state of
+    the speed and bus (all-off where it does not rectify and the spec prefers it)."""
     low = float(run.spec.controller.speed_min_rpm)
     high = float(run.spec.controller.speed_max_rpm)
+    bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
     for rpm in (run.rpm, low + REVERSAL_LOW_FRACTION * (high - low)):
         run.rpm = rpm
         # half a sector on and back again: the reverse edge a sector after the last one
         # (held for half a sector more, a narrow speed range's slowest sectors reached
         # TIM3's wrap, and the Hall timed out)
         run.turn(SETTLE_SECTORS)
-        for _ in range(6):
+        for step in range(6):
             run.sector = (run.sector - 1) % 6
             run.board.set_hall(run.spec.hall.sequence[run.sector])
+            back = run.machine.now
             run.machine.run_for(run.sector_ticks())
+            if step == 0:  # refused: the safe state of the speed and bus, MOE set
+                _check_safe_state(
+                    run,
+                    back + run.board.pwm_period_ticks(),
+                    bus_v,
+                    "one PWM period after the code stepped back",
+                )
     return run.outcome(
         "direction reversal",
         None,
@@ -1643,8 +1653,107 @@ def _reversal(run: Run) -> Outcome:
         None,
         "the rotor turns back half-way into a sector and on backwards for six"
         f" sectors, at the scenarios' speed and at {REVERSAL_LOW_FRACTION:g} of the speed"
-        " range, each after turning forwards again: no fault, no switch-over within a leg"
-        " without the dead time",
+        " range, each after turning forwards again: no fault, the spec's safe state one PWM"
+        " period after the first reverse edge, no switch-over within a leg without the dead"
+        " time",
+    )
+
+
+#: The Hall code steps back one sector and forward again (below): each of its two
+#: intervals this much longer than a sector at controller.speed_max, so that neither edge
+#: is an over-speed (a glitch shorter than that sector trips OVER_SPEED at its forward
+#: edge: a fault of its own, as a bounce does)
+BACK_STEP_MARGIN = 0.02
+
+
+def hall_back_step_speed(spec: Spec) -> tuple[float, float] | None:
+    """A bus voltage BUS_RANGE_INSIDE above the bottom of the spec's range (where all-off
+    rectifies from the lowest speed) and a speed RECTIFYING_MARGIN above the one from
+    which it does: (bus V, rpm), where that speed is inside the controller's range with
+    a sector 2 x BACK_STEP_MARGIN longer than one at speed_max (room for the step back
+    late in it); None where there is none."""
+    bus_v = float(spec.inverter.bus_voltage_min_v) * (1 + BUS_RANGE_INSIDE)
+    rpm = bus_v / peak_line_emf_v(spec, 1.0) * (1 + RECTIFYING_MARGIN)
+    lowest = float(spec.controller.speed_min_rpm) * (1 + SPEED_RANGE_INSIDE)
+    if not lowest <= rpm <= float(spec.controller.speed_max_rpm) / (1 + 2 * BACK_STEP_MARGIN):
+        return None
+    return bus_v, rpm
+
+
+def _hall_back_step(run: Run) -> Outcome:
+    """The Hall code steps back one sector late in a sector and, an interval later,
+    forward again (a line's glitch, or a rotor that cannot reverse at this speed), at a
+    speed from which all-off rectifies into the bus. The port refuses the back step
+    (a phase would hand over from one switch to the other in one COM event): no fault,
+    MOE stays set, and from one PWM period after the back step to the forward edge the
+    gates are the spec's safe state at the rotor's speed and bus (the short circuit;
+    where no bus of the range rectifies at a speed with room for the step, the glitch
+    comes at the default speed and nominal bus, and the state is the spec's there); the
+    forward edge commutates and braking goes on, no fault, the dead time kept at every
+    gate change. The firmware had turned every switch off (a hunt: the paper motor at
+    4600 rpm on 20.5 V, rectifying until the forward edge). Each interval is
+    BACK_STEP_MARGIN longer than a sector at speed_max, at least two PWM periods."""
+    name = "Hall code steps back and forward again"
+    chosen = hall_back_step_speed(run.spec)
+    if chosen is None:
+        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
+        note = (
+            "no bus voltage of the spec's range rectifies at a speed with room for the step"
+            " back: at the default speed and the nominal bus"
+        )
+    else:
+        bus_v, run.rpm = chosen
+        rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
+        note = (
+            f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off rectifies from"
+            f" {rectifying:.0f} rpm)"
+        )
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS)
+    machine, tim1 = run.machine, run.machine.tim1
+    period = run.board.pwm_period_ticks()
+    top = TICK_HZ * 60 / (float(run.spec.controller.speed_max_rpm) * run.spec.motor.pole_pairs * 6)
+    held = round((1 + BACK_STEP_MARGIN) * top)
+    sequence = run.spec.hall.sequence
+    run._finish_sector()
+    before = sequence[run.sector]
+    run.sector = (run.sector + 1) % 6
+    code = sequence[run.sector]
+    sector = run.sector_ticks()
+    run.board.set_hall(code)
+    back = machine.now + max(held, sector // 2)
+    forward = back + max(held, 2 * period)
+    run.board.set_hall(before, at=back)
+    run.board.set_hall(code, at=forward)
+    run._due = forward + sector  # the forward edge starts the sector again
+    machine.run_until(forward)
+    start = back + period
+    changes = [t for t, _ in tim1.gate_log or [] if start < t < forward]
+    for at in [start, *changes]:
+        _check_safe_state(run, at, bus_v, "after the Hall code stepped back")
+    # what the gates held up to the forward edge, and since when
+    kept = _gates_in_force(run, forward - 1)
+    since, previous = back, None
+    for at, gates in tim1.gate_log or []:
+        on = tuple(g is True for g in gates)
+        if back <= at < forward and on == kept and previous != kept:
+            since = at
+        previous = on
+    refused = tim1.ccer
+    run._finish_sector()
+    if not tim1.moe or tim1.ccer == refused:
+        run.violations.append("the forward edge did not commutate: the bridge no longer brakes")
+    run.turn(4)  # each edge must commutate (`step`)
+    held_name = {SHORT_CIRCUIT: "the short circuit", ALL_OFF: "all-off"}.get(kept, "switching")
+    return run.outcome(
+        name,
+        None,
+        back,
+        None,
+        f"{note}; the code back one sector {max(held, sector // 2) / TICK_HZ * 1e6:.0f}"
+        f" us into a {sector / TICK_HZ * 1e6:.0f} us sector, forward again"
+        f" {(forward - back) / TICK_HZ * 1e6:.0f} us later: {held_name} from"
+        f" {(since - back) / TICK_HZ * 1e6:.2f} us after the back step to the forward edge",
     )
 
 
@@ -1726,6 +1835,7 @@ SCENARIOS = (
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
     Scenario("bus_stuck_at_full_scale", _bus_stuck_at_full_scale),
     Scenario("reversal", _reversal),
+    Scenario("hall_back_step", _hall_back_step),
     Scenario("bus_noise", _bus_noise),
     Scenario("current_loop_stalls", _current_loop_stalls),
     Scenario("hse_fails", _hse_fails, hse_fails=True),

@@ -69,6 +69,12 @@
  * the DWT's cycle counter (codegen/port.py HALL_CONFIRM_NS): exact whatever the flash
  * and the code's placement, so the wait delays the handlers of its priority by no more. */
 #define BLDC_PORT_HALL_CONFIRM_CYCLES 72u
+/* TIM1's dead time (500 ns) in processor cycles, rounded up, by the same
+ * counter: where the port hands a phase from one switch to the other outside a fault
+ * (out of the refusal's short circuit, or into it), the wait between the one off and
+ * the other on. TIM1 inserts none between a channel's outputs enabled one at a time
+ * (RM0008 Table 83), and the refusal path is cold, so the wait costs no hot path. */
+#define BLDC_PORT_DEAD_TIME_CYCLES 36u
 /* The processor clock's cycles (a seam: a host build of the port counts its own). */
 #ifndef BLDC_PORT_CYCLES
 #define BLDC_PORT_CYCLES() (DWT->CYCCNT)
@@ -88,6 +94,10 @@
  * PA11 is no alternate-function output, so the bit drives nothing, but CCER is never 0
  * and the Hall edge's partner test refuses an invalid pair too (codegen/port.py). */
 #define BLDC_PORT_CCER_OFF TIM_CCER_CC4E
+/* The refusal's short circuit with MOE set (port_outputs_off): each lower switch alone
+ * enabled, at a compare of the full scale (PWM mode 1, OCxN = OCxREF: on all period). */
+#define BLDC_PORT_CCER_SHORT \
+    (TIM_CCER_CC1NE | TIM_CCER_CC2NE | TIM_CCER_CC3NE | BLDC_PORT_CCER_OFF)
 /* The safe state's CCER: every output of every phase enabled, so with MOE = 0 each is
  * held at its idle level (RM0008 Table 83, MOE = 0, OSSI = 1). */
 #define BLDC_PORT_CCER_SAFE                                                            \
@@ -353,17 +363,77 @@ static inline uintptr_t port_peripherals_again(void)
 #define PORT_TIM1_FROM_CCR1(ccr1, name) \
     ((volatile uint32_t *)((uintptr_t)(ccr1) - ((uintptr_t)&TIM1->CCR1 - (uintptr_t)&TIM1->name)))
 
-/* Every switch off at the next COM event, nothing scheduled: a direction reversal or
- * no valid timing yet. Not a fault; the next valid edge switches again. */
+/* Every output off now (a COM event), then TIM1's dead time: after it any switch may
+ * turn on, the partner of one that was on included. The read back after the COM event
+ * waits for the bus to carry it to TIM1 (a store may still be on its way), so the
+ * count starts with the switches off. `egr` is the COM event's: COMG, with UG to load
+ * compares written before (preloaded, OCxPE). Cold: the refusal's paths alone. */
+BLDC_PORT_COLD static void port_off_for_dead_time(TIM_TypeDef *tim1, uint32_t egr)
+{
+    tim1->CCER = BLDC_PORT_CCER_OFF; /* preloaded (CCPC = 1) */
+    tim1->EGR = egr;
+    (void)tim1->CCER;
+    const uint32_t start = BLDC_PORT_CYCLES();
+    while ((uint32_t)(BLDC_PORT_CYCLES() - start) < BLDC_PORT_DEAD_TIME_CYCLES) {
+        /* unsigned difference: the counter's wrap is harmless */
+    }
+}
+
+static uint32_t port_short_circuit(uint32_t period); /* below, with the speed regions */
+
+/* Nothing switches, and no fault: a direction reversal (a phase would hand over from
+ * one switch to the other) or no valid timing yet. The state is the safe state of the
+ * region at the interval just measured and the bus (port_short_circuit, the fault's
+ * idle levels' rule), with MOE kept set: every switch off where all-off is safe, the
+ * lower switches on where all-off would rectify into the bus (a Hall code stepping
+ * back one sector late in a sector at 4600 rpm on a 20.5 V bus, the paper motor: it
+ * had turned every switch off, the six diodes rectifying into the bus until the next
+ * edge, a hunt), entered through all-off and the dead time. The next valid edge
+ * commutates from either (port_refuse leaves the short through all-off and the dead
+ * time again where the edge's switches need it). */
 BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
 {
     TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
-    tim1->CCER = BLDC_PORT_CCER_OFF; /* preloaded (CCPC = 1) */
-    tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    if (port_short_circuit(port.period) == 0u) {
+        tim1->CCER = BLDC_PORT_CCER_OFF; /* preloaded (CCPC = 1) */
+        tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    } else if (tim1->CCER != BLDC_PORT_CCER_SHORT) {
+        /* every lower switch's compare at the full scale, loaded by the COM event's UG
+         * with every output off; then the lower switches alone, after the dead time */
+        tim1->CCR1 = BLDC_PORT_DUTY_FULL_SCALE;
+        tim1->CCR2 = BLDC_PORT_DUTY_FULL_SCALE;
+        tim1->CCR3 = BLDC_PORT_DUTY_FULL_SCALE;
+        port_off_for_dead_time(tim1, BLDC_PORT_EGR_COMMUTATE);
+        tim1->CCER = BLDC_PORT_CCER_SHORT;
+        tim1->EGR = TIM_EGR_COMG;
+    }
     /* No commutation to end; the wrap is read. */
     PORT_AT(anchor, TIM3, TIM_TypeDef)->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
     port.pending = 0u;
     port.steady = 0u;
+}
+
+/* A valid edge in time, out of the refusal's short circuit, whose switches' partners
+ * are on in it (a lower switch on where the edge turns the upper one on or off): every
+ * switch off and the dead time, then the edge's commutation as the Hall edge applies
+ * it (port_on_hall_edge; its record is in `pending`, its timing the one published). */
+BLDC_PORT_COLD static void port_commutate_from_short(uintptr_t anchor)
+{
+    TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
+    TIM_TypeDef *const tim3 = PORT_AT(anchor, TIM3, TIM_TypeDef);
+    const uint32_t record = port.pending;
+    const bldc_timing_t *const timing = port.timing;
+    port_off_for_dead_time(tim1, TIM_EGR_COMG);
+    *port_compare(tim1, PORT_RECORD_ON_CHANNEL(record)) = timing->turn_on_compare;
+    *port_compare(tim1, PORT_RECORD_OFF_CHANNEL(record)) = timing->turn_off_compare;
+    tim1->CCER = PORT_RECORD_CCER_DURING(record);
+    tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
+    /* the commutation's end, counted from the edge (TIM3 restarted there), raised at
+     * once if the counter is already past it */
+    const uint32_t ticks = timing->commutation_ticks;
+    tim3->CCR2 = ticks;
+    tim3->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
+    tim3->EGR = (tim3->CNT >= ticks) ? TIM_EGR_CC2G : 0u;
 }
 
 /* A fault: the safe state now, and latched. MOE = 0 sends every enabled output to its
@@ -412,8 +482,10 @@ BLDC_PORT_COLD static void port_refuse(void)
         } else {
             port_trip(anchor, BLDC_FAULT_OVER_SPEED);
         }
+    } else if (PORT_AT(anchor, TIM1, TIM_TypeDef)->CCER == BLDC_PORT_CCER_SHORT) {
+        port_commutate_from_short(anchor); /* the refusal's short: the switches it holds on */
     } else {
-        port_outputs_off(anchor); /* a phase would swap switches: off, then the next edge */
+        port_outputs_off(anchor); /* a phase would swap switches: the region's state, then the next edge */
     }
 }
 

@@ -122,8 +122,13 @@
  *
  * The port never drives both switches of one phase in normal operation: each phase
  * has at most one of CCxE / CCxNE set, and a request that would move a phase from its
- * upper to its lower switch (or back) in one COM event turns every output off instead
- * (no dead time is inserted between the two in single-output mode, RM0008 Table 83).
+ * upper to its lower switch (or back) in one COM event (a direction reversal, a Hall
+ * code stepping back) is refused, no fault latched and MOE kept: the bridge takes the
+ * safe state of the region at the interval just measured (every output off, or each
+ * lower switch alone on where all-off would rectify into the bus), entered and left
+ * through all-off and TIM1's dead time counted in processor cycles (no dead time is
+ * inserted between the two in single-output mode, RM0008 Table 83); the next valid
+ * edge commutates from there.
  *
  * Clocks assumed: TIM1 at 72 MHz (APB2 timer clock), TIM3 at
  * 72 MHz (APB1 timer clock, which RM0008 7.2 doubles when APB1 is
