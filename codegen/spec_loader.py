@@ -1106,12 +1106,26 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             f"{_g(inverter.timer_clock_hz)} Hz / N for a whole N in [1, 65536]",
         )
     bus_full_scale = adc.reference_v * adc.bus_voltage_divider
+    # The over-voltage watchdog trips on a code above bus_voltage_max's (ADC1 HTR, 12
+    # bits): a code must be left above it. At the full scale itself HTR would be 4096,
+    # which the register cannot hold (it held 0, and the watchdog tripped at every
+    # conversion: under-voltage latched at boot, the drive never armed; a hunt).
+    top_code_v = bus_full_scale * (2**adc.bits - 1) / 2**adc.bits
     if inverter.bus_voltage_max_v > bus_full_scale:
         r.report(
             "inverter.bus_voltage_max",
             _raw(data, "inverter.bus_voltage_max"),
             f"beyond the ADC full scale reference x divider = {_g(bus_full_scale)} V",
-            f"<= {_g(bus_full_scale)} V",
+            f"< {_g(top_code_v)} V",
+        )
+    elif inverter.bus_voltage_max_v >= top_code_v:
+        r.report(
+            "inverter.bus_voltage_max",
+            _raw(data, "inverter.bus_voltage_max"),
+            f"leaves no ADC code above it for the over-voltage watchdog (the top code,"
+            f" {2**adc.bits - 1}, reads {_g(top_code_v)} V at reference x divider ="
+            f" {_g(bus_full_scale)} V)",
+            f"< {_g(top_code_v)} V",
         )
     # The core divides by the bus code: at the lowest bus voltage it must still resolve
     # the voltage to about 3 % (32 codes), or the duties are as coarse.

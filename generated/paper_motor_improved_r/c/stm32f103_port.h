@@ -215,6 +215,9 @@
 #if BLDC_PORT_FAULT_PRIORITY != BLDC_PORT_HALL_PRIORITY
 #error "the break interrupt must not preempt a Hall edge half way through (nor wait behind the timing)"
 #endif
+#if (BLDC_PORT_ADC_HTR > 4095u) || (BLDC_PORT_ADC_LTR > 4095u)
+#error "ADC1's watchdog thresholds are 12-bit fields (RM0008 11.12.7): a larger one is held as its low bits"
+#endif
 
 /* Bus codes a new bus-voltage sample may differ from the code the timing uses before
  * the port recomputes the bus state (bldc_bus_condition(), five divides): the default
