@@ -419,3 +419,19 @@ def test_bus_adc_noise_at_100_khz_should_stay_within_the_cpu_budget(tmp_path: Pa
     outcome = run_scenario(elf, load_spec(str(path)), scenario)
     assert outcome.problems == [], outcome.problems
     assert "bus changes in 24 sectors" in outcome.note
+
+
+def test_a_safe_state_asked_for_before_the_record_should_be_a_problem_not_a_traceback(
+    tmp_path: Path,
+) -> None:
+    """A drive faulted at boot clears MOE before a scenario begins its gate record: the
+    safe-state check then asked the record for a tick before it and the report ended in
+    a traceback (a hunt's spec with bus_voltage_max at the ADC's full scale, now refused
+    by the loader). It is a problem of the scenario, judged from the record's start."""
+    from emulation.pil.scenarios import Run, _gates_in_force
+
+    path = SPECS["paper_motor"]
+    run = Run(build_firmware(path, tmp_path, checked_in(path)), load_spec(str(path)))
+    gates = _gates_in_force(run, 1)
+    assert len(gates) == 6
+    assert any("before the scenario's record began" in v for v in run.violations)

@@ -522,6 +522,16 @@ def _gates_in_force(run: Run, at: int) -> tuple[bool, ...]:
     gate driver's pull-down)."""
     if run.machine.now < at:
         run.machine.run_until(at)
+    log = run.machine.tim1.gate_log
+    if log is not None and log and at < log[0][0]:
+        # before the scenario began recording: the bridge was off from before its cause
+        # (a fault latched at boot: a hunt's bus_voltage_max at the ADC's full scale,
+        # whose report had ended in a traceback); judged by the record's first state
+        run.violations.append(
+            f"MOE cleared at tick {at}, before the scenario's record began at {log[0][0]}:"
+            f" the drive was faulted before the cause (app_faults {run.board.symbol('app_faults'):#x})"
+        )
+        at = log[0][0]
     return tuple(g is True for g in run.machine.tim1.gates_at(at))
 
 
