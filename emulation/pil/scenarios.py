@@ -1575,13 +1575,24 @@ def _clear_over_speed(run: Run) -> Outcome:
     )
 
 
+#: the IWDG's 12-bit down counter: reload values 0..4095, so 4096 counts at most (RM0008 19.3.1)
+IWDG_COUNTS = 4096
+
+
 def _current_loop_stalls(run: Run) -> Outcome:
     """The watchdog guards the current loop: braking for longer than
     firmware.watchdog_timeout, it must not reset (the firmware refreshes it); then the
     ADC's injected trigger is lost (TIM1's TRGO no longer reaches ADC1: the current
     loop's interrupt stops), and it must reset within firmware.watchdog_timeout (the LSI
-    runs at its fastest here, so the firmware's time-out is at most the spec's)."""
+    runs at its fastest here, so the firmware's time-out is the spec's, rounded up to
+    the IWDG's count: one count of the finest prescaler whose 12-bit reload reaches the
+    time-out, 0.53 ms for 1.1 s, where the check had allowed one PWM period; a hunt)."""
     timeout = round(float(run.spec.firmware.watchdog_timeout_s) * TICK_HZ)
+    lsi = run.machine.iwdg.lsi_hz
+    divider = 4
+    while Fraction(run.spec.firmware.watchdog_timeout_s) * lsi / divider > IWDG_COUNTS:
+        divider *= 2
+    count = -(-divider * TICK_HZ // lsi)
     run.turn(SETTLE_SECTORS)
     while run.machine.now - run.start < 1.2 * timeout:
         run.turn(1)
@@ -1598,15 +1609,15 @@ def _current_loop_stalls(run: Run) -> Outcome:
     stalled = run.machine.now
     reset = None
     try:
-        while run.machine.now - stalled <= timeout + run.board.pwm_period_ticks():
+        while run.machine.now - stalled <= timeout + count + run.board.pwm_period_ticks():
             run.turn(1)
     except WatchdogResetError:
         reset = run.machine.now
     extra = []
     if reset is None:
         extra.append(
-            f"no watchdog reset within {timeout} ticks (firmware.watchdog_timeout) of the"
-            " current loop's stall"
+            f"no watchdog reset within {timeout} ticks (firmware.watchdog_timeout) and one"
+            f" IWDG count ({count} ticks) of the current loop's stall"
         )
     else:
         # and not sooner than the spec's time-out after the last refresh, even at the
