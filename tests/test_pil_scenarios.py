@@ -300,7 +300,7 @@ def _hall72m_narrow(tmp_path: Path) -> Path:
     "keys",
     [
         ("over_voltage_between_samples", "hall_glitch", "hall_spike", "break_input"),
-        ("hall_off_marks", "reversal", "hse_fails"),
+        ("hall_off_marks", "reversal", "hse_fails", "hall_line_stuck"),
     ],
 )
 def test_a_narrow_speed_range_near_the_hall_counters_range_should_pass_the_scenarios(
@@ -311,7 +311,9 @@ def test_a_narrow_speed_range_near_the_hall_counters_range_should_pass_the_scena
     beyond TIM3's wrap here: HALL_TIMEOUT latched before the cause in 11 of 23
     scenarios. The Hall off-marks run started below speed_min (0.98 x 0.83 of
     speed_max), its sectors past the wrap too. And the HSE's failure waits out the
-    200 ms time-out: the boot's 1/10 s had said 'did not reach its WFI'."""
+    200 ms time-out: the boot's 1/10 s had said 'did not reach its WFI'. A line stuck
+    makes two-sector intervals, past the wrap: HALL_TIMEOUT latches first, then
+    HALL_INVALID (the scenario had wanted HALL_INVALID alone; a hunt)."""
     from emulation.pil.build import generate
 
     path = _hall72m_narrow(tmp_path)
