@@ -1094,6 +1094,12 @@ def braking_setup(spec: Spec, *, short: bool) -> BrakingSetup:
         # 573 commutations, every one within the SIL's point), the 80 kHz motor to 2253.
         gone = current_gone_rpm(spec)
         stop = max(stop, gone + HELD_SHARE * (held_down_to - gone))
+        if stop >= start and start > gone:
+            # the loop saturates above the start itself (a 246 V motor on a centre-aligned
+            # 2.25 kHz PWM, D_max 0.909: a stop of 585 rpm above its 570 rpm start, and
+            # every run ended at once; a hunt): to where HELD_SHARE of the current the
+            # saturated loop drives at the start is left
+            stop = max(low, gone + HELD_SHARE * (start - gone))
     edges = braking_edges(spec, start, stop, current)
     fewest, most = BRAKING_EDGES
     scale = min(max(1.0, fewest / edges), most / edges) if 0 < edges < math.inf else 1.0
