@@ -1367,3 +1367,18 @@ def test_the_steadiness_line_should_count_the_edges_it_could_not_judge(
     text = "\n".join(braking_report.section(gapped, []))
     assert "2 Hall edges at these speeds were not measured" in text, text
     assert "2 more Hall edges were not measured: 2 x no turn-off current at the edge" in text
+
+
+def test_a_loop_saturated_above_the_start_should_still_brake_below_it() -> None:
+    """D_max 0.909 holds the braking current only above 610 rpm, over the run's 570 rpm
+    start: the stop, raised to where HELD_SHARE of the held current is left, had come
+    out at 585 rpm, above the start, and every run with the motor in the loop ended at
+    once (a hunt). It is now HELD_SHARE of the way from where the current is gone to the
+    start: the saturated loop's current at the start."""
+    spec = load_spec(str(ROOT / "tests" / "fixtures" / "odd" / "dmax_above_start_2k25.yaml"))
+    setup = braking_setup(spec, short=False)
+    current = float(spec.controller.braking_current_nominal_a)
+    gone = current_gone_rpm(spec)
+    assert held_down_to_rpm(spec, current) > setup.start_rpm > gone
+    assert setup.stop_rpm == pytest.approx(gone + HELD_SHARE * (setup.start_rpm - gone))
+    assert setup.stop_rpm < setup.start_rpm
