@@ -1031,7 +1031,8 @@ def _bus_noise(run: Run) -> Outcome:
     """The bus at its nominal voltage with +-2 LSB of noise at every conversion, near
     the top speed: the noise leaves the bus change's one-code band at almost every
     sample, and each change costs the bus state and a timing run. The drive must stay
-    within firmware.cpu_load_budget over the noise, and take at most one bus change per
+    within firmware.cpu_load_budget over the noise (where it is on a quiet bus: over it
+    already is the bench's miss), and take at most one bus change per
     top-speed sector (the rate the CPU-load budget prices; a bus change every PWM period
     had doubled the load on a 100 kHz fixture, 21 -> 42 %). No fault may result."""
     spec = run.spec
@@ -1039,12 +1040,15 @@ def _bus_noise(run: Run) -> Outcome:
     run.rpm = float(spec.controller.speed_min_rpm) + 0.98 * (
         top - float(spec.controller.speed_min_rpm)
     )
-    run.turn(SETTLE_SECTORS)
+    run.turn(1)
+    machine = run.machine
+    quiet_from, quiet_busy = machine.now, machine.handler_ticks
+    run.turn(SETTLE_SECTORS - 1)
+    quiet = (machine.handler_ticks - quiet_busy) / max(1, machine.now - quiet_from)
     lsb = float(spec.adc.reference_v) / 2**spec.adc.bits * float(spec.adc.bus_voltage_divider)
     nominal = float(spec.inverter.bus_voltage_nominal_v)
     noise = random.Random(1)
     run.board.set_bus_voltage(lambda tick: nominal + noise.uniform(-1.0, 1.0) * BUS_NOISE_LSB * lsb)
-    machine = run.machine
     begun, busy = machine.now, machine.handler_ticks
     changes_before = len(run.board.entries_of("TIM1", "TIM1_UP_TIM10"))
     run.turn(BUS_NOISE_SECTORS)
@@ -1054,10 +1058,11 @@ def _bus_noise(run: Run) -> Outcome:
     shortest = TICK_HZ * 60 / (top * spec.motor.pole_pairs * 6)
     allowed = -(-elapsed // int(shortest)) + 1
     budget = float(spec.firmware.cpu_load_budget_percent) / 100
-    if load > budget:
+    if load > budget >= quiet:
+        # a drive over its budget on a quiet bus is the bench's miss already
         run.violations.append(
-            f"CPU load {100 * load:.1f} % over the noisy bus, above firmware.cpu_load_budget"
-            f" {100 * budget:g} %"
+            f"CPU load {100 * load:.1f} % over the noisy bus ({100 * quiet:.1f} % on a quiet"
+            f" one), above firmware.cpu_load_budget {100 * budget:g} %"
         )
     if changes > allowed:
         run.violations.append(
@@ -1070,7 +1075,8 @@ def _bus_noise(run: Run) -> Outcome:
         None,
         None,
         f"+-{BUS_NOISE_LSB:g} LSB at every conversion near the top speed: CPU load"
-        f" {100 * load:.1f} % (budget {100 * budget:g} %), {changes} bus changes in"
+        f" {100 * load:.1f} % ({100 * quiet:.1f} % on a quiet bus; budget {100 * budget:g} %),"
+        f" {changes} bus changes in"
         f" {BUS_NOISE_SECTORS} sectors (at most {allowed})",
     )
 
