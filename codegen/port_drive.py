@@ -43,14 +43,6 @@ LOOP_HEADER = current_loop.HEADER
 #: two loads only counts one more stale sequence (a clean sample dropped), never fewer.
 END_READ_GAP_CYCLES = 16
 
-#: CPU cycles from the commutation end's load of TIM1 CNT to its store to EGR (the COM
-#: event that switches and restarts the carrier), at the most: 11 instructions apart in
-#: the builds (arm-none-eabi-objdump), each APB2 access a few cycles. A trigger due
-#: within them comes before the COM event: its sequence samples the switching (a PIL
-#: run on tests/fixtures/pil/conv_80k_centre.yaml had the end's COM 2 counts into such a
-#: window and the loop closed on that sample). About twice the instructions' count.
-END_COM_GAP_CYCLES = 32
-
 #: RM0008 TIMx_CCMRx.OCxM: 110 PWM mode 1, 111 PWM mode 2.
 OC_MODE_PWM1 = 6
 OC_MODE_PWM2 = 7
@@ -291,11 +283,6 @@ def _sequence_min_counts(spec: Spec) -> int:
     return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0) - read_gap
 
 
-def _end_com_gap_counts(spec: Spec) -> int:
-    """TIM1 counts from the commutation end's CNT load to its COM event, at the most."""
-    return math.ceil(END_COM_GAP_CYCLES * Fraction(spec.inverter.timer_clock_hz) / SYSCLK_HZ)
-
-
 def _adc2_sequence(spec: Spec) -> str:
     channels = spec.sensing.current_channels
     return " | ".join(f"({ch}u << ADC_SQR3_SQ{k + 1}_Pos)" for k, ch in enumerate(channels))
@@ -357,17 +344,6 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "TIM1 counts since the last injected trigger, from CNT and CR1 read before a"
             " COM event restarts the carrier: "
             + ("the counter's peak (down-counting: ARR - CNT since)" if centre else "CNT = CCR4"),
-        ),
-        _define(
-            "BLDC_PORT_TRIGGER_IMMINENT_AGE",
-            (
-                f"(2u * BLDC_PORT_TIM1_ARR - {_end_com_gap_counts(spec)}u)"
-                if centre
-                else f"(BLDC_PORT_TIM1_ARR + 1u - {_end_com_gap_counts(spec)}u)"
-            ),
-            "a trigger age from which the next trigger is due before the commutation end's"
-            " COM event (its CNT load to its EGR store, END_COM_GAP_CYCLES): that sequence"
-            " samples the switching too",
         ),
         _define(
             "BLDC_PORT_OC4_MODE",

@@ -514,11 +514,9 @@ static void edge(unsigned code, unsigned status, unsigned captured, unsigned cnt
 static void end_of_commutation(void)
 {
     fake_tim1.EGR = 0u;
-    /* the end mid-period, half a period after the last injected trigger (whose
-     * sequence the loop took) and before the next: no sequence in flight by the
-     * trigger's age (BLDC_PORT_TRIGGER_AGE), none due before the COM event (one count
-     * before the trigger, CCR4 - 1, now counts the sequence it starts as stale) */
-    fake_tim1.CNT = (BLDC_PORT_TIM1_CCR4 + (BLDC_PORT_TIM1_ARR + 1u) / 2u) %% (BLDC_PORT_TIM1_ARR + 1u);
+    /* the end mid-period, long after the last injected trigger (whose sequence the loop
+     * took): no sequence in flight by the trigger's age (BLDC_PORT_TRIGGER_AGE) */
+    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 - 1u;
     fake_tim3.SR = TIM_SR_CC2IF;
     timing_runs = 0u;
     %(hall)s();

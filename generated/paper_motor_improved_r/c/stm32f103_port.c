@@ -615,14 +615,9 @@ static void port_on_commutation_end(uintptr_t anchor)
      * carrier, sector after sector) counted two each time and dropped the one clean
      * sample of two sectors running (`make pil`, conv_cen_ps at top speed, once the
      * timing ran later in the sector). */
-    /* And one whose trigger is due before the COM event above: the counter within
-     * the reads-to-COM gap of the trigger (BLDC_PORT_TRIGGER_IMMINENT_AGE) starts a
-     * sequence that samples the switching (`make pil`, conv_80k_centre: the COM 2 counts
-     * into the window, the loop closed on that sample). */
-    const uint32_t imminent = (uint32_t)(age >= BLDC_PORT_TRIGGER_IMMINENT_AGE);
     const uint32_t converting = ((status & ADC_SR_JSTRT) != 0u) ||
-                                (age < BLDC_PORT_SEQUENCE_COUNTS) || (imminent != 0u);
-    const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS) | imminent;
+                                (age < BLDC_PORT_SEQUENCE_COUNTS);
+    const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS);
     port.stale = ((status & ADC_SR_JEOC) != 0u) ? 1u + unended : (uint32_t)converting;
     port.pending = 0u;
     /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the

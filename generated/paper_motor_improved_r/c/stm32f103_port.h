@@ -155,7 +155,6 @@
 #define BLDC_PORT_SEQUENCE_MIN_COUNTS 464u /* TIM1 counts from an injected trigger to JEOC at the least (the trigger age's terms, no injection latency: the datasheet gives only its largest), less the commutation end's gap between its CNT and SR reads: a younger sequence has not ended, so a JEOC set then is an older one's */
 #define BLDC_PORT_AGE_CR1(tim1) 0u /* what BLDC_PORT_TRIGGER_AGE takes of CR1: its DIR bit (centre-aligned), else no read */
 #define BLDC_PORT_TRIGGER_AGE(cnt, cr1) (((cnt) >= BLDC_PORT_TIM1_CCR4) ? (cnt) - BLDC_PORT_TIM1_CCR4 : (cnt) + BLDC_PORT_TIM1_ARR + 1u - BLDC_PORT_TIM1_CCR4) /* TIM1 counts since the last injected trigger, from CNT and CR1 read before a COM event restarts the carrier: CNT = CCR4 */
-#define BLDC_PORT_TRIGGER_IMMINENT_AGE (BLDC_PORT_TIM1_ARR + 1u - 32u) /* a trigger age from which the next trigger is due before the commutation end's COM event (its CNT load to its EGR store, END_COM_GAP_CYCLES): that sequence samples the switching too */
 #define BLDC_PORT_OC4_MODE 7u /* OC4M: PWM mode 2 (rising at CNT = CCR4) */
 #define BLDC_PORT_ADC_JSQR ((3u << ADC_JSQR_JL_Pos) | (0u << ADC_JSQR_JSQ1_Pos) | (1u << ADC_JSQR_JSQ2_Pos) | (1u << ADC_JSQR_JSQ3_Pos) | (1u << ADC_JSQR_JSQ4_Pos)) /* JL = 3: JSQ1..JSQ4 land in JDR1..JDR4; JSQ1 IN0, JSQ2 IN1, JSQ3 IN1, JSQ4 IN1 */
 #define BLDC_PORT_ADC_SMPR1 (0u) /* 7.5 ADC cycles on channels 10..17 in use */
