@@ -17,6 +17,7 @@ from emulation.pil.scenarios import SCENARIOS, run_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "spec" / "paper_motor.yaml"
+PAPER_IR = ROOT / "spec" / "paper_motor_improved_r.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
 SHORT_RATED = ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml"
 PORT = "c/stm32f103_port.c"
@@ -307,20 +308,21 @@ MUTANTS = (
         # region (the paper motor at 4408 rpm on 20.2 V: rectifying until the next edge)
         "refusal all-off in every region: all-off where it rectifies, MOE set, no fault",
         PORT,
-        "    if (port_short_circuit(port.period) == 0u) {",
-        "    if ((port_short_circuit(port.period) & 0u) == 0u) { /* mutant: all-off */",
+        "    if (port_idle_short(period) == 0u) {",
+        "    if ((port_idle_short(period) & 0u) == 0u) { /* mutant: all-off */",
         PAPER,
         "hall_back_step",
         "not the short circuit",
     ),
     Mutant(
         # the refusal hands a phase from one switch to the other with no wait: the lower
-        # switch on 33 ticks after its upper partner turned off (dead time 72 ticks)
+        # switch on 33 ticks after its upper partner turned off (dead time 36 ticks; the
+        # back step on the improved_r motor lands where an upper switch is on)
         "refusal's dead-time wait dropped: into and out of its short with no dead time",
         PORT,
         "#define BLDC_PORT_DEAD_TIME_CYCLES ",
         "#define BLDC_PORT_DEAD_TIME_CYCLES 1u /* mutant: no wait */",
-        HUB,
+        PAPER_IR,
         "hall_back_step",
         "after its partner turned off",
     ),

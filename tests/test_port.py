@@ -966,9 +966,15 @@ int main(int argc, char **argv)
     wrap();
     show("wrap_idle");
     STEADY();
-    /* The same reversal at an interval where all-off would rectify into the bus: the
-     * lower switches on (each alone, at the full scale), MOE kept, no fault; the next
-     * valid edge (forward again) commutates from there. */
+    /* The same reversal with the rotor at an interval where all-off would rectify into
+     * the bus (a forward edge at it: its timing run keeps it as the last right
+     * interval, which the refusal takes, not its own, part of a sector): the lower
+     * switches on (each alone, at the full scale), MOE kept, no fault; the next valid
+     * edge (forward again) commutates from there. */
+    plan(100u, 900u, 700u, 300u);
+    edge(seq[(hall_index + 1u) %% 6u], TIM_SR_CC1IF, FAST_PERIOD, 10u);
+    hall_index = (hall_index + 1u) %% 6u;
+    end_of_commutation();
     hall_index = (hall_index + 5u) %% 6u;
     edge(seq[hall_index], TIM_SR_CC1IF, FAST_PERIOD, 10u);
     show("reversal_short");

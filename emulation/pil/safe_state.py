@@ -97,6 +97,22 @@ def short_rated_speed(spec: Spec) -> float | None:
     return (within - 1) / RPM_STEPS if within else 0.0
 
 
+def required_idle_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:
+    """The state a drive without a fault must hold with no sector's switch on (a refused
+    Hall edge, or armed before its first edge): the short circuit where all-off rectifies
+    and the short is within its rating (None within RATING_BAND of it, or where neither
+    is safe); else all-off. Not the spec's preference, as a fault's state is: the short
+    brakes the rotor with its short-circuit current, which may trip the comparator, and
+    a refusal is no fault."""
+    bound = short_circuit_bound_a(spec, rpm)
+    rating = float(spec.protection.short_circuit_current_max_a)
+    if peak_line_emf_v(spec, rpm) < bus_v:
+        return ALL_OFF
+    if bound > rating * (1 + RATING_BAND):
+        return None
+    return SHORT_CIRCUIT if bound <= rating * (1 - RATING_BAND) else None
+
+
 def required_safe_state(
     spec: Spec, rpm: float, bus_v: float, *, inputs_known: bool = True
 ) -> tuple[bool, ...] | None:

@@ -78,6 +78,7 @@ from emulation.pil.safe_state import (
     ALL_OFF,
     SHORT_CIRCUIT,
     peak_line_emf_v,
+    required_idle_state,
     required_safe_state,
     short_circuit_bound_a,
     short_rated_speed,
@@ -489,6 +490,7 @@ def _check_safe_state(
     *,
     inputs_known: bool = True,
     complete_by: int | None = None,
+    idle: bool = False,
 ) -> None:
     """The gates at `at` are a safe state, the one the spec requires at the run's speed
     (`inputs_known` False: the port has no Hall interval yet, or reads no bus voltage;
@@ -497,7 +499,11 @@ def _check_safe_state(
     safe state is whole: the idle levels reach only the channels the sector left
     enabled, and the port's trip handler enables the others (a floating phase's pair
     stays off until then)."""
-    required = required_safe_state(run.spec, run.rpm, bus_v, inputs_known=inputs_known)
+    required = (
+        required_idle_state(run.spec, run.rpm, bus_v)
+        if idle
+        else required_safe_state(run.spec, run.rpm, bus_v, inputs_known=inputs_known)
+    )
     if complete_by is not None:
         allowed = required if required is not None else SHORT_CIRCUIT  # ALL_OFF within it
         on = _gates_in_force(run, at)
@@ -511,7 +517,8 @@ def _check_safe_state(
     elif required is not None and gates != required:
         name = "the short circuit" if required == SHORT_CIRCUIT else "all off"
         run.violations.append(
-            f"gates {gates} {what}: not {name}, the spec's safe state at {run.rpm:.0f} rpm and"
+            f"gates {gates} {what}: not {name}, the {'idle' if idle else 'spec' + chr(39) + 's safe'}"
+            f" state at {run.rpm:.0f} rpm and"
             f" {bus_v:g} V (peak line EMF {peak_line_emf_v(run.spec, run.rpm):.1f} V, the short"
             f" circuit's bound {short_circuit_bound_a(run.spec, run.rpm):.1f} A against"
             f" protection.short_circuit_current_max"
@@ -1561,6 +1568,53 @@ def _break_pulse(run: Run) -> Outcome:
     )
 
 
+def _clear_where_all_off_rectifies(run: Run) -> Outcome:
+    """A 5 us comparator pulse at a speed from which all-off rectifies (as the Hall back
+    step's: the bus 1 % inside the range's bottom, the rotor 3 % above that speed), then
+    main clears: the drive re-arms, and from one PWM period after the clear to the next
+    Hall edge the gates are the idle state there, the short circuit. Arming had turned
+    every switch off with MOE set until the next edge, rectifying (1.66 ms on the paper
+    motor; a hunt). Where no bus of the range rectifies at such a speed: at the default
+    speed and nominal bus, all-off."""
+    name = "clear where all-off rectifies"
+    chosen = hall_back_step_speed(run.spec)
+    if chosen is None:
+        bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
+    else:
+        bus_v, run.rpm = chosen
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS)
+    run.into_sector(1 / 4)
+    cause = run.machine.now + 10
+    run.board.set_break(True, at=cause)
+    run.board.set_break(False, at=cause + round(5e-6 * TICK_HZ))
+    period = run.board.pwm_period_ticks()
+    run.run_until_tripped(period)
+    run.machine.run_for(2 * period)
+    if run.board.symbol("app_faults") != FAULT["OVER_CURRENT"]:
+        return run.outcome(name, "OVER_CURRENT", cause, period, "the pulse latched no fault")
+    cleared = run.machine.now
+    answer = clear_faults(run)
+    if answer != 0:
+        run.violations.append(f"the clear answered {answer:#x}, not 0")
+    edge = run._due  # the sector's end: the next Hall edge
+    start = cleared + period
+    if edge > start:
+        run.machine.run_until(edge - 1)
+        changes = [t for t, _ in run.machine.tim1.gate_log or [] if start < t < edge]
+        for at in [start, *changes]:
+            _check_safe_state(run, at, bus_v, "after the clear, before the next edge", idle=True)
+    run.turn(3)  # braking again: each edge commutates
+    return run.outcome(
+        name,
+        None,
+        None,
+        None,
+        f"the comparator active for 5 us at {run.rpm:.0f} rpm on {bus_v:.2f} V, main's clear:"
+        " the idle state from one PWM period after it to the next edge, then braking",
+    )
+
+
 def _clear_over_speed(run: Run) -> Outcome:
     """main clears an over-speed while the rotor is still over speed: the clear must
     refuse (the interval the faulted drive keeps measuring is still short) and the safe
@@ -1660,8 +1714,9 @@ def _reversal(run: Run) -> Outcome:
     fault), but a phase whose other switch is on
     now must not hand over from one switch to the other in one COM event: TIM1 inserts
     no dead time between the two outputs of a channel enabled one at a time (RM0008
-    Table 83), so the gate invariant sees it. The refused edge leaves the safe state of
-    the speed and bus (all-off where it does not rectify and the spec prefers it)."""
+    Table 83), so the gate invariant sees it. The refused edge leaves the idle state of
+    the speed and bus (`required_idle_state`: all-off where it does not rectify, whatever
+    the spec prefers)."""
     low = float(run.spec.controller.speed_min_rpm)
     high = float(run.spec.controller.speed_max_rpm)
     bus_v = float(run.spec.inverter.bus_voltage_nominal_v)
@@ -1682,6 +1737,7 @@ def _reversal(run: Run) -> Outcome:
                     back + run.board.pwm_period_ticks(),
                     bus_v,
                     "one PWM period after the code stepped back",
+                    idle=True,
                 )
     return run.outcome(
         "direction reversal",
@@ -1690,7 +1746,7 @@ def _reversal(run: Run) -> Outcome:
         None,
         "the rotor turns back half-way into a sector and on backwards for six"
         f" sectors, at the scenarios' speed and at {REVERSAL_LOW_FRACTION:g} of the speed"
-        " range, each after turning forwards again: no fault, the spec's safe state one PWM"
+        " range, each after turning forwards again: no fault, the idle state one PWM"
         " period after the first reverse edge, no switch-over within a leg without the dead"
         " time",
     )
@@ -1701,6 +1757,9 @@ def _reversal(run: Run) -> Outcome:
 #: is an over-speed (a glitch shorter than that sector trips OVER_SPEED at its forward
 #: edge: a fault of its own, as a bounce does)
 BACK_STEP_MARGIN = 0.02
+#: The bus over the first half of the step back: this much above the one the scenario
+#: brakes on, above the rectifying bound at its speed (RECTIFYING_MARGIN above it)
+BACK_STEP_BUS_RISE = 0.06
 
 
 def hall_back_step_speed(spec: Spec) -> tuple[float, float] | None:
@@ -1723,9 +1782,10 @@ def _hall_back_step(run: Run) -> Outcome:
     speed from which all-off rectifies into the bus. The port refuses the back step
     (a phase would hand over from one switch to the other in one COM event): no fault,
     MOE stays set, and from one PWM period after the back step to the forward edge the
-    gates are the spec's safe state at the rotor's speed and bus (the short circuit;
+    gates are the idle state at the rotor's speed and bus (`required_idle_state`: the
+    short circuit where all-off rectifies, else all-off, whatever the spec prefers;
     where no bus of the range rectifies at a speed with room for the step, the glitch
-    comes at the default speed and nominal bus, and the state is the spec's there); the
+    comes at the default speed and nominal bus: all-off there); the
     forward edge commutates and braking goes on, no fault, the dead time kept at every
     gate change. The firmware had turned every switch off (a hunt: the paper motor at
     4600 rpm on 20.5 V, rectifying until the forward edge). Each interval is
@@ -1763,11 +1823,21 @@ def _hall_back_step(run: Run) -> Outcome:
     run.board.set_hall(before, at=back)
     run.board.set_hall(code, at=forward)
     run._due = forward + sector  # the forward edge starts the sector again
+    # a bus above the rectifying bound until half-way through the step, then at bus_v
+    # (all-off rectifies): the idle state follows it (a hunt: all-off, chosen once at
+    # the back step, had rectified until the forward edge)
+    high = bus_v * (1 + BACK_STEP_BUS_RISE)
+    falls = chosen is not None and high <= float(run.spec.inverter.bus_voltage_max_v)
+    fall = (back + forward) // 2 if falls else back
+    if falls:
+        run.board.set_bus_voltage(lambda tick: high if tick < fall else bus_v)
     machine.run_until(forward)
-    start = back + period
-    changes = [t for t, _ in tim1.gate_log or [] if start < t < forward]
-    for at in [start, *changes]:
-        _check_safe_state(run, at, bus_v, "after the Hall code stepped back")
+    for start, end, volts in ((back + period, fall, high), (fall + period, forward, bus_v)):
+        if start >= end:
+            continue
+        changes = [t for t, _ in tim1.gate_log or [] if start < t < end]
+        for at in [start, *changes]:
+            _check_safe_state(run, at, volts, "after the Hall code stepped back", idle=True)
     # what the gates held up to the forward edge, and since when
     kept = _gates_in_force(run, forward - 1)
     since, previous = back, None
@@ -1873,6 +1943,7 @@ SCENARIOS = (
     Scenario("bus_stuck_at_full_scale", _bus_stuck_at_full_scale),
     Scenario("reversal", _reversal),
     Scenario("hall_back_step", _hall_back_step),
+    Scenario("clear_where_all_off_rectifies", _clear_where_all_off_rectifies),
     Scenario("bus_noise", _bus_noise),
     Scenario("current_loop_stalls", _current_loop_stalls),
     Scenario("hse_fails", _hse_fails, hse_fails=True),

@@ -379,25 +379,48 @@ BLDC_PORT_COLD static void port_off_for_dead_time(TIM_TypeDef *tim1, uint32_t eg
     }
 }
 
-static uint32_t port_short_circuit(uint32_t period); /* below, with the speed regions */
 
-/* Nothing switches, and no fault: a direction reversal (a phase would hand over from
- * one switch to the other) or no valid timing yet. The state is the safe state of the
- * region at the interval just measured and the bus (port_short_circuit, the fault's
- * idle levels' rule), with MOE kept set: every switch off where all-off is safe, the
- * lower switches on where all-off would rectify into the bus (a Hall code stepping
- * back one sector late in a sector at 4600 rpm on a 20.5 V bus, the paper motor: it
- * had turned every switch off, the six diodes rectifying into the bus until the next
- * edge, a hunt), entered through all-off and the dead time. The next valid edge
- * commutates from either (port_refuse leaves the short through all-off and the dead
- * time again where the edge's switches need it). */
-BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
+/* 1 where the bridge's state without a fault is the short circuit: where all-off would
+ * rectify into the bus at Hall interval T and the latest bus sample B (T B <= K, the
+ * product the fault path's region is found from) and the short is rated there; at a
+ * wrapped interval (the speed unknown: armed at start-up) or before a bus sample,
+ * all-off, as arming always had it (the short there had shorted a rotor at rest). Not
+ * the spec's
+ * preference alone, as a fault's state is: the short's current is the braking rotor's
+ * short-circuit current, which may be over the comparator's threshold, and a refused
+ * edge is no fault (the hub motor's 1.3 ms Hall glitch at 115 rpm, the motor in the
+ * loop: 30.9 A, the comparator tripped, OVER_CURRENT where all-off rectifies nothing;
+ * a hunt). The latest sample, not the bus state the timing uses: that one waits for
+ * the bus change's gate (BLDC_PORT_BUS_MIN_PERIODS). */
+static uint32_t port_idle_short(uint32_t period)
 {
-    TIM_TypeDef *const tim1 = PORT_AT(anchor, TIM1, TIM_TypeDef);
-    if (port_short_circuit(port.period) == 0u) {
-        tim1->CCER = BLDC_PORT_CCER_OFF; /* preloaded (CCPC = 1) */
-        tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
-    } else if (tim1->CCER != BLDC_PORT_CCER_SHORT) {
+    const uint32_t bus = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 */
+    if ((period >= BLDC_PORT_TIM3_ARR) || (bus < BLDC_PORT_ADC_LTR)) {
+        /* no measured speed, or no bus sample yet (JDR4 reads 0 until the first; a bus
+         * under its range is the watchdog's fault, whose path chooses its state) */
+        return 0u;
+    }
+    const uint32_t rectifies = (uint32_t)((uint64_t)period * bus <= BLDC_PORT_RECTIFYING_PRODUCT);
+#if BLDC_PORT_SHORT_VALID_PERIOD == 0u
+    return rectifies; /* rated at every interval */
+#else
+    return rectifies & (uint32_t)(period >= BLDC_PORT_SHORT_VALID_PERIOD);
+#endif
+}
+
+/* The bridge's state without a fault and with no switch of a sector on (a refused
+ * edge, or armed before the first edge), with MOE set: every switch off, or where all-off
+ * would rectify into the bus (port_idle_short) each lower switch alone on, entered
+ * through all-off and the dead time. Nothing done where the state is already the one. */
+BLDC_PORT_COLD static void port_idle_state(TIM_TypeDef *tim1, uint32_t period)
+{
+    const uint32_t ccer = tim1->CCER;
+    if (port_idle_short(period) == 0u) {
+        if (ccer != BLDC_PORT_CCER_OFF) {
+            tim1->CCER = BLDC_PORT_CCER_OFF; /* preloaded (CCPC = 1) */
+            tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
+        }
+    } else if (ccer != BLDC_PORT_CCER_SHORT) {
         /* every lower switch's compare at the full scale, loaded by the COM event's UG
          * with every output off; then the lower switches alone, after the dead time */
         tim1->CCR1 = BLDC_PORT_DUTY_FULL_SCALE;
@@ -407,6 +430,20 @@ BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
         tim1->CCER = BLDC_PORT_CCER_SHORT;
         tim1->EGR = TIM_EGR_COMG;
     }
+}
+
+/* Nothing switches, and no fault: a direction reversal (a phase would hand over from
+ * one switch to the other) or no valid timing yet. The idle state at the interval just
+ * measured (port_idle_state: all-off had rectified into the bus where a Hall code
+ * stepped back one sector late in a sector at 4600 rpm on a 20.5 V bus, the paper
+ * motor, until the next edge; a hunt). The current loop's interrupt chooses it again at
+ * each sample while it lasts (port_adc_other: a bus falling meanwhile had left all-off
+ * rectifying for 2 ms; a hunt). The next valid edge commutates from either
+ * (port_refuse leaves the short through all-off and the dead time again where the
+ * edge's switches need it). */
+BLDC_PORT_COLD static void port_outputs_off(uintptr_t anchor)
+{
+    port_idle_state(PORT_AT(anchor, TIM1, TIM_TypeDef), port.period);
     /* No commutation to end; the wrap is read. */
     PORT_AT(anchor, TIM3, TIM_TypeDef)->SR = ~(TIM_SR_CC2IF | TIM_SR_UIF);
     port.pending = 0u;
@@ -485,7 +522,14 @@ BLDC_PORT_COLD static void port_refuse(void)
     } else if (PORT_AT(anchor, TIM1, TIM_TypeDef)->CCER == BLDC_PORT_CCER_SHORT) {
         port_commutate_from_short(anchor); /* the refusal's short: the switches it holds on */
     } else {
-        port_outputs_off(anchor); /* a phase would swap switches: the region's state, then the next edge */
+        /* A phase would swap switches: the idle state, then the next edge. Its interval
+         * is the time since the last edge, part of a sector (a code stepping back late
+         * in one read as a rotor 12 % faster: the short where all-off was safe, and on a
+         * rated-short spec all-off where it was required; a hunt): the idle state, and
+         * the timing this COM event runs, take the last right edge's, as a wrong code's
+         * trip does. */
+        port.period = port.timed_period;
+        port_outputs_off(anchor);
     }
 }
 
@@ -1166,6 +1210,11 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
         }
     } else if (port.faults != 0u) {
         port_faulted_tick(anchor, watched);
+    } else if ((port.pending == 0u) &&
+               ((PORT_AT(anchor, TIM1, TIM_TypeDef)->BDTR & TIM_BDTR_MOE) != 0u)) {
+        /* armed, no sector's switch on (a refused edge, or armed before the first edge):
+         * the idle state follows the bus and the interval */
+        port_idle_state(PORT_AT(anchor, TIM1, TIM_TypeDef), port.period);
     }
 }
 
@@ -1448,6 +1497,12 @@ static void port_arm(void)
          * every switch off, until then; a helper's hunt). A request after this read
          * clears MOE by its own software break. */
         TIM1->BDTR = BLDC_PORT_TIM1_BDTR;
+    } else {
+        /* armed at a speed measured before (a clear): where all-off rectifies there, the
+         * short until the next edge, not all-off (a hunt: 1.66 ms rectifying after a
+         * clear on the paper motor at 4400 rpm and 20.1 V); the current loop's samples
+         * keep it with the bus (port_adc_other) */
+        port_idle_state(TIM1, port.period);
     }
 }
 
