@@ -1832,7 +1832,9 @@ def _hall_back_step(run: Run) -> Outcome:
     if falls:
         run.board.set_bus_voltage(lambda tick: high if tick < fall else bus_v)
     machine.run_until(forward)
-    for start, end, volts in ((back + period, fall, high), (fall + period, forward, bus_v)):
+    # the idle state follows the bus at the current loop's samples: the first one after
+    # the fall ends at most a PWM period and its conversions later (2 periods allowed)
+    for start, end, volts in ((back + period, fall, high), (fall + 2 * period, forward, bus_v)):
         if start >= end:
             continue
         changes = [t for t, _ in tim1.gate_log or [] if start < t < end]
