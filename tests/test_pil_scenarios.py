@@ -421,6 +421,8 @@ def test_bus_adc_noise_at_100_khz_should_stay_within_the_cpu_budget(tmp_path: Pa
     outcome = run_scenario(elf, load_spec(str(path)), scenario)
     assert outcome.problems == [], outcome.problems
     assert "bus changes in 24 sectors" in outcome.note
+    load = float(outcome.note.split("CPU load ")[1].split(" %")[0])
+    assert load <= float(load_spec(str(path)).firmware.cpu_load_budget_percent), outcome.note
 
 
 def test_a_safe_state_asked_for_before_the_record_should_be_a_problem_not_a_traceback(

@@ -1037,11 +1037,11 @@ BUS_NOISE_SECTORS = 24
 def _bus_noise(run: Run) -> Outcome:
     """The bus at its nominal voltage with +-2 LSB of noise at every conversion, near
     the top speed: the noise leaves the bus change's one-code band at almost every
-    sample, and each change costs the bus state and a timing run. The drive must stay
-    within firmware.cpu_load_budget over the noise (where it is on a quiet bus: over it
-    already is the bench's miss), and take at most one bus change per
-    top-speed sector (the rate the CPU-load budget prices; a bus change every PWM period
-    had doubled the load on a 100 kHz fixture, 21 -> 42 %). No fault may result."""
+    sample, and each change costs the bus state and a timing run. The drive must take
+    at most one bus change per top-speed sector, the rate the CPU-load budget prices
+    (`make bench` judges the budget; the loads, noisy and quiet, are in the note): a bus
+    change every PWM period had doubled the load on a 100 kHz fixture, 21 -> 42 %. No
+    fault may result."""
     spec = run.spec
     top = float(spec.controller.speed_max_rpm)
     run.rpm = float(spec.controller.speed_min_rpm) + 0.98 * (
@@ -1065,12 +1065,6 @@ def _bus_noise(run: Run) -> Outcome:
     shortest = TICK_HZ * 60 / (top * spec.motor.pole_pairs * 6)
     allowed = -(-elapsed // int(shortest)) + 1
     budget = float(spec.firmware.cpu_load_budget_percent) / 100
-    if load > budget >= quiet:
-        # a drive over its budget on a quiet bus is the bench's miss already
-        run.violations.append(
-            f"CPU load {100 * load:.1f} % over the noisy bus ({100 * quiet:.1f} % on a quiet"
-            f" one), above firmware.cpu_load_budget {100 * budget:g} %"
-        )
     if changes > allowed:
         run.violations.append(
             f"{changes} bus changes in {elapsed / TICK_HZ * 1e3:.2f} ms, more than one per"
