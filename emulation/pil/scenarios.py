@@ -1385,6 +1385,15 @@ def hall_stuck_speed(spec: Spec) -> tuple[float, float] | None:
     return bus_v, fast
 
 
+def _rectifying_note(run: Run, bus_v: float) -> str:
+    """The speed and bus a scenario placed above the rectifying speed, for its note."""
+    rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
+    return (
+        f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off rectifies from"
+        f" {rectifying:.0f} rpm)"
+    )
+
+
 def _hall_line_stuck(run: Run) -> Outcome:
     """A Hall line stops changing while the rotor brakes faster than the speed from
     which all-off rectifies: the next code with it stuck is 000 or 111 (HALL_INVALID),
@@ -1399,11 +1408,7 @@ def _hall_line_stuck(run: Run) -> Outcome:
         bus_v, note = _no_rectifying_speed(run, "the line stuck at the default speed")
     else:
         bus_v, run.rpm = chosen
-        rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
-        note = (
-            f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off rectifies from"
-            f" {rectifying:.0f} rpm)"
-        )
+        note = _rectifying_note(run, bus_v)
     run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
     sequence = run.spec.hall.sequence
@@ -1794,11 +1799,7 @@ def _hall_back_step(run: Run) -> Outcome:
         )
     else:
         bus_v, run.rpm = chosen
-        rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
-        note = (
-            f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off rectifies from"
-            f" {rectifying:.0f} rpm)"
-        )
+        note = _rectifying_note(run, bus_v)
     run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
     machine, tim1 = run.machine, run.machine.tim1
