@@ -94,8 +94,9 @@
  * PA11 is no alternate-function output, so the bit drives nothing, but CCER is never 0
  * and the Hall edge's partner test refuses an invalid pair too (codegen/port.py). */
 #define BLDC_PORT_CCER_OFF TIM_CCER_CC4E
-/* The refusal's short circuit with MOE set (port_outputs_off): each lower switch alone
- * enabled, at a compare of the full scale (PWM mode 1, OCxN = OCxREF: on all period). */
+/* The idle state's short circuit with MOE set (port_idle_state: a refused edge, or
+ * armed, where all-off rectifies): each lower switch alone enabled, at a compare of the
+ * full scale (PWM mode 1, OCxN = OCxREF: on all period). */
 #define BLDC_PORT_CCER_SHORT \
     (TIM_CCER_CC1NE | TIM_CCER_CC2NE | TIM_CCER_CC3NE | BLDC_PORT_CCER_OFF)
 /* The safe state's CCER: every output of every phase enabled, so with MOE = 0 each is
