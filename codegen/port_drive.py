@@ -42,6 +42,17 @@ LOOP_HEADER = current_loop.HEADER
 #: measures (tests/emulation/test_end_reads.py). A higher-priority interrupt between the
 #: two loads only counts one more stale sequence (a clean sample dropped), never fewer.
 END_READ_GAP_CYCLES = 16
+#: CPU cycles from the commutation end's load of TIM1 CNT to its store of the COM event
+#: (EGR), at the most: the CR1 load between them (centre-aligned) and the store, each a
+#: few cycles on APB2. A trigger the counter puts within this many counts of its read
+#: fires before the COM event: its sequence samples the commutating bridge, though its
+#: JSTRT may not show yet when SR is read after the store (the injection latency, up
+#: to 3 ADC cycles, comes before the conversion starts). The bench's model measures 6
+#: cycles edge-aligned and 10 centre-aligned (tests/emulation/test_end_reads.py); two
+#: more for the store's way through the APB2 bridge. Not more: a trigger counted here
+#: that fires after the COM event is a clean sample dropped, and a steady braking's
+#: ends keep their phase to the carrier, sector after sector.
+END_COM_GAP_CYCLES = 12
 
 #: RM0008 TIMx_CCMRx.OCxM: 110 PWM mode 1, 111 PWM mode 2.
 OC_MODE_PWM1 = 6
@@ -283,6 +294,19 @@ def _sequence_min_counts(spec: Spec) -> int:
     return math.floor(counts) + (1 if spec.inverter.pwm_alignment != "edge" else 0) - read_gap
 
 
+def _imminent_age(spec: Spec, period_counts: int) -> int:
+    """The trigger age (BLDC_PORT_TRIGGER_AGE) from which the next injected trigger
+    comes within END_COM_GAP_CYCLES of the counter's read, before the COM event the
+    end stores after it: the age of the next trigger less that gap in counts. The next
+    trigger is one carrier period after the last (P = ARR + 1 counts) edge-aligned, and
+    centre-aligned one count after the next peak (2 P + 1 counts from the last, P = ARR)."""
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    gap = math.ceil(END_COM_GAP_CYCLES * clock / SYSCLK_HZ)
+    edge = spec.inverter.pwm_alignment == "edge"
+    cycle = period_counts if edge else 2 * period_counts + 1
+    return cycle - gap
+
+
 def _adc2_sequence(spec: Spec) -> str:
     channels = spec.sensing.current_channels
     return " | ".join(f"({ch}u << ADC_SQR3_SQ{k + 1}_Pos)" for k, ch in enumerate(channels))
@@ -326,6 +350,13 @@ def drive_context(spec: Spec) -> dict[str, object]:
             " terms, no injection latency: the datasheet gives only its largest), less the"
             " commutation end's gap between its CNT and SR reads: a younger sequence has not"
             " ended, so a JEOC set then is an older one's",
+        ),
+        _define(
+            "BLDC_PORT_IMMINENT_AGE",
+            f"{_imminent_age(spec, window.period_counts)}u",
+            "a trigger age from which the next trigger comes within the commutation end's"
+            " gap between its CNT read and its COM event (END_COM_GAP_CYCLES): that"
+            " sequence samples the commutating bridge",
         ),
         _define(
             "BLDC_PORT_AGE_CR1(tim1)",

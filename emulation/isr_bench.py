@@ -361,10 +361,12 @@ class PortRig:
     def commutation_end(self) -> CallResult:
         self.sim.write_u32(self.tim3_sr, self.cc2if)
         self.sim.write_u32(self.tim1_egr, 0)
-        # the end mid-period, long after the last injected trigger (its sequence taken):
-        # the port holds the loop through a sequence a trigger younger than the sequence
-        # began (BLDC_PORT_TRIGGER_AGE), which a counter left at 0 would be
-        self.sim.write_u32(self.tim1_cnt, max(self.sim.read_u32(self.tim1_ccr4) - 1, 0))
+        # the end mid-period, long after the last injected trigger (its sequence taken)
+        # and long before the next: the port holds the loop through a sequence a trigger
+        # younger than the sequence began (BLDC_PORT_TRIGGER_AGE), which a counter left
+        # at 0 would be, and through one a trigger about to fire before the COM event
+        # begins (BLDC_PORT_IMMINENT_AGE), which a counter one short of CCR4 would be
+        self.sim.write_u32(self.tim1_cnt, self.sim.read_u32(self.tim1_ccr4) // 2)
         return self.sim.call(HALL_HANDLER)
 
     def mark_unwritten(self) -> None:

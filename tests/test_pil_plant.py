@@ -59,6 +59,7 @@ from emulation.pil.plant_faults import PLANT_FAULTS, PlantFault, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import short_circuit_bound_a
 from emulation.pil.scs import IRQ_BASE
+from emulation.pil.tim1 import EGR_COMG
 from sim.drive import Drive
 from sim.scenario import Case, switching_table
 from sim.schedule import OFF, Schedule, Segment
@@ -615,6 +616,73 @@ def test_the_current_loop_should_take_no_sample_triggered_before_the_commutation
             late.append((tick, code, com - trigger))
     assert len(ends) >= 10 and straddled, (len(ends), straddled)
     assert late == [], f"stored as I from sequences triggered before a COM event: {late}"
+
+
+def _stores_after_a_trigger_at_each_com(
+    elf: Path, port: Path
+) -> tuple[list[int], list[tuple[int, int, int]]]:
+    """The paper motor's short braking run with an injected trigger fired at each COM
+    event the TIM3 handler stores (the ADC idle): a trigger landing after the end's
+    counter read and before its COM event, whose sequence samples the commutating
+    bridge. (The ticks those triggers fired at, the values stored as I from a sequence
+    triggered before the latest COM event: store tick, value, ticks before the COM.)"""
+    spec = load_spec(str(PAPER))
+    loop = BrakingLoop(elf, port, spec, replace(braking_setup(spec, short=True), max_edges=30))
+    samples = LoopSamples(loop, port)
+    machine = loop.machine
+    tim3 = IRQ_BASE + svd_interrupt("TIM3", "TIM3")
+    write_egr = machine.tim1.writers["EGR"]
+    fired: list[int] = []
+
+    def egr(value: int) -> None:
+        in_tim3 = bool(machine.nvic.active) and machine.nvic.active[-1] == tim3
+        idle = not any(c.injected for c in machine.adc1.queue)
+        if in_tim3 and value & EGR_COMG and idle and machine.tim1.moe:
+            fired.append(machine.now)
+            for listener in list(machine.tim1.trgo_listeners):
+                listener(machine.now)
+        write_egr(value)
+
+    machine.tim1.writers["EGR"] = egr
+    loop.run_braking()
+    coms = loop.com_ticks
+    late = []
+    for tick, code in samples.stores:
+        trigger = samples.trigger_before(tick)
+        com = coms[bisect.bisect_right(coms, tick) - 1]
+        if trigger <= com:  # a trigger at the COM event's own tick samples it too
+            late.append((tick, code, com - trigger))
+    return fired, late
+
+
+def test_a_trigger_between_the_ends_counter_read_and_its_com_should_not_be_taken_as_i(
+    paper_firmware: tuple[Path, Path], tmp_path: Path
+) -> None:
+    """The commutation end reads TIM1's counter (the trigger's age), then ADC1's SR, and
+    stores the COM event. A trigger between the two reads shows in SR; one after SR and
+    before the COM event did not: its sequence sampled the commutating bridge and the
+    loop closed on it (`make pil`, conv_80k_centre, once). The end now stores the COM
+    event straight after the counter and reads SR after it. A trigger fired at every
+    COM event here: no store is of a sequence triggered before the latest COM event. The
+    end with SR read before its COM event (the mutant) stores such samples."""
+    elf, port = paper_firmware
+    fired, late = _stores_after_a_trigger_at_each_com(elf, port)
+    assert len(fired) >= 20 and late == [], (len(fired), late)
+    generated = checked_in(PAPER)
+    assert generated is not None
+    after = (
+        "    tim1->EGR = BLDC_PORT_EGR_COMMUTATE; /* just after the counter: see below */\n"
+        "    const uint32_t status = adc1->SR; /* just after the COM event: see below */\n"
+    )
+    before = (
+        "    const uint32_t status = adc1->SR; /* just after the COM event: see below */\n"
+        "    tim1->EGR = BLDC_PORT_EGR_COMMUTATE; /* just after the counter: see below */\n"
+    )
+    mutant = link_mutant(generated, tmp_path / "mutant", _port_line_replaced(after, before))
+    _, broken = _stores_after_a_trigger_at_each_com(
+        mutant, tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c"
+    )
+    assert broken, "the mutant took no sample triggered before a COM event: the test lost its point"
 
 
 @pytest.fixture(scope="module")

@@ -516,7 +516,7 @@ static void end_of_commutation(void)
     fake_tim1.EGR = 0u;
     /* the end mid-period, long after the last injected trigger (whose sequence the loop
      * took): no sequence in flight by the trigger's age (BLDC_PORT_TRIGGER_AGE) */
-    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 - 1u;
+    fake_tim1.CNT = BLDC_PORT_TIM1_CCR4 / 2u;
     fake_tim3.SR = TIM_SR_CC2IF;
     timing_runs = 0u;
     %(hall)s();
@@ -882,6 +882,14 @@ int main(int argc, char **argv)
     end_then_two_samples(seq[1], ADC_SR_JSTRT | ADC_SR_JEOC,
                          BLDC_PORT_TIM1_CCR4 + CONVERSIONS_COUNTS - 8u,
                          OFFSET + 85u, OFFSET + 86u, "ended_between_reads");
+
+    /* A commutation end one count before an injected trigger (SR shows no JSTRT: the
+     * injection latency still holds the conversion's start): that trigger fires before
+     * the COM event the end stores after its counter read, and its sequence samples the
+     * commutating bridge. Not I; the next one is (the end had read SR, then stored the
+     * COM event after the age's arithmetic, and taken such a sequence as I). */
+    end_then_two_samples(seq[2], 0u, BLDC_PORT_TIM1_CCR4 - 1u, OFFSET + 87u, OFFSET + 88u,
+                         "imminent");
 
     /* ---- faults: each acts now, latches, and holds until its cause is gone ---- */
 #define STEADY()                                              \
@@ -1457,6 +1465,19 @@ def test_a_sequence_ending_between_the_ends_two_reads_should_hold_one_sample_not
     offset = _loop_run_paper().offset
     assert host_run["ended_between_reads"]["port.current"] != offset + 85
     assert host_run["after_ended_between_reads"]["port.current"] == offset + 86
+
+
+def test_a_trigger_between_the_ends_counter_read_and_its_com_should_not_be_i(
+    host_run: dict[str, dict[str, int]],
+) -> None:
+    """An end whose counter read comes a count before an injected trigger: the trigger
+    fires before the COM event, so its sequence samples the commutating bridge. The end
+    counts it stale although SR shows no JSTRT yet (the injection latency); the next
+    sequence is I. The end had read SR before the COM event, with the age's arithmetic
+    between: a trigger there went unseen (`make pil`, conv_80k_centre)."""
+    offset = _loop_run_paper().offset
+    assert host_run["imminent"]["port.current"] != offset + 87
+    assert host_run["after_imminent"]["port.current"] == offset + 88
 
 
 def test_current_loop_should_set_the_steady_switch_from_each_sample(

@@ -27,6 +27,10 @@ exception model, the peripherals and time are this module's:
   flash line and for each literal load (an estimate: the bench's `emulation.memory`
   prices the prefetch buffer exactly on traces), times the ticks of one HCLK cycle; an
   exception entry and return cost `emulation.memory`'s figures at the latency in force.
+  A peripheral access happens at its own instruction's tick within its block (the
+  block's start plus the cycles before it), and the peripherals' events due by then
+  happen first: two accesses a few cycles apart in one block see the timers move
+  between them (the commutation end's counter read and its COM event).
 
 Anything the chip would not survive (a hard fault, a fetch from nowhere, a write to
 flash, the watchdog's reset) and anything not modelled raises `PilError`.
@@ -113,6 +117,56 @@ _REGISTER = {
     cs_arm.ARM_REG_LR: uc_arm.UC_ARM_REG_LR,
     cs_arm.ARM_REG_PC: uc_arm.UC_ARM_REG_PC,
 }
+
+
+_LOADS_AND_STORES = {
+    "ldr": None, "ldrh": None, "ldrb": None, "ldrsh": None, "ldrsb": None,
+    "str": 0xFFFFFFFF, "strh": 0xFFFF, "strb": 0xFF,
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _Access:
+    """A single load or store of a block (no writeback, one register): where its
+    address comes from, and how many of the block's cycles come before it."""
+
+    cycles_before: int
+    store: bool
+    base: int  # unicorn register ids
+    disp: int
+    index: int | None
+    shift: int
+    source: int  # the stored register (stores)
+    mask: int  # the stored width's bits
+
+
+def _access_of(code: bytes, address: int, cycles_before: int) -> _Access | None:
+    instruction = next(_STORES.disasm(code, address), None)
+    if instruction is None:
+        return None
+    mnemonic = instruction.mnemonic.split(".")[0]
+    if mnemonic not in _LOADS_AND_STORES or len(instruction.operands) != 2:
+        return None
+    source, target = instruction.operands
+    memory = target.mem
+    if target.type != cs_arm.ARM_OP_MEM or memory.base not in _REGISTER:
+        return None
+    if memory.base == cs_arm.ARM_REG_PC or instruction.writeback:
+        return None
+    mask = _LOADS_AND_STORES[mnemonic]
+    index = _REGISTER.get(memory.index) if memory.index else None
+    if memory.index and index is None:
+        return None
+    return _Access(
+        cycles_before,
+        mask is not None,
+        _REGISTER[memory.base],
+        memory.disp,
+        index,
+        memory.lshift if memory.index else 0,
+        _REGISTER.get(source.reg, uc_arm.UC_ARM_REG_R0),
+        mask or 0,
+    )
 
 
 @dataclass(frozen=True)
@@ -226,7 +280,12 @@ class Machine:
         self._busy_since = 0
         self._deadline = 0
         self._block_end = 0
-        self._block_cost: dict[tuple[int, int], int] = {}
+        self._block_cost: dict[tuple[int, int], tuple[int, int]] = {}
+        #: each block's loads and stores: (cycles before it in the block, its operands)
+        self._block_accesses: dict[tuple[int, int], tuple[_Access, ...]] = {}
+        self._block_start = 0  # the running block's first tick
+        self._accesses: tuple[_Access, ...] = ()  # the running block's loads and stores
+        self._next_access = 0  # the first of them no peripheral access has matched yet
         self._returning = False
         self._after_store: tuple[int, int] | None = None  # (address, value) of that store
         self._fault: str | None = None
@@ -370,6 +429,7 @@ class Machine:
         if self.error is not None:
             return 0
         try:
+            self._at_access(base + offset, None)
             peripheral, register = self._peripheral_at(base + offset)
             return peripheral.read(register, size)
         except Exception as error:
@@ -380,6 +440,7 @@ class Machine:
         if self.error is not None:
             return
         try:
+            self._at_access(base + offset, value & ((1 << (8 * size)) - 1))
             peripheral, register = self._peripheral_at(base + offset)
             peripheral.write(register, size, value)
             if self.nvic.pending and self._preemption_due():
@@ -407,6 +468,43 @@ class Machine:
             cost = self._cost_of_block(address, size)
         cycles = cost[0] + self.flash.latency * cost[1]
         self._block_end = start + cycles * self.cycle_ticks
+        self._block_start = start
+        self._accesses = self._block_accesses[(address, size)]
+        self._next_access = 0
+
+    def _access_tick(self, address: int, value: int | None) -> int:
+        """The tick of the running block's load (`value` None) or store of `value` at
+        `address`: the block's start plus the cycles of the instructions before it (its
+        first flash wait aside), so that a peripheral sees the accesses of one block at
+        their own ticks (a trigger between the commutation end's read of TIM1's counter
+        and its COM event, a few cycles apart in one block, fires between them). The
+        instruction is found as `_step_over_store` finds one: the next load or store of
+        the block, from the last one matched, whose address (and stored value) the
+        registers give; unicorn's PC in a peripheral callback is the block's. None
+        found: the block's start."""
+        register = self.uc.reg_read
+        for k in range(self._next_access, len(self._accesses)):
+            access = self._accesses[k]
+            if access.store != (value is not None):
+                continue
+            target = register(access.base) + access.disp
+            if access.index is not None:
+                target += register(access.index) << access.shift
+            if target & 0xFFFFFFFF != address:
+                continue
+            if value is not None and register(access.source) & access.mask != value & access.mask:
+                continue
+            self._next_access = k + 1
+            return self._block_start + access.cycles_before * self.cycle_ticks
+        return self._block_start
+
+    def _at_access(self, address: int, value: int | None) -> None:
+        """Time moves to the access's own tick, and the peripherals' events due by then
+        happen first."""
+        tick = self._access_tick(address, value)
+        if tick > self.now:
+            self.now = tick
+            self._process_events()
 
     def _cost_of_block(self, address: int, size: int) -> tuple[int, int]:
         """(TRM cycles, flash reads that wait): a block entered from elsewhere waits
@@ -417,9 +515,13 @@ class Machine:
         literal_loads = 0
         offset = 0
         last = None
+        accesses = []
         while offset < size:
             length = thumb_instruction_size(code[offset : offset + 2])
             instruction = code[offset : offset + length]
+            access = _access_of(instruction, address + offset, cycles)
+            if access is not None:
+                accesses.append(access)
             last = decode(instruction)
             cycles += last.cycles
             if "[pc" in disassemble(instruction, address + offset):
@@ -429,6 +531,7 @@ class Machine:
             cycles += _TAKEN_REFILL
         waits = (1 + literal_loads) if address < SRAM_BASE else 0
         self._block_cost[(address, size)] = (cycles, waits)
+        self._block_accesses[(address, size)] = tuple(accesses)
         return cycles, waits
 
     def _on_wfi(self, uc: Uc, address: int, _size: int, _data: object) -> None:

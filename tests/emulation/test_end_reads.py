@@ -1,6 +1,8 @@
-"""The commutation end reads TIM1's counter, then ADC1's SR: the port's bound for an
-injected sequence to have ended (BLDC_PORT_SEQUENCE_MIN_COUNTS) is short of the
-conversions by END_READ_GAP_CYCLES, the cycles between those two loads at the most.
+"""The commutation end reads TIM1's counter, stores the COM event, then reads ADC1's
+SR: the port's bound for an injected sequence to have ended
+(BLDC_PORT_SEQUENCE_MIN_COUNTS) is short of the conversions by END_READ_GAP_CYCLES,
+the cycles between those two loads at the most, and a trigger the counter puts within
+END_COM_GAP_CYCLES of its read fires before the COM event (BLDC_PORT_IMMINENT_AGE).
 Measured here on the compiled handler, flash wait states included (the bench's cycle
 model), for an edge-aligned and a centre-aligned carrier (which reads CR1 between)."""
 
@@ -11,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from codegen.build_firmware import build
-from codegen.port_drive import END_READ_GAP_CYCLES
+from codegen.port_drive import END_COM_GAP_CYCLES, END_READ_GAP_CYCLES
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from emulation.cycles import estimate_cycles
@@ -21,17 +23,17 @@ from emulation.pil.build import generate
 SPECS = ("spec/paper_motor.yaml", "tests/fixtures/pil/conv_cen_ps.yaml")
 
 
-def _load_index(trace: tuple, address: int) -> int:
+def _access_index(trace: tuple, address: int, write: bool = False) -> int:
     (index,) = [
         k
         for k, step in enumerate(trace)
-        if any(a.address == address and not a.write for a in step.accesses)
+        if any(a.address == address and a.write == write for a in step.accesses)
     ]
     return index
 
 
 @pytest.mark.parametrize("relative", SPECS, ids=lambda p: Path(p).stem)
-def test_the_end_should_read_adc_sr_within_the_gap_after_tim1_cnt(
+def test_the_end_should_store_the_com_and_read_adc_sr_within_their_gaps_after_tim1_cnt(
     relative: str, tmp_path: Path
 ) -> None:
     path = PROJECT_ROOT / relative
@@ -42,13 +44,15 @@ def test_the_end_should_read_adc_sr_within_the_gap_after_tim1_cnt(
     rig.prime(2800, 2100, 2000)
     rig.hall_edge(spec.hall.sequence[2], 2000)
     end = rig.commutation_end()
-    counter = _load_index(end.trace, _register("TIM1", "CNT"))
-    status = _load_index(end.trace, _register("ADC1", "SR"))
-    assert counter < status
-    gap = estimate_cycles(
-        end.trace[counter + 1 : status + 1],
-        rig.sim,
-        udiv_mode="worst",
-        timing=rig.memory_timing,
-    ).cycles
-    assert 0 < gap <= END_READ_GAP_CYCLES, gap
+    counter = _access_index(end.trace, _register("TIM1", "CNT"))
+    com = _access_index(end.trace, _register("TIM1", "EGR"), write=True)
+    status = _access_index(end.trace, _register("ADC1", "SR"))
+    assert counter < com < status
+
+    def cycles(first: int, last: int) -> int:
+        return estimate_cycles(
+            end.trace[first + 1 : last + 1], rig.sim, udiv_mode="worst", timing=rig.memory_timing
+        ).cycles
+
+    assert 0 < cycles(counter, status) <= END_READ_GAP_CYCLES, cycles(counter, status)
+    assert 0 < cycles(counter, com) <= END_COM_GAP_CYCLES, cycles(counter, com)

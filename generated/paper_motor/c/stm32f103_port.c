@@ -630,11 +630,11 @@ static void port_on_commutation_end(uintptr_t anchor)
     ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
     uint32_t counter = tim1->CNT; /* the carrier before the COM event restarts it */
     uint32_t cr1 = BLDC_PORT_AGE_CR1(tim1);
-    const uint32_t status = adc1->SR; /* just after the counter: see below */
+    tim1->EGR = BLDC_PORT_EGR_COMMUTATE; /* just after the counter: see below */
+    const uint32_t status = adc1->SR; /* just after the COM event: see below */
     BLDC_PORT_AFTER_LOADS(counter); /* the age's arithmetic after the SR load, not between */
     BLDC_PORT_AFTER_LOADS(cr1);
     const uint32_t age = BLDC_PORT_TRIGGER_AGE(counter, cr1);
-    tim1->EGR = BLDC_PORT_EGR_COMMUTATE;
     /* What the current loop needs of this record, found once here, not every period. */
     port.steady_compare = compare;
     port.steady = record;
@@ -659,10 +659,20 @@ static void port_on_commutation_end(uintptr_t anchor)
      * end that kept landing at a JEOC (a steady braking's ends keep their phase to the
      * carrier, sector after sector) counted two each time and dropped the one clean
      * sample of two sectors running (`make pil`, conv_cen_ps at top speed, once the
-     * timing ran later in the sector). */
+     * timing ran later in the sector).
+     * The COM event comes between the two reads, straight after the counter's: a
+     * trigger after the counter's read and before the COM event begins a sequence
+     * that samples the commutating bridge. Its JSTRT shows in SR, read after the COM
+     * event, unless the injection latency still holds the conversion's start; the
+     * counter, BLDC_PORT_IMMINENT_AGE counts or less before the trigger, says it too
+     * (`imminent`: one more stale sequence). With SR read before the COM event and the
+     * age's arithmetic between, such a trigger went unseen and the loop closed on its
+     * sample (`make pil`, conv_80k_centre). The COM event restarts the carrier, whose
+     * next trigger is half a period or more away: SR shows no later one. */
+    const uint32_t imminent = (uint32_t)(age >= BLDC_PORT_IMMINENT_AGE);
     const uint32_t converting = ((status & ADC_SR_JSTRT) != 0u) ||
-                                (age < BLDC_PORT_SEQUENCE_COUNTS);
-    const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS);
+                                (age < BLDC_PORT_SEQUENCE_COUNTS) || (imminent != 0u);
+    const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS) | imminent;
     port.stale = ((status & ADC_SR_JEOC) != 0u) ? 1u + unended : (uint32_t)converting;
     port.pending = 0u;
     /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the

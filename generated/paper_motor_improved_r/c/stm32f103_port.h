@@ -153,6 +153,7 @@
 #define BLDC_PORT_TIM1_CCR4 3536u /* the current sample: OC4REF (PWM mode 2) rises at CNT = 3536, 63 counts before the samples end, 1 before the next period */
 #define BLDC_PORT_SEQUENCE_COUNTS 504u /* TIM1 counts from an injected trigger to JEOC, one ADC cycle (and for the centre-aligned trigger one count after the peak, two counts) over */
 #define BLDC_PORT_SEQUENCE_MIN_COUNTS 464u /* TIM1 counts from an injected trigger to JEOC at the least (the trigger age's terms, no injection latency: the datasheet gives only its largest), less the commutation end's gap between its CNT and SR reads: a younger sequence has not ended, so a JEOC set then is an older one's */
+#define BLDC_PORT_IMMINENT_AGE 3588u /* a trigger age from which the next trigger comes within the commutation end's gap between its CNT read and its COM event (END_COM_GAP_CYCLES): that sequence samples the commutating bridge */
 #define BLDC_PORT_AGE_CR1(tim1) 0u /* what BLDC_PORT_TRIGGER_AGE takes of CR1: its DIR bit (centre-aligned), else no read */
 #define BLDC_PORT_TRIGGER_AGE(cnt, cr1) (((cnt) >= BLDC_PORT_TIM1_CCR4) ? (cnt) - BLDC_PORT_TIM1_CCR4 : (cnt) + BLDC_PORT_TIM1_ARR + 1u - BLDC_PORT_TIM1_CCR4) /* TIM1 counts since the last injected trigger, from CNT and CR1 read before a COM event restarts the carrier: CNT = CCR4 */
 #define BLDC_PORT_OC4_MODE 7u /* OC4M: PWM mode 2 (rising at CNT = CCR4) */
