@@ -366,6 +366,17 @@ MUTANTS = (
         "bus_noise",
         "more than one per top-speed sector",
     ),
+    Mutant(
+        # arming as before: all-off with MOE set, then the short through the dead time
+        # (2.7 us rectifying on a 400 V motor and on the paper motor; a hunt)
+        "clear arms all-off first: MOE up into all-off where all-off rectifies",
+        PORT,
+        "    if (port_idle_short(port.period) != 0u) {\n        /* Where all-off rectifies",
+        "    if (0u) {\n        /* Where all-off rectifies",
+        PAPER,
+        "clear_where_all_off_rectifies",
+        "after the clear, before the next edge",
+    ),
 )
 
 

@@ -1570,10 +1570,11 @@ def _break_pulse(run: Run) -> Outcome:
 def _clear_where_all_off_rectifies(run: Run) -> Outcome:
     """A 5 us comparator pulse at a speed from which all-off rectifies (as the Hall back
     step's: the bus 1 % inside the range's bottom, the rotor 3 % above that speed), then
-    main clears: the drive re-arms, and from one PWM period after the clear to the next
-    Hall edge the gates are the idle state there, the short circuit. Arming had turned
-    every switch off with MOE set until the next edge, rectifying (1.66 ms on the paper
-    motor; a hunt). Where no bus of the range rectifies at such a speed: at the default
+    main clears: the drive re-arms, and from the moment MOE is set again to the next Hall
+    edge the gates are the idle state there, the short circuit, with no gap: MOE comes up
+    into it. Arming had turned every switch off with MOE set until the next
+    edge, rectifying (1.66 ms on the paper motor; a hunt), then for 2.7 us before the
+    short (a 400 V motor; a hunt). Where no bus of the range rectifies at such a speed: at the default
     speed and nominal bus, all-off."""
     name = "clear where all-off rectifies"
     chosen = hall_back_step_speed(run.spec)
@@ -1592,12 +1593,21 @@ def _clear_where_all_off_rectifies(run: Run) -> Outcome:
     run.machine.run_for(2 * period)
     if run.board.symbol("app_faults") != FAULT["OVER_CURRENT"]:
         return run.outcome(name, "OVER_CURRENT", cause, period, "the pulse latched no fault")
-    cleared = run.machine.now
+    # from the moment the clear sets MOE to the next edge: the idle state, no gap (main
+    # wakes at its next interrupt, up to a PWM period after the request; the window had
+    # begun a period after the request, and a clear that ran 51 us after it, all-off
+    # with MOE set for 2.7 us before the short, fell inside only by that phase; before
+    # MOE the fault's own state holds, which may be another: the hub prefers the short)
+    requested = run.machine.now
     answer = clear_faults(run)
     if answer != 0:
         run.violations.append(f"the clear answered {answer:#x}, not 0")
+    armed = run.machine.tim1.moe_set_at
+    if armed is None or armed < requested:
+        run.violations.append("the clear did not set MOE")
+        armed = run.machine.now
     edge = run._due  # the sector's end: the next Hall edge
-    start = cleared + period
+    start = armed
     if edge > start:
         run.machine.run_until(edge - 1)
         changes = [t for t, _ in run.machine.tim1.gate_log or [] if start < t < edge]
@@ -1610,7 +1620,7 @@ def _clear_where_all_off_rectifies(run: Run) -> Outcome:
         None,
         None,
         f"the comparator active for 5 us at {run.rpm:.0f} rpm on {bus_v:.2f} V, main's clear:"
-        " the idle state from one PWM period after it to the next edge, then braking",
+        " the idle state from MOE set to the next edge, then braking",
     )
 
 

@@ -88,6 +88,7 @@ class AdvancedTimer(Timer):
         self.ccer_written = 0
         self.ccmr_written = [0, 0]
         self.moe_cleared_at: int | None = None
+        self.moe_set_at: int | None = None  # the latest write that set MOE
         self.breaks = 0
         self.com_events = 0
         #: (tick, gates) at every change of the six outputs, once `record_gates()` ran
@@ -171,6 +172,8 @@ class AdvancedTimer(Timer):
             self.bdtr &= ~BDTR_MOE  # 14.3.12: MOE cannot be set while the break is active
         if was_on and not self.moe:
             self.moe_cleared_at = self.machine.now
+        if self.moe and not was_on:
+            self.moe_set_at = self.machine.now
         self._check_break_input()
 
     @property

@@ -1482,8 +1482,23 @@ static void port_rewatch(uint32_t kept)
 
 static void port_arm(void)
 {
-    TIM1->CCER = BLDC_PORT_CCER_OFF;
-    TIM1->EGR = TIM_EGR_COMG; /* all off before MOE */
+    if (port_idle_short(port.period) != 0u) {
+        /* Where all-off rectifies (a clear at a speed measured before): the short loaded
+         * with MOE = 0, so that MOE comes up into it. MOE = 0 holds every enabled output
+         * at its idle level meanwhile (OSSI = 1): the fault's short stays as it was, or
+         * all-off stays until MOE, with every upper switch off since the trip, far longer
+         * than the dead time. Arming all-off first, then the short through the dead time,
+         * had every switch off with MOE set for 2.7 us, rectifying (a hunt: the 400 V
+         * motor's clear). */
+        TIM1->CCR1 = BLDC_PORT_DUTY_FULL_SCALE;
+        TIM1->CCR2 = BLDC_PORT_DUTY_FULL_SCALE;
+        TIM1->CCR3 = BLDC_PORT_DUTY_FULL_SCALE;
+        TIM1->CCER = BLDC_PORT_CCER_SHORT;
+        TIM1->EGR = BLDC_PORT_EGR_COMMUTATE; /* the compares (UG) and the pattern (COMG) */
+    } else {
+        TIM1->CCER = BLDC_PORT_CCER_OFF;
+        TIM1->EGR = TIM_EGR_COMG; /* all off before MOE */
+    }
     port_rewatch(0u);
     ADC1->HTR = BLDC_PORT_ADC_HTR; /* the bus's range again (the faulted window's) */
     ADC1->LTR = BLDC_PORT_ADC_LTR;
