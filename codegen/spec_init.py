@@ -784,16 +784,38 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     fastest = Fraction(hall_clock * 10) / (pole_pairs * n_max)
     n_min = _lowest_speed(hall_clock, pole_pairs, n_max)
     e_top = si["ke"] * n_max
+    # the largest duty the current sample leaves (the loader's check of each operating
+    # point: holding I at speed n needs 1 - (2E - 2RI)/U_d within it)
+    period_counts = TIMER_CLOCK_HZ // int(pwm) // (2 if alignment == "center" else 1)
+    window = sense_window(
+        alignment=alignment,
+        period_counts=period_counts,
+        timer_clock_hz=Fraction(TIMER_CLOCK_HZ),
+        dead_time_counts=math.ceil(dead_ns * TIMER_CLOCK_HZ / 10**9),
+        settling_time_s=SETTLING_TIME_S,
+        adc_sample_cycles=SAMPLE_CYCLES,
+        current_samples=1,  # the DC-link shunt init writes
+    )
+    d_max = Fraction(window.duty_max_counts, period_counts)
+    high = _speed_down(n_max * 9 / 10)
     if sheet.braking_current is not None:
         i_nom = sheet.braking_current[0]
         i_source = f"datasheet/application: nominal braking current {sheet.braking_current[1]}"
     else:
+        # what the loop can hold at the upper operating point, (2E - (1 - D_max) U_d)/(2R):
+        # half of E(speed_max)/R alone had written 1.6 A on a 300 rpm paper motor, which
+        # needs a duty of 0.975 of a 0.952 D_max there, and the loader warned of init's
+        # own spec (a hunt)
+        held = (2 * si["ke"] * high - (1 - d_max) * bus) / (2 * si["r"])
         i_nom = max(
-            BRAKING_CURRENT_MIN_A, min(Fraction(5), _round_down(e_top / si["r"] * 5, 1) / 10)
+            BRAKING_CURRENT_MIN_A,
+            min(Fraction(5), _round_down(e_top / si["r"] * 5, 1) / 10, _round_down(held, 1 / 10)),
         )
         i_source = (
-            f"{derived} 5 A, or half of E(speed_max)/R = {_num(e_top / si['r'])} A (what"
-            f" the back-EMF can drive in braking) if less, {_num(BRAKING_CURRENT_MIN_A)} A"
+            f"{derived} 5 A, or half of what the back-EMF can drive in braking,"
+            f" E(speed_max)/R = {_num(e_top / si['r'])} A, or what the current loop can hold at"
+            f" {_num(high)} rpm within its D_max {float(d_max):.3f},"
+            f" {_num(max(held, Fraction(0)))} A, if less; {_num(BRAKING_CURRENT_MIN_A)} A"
             " at least"
         )
     i_max = 2 * i_nom
@@ -821,19 +843,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     # within the largest the current sample leaves (the loader's own check; a 100 kHz
     # centre-aligned spec init wrote had its lower point at 1440 rpm needing 0.804 of a
     # 0.781 D_max, and warned of it: a helper's hunt)
-    period_counts = TIMER_CLOCK_HZ // int(pwm) // (2 if alignment == "center" else 1)
-    window = sense_window(
-        alignment=alignment,
-        period_counts=period_counts,
-        timer_clock_hz=Fraction(TIMER_CLOCK_HZ),
-        dead_time_counts=math.ceil(dead_ns * TIMER_CLOCK_HZ / 10**9),
-        settling_time_s=SETTLING_TIME_S,
-        adc_sample_cycles=SAMPLE_CYCLES,
-        current_samples=1,  # the DC-link shunt init writes
-    )
-    d_max = Fraction(window.duty_max_counts, period_counts)
     n_hold = max(n_hold, _speed_up(((1 - d_max) * bus + 2 * si["r"] * i_nom) / (2 * si["ke"])))
-    high = _speed_down(n_max * 9 / 10)
     low = max(n_min, _speed_down(n_max * Fraction(3, 10)))
     points = sorted({min(max(low, n_hold), high), high})
     if points[-1] - points[0] < 1:  # the reports name a point by its speed in whole rpm
