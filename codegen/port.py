@@ -62,6 +62,22 @@ BUS_HYSTERESIS_CODES = 1
 #: way into the short circuit has none: a bus at or below the bound interrupts at once.
 FAULTED_BUS_HYSTERESIS_CODES = 8
 
+#: While a fault is latched, the faulted drive's periodic work (the Hall interval and
+#: the safe state's region for it, the bus watchdog's window, a bus its watchdog flagged
+#: meanwhile) runs at an injected sample once in this long at the most: every PWM period
+#: up to 39.9 kHz (as it always had), every second at 40 kHz, every fifth at 100 kHz
+#: (BLDC_PORT_FAULTED_TICK_PERIODS). At 100 kHz every period, with the bus at a rail
+#: flagging every conversion, had taken 78 % of the CPU, and main published the latched
+#: over-voltage 133 us after its cause (a hunt). The bus watchdog's own interrupt still
+#: acts at once.
+FAULTED_TICK_S = Fraction(50, 10**6)
+
+
+def faulted_tick_periods(pwm_frequency_hz: Fraction) -> int:
+    """PWM periods from one faulted tick to the next: the whole periods in
+    FAULTED_TICK_S, one at least."""
+    return max(1, math.floor(FAULTED_TICK_S * pwm_frequency_hz))
+
 
 def bus_min_periods(shortest_sector_s: Fraction, pwm_frequency_hz: Fraction) -> int:
     """PWM periods from one bus change to the next at the earliest
@@ -485,6 +501,7 @@ def port_context(
         "dead_time_cycles": -(-dead.dts_ticks * CPU_HZ // clk),
         "dead_time_text": _time(dead.programmed_s),
         "faulted_bus_hysteresis_codes": FAULTED_BUS_HYSTERESIS_CODES,
+        "faulted_tick_periods": faulted_tick_periods(inv.pwm_frequency_hz),
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",
         "bus_hysteresis_duty_text": f"{float(stale):.3g} counts",

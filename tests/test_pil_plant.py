@@ -685,6 +685,51 @@ def test_a_trigger_between_the_ends_counter_read_and_its_com_should_not_be_taken
     assert broken, "the mutant took no sample triggered before a COM event: the test lost its point"
 
 
+def _header_define(name: str, value: str) -> Callable[[Path], None]:
+    """A port mutant for `link_mutant`: the port header's `#define name` set to `value`."""
+
+    def mutate(copy: Path) -> None:
+        header = copy / "c" / "stm32f103_port.h"
+        text = header.read_text(encoding="utf-8")
+        found = re.findall(rf"#define {name} \S+", text)
+        assert len(found) == 1, found
+        header.write_text(text.replace(found[0], f"#define {name} {value}"), encoding="utf-8")
+
+    return mutate
+
+
+def test_an_over_voltage_at_100_khz_should_leave_main_the_cpu_to_publish_it(
+    tmp_path: Path,
+) -> None:
+    """A 100 kHz centre-aligned motor, the bus stepping 10 % over its maximum with the
+    motor in the loop: the trip is at once, and main publishes OVER_VOLTAGE within its
+    wait. The faulted drive's periodic work had run at every PWM period, 7.8 us of each
+    10 us with the bus at the ADC's rail, and main published 133 us after the cause,
+    past its wait (a hunt); it now runs once in BLDC_PORT_FAULTED_TICK_PERIODS (5 here:
+    50 us), and main publishes 41 us after MOE cleared. The port with that at 1 (the
+    mutant) leaves main half the time: 82 us here, and where the handlers' phase falls
+    worse (the port before this change) past the wait."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "none_100k_centre_ov.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    header = (generated / "c" / "stm32f103_port.h").read_text(encoding="utf-8")
+    assert "#define BLDC_PORT_FAULTED_TICK_PERIODS 5u" in header
+    elf = build_firmware(path, tmp_path, generated)
+    fault = next(f for f in PLANT_FAULTS if f.key == "over_voltage")
+    outcome = run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, fault)
+    assert outcome.problems == [], outcome.problems
+    mutant = link_mutant(
+        generated, tmp_path / "mutant", _header_define("BLDC_PORT_FAULTED_TICK_PERIODS", "1u")
+    )
+    port = tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c"
+    broken = run_plant_fault(mutant, port, spec, fault)
+    assert outcome.published_ticks is not None and broken.published_ticks is not None
+    assert 3 * broken.published_ticks >= 5 * outcome.published_ticks, (
+        broken.published_ticks,
+        outcome.published_ticks,
+    )
+
+
 @pytest.fixture(scope="module")
 def hub_firmware(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     folder = tmp_path_factory.mktemp("hub_plant")

@@ -297,6 +297,7 @@ static struct {
     /* last: a field added above shifts the others' offsets, and the handlers' loads of
      * them past 124 bytes take 32-bit encodings (a timing handler 2 cycles slower) */
     uint32_t bus_taken;             /* `heartbeat` at the last bus change: the next waits BLDC_PORT_BUS_MIN_PERIODS runs */
+    uint32_t faulted_wait;          /* faulted: injected samples until the next faulted tick (BLDC_PORT_FAULTED_TICK_PERIODS) */
 } port;
 
 /* The published timing and the one being computed, each in a 16-byte slot. The pair
@@ -494,6 +495,7 @@ BLDC_PORT_COLD static void port_trip(uintptr_t anchor, uint32_t fault)
     port.pending = 0u;
     port.steady = 0u;
     port.faults |= fault;
+    port.faulted_wait = 0u; /* the pended run below is a faulted tick */
     /* The bus watchdog's window for the fault (port_watch_while_faulted) is set by the
      * ADC interrupt's faulted path, pended here to run next, tail-chained at this
      * priority: the trip itself stays short (a handler of this priority ahead of a
@@ -1108,7 +1110,7 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
      * crossing, up to one per regular conversion (1.7 us) at the Hall edge's priority
      * (a helper's hunt: 138 entries a ms at +-20 codes and 37 kHz). A crossing
      * meanwhile sets AWD all the same, and the next conversion outside the window
-     * interrupts once it is on: within a PWM period. */
+     * interrupts once it is on: within BLDC_PORT_FAULTED_TICK_PERIODS PWM periods. */
     port_watch_while_faulted(anchor, 0u);
 }
 
@@ -1212,9 +1214,21 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
      * again at once: an entry per crossing, 129 a ms, on a rippling bus). So a bus
      * still crossing the window is judged once a PWM period, at the injected sample. */
     ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
-    const uint32_t watched =
-        (uint32_t)(((status & ADC_SR_AWD) != 0u) &&
-                   (((adc1->CR1 & ADC_CR1_AWDIE) != 0u) || (port.faults != 0u)));
+    const uint32_t flagged = (uint32_t)((status & ADC_SR_AWD) != 0u);
+    const uint32_t interrupted = flagged & (uint32_t)((adc1->CR1 & ADC_CR1_AWDIE) != 0u);
+#if BLDC_PORT_FAULTED_TICK_PERIODS > 1u
+    /* Faulted at a high PWM frequency: the faulted drive's periodic work at one sample in
+     * BLDC_PORT_FAULTED_TICK_PERIODS (a trip runs it at once: port_trip); the bus
+     * watchdog's interrupt at once, and its path to a trip tests nothing more. */
+    if ((interrupted == 0u) && (port.faults != 0u)) {
+        if (port.faulted_wait != 0u) {
+            --port.faulted_wait;
+            return;
+        }
+        port.faulted_wait = BLDC_PORT_FAULTED_TICK_PERIODS - 1u;
+    }
+#endif
+    const uint32_t watched = interrupted | (flagged & (uint32_t)(port.faults != 0u));
     if (watched != 0u) {
         port_bus_fault(anchor); /* tripped: the faulted tick below runs */
     }

@@ -253,6 +253,15 @@
 #define BLDC_PORT_FAULTED_BUS_HYSTERESIS_CODES 8u
 #endif
 
+/* While a fault is latched, the faulted drive's periodic work (the Hall interval, the
+ * safe state's region for it, the bus watchdog's window, a bus its watchdog flagged)
+ * runs at one injected sample in this many: every PWM period up to 39.9 kHz, so that
+ * at a higher PWM frequency it takes no more of the CPU (50 us apart at the most). The
+ * bus watchdog's own interrupt acts at once. */
+#ifndef BLDC_PORT_FAULTED_TICK_PERIODS
+#define BLDC_PORT_FAULTED_TICK_PERIODS 1u
+#endif
+
 /*
  * Start-up. bldc_port_init() enables the clocks of GPIOA, GPIOB, AFIO, TIM1, TIM3, ADC1
  * and ADC2, calibrates both ADCs, routes the Hall lines to the EXTI, configures TIM1 (PWM, dead time, break input, the ADC trigger),
