@@ -1227,10 +1227,16 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
 #if BLDC_PORT_FAULTED_TICK_PERIODS > 1u
     /* Faulted at a high PWM frequency: the faulted drive's periodic work at one sample in
      * BLDC_PORT_FAULTED_TICK_PERIODS (a trip runs it at once: port_trip); the bus
-     * watchdog's interrupt at once, and its path to a trip tests nothing more. */
+     * watchdog's interrupt at once, and its path to a trip tests nothing more. A bus
+     * change is pended at every sample all the same (its gate as ever): one taken a
+     * tick later ran the timing handler while the fault's cause held, where it had run
+     * at the trip (`make pil`, 80 kHz, bus stuck at full scale). ADC2's watchdog
+     * flagged meanwhile keeps the line asserted: the entries that follow at once count
+     * the wait down, and the one that runs the work trips it, a few microseconds on. */
     if ((interrupted == 0u) && (port.faults != 0u)) {
         if (port.faulted_wait != 0u) {
             --port.faulted_wait;
+            port_pend_if_bus_moved(bus, port.heartbeat);
             return;
         }
         port.faulted_wait = BLDC_PORT_FAULTED_TICK_PERIODS - 1u;
