@@ -395,6 +395,15 @@ def test_a_check_with_nothing_to_judge_should_say_so_and_why(
     assert "* Braking current held by the loop: not judged: 0 steady samples" in text
     assert "* Steady braking: not judged: none of the" in text
     assert "(the held braking current, steady braking, SIL vs PIL not judged: see above)" in text
+    # a command the loop's D_max cannot hold at any speed of the run is out of reach, not
+    # converging (a hunt: a 300 rpm motor at 1.6 A read as still converging)
+    converging = braking_report.steady_braking_check(none)
+    assert isinstance(converging, braking_report.NotJudged)
+    assert converging.reason.endswith("(the loop still converging on it)")
+    unreachable = replace(none, setup=replace(none.setup, current_a=1000.0))
+    out = braking_report.steady_braking_check(unreachable)
+    assert isinstance(out, braking_report.NotJudged)
+    assert "out of the loop's reach, its largest duty" in out.reason, out.reason
 
 
 def _integral_gain(change: Callable[[int], int]) -> Callable[[Path], None]:

@@ -445,13 +445,25 @@ def steady_braking_check(result: BrakingResult) -> SteadyBraking | NotJudged:
     if not cs:
         return NotJudged("no commutation was measured")
     first = next((k for k, c in enumerate(cs) if c.current_a >= SETTLED_FRACTION * command), None)
+    loop = loop_model(result.spec)
+    k_e = float(result.spec.motor.back_emf_constant_v_per_rpm)
     if first is None:
+        fastest = max(cs, key=lambda c: c.speed_rpm)
+        reach = loop.held_current(k_e * fastest.speed_rpm, loop.duty_max)
+        if reach < SETTLED_FRACTION * command:
+            # out of the loop's reach, not converging: the spec's own loader warns of it
+            # (current-sense-window); a run that had judged nothing said "converging" (a
+            # hunt: a 300 rpm motor at 1.6 A, every sample at D_max)
+            return NotJudged(
+                f"none of the {len(cs)} measured commutations carried {SETTLED_FRACTION:g} x"
+                f" the command ({command:g} A) at its edge: out of the loop's reach, its"
+                f" largest duty {loop.duty_max:.3f} holds {reach:.3g} A at the run's fastest"
+                f" measured speed, {fastest.speed_rpm:.0f} rpm"
+            )
         return NotJudged(
             f"none of the {len(cs)} measured commutations carried {SETTLED_FRACTION:g} x the"
             " command at its edge (the loop still converging on it)"
         )
-    loop = loop_model(result.spec)
-    k_e = float(result.spec.motor.back_emf_constant_v_per_rpm)
     judged = tuple(
         c
         for c in cs[first:]
