@@ -1227,16 +1227,13 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
 #if BLDC_PORT_FAULTED_TICK_PERIODS > 1u
     /* Faulted at a high PWM frequency: the faulted drive's periodic work at one sample in
      * BLDC_PORT_FAULTED_TICK_PERIODS (a trip runs it at once: port_trip); the bus
-     * watchdog's interrupt at once, and its path to a trip tests nothing more. A bus
-     * change is pended at every sample all the same (its gate as ever): one taken a
-     * tick later ran the timing handler while the fault's cause held, where it had run
-     * at the trip (`make pil`, 80 kHz, bus stuck at full scale). ADC2's watchdog
-     * flagged meanwhile keeps the line asserted: the entries that follow at once count
-     * the wait down, and the one that runs the work trips it, a few microseconds on. */
+     * watchdog's interrupt at once, and its path to a trip tests nothing more. ADC2's
+     * watchdog flagged meanwhile keeps the line asserted: the entries that follow at
+     * once count the wait down, and the one that runs the work trips it, a few
+     * microseconds on. */
     if ((interrupted == 0u) && (port.faults != 0u)) {
         if (port.faulted_wait != 0u) {
             --port.faulted_wait;
-            port_pend_if_bus_moved(bus, port.heartbeat);
             return;
         }
         port.faulted_wait = BLDC_PORT_FAULTED_TICK_PERIODS - 1u;
@@ -1250,7 +1247,18 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
     if (((adc2->SR & ADC_SR_AWD) != 0u) && ((adc2->CR1 & ADC_CR1_AWDIE) != 0u)) {
         port_current_rail(anchor); /* tripped: the faulted tick below runs */
     }
+#if BLDC_PORT_FAULTED_TICK_PERIODS > 1u
+    /* Faulted, no bus change: nothing computes with the bus state until a clear, and
+     * port_arm opens the gate for the first sample after it. Pended at a faulted tick,
+     * one came ticks after the trip and ran the timing handler while the fault's cause
+     * held (`make pil`, 80 kHz, bus stuck at full scale); pended at every sample, an
+     * HSE failure's CLOCK fault went unpublished at 80 kHz (the CPU on the HSI). */
+    if (port.faults == 0u) {
+        port_pend_if_bus_moved(bus, port.heartbeat);
+    }
+#else
     port_pend_if_bus_moved(bus, port.heartbeat);
+#endif
     const uint32_t steady = port.steady;
     if ((steady != 0u) && (port.pending == 0u)) {
         if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
