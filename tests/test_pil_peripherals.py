@@ -861,6 +861,71 @@ def test_adc_regular_analog_watchdog_should_interrupt_at_the_first_conversion_ou
     assert not read(m2.adc1, "SR") & 1
 
 
+class _StepInput:
+    """1 V, then 3 V from `step`; it bounds itself as the motor's current sense does
+    (emulation/pil/adc.py `BoundedInput`): honestly, or, `lying`, inside the window
+    whatever the tick (a bound the ADC then believes)."""
+
+    def __init__(self, step: int, lying: bool = False) -> None:
+        self.step = step
+        self.lying = lying
+        self.calls: list[int] = []
+
+    def __call__(self, tick: int) -> float:
+        self.calls.append(tick)
+        return 3.0 if tick >= self.step else 1.0
+
+    def volts_range(self, lo: int, hi: int) -> tuple[float, float] | None:
+        if self.lying or hi < self.step:
+            return 0.9, 1.1
+        return None  # may be 3 V: no bound
+
+
+@pytest.mark.parametrize("bounded", [False, True])
+def test_adc_a_bounded_input_should_set_awd_at_the_same_conversion_converting_fewer(
+    bounded: bool,
+) -> None:
+    """A watched regular conversion whose input's bound lies inside [LTR, HTR] cannot
+    set AWD: it is counted unconverted, and DR converted when read; the first
+    conversion sampled at or after the step interrupts at the same tick as with a plain
+    function input, which is converted at every conversion. A bound that lies hides the
+    step (so the check is the bound's, as the plant's is held to the switched plant:
+    tests/test_pil_current_bound.py)."""
+    m = machine(vref=3.3)
+    adc_ready(m)
+    step = m.now + 5000
+    source = _StepInput(step)
+    m.adc1.set_input(3, source if bounded else lambda tick: source(tick))
+    write(m.adc1, "HTR", 3000)
+    write(m.adc1, "LTR", 100)
+    m.nvic.active.append(2)
+    continuous_bus(m, 3, (1 << 23) | (1 << 9) | (1 << 6) | 3)  # AWDEN AWDSGL AWDIE CH3
+    start = m.now
+    first = start + 120 * ((step - start - 45) // 120 + 1)
+    first += 120 if first - 120 + 45 < step else 0
+    at(m, first - 1)
+    assert IRQ_BASE + ADC_IRQ not in m.nvic.pending and not read(m.adc1, "SR") & 1
+    converted = len(source.calls)
+    counted = m.adc1.regular_conversions
+    assert counted == (first - start) // 120 - 1 >= 30
+    before = [tick for tick in source.calls if tick < step]
+    # plain: each conversion looked at ahead, then converted; bounded: only the one
+    # sampled after the step, looked at ahead for the alarm
+    assert len(before) >= counted if not bounded else before == []
+    assert read(m.adc1, "DR") == 1241  # the latest conversion, converted now if not yet
+    assert len(source.calls) == converted + (1 if bounded else 0)
+    at(m, first)
+    assert IRQ_BASE + ADC_IRQ in m.nvic.pending and read(m.adc1, "SR") & 1
+
+    m2 = machine(vref=3.3)
+    adc_ready(m2)
+    m2.adc1.set_input(3, _StepInput(step - start + m2.now, lying=True))
+    write(m2.adc1, "HTR", 3000)
+    continuous_bus(m2, 3, (1 << 23) | (1 << 9) | (1 << 6) | 3)
+    at(m2, m2.now + 20_000)
+    assert not read(m2.adc1, "SR") & 1 and read(m2.adc1, "DR") == 3723
+
+
 # ---------------------------------------------------------------------- NVIC, SCB, SysTick, IWDG
 
 

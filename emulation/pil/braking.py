@@ -286,6 +286,35 @@ class BrakingResult:
         return (self.end_tick - self.start_tick) / TICK_HZ
 
 
+@dataclass(frozen=True)
+class ShuntSense:
+    """A current channel's pin: offset + gain x the shunt's current at the sample
+    (`MotorPlant.shunt_currents`, index 0 the DC link, 1..3 phases A..C), bounded for
+    the ADC (emulation/pil/adc.py `BoundedInput`) from the plant's largest possible
+    phase current: a low-side shunt carries one phase's current or none, the DC link
+    the sum over a subset of the phases, at most half the sum of their magnitudes
+    (they sum to 0). No bound where the current may reach `quiet_below_a`, the
+    over-current comparator's trip: the comparator sees the currents at the points the
+    plant is advanced to, and each conversion the ADC converts advances it."""
+
+    plant: MotorPlant
+    index: int
+    offset_v: float
+    gain_v_per_a: float
+    quiet_below_a: float
+
+    def __call__(self, tick: int) -> float:
+        return self.offset_v + self.gain_v_per_a * self.plant.shunt_currents(tick)[self.index]
+
+    def volts_range(self, lo: int, hi: int) -> tuple[float, float] | None:
+        peak = self.plant.current_bound(lo, hi)
+        if not peak < self.quiet_below_a:
+            return None
+        swing = abs(self.gain_v_per_a) * (1.5 if self.index == 0 else 1.0) * peak
+        swing = swing * (1.0 + 1e-9) + 1e-12  # the shunt's sum rounded, the gain's product
+        return self.offset_v - swing, self.offset_v + swing
+
+
 class BrakingLoop:
     """A booted `Run` with the motor attached; `run()` brakes it."""
 
@@ -489,12 +518,9 @@ class BrakingLoop:
             shunts = {channels[0]: 0}
         else:
             shunts = {channel: 1 + phase for phase, channel in enumerate(channels)}
+        trip = float(self.spec.protection.over_current_a)
         for channel, index in shunts.items():
-
-            def volts(tick: int, index: int = index) -> float:
-                return offset + gain * plant.shunt_currents(tick)[index]
-
-            self.machine.adc1.set_input(channel, volts)
+            self.machine.adc1.set_input(channel, ShuntSense(plant, index, offset, gain, trip))
 
     def _injected_converted(self, tick: int, channel: int, code: int) -> None:
         started = self.machine.adc1.injected_started or 0

@@ -138,6 +138,24 @@ class _OnePeriod:
         return 0
 
 
+def phase_current_bound(
+    start_a: float, span_s: float, volts: float, inductance_h: float, resistance_ohm: float
+) -> float:
+    """The largest |phase current| `span_s` before or after an instant whose largest is
+    `start_a`, whatever the gates do, where `volts` >= U + 2 E_peak (the bus, and the
+    EMF's largest magnitude): a conducting phase has L di/dt = u - u_n - e - R i
+    (sim/circuit.py `forcing_of`) with u in [0, U] and u_n the conducting phases' mean
+    of u - e, so |L di/dt| <= volts + R |i|; a floating phase carries none, and the
+    currents are continuous (a phase stops conducting at zero). Hence
+    |i| <= (start + K / a) e^(a span) - K / a, K = volts / L, a = R / L, either way in
+    time (tests/test_pil_current_bound.py holds it to the switched plant)."""
+    rate = volts / inductance_h
+    decay = resistance_ohm / inductance_h
+    if decay * span_s < 1e-9:
+        return start_a + (rate + decay * start_a) * span_s * (1.0 + 1e-6)
+    return start_a + (start_a + rate / decay) * math.expm1(decay * span_s)
+
+
 @dataclass
 class _Emf:
     """The phase EMFs over one piece: angle linear in time from (t0, angle0)."""
@@ -205,6 +223,7 @@ class MotorPlant:
         if self.bus_voltage_v is None:
             self.bus_voltage_v = self.drive.bus_voltage_v
         self.waveform = Waveform(self.drive.emf_points)
+        self._emf_peak = max(abs(v) for _, v in self.drive.emf_points)
         sectors = switching_table().sectors("forward")
         self.zeros = tuple(rising_zero_deg(sectors, p) for p in range(3))
         marks = {60.0 * k for k in range(6)}
@@ -296,6 +315,22 @@ class MotorPlant:
         phase = [currents[k] if conducting[k] and voltages[k] == 0.0 else 0.0 for k in range(3)]
         # sum() adds as numpy's sum of three did: from 0, left to right
         return sum(phase), phase[0], phase[1], phase[2]
+
+    def current_bound(self, lo: int, hi: int) -> float:
+        """The largest |phase current| the motor can carry at any tick in [lo, hi],
+        whatever the gates do meanwhile (`phase_current_bound` from the currents at the
+        plant's tick), the bus and the EMF's peak with a margin of a half: a bus or a
+        speed that moves within the span (the scenarios' bus steps are 10 % over the
+        spec's maximum)."""
+        assert self.bus_voltage_v is not None
+        volts = 1.5 * (self.bus_voltage_v + 2.0 * self._emf_peak * self._amplitude())
+        return phase_current_bound(
+            max(abs(c) for c in self.currents.tolist()),
+            max(abs(lo - self.tick), abs(hi - self.tick)) / TICK_HZ,
+            volts,
+            self.drive.inductance_h,
+            self.drive.resistance_ohm,
+        )
 
     def currents_at(self, tick: int) -> np.ndarray:
         """The phase currents at `tick`: advanced to it, or re-run from the last point
