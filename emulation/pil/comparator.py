@@ -9,8 +9,10 @@ follows at the spec's polarity. A scenario may also force the output active (a
 comparator that fires on its own, `force`): the pin is then active whatever the
 currents.
 
-The plant is advanced lazily (emulation/pil/plant.py: at every ADC sample instant,
-every PWM period start and every Hall crossing), and the comparator looks at every
+The plant is advanced lazily (emulation/pil/plant.py: at every ADC sample instant
+converted, every PWM period start and every Hall crossing; ADC2's current conversions
+are counted unconverted only while the plant's bound keeps every phase current under
+the trip, emulation/pil/braking.py `ShuntSense`), and the comparator looks at every
 point of every exact piece it integrates: the first point at or above the trip is the
 crossing. The chip has run up to the plant's instant when it is advanced, so the pin
 changes at the chip's tick then (`worst_lag_ticks` after the crossing): at most the time
