@@ -169,7 +169,7 @@ class Adc(Peripheral):
         self.regular_conversions = 0
         self._alarm: int | None = None
         self._alarm_known = False
-        self.inputs: dict[int, float | Callable[[int], float]] = (
+        self.inputs: dict[int, float | Callable[[int], float] | BoundedInput] = (
             shares_pins_with.inputs if shares_pins_with else {}
         )
         self.injected_sequences = 0

@@ -318,15 +318,17 @@ class MotorPlant:
 
     def current_bound(self, lo: int, hi: int) -> float:
         """The largest |phase current| the motor can carry at any tick in [lo, hi],
-        whatever the gates do meanwhile (`phase_current_bound` from the currents at the
-        plant's tick), the bus and the EMF's peak with a margin of a half: a bus or a
-        speed that moves within the span (the scenarios' bus steps are 10 % over the
-        spec's maximum)."""
+        whatever the gates do meanwhile (`phase_current_bound` from the latest point
+        recorded: the currents at a piece's end, also while `_integrate` is between
+        pieces and the plant's tick not yet moved), the bus and the EMF's peak with a
+        margin of a half: a bus or a speed that moves within the span (the scenarios'
+        bus steps are 10 % over the spec's maximum)."""
         assert self.bus_voltage_v is not None
         volts = 1.5 * (self.bus_voltage_v + 2.0 * self._emf_peak * self._amplitude())
+        at, currents = self._history[-1]
         return phase_current_bound(
-            max(abs(c) for c in self.currents.tolist()),
-            max(abs(lo - self.tick), abs(hi - self.tick)) / TICK_HZ,
+            max(abs(c) for c in currents.tolist()),
+            max(abs(lo / TICK_HZ - at), abs(hi / TICK_HZ - at)),
             volts,
             self.drive.inductance_h,
             self.drive.resistance_ohm,
