@@ -293,22 +293,23 @@ class ShuntSense:
     the ADC (emulation/pil/adc.py `BoundedInput`) from the plant's largest possible
     phase current: a low-side shunt carries one phase's current or none, the DC link
     the sum over a subset of the phases, at most half the sum of their magnitudes
-    (they sum to 0). No bound where the current may reach `quiet_below_a`, the
-    over-current comparator's trip: the comparator sees the currents at the points the
-    plant is advanced to, and each conversion the ADC converts advances it."""
+    (they sum to 0). No bound where the current may reach the over-current
+    comparator's trip (its level now: a test may lower it): the comparator sees the
+    currents at the points the plant is advanced to, and each conversion the ADC
+    converts advances it."""
 
     plant: MotorPlant
     index: int
     offset_v: float
     gain_v_per_a: float
-    quiet_below_a: float
+    comparator: OverCurrentComparator
 
     def __call__(self, tick: int) -> float:
         return self.offset_v + self.gain_v_per_a * self.plant.shunt_currents(tick)[self.index]
 
     def volts_range(self, lo: int, hi: int) -> tuple[float, float] | None:
         peak = self.plant.current_bound(lo, hi)
-        if not peak < self.quiet_below_a:
+        if not peak < self.comparator.trip_a:
             return None
         swing = abs(self.gain_v_per_a) * (1.5 if self.index == 0 else 1.0) * peak
         swing = swing * (1.0 + 1e-9) + 1e-12  # the shunt's sum rounded, the gain's product
@@ -335,6 +336,13 @@ class BrakingLoop:
             angle_deg=60.0 * sector + 30.0,
             trace_seconds=setup.trace_seconds,
         )
+        #: the board's over-current comparator on BKIN, its input the plant's currents
+        self.comparator = OverCurrentComparator(
+            float(spec.protection.over_current_a),
+            lambda active, at: self.run.board.set_break(active, at),
+            lambda: self.machine.now,
+        )
+        self.plant.current_watchers.append(self.comparator.observe)
         self._couple_sensing()
         #: (tick sampled, code) of every injected conversion of a current channel since
         #: the third Hall edge back: what the firmware's I may be
@@ -357,13 +365,6 @@ class BrakingLoop:
         #: current loop runs
         self._sequence_ends: dict[int, int] = {}
         self.machine.adc1.injected_listeners.append(self._injected_converted)
-        #: the board's over-current comparator on BKIN, its input the plant's currents
-        self.comparator = OverCurrentComparator(
-            float(spec.protection.over_current_a),
-            lambda active, at: self.run.board.set_break(active, at),
-            lambda: self.machine.now,
-        )
-        self.plant.current_watchers.append(self.comparator.observe)
         self.machine.write_symbol_u32("app_braking_current_ma", round(setup.current_a * 1000))
         self.com_ticks: list[int] = []
         #: TIM1 CCR1..CCR3 in force from each COM event on
@@ -518,9 +519,9 @@ class BrakingLoop:
             shunts = {channels[0]: 0}
         else:
             shunts = {channel: 1 + phase for phase, channel in enumerate(channels)}
-        trip = float(self.spec.protection.over_current_a)
         for channel, index in shunts.items():
-            self.machine.adc1.set_input(channel, ShuntSense(plant, index, offset, gain, trip))
+            sense = ShuntSense(plant, index, offset, gain, self.comparator)
+            self.machine.adc1.set_input(channel, sense)
 
     def _injected_converted(self, tick: int, channel: int, code: int) -> None:
         started = self.machine.adc1.injected_started or 0
