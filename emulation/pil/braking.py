@@ -45,6 +45,7 @@ from emulation.pil.plant import LoadTorque, Mechanics, MotorPlant, PeriodRecord
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.scenarios import MAIN_WAIT_PERIODS, Outcome, Run
 from emulation.pil.scs import IRQ_BASE
+from emulation.pil.timer import cc_flag
 from sim.scenario import PRE_EDGE_PERIODS, Case, previous_edge, switching_table
 
 #: What the timing handler hands the core, as fields of the port's state (`static
@@ -394,6 +395,11 @@ class BrakingLoop:
         #: why each edge `commutations()` did not measure was not measured
         self.unmeasured: Counter[str] = Counter()
         self._timing = IRQ_BASE + svd_interrupt("TIM1", "TIM1_TRG_COM_TIM11")
+        self._hall_irq = IRQ_BASE + svd_interrupt("TIM3", "TIM3")
+        #: TIM1's compare preloads (CCR1..CCR3) at the entry of each Hall edge's handler
+        #: (TIM3 with CC1IF): what the current loop left before the edge's commutation
+        #: writes its own; None until that handler runs
+        self.compares_at_handler: list[tuple[int, ...] | None] = []
         self._entries_seen = len(self.machine.entry_log)
         self._port = self.machine.symbol("port")
         self._layout = port_layout(port_source)
@@ -421,11 +427,19 @@ class BrakingLoop:
 
     def _watch_timing(self, _machine: object) -> None:
         """At each entry of the timing handler, a new record of its inputs (the fields'
-        values now, replaced by what it reads)."""
+        values now, replaced by what it reads); at the first entry of TIM3's handler
+        with a capture (CC1IF) after a Hall edge, the compare preloads then."""
         log = self.machine.entry_log
         for tick, exception in log[self._entries_seen :]:
             if exception == self._timing:
                 self.timing_runs.append((tick, self._port_inputs()))
+            elif (
+                exception == self._hall_irq
+                and self.compares_at_handler
+                and self.compares_at_handler[-1] is None
+                and self.machine.tim3.sr & cc_flag(1)
+            ):
+                self.compares_at_handler[-1] = tuple(self.machine.tim1.ccr_preload[1:4])
         self._entries_seen = len(log)
 
     def _on_publish(
@@ -555,6 +569,7 @@ class BrakingLoop:
         self.edges.append(
             (self.machine.now, self.plant.sector, tuple(tim1.ccr_preload[1:4]), tim1.arr)
         )
+        self.compares_at_handler.append(None)
         self.sampled_codes.append(code)
 
     def _await_faults(self) -> None:
@@ -702,6 +717,7 @@ class BrakingLoop:
         self, index: int, periods: list[PeriodRecord], ends: list[int], sampled: list[int]
     ) -> SteadySector:
         hall, sector, compares, _ = self.edges[index]
+        at_handler = self.compares_at_handler[index] or compares  # the run's last edge: none
         at = bisect.bisect_left(ends, hall)
         speed = periods[at].speed_rpm if at < len(periods) else self.plant.speed_rpm
         previous = edge_coms(self.com_ticks, self.com_ccers, self.edges[index - 1][0], hall)
@@ -719,12 +735,18 @@ class BrakingLoop:
             if ch != signal or started < end or self._sequence_ends[started] >= hall:
                 continue
             # the duty the loop set from it: the preload at the next sequence's end (the
-            # loop runs within the period), or at the edge where that ends after it
+            # loop runs within the period), or, where that ends after the edge, at the
+            # entry of the edge's handler: the loop's handler, at the same priority and
+            # pended first, has run by then, not by the pins' change (a hunt: 17.6 kHz,
+            # each sector's last sample ending 70-118 ticks before its edge, credited with
+            # the duty before it, and a loop that moved as k_i x its errors failed)
             later = k + 1
             while later < len(samples) and samples[later][3] == started:
                 later += 1
             after = (
-                samples[later][4] if later < len(samples) and samples[later][0] < hall else compares
+                samples[later][4]
+                if later < len(samples) and samples[later][0] < hall
+                else at_handler
             )
             codes.append(code)
             duties.append(after[channel])
