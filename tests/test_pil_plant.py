@@ -40,6 +40,7 @@ from emulation.pil.braking import (
     BrakingLoop,
     BrakingResult,
     Commutation,
+    SteadySector,
     brake,
     braking_edges,
     braking_seconds,
@@ -60,6 +61,8 @@ from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import short_circuit_bound_a
 from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import EGR_COMG
+from oracle.current_loop import loop_model
+from oracle.units import units
 from sim.drive import Drive
 from sim.scenario import Case, switching_table
 from sim.schedule import OFF, Schedule, Segment
@@ -1386,6 +1389,42 @@ def test_a_brake_whose_current_collapses_at_its_edges_should_fail(tmp_path: Path
     text = "\n".join(braking_report.section(result, []))
     assert "* Result: FAIL: the braking is not steady" in text
     assert "* Steady braking: at the " in text
+
+
+def test_a_loop_that_steps_across_the_command_should_be_judged_from_the_crossing(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """A loop rising from rest whose sector means step across the command without one
+    landing within the allowance (a hunt's 7.5 uH motor at 60 kHz: -25 then +46 codes
+    about a 17.5-code allowance) has reached it at the crossing: the held current is
+    judged from there, not over the ramp from rest. Here the samples past the crossing
+    are fewer than the loop's step response takes: not judged, where the ramp's samples
+    had made it a failure; as many as it takes, at the command, pass."""
+    _, result = paper_run
+    spec = result.spec
+    reference = units(spec).current_code(Fraction(round(result.setup.current_a * 1000), 1000))
+    duty = loop_model(spec).duty_max // 2
+    steps = math.ceil(braking_report.loop_periods_per_step_response(spec))
+
+    def sectors(*means: int) -> list[SteadySector]:
+        return [
+            SteadySector(SETTLING_EDGES + k, 4600.0, (m,) * 8, (duty,) * 8)
+            for k, m in enumerate(means)
+        ]
+
+    held = braking_report.held_current_check(result)
+    assert isinstance(held, braking_report.HeldCurrent), held
+    allowance = held.allowed_codes - held.lag_codes
+    ramp = (reference - 30 * allowance, reference - 15 * allowance, reference - 1.5 * allowance)
+    past = reference + round(1.5 * allowance)
+    few = replace(result, steady_sectors=sectors(*map(round, ramp), past))
+    verdict = braking_report.held_current_check(few)
+    assert isinstance(verdict, braking_report.NotJudged), verdict
+    assert "from the first sector that reached the command" in verdict.reason
+    settled = sectors(*map(round, ramp), past, *(reference,) * (steps // 8 + 1))
+    held = braking_report.held_current_check(replace(result, steady_sectors=settled))
+    assert isinstance(held, braking_report.HeldCurrent), held
+    assert abs(held.error_codes) <= held.allowed_codes, held
 
 
 def test_a_main_duty_that_jumps_between_edges_should_fail_the_steadiness_check(
