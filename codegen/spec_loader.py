@@ -89,6 +89,8 @@ WARNINGS: dict[str, str] = {
     " the current sample window's maximum",
     "pwm-ripple-large": "the braking current's PWM ripple is more than half of"
     " braking_current_nominal",
+    "over-current-margin-small": "protection.over_current less than a quarter of"
+    " braking_current_max above the braking current's steady peak",
     "improved-r-time-not-relaxed": "controller.method improved_r, a PWM period longer than"
     " accuracy.commutation_time_ticks and no declared relaxation",
     "conventional-fills-sectors": "controller.method conventional above 20 R/(p L) rpm, where"

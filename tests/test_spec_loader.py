@@ -872,10 +872,31 @@ def test_a_pwm_ripple_above_half_the_nominal_current_should_be_warned_of(tmp_pat
     text = _replace("short_circuit_current_max: 120 A", "short_circuit_current_max: 160 A")(text)
     path = _write(tmp_path, text)
     warnings = load_spec(path).warnings
-    assert [w.id for w in warnings] == ["pwm-ripple-large"]
+    # and the 15 A trip is now within a quarter of braking_current_max of the peak
+    assert [w.id for w in warnings] == ["pwm-ripple-large", "over-current-margin-small"]
     line = str(warnings[0])
     assert "motor.phase_inductance = '0.06 mH'" in line
     assert "3.125 A peak to peak" in line and "62 % of braking_current_nominal 5 A" in line
+    assert load_spec(DEFAULT_SPEC).warnings == ()
+
+
+def test_a_comparator_trip_just_above_the_steady_peak_should_be_warned_of(
+    tmp_path: Path,
+) -> None:
+    """The paper motor's steady peak is braking_current_max 10 A + 0.3348 A of ripple;
+    a 48 V motor whose trip sat 0.06 A above its own tripped in normal braking (a hunt:
+    12 % of its 9 A command above the steady peak, after its long commutations). A trip
+    less than a quarter of braking_current_max above the peak is warned of, naming the
+    key, its value and the level that leaves the margin; from that level on, not."""
+    thin = _write(tmp_path, _replace("over_current: 15 A", "over_current: 11 A")(DEFAULT_TEXT))
+    warnings = load_spec(thin).warnings
+    assert [w.id for w in warnings] == ["over-current-margin-small"]
+    line = str(warnings[0])
+    assert "protection.over_current = '11 A'" in line and "\n" not in line
+    assert "0.6652 A above the braking current's steady peak" in line
+    assert "at least 25 % of braking_current_max above it: 12.83 A" in line
+    enough = _replace("over_current: 15 A", "over_current: 12.84 A")(DEFAULT_TEXT)
+    assert load_spec(_write(tmp_path, enough)).warnings == ()
     assert load_spec(DEFAULT_SPEC).warnings == ()
 
 
