@@ -256,6 +256,9 @@ def _edge_context(spec: Spec) -> dict[str, object]:
         # The improved rule (Eq. 18) does not use the main duty for the commutation.
         "method": spec.controller.method,
         "uses_main_duty": uses_main_duty(spec.controller.method),
+        # improved_r's rule ends a commutation at a carrier boundary, the first at the
+        # earliest, even with no current (the other methods' Eq. 20 gives 0 there)
+        "zero_current_commutates": spec.controller.method == "improved_r",
         "edge_records": rows,
         "edge_record_layout": EDGE_RECORD_LAYOUT,
         "record_on_shift": RECORD_CHANNEL_ON_SHIFT,

@@ -458,6 +458,40 @@ def test_a_sectors_last_sample_should_be_credited_with_the_duty_its_loop_step_wr
     assert any("does not hold the commanded braking current" in p for p in found), found
 
 
+def _commutation_while_unknown(copy: Path) -> None:
+    """A port mutant for `link_mutant`: improved_r's timing published as the core gives
+    it while the Hall interval is unknown (a carrier period of the slowest speed's pair)."""
+    port = copy / "c" / "stm32f103_port.c"
+    text = port.read_text(encoding="utf-8")
+    guarded = "(uint16_t)((period >= BLDC_PORT_TIM3_ARR) ? 0u : timing.commutation_ticks)"
+    assert text.count(guarded) == 1
+    port.write_text(text.replace(guarded, "timing.commutation_ticks"), encoding="utf-8")
+
+
+def test_an_improved_r_first_edge_should_not_commutate_at_the_slowest_speeds_pair(
+    tmp_path: Path,
+) -> None:
+    """An init-written improved_r motor armed at 77 krpm (a hunt: 1 pole pair, 5 uH a
+    phase, 40 kHz): the timing published while the Hall interval is unknown takes the
+    slowest speed, where the rule ends the commutation at the first carrier boundary
+    even at zero current. Applied at the first edge, a PWM period of that pair (895 of
+    900 counts) drove 56 A, over the 53 A trip: OVER_CURRENT in every scenario with the
+    motor in the loop. The port publishes no commutation while the interval is unknown:
+    the run brakes, the comparator never trips; the port without it trips again."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "ir_pp1_5uh_77krpm.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES + 4)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup, sil=False)
+    assert result.outcome.fault_names == [] and result.comparator_trips == []
+    assert result.peak_current_a < 0.5 * float(spec.protection.over_current_a)
+    mutant = link_mutant(generated, tmp_path / "mutant", _commutation_while_unknown)
+    port = tmp_path / "mutant" / "generated" / "c" / "stm32f103_port.c"
+    broken = brake(mutant, port, spec, setup, sil=False)
+    assert "OVER_CURRENT" in broken.outcome.fault_names, broken.outcome
+
+
 def test_samples_the_loop_takes_at_d_max_should_be_left_out_of_the_held_current(
     tmp_path: Path,
 ) -> None:

@@ -12,6 +12,7 @@ Python twin computes.
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 from collections.abc import Iterator
@@ -159,6 +160,8 @@ def test_rule_sweep_should_cover_the_ranges_and_both_ends_of_the_search(
     carriers = [int(p / carrier) for p in within.periods if p <= sc.period_max_ticks]
     assert min(carriers) < 2 ** (steps - 1) <= max(carriers)
     # the rule does not read the main duty: one of the sweep's duties keeps the test short
+    header = (generated / "c" / "stm32f103_port.h").read_text(encoding="utf-8")
+    (wrapped,) = (int(v) for v in re.findall(r"#define BLDC_PORT_TIM3_ARR (\d+)u", header))
     ends: set[int] = set()
     for inputs in (replace(within, duties=within.duties[1:2]), saturated):
         result = timing_sweep(spec, build_dir / "firmware.elf", inputs)
@@ -167,8 +170,11 @@ def test_rule_sweep_should_cover_the_ranges_and_both_ends_of_the_search(
             expected = twin.commutation_timing(
                 twin.bus_condition(point.bus), point.period, point.current, point.duty
             )
+            # an interval at the Hall counter's top is unknown (TIM3 wrapped): the port
+            # publishes no commutation there, the rule's pair as it is
+            ticks = 0 if point.period >= wrapped else expected.commutation_ticks
             assert point.applied == (
-                expected.commutation_ticks,
+                ticks,
                 tuple(sorted((expected.turn_on_compare, expected.turn_off_compare))),
             ), point
             ends.add(int(expected.commutation_ticks / carrier))

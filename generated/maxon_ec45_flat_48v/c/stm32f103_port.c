@@ -1012,7 +1012,9 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
  * sample (port_arm clears the held current; the loop samples only after the first
  * end); a bus change (its state too, which bldc_port_status() reads with the published
  * timing's inputs) or a new open-loop duty then waits for the next edge, after which
- * the loop's next sample outside the band pends it again. */
+ * the loop's next sample outside the band pends it again. (improved_r's rule commutates
+ * for a carrier period even at zero current: the timing handler drops that while the
+ * interval is unknown.) */
 static inline uint32_t port_timing_may_run(void)
 {
     return (uint32_t)((port.period != BLDC_PORT_TIM3_ARR) || (port.current == 0u));

@@ -967,7 +967,15 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
     BLDC_PORT_SEQUENCE();
     next->turn_off_compare = timing.turn_off_compare;
     BLDC_PORT_SEQUENCE();
-    next->commutation_ticks = timing.commutation_ticks;
+    /* While the interval is unknown (TIM3 wrapped: the first sector after arming) the
+     * current is 0 (port_timing_may_run), where this method's rule still ends the
+     * commutation at the first carrier boundary: a PWM period of the slowest speed's
+     * pair, which the next edge would apply at the rotor's true speed (a hunt: 1 pole
+     * pair at 77 krpm, 5 uH: 56 A at the first edge, over its 53 A trip). No
+     * commutation there, as the other methods' Eq. 20 gives at zero current: the end
+     * follows the edge at once. */
+    next->commutation_ticks =
+        (uint16_t)((period >= BLDC_PORT_TIM3_ARR) ? 0u : timing.commutation_ticks);
     /* Every field stored before the slot is published: without this the compiler may
      * put the publishing store first (GCC did, ahead of commutation_ticks), and a Hall
      * edge between the two applied a torn timing (the PIL's publication check). */
@@ -984,7 +992,9 @@ PORT_TIMING_FLATTEN void TIM1_TRG_COM_IRQHandler(void)
  * sample (port_arm clears the held current; the loop samples only after the first
  * end); a bus change (its state too, which bldc_port_status() reads with the published
  * timing's inputs) or a new open-loop duty then waits for the next edge, after which
- * the loop's next sample outside the band pends it again. */
+ * the loop's next sample outside the band pends it again. (improved_r's rule commutates
+ * for a carrier period even at zero current: the timing handler drops that while the
+ * interval is unknown.) */
 static inline uint32_t port_timing_may_run(void)
 {
     return (uint32_t)((port.period != BLDC_PORT_TIM3_ARR) || (port.current == 0u));
