@@ -101,6 +101,9 @@ ADC_PRESCALER = 6
 ADC_CONVERSION_CYCLES = Fraction(25, 2)
 #: DS5319 Table 46, t_latj: injected trigger to the start of sampling, at most 3 ADC cycles.
 INJECTED_LATENCY_CYCLES = 3
+#: DS5319 Table 47, ET: the ADC's total unadjusted error, +-2 LSB (typical): a steady
+#: input may read this many codes either side of its own
+ADC_ERROR_LSB = 2
 #: The port converts four injected channels (JL = 3), so JSQx lands in JDRx (RM0008
 #: 11.12.12): the current channel(s) first, the bus divider in the remaining slots.
 INJECTED_CONVERSIONS = 4

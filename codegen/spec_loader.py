@@ -1180,21 +1180,25 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             f">= bus_voltage_min + {_g(volts_per_code)} V",
         )
     # the analog watchdog trips below bus_voltage_min's code (rounded up) and above
-    # bus_voltage_max's: a nominal bus within a code of either reads as a fault (a spec
-    # with bus_voltage_min = nominal latched UNDER_VOLTAGE in every PIL scenario)
+    # bus_voltage_max's: a nominal bus within a code of either, or within the ADC's own
+    # error beyond that, reads as a fault (a spec with bus_voltage_min = nominal latched
+    # UNDER_VOLTAGE in every PIL scenario; one 1.1 codes above it, in the PIL's bus
+    # noise of +-2 LSB: a hunt)
+    margin = (1 + spec_drive.ADC_ERROR_LSB) * volts_per_code
     for edge, value, side in (
         ("bus_voltage_min", inverter.bus_voltage_min_v, "above"),
         ("bus_voltage_max", inverter.bus_voltage_max_v, "below"),
     ):
-        if bus_span > 0 and abs(inverter.bus_voltage_nominal_v - value) < volts_per_code:
+        if bus_span > 0 and abs(inverter.bus_voltage_nominal_v - value) < margin:
             sign = "+" if side == "above" else "-"
             r.report(
                 "inverter.bus_voltage_nominal",
                 _raw(data, "inverter.bus_voltage_nominal"),
-                f"is within one bus-ADC code ({_g(volts_per_code)} V) of {edge} ="
+                f"is within {1 + spec_drive.ADC_ERROR_LSB} bus-ADC codes ({_g(margin)} V: one"
+                f" code and the ADC's +-{spec_drive.ADC_ERROR_LSB} LSB error) of {edge} ="
                 f" {_g(value)} V, where the analog watchdog trips: the drive would read its"
                 " nominal bus as a fault",
-                f"{'>=' if side == 'above' else '<='} {edge} {sign} {_g(volts_per_code)} V",
+                f"{'>=' if side == 'above' else '<='} {edge} {sign} {_g(margin)} V",
             )
     if inverter.bus_voltage_nominal_v > Fraction(3, 2) * motor.rated_voltage_v:
         r.report(

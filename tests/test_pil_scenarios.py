@@ -439,3 +439,33 @@ def test_a_safe_state_asked_for_before_the_record_should_be_a_problem_not_a_trac
     gates = _gates_in_force(run, 1)
     assert len(gates) == 6
     assert any("before the scenario's record began" in v for v in run.violations)
+
+
+@pytest.mark.parametrize("edge", ["min", "max"])
+def test_a_nominal_bus_at_the_loaders_margin_should_take_the_adcs_noise(
+    tmp_path: Path, edge: str
+) -> None:
+    """The loader keeps the nominal bus a code and the ADC's +-2 LSB error
+    (codegen/spec_drive.py ADC_ERROR_LSB) inside the watchdog's window: the bus-noise
+    scenario (+-2 LSB at every conversion) latches nothing with bus_voltage_min (or
+    max) at that margin, 3.05 codes from the nominal 24 V. At 1.1 codes, which the
+    one-code rule let through, it latched UNDER_VOLTAGE (a hunt)."""
+    from emulation.pil.build import generate
+
+    volts_per_code = 3.3 * 11 / 4096  # the paper motor's reference x divider / 2^12
+    text = (ROOT / "spec" / "paper_motor.yaml").read_text(encoding="utf-8")
+    sign, old = (-1, "bus_voltage_min: 20 V") if edge == "min" else (1, "bus_voltage_max: 30 V")
+    new = f"bus_voltage_{edge}: {24 + sign * 3.05 * volts_per_code:.6f} V"
+    for before, after in (
+        ("name: paper_motor", f"name: bus_{edge}_at_margin"),
+        ("  bus_voltage: [-16, 25]\n", "  bus_voltage: [0, 0]\n"),
+        (old, new),
+    ):
+        assert before in text, before
+        text = text.replace(before, after)
+    path = tmp_path / f"bus_{edge}_at_margin.yaml"
+    path.write_text(text, encoding="utf-8")
+    spec = load_spec(str(path))
+    elf = build_firmware(path, tmp_path / "build", generate(path, tmp_path / "generated"))
+    outcome = run_scenario(elf, spec, next(s for s in SCENARIOS if s.key == "bus_noise"))
+    assert outcome.problems == [], outcome.problems

@@ -1052,7 +1052,29 @@ def test_a_nominal_bus_within_a_code_of_a_trip_should_be_refused(
     path = _write(tmp_path, _replace(old, new)(untoleranced))
     with pytest.raises(SpecError) as caught:
         load_spec(path)
-    lines = [line for line in str(caught.value).splitlines() if "within one bus-ADC code" in line]
+    lines = [line for line in str(caught.value).splitlines() if "within 3 bus-ADC codes" in line]
     assert len(lines) == 1
     assert "inverter.bus_voltage_nominal = '24 V'" in lines[0]
     assert f"of bus_voltage_{edge} = 24 V" in lines[0] and f"(allowed: {allowed}" in lines[0]
+
+
+@pytest.mark.parametrize(("codes", "refused"), [(1.1, True), (2.9, True), (3.05, False)])
+def test_a_nominal_bus_within_the_adcs_error_of_a_trip_should_be_refused(
+    tmp_path: Path, codes: float, refused: bool
+) -> None:
+    """A nominal bus 1.1 codes above bus_voltage_min's passed the one-code rule, and the
+    PIL's bus noise (+-2 LSB, the ADC's specified error) latched UNDER_VOLTAGE (a hunt):
+    the nominal bus must lie a code and the ADC's error inside the watchdog's window."""
+    volts_per_code = 3.3 * 11 / 4096  # the paper motor's reference x divider / 2^12
+    low = f"{24 - codes * volts_per_code:.6f}"
+    untoleranced = _replace("  bus_voltage: [-16, 25]", "  bus_voltage: [0, 0]")(DEFAULT_TEXT)
+    text = _replace("bus_voltage_min: 20 V", f"bus_voltage_min: {low} V")(untoleranced)
+    path = _write(tmp_path, text)
+    if not refused:
+        assert load_spec(path).inverter.bus_voltage_min_v < 24
+        return
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+    (line,) = [x for x in str(caught.value).splitlines() if "within 3 bus-ADC codes" in x]
+    assert "and the ADC's +-2 LSB error) of bus_voltage_min" in line
+    assert "(allowed: >= bus_voltage_min + 0.0265869 V)" in line, line
