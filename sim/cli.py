@@ -71,7 +71,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument(
         "-o", "--output", help="output folder (default generated/<spec name>/simulation)"
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (there is none unless stderr is a terminal)",
+    )
     parser.add_argument(
         "--quick",
         action="store_true",
@@ -82,7 +86,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     try:
         return simulate_spec(
-            args.spec, args.output, progress=not args.no_progress, quick=args.quick
+            args.spec,
+            args.output,
+            progress=sys.stderr.isatty() and not args.no_progress,
+            quick=args.quick,
         )
     except SpecError as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -429,7 +429,12 @@ def _run(args: argparse.Namespace) -> int:
         refuse_strangers(out, [REPORT_NAME], REPORT_NAME, REPORT_MARKER)  # a stranger's report
         campaign = build_campaign(spec, args.samples, args.speeds, methods, args.plant, args.seed)
         result = run_campaign(
-            spec, campaign, args.scheduler, args.workers, args.chunk, not args.no_progress
+            spec,
+            campaign,
+            args.scheduler,
+            args.workers,
+            args.chunk,
+            sys.stderr.isatty() and not args.no_progress,
         )
         with staged_report(out, REPORT_NAME, REPORT_MARKER) as staging:
             names = write_report(spec, result, staging)

@@ -86,3 +86,10 @@ def test_the_report_folder_should_hold_one_run_and_keep_a_strangers_files(
     assert report.main([*args[:-1], str(stranger)]) == 5
     assert built == [] and (stranger / "PIL.md").read_text() == "# my own notes\n"
     assert capsys.readouterr().err.startswith("error: pil: ")
+    # a file where the folder goes: one line, one prefix (it had said "error: pil: error:")
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    assert report.main([*args[:-1], str(afile)]) == 5
+    said = capsys.readouterr().err
+    assert said.startswith(f"error: pil: {afile}: ") and said.count("\n") == 1, said
+    assert afile.read_text() == "x"

@@ -44,7 +44,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--random", type=POINTS, default=DEFAULT_RANDOM_POINTS, help="random points"
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--no-progress",
+        action="store_true",
+        help="no progress bar (there is none unless stderr is a terminal)",
+    )
     args = parser.parse_args(argv)
     try:
         spec = load_spec(args.spec)
@@ -68,7 +72,7 @@ def main(argv: list[str] | None = None) -> int:
                 Path(build),
                 seed=args.seed,
                 random_count=args.random,
-                show_progress=not args.no_progress,
+                show_progress=sys.stderr.isatty() and not args.no_progress,
             )
     except (StaleOutputError, FileNotFoundError) as exc:
         print(f"verify: {exc}", file=sys.stderr)

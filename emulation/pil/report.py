@@ -264,7 +264,7 @@ def main(argv: list[str] | None = None) -> int:
 def _cannot_write(error: OSError | PublishError) -> int:
     """One line for an output folder the report cannot go into; the environment's status."""
     line = str(error) if isinstance(error, PublishError) else os_error_line(error)
-    print(f"error: pil: {line}", file=sys.stderr)
+    print(f"error: pil: {line.removeprefix('error: ')}", file=sys.stderr)
     return int(ExitCode.ENVIRONMENT)
 
 
