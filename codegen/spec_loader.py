@@ -223,11 +223,13 @@ class _Reader:
         value = data[key]
         if not isinstance(value, Mapping):
             keys = _SECTIONS.get(key, ())
+            optional = _SECTION_OPTIONAL.get(key, ())
+            also = f"; optionally {', '.join(optional)}" if optional else ""
             self.report(
                 key,
                 value,
                 f"must be a mapping of keys, got {type_name(value)}",
-                f"a mapping of {', '.join(keys)}" if keys else "a mapping",
+                f"a mapping of {', '.join(keys)}{also}" if keys else "a mapping",
             )
             return None
         return value
@@ -417,7 +419,7 @@ def _motor(r: _Reader, data: Mapping[str, Any]) -> Motor | None:
     sec = r.section(data, "motor")
     if sec is None:
         return None
-    r.only_keys(sec, _MOTOR_KEYS, "motor", (spec_optional.EMF_SHAPE_KEY, _FRICTION_KEY))
+    r.only_keys(sec, _MOTOR_KEYS, "motor", _SECTION_OPTIONAL["motor"])
     shape = BackEmfShape()
     if spec_optional.EMF_SHAPE_KEY in sec:
         read = r.attempt(lambda: spec_optional.back_emf_shape(r, sec[spec_optional.EMF_SHAPE_KEY]))
@@ -603,7 +605,7 @@ def _hall(r: _Reader, data: Mapping[str, Any]) -> HallSensor | None:
     sec = r.section(data, "hall")
     if sec is None:
         return None
-    r.only_keys(sec, _HALL_KEYS, "hall", ("sector_shortening",))
+    r.only_keys(sec, _HALL_KEYS, "hall", _SECTION_OPTIONAL["hall"])
     bits = r.attempt(lambda: r.integer(sec, "counter_bits", "hall", _Range(16, 16, "bits")))
     shortening: Fraction | None = Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100)
     if "sector_shortening" in sec:
@@ -736,7 +738,7 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
     sec = r.section(data, "accuracy")
     if sec is None:
         return None
-    r.only_keys(sec, _ACCURACY_KEYS, "accuracy", _RELAXATION)
+    r.only_keys(sec, _ACCURACY_KEYS, "accuracy", _SECTION_OPTIONAL["accuracy"])
     # An error budget is a few LSBs: the final rounding alone costs half of one, so the
     # budget must exceed 1/2; past 16 counts (0.4 % of a 3600-count period) or 64 ticks
     # it no longer describes an accurate implementation.
@@ -806,6 +808,12 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
 
 #: The optional declared relaxation of accuracy: (threshold, backward tolerance).
 _RELAXATION = ("ill_conditioned_above", "ill_conditioned_counts")
+#: The optional keys of a section, which its `only_keys` takes beside the required ones
+_SECTION_OPTIONAL = {
+    "motor": (spec_optional.EMF_SHAPE_KEY, _FRICTION_KEY),
+    "hall": ("sector_shortening",),
+    "accuracy": _RELAXATION,
+}
 
 
 def _operating_points(r: _Reader, data: Mapping[str, Any]) -> tuple[OperatingPoint, ...] | None:

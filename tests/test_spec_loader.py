@@ -248,6 +248,17 @@ BAD_SPECS = [
         id="section-not-a-mapping",
     ),
     pytest.param(
+        # the allowed keys named whole: the optional ones too (a hunt: 3 of 5 were named)
+        _edit(lambda d: d.update(accuracy=1)),
+        "accuracy",
+        (
+            "(allowed: a mapping of duty_counts, commutation_time_ticks,"
+            " current_loop_duty_counts; optionally ill_conditioned_above,"
+            " ill_conditioned_counts)",
+        ),
+        id="section-not-a-mapping-with-optional-keys",
+    ),
+    pytest.param(
         _edit(lambda d: d["motor"].pop("phase_inductance")),
         "motor.phase_inductance",
         ("missing required key", "(allowed: [1e-07, 1] H; units: H, mH, uH)"),
