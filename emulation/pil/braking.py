@@ -403,7 +403,7 @@ class BrakingLoop:
         self._entries_seen = len(self.machine.entry_log)
         self._port = self.machine.symbol("port")
         self._layout = port_layout(port_source)
-        self.machine.listeners.append(self._watch_timing)
+        self.machine.listeners.append(self._watch_entries)
         # what the timing handler reads is taken as it reads it (a higher-priority
         # handler may change a field between the handler's entry and its read)
         self.machine.uc.hook_add(
@@ -425,7 +425,7 @@ class BrakingLoop:
         # every translation makes the next run of each handler translated with them.
         self.machine.uc.ctl_flush_tb()
 
-    def _watch_timing(self, _machine: object) -> None:
+    def _watch_entries(self, _machine: object) -> None:
         """At each entry of the timing handler, a new record of its inputs (the fields'
         values now, replaced by what it reads); at the first entry of TIM3's handler
         with a capture (CC1IF) after a Hall edge, the compare preloads then."""
