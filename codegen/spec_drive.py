@@ -444,6 +444,26 @@ def injected_sequence_s(adc_sample_cycles: Fraction) -> Fraction:
 STEADY_SECTOR_PWM_PERIODS = Fraction(9, 2)
 
 
+#: The share of a sector init lets a commutation at braking_current_max take where
+#: 4E <= U_d (`improved_commutation_share`): the rest of it, at least half, holds the
+#: loop's samples of the held current.
+INIT_COMMUTATION_SHARE = Fraction(1, 2)
+
+
+def improved_commutation_share(
+    current_a: Fraction, inductance_h: Fraction, pole_pairs: int, k_e_v_per_rpm: Fraction
+) -> Fraction:
+    """The share of a 60 deg sector an improved commutation of `current_a` lasts wherever
+    4E <= U_d, the same at every such speed: Eq. 18's low-speed pair (D_on = 1,
+    D_off = 1 - 4E/U_d) in Eq. 20 gives t_com = 3 I L / 6E = I L / (2E), and a sector
+    lasts 10 / (p n) s, so t_com / T_s = I L p / (20 k_e). Above 4E = U_d the commutation
+    is longer still (I L / (U_d - 2E)). The resistance-aware rule holds about the same pair
+    (its R I terms shorten it a little). From 1 on, a commutation at this current never
+    ends within its sector: it is cut at the end's guard (TIME_CLAMPED) with its outgoing
+    current still flowing, at every speed."""
+    return current_a * inductance_h * pole_pairs / (20 * k_e_v_per_rpm)
+
+
 def end_sample_room_s(pwm_frequency_hz: Fraction, adc_sample_cycles: Fraction) -> Fraction:
     """Seconds a commutation's end leaves before the next Hall edge for one current
     sample (part of the end's guard, `codegen.dead_time.commutation_guard_ticks`): the

@@ -40,11 +40,13 @@ from codegen.dead_time import (
 from codegen.errors import SpecError
 from codegen.render import write_atomically
 from codegen.spec_drive import (
+    INIT_COMMUTATION_SHARE,
     PROTECTION_AMPS_MAX,
     STEADY_SECTOR_PWM_PERIODS,
     braking_current_peak,
     braking_ripple,
     end_sample_room_s,
+    improved_commutation_share,
     rectifying_speed,
     sense_window,
     short_circuit_peak,
@@ -807,16 +809,34 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         # needs a duty of 0.975 of a 0.952 D_max there, and the loader warned of init's
         # own spec (a hunt)
         held = (2 * si["ke"] * high - (1 - d_max) * bus) / (2 * si["r"])
+        # and where a commutation at braking_current_max (twice it) lasts at most
+        # INIT_COMMUTATION_SHARE of a sector where 4E <= U_d, I L p / (20 k_e) (the loader's
+        # commutation-fills-sectors): 5 A on a 20-pole-pair 3 mH 2.36 V/krpm outrunner
+        # lasted 6.4 sectors and no commutation ended (make pil, a hunt)
+        one_sector = 1 / improved_commutation_share(Fraction(1), si["l"], pole_pairs, si["ke"])
+        shared = INIT_COMMUTATION_SHARE * one_sector / 2
+        improved = method in ("improved", "improved_r")
         i_nom = max(
             BRAKING_CURRENT_MIN_A,
-            min(Fraction(5), _round_down(e_top / si["r"] * 5, 1) / 10, _round_down(held, 1 / 10)),
+            min(
+                Fraction(5),
+                _round_down(e_top / si["r"] * 5, 1) / 10,
+                _round_down(held, 1 / 10),
+                _round_down(shared, 1 / 100) if improved else Fraction(5),
+            ),
         )
         i_source = (
             f"{derived} 5 A, or half of what the back-EMF can drive in braking,"
             f" E(speed_max)/R = {_num(e_top / si['r'])} A, or what the current loop can hold at"
             f" {_num(high)} rpm within its D_max {float(d_max):.3f},"
-            f" {_num(max(held, Fraction(0)))} A, if less; {_num(BRAKING_CURRENT_MIN_A)} A"
-            " at least"
+            f" {_num(max(held, Fraction(0)))} A"
+            + (
+                ", or the current whose improved commutation at twice it lasts half a sector"
+                f" where 4E <= U_d, 20 k_e/(4 p L) = {_num(shared)} A"
+                if improved
+                else ""
+            )
+            + f", if less; {_num(BRAKING_CURRENT_MIN_A)} A at least"
         )
     i_max = 2 * i_nom
     # the current the sensing must read and the comparator let through: braking_current_max

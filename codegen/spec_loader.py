@@ -95,6 +95,9 @@ WARNINGS: dict[str, str] = {
     " accuracy.commutation_time_ticks and no declared relaxation",
     "conventional-fills-sectors": "controller.method conventional above 20 R/(p L) rpm, where"
     " its commutation, L/(2R) with the loop's steady duty, fills the sector",
+    "commutation-fills-sectors": "controller.method improved or improved_r with"
+    " braking_current_max L p / (20 k_e) >= 1: its commutation, I L/(2E) where 4E <= U_d,"
+    " lasts a whole sector at every such speed",
     "emf-shape-not-paper": "controller.method improved or conventional with a back-EMF shape"
     " whose EMFs at the Hall edge are not the paper's (+E, -E, -E)",
     "few-pwm-periods-per-sector": "the 60 deg sector at speed_max holds fewer than"
@@ -1256,6 +1259,8 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             " swinging 0.28 to 0.97); controller.method improved ends its commutations"
             " within the sector",
         )
+    if controller.method in ("improved", "improved_r"):
+        _warn_commutation_fills(r, data, motor, controller)
     periods = inverter.pwm_frequency_hz * 10 / (motor.pole_pairs * controller.speed_max_rpm)
     if periods < spec_drive.STEADY_SECTOR_PWM_PERIODS:
         steady_rpm = (
@@ -1420,6 +1425,32 @@ def _check_plausible(r: _Reader, data: Mapping[str, Any], p: _Parts) -> None:
             f"{float(budget / fastest) * 100:.1f} % of the shortest 60 deg sector"
             f" ({_f1(fastest)} ticks at speed_max)",
         )
+
+
+def _warn_commutation_fills(
+    r: _Reader, data: Mapping[str, Any], motor: Motor, controller: Controller
+) -> None:
+    """`commutation-fills-sectors`: an improved commutation at braking_current_max lasts a
+    sector or more wherever 4E <= U_d (`spec_drive.improved_commutation_share`)."""
+    k_e = motor.back_emf_constant_v_per_rpm
+    share = spec_drive.improved_commutation_share(
+        controller.braking_current_max_a, motor.phase_inductance_h, motor.pole_pairs, k_e
+    )
+    if share < 1:
+        return
+    fits = 20 * k_e / (motor.phase_inductance_h * motor.pole_pairs)
+    r.warn(
+        "commutation-fills-sectors",
+        "controller.braking_current_max",
+        _raw(data, "controller.braking_current_max"),
+        f"an improved commutation at this current lasts t_com = I L/(2E) wherever 4E <= U_d"
+        f" (Eqs. 18 and 20), I L p/(20 k_e) = {_g(share)} sectors at every such speed: it"
+        " never ends within its sector, is cut at the end's guard (TIME_CLAMPED) with its"
+        " outgoing current still flowing, and leaves the loop no sample of the held current"
+        " (`make pil` judges it: a 20-pole-pair 3 mH 2.36 V/krpm motor with 5 A nominal,"
+        " 6.4 sectors, braked with no commutation measured); a commutation within the sector needs I < 20 k_e/(p L)"
+        f" = {_g(fits)} A, one within half of it (`init`'s choice) half that",
+    )
 
 
 def _warn_edge_emfs(

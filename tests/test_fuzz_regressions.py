@@ -239,6 +239,8 @@ def test_init_says_when_the_pi_it_writes_cannot_integrate(
     # so in one line with the value, and that the design does not fit.
     spec = tmp_path / "m.yaml"
     argv = ["init", "m", "-o", str(spec), "--resistance", "0.001 ohm", "--inductance", "500 mH"]
+    # the 5 A init then derived (it now derives 0.1 A for so long a commutation)
+    argv += ["--braking-current", "5 A"]
     assert main(argv) == ExitCode.SPEC
     err = capsys.readouterr().err.splitlines()
     assert err[0].startswith(f"error: {spec}: hall.timer_clock: fixed-point design: "), err

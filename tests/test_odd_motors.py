@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -194,3 +195,55 @@ def test_a_braking_run_should_stop_above_where_the_saturated_loop_holds_no_curre
     setup = braking_setup(spec, short=False)
     assert setup.stop_rpm == pytest.approx(gone + HELD_SHARE * (held - gone))
     assert held > setup.stop_rpm > gone > 0.1 * float(spec.controller.speed_max_rpm)
+
+
+def test_a_commutation_longer_than_its_sector_should_be_warned_of(tmp_path: Path) -> None:
+    """A 20-pole-pair 3 mH outrunner on the paper motor's k_e, braking 5 A (10 A at most),
+    as an earlier `init` wrote it: an improved commutation lasts I L/(2E) wherever
+    4E <= U_d, I L p/(20 k_e) of a sector at every such speed, 12.7 sectors at 10 A.
+    `make pil` braked it from 1159 to 923 rpm in 2011 Hall edges with no commutation
+    measured; the spec had loaded without a warning. Below 20 k_e/(p L) = 0.787 A it
+    does not warn."""
+    path = ODD / "outrunner20_3mh_5a.yaml"
+    (warning,) = [w for w in load_spec(path).warnings if w.id == "commutation-fills-sectors"]
+    assert "12.7119 sectors" in warning.message
+    assert "20 k_e/(p L) = 0.786667 A" in warning.message
+    assert warning.path == "controller.braking_current_max"
+    text = path.read_text()
+    for key, before, after in [
+        ("braking_current_nominal", "5 A", "0.39 A"),
+        ("braking_current_max", "10 A", "0.78 A"),
+    ]:
+        assert f"  {key}: {before}\n" in text
+        text = text.replace(f"  {key}: {before}\n", f"  {key}: {after}\n")
+    below = tmp_path / "below.yaml"
+    below.write_text(text)
+    assert "commutation-fills-sectors" not in [w.id for w in load_spec(below).warnings]
+
+
+@pytest.mark.heavy(seconds=8)
+def test_init_should_brake_a_many_pole_high_inductance_outrunner_with_commutations(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`init` now takes the braking current whose commutation at braking_current_max lasts
+    half a sector where 4E <= U_d, 20 k_e/(4 p L) = 0.197 A here (0.19 A), and the PIL's
+    braking run measures its commutations from the first edges on."""
+    from bldc import cli
+    from emulation.pil.braking import SETTLING_EDGES, brake, braking_setup
+    from emulation.pil.braking_report import problems
+    from emulation.pil.build import build_firmware, generate
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["init", "outrunner20", "--pole-pairs", "20", "--inductance-line-to-line", "6 mH"]
+    argv += ["--pwm-frequency", "12 kHz", "--method", "improved_r", "-o", "o.yaml"]
+    assert cli.main(argv) == 0
+    path = tmp_path / "o.yaml"
+    spec = load_spec(path)
+    assert spec.controller.braking_current_nominal_a == Fraction(19, 100)
+    assert "commutation-fills-sectors" not in [w.id for w in spec.warnings]
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = replace(braking_setup(spec, short=True), max_edges=SETTLING_EDGES + 4)
+    result = brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+    assert len(result.commutations) >= 3
+    assert problems(result) == []
