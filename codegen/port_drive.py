@@ -53,6 +53,18 @@ END_READ_GAP_CYCLES = 16
 #: that fires after the COM event is a clean sample dropped, and a steady braking's
 #: ends keep their phase to the carrier, sector after sector.
 END_COM_GAP_CYCLES = 12
+#: CPU cycles from the commutation end's first load of TIM1 CNT, which waits out an
+#: imminent trigger (BLDC_PORT_WAIT_COUNTS), to its second, the age's, at the most: the
+#: compare and the branch past the wait, the CR1 load (centre-aligned) and the load.
+#: The bench's model measures 18 cycles edge-aligned and 21 centre-aligned
+#: (tests/emulation/test_end_reads.py). Too few, and a trigger between the second read
+#: and the COM event is counted by its age alone (BLDC_PORT_IMMINENT_AGE), as before the
+#: wait: a clean sample may be dropped, never a stale one taken.
+END_WAIT_GAP_CYCLES = 24
+
+#: CPU cycles one read of the commutation end's wait for an imminent trigger takes at
+#: the least: the APB2 load of CNT (PM0056 3.3.1: LDR 2) and the compare and branch.
+IMMINENT_READ_MIN_CYCLES = 4
 
 #: RM0008 TIMx_CCMRx.OCxM: 110 PWM mode 1, 111 PWM mode 2.
 OC_MODE_PWM1 = 6
@@ -300,11 +312,49 @@ def _imminent_age(spec: Spec, period_counts: int) -> int:
     end stores after it: the age of the next trigger less that gap in counts. The next
     trigger is one carrier period after the last (P = ARR + 1 counts) edge-aligned, and
     centre-aligned one count after the next peak (2 P + 1 counts from the last, P = ARR)."""
-    clock = Fraction(spec.inverter.timer_clock_hz)
-    gap = math.ceil(END_COM_GAP_CYCLES * clock / SYSCLK_HZ)
     edge = spec.inverter.pwm_alignment == "edge"
     cycle = period_counts if edge else 2 * period_counts + 1
-    return cycle - gap
+    return cycle - _imminent_counts(spec)
+
+
+def _imminent_counts(spec: Spec) -> int:
+    """END_COM_GAP_CYCLES in TIM1 counts, rounded up."""
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    return math.ceil(END_COM_GAP_CYCLES * clock / SYSCLK_HZ)
+
+
+def wait_counts(spec: Spec) -> int:
+    """The counts before the next trigger from which the commutation end's first read of
+    the counter waits it out: the COM event's gap after the second read and the gap
+    between the two reads (END_COM_GAP_CYCLES + END_WAIT_GAP_CYCLES), rounded up."""
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    return math.ceil((END_COM_GAP_CYCLES + END_WAIT_GAP_CYCLES) * clock / SYSCLK_HZ)
+
+
+def trigger_within(centre: bool, arr: int, ccr4: int, most: int) -> str:
+    """BLDC_PORT_TRIGGER_WITHIN(cnt, cr1, n): the next injected trigger within n counts
+    of CNT, for every n up to `most`, as one compare of the counter where it can be: the
+    trigger age (BLDC_PORT_TRIGGER_AGE) at least its cycle less n. Edge-aligned that is
+    CNT in [CCR4 - n, CCR4) when CCR4 >= n (from CCR4 on the age is CNT - CCR4 <= ARR -
+    CCR4 < ARR + 1 - n); centre-aligned, counting up from ARR + 1 - n when ARR >= n
+    (counting down the age is ARR - CNT <= ARR < 2 ARR + 1 - n). Otherwise the age.
+    tests/test_port.py compares the two at every count."""
+    if centre and arr >= most:
+        return "((((cr1) & TIM_CR1_DIR) == 0u) && ((cnt) >= " + f"{arr + 1}u - (n)))"
+    if not centre and ccr4 >= most:
+        return f"((uint32_t)((cnt) - ({ccr4}u - (n))) < (n))"
+    cycle = 2 * arr + 1 if centre else arr + 1
+    return f"(BLDC_PORT_TRIGGER_AGE(cnt, cr1) >= {cycle}u - (n))"
+
+
+def _imminent_reads(spec: Spec) -> int:
+    """The commutation end's reads of the counter while it waits out an imminent trigger,
+    at the most: the trigger comes within BLDC_PORT_WAIT_COUNTS of the first read, and
+    each read advances the counter by at least IMMINENT_READ_MIN_CYCLES; one read more
+    past it."""
+    clock = Fraction(spec.inverter.timer_clock_hz)
+    per_read = IMMINENT_READ_MIN_CYCLES * clock / SYSCLK_HZ
+    return math.ceil(wait_counts(spec) / per_read) + 1
 
 
 def _adc2_sequence(spec: Spec) -> str:
@@ -357,6 +407,31 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "a trigger age from which the next trigger comes within the commutation end's"
             " gap between its CNT read and its COM event (END_COM_GAP_CYCLES): that"
             " sequence samples the commutating bridge",
+        ),
+        _define(
+            "BLDC_PORT_IMMINENT_READS",
+            f"{_imminent_reads(spec)}u",
+            "the commutation end's reads of the counter, at the most, while it waits out a"
+            " trigger within BLDC_PORT_WAIT_COUNTS (it then fires before the COM event, for"
+            " certain)",
+        ),
+        _define(
+            "BLDC_PORT_WAIT_COUNTS",
+            f"{wait_counts(spec)}u",
+            "counts before the next trigger from which the commutation end's first counter"
+            " read waits it out: the COM event's gap after the second read and the reads'"
+            " gap (END_COM_GAP_CYCLES + END_WAIT_GAP_CYCLES)",
+        ),
+        _define(
+            "BLDC_PORT_TRIGGER_WITHIN(cnt, cr1, n)",
+            trigger_within(
+                centre,
+                window.period_counts - (0 if centre else 1),
+                window.trigger_counts,
+                wait_counts(spec),
+            ),
+            "the next injected trigger within n counts of CNT (n up to BLDC_PORT_WAIT_COUNTS):"
+            " BLDC_PORT_TRIGGER_AGE(cnt, cr1) at least its cycle less n, in one compare",
         ),
         _define(
             "BLDC_PORT_AGE_CR1(tim1)",

@@ -623,6 +623,12 @@ def _round_down(value: Fraction, step: int | Fraction) -> Fraction:
     return Fraction(math.floor(value / step) * step)
 
 
+def _round_down_digits(value: Fraction, digits: int) -> Fraction:
+    """A positive value rounded down to `digits` significant digits (never to 0)."""
+    step = Fraction(10) ** (math.floor(math.log10(value)) - digits + 1)
+    return max(_round_down(value, step), step)
+
+
 def _round_up(value: Fraction, step: int | Fraction) -> Fraction:
     return Fraction(math.ceil(value / step) * step)
 
@@ -825,6 +831,11 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
                 _round_down(shared, 1 / 100) if improved else Fraction(5),
             ),
         )
+        # the least init writes, never past what the back-EMF can drive (the loader
+        # refuses R I > E(speed_max): --speed-max 2 rpm on the paper motor, E/R 22 mA,
+        # had written 0.1 A, a hunt): half of it, to two digits
+        if i_nom > e_top / si["r"] / 2:
+            i_nom = _round_down_digits(e_top / si["r"] / 2, 2)
         i_source = (
             f"{derived} 5 A, or half of what the back-EMF can drive in braking,"
             f" E(speed_max)/R = {_num(e_top / si['r'])} A, or what the current loop can hold at"

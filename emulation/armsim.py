@@ -30,7 +30,7 @@ first instruction that runs outside the block.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
@@ -365,6 +365,8 @@ class CortexM3Sim:
         self._done_on_read: dict[int, int] = {}  # register -> bits that read as done
         self._write_rules: dict[int, WriteRule] = {}  # register -> how a write acts
         self._written: list[tuple[int, int]] = []  # (register, word before the write)
+        #: register -> its value from the call's steps so far (`count_on_read`)
+        self._counting: dict[int, Callable[[Sequence[Step]], int]] = {}
         self._uc.hook_add(UC_HOOK_CODE, self._on_instruction)
         self._uc.hook_add(UC_HOOK_MEM_READ | UC_HOOK_MEM_WRITE, self._on_access)
         self._uc.hook_add(UC_HOOK_MEM_INVALID, self._on_invalid_access)
@@ -410,6 +412,10 @@ class CortexM3Sim:
             cycles = estimate_cycles(self._steps, self).cycles & 0xFFFF_FFFF
             uc.mem_write(address, cycles.to_bytes(4, "little"))
             return
+        if access == UC_MEM_READ and address in self._counting:
+            value = self._counting[address](self._steps) & 0xFFFF_FFFF
+            uc.mem_write(address, value.to_bytes(4, "little"))
+            return
         if access != UC_MEM_READ and address in self._write_rules:
             # the hook runs before the store: the word it replaces, for the rule after it
             self._written.append((address, int.from_bytes(uc.mem_read(address, 4), "little")))
@@ -423,6 +429,15 @@ class CortexM3Sim:
         the time software polls it (such as ADC_CR2.CAL, the calibration), which plain
         memory would otherwise hold set forever."""
         self._done_on_read[address] = self._done_on_read.get(address, 0) | mask
+
+    def count_on_read(self, address: int, value_of: Callable[[Sequence[Step]], int] | None) -> None:
+        """A register that moves while the call runs (a timer's counter): each read takes
+        `value_of` the call's steps so far (what the caller prices them at); None makes it
+        plain memory again."""
+        if value_of is None:
+            self._counting.pop(address, None)
+        else:
+            self._counting[address] = value_of
 
     def combine_on_write(self, address: int, rule: WriteRule) -> None:
         """A register whose bits a store does not simply replace: `SET` for write 1 to

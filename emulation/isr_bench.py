@@ -32,7 +32,7 @@ from codegen.build_firmware import build
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import Scaling, scaling
 from codegen.port import port_context
-from codegen.port_drive import current_watch
+from codegen.port_drive import current_watch, wait_counts
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
@@ -215,6 +215,10 @@ class PortRig:
         )
         self.tim1_ccr = tuple(_register("TIM1", f"CCR{n}") for n in (1, 2, 3))
         self.tim1_cnt, self.tim1_ccr4 = _register("TIM1", "CNT"), _register("TIM1", "CCR4")
+        self.tim1_arr, self.tim1_cr1 = _register("TIM1", "ARR"), _register("TIM1", "CR1")
+        self.dir_bit = _bit("TIM1", "CR1", "DIR")
+        #: the counts before the next trigger from which the end waits it out
+        self.wait_counts = wait_counts(spec)  # BLDC_PORT_WAIT_COUNTS
         self.cc1if, self.cc2if = _bit("TIM3", "SR", "CC1IF"), _bit("TIM3", "SR", "CC2IF")
         self.uif = _bit("TIM3", "SR", "UIF")
         self.ispr0 = _register("NVIC", "ISPR0")
@@ -246,6 +250,8 @@ class PortRig:
         self.sim.finish_on_read(_register("ADC2", "CR2"), _bit("ADC2", "CR2", "CAL"))
         self.sim.call("bldc_port_init", args=(0,))
         self.sim.write_u32(self.ispr0, 0)
+        #: CR1 as init left it (the counter running), without DIR
+        self.tim1_cr1_running = self.sim.read_u32(self.tim1_cr1) & ~self.dir_bit
 
     def prime(self, bus: int, current: int, period: int) -> None:
         """From init to the steady state: a bus sample (its bus change and timing), one
@@ -358,16 +364,53 @@ class PortRig:
     def timing(self) -> CallResult:
         return self.sim.call(TIMING_HANDLER)
 
-    def commutation_end(self) -> CallResult:
+    def commutation_end(self, *, trigger_in: int | None = None) -> CallResult:
+        """The commutation end mid-period, long after the last injected trigger (its
+        sequence taken) and long before the next: the port holds the loop through a
+        sequence a trigger younger than the sequence began (BLDC_PORT_TRIGGER_AGE), which
+        a counter left at 0 would be, and through one a trigger about to fire before the
+        COM event begins (BLDC_PORT_IMMINENT_AGE), which a counter one short of CCR4
+        would be. `trigger_in`: the end's first read of TIM1's counter finds the next
+        injected trigger that many counts ahead, and the counter counts with the cycles
+        the call's steps take (and CR1's DIR, centre-aligned); BLDC_PORT_WAIT_COUNTS is
+        the end's longest wait."""
         self.sim.write_u32(self.tim3_sr, self.cc2if)
         self.sim.write_u32(self.tim1_egr, 0)
-        # the end mid-period, long after the last injected trigger (its sequence taken)
-        # and long before the next: the port holds the loop through a sequence a trigger
-        # younger than the sequence began (BLDC_PORT_TRIGGER_AGE), which a counter left
-        # at 0 would be, and through one a trigger about to fire before the COM event
-        # begins (BLDC_PORT_IMMINENT_AGE), which a counter one short of CCR4 would be
-        self.sim.write_u32(self.tim1_cnt, self.sim.read_u32(self.tim1_ccr4) // 2)
-        return self.sim.call(HALL_HANDLER)
+        ccr4 = self.sim.read_u32(self.tim1_ccr4)
+        if trigger_in is None:
+            self.sim.write_u32(self.tim1_cnt, ccr4 // 2)
+            return self.sim.call(HALL_HANDLER)
+        arr = self.sim.read_u32(self.tim1_arr)
+        centre = self.spec.inverter.pwm_alignment != "edge"
+        clock = float(self.spec.inverter.timer_clock_hz) / 72e6  # counts per cycle
+        # at the first read: WAIT_COUNTS before CCR4 (edge-aligned), before the peak
+        # counting up (centre-aligned: the trigger one count after it)
+        start = (arr + 1 if centre else ccr4) - trigger_in
+        first: list[int] = []  # the cycles at the first read
+
+        def position(steps: Sequence[Step]) -> int:
+            cycles = estimate_cycles(steps, self.sim, timing=self.memory_timing).cycles
+            first[:] = first or [cycles]
+            return start + int((cycles - first[0]) * clock)
+
+        def counter(steps: Sequence[Step]) -> int:
+            at = position(steps)
+            if not centre:
+                return at % (arr + 1)
+            phase = at % (2 * arr)
+            return phase if phase < arr else 2 * arr - phase
+
+        def control(steps: Sequence[Step]) -> int:
+            down = centre and position(steps) % (2 * arr) >= arr
+            return self.tim1_cr1_running | (self.dir_bit if down else 0)
+
+        self.sim.count_on_read(self.tim1_cnt, counter)
+        self.sim.count_on_read(self.tim1_cr1, control)
+        try:
+            return self.sim.call(HALL_HANDLER)
+        finally:
+            self.sim.count_on_read(self.tim1_cnt, None)
+            self.sim.count_on_read(self.tim1_cr1, None)
 
     def mark_unwritten(self) -> None:
         """Fill the TIM1 compare registers and TIM3 CCR2 with a value no edge writes."""
@@ -565,7 +608,11 @@ def bench(
                         # values, so it is skipped.
                         if index == 0:
                             measure_timing(rig.timing())
-                        end = rig.commutation_end()
+                        # the first end of each run of edges waits out an imminent
+                        # trigger, its longest wait (the rest: mid-period)
+                        end = rig.commutation_end(
+                            trigger_in=rig.wait_counts if index == 0 else None
+                        )
                         commutation_end.append(rig.cost(end))
                         if _stores_to(end, rig.tim1_egr):  # it ended a commutation
                             switches_off.append(_cycles_to_store(rig, end, rig.tim1_egr))

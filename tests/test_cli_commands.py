@@ -1186,3 +1186,23 @@ def test_init_should_place_its_lower_point_where_the_loop_can_hold_the_current(
     spec = load_spec(tmp_path / "c1.yaml")
     assert "current-sense-window" not in [w.id for w in spec.warnings]
     assert len(spec.operating_points) == 2
+
+
+def test_init_should_keep_the_braking_current_within_what_a_slow_top_speed_drives(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--speed-max 5 rpm on the paper motor: the back-EMF drives at most E/R = 56 mA
+    there. init's least braking current, 0.1 A, had been written past it, a spec the
+    loader refused (a hunt: 1.2 to 10 rpm); now half of E/R, to two digits (0.028 A),
+    which loads (warning that the loop saturates where it would hold it)."""
+    from codegen.spec_loader import load_spec
+
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["init", "slow", "--speed-max", "5 rpm", "-o", "slow.yaml"]) == 0
+    capsys.readouterr()
+    spec = load_spec(tmp_path / "slow.yaml")
+    e_over_r = (
+        spec.motor.back_emf_constant_v_per_rpm * spec.controller.speed_max_rpm
+    ) / spec.motor.phase_resistance_ohm
+    assert spec.controller.braking_current_nominal_a == Fraction(28, 1000)
+    assert spec.controller.braking_current_nominal_a <= e_over_r / 2

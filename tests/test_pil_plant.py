@@ -1236,6 +1236,31 @@ def test_a_commutation_end_just_after_jeoc_should_leave_the_next_sample_to_the_l
     ), "the fixture lost its point: the latency-bound port kept the invariant"
 
 
+@pytest.mark.heavy(seconds=13)
+def test_an_end_a_few_counts_before_a_trigger_should_leave_the_next_sample_to_the_loop(
+    tmp_path: Path,
+) -> None:
+    """A 5-pole-pair conventional motor init wrote from line-to-line constants and Kv 320
+    (a hunt's): near 5200 rpm its commutations, L/(2R) long, end a few counts before an
+    injected trigger, sector after sector. The end counted that trigger's sequence
+    stale, but its COM event restarted the carrier first: no such sequence, and the one
+    clean sample before the next edge was dropped, the timing reading a current three
+    sectors old (`make pil`, Hall edge 608 of the full run). The end now waits such a
+    trigger out, and the first 700 edges keep every invariant
+    (tests/emulation/test_end_reads.py catches the port without the wait on the paper
+    motor and a centre-aligned one; here, where the lock-in needs the whole run's
+    history, whether it shows moves with the handlers' cycles)."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "conv_ltl_end_before_trigger.yaml"
+    spec = load_spec(path)
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    setup = replace(braking_setup(spec, short=False), max_edges=700, trace_seconds=0.0)
+    port = generated / "c" / "stm32f103_port.c"
+    result = brake(elf, port, spec, setup, sil=False)
+    assert result.edges >= 700
+    assert result.outcome.violations == (), result.outcome.violations
+
+
 def test_the_comparator_should_see_the_braking_current_and_never_trip_the_paper_run(
     paper_run: tuple[BrakingLoop, BrakingResult],
 ) -> None:

@@ -21,6 +21,7 @@ import pytest
 
 from codegen import port
 from codegen.build_firmware import CFLAGS
+from codegen.port_drive import trigger_within
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from emulation.pil.safe_state import short_rated_speed
@@ -2195,3 +2196,56 @@ def test_adc2_should_watch_every_rail_zero_current_does_not_sit_on(
     assert {int(c) for c in flagged} == rails[watched]
     run = _compile_arm(tmp_path)
     assert run.returncode == 0, run.stderr
+
+
+_WITHIN_CHECK = r"""
+#include <stdio.h>
+#include "stm32f103_regs.h"
+#include "stm32f103_port.h"
+int main(void)
+{
+    const uint32_t cycle = (BLDC_PORT_TIM1_CMS == 0u) ? BLDC_PORT_TIM1_ARR + 1u
+                                                      : 2u * BLDC_PORT_TIM1_ARR + 1u;
+    unsigned long wrong = 0ul, within = 0ul;
+    for (uint32_t n = 0u; n <= BLDC_PORT_WAIT_COUNTS; ++n) {
+        for (uint32_t down = 0u; down < 2u; ++down) {
+            const uint32_t cr1 = (down != 0u) ? TIM_CR1_DIR : 0u;
+            for (uint32_t cnt = 0u; cnt <= BLDC_PORT_TIM1_ARR; ++cnt) {
+                const int fast = (BLDC_PORT_TRIGGER_WITHIN(cnt, cr1, n)) ? 1 : 0;
+                const int aged = (BLDC_PORT_TRIGGER_AGE(cnt, cr1) >= cycle - n) ? 1 : 0;
+                wrong += (unsigned long)(fast != aged);
+                within += (unsigned long)fast;
+            }
+        }
+    }
+    printf("%lu %lu\n", wrong, within);
+    return 0;
+}
+"""
+
+
+@pytest.mark.parametrize(
+    "relative", ["spec/paper_motor.yaml", "tests/fixtures/pil/conv_cen_ps.yaml"]
+)
+def test_the_trigger_within_n_counts_should_be_the_age_at_every_count(
+    tmp_path: Path, relative: str
+) -> None:
+    """BLDC_PORT_TRIGGER_WITHIN, the commutation end's one compare that waits out an
+    imminent trigger, against BLDC_PORT_TRIGGER_AGE at least its cycle less n, at every
+    counter value, direction and n up to BLDC_PORT_WAIT_COUNTS (edge- and
+    centre-aligned)."""
+    assert HOST_CC is not None, "no host C compiler"
+    _write_port(tmp_path, load_spec(ROOT / relative))
+    (tmp_path / "within.c").write_text(_WITHIN_CHECK, encoding="utf-8")
+    subprocess.run(
+        [HOST_CC, "-std=c99", "-O1", "within.c", "-o", "within"], cwd=tmp_path, check=True
+    )
+    wrong, within = subprocess.run(
+        [str(tmp_path / "within")], capture_output=True, text=True, check=True
+    ).stdout.split()
+    assert int(wrong) == 0 and int(within) > 0
+    # where the one compare does not hold (a trigger within n counts of the period's
+    # start), the macro is the age itself
+    assert "BLDC_PORT_TRIGGER_AGE" in trigger_within(False, 299, 27, 28)
+    assert "BLDC_PORT_TRIGGER_AGE" in trigger_within(True, 27, 26, 28)
+    assert "BLDC_PORT_TRIGGER_AGE" not in trigger_within(False, 299, 28, 28)

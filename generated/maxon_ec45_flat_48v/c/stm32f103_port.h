@@ -160,6 +160,9 @@
 #define BLDC_PORT_SEQUENCE_COUNTS 504u /* TIM1 counts from an injected trigger to JEOC, one ADC cycle (and for the centre-aligned trigger one count after the peak, two counts) over */
 #define BLDC_PORT_SEQUENCE_MIN_COUNTS 464u /* TIM1 counts from an injected trigger to JEOC at the least (the trigger age's terms, no injection latency: the datasheet gives only its largest), less the commutation end's gap between its CNT and SR reads: a younger sequence has not ended, so a JEOC set then is an older one's */
 #define BLDC_PORT_IMMINENT_AGE 3588u /* a trigger age from which the next trigger comes within the commutation end's gap between its CNT read and its COM event (END_COM_GAP_CYCLES): that sequence samples the commutating bridge */
+#define BLDC_PORT_IMMINENT_READS 10u /* the commutation end's reads of the counter, at the most, while it waits out a trigger within BLDC_PORT_WAIT_COUNTS (it then fires before the COM event, for certain) */
+#define BLDC_PORT_WAIT_COUNTS 36u /* counts before the next trigger from which the commutation end's first counter read waits it out: the COM event's gap after the second read and the reads' gap (END_COM_GAP_CYCLES + END_WAIT_GAP_CYCLES) */
+#define BLDC_PORT_TRIGGER_WITHIN(cnt, cr1, n) ((uint32_t)((cnt) - (3296u - (n))) < (n)) /* the next injected trigger within n counts of CNT (n up to BLDC_PORT_WAIT_COUNTS): BLDC_PORT_TRIGGER_AGE(cnt, cr1) at least its cycle less n, in one compare */
 #define BLDC_PORT_AGE_CR1(tim1) 0u /* what BLDC_PORT_TRIGGER_AGE takes of CR1: its DIR bit (centre-aligned), else no read */
 #define BLDC_PORT_TRIGGER_AGE(cnt, cr1) (((cnt) >= BLDC_PORT_TIM1_CCR4) ? (cnt) - BLDC_PORT_TIM1_CCR4 : (cnt) + BLDC_PORT_TIM1_ARR + 1u - BLDC_PORT_TIM1_CCR4) /* TIM1 counts since the last injected trigger, from CNT and CR1 read before a COM event restarts the carrier: CNT = CCR4 */
 #define BLDC_PORT_OC4_MODE 7u /* OC4M: PWM mode 2 (rising at CNT = CCR4) */

@@ -630,7 +630,29 @@ static void port_on_commutation_end(uintptr_t anchor)
     *compare = port.main_duty;
     tim1->CCER = PORT_RECORD_CCER_AFTER(record); /* a subset of the pattern in force: safe */
     ADC_TypeDef *const adc1 = PORT_AT(anchor, ADC1, ADC_TypeDef);
-    uint32_t counter = tim1->CNT; /* the carrier before the COM event restarts it */
+    /* A trigger within the COM event's gap of the counter's read below
+     * (BLDC_PORT_IMMINENT_AGE) may fire before that event, and its sequence sample the
+     * commutating bridge, or not fire at all (the event restarts the carrier): either
+     * way the count below is wrong for one of them. Counted stale, the one clean sample
+     * a commutation filling its sector leaves before the next edge was dropped, sector
+     * after sector (a steady braking's ends keep their phase to the carrier; `make pil`,
+     * a 5-pole-pair conventional motor at 5180 rpm, its timing on a current three
+     * sectors old). So a first read of the counter waits out a trigger within that gap
+     * and this read's (BLDC_PORT_WAIT_COUNTS), a few counts, and the trigger fires
+     * before the COM event for certain and its age counts it; at most
+     * BLDC_PORT_IMMINENT_READS reads (a counter that stopped: `imminent` below still
+     * counts it). Out of line: the usual end pays one read and one compare. */
+    uint32_t counter = tim1->CNT;
+    if (BLDC_PORT_RARE(BLDC_PORT_TRIGGER_WITHIN(counter, BLDC_PORT_AGE_CR1(tim1),
+                                                BLDC_PORT_WAIT_COUNTS))) {
+        uint32_t reads = BLDC_PORT_IMMINENT_READS;
+        do {
+            counter = tim1->CNT;
+            --reads;
+        } while ((reads != 0u) && BLDC_PORT_TRIGGER_WITHIN(counter, BLDC_PORT_AGE_CR1(tim1),
+                                                           BLDC_PORT_WAIT_COUNTS));
+    }
+    counter = tim1->CNT; /* the carrier before the COM event restarts it */
     uint32_t cr1 = BLDC_PORT_AGE_CR1(tim1);
     tim1->EGR = BLDC_PORT_EGR_COMMUTATE; /* just after the counter: see below */
     const uint32_t status = adc1->SR; /* just after the COM event: see below */
