@@ -16,6 +16,13 @@ ONE_SPEC = $(or $(SPEC),$(DEFAULT_SPEC))
 # make splits SPEC at spaces (several specs are SPEC="a.yaml b.yaml"), so a path with a
 # space in it cannot go through make: SPEC="my motors/m.yaml" ran `generate /my` and
 # `motors/m.yaml`. A SPEC of several words one of which is no file stops here, in one line.
+# SPEC reaches the shell quoted (`quoted`): a path with a parenthesis or a quote in it
+# ("m(1).yaml", "it's.yaml") had been a shell syntax error. A '$' make itself expands
+# before any recipe runs (SPEC='a$HOME.yaml' read "aOME.yaml"), so it stops here.
+quoted = $(foreach w,$(1),'$(subst ','\'',$(w))')
+ifneq ($(findstring $$,$(value SPEC)),)
+$(error SPEC contains '$$', which make expands before the shell sees it: rename the file, or run the CLI: $(VENV)/bin/python -m codegen COMMAND 'path')
+endif
 ifneq ($(word 2,$(SPEC)),)
 $(foreach s,$(SPEC),$(if $(wildcard $(s)),,$(error SPEC="$(SPEC)": no file "$(s)": make splits SPEC at spaces, so a path with a space cannot go through make; run the CLI: $(VENV)/bin/python -m codegen COMMAND "path with spaces.yaml")))
 endif
@@ -86,12 +93,12 @@ setup: sysdeps $(VENV)/.installed
 	@$(PY) -m compileall -q $(PACKAGES)
 
 derive: setup
-	$(CLI) derive $(ONE_SPEC)
+	$(CLI) derive $(call quoted,$(ONE_SPEC))
 
 # The paper's audit, the same for every motor: generated/paper/AUDIT.md and AUDIT.html;
 # with SPEC=, also that motor's generated/<name>/DERIVATION.md.
 audit: setup
-	$(CLI) audit $(SPEC)
+	$(CLI) audit $(call quoted,$(SPEC))
 
 # The README's pictures of the HTML audit, taken in headless Chromium.
 audit-screenshot: setup
@@ -99,11 +106,11 @@ audit-screenshot: setup
 	$(PY) -m codegen.audit.browser generated/paper/AUDIT.html docs/audit_equation.png eq-4
 
 generate: setup
-	$(CLI) generate $(ONE_SPEC)
+	$(CLI) generate $(call quoted,$(ONE_SPEC))
 
 # Cross-compile the generated output of the spec for the Cortex-M3; sizes by section.
 firmware: setup
-	$(CLI) firmware $(ONE_SPEC)
+	$(CLI) firmware $(call quoted,$(ONE_SPEC))
 
 # Flash the firmware of SPEC (or the default spec) through an ST-Link or CMSIS-DAP probe
 # with pyocd (README, Firmware). Not run by the tests: there is no probe here. The part
@@ -111,13 +118,13 @@ firmware: setup
 PYOCD_TARGET ?= stm32f103c8
 flash: firmware
 	@command -v pyocd >/dev/null 2>&1 || { echo "flash: pyocd not found: install it (pipx install pyocd), then 'pyocd pack install $(PYOCD_TARGET)'" >&2; exit 5; }
-	name=$$(sed -n 's/^name: *//p' $(ONE_SPEC) | head -n 1); \
+	name=$$(sed -n 's/^name: *//p' $(call quoted,$(ONE_SPEC)) | head -n 1); \
 	pyocd load --target $(PYOCD_TARGET) build/$$name/firmware.hex
 
 # The generated core against the exact symbolic model (exhaustive, random, boundary);
 # report.json and error_vs_speed.png into generated/<name>/verify/.
 verify: setup
-	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) verify $$spec || exit $$?; done
+	@for spec in $(call quoted,$(or $(SPEC),$(SPECS))); do $(CLI) verify "$$spec" || exit $$?; done
 
 # Frama-C on the shipped C: EVA (0 alarms over every input) and WP (the ACSL contracts)
 # on every public function of every checked-in spec, or SPEC=... only (a spec without
@@ -125,22 +132,22 @@ verify: setup
 # generated/<spec>/PROOF.md; fails on any alarm, unproven contract or missing tool.
 PROVE_SPECS = $(if $(filter command line environment,$(origin SPEC)),$(SPEC),$(SPECS))
 prove: setup
-	$(PY) -m verify.prove $(PROVE_SPECS) --jobs 2
+	$(PY) -m verify.prove $(call quoted,$(PROVE_SPECS)) --jobs 2
 
 # Commutation simulation (the generated core in the loop): figures and SIMULATION.md
 # into generated/<name>/simulation/, for every checked-in motor, or SPEC=... only.
 simulate: setup
-	@for spec in $(or $(SPEC),$(SIM_SPECS)); do $(CLI) simulate $$spec || exit $$?; done
+	@for spec in $(call quoted,$(or $(SPEC),$(SIM_SPECS))); do $(CLI) simulate "$$spec" || exit $$?; done
 
 # Robustness campaign (Dask LocalCluster; the core against sampled tolerances):
 # ROBUSTNESS.md into generated/<name>/robustness/, same spec choice as simulate.
 robustness: setup
-	@for spec in $(or $(SPEC),$(SIM_SPECS)); do $(PY) -m sim.robustness $$spec || exit $$?; done
+	@for spec in $(call quoted,$(or $(SPEC),$(SIM_SPECS))); do $(PY) -m sim.robustness "$$spec" || exit $$?; done
 
 # The generated Unity tests: host (ASan/UBSan) and Cortex-M3 under qemu mps2-an385.
 # Real Unity when UNITY_DIR points to a checkout, else the stand-in runner.
 unity: setup
-	@for spec in $(or $(SPEC),$(SPECS)); do $(CLI) unity $$spec || exit $$?; done
+	@for spec in $(call quoted,$(or $(SPEC),$(SPECS))); do $(CLI) unity "$$spec" || exit $$?; done
 
 lint: setup
 	$(PY) -m ruff check $(PACKAGES) tests
@@ -191,10 +198,10 @@ BENCH_FLAGS ?=
 # Firmware in the loop: build each spec's firmware (SPEC, or every checked-in spec), run
 # the fault scenarios on the emulated STM32F103 and write generated/<name>/pil/PIL.md.
 pil: setup
-	$(PY) -m emulation.pil.report $(or $(SPEC),$(SPECS))
+	$(PY) -m emulation.pil.report $(call quoted,$(or $(SPEC),$(SPECS)))
 
 bench: setup
-	$(PY) -m emulation $(ONE_SPEC) $(BENCH_FLAGS)
+	$(PY) -m emulation $(call quoted,$(ONE_SPEC)) $(BENCH_FLAGS)
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache

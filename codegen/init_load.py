@@ -61,6 +61,16 @@ def estimate(spec: Spec) -> LoadEstimate:
     )
 
 
+def _percent(value: float, budget: float) -> str:
+    """`value` with as many decimals as show it above `budget` (25.008 over 25: 25.01,
+    where a whole number had printed 25, "over its 25 %")."""
+    for decimals in range(0, 6):
+        shown = f"{value:.{decimals}f}"
+        if float(shown) > budget:
+            return shown
+    return repr(value)
+
+
 def over_budget(spec: Spec) -> str | None:
     """A warning when the estimate passes `firmware.cpu_load_budget`, else None."""
     load = estimate(spec)
@@ -68,7 +78,7 @@ def over_budget(spec: Spec) -> str | None:
     if load.percent <= budget:
         return None
     return (
-        f"firmware.cpu_load_budget: the drive may take up to about {load.percent:.0f} % of"
+        f"firmware.cpu_load_budget: the drive may take up to about {_percent(load.percent, budget)} % of"
         f" the CPU at controller.speed_max ({float(spec.controller.speed_max_rpm):g} rpm,"
         f" a {load.sector_us:.0f} us sector: the commutation's handlers"
         f" {load.commutation_percent:.0f} %, the current loop at"

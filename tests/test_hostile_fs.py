@@ -271,4 +271,32 @@ def test_make_refuses_a_spec_path_with_a_space_in_one_line(tmp_path: Path) -> No
         check=False,
     )
     assert proc.returncode == 0, proc.stderr
-    assert "example_maxon_ec45_flat_48v.yaml; do" in proc.stdout
+    assert "example_maxon_ec45_flat_48v.yaml'; do" in proc.stdout
+
+
+def test_make_should_pass_a_spec_path_with_shell_characters_quoted(tmp_path: Path) -> None:
+    """Was: `make derive SPEC='m(1).yaml'` and `SPEC="it's.yaml"` were shell syntax
+    errors, and SPEC='$HOME.yaml' read "OME.yaml" (make expands '$' itself): a path
+    reaches the shell single-quoted, and a '$' is refused in one line."""
+    for name in ("m(1).yaml", "it's.yaml"):
+        spec = tmp_path / name
+        spec.write_bytes(SPEC.read_bytes())
+        proc = subprocess.run(
+            ["make", "--no-print-directory", "-C", str(ROOT), "derive", f"SPEC={spec}"],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        assert proc.returncode == 0, proc.stdout + proc.stderr
+        assert "Eq. 18" in proc.stdout or "t_com" in proc.stdout, proc.stdout
+    proc = subprocess.run(
+        ["make", "-n", "-C", str(ROOT), "derive", f"SPEC={tmp_path}/$HOME.yaml"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    assert proc.returncode == 2
+    (line,) = [x for x in proc.stderr.splitlines() if "SPEC contains" in x]
+    assert "'$'" in line and "-m codegen derive" not in proc.stdout

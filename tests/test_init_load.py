@@ -74,3 +74,14 @@ def test_the_estimate_should_be_above_what_the_bench_measured_on_a_small_improve
     spec = load_spec(ROOT / "tests" / "fixtures" / "odd" / "ir_8p_0a2_cpu.yaml")
     assert estimate(spec).percent > 28.26
     assert over_budget(spec) is not None
+
+
+def test_a_load_just_over_its_budget_should_print_above_it() -> None:
+    """A 60 000 rpm spindle's estimate, 25.008 %, printed whole read "up to about 25 %
+    ... over its 25 %" (a hunt): as many decimals as show it above the budget."""
+    from codegen.init_load import _percent
+
+    assert _percent(25.008, 25.0) == "25.01"
+    assert _percent(38.2, 25.0) == "38"
+    assert _percent(25.6, 25.0) == "26"
+    assert float(_percent(25.0000001, 25.0)) > 25.0

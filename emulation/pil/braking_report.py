@@ -732,7 +732,9 @@ def inertia_note(spec: Spec, setup: BrakingSetup) -> str:
     return (
         f" The spec's own inertia would take {edges} and"
         f" {seconds:.3g} s over this range (at k_t I and the spec's viscous friction), outside the"
-        f" {fewest} to {most} edges and {BRAKING_MOTOR_S:g} s of motor time a run takes,"
+        f" {fewest} to {most} edges and {BRAKING_MOTOR_S:g} s of motor time a run is sized"
+        " for (at the constant-torque estimate: the loop's current, not the command, sets"
+        " the real run's length),"
         f" so the run scales it to take about {own * setup.inertia_scale:.0f}; the speed"
         f" then changes by up to {100 * speed_change_per_sector(spec, setup):.1f} % over a"
         " sector (at the stop speed), each commutation's own dynamics unchanged."
