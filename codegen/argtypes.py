@@ -7,16 +7,48 @@ import argparse
 import re
 from collections.abc import Callable
 
+from codegen.errors import clipped, show_value
+
 #: a decimal number as the spec writes one: ASCII digits, no digit groups (Python's
 #: int() and float() also take '1_000' and other scripts' digits, '١٢', which the spec
-#: refuses)
-_WHOLE = re.compile(r"[+-]?[0-9]+")
-_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: refuses), and as many digits as a spec quantity takes (codegen.units): an exponent of
+#: unbounded digits, '1e9999999', had init's exact Fraction arithmetic run for ever, and
+#: more than 4300 digits were int()'s ValueError, argparse's 'invalid _kv value: ...'
+#: echoing every digit
+_WHOLE = re.compile(r"[+-]?[0-9]+", re.ASCII)
+_DECIMAL = re.compile(
+    r"[+-]?(?:[0-9]{1,30}\.?[0-9]{0,30}|\.[0-9]{1,30})(?:[eE][+-]?[0-9]{1,3})?", re.ASCII
+)
+#: how a number given on the command line is written, for the refusal of one that is not
+DECIMAL_FORM = (
+    "ASCII digits, no '_') of at most 30 digits before and after the point and an"
+    " exponent of at most 3 digits"
+)
 
 
 def plain_decimal(text: str) -> bool:
     """Whether `text` is a decimal number in ASCII, as a spec writes one."""
     return _DECIMAL.fullmatch(text.strip()) is not None
+
+
+def not_a_number(text: str, unit: str = "") -> argparse.ArgumentTypeError:
+    """The refusal of `text` where a decimal number (of `unit`) was expected, the value
+    clipped."""
+    of_unit = f", in {unit}" if unit else ""
+    return argparse.ArgumentTypeError(
+        f"{show_value(text)} is not a number ({DECIMAL_FORM}{of_unit}"
+    )
+
+
+def _whole_in(text: str, low: int, high: int) -> int | None:
+    """`text` as a whole number in [low, high], or None where it is out of range.
+    Counts the digits before int() converts them: a value of more than 4300 digits is
+    int()'s ValueError, and one beyond the bounds' digits is out of range anyway."""
+    digits = text.strip().lstrip("+-").lstrip("0")
+    if len(digits) > max(len(str(abs(low))), len(str(abs(high)))):
+        return None
+    value = int(text, 10)
+    return value if low <= value <= high else None
 
 
 def whole_number(low: int, high: int) -> Callable[[str], int]:
@@ -25,11 +57,14 @@ def whole_number(low: int, high: int) -> Callable[[str], int]:
     def parse(text: str) -> int:
         if _WHOLE.fullmatch(text.strip()) is None:
             raise argparse.ArgumentTypeError(
-                f"{text!r} is not a whole number (ASCII digits, no '_')"
+                f"{show_value(text)} is not a whole number (ASCII digits, no '_')"
+                f" (allowed: [{low}, {high}])"
             )
-        value = int(text, 10)
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"{value} is out of range (allowed: [{low}, {high}])")
+        value = _whole_in(text, low, high)
+        if value is None:
+            raise argparse.ArgumentTypeError(
+                f"{clipped(text.strip())} is out of range (allowed: [{low}, {high}])"
+            )
         return value
 
     parse.__name__ = "whole number"
@@ -47,11 +82,11 @@ def decimal_number(low: float, high: float) -> Callable[[str], float]:
 
     def parse(text: str) -> float:
         if not plain_decimal(text):
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number (ASCII digits, no '_')")
+            raise not_a_number(text)
         value = float(text)
         if not low <= value <= high:  # NaN fails both comparisons
             raise argparse.ArgumentTypeError(
-                f"{text} is out of range (allowed: [{low:g}, {high:g}])"
+                f"{text.strip()} is out of range (allowed: [{low:g}, {high:g}])"
             )
         return value
 

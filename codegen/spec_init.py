@@ -31,7 +31,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from codegen import units
-from codegen.argtypes import plain_decimal
+from codegen.argtypes import not_a_number, plain_decimal
 from codegen.dead_time import (
     COMMUTATION_END_ALLOWANCE_S,
     SECTOR_SHORTENING_DEFAULT_PERCENT,
@@ -216,7 +216,7 @@ def _kv(text: str) -> Fraction:
     to the phase k_e (init writes the 120 deg trapezoid), is within the loader's range
     of motor.back_emf_constant (a phase constant; line to line it is twice that)."""
     if not plain_decimal(text):  # Fraction() takes '1_000' and '٦٢٥'; a spec does not
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number (ASCII digits, no '_')")
+        raise not_a_number(text, "rpm/V")
     value = Fraction(text.strip())
     if value <= 0:
         raise argparse.ArgumentTypeError(f"{text} must be positive")

@@ -472,6 +472,35 @@ def test_a_numeric_option_out_of_range_should_be_one_usage_line(
     assert line in err[-1] and "Traceback" not in "\n".join(err)
 
 
+_MANY_DIGITS = "1" * 5000
+
+
+@pytest.mark.parametrize(
+    ("argv", "line"),
+    [
+        # an exponent of 7 digits ran init's exact Fraction arithmetic for ever
+        (["init", "x", "--kv", "1e9999999"], "argument --kv: '1e9999999' is not a number (ASCII"),
+        # more than 4300 digits were int()'s ValueError: "invalid _kv value: '1111...'"
+        (["init", "x", "--kv", _MANY_DIGITS], "argument --kv: '111"),
+        (["verify", "SPEC", "--seed", _MANY_DIGITS], "(allowed: [0, 4294967295])"),
+        (["verify", "SPEC", "--random", _MANY_DIGITS], "(allowed: [0, 100000000])"),
+        (["robustness", "SPEC", "--seed", _MANY_DIGITS], "argument --seed: 111"),
+    ],
+)
+def test_a_numeric_option_of_many_digits_should_be_one_clipped_line_at_once(
+    capsys: pytest.CaptureFixture[str], argv: list[str], line: str
+) -> None:
+    """A number is held to the digits a spec quantity takes before it is converted:
+    refused in one usage line that clips the value, not a hang nor argparse's generic
+    'invalid ... value' echoing 5000 digits."""
+    with pytest.raises(SystemExit) as caught:
+        cli.main([str(SPEC) if a == "SPEC" else a for a in argv])
+    assert caught.value.code == ExitCode.USAGE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert line in err[-1] and "invalid" not in err[-1], err[-1]
+    assert len(err[-1]) < 300, err[-1]
+
+
 def test_init_should_size_the_current_sensing_and_the_trip_above_the_pwm_ripple(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
