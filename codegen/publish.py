@@ -59,6 +59,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from codegen.manifest_check import inside, read_listed
 from codegen.shown import on_one_line
 
 GENERATOR = "bldc-codegen"
@@ -214,20 +215,11 @@ def _owned(tree: Path) -> _Owned | None:
         return None
     # only names inside the tree: a manifest listing "../x" or "/tmp/x" (edited, or
     # not ours) had its generate delete those files outside the output folder
-    files = {str(name) for name in data["files"] if _inside(str(name))}
+    files = {str(name) for name in data["files"] if inside(str(name))}
     folders = {"/".join(n.split("/")[:i]) for n in files for i in range(1, n.count("/") + 1)}
-    folders |= {f for f in data.get("folders", []) if isinstance(f, str) and _inside(f)}
+    folders |= {f for f in data.get("folders", []) if isinstance(f, str) and inside(f)}
     hashes = {str(k): str(v) for k, v in data["files"].items() if str(k) in files}
     return _Owned(frozenset(files | {MANIFEST}), frozenset(folders), hashes)
-
-
-def _inside(name: str) -> bool:
-    """Whether a manifest's entry names a place inside its tree: a relative POSIX path
-    of plain components (no "..", ".", empty part, backslash or NUL)."""
-    parts = name.split("/")
-    return bool(name) and all(
-        part not in ("", ".", "..") and "\\" not in part and "\0" not in part for part in parts
-    )
 
 
 def _complete(tree: Path) -> bool:
@@ -237,7 +229,7 @@ def _complete(tree: Path) -> bool:
         return False
     for name, digest in owned.hashes.items():
         try:
-            if hashlib.sha256((tree / name).read_bytes()).hexdigest() != digest:
+            if hashlib.sha256(read_listed(tree, name)).hexdigest() != digest:
                 return False
         except OSError:
             return False

@@ -4,9 +4,11 @@ directory, `init`'s datasheet conversions, and a new user's own motors end to en
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from fractions import Fraction
@@ -215,6 +217,96 @@ def test_commands_that_read_generated_output_refuse_stale_output(
     (generated / "manifest.json").write_text(json.dumps(manifest))
     assert cli.main(["verify", str(spec)]) == ExitCode.STALE
     assert f"bldc-codegen 0.0.1, this is {__version__}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("edit", "said"),
+    [
+        (lambda m: [], "it is a list, expected an object"),
+        (lambda m: dict(m, files=5), "files is an integer (5), expected an object"),
+        (lambda m: dict(m, files=["DERIVATION.md"]), "files is a list"),
+        (lambda m: dict(m, core=None), "core is an empty value (null), expected an object"),
+        (lambda m: dict(m, core=dict(m["core"], limits="x")), "core.limits is a string ('x')"),
+        (lambda m: dict(m, folders="c"), "folders is a string ('c'), expected a list"),
+        (lambda m: dict(m, spec_name=3), "spec_name is an integer (3), expected a string"),
+        (lambda m: dict(m, files={k: 1 for k in m["files"]}), "expected a SHA-256 in hex"),
+        (
+            lambda m: dict(m, files=dict(m["files"], **{"../victim.txt": "0" * 64})),
+            "files lists '../victim.txt', expected a relative path inside the folder",
+        ),
+        (
+            lambda m: dict(m, files=dict(m["files"], **{"/tmp/victim.txt": "0" * 64})),
+            "files lists '/tmp/victim.txt', expected a relative path inside the folder",
+        ),
+    ],
+)
+def test_an_edited_manifest_should_be_refused_in_one_line_naming_its_key(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+    edit: object,
+    said: str,
+) -> None:
+    """`"files": 5` had been an AttributeError in check_fresh and `"core": null` an
+    AssertionError in verify (exit 70), and entries outside the folder were hashed: an
+    edited manifest is stale output, one line naming the key and what was expected."""
+    monkeypatch.chdir(tmp_path)
+    generated = _copy_generated(tmp_path)
+    manifest = json.loads((generated / "manifest.json").read_text())
+    (generated / "manifest.json").write_text(json.dumps(edit(manifest)))  # type: ignore[operator]
+    assert cli.main(["verify", str(SPEC), "--generated", str(generated)]) == ExitCode.STALE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and said in err[0] and "regenerate with" in err[0], err
+    assert "is not as bldc-codegen wrote it (edited?)" in err[0], err
+
+
+def test_python_m_verify_should_refuse_a_manifest_with_a_null_core(tmp_path: Path) -> None:
+    """verify.run read the manifest itself: `"core": null` was an AssertionError."""
+    from verify.run import StaleOutputError as VerifyStale
+    from verify.run import read_manifest
+
+    generated = _copy_generated(tmp_path)
+    manifest = json.loads((generated / "manifest.json").read_text())
+    (generated / "manifest.json").write_text(json.dumps(dict(manifest, core=None)))
+    with pytest.raises(VerifyStale, match=r"core is an empty value \(null\), expected an"):
+        read_manifest(generated, load_spec(SPEC), str(SPEC))
+
+
+@pytest.mark.parametrize("kind", ["fifo", "link out", "folder link out"])
+def test_a_listed_file_that_is_no_regular_file_inside_the_folder_should_not_be_read(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], kind: str
+) -> None:
+    """A manifest's entry naming a FIFO had blocked verify for ever (read_bytes), and a
+    symbolic link was followed out of the folder: only regular files inside are read."""
+    generated = _copy_generated(tmp_path)
+    outside = tmp_path / "victim.txt"
+    outside.write_text("victim")
+    name = {"fifo": "a_fifo", "link out": "link", "folder link out": "ldir/victim.txt"}[kind]
+    if kind == "fifo":
+        os.mkfifo(generated / name)
+    elif kind == "link out":
+        (generated / name).symlink_to(outside)
+    else:
+        (generated / "ldir").symlink_to(tmp_path)
+    manifest = json.loads((generated / "manifest.json").read_text())
+    manifest["files"][name] = hashlib.sha256(b"victim").hexdigest()
+    (generated / "manifest.json").write_text(json.dumps(manifest))
+
+    def hung(signum: int, frame: object) -> None:
+        raise TimeoutError(f"verify blocked on {name}")
+
+    previous = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(30)  # a regression blocks in open() for ever: fail instead
+    try:
+        status = cli.main(["verify", str(SPEC), "--generated", str(generated)])
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    assert status == ExitCode.STALE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"/{name} is not a file bldc-codegen wrote (" in err[0], err
+    assert "it was not read" in err[0], err
+    assert outside.read_text() == "victim"
 
 
 def test_paths_resolve_against_the_working_directory_outside_the_repo(

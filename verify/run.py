@@ -20,6 +20,7 @@ import numpy as np
 from tqdm import tqdm
 
 from codegen.freshness import another_spec, regenerate_command
+from codegen.manifest_check import shape_problem
 from codegen.render import save_figure_atomically, write_atomically
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -75,7 +76,15 @@ def read_manifest(generated: Path, spec: Spec, spec_arg: str) -> dict[str, objec
     path = generated / "manifest.json"
     if not path.is_file():
         raise FileNotFoundError(f"no manifest in {generated}: run `{fix}`")
-    manifest = json.loads(path.read_text(encoding="utf-8"))
+    try:
+        manifest = json.loads(path.read_text(encoding="utf-8"))
+    except ValueError as exc:
+        raise StaleOutputError(f"{path} is unreadable ({exc}): regenerate with `{fix}`") from None
+    if not isinstance(manifest, dict):
+        raise StaleOutputError(
+            f"{path} is not as bldc-codegen wrote it (edited?): {shape_problem(manifest)}:"
+            f" regenerate with `{fix}`"
+        )
     other = another_spec(spec, generated, manifest)
     if other is not None:
         raise StaleOutputError(other)
@@ -88,6 +97,12 @@ def read_manifest(generated: Path, spec: Spec, spec_arg: str) -> dict[str, objec
     if "core" not in manifest:
         raise StaleOutputError(
             f"{generated} predates the manifest's core section: regenerate with `{fix}`"
+        )
+    # "core": null had been an AssertionError below (exit 70)
+    problem = shape_problem(manifest)
+    if problem is not None:
+        raise StaleOutputError(
+            f"{path} is not as bldc-codegen wrote it (edited?): {problem}: regenerate with `{fix}`"
         )
     return manifest
 
