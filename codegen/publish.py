@@ -314,13 +314,26 @@ class _Paths:
     lock: Path
 
 
+def refuse_root(target: Path) -> None:
+    """PublishError where `target`, or the link it is, names a file-system root: no
+    command writes its output there (`simulate -o /` had put its report into /). A link
+    loop is left to the write, which says so."""
+    target = Path(os.path.abspath(target))
+    try:
+        if target.is_symlink():
+            target = target.resolve()
+    except (RuntimeError, OSError):
+        return
+    if target.parent == target:
+        raise PublishError(f"{target} is a file-system root: choose a folder inside it")
+
+
 def _paths(target: Path) -> _Paths:
     target = Path(os.path.abspath(target))
     try:
         if target.is_symlink():
             target = target.resolve()  # publish into the folder the link points to
-        if target.parent == target:
-            raise PublishError(f"{target} is a file-system root: choose a folder inside it")
+        refuse_root(target)
         parent = target.parent.resolve()
     except (RuntimeError, OSError) as exc:  # RuntimeError: Python < 3.13's symlink loop
         if isinstance(exc, PublishError):

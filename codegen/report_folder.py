@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from codegen.publish import PublishError, in_the_way, signals_deferred
+from codegen.publish import PublishError, in_the_way, refuse_root, signals_deferred
 from codegen.render import write_atomically
 
 #: the names of the files bldc-codegen wrote into a report folder, one per line
@@ -82,7 +82,9 @@ def strangers(
 def refuse_strangers(
     out: Path, names: list[str], report: str, marker: str, ledger_name: str = LEDGER
 ) -> None:
-    """Raise PublishError when a file of `names` in `out` is a stranger's."""
+    """Raise PublishError when a file of `names` in `out` is a stranger's, or `out` is
+    a file-system root (`simulate -o /` had written its report into /)."""
+    refuse_root(out)
     paths = strangers(out, names, report, marker, ledger_name)
     if paths:
         raise PublishError(

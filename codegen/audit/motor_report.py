@@ -22,7 +22,14 @@ from codegen.derivation import symbols as s
 from codegen.derivation.figures import spec_figures, spec_values
 from codegen.derivation.paper import Derivation
 from codegen.derivation.switching import PHASE_NAMES
-from codegen.publish import MANIFEST, PublishError, manifest_record, publish, refuse_foreign
+from codegen.publish import (
+    MANIFEST,
+    PublishError,
+    manifest_record,
+    publish,
+    refuse_foreign,
+    refuse_root,
+)
 from codegen.render import provenance, render, write_atomically
 from codegen.spec_model import Spec
 
@@ -206,7 +213,9 @@ def refuse_foreign_reports(folder: Path, names: tuple[str, ...], derivation: boo
     """PublishError when writing the paper audit's `names` (AUDIT.md, AUDIT.html) or,
     with `derivation`, DERIVATION.md into `folder` would replace a file bldc-codegen did
     not write: `audit -o DIR` overwrote a hand-written AUDIT.md there. An audit report
-    is the tool's when its head carries AUDIT_MARKER (the audit writes no manifest)."""
+    is the tool's when its head carries AUDIT_MARKER (the audit writes no manifest).
+    A file-system root is refused (`audit -o /` had written AUDIT.md into /)."""
+    refuse_root(folder)
     for name in names:
         path = folder / name
         if not (path.exists() or path.is_symlink()):
