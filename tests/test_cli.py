@@ -81,6 +81,26 @@ def test_generate_should_take_over_the_derivation_an_audit_wrote_first(
     assert cli.main(["generate", spec]) == 0
 
 
+def test_audit_should_not_rewrite_another_specs_generated_derivation(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`audit maxon.yaml -o DIR` with DIR holding paper_motor's generated tree rewrote
+    DIR/DERIVATION.md with the Maxon's derivation (publish_derivation rewrote it wherever
+    the manifest recorded a spec): refused in one line, before the work, nothing written.
+    The tree of the same spec keeps its copy rewritten in place (the test above)."""
+    import shutil
+
+    tree = tmp_path / "paper_motor"
+    shutil.copytree(ROOT / "generated" / "paper_motor", tree)
+    before = {p: p.read_bytes() for p in tree.rglob("*") if p.is_file()}
+    maxon = ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml"
+    assert cli.main(["audit", str(maxon), "-o", str(tree)]) == 5
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert "holds the generated output of another spec, 'paper_motor', not of" in err[0], err
+    assert {p: p.read_bytes() for p in tree.rglob("*") if p.is_file()} == before
+
+
 def test_two_audits_should_be_byte_identical(tmp_path: Path) -> None:
     for out in ("one", "two"):
         assert cli.main(["audit", "-o", str(tmp_path / out)]) == 0

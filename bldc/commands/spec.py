@@ -200,9 +200,10 @@ def _audit(args: argparse.Namespace) -> int:
     reports = ("AUDIT.md", "AUDIT.html")
 
     def refuse_foreign() -> None:  # before the work, and again just before writing
-        refuse_foreign_reports(paper_dir, reports, derivation=folder == paper_dir)
+        name = spec.name if spec is not None else None
+        refuse_foreign_reports(paper_dir, reports, derivation=folder == paper_dir, spec_name=name)
         if folder is not None and folder != paper_dir:
-            refuse_foreign_reports(folder, (), derivation=True)
+            refuse_foreign_reports(folder, (), derivation=True, spec_name=name)
 
     refuse_foreign()
     derivation = derive()
@@ -216,7 +217,7 @@ def _audit(args: argparse.Namespace) -> int:
         write_atomically(paper_dir / name, text)
     motor_out = None
     if spec and folder is not None:
-        publish_derivation(motor, folder)
+        publish_derivation(motor, folder, spec.name)
         motor_out = folder / "DERIVATION.md"
     c = counts(result)
     elapsed = time.perf_counter() - started

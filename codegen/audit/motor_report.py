@@ -22,6 +22,7 @@ from codegen.derivation import symbols as s
 from codegen.derivation.figures import spec_figures, spec_values
 from codegen.derivation.paper import Derivation
 from codegen.derivation.switching import PHASE_NAMES
+from codegen.errors import show_value
 from codegen.publish import (
     MANIFEST,
     PublishError,
@@ -209,7 +210,9 @@ AUDIT_ONLY = "audit"
 AUDIT_MARKER = "Generated from template templates/audit/AUDIT."
 
 
-def refuse_foreign_reports(folder: Path, names: tuple[str, ...], derivation: bool) -> None:
+def refuse_foreign_reports(
+    folder: Path, names: tuple[str, ...], derivation: bool, spec_name: str | None = None
+) -> None:
     """PublishError when writing the paper audit's `names` (AUDIT.md, AUDIT.html) or,
     with `derivation`, DERIVATION.md into `folder` would replace a file bldc-codegen did
     not write: `audit -o DIR` overwrote a hand-written AUDIT.md there. An audit report
@@ -234,29 +237,48 @@ def refuse_foreign_reports(folder: Path, names: tuple[str, ...], derivation: boo
                 " another output folder"
             )
     if derivation:
-        manifest = folder / MANIFEST
-        try:
-            recorded = json.loads(manifest.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            recorded = None
+        recorded = _recorded(folder)
         if not (isinstance(recorded, dict) and "spec_sha256" in recorded):
             refuse_foreign(folder, (NAME, MANIFEST))
+        elif spec_name is not None:
+            refuse_another_specs_tree(folder, recorded, spec_name)
 
 
-def publish_derivation(text: str, folder: Path) -> None:
+def _recorded(folder: Path) -> object:
+    """The manifest of `folder`, as JSON; None where there is none or it is unreadable."""
+    try:
+        return json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+
+
+def refuse_another_specs_tree(folder: Path, recorded: dict[str, object], spec_name: str) -> None:
+    """PublishError where `folder` is the generated tree of a spec other than
+    `spec_name`: its DERIVATION.md is that spec's (`audit maxon.yaml -o` paper_motor's
+    tree had rewritten paper_motor's derivation with the Maxon's). The tree of the same
+    spec keeps its copy rewritten in place."""
+    name = recorded.get("spec_name")
+    if name == spec_name:
+        return
+    raise PublishError(
+        f"{folder} holds the generated output of another spec, {show_value(name)}, not of"
+        f" {spec_name!r}: its DERIVATION.md is that spec's; give -o a folder of"
+        f" {spec_name}'s own"
+    )
+
+
+def publish_derivation(text: str, folder: Path, spec_name: str) -> None:
     """Write DERIVATION.md into `folder` as bldc-codegen's own file, so that a later
     `generate` into the same folder replaces it instead of refusing it as foreign.
 
     In a generated tree (its manifest records a spec) the file is the tree's own and is
     rewritten in place (the same bytes while the spec is unchanged); anywhere else it is
     published with a manifest of its own that lists it alone, marked `"output": "audit"`
-    (`codegen.freshness` says so instead of calling the folder stale)."""
-    manifest = folder / MANIFEST
-    try:
-        recorded = json.loads(manifest.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        recorded = None
+    (`codegen.freshness` says so instead of calling the folder stale). Another spec's
+    generated tree is refused (`refuse_another_specs_tree`)."""
+    recorded = _recorded(folder)
     if isinstance(recorded, dict) and "spec_sha256" in recorded:
+        refuse_another_specs_tree(folder, recorded, spec_name)
         write_atomically(folder / NAME, text)
         return
     files = {NAME: text}
