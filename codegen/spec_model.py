@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Literal
 
@@ -84,8 +85,22 @@ class BackEmfShape:
         if self.frozen:
             return "flat (the paper's EMFs frozen at the edge)"
         if self.flat_top_deg is not None:
-            return f"trapezoid, {float(self.flat_top_deg):g} deg flat top"
+            return f"trapezoid, {_width_text(self.flat_top_deg)} deg flat top"
         return f"measured table, {len(self.points)} points"
+
+
+def _width_text(value: Fraction, digits: int = 12) -> str:
+    """A flat-top width as the spec wrote it: its exact decimal (`:g` had shown
+    '119.9999999 deg' as 120, in a refusal whose allowed value was '120 deg'), or
+    `digits` significant digits where it has no finite decimal expansion."""
+    denominator = value.denominator
+    for p in (2, 5):
+        while denominator % p == 0:
+            denominator //= p
+    with localcontext() as context:
+        context.prec = 100 if denominator == 1 else digits
+        shown = Decimal(value.numerator) / Decimal(value.denominator)
+    return f"{shown.normalize():f}"
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,11 @@ from codegen.spec_model import BackEmfShape, Inverter, Tolerances
 EMF_SHAPE_KEY = "back_emf_shape"
 TOLERANCES_KEY = "tolerances"
 TOLERANCE_KEYS = ("phase_resistance", "phase_inductance", "back_emf_constant", "bus_voltage")
-_WIDTH = re.compile(r"^\s*(?P<number>[-+]?(?:\d+\.?\d*|\.\d+))\s*(?:deg|°)\s*$")
+#: ASCII digits only (\d also took '١٢٠ deg'), at most 30 before and after the point as
+#: in a quantity (codegen.units)
+_WIDTH = re.compile(
+    r"^\s*(?P<number>[-+]?(?:[0-9]{1,30}\.?[0-9]{0,30}|\.[0-9]{1,30}))\s*(?:deg|°)\s*$", re.ASCII
+)
 _WIDTH_ALLOWED = (
     "'flat', '<w> deg' with 0 < w < 180 electrical degrees, or a table of [angle_deg, e/E]"
 )

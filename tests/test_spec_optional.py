@@ -113,6 +113,10 @@ def test_measured_table_should_be_interpolated(tmp_path: Path) -> None:
         ("180 deg", ("motor.back_emf_shape", "0 < w < 180 deg")),
         ("120", ("motor.back_emf_shape", "'<w> deg'")),
         ("flats", ("motor.back_emf_shape", "'flat'")),
+        # \d took other scripts' digits: '١٢٠ deg' loaded as a 120 deg flat top
+        ('"\u0661\u0662\u0660 deg"', ("motor.back_emf_shape", "not a flat-top width")),
+        # digits as many as a quantity takes (int()'s limit is 4300)
+        (f'"{"1" * 70} deg"', ("motor.back_emf_shape", "'<w> deg'")),
         ("[[0, 0], [90, 1], [170, 0]]", ("motor.back_emf_shape", "from 0 deg to 180 deg")),
         ("[[0, 0], [90, 1], [80, 1], [180, 0]]", ("motor.back_emf_shape[2]", "not above")),
         ("[[0, 0.1], [90, 1], [180, 0]]", ("motor.back_emf_shape", "0 at 0 deg and 180 deg")),
@@ -133,6 +137,33 @@ def test_bad_emf_shape_should_name_the_key_and_the_allowed_range(
     message = str(error.value)
     assert all(f in message for f in fragments), message
     assert "shape.yaml:" in message  # the YAML line
+
+
+@pytest.mark.parametrize(
+    ("width", "shown"),
+    [
+        (Fraction("119.9999999"), "trapezoid, 119.9999999 deg flat top"),
+        (Fraction(120), "trapezoid, 120 deg flat top"),
+        (Fraction("150.5"), "trapezoid, 150.5 deg flat top"),
+        (Fraction(400, 3), "trapezoid, 133.333333333 deg flat top"),
+    ],
+)
+def test_a_flat_top_width_should_be_described_as_written(width: Fraction, shown: str) -> None:
+    """`back_emf_shape: "119.9999999 deg"` under improved_r was refused as 'trapezoid,
+    120 deg flat top' (`:g`), with '120 deg' as the allowed value: the width is shown
+    exactly, so that it differs visibly from the allowed one."""
+    assert BackEmfShape.trapezoid(width).describe() == shown
+
+
+def test_a_width_just_off_120_deg_should_be_refused_showing_its_digits(tmp_path: Path) -> None:
+    from codegen.generate import render_all
+    from codegen.methods.base import FixedPointError
+
+    path = _with_shape(tmp_path, '"119.9999999 deg"')
+    path.write_text(path.read_text().replace("method: improved\n", "method: improved_r\n"))
+    with pytest.raises(FixedPointError) as error:
+        render_all(path)
+    assert "'trapezoid, 119.9999999 deg flat top'" in str(error.value), error.value
 
 
 def test_tolerances_should_load_as_fractions(tmp_path: Path) -> None:
