@@ -309,3 +309,29 @@ def test_an_unknown_warning_id_is_an_error_that_suggests_the_right_one(tmp_path:
     with pytest.raises(SpecError, match=r"did you mean 'dead-time-short'\?") as caught:
         load_spec(spec)
     assert caught.value.path == "warnings.silence[0]"
+
+
+@pytest.mark.parametrize("entry", ["bldc simulate", "bldc robustness", "sim", "sim.robustness"])
+def test_a_bad_spec_exits_3_through_every_simulation_entry_point(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], entry: str
+) -> None:
+    """`python -m sim` and `python -m sim.robustness` exited 2 on a bad spec, the status
+    `bldc-codegen` gives a bad command line, where `bldc-codegen simulate` and
+    `robustness` exit 3: every entry point exits 3, the same one line."""
+    from bldc import cli
+    from sim import cli as sim_cli
+    from sim import robustness
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(TEXT.replace("  poles: 2\n", "  poles: 3\n"), encoding="utf-8")
+    argv = [str(spec), "-o", str(tmp_path / "out"), "--no-progress"]
+    mains = {
+        "bldc simulate": lambda: cli.main(["simulate", *argv]),
+        "bldc robustness": lambda: cli.main(["robustness", *argv]),
+        "sim": lambda: sim_cli.main(argv),
+        "sim.robustness": lambda: robustness.main(argv),
+    }
+    assert mains[entry]() == ExitCode.SPEC
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "motor.poles" in lines[0], lines
+    assert not (tmp_path / "out").exists()
