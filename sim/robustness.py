@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from codegen.errors import ExitCode, SpecError
+from codegen.errors import ExitCode, SpecError, show_value
 from codegen.interrupts import interrupts_kept, raise_noted
 from codegen.publish import os_error_line, require_writable_folder
 from codegen.report_folder import refuse_strangers, staged_report
@@ -412,15 +412,21 @@ def _run(args: argparse.Namespace) -> int:
     from sim.runs import METHODS
     from sim.sil import SilError, SpecRefusedError
 
-    methods = tuple(m for m in args.methods.split(",") if m)
+    # every item a method: 'improved,,none' had dropped its empty item and run on
+    methods = tuple(args.methods.split(","))
     bad = [m for m in methods if m not in METHODS]
-    if bad or not methods:
-        print(f"error: --methods {args.methods!r}: allowed {', '.join(METHODS)}", file=sys.stderr)
+    if bad:
+        item = "an empty item" if bad[0] == "" else f"{show_value(bad[0])} is no method"
+        print(
+            f"error: --methods {show_value(args.methods)}: {item} (allowed: a comma-separated"
+            f" list of {', '.join(METHODS)})",
+            file=sys.stderr,
+        )
         return EXIT_USAGE
     repeated = list(dict.fromkeys(m for m in methods if methods.count(m) > 1))
     if repeated:  # `improved,improved` ran every row twice
         print(
-            f"error: --methods {args.methods!r}: {', '.join(repeated)} given more than once"
+            f"error: --methods {show_value(args.methods)}: {', '.join(repeated)} given more than once"
             f" (allowed: each of {', '.join(METHODS)} once)",
             file=sys.stderr,
         )

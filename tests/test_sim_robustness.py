@@ -76,6 +76,20 @@ def test_robustness_should_refuse_bad_arguments_with_one_line(
     assert capsys.readouterr().err.splitlines()[-1].endswith("argument --samples: 1: at least 2")
 
 
+@pytest.mark.parametrize("methods", ["improved,,none", "improved,", ",none", ""])
+def test_an_empty_method_should_be_refused_not_dropped(
+    capsys: pytest.CaptureFixture[str], methods: str
+) -> None:
+    """`--methods 'improved,,none'` dropped its empty item and ran the others: refused
+    as a usage error in one line, before any work."""
+    assert main([str(SPEC), "--methods", methods]) == ExitCode.USAGE
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        f"error: --methods {methods!r}: an empty item (allowed: a comma-separated list of"
+        " none, conventional, improved, improved_r)"
+    ]
+
+
 def test_a_method_given_twice_should_be_refused_not_run_twice(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
