@@ -37,7 +37,7 @@ from codegen.dead_time import (
     SECTOR_SHORTENING_DEFAULT_PERCENT,
     sector_margin_shift,
 )
-from codegen.errors import SpecError
+from codegen.errors import SpecError, show_value
 from codegen.render import write_atomically
 from codegen.spec_drive import (
     INIT_COMMUTATION_SHARE,
@@ -249,12 +249,15 @@ def _count(low: int, high: int, step: int = 1) -> object:
         if (
             not text.isascii()
             or not text.isdigit()
+            # more than 4300 digits: int() raised ValueError, argparse's "invalid count
+            # value: '1111...'" echoing every digit
+            or len(text.lstrip("0")) > len(str(high))
             or not low <= int(text) <= high
             or (int(text) - low) % step
         ):
             even = "an even" if step == 2 else "a"
             raise argparse.ArgumentTypeError(
-                f"{text!r} is not {even} whole number from {low} to {high}"
+                f"{show_value(text)} is not {even} whole number from {low} to {high}"
             )
         return int(text)
 

@@ -577,6 +577,8 @@ _MANY_DIGITS = "1" * 5000
         (["verify", "SPEC", "--seed", _MANY_DIGITS], "(allowed: [0, 4294967295])"),
         (["verify", "SPEC", "--random", _MANY_DIGITS], "(allowed: [0, 100000000])"),
         (["robustness", "SPEC", "--seed", _MANY_DIGITS], "argument --seed: 111"),
+        (["init", "x", "--pole-pairs", _MANY_DIGITS], "is not a whole number from 1 to 64"),
+        (["init", "x", "--poles", _MANY_DIGITS], "is not an even whole number from 2 to 128"),
     ],
 )
 def test_a_numeric_option_of_many_digits_should_be_one_clipped_line_at_once(
