@@ -1130,23 +1130,24 @@ def test_make_targets_honour_spec(tmp_path: Path) -> None:
             check=True,
         ).stdout
 
+    # each spec reaches the shell single-quoted (a '(' or a quote in a path)
     for target in ("derive", "generate", "firmware"):
         out = dry_run(target, "SPEC=my/motor.yaml")
-        assert f"-m codegen {target} my/motor.yaml" in out, (target, out)
+        assert f"-m codegen {target} 'my/motor.yaml'" in out, (target, out)
         assert "spec/paper_motor.yaml" not in out, (target, out)
-    assert "-m emulation my/motor.yaml" in dry_run("bench", "SPEC=my/motor.yaml")
+    assert "-m emulation 'my/motor.yaml'" in dry_run("bench", "SPEC=my/motor.yaml")
     for target in ("verify", "unity", "simulate"):
         out = dry_run(target, "SPEC=my/motor.yaml")
-        assert "for spec in my/motor.yaml; do" in out, (target, out)
-        assert f"-m codegen {target} $spec" in out, (target, out)
-    assert "-m codegen audit my/motor.yaml" in dry_run("audit", "SPEC=my/motor.yaml")
+        assert "for spec in 'my/motor.yaml'; do" in out, (target, out)
+        assert f'-m codegen {target} "$spec"' in out, (target, out)
+    assert "-m codegen audit 'my/motor.yaml'" in dry_run("audit", "SPEC=my/motor.yaml")
     assert dry_run("audit").rstrip().endswith("-m codegen audit")  # the paper's audit alone
-    assert "-m verify.prove my/motor.yaml" in dry_run("prove", "SPEC=my/motor.yaml")
-    assert "-m emulation.pil.report my/motor.yaml" in dry_run("pil", "SPEC=my/motor.yaml")
-    assert "for spec in my/motor.yaml; do" in dry_run("robustness", "SPEC=my/motor.yaml")
+    assert "-m verify.prove 'my/motor.yaml'" in dry_run("prove", "SPEC=my/motor.yaml")
+    assert "-m emulation.pil.report 'my/motor.yaml'" in dry_run("pil", "SPEC=my/motor.yaml")
+    assert "for spec in 'my/motor.yaml'; do" in dry_run("robustness", "SPEC=my/motor.yaml")
     assert "spec/paper_motor_improved_r.yaml" in dry_run("verify")
     assert "spec/example_maxon_ec45_flat_48v.yaml" in dry_run("simulate")
-    assert "-m codegen firmware spec/paper_motor.yaml" in dry_run("firmware")
+    assert "-m codegen firmware 'spec/paper_motor.yaml'" in dry_run("firmware")
 
 
 def test_a_bad_spec_is_reported_without_loading_the_derivation(tmp_path: Path) -> None:
