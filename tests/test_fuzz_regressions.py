@@ -381,3 +381,17 @@ def test_the_hostile_fuzzers_seeded_sample_finds_nothing(
     status = fuzzer.load_phase(seed=1, count=250, only=None, limit=10.0, do_design=False)
     out = capsys.readouterr().out
     assert status == 0, out
+
+
+def test_a_pi_no_bandwidth_fits_should_name_the_motor_values_behind_it(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # a hunt: init --resistance 0.0001 ohm (the loader's least) wrote a spec whose PI
+    # fits at no bandwidth, and the one line named current_loop.bandwidth alone, which
+    # no value fixes: it now names R and L, whose ratio sets k_i
+    spec = tmp_path / "m.yaml"
+    assert main(["init", "m", "-o", str(spec), "--resistance", "0.0001 ohm"]) == ExitCode.SPEC
+    err = capsys.readouterr().err.splitlines()
+    (line,) = [x for x in err if x.startswith("error: ")]
+    assert "current_loop.bandwidth" in line
+    assert "L/R = 5.6 s" in line and "motor.phase_resistance = 0.0001 ohm" in line, line

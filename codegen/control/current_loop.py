@@ -578,7 +578,17 @@ def _hold_claims(d: LoopDesign) -> None:
             meets = f"e.g. {float(faster):g} Hz meets it"
         else:
             found = _larger_gain(d.spec)
-            meets = "none up to the loader's limit in the PI's widest format"
+            motor = d.spec.motor
+            tau = motor.phase_inductance_h / motor.phase_resistance_ohm
+            periods_tau = tau * d.spec.inverter.pwm_frequency_hz
+            # what sets k_i's smallness: a misread resistance (0.0001 ohm) had the line
+            # name the bandwidth alone, which no value fixes (a hunt)
+            meets = (
+                "none up to the loader's limit in the PI's widest format: k_i / k_p = R / L,"
+                f" L/R = {float(tau):.4g} s = {float(periods_tau):.4g} PWM periods from"
+                f" motor.phase_resistance = {float(motor.phase_resistance_ohm):g} ohm and"
+                f" motor.phase_inductance = {float(motor.phase_inductance_h):g} H"
+            )
             if found is not None:
                 gain, needed = found
                 meets += (
