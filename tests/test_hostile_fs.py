@@ -244,6 +244,17 @@ def test_an_empty_path_is_a_usage_error_not_the_default_folder(
     assert list(tmp_path.iterdir()) == []
 
 
+def _make(*args: str, timeout: float = 30) -> subprocess.CompletedProcess[str]:
+    """make in the project, unchecked."""
+    return subprocess.run(
+        ["make", "--no-print-directory", "-C", str(ROOT), *args],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
+
+
 def test_make_refuses_a_spec_path_with_a_space_in_one_line(tmp_path: Path) -> None:
     """Was: `make generate SPEC="my motors/m.yaml"` ran `generate my motors/m.yaml`, a
     usage error about an unrecognized argument. make cannot quote it: it says so."""
@@ -251,24 +262,13 @@ def test_make_refuses_a_spec_path_with_a_space_in_one_line(tmp_path: Path) -> No
     folder.mkdir()
     spec = folder / "m.yaml"
     spec.write_bytes(SPEC.read_bytes())
-    proc = subprocess.run(
-        ["make", "-n", "-C", str(ROOT), "generate", f"SPEC={spec}"],
-        capture_output=True,
-        text=True,
-        timeout=30,
-        check=False,
-    )
+    proc = _make("-n", "generate", f"SPEC={spec}")
     assert proc.returncode == 2, proc.stdout + proc.stderr
     assert f'no file "{tmp_path / "my"}": make splits SPEC at spaces' in proc.stderr
     assert "-m codegen generate" not in proc.stdout
     # several specs, each a file, still go through
-    two = f"SPEC={SPEC} {ROOT / 'spec' / 'example_maxon_ec45_flat_48v.yaml'}"
-    proc = subprocess.run(
-        ["make", "-n", "-C", str(ROOT), "verify", two],
-        capture_output=True,
-        text=True,
-        timeout=30,
-        check=False,
+    proc = _make(
+        "-n", "verify", f"SPEC={SPEC} {ROOT / 'spec' / 'example_maxon_ec45_flat_48v.yaml'}"
     )
     assert proc.returncode == 0, proc.stderr
     assert "example_maxon_ec45_flat_48v.yaml'; do" in proc.stdout
@@ -281,22 +281,10 @@ def test_make_should_pass_a_spec_path_with_shell_characters_quoted(tmp_path: Pat
     for name in ("m(1).yaml", "it's.yaml"):
         spec = tmp_path / name
         spec.write_bytes(SPEC.read_bytes())
-        proc = subprocess.run(
-            ["make", "--no-print-directory", "-C", str(ROOT), "derive", f"SPEC={spec}"],
-            capture_output=True,
-            text=True,
-            timeout=120,
-            check=False,
-        )
+        proc = _make("derive", f"SPEC={spec}", timeout=120)
         assert proc.returncode == 0, proc.stdout + proc.stderr
         assert "Eq. 18" in proc.stdout or "t_com" in proc.stdout, proc.stdout
-    proc = subprocess.run(
-        ["make", "-n", "-C", str(ROOT), "derive", f"SPEC={tmp_path}/$HOME.yaml"],
-        capture_output=True,
-        text=True,
-        timeout=30,
-        check=False,
-    )
+    proc = _make("-n", "derive", f"SPEC={tmp_path}/$HOME.yaml")
     assert proc.returncode == 2
     (line,) = [x for x in proc.stderr.splitlines() if "SPEC contains" in x]
     assert "'$'" in line and "-m codegen derive" not in proc.stdout

@@ -1102,9 +1102,12 @@ def test_a_run_that_compares_nothing_should_say_why_each_edge_was_not_compared(
     ]
 
 
-def _fixture_braking(tmp_path: Path, name: str, max_edges: int | None = None) -> BrakingResult:
+def _fixture_braking(
+    tmp_path: Path, name: str, max_edges: int | None = None, *, sil: bool = True
+) -> BrakingResult:
     """A braking run of tests/fixtures/pil/`name`, generated and linked under tmp_path,
-    compared with the SIL: the short run, or the whole run's first `max_edges` edges."""
+    compared with the SIL (unless not `sil`): the short run, or the whole run's first
+    `max_edges` edges."""
     path = ROOT / "tests" / "fixtures" / "pil" / name
     spec = load_spec(path)
     generated = generate(path, tmp_path / "generated")
@@ -1112,7 +1115,7 @@ def _fixture_braking(tmp_path: Path, name: str, max_edges: int | None = None) ->
     setup = braking_setup(spec, short=max_edges is None)
     if max_edges is not None:
         setup = replace(setup, max_edges=max_edges, trace_seconds=0.0)
-    return brake(elf, generated / "c" / "stm32f103_port.c", spec, setup)
+    return brake(elf, generated / "c" / "stm32f103_port.c", spec, setup, sil=sil)
 
 
 def _compared(result: BrakingResult, at_least: int) -> list[Commutation]:
@@ -1250,13 +1253,7 @@ def test_an_end_a_few_counts_before_a_trigger_should_leave_the_next_sample_to_th
     (tests/emulation/test_end_reads.py catches the port without the wait on the paper
     motor and a centre-aligned one; here, where the lock-in needs the whole run's
     history, whether it shows moves with the handlers' cycles)."""
-    path = ROOT / "tests" / "fixtures" / "pil" / "conv_ltl_end_before_trigger.yaml"
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    elf = build_firmware(path, tmp_path, generated)
-    setup = replace(braking_setup(spec, short=False), max_edges=700, trace_seconds=0.0)
-    port = generated / "c" / "stm32f103_port.c"
-    result = brake(elf, port, spec, setup, sil=False)
+    result = _fixture_braking(tmp_path, "conv_ltl_end_before_trigger.yaml", 700, sil=False)
     assert result.edges >= 700
     assert result.outcome.violations == (), result.outcome.violations
 

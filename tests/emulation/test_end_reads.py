@@ -39,17 +39,28 @@ def _access_index(trace: tuple, address: int, write: bool = False) -> int:
     return index
 
 
+def _built(relative: str, tmp_path: Path) -> tuple[Spec, Path, Path]:
+    """The spec, its generated folder and its firmware ELF."""
+    path = PROJECT_ROOT / relative
+    generated = generate(path, tmp_path / "generated")
+    build(generated, tmp_path / "build")
+    return load_spec(path), generated, tmp_path / "build" / "firmware.elf"
+
+
+def _rig_before_an_end(spec: Spec, elf: Path) -> PortRig:
+    """The drive running, a Hall edge's commutation pending its end."""
+    rig = PortRig(spec, elf)
+    rig.prime(2800, 2100, 2000)
+    rig.hall_edge(spec.hall.sequence[2], 2000)
+    return rig
+
+
 @pytest.mark.parametrize("relative", SPECS, ids=lambda p: Path(p).stem)
 def test_the_end_should_store_the_com_and_read_adc_sr_within_their_gaps_after_tim1_cnt(
     relative: str, tmp_path: Path
 ) -> None:
-    path = PROJECT_ROOT / relative
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    build(generated, tmp_path / "build")
-    rig = PortRig(spec, tmp_path / "build" / "firmware.elf")
-    rig.prime(2800, 2100, 2000)
-    rig.hall_edge(spec.hall.sequence[2], 2000)
+    spec, _, elf = _built(relative, tmp_path)
+    rig = _rig_before_an_end(spec, elf)
     end = rig.commutation_end()
     # the usual end (mid-period): the wait's read, then the age's
     first, counter = _access_indices(end.trace, _register("TIM1", "CNT"))
@@ -80,13 +91,8 @@ def test_an_end_before_an_imminent_trigger_should_wait_it_out_before_its_com(
     conventional motor whose ends kept landing a few counts before a trigger)."""
     from codegen.port_drive import wait_counts
 
-    path = PROJECT_ROOT / relative
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    build(generated, tmp_path / "build")
-    rig = PortRig(spec, tmp_path / "build" / "firmware.elf")
-    rig.prime(2800, 2100, 2000)
-    rig.hall_edge(spec.hall.sequence[2], 2000)
+    spec, _, elf = _built(relative, tmp_path)
+    rig = _rig_before_an_end(spec, elf)
     end = rig.commutation_end(trigger_in=rig.wait_counts)
     reads = _access_indices(end.trace, _register("TIM1", "CNT"))
     com = _access_index(end.trace, _register("TIM1", "EGR"), write=True)
@@ -123,9 +129,7 @@ def _end_then_samples(elf: Path, spec: Spec, generated: Path, ahead: int | None)
     far), the sequence that trigger begins if it fires before the end's COM event (the
     carrier's restart), then one sequence begun after the end: the current the loop
     holds after them (each sequence its own code)."""
-    rig = PortRig(spec, elf)
-    rig.prime(2800, 2100, 2000)
-    rig.hall_edge(spec.hall.sequence[2], 2000)
+    rig = _rig_before_an_end(spec, elf)
     end = rig.commutation_end(trigger_in=ahead if ahead is not None else 1000)
     first = _access_indices(end.trace, _register("TIM1", "CNT"))[0]
     com = _access_index(end.trace, _register("TIM1", "EGR"), write=True)
@@ -151,11 +155,7 @@ def test_an_end_a_few_counts_before_a_trigger_should_leave_the_next_sample_to_th
     port without the wait (a mutant) drops the clean one."""
     from emulation.pil.build import link_mutant
 
-    path = PROJECT_ROOT / relative
-    spec = load_spec(path)
-    generated = generate(path, tmp_path / "generated")
-    build(generated, tmp_path / "build")
-    elf = tmp_path / "build" / "firmware.elf"
+    spec, generated, elf = _built(relative, tmp_path)
 
     def no_wait(copy: Path) -> None:
         source = copy / "c" / "stm32f103_port.c"
@@ -166,9 +166,7 @@ def test_an_end_a_few_counts_before_a_trigger_should_leave_the_next_sample_to_th
 
     mutant = link_mutant(generated, tmp_path / "mutant", no_wait)
     # where the mutant's COM event lands 2 counts before the trigger: its reads' gap
-    rig = PortRig(spec, mutant)
-    rig.prime(2800, 2100, 2000)
-    rig.hall_edge(spec.hall.sequence[2], 2000)
+    rig = _rig_before_an_end(spec, mutant)
     end = rig.commutation_end(trigger_in=1000)
     first = _access_indices(end.trace, _register("TIM1", "CNT"))[0]
     com = _access_index(end.trace, _register("TIM1", "EGR"), write=True)
