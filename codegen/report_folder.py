@@ -7,15 +7,25 @@ and only if no file of the same name in the folder is a stranger's: a hand-writt
 SIMULATION.md in the folder given with -o stops the run, in one line, before anything
 in the folder changes (it had been overwritten).
 
-Which files are the tool's: those its ledger in the folder lists (`LEDGER`). The
-ledger is written before the moves, listing the new report's names too, so that a run
-stopped between two moves (SIGKILL) leaves no file of its own unlisted (the next run had
-refused its own figure as a stranger's); SIGINT, SIGTERM and SIGHUP wait for the moves
-(`signals_deferred`). After them the tool's files of an earlier report that the new one
-does not have (a figure of a speed no longer simulated) are removed, and the ledger
-lists what is there. A folder from before the ledger counts as the tool's when its
-report carries the tool's own header (`marker`); then every file of the new report is
-taken to be one the tool wrote before, and nothing else is removed.
+Which files are the tool's: those its ledger in the folder lists (`LEDGER`, a line
+`name<TAB>sha256` for each) whose content still has the SHA-256 recorded, read only
+where the name is a regular file inside the folder. A line without a hash, a file since
+changed, a link, a FIFO or a name leading outside the folder is a stranger's: never
+removed, and never replaced (a forged line "mine.txt" had the next run delete the
+user's mine.txt). The ledger is written before the moves, listing the new report's
+files with the hashes of what was staged, beside the earlier entries' own, so that a
+run stopped between two moves (SIGKILL) leaves no file of its own unlisted (the next
+run had refused its own figure as a stranger's); SIGINT, SIGTERM and SIGHUP wait for
+the moves (`signals_deferred`). After them the tool's files of an earlier report that
+the new one does not have (a figure of a speed no longer simulated) are removed, each
+only while its hash still matches, and the ledger lists what is there. A folder from
+before the ledger, or whose ledger holds no hash at all (an earlier version's), counts
+as the tool's when its report carries the tool's own header (`marker`); then every
+file of the new report is taken to be one the tool wrote before, and nothing else is
+removed.
+
+The firmware build's ledger (`BUILD_LEDGER`) lists names only: a build claims them
+before its compiler writes them, and removes none but its own objects' reports.
 
 The staging folder's name carries the process id: one left by a process that no longer
 runs (killed while rendering) is removed by the next run into the same folder.
@@ -23,21 +33,25 @@ runs (killed while rendering) is removed by the next run into the same folder.
 
 from __future__ import annotations
 
+import hashlib
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from codegen.manifest_check import read_listed
 from codegen.publish import PublishError, in_the_way, refuse_root, signals_deferred
 from codegen.render import write_atomically
 
-#: the names of the files bldc-codegen wrote into a report folder, one per line
+#: the files bldc-codegen wrote into a report folder, a line `name<TAB>sha256` each
 LEDGER = ".bldc-codegen-report"
-#: the same for a firmware build folder: its own, so that a report written into the
-#: folder never takes the image for a former report's files (and deletes it)
+#: the same for a firmware build folder, names only: its own, so that a report written
+#: into the folder never takes the image for a former report's files (and deletes it)
 BUILD_LEDGER = ".bldc-codegen-build"
+_SHA256 = re.compile(r"[0-9a-f]{64}", re.ASCII)
 
 
 def owned_names(
@@ -45,21 +59,84 @@ def owned_names(
 ) -> frozenset[str] | None:
     """The names of `out`'s files the tool wrote; None when every name counts as the
     tool's (a report folder from before the ledger, its report carrying `marker`)."""
-    ledger = out / ledger_name
-    if ledger.is_file():
-        # plain names only (a report folder is flat): a ledger line "/tmp/x" or "../x"
-        # had the next run delete that file outside the folder
-        names = ledger.read_text(encoding="utf-8", errors="replace").splitlines()
-        return frozenset(n for n in names if n not in ("", ".", "..") and _plain_name(n))
+    if ledger_name != LEDGER:
+        lines = _ledger_lines(out, ledger_name)
+        if lines is not None:
+            return frozenset(n for n in lines if _plain_name(n))
+        return _by_marker(out, report, marker)
+    owned = owned_hashes(out, report, marker)
+    return None if owned is None else frozenset(owned)
+
+
+def owned_hashes(out: Path, report: str, marker: str) -> dict[str, str] | None:
+    """The files of `out` the report ledger lists whose content still has a recorded
+    SHA-256: name -> that hash. None when every name counts as the tool's (no ledger,
+    or one without hashes, and a report carrying `marker`)."""
+    lines = _ledger_lines(out, LEDGER)
+    recorded = _recorded(lines or [])
+    if not recorded:
+        return None if _by_marker(out, report, marker) is None and _legacy(lines) else {}
+    owned = {}
+    for name, digests in recorded.items():
+        current = digest_of(out, name)
+        if current is not None and current in digests:
+            owned[name] = current
+    return owned
+
+
+def _legacy(lines: list[str] | None) -> bool:
+    """Whether `out` has no ledger, or one of an earlier version (names, no hashes)."""
+    return lines is None or not any("\t" in line for line in lines)
+
+
+def _by_marker(out: Path, report: str, marker: str) -> frozenset[str] | None:
+    """None (every name the tool's) when `out`'s report carries `marker`, else none."""
     try:
-        head = (out / report).read_text(encoding="utf-8", errors="replace")[:2000]
+        head = read_listed(out, report)[:8000].decode("utf-8", errors="replace")
     except OSError:
         return frozenset()
     return None if marker in head else frozenset()
 
 
+def _ledger_lines(out: Path, ledger_name: str) -> list[str] | None:
+    """The ledger's lines; None where there is none, no line where it is no regular
+    file (a FIFO had blocked the run, a link is read as listing nothing)."""
+    try:
+        data = read_listed(out, ledger_name)
+    except FileNotFoundError:
+        return None
+    except OSError:
+        return []
+    return data.decode("utf-8", errors="replace").splitlines()
+
+
+def _recorded(lines: list[str]) -> dict[str, set[str]]:
+    """The ledger's `name<TAB>sha256` lines: name -> the hashes recorded for it (two
+    while a run moves a new file over an earlier one). A line without a well-formed
+    hash, or naming anything but a plain file name, records nothing."""
+    recorded: dict[str, set[str]] = {}
+    for line in lines:
+        name, tab, digest = line.partition("\t")
+        if tab and _plain_name(name) and _SHA256.fullmatch(digest):
+            recorded.setdefault(name, set()).add(digest)
+    return recorded
+
+
+def digest_of(folder: Path, name: str) -> str | None:
+    """The SHA-256 of `folder`/`name` where it is a regular file inside `folder`
+    (read without following a link or opening a FIFO); None otherwise."""
+    if not _plain_name(name):
+        return None
+    try:
+        return hashlib.sha256(read_listed(folder, name)).hexdigest()
+    except OSError:
+        return None
+
+
 def _plain_name(name: str) -> bool:
-    return not any(c in name for c in "/\\\0")
+    """A file name of the flat folder: a ledger line "/tmp/x" or "../x" had the next
+    run delete that file outside it."""
+    return name not in ("", ".", "..") and not any(c in name for c in "/\\\0")
 
 
 def strangers(
@@ -87,9 +164,10 @@ def refuse_strangers(
     refuse_root(out)
     paths = strangers(out, names, report, marker, ledger_name)
     if paths:
+        listed = "list it with its content's SHA-256" if ledger_name == LEDGER else "list it"
         raise PublishError(
             f"{in_the_way(paths, out)} not written by bldc-codegen (the folder's"
-            f" {ledger_name} does not list it): move it away or choose another output folder"
+            f" {ledger_name} does not {listed}): move it away or choose another output folder"
         )
 
 
@@ -108,18 +186,16 @@ def staged_report(out: Path, report: str, marker: str) -> Iterator[Path]:
         yield staging
         names = sorted(p.name for p in staging.iterdir())
         refuse_strangers(out, names, report, marker)
-        owned = owned_names(out, report, marker) if out.is_dir() else frozenset()
+        earlier = owned_hashes(out, report, marker) or {}
+        staged = {name: digest_of(staging, name) for name in names}
         out.mkdir(parents=True, exist_ok=True)
-        earlier = set(owned) if owned is not None else set()
         with signals_deferred():
-            _write_ledger(out, earlier | set(names))
+            _write_hashed_ledger(out, [*earlier.items(), *staged.items()])
             for name in names:
                 os.replace(staging / name, out / name)
-            for name in sorted(earlier - set(names)):
-                path = out / name
-                if path.is_file() and not path.is_symlink():
-                    path.unlink()
-            _write_ledger(out, {n for n in names if (out / n).is_file()})
+            kept = _remove_earlier(out, {n: d for n, d in earlier.items() if n not in staged})
+            listed = [(n, d) for n, d in staged.items() if (out / n).is_file()]
+            _write_hashed_ledger(out, [*listed, *kept.items()])
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 
@@ -132,6 +208,26 @@ def claim_build_names(out: Path, names: list[str], report: str, marker: str) -> 
     owned = owned_names(out, report, marker, BUILD_LEDGER)
     out.mkdir(parents=True, exist_ok=True)
     _write_ledger(out, set(owned or ()) | set(names), BUILD_LEDGER)
+
+
+def _remove_earlier(out: Path, earlier: dict[str, str]) -> dict[str, str]:
+    """Remove the earlier report's files the new one does not have, each only while its
+    content has the hash recorded; those that could not go (still the tool's)."""
+    kept = {}
+    for name, digest in sorted(earlier.items()):
+        if digest_of(out, name) != digest:
+            continue  # changed since: a stranger's now
+        try:
+            (out / name).unlink()
+        except OSError:
+            kept[name] = digest
+    return kept
+
+
+def _write_hashed_ledger(out: Path, entries: list[tuple[str, str | None]]) -> None:
+    """The report ledger: a line `name<TAB>sha256` for each entry with a hash."""
+    lines = sorted({f"{name}\t{digest}\n" for name, digest in entries if digest is not None})
+    write_atomically(out / LEDGER, "".join(lines))
 
 
 def _write_ledger(out: Path, names: set[str], ledger_name: str = LEDGER) -> None:

@@ -27,12 +27,17 @@ def _snapshot(folder: Path) -> dict[str, str]:
     return {p.name: p.read_text() for p in sorted(folder.iterdir())}
 
 
+def _listed(out: Path) -> list[str]:
+    """The names the report ledger lists (a line `name<TAB>sha256` each)."""
+    return [line.split("\t")[0] for line in (out / LEDGER).read_text().splitlines()]
+
+
 def test_a_new_folder_should_get_the_files_and_a_ledger_of_them(tmp_path: Path) -> None:
     out = tmp_path / "out"
     with staged_report(out, REPORT, MARKER) as staging:
         _write(staging, REPORT, "a.png")
     assert sorted(p.name for p in out.iterdir()) == sorted([LEDGER, REPORT, "a.png"])
-    assert (out / LEDGER).read_text().splitlines() == [REPORT, "a.png"]
+    assert _listed(out) == [REPORT, "a.png"]
     assert [p.name for p in tmp_path.iterdir()] == ["out"]  # no staging left behind
 
 
@@ -45,7 +50,7 @@ def test_the_tools_own_files_should_be_replaced_and_a_strangers_kept(tmp_path: P
         (staging / "a.png").write_text("new")
         _write(staging, REPORT, "b.png")
     assert (out / "a.png").read_text() == "new" and (out / "notes.txt").read_text() == "mine"
-    assert (out / LEDGER).read_text().splitlines() == [REPORT, "a.png", "b.png"]
+    assert _listed(out) == [REPORT, "a.png", "b.png"]
 
 
 def test_a_folder_from_before_the_ledger_should_count_as_the_tools_by_its_report(
@@ -117,7 +122,7 @@ def test_a_former_reports_own_files_should_go_and_a_strangers_stay(tmp_path: Pat
     assert sorted(p.name for p in out.iterdir()) == sorted(
         [LEDGER, REPORT, "a_2100rpm.png", "b.png", "notes.txt"]
     )
-    assert (out / LEDGER).read_text().splitlines() == [REPORT, "a_2100rpm.png", "b.png"]
+    assert _listed(out) == [REPORT, "a_2100rpm.png", "b.png"]
 
 
 def test_a_run_killed_between_two_moves_should_leave_its_files_listed(
@@ -185,7 +190,59 @@ def test_a_ledger_naming_files_outside_the_folder_should_delete_none_of_them(
     with staged_report(out, REPORT, MARKER) as staging:
         _write(staging, REPORT)
     assert all(victim.read_text() == "user data" for victim in victims)
-    assert (out / LEDGER).read_text().splitlines() == [REPORT]
+    assert _listed(out) == [REPORT]
+
+
+def test_a_forged_ledger_line_should_neither_delete_nor_replace_a_users_file(
+    tmp_path: Path,
+) -> None:
+    """A ledger line "mine.txt" (forged, or an old report's file since rewritten by its
+    user) had the next report delete the user's mine.txt with no look at its content.
+    The ledger records each file's SHA-256; a line without one, or a file whose content
+    no longer has it, is a stranger's: kept, and a report that would write it refused."""
+    import hashlib
+
+    out = tmp_path / "out"
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT, "a.png", "b.png")
+    (out / "mine.txt").write_text("user data")
+    (out / "b.png").write_text("redrawn by hand")  # listed with the tool's hash: changed since
+    outside = tmp_path / "outside.txt"
+    outside.write_text("user data")
+    (out / "link.txt").symlink_to(outside)  # a link, listed with its target's hash
+    digest = hashlib.sha256(b"user data").hexdigest()
+    with (out / LEDGER).open("a") as ledger:
+        ledger.write(f"mine.txt\nlink.txt\t{digest}\n")
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT)
+    assert (out / "mine.txt").read_text() == "user data"
+    assert (out / "b.png").read_text() == "redrawn by hand"
+    assert outside.read_text() == "user data" and (out / "link.txt").is_symlink()
+    assert not (out / "a.png").exists()  # the tool's own, unchanged: removed
+    assert _listed(out) == [REPORT]
+    (out / LEDGER).write_text((out / LEDGER).read_text() + "mine.txt\n")
+    with (
+        pytest.raises(PublishError, match=r"mine\.txt is in the way and was not written"),
+        staged_report(out, REPORT, MARKER) as staging,
+    ):
+        _write(staging, REPORT, "mine.txt")
+    assert (out / "mine.txt").read_text() == "user data"
+
+
+def test_a_ledger_of_an_earlier_version_should_delete_nothing(tmp_path: Path) -> None:
+    """A ledger of names without hashes (written before they were recorded) counts as a
+    folder from before the ledger: the report, carrying the tool's header, and the new
+    report's files are replaced; nothing else is removed."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / REPORT).write_text(f"{MARKER}old -->\n")
+    (out / "a.png").write_text("old figure")
+    (out / "old.png").write_text("old figure")
+    (out / LEDGER).write_text(f"{REPORT}\na.png\nold.png\n")
+    with staged_report(out, REPORT, MARKER) as staging:
+        _write(staging, REPORT, "a.png")
+    assert (out / "a.png").read_text() == "a.png" and (out / "old.png").is_file()
+    assert _listed(out) == [REPORT, "a.png"]
 
 
 def test_a_report_folder_where_none_can_be_made_should_be_refused_before_the_work(
