@@ -10,6 +10,7 @@ and every folder, which is how later runs know what they may replace.
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,9 +23,10 @@ from codegen.derivation import derive
 from codegen.firmware import render_firmware_files
 from codegen.port import render_port_files
 from codegen.proof.harness import render_proof_files
-from codegen.publish import MANIFEST, PublishResult, manifest_record, publish
+from codegen.publish import MANIFEST, PublishError, PublishResult, manifest_record, publish
 from codegen.render import project_relative, provenance, render
-from codegen.spec_loader import load_spec
+from codegen.shown import said
+from codegen.spec_loader import PAPER_AUDIT_NAME, load_spec
 from codegen.spec_model import Spec
 from codegen.unity_cases import unity_cases
 from codegen.unity_render import render_unity_tests
@@ -115,8 +117,24 @@ def render_all(spec_path: str | Path) -> Generated:
     return Generated(spec, core, files)
 
 
+def refuse_audit_folder(target: Path) -> None:
+    """PublishError where `target`, as given or where its links lead, is a
+    generated/paper/ folder: the paper audit's (`audit` writes AUDIT.md and AUDIT.html
+    there), never a spec's tree (`generate -o generated/paper` had been accepted, though
+    a spec named paper is refused for that folder)."""
+    for path in (Path(os.path.abspath(target)), Path(os.path.realpath(target))):
+        if path.name == PAPER_AUDIT_NAME and path.parent.name == "generated":
+            raise PublishError(
+                f"{said(target)} is the paper audit's folder (generated/{PAPER_AUDIT_NAME}/,"
+                " where `audit` writes AUDIT.md), not a spec's: choose another output folder,"
+                " e.g. generated/<spec name>"
+            )
+
+
 def write_tree(files: dict[str, str], target: Path) -> PublishResult:
-    """Publish the rendered tree into `target` atomically (codegen.publish)."""
+    """Publish the rendered tree into `target` atomically (codegen.publish), never into
+    the paper audit's folder."""
+    refuse_audit_folder(target)
     return publish(files, target)
 
 

@@ -78,6 +78,22 @@ def test_the_working_folder_as_output_is_refused_and_left_as_it_was(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["work"]
 
 
+def test_the_paper_audits_folder_as_output_is_refused_in_one_line(tmp_path: Path) -> None:
+    """Was: `generate spec/paper_motor.yaml -o generated/paper` published the motor's
+    tree into the paper audit's folder (a spec named paper is refused for it); a link to
+    that folder too."""
+    (tmp_path / "generated").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "generated" / "paper")
+    for output in ("generated/paper", "generated/paper/", "link"):
+        proc = cli("generate", str(SPEC), "-o", output, cwd=tmp_path)
+        assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+        line = one_error_line(proc)
+        assert "error: output: generated/paper is the paper audit's folder" in line, line
+        assert "generated/paper/" in line and "choose another output folder" in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["generated", "link"]
+    assert list((tmp_path / "generated").iterdir()) == []
+
+
 def _publish_with_default_signals(target: Path, env: dict[str, str]) -> int:
     """The publish in a forked child whose SIGINT, SIGTERM and SIGHUP have their default
     actions, whatever the test runner's are (a background or xdist run starts with SIGINT

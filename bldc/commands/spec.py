@@ -263,8 +263,9 @@ def _generate(args: argparse.Namespace) -> int:
     spec = load(args.spec)  # errors and warnings before the heavy imports
     target = check_target(output_dir(spec, args.output))
 
-    from codegen.generate import generate
+    from codegen.generate import generate, refuse_audit_folder
 
+    refuse_audit_folder(target)
     result = generate(args.spec, target, PROJECT_ROOT)
     design = result.core.design
     seconds = time.perf_counter() - started
