@@ -314,10 +314,46 @@ class _Paths:
     lock: Path
 
 
+def refuse_dangling_link(target: Path) -> None:
+    """PublishError where `target`, or a folder above it, is a symbolic link to nothing:
+    the output would go where the link points, made on the way (`generate -o LINK`, LINK
+    pointing to /nonexistent/x, had created /nonexistent/x)."""
+    target = Path(os.path.abspath(target))
+    for path in (target, *target.parents):
+        points_to = _dangling(path)
+        if points_to is not None:
+            raise PublishError(
+                f"{on_one_line(str(path))} is a symbolic link to nothing"
+                f" ({_clipped_path(on_one_line(points_to))} does not exist): give a folder, or"
+                " make the one it points to first"
+            )
+
+
+def _dangling(path: Path) -> str | None:
+    """Where `path` points when it is a symbolic link to nothing; None otherwise (a link
+    loop too: left to the write, which says so)."""
+    try:
+        if not path.is_symlink():
+            return None
+        os.stat(path)
+    except FileNotFoundError:
+        return os.readlink(path)
+    except OSError:
+        return None
+    return None
+
+
+def _clipped_path(text: str, limit: int = 200) -> str:
+    """A path the user did not type, cut to `limit` characters in a one-line message."""
+    return text if len(text) <= limit else f"{text[: limit - 3]}..."
+
+
 def refuse_root(target: Path) -> None:
     """PublishError where `target`, or the link it is, names a file-system root: no
-    command writes its output there (`simulate -o /` had put its report into /). A link
-    loop is left to the write, which says so."""
+    command writes its output there (`simulate -o /` had put its report into /); and
+    where it or a folder above it is a symbolic link to nothing (`refuse_dangling_link`).
+    A link loop is left to the write, which says so."""
+    refuse_dangling_link(target)
     target = Path(os.path.abspath(target))
     try:
         if target.is_symlink():
@@ -331,9 +367,9 @@ def refuse_root(target: Path) -> None:
 def _paths(target: Path) -> _Paths:
     target = Path(os.path.abspath(target))
     try:
+        refuse_root(target)  # and a link to nothing, before it is followed
         if target.is_symlink():
             target = target.resolve()  # publish into the folder the link points to
-        refuse_root(target)
         parent = target.parent.resolve()
     except (RuntimeError, OSError) as exc:  # RuntimeError: Python < 3.13's symlink loop
         if isinstance(exc, PublishError):

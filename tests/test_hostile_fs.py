@@ -82,7 +82,7 @@ def test_the_paper_audits_folder_as_output_is_refused_in_one_line(tmp_path: Path
     """Was: `generate spec/paper_motor.yaml -o generated/paper` published the motor's
     tree into the paper audit's folder (a spec named paper is refused for it); a link to
     that folder too."""
-    (tmp_path / "generated").mkdir()
+    (tmp_path / "generated" / "paper").mkdir(parents=True)
     (tmp_path / "link").symlink_to(tmp_path / "generated" / "paper")
     for output in ("generated/paper", "generated/paper/", "link"):
         proc = cli("generate", str(SPEC), "-o", output, cwd=tmp_path)
@@ -91,7 +91,38 @@ def test_the_paper_audits_folder_as_output_is_refused_in_one_line(tmp_path: Path
         assert "error: output: generated/paper is the paper audit's folder" in line, line
         assert "generated/paper/" in line and "choose another output folder" in line, line
     assert sorted(p.name for p in tmp_path.iterdir()) == ["generated", "link"]
-    assert list((tmp_path / "generated").iterdir()) == []
+    assert list((tmp_path / "generated").iterdir()) == [tmp_path / "generated" / "paper"]
+    assert list((tmp_path / "generated" / "paper").iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["generate", str(SPEC), "-o", "LINK"],
+        ["generate", str(SPEC), "-o", "LINK/below"],
+        ["audit", "-o", "LINK"],
+        ["audit", str(SPEC), "-o", "LINK"],
+        ["firmware", str(SPEC), "--generated", str(ROOT / "generated" / "paper_motor"),
+         "--build", "LINK"],
+        ["simulate", str(SPEC), "--quick", "--no-progress", "-o", "LINK/below"],
+        ["robustness", str(SPEC), "--no-progress", "-o", "LINK/below"],
+    ],
+    ids=["generate", "generate-below", "audit", "audit-spec", "firmware", "simulate", "robustness"],
+)  # fmt: skip
+def test_a_dangling_link_as_output_folder_is_refused_and_nothing_made(
+    tmp_path: Path, argv: list[str]
+) -> None:
+    """Was: `generate -o LINK`, LINK a symbolic link to /nonexistent/x, created
+    /nonexistent/x and published there (exit 0); audit and firmware said only
+    "LINK: File exists". One line naming the link and where it points, exit 5."""
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path / "nowhere" / "x")
+    proc = cli(*[a.replace("LINK", str(link)) for a in argv], cwd=tmp_path)
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    line = one_error_line(proc)
+    assert f"{link} is a symbolic link to nothing" in line, line
+    assert f"{tmp_path / 'nowhere' / 'x'} does not exist" in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link"]
 
 
 def _publish_with_default_signals(target: Path, env: dict[str, str]) -> int:
