@@ -59,7 +59,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from codegen.manifest_check import inside, read_listed
+from codegen.manifest_check import NotRegularFileError, inside, read_listed
 from codegen.shown import on_one_line
 
 GENERATOR = "bldc-codegen"
@@ -202,10 +202,35 @@ def manifest_record(files: Mapping[str, str]) -> dict[str, object]:
     }
 
 
+def _manifest_data(tree: Path) -> object:
+    """The JSON of `tree`'s manifest, read only where it is a regular file (a FIFO in
+    its place had blocked `generate -o` for good, SIGTERM held back by the lock);
+    OSError or ValueError where it cannot be read or parsed."""
+    return json.loads(read_listed(tree, MANIFEST).decode("utf-8"))
+
+
+def manifest_unreadable(tree: Path) -> str | None:
+    """Why `tree`'s manifest.json cannot be read, in a few words, where one is there
+    (not JSON, a FIFO, no permission); None where there is none or it reads as JSON."""
+    try:
+        _manifest_data(tree)
+    except FileNotFoundError:
+        return None
+    except NotRegularFileError as exc:
+        return f"it is {exc}"
+    except UnicodeDecodeError:
+        return "it is not UTF-8 text"
+    except ValueError as exc:
+        return f"it is not JSON: {exc}"
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None
+
+
 def _owned(tree: Path) -> _Owned | None:
     """What bldc-codegen wrote in `tree`, from its manifest; None if it has none."""
     try:
-        data = json.loads((tree / MANIFEST).read_text(encoding="utf-8"))
+        data = _manifest_data(tree)
     except (OSError, ValueError):
         return None
     if not isinstance(data, dict) or not isinstance(data.get("files"), dict):
@@ -616,6 +641,13 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
             if path not in found:
                 found.append(path)
             break
+    unreadable = manifest_unreadable(p.target) if found and owned is None else None
+    if unreadable is not None:  # it had said only that the tree's files were not the tool's
+        raise PublishError(
+            f"{p.target / MANIFEST} is unreadable ({on_one_line(unreadable)}): bldc-codegen"
+            f" cannot tell its own files in {p.target} from a stranger's ({len(found)} in the"
+            " way): move that folder away or choose another output folder"
+        )
     if found:
         raise PublishError(
             f"{in_the_way(found, p.target)} not written by bldc-codegen (its manifest does"

@@ -125,6 +125,31 @@ def test_a_dangling_link_as_output_folder_is_refused_and_nothing_made(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link"]
 
 
+def test_an_unreadable_manifest_is_named_as_such_and_the_tree_kept(tmp_path: Path) -> None:
+    """Was: a corrupt manifest.json in the output folder made `generate -o DIR` say the
+    tree's own files "were not written by bldc-codegen" without a word about the
+    manifest; a FIFO in its place blocked the run for good (SIGTERM held back). One line
+    naming the manifest and why it cannot be read, exit 5, the folder as it was."""
+    out = tmp_path / "out"
+    assert cli("generate", str(SPEC), "-o", str(out)).returncode == 0
+    manifest = out / "manifest.json"
+    cases = {"it is not JSON: ": b'{"broken', "it is not UTF-8 text": b"\xff\xfe"}
+    for why, data in cases.items():
+        manifest.write_bytes(data)
+        proc = cli("generate", str(SPEC), "-o", str(out))
+        assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+        line = one_error_line(proc)
+        assert line.startswith(f"error: output: {manifest} is unreadable ({why}"), line
+        assert "cannot tell its own files" in line, line
+        assert manifest.read_bytes() == data
+    manifest.unlink()
+    os.mkfifo(manifest)
+    proc = cli("generate", str(SPEC), "-o", str(out))  # had blocked: TimeoutExpired
+    assert f"{manifest} is unreadable (it is a named pipe (FIFO))" in one_error_line(proc)
+    assert (out / "c" / "bldc_commutation.c").is_file()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".out.bldc-codegen.lock", "out"]
+
+
 def _publish_with_default_signals(target: Path, env: dict[str, str]) -> int:
     """The publish in a forked child whose SIGINT, SIGTERM and SIGHUP have their default
     actions, whatever the test runner's are (a background or xdist run starts with SIGINT
