@@ -536,6 +536,15 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark is not None else None
+        if _second_document(exc):
+            # it had read as malformed YAML at the last key of the first document
+            raise YamlError(
+                f"the file holds more than one YAML document: a second one starts at line"
+                f" {line} ('---'); remove that line and what follows it",
+                line,
+                "",  # the whole file's, not the last key's
+                "one YAML document per spec file",
+            ) from None
         parts = [part for part in (exc.context, exc.problem) if part]
         problem = ": ".join(parts) or "malformed YAML"
         raise YamlError(
@@ -554,6 +563,11 @@ def read_yaml(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> tuple[Any, dict[st
         exc.path = _key_near(text, exc.line) if exc.line else ""
         raise
     return _Builder(limits, lines).build(root, "", 0), lines
+
+
+def _second_document(exc: yaml.MarkedYAMLError) -> bool:
+    """Whether PyYAML's error is a second document after the first (`---` and more)."""
+    return isinstance(exc, yaml.composer.ComposerError) and "another document" in str(exc.problem)
 
 
 def _check_flow_depth(text: str, limits: Limits) -> None:

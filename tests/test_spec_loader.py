@@ -203,6 +203,16 @@ BAD_SPECS = [
         id="malformed-yaml-cites-line-and-key",
     ),
     pytest.param(
+        lambda text: f"{text}---\nname: other\n",
+        "<document>",
+        (
+            "the file holds more than one YAML document",
+            f"second one starts at line {DEFAULT_TEXT.count(chr(10)) + 1}",
+            f"bad.yaml:{DEFAULT_TEXT.count(chr(10)) + 1}:",
+        ),
+        id="a-second-document-is-named-at-its-line",  # was: the last key, "malformed YAML"
+    ),
+    pytest.param(
         _replace("  poles: 2\n", "\tpoles: 2\n"),
         "motor.poles",
         ("malformed YAML", "found character '\\t'", f"bad.yaml:{POLES_LINE}"),

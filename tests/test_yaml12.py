@@ -88,7 +88,7 @@ def test_floats_keep_their_exact_decimal_value() -> None:
         (b"? [a, b]\n: 1\n", "a mapping key must be a plain value", ""),
         (b"? " + b"k" * 5000 + b"\n: 1\n", "a mapping key that is a value of 5000 char", ""),
         (b"a: 1\nb: \x07\n", "character U+0007 is not allowed", "b"),
-        (b"a: 1\n---\nb: 2\n", "expected a single document", "a"),
+        (b"a: 1\n---\nb: 2\n", "more than one YAML document: a second one starts at line 2", ""),
         (b"m:\n  x: 1\n  y: 2: 3\n", "mapping values are not allowed here", "m.y"),
         (b"a: \xff\n", "not UTF-8 text (byte 0xff at offset 3)", "a"),
         (b"x" * 300_000, "a spec has at most 262144", ""),
