@@ -22,7 +22,8 @@ Every failure is a YamlError with one line of text, the YAML line and, where kno
 key path it concerns. A value too long to convert (a string past max_scalar_chars, a
 number past max_number_chars or max_exponent) is the one exception: it stays in place as
 an Unreadable, which says what it is, so that the spec's reader names it under its key
-with the value and the range the key allows (a YamlError knows neither).
+with the value and the range the key allows (a YamlError knows neither); a string's
+own length limit is the key's, so the reading limit is not quoted beside it.
 """
 
 from __future__ import annotations
@@ -371,10 +372,9 @@ class _Builder:
         text: str = node.value
         line = node.start_mark.line + 1
         if len(text) > self.limits.max_scalar_chars:
-            return Unreadable(
-                text[:80],
-                f"a value of {len(text)} characters (at most {self.limits.max_scalar_chars})",
-            )
+            # the reading limit is not quoted: the key's own (a description's 500
+            # characters) follows as what it allows, and two limits had read as a riddle
+            return Unreadable(text[:80], f"a value of {len(text)} characters (too long to read)")
         tag = node.tag
         bad = _NOT_PRINTABLE.search(text)
         if bad is not None:

@@ -66,7 +66,7 @@ def refusal(tmp_path: Path, text: str) -> list[str]:
             (
                 "motor.phase_inductance = 'xxx",
                 "an inductance",
-                "5000 characters (at most 4096)",
+                "5000 characters (too long to read)",
                 "(allowed: [1e-07, 1] H)",
             ),
         ),

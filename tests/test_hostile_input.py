@@ -144,6 +144,14 @@ CASES = [
         id="digit-separator",  # was: unit '_4 V' is not a voltage unit
     ),
     pytest.param(
+        replace(
+            "description: Table 3 braking motor, 24 V lithium battery bus, STM32F103 controller",
+            "description: " + "x" * 200_000,
+        ),
+        ("description", "a value of 200000 characters", "(allowed: a string of <= 500 characters)"),
+        id="description-of-200-kB-one-limit",  # was: "(at most 4096)" beside "<= 500"
+    ),
+    pytest.param(
         replace("0.56 mH", "0.56 mh"),
         ("motor.phase_inductance", "did you mean 'mH'?"),
         id="unit-typo-suggestion",
@@ -177,6 +185,7 @@ def test_a_hostile_spec_exits_3_with_one_line_per_error_and_writes_nothing(
     assert lines and all(line.startswith(f"error: {spec}") for line in lines), lines
     for fragment in fragments:
         assert fragment in result.stderr, (fragment, result.stderr)
+    assert "4096" not in result.stderr  # the reading limit, never beside a key's own
     assert not output.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
 
