@@ -344,3 +344,22 @@ def test_a_bad_spec_exits_3_through_every_simulation_entry_point(
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and "motor.poles" in lines[0], lines
     assert not (tmp_path / "out").exists()
+
+
+def test_a_bad_spec_given_to_unity_run_is_named_with_exit_3(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`python -m verify.unity_run bad.yaml` said "bad.yaml has no generated Unity tests:
+    generate it first" (exit 2), and generate then refused the spec: the spec's error,
+    one line, exit 3; a good spec is pointed at its generated folder (exit 2)."""
+    from verify import unity_run
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(TEXT.replace("  poles: 2\n", "  poles: 3\n"), encoding="utf-8")
+    assert unity_run.main([str(spec)]) == ExitCode.SPEC
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: {spec}:"), lines
+    assert "motor.poles" in lines[0] and "generate it first" not in lines[0], lines
+    assert unity_run.main([str(SPEC)]) == ExitCode.USAGE
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "is a spec, not a generated folder" in line and "generated/paper_motor" in line

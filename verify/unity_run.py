@@ -401,6 +401,35 @@ def report(run: UnityRun) -> str:
 EXIT_MISSING_TOOL = 3
 
 
+def _names_a_spec(path: Path) -> bool:
+    """Whether GENERATED_DIR names a spec file (a file, or a .yaml path that is no folder)
+    rather than a generated folder."""
+    return path.is_file() or (path.suffix in (".yaml", ".yml") and not path.is_dir())
+
+
+def _spec_given(path: Path) -> int:
+    """A spec given for GENERATED_DIR: its errors, one line each (exit 3; a bad spec had
+    read "has no generated Unity tests: generate it first"), else where its generated
+    folder is (a usage error, exit 2)."""
+    from codegen.errors import ExitCode, SpecError
+    from codegen.shown import said
+    from codegen.spec_loader import load_spec
+
+    try:
+        spec = load_spec(path)
+    except SpecError as exc:
+        for line in str(exc).splitlines():
+            print(f"error: {line}", file=sys.stderr)
+        return int(ExitCode.SPEC)
+    print(
+        f"error: {said(path)} is a spec, not a generated folder: give its generated folder"
+        f" (generated/{spec.name}, made by `bldc-codegen generate {said(path)}`), or run"
+        f" `bldc-codegen unity {said(path)}`",
+        file=sys.stderr,
+    )
+    return int(ExitCode.USAGE)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     import argparse
 
@@ -418,6 +447,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     generated = Path(args.generated)
+    if _names_a_spec(generated):
+        return _spec_given(generated)
     if not (generated / "tests" / "test_runner.c").is_file():
         print(f"{generated} has no generated Unity tests: generate it first", file=sys.stderr)
         return 2
