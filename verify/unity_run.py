@@ -398,7 +398,8 @@ def report(run: UnityRun) -> str:
     return "\n".join(lines)
 
 
-EXIT_MISSING_TOOL = 3
+#: bldc-codegen's status for a missing tool (ExitCode.ENVIRONMENT); 3 is a bad spec's
+EXIT_MISSING_TOOL = 5
 
 
 def _names_a_spec(path: Path) -> bool:
@@ -438,8 +439,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         description="Build and run the generated Unity tests on the host (ASan/UBSan) and"
         " on a Cortex-M3 under qemu (mps2-an385), with real Unity when UNITY_DIR points to a"
         " checkout, else the stand-in runner. Exit 0 when both pass with identical per-test"
-        " results; 1 when a test fails or they differ; 2 for a usage error; 3 when"
-        " qemu-system-arm or arm-none-eabi-gcc is missing (the target run cannot be skipped).",
+        " results; 1 when a test fails or they differ; 2 for a usage error; 3 for a spec"
+        " given that does not load; 5 when qemu-system-arm or arm-none-eabi-gcc is missing"
+        " (the target run cannot be skipped).",
     )
     parser.add_argument("generated", metavar="GENERATED_DIR", help="e.g. generated/paper_motor")
     parser.add_argument(
