@@ -469,3 +469,35 @@ def test_a_nominal_bus_at_the_loaders_margin_should_take_the_adcs_noise(
     elf = build_firmware(path, tmp_path / "build", generate(path, tmp_path / "generated"))
     outcome = run_scenario(elf, spec, next(s for s in SCENARIOS if s.key == "bus_noise"))
     assert outcome.problems == [], outcome.problems
+
+
+@pytest.mark.heavy(seconds=10)
+def test_a_clear_should_rearm_the_braking_with_a_72_mhz_hall_clock(tmp_path: Path) -> None:
+    """A hunt's drone motor with its Hall timer at 72 MHz (PSC 0): the clear's re-arm
+    stored TIM3's counter at the top, then cleared SR; the tick between the two stores
+    wrapped and its UIF was erased, so the first edge after the clear read a part sector
+    as its interval, below period_min: refused, OVER_SPEED latched, and a clear never
+    re-armed the braking ('clear where all-off rectifies': faults ['OVER_SPEED'],
+    expected none). SR is cleared first now; the port in the old order (a mutant) fails
+    the scenario again."""
+    from emulation.pil.build import generate, link_mutant
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "kv_drone_hall72m.yaml"
+    spec = load_spec(str(path))
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    (scenario,) = [s for s in SCENARIOS if s.key == "clear_where_all_off_rectifies"]
+    outcome = run_scenario(elf, spec, scenario)
+    assert outcome.problems == [], (outcome.problems, outcome.note)
+
+    def old_order(copy: Path) -> None:
+        source = copy / "c" / "stm32f103_port.c"
+        text = source.read_text(encoding="utf-8")
+        arm = "    TIM3->SR = 0u;\n    TIM3->CNT = BLDC_PORT_TIM3_ARR;\n    TIM3->DIER"
+        assert text.count(arm) == 1, "the re-arm's pattern no longer matches the port"
+        swapped = "    TIM3->CNT = BLDC_PORT_TIM3_ARR;\n    TIM3->SR = 0u;\n    TIM3->DIER"
+        source.write_text(text.replace(arm, swapped), encoding="utf-8")
+
+    mutant = link_mutant(generated, tmp_path / "mutant", old_order)
+    broken = run_scenario(mutant, spec, scenario)
+    assert any("OVER_SPEED" in p for p in broken.problems), broken.problems

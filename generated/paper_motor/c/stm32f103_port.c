@@ -1590,8 +1590,15 @@ static void port_arm(void)
      * bridge held off) is taken at the next sample, not a gate later */
     port.bus_taken = port.heartbeat - BLDC_PORT_BUS_MIN_PERIODS;
     port.previous_pins = port_read_pins();
-    TIM3->CNT = BLDC_PORT_TIM3_ARR; /* the next tick wraps: the first interval reads as unknown */
+    /* SR first, then the counter at the top: the next tick wraps and sets UIF, so the
+     * first interval reads as unknown. In the other order a tick between the two stores
+     * (certain with a Hall clock of a few prescaler counts: TIM3 ticks at 72 MHz / (PSC +
+     * 1), and writing CNT does not restart the prescaler) set UIF and the SR store erased
+     * it: the first edge after a clear read a part sector, below period_min, refused it
+     * and latched OVER_SPEED (`make pil`, a hunt's 72 MHz Hall clock: a clear never
+     * re-armed the braking). */
     TIM3->SR = 0u;
+    TIM3->CNT = BLDC_PORT_TIM3_ARR;
     TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS;
     TIM1->BDTR = BLDC_PORT_TIM1_BDTR | TIM_BDTR_MOE;
     if (*(const volatile uint32_t *)&port.requested != 0u) { /* read after the store */
