@@ -978,3 +978,29 @@ def check_drive(
                 )
                 + f" {float(n_rect):.1f} rpm, where all-off never rectifies",
             )
+    # The short circuit preferred, but within its rating at no speed of the range: the
+    # firmware applies it nowhere there (all-off throughout, which the check above
+    # requires not to rectify in the range), which the spec did not ask for (a hunt's
+    # improved_r spec rated 40 A, short valid up to 904 rpm, speed_min above it).
+    if protection.safe_state == "short_circuit":
+        slowest = short_circuit_peak(
+            speed_rpm=float(controller.speed_min_rpm),
+            k_e=float(k_e),
+            pole_pairs=motor.pole_pairs,
+            resistance_ohm=float(motor.phase_resistance_ohm),
+            inductance_h=float(motor.phase_inductance_h),
+            shape=motor.back_emf_shape,
+            current_at_entry_a=float(protection.over_current_a),
+        )
+        if slowest > protection.short_circuit_current_max_a:
+            r.warn(
+                "short-circuit-never-rated",
+                "protection.safe_state",
+                raw("protection.safe_state"),
+                f"the short circuit is preferred, but its peak current at speed_min"
+                f" {_g(controller.speed_min_rpm)} rpm is up to {slowest:.1f} A (2 x the steady"
+                " peak + over_current), above protection.short_circuit_current_max"
+                f" {_g(protection.short_circuit_current_max_a)} A: the firmware applies it at no"
+                " speed of the range (all-off throughout); rate the bridge for"
+                f" >= {math.ceil(slowest)} A to have it, or write safe_state: all_off",
+            )

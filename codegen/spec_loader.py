@@ -89,6 +89,8 @@ WARNINGS: dict[str, str] = {
     " the current sample window's maximum",
     "pwm-ripple-large": "the braking current's PWM ripple is more than half of"
     " braking_current_nominal",
+    "short-circuit-never-rated": "protection.safe_state short_circuit whose peak at"
+    " speed_min is above protection.short_circuit_current_max: applied at no speed of the range",
     "over-current-margin-small": "protection.over_current less than a quarter of"
     " braking_current_max above the braking current's steady peak",
     "improved-r-time-not-relaxed": "controller.method improved_r, a PWM period longer than"

@@ -244,3 +244,24 @@ def test_init_should_brake_a_many_pole_high_inductance_outrunner_with_commutatio
     assert spec.controller.braking_current_nominal_a == Fraction(19, 100)
     assert "commutation-fills-sectors" not in [w.id for w in spec.warnings]
     _brakes_its_first_edges(path, tmp_path / "run")
+
+
+def test_a_preferred_short_circuit_rated_below_the_speed_range_should_be_warned_of(
+    tmp_path: Path,
+) -> None:
+    """A hunt's improved_r spec prefers the short circuit, rated 40 A: its peak is within
+    that only up to 904 rpm, below speed_min (1300 rpm), so the firmware applies all-off
+    throughout the range, which the spec did not ask for, and nothing said so. Rated for
+    the peak at speed_min (50 A), the warning goes."""
+    path = ODD / "ir_table_short_unrated.yaml"
+    (warning,) = [w for w in load_spec(path).warnings if w.id == "short-circuit-never-rated"]
+    assert warning.path == "protection.safe_state"
+    assert "at speed_min 1300 rpm is up to 49.5 A" in warning.message
+    assert ">= 50 A" in warning.message
+    rated = tmp_path / "rated.yaml"
+    text = path.read_text(encoding="utf-8")
+    assert text.count("  short_circuit_current_max: 40 A\n") == 1
+    rated.write_text(
+        text.replace("short_circuit_current_max: 40 A", "short_circuit_current_max: 50 A")
+    )
+    assert "short-circuit-never-rated" not in [w.id for w in load_spec(rated).warnings]
