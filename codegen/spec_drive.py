@@ -951,10 +951,10 @@ def check_drive(
     # within the bridge's rating wherever that can happen within the speed range (at the
     # lowest bus voltage it starts lowest).
     k_e = motor.back_emf_constant_v_per_rpm
-    n_rect = rectifying_speed(inverter.bus_voltage_min_v, k_e, motor.back_emf_shape)
-    if controller.speed_max_rpm >= n_rect:
-        peak = short_circuit_peak(
-            speed_rpm=float(controller.speed_max_rpm),
+
+    def short_peak(speed_rpm: Fraction) -> float:
+        return short_circuit_peak(
+            speed_rpm=float(speed_rpm),
             k_e=float(k_e),
             pole_pairs=motor.pole_pairs,
             resistance_ohm=float(motor.phase_resistance_ohm),
@@ -962,6 +962,10 @@ def check_drive(
             shape=motor.back_emf_shape,
             current_at_entry_a=float(protection.over_current_a),
         )
+
+    n_rect = rectifying_speed(inverter.bus_voltage_min_v, k_e, motor.back_emf_shape)
+    if controller.speed_max_rpm >= n_rect:
+        peak = short_peak(controller.speed_max_rpm)
         if peak > protection.short_circuit_current_max_a:
             r.report(
                 "protection.short_circuit_current_max",
@@ -983,15 +987,7 @@ def check_drive(
     # requires not to rectify in the range), which the spec did not ask for (a hunt's
     # improved_r spec rated 40 A, short valid up to 904 rpm, speed_min above it).
     if protection.safe_state == "short_circuit":
-        slowest = short_circuit_peak(
-            speed_rpm=float(controller.speed_min_rpm),
-            k_e=float(k_e),
-            pole_pairs=motor.pole_pairs,
-            resistance_ohm=float(motor.phase_resistance_ohm),
-            inductance_h=float(motor.phase_inductance_h),
-            shape=motor.back_emf_shape,
-            current_at_entry_a=float(protection.over_current_a),
-        )
+        slowest = short_peak(controller.speed_min_rpm)
         if slowest > protection.short_circuit_current_max_a:
             r.warn(
                 "short-circuit-never-rated",
