@@ -18,7 +18,8 @@ from pathlib import Path
 from codegen.errors import show_value
 from codegen.yaml12 import type_name
 
-_SHA256 = re.compile(r"[0-9a-f]{64}", re.ASCII)
+#: a SHA-256 in lower-case hex, as generate and the report ledger record it
+SHA256 = re.compile(r"[0-9a-f]{64}", re.ASCII)
 #: a struct field of the core's ABI, as verify turns it into a NumPy dtype
 _FIELD_BITS = (8, 16, 32, 64)
 
@@ -109,7 +110,7 @@ def _files_problem(files: Mapping[object, object]) -> str | None:
                 f"files lists {show_value(name)}, expected a relative path inside the folder"
                 " (no '..', '.', empty part, leading '/' or backslash)"
             )
-        if not isinstance(digest, str) or _SHA256.fullmatch(digest) is None:
+        if not isinstance(digest, str) or SHA256.fullmatch(digest) is None:
             return f"files[{show_value(name)}] = {show_value(digest)}, expected a SHA-256 in hex"
     return None
 

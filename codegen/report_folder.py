@@ -35,14 +35,13 @@ from __future__ import annotations
 
 import hashlib
 import os
-import re
 import shutil
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from codegen.manifest_check import read_listed
+from codegen.manifest_check import SHA256, read_listed
 from codegen.publish import PublishError, in_the_way, refuse_root, signals_deferred
 from codegen.render import write_atomically
 
@@ -51,7 +50,6 @@ LEDGER = ".bldc-codegen-report"
 #: the same for a firmware build folder, names only: its own, so that a report written
 #: into the folder never takes the image for a former report's files (and deletes it)
 BUILD_LEDGER = ".bldc-codegen-build"
-_SHA256 = re.compile(r"[0-9a-f]{64}", re.ASCII)
 
 
 def owned_names(
@@ -117,7 +115,7 @@ def _recorded(lines: list[str]) -> dict[str, set[str]]:
     recorded: dict[str, set[str]] = {}
     for line in lines:
         name, tab, digest = line.partition("\t")
-        if tab and _plain_name(name) and _SHA256.fullmatch(digest):
+        if tab and _plain_name(name) and SHA256.fullmatch(digest):
             recorded.setdefault(name, set()).add(digest)
     return recorded
 

@@ -36,6 +36,7 @@ from codegen.port_drive import current_watch, wait_counts
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from codegen.svd import load_device
+from codegen.system_clock import SYSCLK_HZ
 from emulation.armsim import (
     CLEAR,
     SET,
@@ -382,7 +383,7 @@ class PortRig:
             return self.sim.call(HALL_HANDLER)
         arr = self.sim.read_u32(self.tim1_arr)
         centre = self.spec.inverter.pwm_alignment != "edge"
-        clock = float(self.spec.inverter.timer_clock_hz) / 72e6  # counts per cycle
+        clock = float(self.spec.inverter.timer_clock_hz / SYSCLK_HZ)  # counts per cycle
         # at the first read: WAIT_COUNTS before CCR4 (edge-aligned), before the peak
         # counting up (centre-aligned: the trigger one count after it)
         start = (arr + 1 if centre else ccr4) - trigger_in

@@ -19,6 +19,7 @@ from codegen.port_drive import END_COM_GAP_CYCLES, END_READ_GAP_CYCLES, END_WAIT
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
+from codegen.system_clock import SYSCLK_HZ
 from emulation.cycles import estimate_cycles
 from emulation.isr_bench import PortRig, _register
 from emulation.pil.build import generate
@@ -134,7 +135,7 @@ def _end_then_samples(elf: Path, spec: Spec, generated: Path, ahead: int | None)
     first = _access_indices(end.trace, _register("TIM1", "CNT"))[0]
     com = _access_index(end.trace, _register("TIM1", "EGR"), write=True)
     cycles = estimate_cycles(end.trace[first + 1 : com + 1], rig.sim, timing=rig.memory_timing)
-    counts = cycles.cycles * float(spec.inverter.timer_clock_hz) / 72e6
+    counts = cycles.cycles * float(spec.inverter.timer_clock_hz / SYSCLK_HZ)
     if ahead is not None and counts >= ahead:  # it fired before the COM event
         rig.adc_sample(2800, 2301)  # sampled the commutating bridge: not I
     rig.adc_sample(2800, 2302)  # begun after the end: I
@@ -171,7 +172,7 @@ def test_an_end_a_few_counts_before_a_trigger_should_leave_the_next_sample_to_th
     first = _access_indices(end.trace, _register("TIM1", "CNT"))[0]
     com = _access_index(end.trace, _register("TIM1", "EGR"), write=True)
     to_com = estimate_cycles(end.trace[first + 1 : com + 1], rig.sim, timing=rig.memory_timing)
-    ahead = math.ceil(to_com.cycles * float(spec.inverter.timer_clock_hz) / 72e6) + 2
+    ahead = math.ceil(to_com.cycles * float(spec.inverter.timer_clock_hz / SYSCLK_HZ)) + 2
     assert _end_then_samples(elf, spec, generated, ahead) == 2302
     assert _end_then_samples(mutant, spec, tmp_path / "mutant" / "generated", ahead) != 2302
     assert _end_then_samples(elf, spec, generated, None) == 2302  # far: no wait, no stale
