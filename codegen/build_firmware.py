@@ -12,6 +12,7 @@ exits non-zero when flash exceeds `firmware.flash_budget` or RAM, stack included
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen.port_drive import HANDLERS
-from codegen.report_folder import claim_build_names
+from codegen.report_folder import staged_build
 from codegen.stack_usage import StackReport, read_call_graph, stack_report
 
 CFLAGS = [
@@ -138,19 +139,21 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
     """Compile and link; `defines` are NAME=VALUE macros for every source (the bench
     builds the port's alternatives with them). Each object's stack frames and call graph
     are written beside it (-fstack-usage `<name>.su`, -fcallgraph-info `<name>.ci`); the
-    image as ELF, binary, Intel hex and a link map."""
-    # a file of the build's names that bldc-codegen did not write stops it before it
-    # starts (`firmware --build DIR` had overwritten a user's firmware.map and main.o)
+    image as ELF, binary, Intel hex and a link map. All are built in a staging folder
+    and moved into `build_dir` at the end (codegen.report_folder.staged_build)."""
+    # a file of the build's names that bldc-codegen did not write (its ledger does not
+    # list it with its content's hash) stops it before it starts: `firmware --build DIR`
+    # had overwritten a user's firmware.map and main.o
     written = [
         *(f"{name}{ext}" for name in (*SOURCES, CUBE_SOURCE[0]) for ext in (".o", ".su", ".ci")),
         *IMAGE_FILES,
     ]
-    claim_build_names(build_dir, written, MAP, MAP_MARKER)
-    # the reports of every object this build may write (a Cube-style one of a former
-    # build included), and no other file: the folder may hold the user's own
-    for name in (*SOURCES, CUBE_SOURCE[0]):
-        for stale in (build_dir / f"{name}.su", build_dir / f"{name}.ci"):
-            stale.unlink(missing_ok=True)
+    with staged_build(build_dir, written, MAP, MAP_MARKER) as staging:
+        return _build_in(generated, staging, defines)
+
+
+def _build_in(generated: Path, build_dir: Path, defines: Sequence[str]) -> dict[str, Sizes]:
+    """`build` into the empty folder `build_dir`."""
     objects = {}
     for name, source in sources(generated).items():
         obj = build_dir / f"{name}.o"
@@ -172,6 +175,8 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
         )
         objects[name] = obj
     elf = build_dir / ELF
+    # linked in the folder, so the map names the objects as they are there once moved
+    # (core.o), not by the staging folder's path
     subprocess.run(
         [
             "arm-none-eabi-gcc",
@@ -180,13 +185,14 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
             "-nostdlib",
             "-Wl,--gc-sections",
             "-T",
-            str(generated / "firmware" / "stm32f103.ld"),
-            *map(str, objects.values()),
+            os.path.abspath(generated / "firmware" / "stm32f103.ld"),
+            *(obj.name for obj in objects.values()),
             "-o",
-            str(elf),
-            f"-Wl,-Map={build_dir / 'firmware.map'}",
+            ELF,
+            f"-Wl,-Map={MAP}",
         ],
         check=True,
+        cwd=build_dir,
     )
     for kind, suffix in (("binary", "bin"), ("ihex", "hex")):
         subprocess.run(

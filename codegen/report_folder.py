@@ -24,15 +24,24 @@ as the tool's when its report carries the tool's own header (`marker`); then eve
 file of the new report is taken to be one the tool wrote before, and nothing else is
 removed.
 
-The firmware build's ledger (`BUILD_LEDGER`) lists names only: a build claims them
-before its compiler writes them, and removes none but its own objects' reports.
+The firmware build (`staged_build`) keeps its own ledger (`BUILD_LEDGER`) by the same
+rules: it refuses a stranger's file of any name it may write before it compiles, then
+compiles and links into a staging folder inside the build folder and moves its files in
+as a report's are, its ledger written first with their hashes. A forged names-only line
+"main.o" had let `firmware --build` overwrite the user's main.o; a build interrupted
+half-way leaves the folder as it was. A build folder from before the build ledger, or
+with an earlier version's (names, no hashes), counts as the tool's when its map carries
+the build's `marker`: the new build's files are replaced, nothing else is removed.
 
 The staging folder's name carries the process id: one left by a process that no longer
-runs (killed while rendering) is removed by the next run into the same folder.
+runs (killed while rendering) is removed by the next run into the same folder. A
+report's is beside its folder; a build's is inside it (`firmware --build .` and a build
+folder that is a link to another file system move their files within the folder).
 """
 
 from __future__ import annotations
 
+import glob
 import hashlib
 import os
 import shutil
@@ -47,8 +56,8 @@ from codegen.render import write_atomically
 
 #: the files bldc-codegen wrote into a report folder, a line `name<TAB>sha256` each
 LEDGER = ".bldc-codegen-report"
-#: the same for a firmware build folder, names only: its own, so that a report written
-#: into the folder never takes the image for a former report's files (and deletes it)
+#: the same for a firmware build folder: its own, so that a report written into the
+#: folder never takes the image for a former report's files (and deletes it)
 BUILD_LEDGER = ".bldc-codegen-build"
 
 
@@ -56,21 +65,18 @@ def owned_names(
     out: Path, report: str, marker: str, ledger_name: str = LEDGER
 ) -> frozenset[str] | None:
     """The names of `out`'s files the tool wrote; None when every name counts as the
-    tool's (a report folder from before the ledger, its report carrying `marker`)."""
-    if ledger_name != LEDGER:
-        lines = _ledger_lines(out, ledger_name)
-        if lines is not None:
-            return frozenset(n for n in lines if _plain_name(n))
-        return _by_marker(out, report, marker)
-    owned = owned_hashes(out, report, marker)
+    tool's (a folder from before the ledger, its report carrying `marker`)."""
+    owned = owned_hashes(out, report, marker, ledger_name)
     return None if owned is None else frozenset(owned)
 
 
-def owned_hashes(out: Path, report: str, marker: str) -> dict[str, str] | None:
-    """The files of `out` the report ledger lists whose content still has a recorded
-    SHA-256: name -> that hash. None when every name counts as the tool's (no ledger,
-    or one without hashes, and a report carrying `marker`)."""
-    lines = _ledger_lines(out, LEDGER)
+def owned_hashes(
+    out: Path, report: str, marker: str, ledger_name: str = LEDGER
+) -> dict[str, str] | None:
+    """The files of `out` the ledger lists whose content still has a recorded SHA-256:
+    name -> that hash. None when every name counts as the tool's (no ledger, or one
+    without hashes, and a report carrying `marker`)."""
+    lines = _ledger_lines(out, ledger_name)
     recorded = _recorded(lines or [])
     if not recorded:
         return None if _by_marker(out, report, marker) is None and _legacy(lines) else {}
@@ -162,10 +168,10 @@ def refuse_strangers(
     refuse_root(out)
     paths = strangers(out, names, report, marker, ledger_name)
     if paths:
-        listed = "list it with its content's SHA-256" if ledger_name == LEDGER else "list it"
         raise PublishError(
             f"{in_the_way(paths, out)} not written by bldc-codegen (the folder's"
-            f" {ledger_name} does not {listed}): move it away or choose another output folder"
+            f" {ledger_name} does not list it with its content's SHA-256): move it away or"
+            " choose another output folder"
         )
 
 
@@ -177,35 +183,51 @@ def staged_report(out: Path, report: str, marker: str) -> Iterator[Path]:
     its header holds."""
     refuse_strangers(out, [report], report, marker)
     out.parent.mkdir(parents=True, exist_ok=True)
-    _remove_abandoned_staging(out)
-    prefix = f".{out.name}.staging-{os.getpid()}-"
-    staging = Path(tempfile.mkdtemp(prefix=prefix, dir=out.parent))
+    prefix = f".{out.name}.staging-"
+    _remove_abandoned_staging(out.parent, prefix)
+    staging = Path(tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-", dir=out.parent))
     try:
         yield staging
-        names = sorted(p.name for p in staging.iterdir())
-        refuse_strangers(out, names, report, marker)
-        earlier = owned_hashes(out, report, marker) or {}
-        staged = {name: digest_of(staging, name) for name in names}
-        out.mkdir(parents=True, exist_ok=True)
-        with signals_deferred():
-            _write_hashed_ledger(out, [*earlier.items(), *staged.items()])
-            for name in names:
-                os.replace(staging / name, out / name)
-            kept = _remove_earlier(out, {n: d for n, d in earlier.items() if n not in staged})
-            listed = [(n, d) for n, d in staged.items() if (out / n).is_file()]
-            _write_hashed_ledger(out, [*listed, *kept.items()])
+        _move_in(out, staging, report, marker, LEDGER)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def claim_build_names(out: Path, names: list[str], report: str, marker: str) -> None:
-    """Refuse a stranger's file of `names` in `out`, then list `names` in its build
-    ledger before any is written in place (a firmware build's objects and image): a
-    build interrupted or failed half-way leaves files the next one knows as its own."""
+@contextmanager
+def staged_build(out: Path, names: list[str], report: str, marker: str) -> Iterator[Path]:
+    """A staging folder inside `out` to build into, after refusing a stranger's file of
+    `names` (every file the build may write) in `out`; on leaving without an error its
+    files are moved into `out` as a report's are, listed in `out`'s build ledger with
+    their hashes. `report` is the build's map, `marker` a text its head holds."""
     refuse_strangers(out, names, report, marker, BUILD_LEDGER)
-    owned = owned_names(out, report, marker, BUILD_LEDGER)
     out.mkdir(parents=True, exist_ok=True)
-    _write_ledger(out, set(owned or ()) | set(names), BUILD_LEDGER)
+    prefix = f"{BUILD_LEDGER}.staging-"
+    _remove_abandoned_staging(out, prefix)
+    staging = Path(tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-", dir=out))
+    try:
+        yield staging
+        _move_in(out, staging, report, marker, BUILD_LEDGER)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _move_in(out: Path, staging: Path, report: str, marker: str, ledger_name: str) -> None:
+    """Move the files of `staging` into `out`, refused (`out` left as it was) when one
+    would replace a file the tool did not write; the ledger lists them with their hashes
+    before the moves, and the earlier files of the tool the new ones do not replace are
+    removed after them."""
+    names = sorted(p.name for p in staging.iterdir())
+    refuse_strangers(out, names, report, marker, ledger_name)
+    earlier = owned_hashes(out, report, marker, ledger_name) or {}
+    staged = {name: digest_of(staging, name) for name in names}
+    out.mkdir(parents=True, exist_ok=True)
+    with signals_deferred():
+        _write_hashed_ledger(out, [*earlier.items(), *staged.items()], ledger_name)
+        for name in names:
+            os.replace(staging / name, out / name)
+        kept = _remove_earlier(out, {n: d for n, d in earlier.items() if n not in staged})
+        listed = [(n, d) for n, d in staged.items() if (out / n).is_file()]
+        _write_hashed_ledger(out, [*listed, *kept.items()], ledger_name)
 
 
 def _remove_earlier(out: Path, earlier: dict[str, str]) -> dict[str, str]:
@@ -222,25 +244,24 @@ def _remove_earlier(out: Path, earlier: dict[str, str]) -> dict[str, str]:
     return kept
 
 
-def _write_hashed_ledger(out: Path, entries: list[tuple[str, str | None]]) -> None:
-    """The report ledger: a line `name<TAB>sha256` for each entry with a hash."""
+def _write_hashed_ledger(
+    out: Path, entries: list[tuple[str, str | None]], ledger_name: str = LEDGER
+) -> None:
+    """The ledger: a line `name<TAB>sha256` for each entry with a hash."""
     lines = sorted({f"{name}\t{digest}\n" for name, digest in entries if digest is not None})
-    write_atomically(out / LEDGER, "".join(lines))
+    write_atomically(out / ledger_name, "".join(lines))
 
 
-def _write_ledger(out: Path, names: set[str], ledger_name: str = LEDGER) -> None:
-    write_atomically(out / ledger_name, "".join(f"{n}\n" for n in sorted(names)))
-
-
-def _remove_abandoned_staging(out: Path) -> None:
-    """Staging folders of `out` whose process no longer runs (killed while rendering)."""
-    for folder in out.parent.glob(f".{out.name}.staging-*-*"):
-        pid = folder.name.removeprefix(f".{out.name}.staging-").split("-", 1)[0]
-        if not pid.isdigit() or not folder.is_dir() or folder.is_symlink():
+def _remove_abandoned_staging(folder: Path, prefix: str) -> None:
+    """The staging folders in `folder` named `prefix`<pid>-... whose process no longer
+    runs (killed while rendering or compiling)."""
+    for staging in folder.glob(f"{glob.escape(prefix)}*-*"):
+        pid = staging.name.removeprefix(prefix).split("-", 1)[0]
+        if not pid.isdigit() or not staging.is_dir() or staging.is_symlink():
             continue
         try:
             os.kill(int(pid), 0)
         except ProcessLookupError:
-            shutil.rmtree(folder, ignore_errors=True)
+            shutil.rmtree(staging, ignore_errors=True)
         except OSError:
             continue  # another user's process: it runs

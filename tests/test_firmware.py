@@ -2,17 +2,23 @@
 
 from __future__ import annotations
 
+import hashlib
+import os
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-from codegen.build_firmware import build
+from codegen.build_firmware import MAP, build
+from codegen.errors import ExitCode
 from codegen.firmware import tim3_irq_number, vector_table
+from codegen.publish import PublishError
 from codegen.report_folder import BUILD_LEDGER
 
 ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "generated" / "paper_motor"
 
 pytestmark = pytest.mark.skipif(shutil.which("arm-none-eabi-gcc") is None, reason="no arm gcc")
 
@@ -58,14 +64,14 @@ def test_firmware_should_link_with_the_handler_in_the_vector_table(
 
 
 def test_a_build_folder_should_keep_the_users_own_stack_reports(tmp_path: Path) -> None:
-    """`firmware --build DIR` removes its own objects' .su and .ci before it compiles
-    (a stale Cube-style `it` report too), and no other file: it had removed every *.su
-    and *.ci in DIR."""
+    """`firmware --build DIR` removes its own files of a former build that this one does
+    not write (a stale Cube-style `it` report), and no other file: it had removed every
+    *.su and *.ci in DIR."""
     mine = {tmp_path / "notes.su": "user", tmp_path / "graph.ci": "user"}
     for path, text in mine.items():
         path.write_text(text)
     (tmp_path / "it.su").write_text("stale")  # a former Cube-style build's, in its ledger
-    (tmp_path / BUILD_LEDGER).write_text("it.su\n")
+    (tmp_path / BUILD_LEDGER).write_text(f"it.su\t{hashlib.sha256(b'stale').hexdigest()}\n")
     build(ROOT / "generated" / "paper_motor", tmp_path)
     assert all(path.read_text() == text for path, text in mine.items())
     assert not (tmp_path / "it.su").exists() and (tmp_path / "core.su").is_file()
@@ -78,15 +84,13 @@ def test_a_build_folder_holding_a_users_file_of_a_build_name_should_be_refused(
     replaced a user's `firmware.map` and `main.o`; a file of the build's names that DIR's
     ledger does not list stops the build before it starts, and a former build's own
     files (its ledger, or a map from before the ledger) are replaced."""
-    from codegen.publish import PublishError
-
     (tmp_path / "main.o").write_text("mine")
     with pytest.raises(PublishError, match=r"main\.o is in the way"):
         build(ROOT / "generated" / "paper_motor", tmp_path)
     assert (tmp_path / "main.o").read_text() == "mine" and not (tmp_path / "core.o").exists()
     (tmp_path / "main.o").unlink()
     build(ROOT / "generated" / "paper_motor", tmp_path)
-    assert "main.o" in (tmp_path / BUILD_LEDGER).read_text().split()
+    assert "main.o" in _ledger(tmp_path)
     build(ROOT / "generated" / "paper_motor", tmp_path)  # its own files: replaced
     legacy = tmp_path / "legacy"
     legacy.mkdir()
@@ -96,12 +100,13 @@ def test_a_build_folder_holding_a_users_file_of_a_build_name_should_be_refused(
     assert (legacy / "main.o").read_bytes() != b"old object"
 
 
-def test_a_build_interrupted_half_way_should_leave_files_the_next_build_knows(
+def test_a_build_interrupted_half_way_should_leave_the_folder_as_it_was(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The build lists its names in its ledger before it writes them: recorded only at
-    the end, a build interrupted (Ctrl-C, a compile error) after its first object had
-    left core.o unlisted, and every later build into the folder refused it."""
+    """Written in place, a build interrupted (Ctrl-C, a compile error) after its first
+    object had left core.o unlisted, and every later build into the folder refused it.
+    The build compiles into a staging folder inside the build folder and moves its files
+    in at the end: an interrupted one leaves nothing, and the next build runs."""
     import codegen.build_firmware as build_module
 
     real = subprocess.run
@@ -117,9 +122,114 @@ def test_a_build_interrupted_half_way_should_leave_files_the_next_build_knows(
         patch.setattr(build_module.subprocess, "run", failing)
         with pytest.raises(subprocess.CalledProcessError):
             build(ROOT / "generated" / "paper_motor", tmp_path)
-    assert (tmp_path / "core.o").is_file() and not (tmp_path / "firmware.elf").exists()
-    build(ROOT / "generated" / "paper_motor", tmp_path)  # its own half-build: replaced
-    assert (tmp_path / "firmware.elf").is_file()
+    assert len(calls) == 2 and list(tmp_path.iterdir()) == []
+    gone = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
+    killed = tmp_path / f"{BUILD_LEDGER}.staging-{gone}-abc123"  # a build killed (SIGKILL)
+    killed.mkdir()
+    (killed / "core.o").write_text("half")
+    build(ROOT / "generated" / "paper_motor", tmp_path)
+    assert (tmp_path / "firmware.elf").is_file() and not killed.exists()
+    assert not [p for p in tmp_path.iterdir() if ".staging-" in p.name]
+
+
+def _ledger(folder: Path) -> dict[str, str]:
+    """The build ledger's `name<TAB>sha256` lines: name -> hash."""
+    lines = (folder / BUILD_LEDGER).read_text().splitlines()
+    return dict(line.split("\t") for line in lines)
+
+
+def _contents(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in folder.iterdir()}
+
+
+def test_a_forged_build_ledger_line_should_not_let_the_build_overwrite_a_users_file(
+    tmp_path: Path,
+) -> None:
+    """The build ledger listed names only: a line "main.o" (forged, or left by another
+    folder's copy) had `firmware --build DIR` overwrite the user's own main.o. A listed
+    file is the tool's only while its content has the SHA-256 recorded for it; a names-
+    only ledger counts only where the folder's map is a build's (an earlier version's)."""
+    build_dir = tmp_path / "build"
+    build_dir.mkdir()
+    (build_dir / "main.o").write_bytes(b"my own object\n")
+    (build_dir / BUILD_LEDGER).write_text("main.o\n")
+    before = _contents(build_dir)
+    proc = subprocess.run(
+        [sys.executable, "-m", "codegen", "firmware", str(ROOT / "spec" / "paper_motor.yaml"),
+         "--generated", str(PAPER), "--build", str(build_dir)],
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )  # fmt: skip
+    assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+    assert proc.stderr.splitlines() == [
+        f"error: output: {build_dir / 'main.o'} is in the way and was not written by"
+        f" bldc-codegen (the folder's {BUILD_LEDGER} does not list it with its content's"
+        " SHA-256): move it away or choose another output folder"
+    ]
+    assert _contents(build_dir) == before
+    digest = hashlib.sha256(b"an object of the tool's, overwritten since").hexdigest()
+    (build_dir / BUILD_LEDGER).write_text(f"main.o\t{digest}\n")  # a hash it has not
+    with pytest.raises(PublishError, match=r"main\.o is in the way and was not written"):
+        build(PAPER, build_dir)
+    assert (build_dir / "main.o").read_bytes() == b"my own object\n"
+
+
+def test_a_rebuild_should_replace_the_builds_own_files_and_record_their_hashes(
+    tmp_path: Path,
+) -> None:
+    """The ledger lists each file the build wrote with its content's SHA-256; a rebuild
+    into the same folder replaces them all (a file moved in: a new inode), the user's
+    own files beside them left alone."""
+    (tmp_path / "notes.txt").write_text("mine")
+    build(PAPER, tmp_path)
+    ledger = _ledger(tmp_path)
+    built = sorted(p.name for p in tmp_path.iterdir() if p.name not in (BUILD_LEDGER, "notes.txt"))
+    assert sorted(ledger) == built and "main.o" in built and MAP in built
+    assert all(hashlib.sha256((tmp_path / n).read_bytes()).hexdigest() == ledger[n] for n in built)
+    inodes = {name: (tmp_path / name).stat().st_ino for name in built}
+    build(PAPER, tmp_path)
+    assert _ledger(tmp_path) == ledger  # the same sources: the same files
+    assert all((tmp_path / name).stat().st_ino != inodes[name] for name in built)
+    assert (tmp_path / "notes.txt").read_text() == "mine"
+
+
+def test_a_build_file_the_user_edited_should_be_kept_and_the_build_refused(
+    tmp_path: Path,
+) -> None:
+    """A file of the build edited by its user since (a map annotated by hand) had been
+    overwritten by the next build, its name in the ledger: its content no longer has
+    the hash recorded, so it is the user's and the build stops before it starts."""
+    build(PAPER, tmp_path)
+    with (tmp_path / MAP).open("a") as edited:
+        edited.write("my notes on the layout\n")
+    before = _contents(tmp_path)
+    with pytest.raises(PublishError, match=r"firmware\.map is in the way and was not written"):
+        build(PAPER, tmp_path)
+    assert _contents(tmp_path) == before
+
+
+def test_a_build_ledger_of_an_earlier_version_should_count_by_the_map(tmp_path: Path) -> None:
+    """A build ledger of names without hashes (an earlier version's) counts as a build
+    folder from before the ledger, as the report ledger's does: where the map is a
+    build's, the new build's files are replaced and nothing else is removed; the ledger
+    then lists them with their hashes."""
+    (tmp_path / "main.o").write_text("old object")
+    (tmp_path / MAP).write_text("\nDiscarded input sections\n .text 0x0 0x0 x/core.o\n")
+    (tmp_path / "it.su").write_text("a former Cube-style build's, or the user's")
+    (tmp_path / BUILD_LEDGER).write_text("it.su\nmain.o\nfirmware.map\n")
+    build(PAPER, tmp_path)
+    assert (tmp_path / "main.o").read_bytes() != b"old object"
+    assert (tmp_path / "it.su").read_text() == "a former Cube-style build's, or the user's"
+    assert "it.su" not in _ledger(tmp_path) and "main.o" in _ledger(tmp_path)
 
 
 def test_a_report_written_into_a_build_folder_should_leave_the_image(tmp_path: Path) -> None:
