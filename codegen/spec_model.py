@@ -346,6 +346,6 @@ def loop_periods_per_step_response(spec: Spec) -> float:
 def integrator_step_tolerance_counts(spec: Spec) -> float:
     """What the spec allows the braking-current PI's integrator to be off by in one PWM
     period, in TIM1 counts: accuracy.current_loop_duty_counts spread over the periods of
-    a step response, over which the error of each step accumulates. The requirement the
-    loop's design is held to and its check measures against, stated once."""
+    a step response, over which the error of each step accumulates: the requirement the
+    loop's design is held to (verify states its own, oracle.current_loop)."""
     return float(spec.accuracy.current_loop_duty_counts) / loop_periods_per_step_response(spec)

@@ -42,6 +42,24 @@ Floats = npt.NDArray[np.float64]
 Ints = npt.NDArray[np.int64]
 
 PI = Fraction("3.1415926535897932384626433832795028841972")
+#: The closed-loop time constants (1 / w_c each) a braking-current step response takes to
+#: settle: the verifier's own statement of the requirement (README, "The braking
+#: drive"), not the generator's (a generator that designed to a looser one had moved
+#: the check's yardstick with it)
+STEP_RESPONSE_TIME_CONSTANTS = 5
+
+
+def step_response_periods(spec: Spec) -> Fraction:
+    """PWM periods in a braking-current step response, 5 f_pwm / w_c (at least one):
+    the integrator's error of each step accumulates over them."""
+    periods = (
+        STEP_RESPONSE_TIME_CONSTANTS
+        * spec.inverter.pwm_frequency_hz
+        / (2 * PI * spec.current_loop.bandwidth_hz)
+    )
+    return max(Fraction(1), periods)
+
+
 ADC_HZ = Fraction(12_000_000)
 LATENCY_CYCLES = 3
 CONVERSION_EXTRA_CYCLES = Fraction(25, 2)

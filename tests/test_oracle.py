@@ -3,6 +3,7 @@ generator's own derivation (two independent routes that must agree)."""
 
 from __future__ import annotations
 
+import math
 import random
 from fractions import Fraction
 from pathlib import Path
@@ -11,10 +12,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from codegen import spec_model
 from codegen.derivation import derive
 from codegen.derivation import symbols as s
 from codegen.spec_loader import load_spec
 from oracle.model import oracle
+from verify.current_loop import integrator_tolerance
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -253,3 +256,20 @@ def test_the_rules_zero_should_be_the_bisections_within_its_width(path: str) -> 
         on_a_boundary = np.abs(periods - np.rint(periods)) * com.carrier_ticks <= 4e-9
         differ = com.end_after(z * ticks) != com.end_after(bisected * ticks)
         assert not (differ & ~on_a_boundary).any()
+
+
+def test_the_integrators_tolerance_should_be_the_verifiers_own(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A generator held to a looser step response must not move verify's yardstick: a
+    hunt's mutant (codegen.spec_model's 5 time constants made 1) had made the integrator
+    check five times looser, as verify took the constant from the generator."""
+    spec = load_spec(_spec("paper_motor.yaml"))
+    # 1 count spread over 5 f_pwm / (2 pi f_c) = 5 x 20 kHz / (2 pi x 1 kHz) = 15.92
+    # PWM periods: 0.0628 counts a step
+    by_hand = 2 * math.pi * 1000 / (5 * 20_000)
+    assert integrator_tolerance(spec, 1.0) == pytest.approx(by_hand, rel=1e-12)
+    assert spec_model.integrator_step_tolerance_counts(spec) == pytest.approx(by_hand, rel=1e-12)
+    monkeypatch.setattr(spec_model, "STEP_RESPONSE_TIME_CONSTANTS", 1)
+    assert spec_model.integrator_step_tolerance_counts(spec) == pytest.approx(5 * by_hand)
+    assert integrator_tolerance(spec, 1.0) == pytest.approx(by_hand, rel=1e-12)

@@ -41,12 +41,13 @@ from types import ModuleType
 import numpy as np
 import numpy.typing as npt
 
-from codegen.spec_model import Spec, loop_periods_per_step_response
+from codegen.spec_model import Spec
 from oracle.current_loop import (
     LoopModel,
     dtg_dead_time_counts,
     loop_model,
     programmed_dead_time_counts,
+    step_response_periods,
 )
 from verify.check import SLACK, OutputCheck
 from verify.host_core import compile_with_shim, load_twin
@@ -511,10 +512,10 @@ def claims_check(
 
 
 def integrator_tolerance(spec: Spec, tol: float) -> float:
-    """The duty tolerance `tol` spread over the PWM periods of a step response (the
-    spec's requirement, `integrator_step_tolerance_counts`): the integrator's error per
-    step accumulates."""
-    return tol / loop_periods_per_step_response(spec)
+    """The duty tolerance `tol` spread over the PWM periods of a step response
+    (`oracle.current_loop.step_response_periods`, the oracle's own): the integrator's
+    error per step accumulates."""
+    return tol / float(step_response_periods(spec))
 
 
 def verify_loop(
