@@ -41,6 +41,7 @@ from __future__ import annotations
 import struct
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import capstone  # type: ignore[import-untyped]
@@ -167,6 +168,35 @@ def _access_of(code: bytes, address: int, cycles_before: int) -> _Access | None:
         _REGISTER.get(source.reg, uc_arm.UC_ARM_REG_R0),
         mask or 0,
     )
+
+
+@lru_cache(maxsize=16384)
+def block_cost(code: bytes, address: int) -> tuple[tuple[int, int], tuple[_Access, ...]]:
+    """The block of Thumb instructions `code` at `address`: (TRM cycles, flash reads
+    that wait), and its loads and stores. A block entered from elsewhere waits for its
+    first flash line, and each literal load reads the flash over D-Code (RM0008 3.3.3;
+    `emulation.memory` models this in full for the bench). A function of the bytes and
+    the address alone: every machine running the same image shares it."""
+    cycles = 0
+    literal_loads = 0
+    offset = 0
+    last = None
+    accesses = []
+    while offset < len(code):
+        length = thumb_instruction_size(code[offset : offset + 2])
+        instruction = code[offset : offset + length]
+        access = _access_of(instruction, address + offset, cycles)
+        if access is not None:
+            accesses.append(access)
+        last = decode(instruction)
+        cycles += last.cycles
+        if "[pc" in disassemble(instruction, address + offset):
+            literal_loads += 1
+        offset += length
+    if last is not None and last.refill != "never":
+        cycles += _TAKEN_REFILL
+    waits = (1 + literal_loads) if address < SRAM_BASE else 0
+    return (cycles, waits), tuple(accesses)
 
 
 @dataclass(frozen=True)
@@ -507,32 +537,13 @@ class Machine:
             self._process_events()
 
     def _cost_of_block(self, address: int, size: int) -> tuple[int, int]:
-        """(TRM cycles, flash reads that wait): a block entered from elsewhere waits
-        for its first flash line, and each literal load reads the flash over D-Code
-        (RM0008 3.3.3; `emulation.memory` models this in full for the bench)."""
+        """(TRM cycles, flash reads that wait) of the block at `address` (`block_cost`),
+        and its loads and stores for `_access_tick`."""
         code = bytes(self.uc.mem_read(address, size))
-        cycles = 0
-        literal_loads = 0
-        offset = 0
-        last = None
-        accesses = []
-        while offset < size:
-            length = thumb_instruction_size(code[offset : offset + 2])
-            instruction = code[offset : offset + length]
-            access = _access_of(instruction, address + offset, cycles)
-            if access is not None:
-                accesses.append(access)
-            last = decode(instruction)
-            cycles += last.cycles
-            if "[pc" in disassemble(instruction, address + offset):
-                literal_loads += 1
-            offset += length
-        if last is not None and last.refill != "never":
-            cycles += _TAKEN_REFILL
-        waits = (1 + literal_loads) if address < SRAM_BASE else 0
-        self._block_cost[(address, size)] = (cycles, waits)
-        self._block_accesses[(address, size)] = tuple(accesses)
-        return cycles, waits
+        cost, accesses = block_cost(code, address)
+        self._block_cost[(address, size)] = cost
+        self._block_accesses[(address, size)] = accesses
+        return cost
 
     def _on_wfi(self, uc: Uc, address: int, _size: int, _data: object) -> None:
         self.sleep_pc = address
