@@ -65,6 +65,19 @@ def _wave(
     return sign * (e0 + (e1 - e0) * (angle - a0) / (a1 - a0))
 
 
+def line_to_line_peak(points: tuple[tuple[Fraction, Fraction], ...]) -> Fraction:
+    """lambda: the peak line-to-line EMF e_a - e_b per unit of E, phase b lagging phase a
+    by 120 electrical degrees, of the half-period table `points` (the other half its
+    negative). Exact: e_a - e_b is piecewise linear, so its largest magnitude lies at a
+    corner of e_a (a table angle, or one 180 deg on) or of e_b (those 120 deg later).
+    2 for a flat top of 60 deg or more (+E and -E at once, the paper's Eq. 4)."""
+    angles = [Fraction(a) for a, _ in points]
+    table = tuple((Fraction(a), Fraction(e)) for a, e in points)
+    corners = {a % 360 for a in angles} | {(a + 180) % 360 for a in angles}
+    candidates = corners | {(c + 120) % 360 for c in corners}
+    return max(abs(_wave(table, angles, t) - _wave(table, angles, t - 120)) for t in candidates)
+
+
 @dataclass(frozen=True)
 class EdgeEmf:
     """sigma and phi over the sector, as (x, value) breakpoints (linear between)."""
