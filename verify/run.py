@@ -25,6 +25,7 @@ from codegen.render import save_figure_atomically, write_atomically
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
 from oracle.model import Oracle, oracle
+from oracle.quantities import Agreement, cross_check
 from verify import points
 from verify.check import (
     Evaluated,
@@ -107,6 +108,40 @@ def read_manifest(generated: Path, spec: Spec, spec_arg: str) -> dict[str, objec
     return manifest
 
 
+def quantity_checks(rows: tuple[Agreement, ...]) -> dict[str, OutputCheck]:
+    """The oracle's own reading of the spec's quantities against the loader's
+    (`oracle.quantities`): one row for every key compared, and one FAIL row per key
+    that disagrees, its note the key, the raw text, the oracle's value and the loader's."""
+    bad = [row for row in rows if not row.agrees]
+    checks = {
+        "quantities": OutputCheck(
+            "spec quantities: oracle's reading == loader's",
+            "keys off",
+            None,
+            points=len(rows),
+            failures=len(bad),
+            max_error=float(len(bad)),
+            note=(
+                f"{len(rows)} keys converted from the YAML by oracle/quantities.py: exact,"
+                " within 1e-12 relative where the unit holds pi"
+                if not bad
+                else f"{len(bad)} of {len(rows)} keys disagree (below)"
+            ),
+        )
+    }
+    for row in bad:
+        checks[f"quantity {row.key}"] = OutputCheck(
+            f"spec {row.key}",
+            "rel. diff",
+            None,
+            points=1,
+            failures=1,
+            max_error=row.relative_difference,
+            note=row.line(),
+        )
+    return checks
+
+
 def _sample(n: int, count: int) -> np.ndarray:
     if n <= count:
         return np.arange(n)
@@ -159,6 +194,10 @@ def verify(
 ) -> tuple[VerifyResult, dict[str, Evaluated], Tolerances, Oracle]:
     started = time.perf_counter()
     spec = load_spec(spec_arg)
+    # first: every quantity the oracle takes from the loader's Spec, as the oracle reads
+    # it from the YAML with its own units (a factor wrong in the loader would otherwise
+    # move the C and its yardstick together)
+    quantities = quantity_checks(cross_check(spec_arg, spec))
     manifest = read_manifest(generated, spec, str(spec_arg))
     core_info = manifest["core"]
     assert isinstance(core_info, dict)
@@ -181,7 +220,7 @@ def verify(
         "time clamp": points.time_clamp_points(o, in_dtype, _time_model(o)),
         "conditioning": points.conditioning_points(o, in_dtype),
     }
-    checks = new_checks(tol)
+    checks = {**quantities, **new_checks(tol)}
     checks["twin"] = OutputCheck("C == bit-exact Python twin (sample)", "mismatches", None)
     evaluated: dict[str, Evaluated] = {}
     flag_bits = {k: int(v) for k, v in abi["flags"].items()}
