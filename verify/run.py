@@ -3,8 +3,10 @@
 What is checked is read from generated/<name>/ (the C, the Python twin, the manifest's
 ABI and claims) and the spec; the expected values and the tolerances come from the
 oracle (`oracle/`) and the spec's `accuracy:` section. Nothing is taken from the
-generator's Python objects. A manifest whose spec hash differs from the spec given is
-stale: verify stops and says how to regenerate.
+generator's Python objects, and the loader's converted quantities only once they are
+shown equal to the oracle's own reading of the spec file (`oracle.quantities`, the first
+check). A manifest whose spec hash differs from the spec given is stale: verify stops
+and says how to regenerate.
 """
 
 from __future__ import annotations
