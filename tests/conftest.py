@@ -161,3 +161,18 @@ def generate_and_verify(tmp_path: Path) -> Callable[..., tuple[object, object, P
         return result, o, generated
 
     return run
+
+
+@pytest.fixture
+def gone_pid() -> str:
+    """The process id of a process that has ended (a run killed with its staging
+    folder left behind)."""
+    import subprocess
+
+    done = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return done.stdout.strip()

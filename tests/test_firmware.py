@@ -101,7 +101,7 @@ def test_a_build_folder_holding_a_users_file_of_a_build_name_should_be_refused(
 
 
 def test_a_build_interrupted_half_way_should_leave_the_folder_as_it_was(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, gone_pid: str
 ) -> None:
     """Written in place, a build interrupted (Ctrl-C, a compile error) after its first
     object had left core.o unlisted, and every later build into the folder refused it.
@@ -123,12 +123,7 @@ def test_a_build_interrupted_half_way_should_leave_the_folder_as_it_was(
         with pytest.raises(subprocess.CalledProcessError):
             build(ROOT / "generated" / "paper_motor", tmp_path)
     assert len(calls) == 2 and list(tmp_path.iterdir()) == []
-    gone = subprocess.run(
-        [sys.executable, "-c", "import os; print(os.getpid())"],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout.strip()
+    gone = gone_pid
     killed = tmp_path / f"{BUILD_LEDGER}.staging-{gone}-abc123"  # a build killed (SIGKILL)
     killed.mkdir()
     (killed / "core.o").write_text("half")

@@ -108,16 +108,21 @@ def _patched_module(
     return module
 
 
-def test_s1_a_phase_constant_halved_as_line_to_line_should_fail_on_k_e(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    mutant = _patched_module(
+def _s1_loader(monkeypatch: pytest.MonkeyPatch) -> types.ModuleType:
+    """Mutant S1: the loader halves a phase constant as if it were line to line."""
+    return _patched_module(
         monkeypatch,
         ROOT / "codegen" / "spec_loader.py",
         "codegen._spec_loader_s1",
         'if convention == "line_to_line":\n        # The datasheet',
         'if convention in ("line_to_line", "phase"):\n        # The datasheet',
     )
+
+
+def test_s1_a_phase_constant_halved_as_line_to_line_should_fail_on_k_e(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    mutant = _s1_loader(monkeypatch)
     wrong = mutant.load_spec(PAPER)
     right = load_spec(PAPER)
     assert wrong.motor.back_emf_constant_v_per_rpm * 2 == right.motor.back_emf_constant_v_per_rpm
@@ -177,13 +182,7 @@ def test_verify_should_run_the_cross_check_first_and_fail_on_s1(
     the run fails on motor.back_emf_constant (the checked-in core, a few points)."""
     import verify.run as run
 
-    mutant = _patched_module(
-        monkeypatch,
-        ROOT / "codegen" / "spec_loader.py",
-        "codegen._spec_loader_s1",
-        'if convention == "line_to_line":\n        # The datasheet',
-        'if convention in ("line_to_line", "phase"):\n        # The datasheet',
-    )
+    mutant = _s1_loader(monkeypatch)
     monkeypatch.setattr(run, "load_spec", mutant.load_spec)
     result, _, _, _ = run.verify(
         PAPER,

@@ -156,15 +156,12 @@ def test_a_run_killed_between_two_moves_should_leave_its_files_listed(
     assert not (out / "A_new.png").exists()  # the killed run's, not this one's
 
 
-def test_a_staging_folder_of_a_process_gone_should_be_removed(tmp_path: Path) -> None:
+def test_a_staging_folder_of_a_process_gone_should_be_removed(
+    tmp_path: Path, gone_pid: str
+) -> None:
     """A run killed while rendering left `.out.staging-*` beside the folder for good."""
     out = tmp_path / "out"
-    gone = subprocess.run(
-        [sys.executable, "-c", "import os; print(os.getpid())"],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout.strip()
+    gone = gone_pid
     abandoned = tmp_path / f".out.staging-{gone}-abc123"
     abandoned.mkdir()
     (abandoned / "REPORT.md").write_text("half")
