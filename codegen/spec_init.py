@@ -914,7 +914,13 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         ),
         "inverter.timer_clock": "STM32F103 TIM1 clock (APB2 at 72 MHz)",
         "inverter.dead_time": (
-            f"{derived} 500 ns, at most 1 % of the PWM period; check your gate driver"
+            (
+                f"{derived} 500 ns, at most 1 % of the PWM period"
+                if dead_ns == 500
+                else f"{derived} 1 % of the PWM period (rounded down to 10 ns), less than the"
+                " 500 ns init takes at most"
+            )
+            + "; check your gate driver"
         ),
         "hall.sequence": "assumption: the paper's Table 1 order; check your motor's wiring",
         "hall.timer_clock": (

@@ -417,6 +417,10 @@ def test_init_should_keep_a_stiff_motors_top_speed_where_all_off_is_safe(
     assert "does not load" not in captured.out + captured.err
     spec = load_spec(tmp_path / "spec" / "stiff.yaml")
     assert spec.controller.speed_max_rpm == 11880
+    # 1 % of the 12.5 us period, 125 ns, rounded down to 10 ns; the source says so (it
+    # had said 500 ns)
+    assert spec.inverter.dead_time_s == Fraction(120, 10**9)
+    assert "1 % of the PWM period" in dict(spec.sources)["inverter.dead_time"]
     assert (
         "below the speed where every switch off rectifies"
         in dict(spec.sources)["controller.speed_max"]

@@ -133,6 +133,17 @@ def test_an_emf_table_whose_flat_top_is_not_at_one_should_name_the_shape_key() -
     assert "scale motor.back_emf_constant instead of the table" in str(error.value)
 
 
+def test_an_emf_table_should_be_refused_by_the_term_that_is_not_whole() -> None:
+    """A hunt's peaked table: (+1, -0.5, -0.5) E at the edge, so 2 e_a - e_b - e_c = 3 E
+    is whole and e_a - 2 e_b + e_c = 1.5 E is not; the refusal had named the first."""
+    points = ((0, 0), (30, Fraction(1, 2)), (90, 1), (150, Fraction(1, 2)), (180, 0))
+    peaked = BackEmfShape(tuple((Fraction(a), Fraction(v)) for a, v in points), None)
+    with pytest.raises(ShapeError) as error:
+        affine_terms(peaked, derive().switching)
+    assert "e_a - 2 e_b + e_c = 1.5 E" in str(error.value)
+    assert "2 e_a - e_b - e_c" not in str(error.value)
+
+
 def test_decay_table_should_be_powers_of_the_step_decay(design: RuleDesign) -> None:
     rule = design.rule
     y1 = float(rule.constants.step_decay)

@@ -137,15 +137,19 @@ def affine_terms(shape: BackEmfShape, table: SwitchingTable) -> ShapeTerms:
 
     sum0, sum1 = combination((2, -1, -1))
     force0, force1 = combination((1, -2, 1))
-    if any(v.denominator != 1 or v < 0 for v in (Fraction(sum0), Fraction(force0))):
+    terms = (("2 e_a - e_b - e_c", Fraction(sum0)), ("e_a - 2 e_b + e_c", Fraction(force0)))
+    failing = [(name, v) for name, v in terms if v.denominator != 1 or v < 0]
+    if failing:
         # the firmware's rule takes X sigma_0 / 4 and X phi_0 / 4 in whole quarters (4
         # and 2 for a flat top at 1): a table scaled to 0.7 had reached the integer
-        # design and failed there (an internal error in generate, simulate and bench)
+        # design and failed there (an internal error in generate, simulate and bench);
+        # the message names the term that is not whole (it had always named the first,
+        # 3 E, for a table whose second was 1.5 E)
         edge = ", ".join(f"{float(e):+.3g}" for e in values[Fraction(0)])
+        said = " and ".join(f"{name} = {float(v):.4g} E" for name, v in failing)
         raise ShapeError(
             f"the back-EMF shape ({shape.describe()}) has the EMFs ({edge}) E at the edge,"
-            f" 2 e_a - e_b - e_c = {float(sum0):.4g} E, where the rule's integer form takes a"
-            " whole number (a flat top at 1; scale motor.back_emf_constant instead of the"
-            " table)"
+            f" {said}, where the rule's integer form takes a whole number of E, 0 or more"
+            " (a flat top at 1; scale motor.back_emf_constant instead of the table)"
         )
     return ShapeTerms(sum0, sum1, force0, force1, shape.frozen, shape.describe())
