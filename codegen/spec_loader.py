@@ -1277,10 +1277,11 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             f"the 60 deg sector at speed_max holds {_g(periods)} PWM periods, fewer than"
             f" {_g(spec_drive.STEADY_SECTOR_PWM_PERIODS)}: the port computes each edge's"
             " timing from the current loop's state before the previous edge, and with so"
-            " few loop samples a sector the braking may lock into a two-sector cycle there"
-            " (`make pil` judges it: a 1-pole-pair motor at 2.35 periods held 0.21 A of its"
-            f" 3 A command at some edges); steady up to about {_g(steady_rpm)} rpm at this"
-            " PWM frequency, or raise it",
+            " few loop samples a sector the braking may lock into a two-sector cycle, or"
+            " brake not at all, there (`make pil` judges it: a 1-pole-pair motor at 2.35"
+            " periods held 0.21 A of its 3 A command at some edges; a 2-pole-pair one at"
+            " 1.33 held 0.5 A of 5 A and slowed by 28 rpm in 0.8 s); steady up to about"
+            f" {_g(steady_rpm)} rpm at this PWM frequency, or raise it",
         )
     if controller.method in ("improved", "conventional"):
         _warn_edge_emfs(r, data, motor, inverter, controller)

@@ -1332,10 +1332,16 @@ def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_t
     assert result.setup.max_edges is not None
     (short,) = braking_report.problems(none)
     assert "the full run (`make pil`) compares them" in short
-    full = replace(none, setup=replace(result.setup, max_edges=None))
+    stop = result.setup.stop_rpm
+    full = replace(none, setup=replace(result.setup, max_edges=None), end_rpm=stop - 1)
     (problem,) = braking_report.problems(full)
     assert "the full run" not in problem
-    assert f"down to the run's stop speed, {result.setup.stop_rpm:g} rpm" in problem
+    assert f"down to {stop:.0f} rpm, the lowest the run reached, every" in problem
+    # a drive that brakes nothing (a hunt's: 27600 -> 27572 rpm) is not said to have run
+    # down to its stop speed
+    stalled = replace(full, end_rpm=3 * stop)
+    (problem,) = braking_report.problems(stalled)
+    assert f"down to {3 * stop:.0f} rpm, the lowest the run reached (it stopped short" in problem
 
 
 def _with_friction(spec: Spec, n_m_s: str) -> Spec:

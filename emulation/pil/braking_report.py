@@ -612,10 +612,18 @@ def problems(result: BrakingResult) -> list[str]:
         if "fills its sector" in why and result.setup.max_edges is not None:
             why += "; the full run (`make pil`) compares them at the lower speeds it brakes to"
         elif "fills its sector" in why:
+            # the speed the run ended at, not the stop speed it aimed for: a drive that
+            # braked nothing (27600 -> 27572 rpm) had been said to have run down to 3000
+            reached = max(result.end_rpm, result.setup.stop_rpm)
             why += (
-                f"; down to the run's stop speed, {result.setup.stop_rpm:g} rpm, every"
-                " commutation left fewer than the 2 whole PWM periods before the next edge"
-                " that the SIL's pre-edge state needs"
+                f"; down to {reached:.0f} rpm, the lowest the run reached"
+                + (
+                    ""
+                    if result.end_rpm <= result.setup.stop_rpm
+                    else f" (it stopped short of its stop speed, {result.setup.stop_rpm:g} rpm)"
+                )
+                + ", every commutation left fewer than the 2 whole PWM periods before the"
+                " next edge that the SIL's pre-edge state needs"
             )
         out.append("no commutation was measured" + (f" ({why})" if why else ""))
     return out
