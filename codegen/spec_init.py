@@ -52,6 +52,7 @@ from codegen.spec_drive import (
     short_circuit_peak,
 )
 from codegen.spec_loader import (
+    CURRENT_RANGE_CODES,
     DATASHEET_RANGES,
     PAPER_AUDIT_NAME,
     PERIOD_COUNTS_MAX,
@@ -884,10 +885,14 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         points = [high]
     bandwidth_hz = min(Fraction(1000), pwm / 10)
     over_current = _round_up(max(i_max * Fraction(3, 2), peak * Fraction(5, 4)), 1)
-    # the sensing reads every current below the trip: 1.65 V of mid-rail headroom at it
-    gain_mv = max(
-        Fraction(1, 10), min(Fraction(500), _round_down(Fraction(1650) / over_current, 1))
-    )
+    # the sensing reads every current below the trip: 1.65 V of mid-rail headroom at it;
+    # at most 500 mV/A, unless the braking range (from 0 A) needs more to span the
+    # loader's CURRENT_RANGE_CODES codes of the 12-bit, 3.3 V ADC, with a quarter to spare
+    # (`init --speed-max 1.2 rpm` wrote 0.0134 A at 500 mV/A, 8 codes, which the loader
+    # refused; the 1 A trip leaves room for 1650 mV/A, 27 codes)
+    headroom_mv = _round_down(Fraction(1650) / over_current, 1)
+    resolving_mv = _round_up(CURRENT_RANGE_CODES * Fraction(5, 4) * 3300 / (4096 * i_max), 1)
+    gain_mv = max(Fraction(1, 10), min(max(Fraction(500), resolving_mv), headroom_mv))
     short_bound = _round_up(Fraction(math.ceil(_short_peak(n_max, si, over_current))), 1)
     # a bound past what a protection entry may name (a tiny, stiff motor's E/R at the
     # top speed): the entry's limit, noted, so that the loader judges the physics (does
@@ -945,7 +950,14 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
             f"{derived} full scale (3.3 V - offset) / gain at least protection.over_current,"
             " so that every current below the trip reads (that is at least 1.25 x the braking"
             f" current's peak, braking_current_max + {_num(_round_up(ripple.above_sample * 10, 1) / 10)} A"
-            f" of PWM ripple, {alignment}-aligned); set your shunt x amplifier gain"
+            f" of PWM ripple, {alignment}-aligned)"
+            + (
+                f", above init's usual 500 mV/A so that the braking range spans"
+                f" {CURRENT_RANGE_CODES} x 1.25 ADC codes"
+                if gain_mv > 500
+                else ""
+            )
+            + "; set your shunt x amplifier gain"
         ),
         "adc.current_offset": "assumption: bipolar current sense biased at mid-rail",
         "controller.method": METHOD_SOURCES[method],

@@ -1334,3 +1334,28 @@ def test_init_should_keep_the_braking_current_within_what_a_slow_top_speed_drive
     ) / spec.motor.phase_resistance_ohm
     assert spec.controller.braking_current_nominal_a == Fraction(28, 1000)
     assert spec.controller.braking_current_nominal_a <= e_over_r / 2
+
+
+@pytest.mark.parametrize("speed", ["1.2 rpm", "2 rpm"])
+def test_init_at_its_least_top_speed_should_write_a_gain_that_resolves_the_current(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], speed: str
+) -> None:
+    """--speed-max 1.2 rpm (init's least) on the paper motor: half of E/R is 0.0134 A,
+    8 codes at init's usual 500 mV/A, and the loader refused the range as narrower than
+    its 16 codes (a hunt). The gain now rises to span 20 codes (1203 mV/A at 1.2 rpm),
+    within the 1.65 V/A the 1 A trip leaves, and the spec loads."""
+    from codegen.spec_loader import CURRENT_RANGE_CODES, load_spec
+
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["init", "slow", "--speed-max", speed, "-o", "slow.yaml"]) == 0
+    out = capsys.readouterr()
+    assert "does not load" not in out.out + out.err
+    spec = load_spec(tmp_path / "slow.yaml")
+    adc, controller = spec.adc, spec.controller
+    amps_per_code = adc.reference_v / 2**adc.bits / adc.current_gain_v_per_a
+    span = controller.braking_current_max_a - controller.braking_current_min_a
+    assert span >= CURRENT_RANGE_CODES * amps_per_code
+    assert adc.current_gain_v_per_a > Fraction(1, 2)  # above the usual 500 mV/A
+    # every current up to the trip still reads: 1.65 V of headroom
+    assert spec.protection.over_current_a * adc.current_gain_v_per_a <= Fraction(165, 100)
+    assert "above init's usual 500 mV/A" in dict(spec.sources)["adc.current_gain"]
