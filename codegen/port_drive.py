@@ -546,8 +546,10 @@ def drive_context(spec: Spec) -> dict[str, object]:
         _define(
             "BLDC_PORT_RECTIFYING_PRODUCT",
             f"{ss.k_rect}u",
-            f"T B at or below it: lambda k_e n >= U_d (lambda = {ss.line_to_line_peak}),"
-            " all-off rectifies: the safe state is the short circuit",
+            f"T B at or below it: lambda k_e n c >= U_d (lambda = {ss.line_to_line_peak},"
+            " k_e at its upper tolerance, c = 1/(1 - hall.sector_shortening): the rotor up"
+            " to c faster than T says), all-off may rectify: the safe state is the short"
+            " circuit",
         ),
         _define(
             "BLDC_PORT_SHORT_VALID_PERIOD",
@@ -555,7 +557,8 @@ def drive_context(spec: Spec) -> dict[str, object]:
             "Hall interval at or above it: the short circuit is within"
             f" protection.short_circuit_current_max = {float(p.short_circuit_current_max_a):g} A"
             + (
-                f" (up to {ss.short_valid_speed_rpm:.0f} rpm)"
+                f" (up to {ss.short_valid_speed_rpm:.0f} rpm for the worst motor the spec"
+                " declares, the rotor up to c faster than T says)"
                 if ss.short_valid_speed_rpm is not None
                 else " at every speed"
             ),

@@ -24,6 +24,9 @@ The physics (one copy, used by the loader's checks and by codegen/control):
   so all-off is no safe state there;
 * `short_circuit_peak`: a bound on the phase current of an active short circuit
   (all lower switches on) at a speed, from the EMF's harmonics;
+* `safe_state_corner`: the motor the safe state is chosen for, the worst one the spec
+  declares: k_e at its upper tolerance, R and L at their lower ones, and a rotor up to
+  `hall.sector_shortening` faster than the last Hall interval says;
 * `braking_ripple` / `braking_current_peak`: the PWM ripple of the braking current
   and the largest instantaneous current steady braking makes above the current the
   loop samples, which the current sensing must read (ADC2's analog watchdog trips
@@ -551,6 +554,37 @@ def conducting_line_mean(shape: BackEmfShape) -> Fraction:
     return Fraction(area) / (high - low) / 2
 
 
+@dataclass(frozen=True)
+class SafeStateCorner:
+    """The worst motor of the spec's declared ranges for the safe state: the k_e that
+    rectifies soonest, the R and L that make the short circuit's current largest, and
+    the factor by which the rotor may be faster than its last Hall interval says (a
+    sector up to `hall.sector_shortening` shorter: 1 / (1 - s)). Without a
+    `tolerances` section, the nominal motor."""
+
+    k_e: Fraction
+    resistance_ohm: Fraction
+    inductance_h: Fraction
+    speed_factor: Fraction
+
+
+def safe_state_corner(motor: Any, hall: Any, tolerances: Any) -> SafeStateCorner:
+    """The safe state's worst corner (`SafeStateCorner`). The nominal boundary had let
+    all-off be chosen 1.2 % below it on a 22.7 V bus while the paper motor with its k_e
+    10 % high, inside its own tolerances, rectified 2.8 A into the bus (a hunt)."""
+    k_e_high, r_low, l_low = Fraction(0), Fraction(0), Fraction(0)
+    if tolerances is not None:
+        k_e_high = max(Fraction(0), tolerances.back_emf_constant[1])
+        r_low = min(Fraction(0), tolerances.phase_resistance[0])
+        l_low = min(Fraction(0), tolerances.phase_inductance[0])
+    return SafeStateCorner(
+        k_e=motor.back_emf_constant_v_per_rpm * (1 + k_e_high),
+        resistance_ohm=motor.phase_resistance_ohm * (1 + r_low),
+        inductance_h=motor.phase_inductance_h * (1 + l_low),
+        speed_factor=1 / (1 - hall.sector_shortening),
+    )
+
+
 def rectifying_speed(bus_voltage_v: Fraction, k_e: Fraction, shape: BackEmfShape) -> Fraction:
     """The speed (rpm) above which the bridge's diodes conduct with every switch off:
     the peak line-to-line EMF lambda k_e n reaches the bus voltage."""
@@ -676,6 +710,8 @@ def check_drive(
     data: Mapping[str, Any],
     *,
     motor: Any,
+    hall: Any,
+    tolerances: Any,
     inverter: Any,
     adc: Any,
     controller: Any,
@@ -949,31 +985,36 @@ def check_drive(
         )
     # Safe state: above U_d/(lambda k_e) all-off rectifies, so the short circuit must be
     # within the bridge's rating wherever that can happen within the speed range (at the
-    # lowest bus voltage it starts lowest).
-    k_e = motor.back_emf_constant_v_per_rpm
+    # lowest bus voltage it starts lowest), for the worst motor the spec declares (the
+    # port chooses the short from the speed its last Hall interval says, at that corner)
+    corner = safe_state_corner(motor, hall, tolerances)
 
     def short_peak(speed_rpm: Fraction) -> float:
         return short_circuit_peak(
             speed_rpm=float(speed_rpm),
-            k_e=float(k_e),
+            k_e=float(corner.k_e),
             pole_pairs=motor.pole_pairs,
-            resistance_ohm=float(motor.phase_resistance_ohm),
-            inductance_h=float(motor.phase_inductance_h),
+            resistance_ohm=float(corner.resistance_ohm),
+            inductance_h=float(corner.inductance_h),
             shape=motor.back_emf_shape,
             current_at_entry_a=float(protection.over_current_a),
         )
 
-    n_rect = rectifying_speed(inverter.bus_voltage_min_v, k_e, motor.back_emf_shape)
+    n_rect = rectifying_speed(
+        inverter.bus_voltage_min_v, corner.k_e * corner.speed_factor, motor.back_emf_shape
+    )
     if controller.speed_max_rpm >= n_rect:
         peak = short_peak(controller.speed_max_rpm)
         if peak > protection.short_circuit_current_max_a:
             r.report(
                 "protection.short_circuit_current_max",
                 raw("protection.short_circuit_current_max"),
-                f"above {float(n_rect):.1f} rpm (U_d/(lambda k_e) at bus_voltage_min) all-off"
-                " rectifies into the bus, so the safe state there is the short circuit, whose"
+                f"above {float(n_rect):.1f} rpm (U_d/(lambda k_e c) at bus_voltage_min, k_e"
+                " at its upper tolerance, c = 1/(1 - hall.sector_shortening)) all-off may"
+                " rectify into the bus, so the safe state there is the short circuit, whose"
                 f" peak current at speed_max is up to {peak:.1f} A (2 x the steady peak +"
-                " over_current): no safe state exists at the top of the speed range",
+                " over_current, R and L at their lower tolerances): no safe state exists at"
+                " the top of the speed range",
                 # a rating the key cannot name is no way out: only the speed is
                 (
                     f">= {math.ceil(peak)} A, or a controller.speed_max below"
@@ -995,7 +1036,8 @@ def check_drive(
                 raw("protection.safe_state"),
                 f"the short circuit is preferred, but its peak current at speed_min"
                 f" {_g(controller.speed_min_rpm)} rpm is up to {slowest:.1f} A (2 x the steady"
-                " peak + over_current), above protection.short_circuit_current_max"
+                " peak + over_current, k_e at its upper tolerance, R and L at their lower),"
+                " above protection.short_circuit_current_max"
                 f" {_g(protection.short_circuit_current_max_a)} A: the firmware applies it at no"
                 " speed of the range (all-off throughout); rate the bridge for"
                 f" >= {math.ceil(slowest)} A to have it, or write safe_state: all_off",

@@ -768,13 +768,18 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         # above the speed where all-off rectifies (at the lowest bus) the safe state is
         # the short circuit; where its peak is past any rating a spec may name (a stiff
         # 2 uH, 10 mohm motor: 61.8 kA), the top speed stays below that speed, or the
-        # spec would name no safe state there (the loader refuses it)
-        n_rect = rectifying_speed(v_min, si["ke"], BackEmfShape())
+        # spec would name no safe state there (the loader refuses it); the speed the last
+        # Hall interval says, which may be the default sector shortening slow
+        # (`spec_drive.safe_state_corner`: init writes no tolerances)
+        said = 1 / (1 - Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100))
+        n_rect = rectifying_speed(v_min, si["ke"] * said, BackEmfShape())
         if n_max >= n_rect and _short_peak(n_max, si, 0) > PROTECTION_AMPS_MAX:
             n_max = max(Fraction(1), _speed_down(n_rect * Fraction(99, 100)))
             n_max_source = (
                 f"{derived} 99 % of {_num(n_rect)} rpm, rounded down, below the speed where"
-                " every switch off rectifies into the bus at bus_voltage_min: above it the"
+                " every switch off may rectify into the bus at bus_voltage_min (with a"
+                f" rotor {SECTOR_SHORTENING_DEFAULT_PERCENT} % faster than its last Hall"
+                " interval says): above it the"
                 " safe state is the short circuit, whose peak current there is beyond the"
                 f" {PROTECTION_AMPS_MAX} A a spec may name"
             )

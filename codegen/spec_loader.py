@@ -1616,6 +1616,8 @@ def load_spec(path: str | Path) -> Spec:
         r,
         data,
         motor=parts.motor,
+        hall=parts.hall,
+        tolerances=tolerances,
         inverter=parts.inverter,
         adc=parts.adc,
         controller=parts.controller,

@@ -176,3 +176,12 @@ def gone_pid() -> str:
         check=True,
     )
     return done.stdout.strip()
+
+
+def without_tolerances(text: str) -> str:
+    """A spec's YAML text with its `tolerances` section (and that key's source) taken out:
+    the nominal motor alone."""
+    start = text.index("\ntolerances:\n")
+    end = text.index("\n\n", start + 1)
+    text = text[:start] + text[end:]
+    return "".join(line for line in text.splitlines(keepends=True) if "  tolerances:" not in line)

@@ -406,8 +406,10 @@ def test_init_should_keep_a_stiff_motors_top_speed_where_all_off_is_safe(
     minimum) all-off rectifies, so the safe state is the short circuit, whose peak at
     init's 95 % top speed is 61.8 kA, past the 10 kA a spec may name. init wrote 10 kA,
     which the loader refused, asking for ">= 61799 A" the key cannot hold. Without
-    --speed-max init now keeps the top speed below 12000 rpm (11880); with one, the
-    refusal names the way out the key has: a speed_max below 12000 rpm."""
+    --speed-max init now keeps the top speed below where all-off may rectify: 12000 rpm
+    for a rotor 5 % faster than its last Hall interval says (the default sector
+    shortening), 11400 rpm said, 99 % of it rounded down to 11280; with one, the refusal
+    names the way out the key has: a speed_max below 11400 rpm."""
     monkeypatch.chdir(tmp_path)
     argv = ["init", "stiff", "--pole-pairs", "2", "--ke", "20 V/krpm", "--resistance", "0.01 ohm"]
     argv += ["--inductance", "2 uH", "--bus-voltage", "600 V", "--braking-current", "50 A"]
@@ -416,19 +418,19 @@ def test_init_should_keep_a_stiff_motors_top_speed_where_all_off_is_safe(
     captured = capsys.readouterr()
     assert "does not load" not in captured.out + captured.err
     spec = load_spec(tmp_path / "spec" / "stiff.yaml")
-    assert spec.controller.speed_max_rpm == 11880
+    assert spec.controller.speed_max_rpm == 11280
     # 1 % of the 12.5 us period, 125 ns, rounded down to 10 ns; the source says so (it
     # had said 500 ns)
     assert spec.inverter.dead_time_s == Fraction(120, 10**9)
     assert "1 % of the PWM period" in dict(spec.sources)["inverter.dead_time"]
     assert (
-        "below the speed where every switch off rectifies"
+        "below the speed where every switch off may rectify"
         in dict(spec.sources)["controller.speed_max"]
     )
     assert cli.main([*argv, "--force", "--speed-max", "14000 rpm"]) == ExitCode.SPEC
     err = capsys.readouterr().err
     assert "protection.short_circuit_current_max = '10000 A'" in err
-    assert "(allowed: <= 10000 A, with a controller.speed_max below 12000.0 rpm, where" in err
+    assert "(allowed: <= 10000 A, with a controller.speed_max below 11400.0 rpm, where" in err
 
 
 @pytest.mark.parametrize("method", ["improved", "improved_r", "conventional", "none"])
@@ -627,8 +629,9 @@ def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """A tiny, stiff motor (0.1 mohm, 0.1 uH): its short-circuit bound at the paper's top
-    speed is about 256 kA, 221.5 kA at the top speed init now keeps below the speed where
-    all-off rectifies (99 % of it: the test below). init had written the bound, and the loader refused the number it
+    speed is about 256 kA, 212.4 kA at the top speed init now keeps below the speed where
+    all-off may rectify (99 % of it, for a rotor 5 % faster than its last Hall interval
+    says: the test below). init had written the bound, and the loader refused the number it
     wrote (out of (0, 10000] A) instead of the values the user has to change; it writes
     the 10 kA a spec may name, says so in the source, and the loader's lines name the
     motor's real problems, not the rating."""
@@ -644,7 +647,7 @@ def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
     data, _ = read_yaml((tmp_path / "spec" / "tiny.yaml").read_bytes())
     assert data["protection"]["short_circuit_current_max"] == f"{PROTECTION_AMPS_MAX} A"
     note = data["sources"]["protection.short_circuit_current_max"]
-    assert "is 221500 A, beyond the 10000 A a spec may name" in note
+    assert "is 212365 A, beyond the 10000 A a spec may name" in note
 
 
 @pytest.mark.parametrize(("bus", "low", "high"), [("800 V", 640, 1000), ("1.25 V", 1, "1.57")])

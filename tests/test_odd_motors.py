@@ -250,18 +250,19 @@ def test_a_preferred_short_circuit_rated_below_the_speed_range_should_be_warned_
     tmp_path: Path,
 ) -> None:
     """A hunt's improved_r spec prefers the short circuit, rated 40 A: its peak is within
-    that only up to 904 rpm, below speed_min (1300 rpm), so the firmware applies all-off
-    throughout the range, which the spec did not ask for, and nothing said so. Rated for
-    the peak at speed_min (50 A), the warning goes."""
+    that only up to 904 rpm (725 rpm for the worst motor the spec's tolerances declare),
+    below speed_min (1300 rpm), so the firmware applies all-off throughout the range,
+    which the spec did not ask for, and nothing said so. Rated for the worst corner's
+    peak at speed_min (57.5 A), the warning goes."""
     path = ODD / "ir_table_short_unrated.yaml"
     (warning,) = [w for w in load_spec(path).warnings if w.id == "short-circuit-never-rated"]
     assert warning.path == "protection.safe_state"
-    assert "at speed_min 1300 rpm is up to 49.5 A" in warning.message
-    assert ">= 50 A" in warning.message
+    assert "at speed_min 1300 rpm is up to 57.5 A" in warning.message
+    assert ">= 58 A" in warning.message
     rated = tmp_path / "rated.yaml"
     text = path.read_text(encoding="utf-8")
     assert text.count("  short_circuit_current_max: 40 A\n") == 1
     rated.write_text(
-        text.replace("short_circuit_current_max: 40 A", "short_circuit_current_max: 50 A")
+        text.replace("short_circuit_current_max: 40 A", "short_circuit_current_max: 58 A")
     )
     assert "short-circuit-never-rated" not in [w.id for w in load_spec(rated).warnings]

@@ -38,43 +38,46 @@ class Mutant:
 
 MUTANTS = (
     Mutant(
-        # the paper motor's K = 5325928 (T B at or below it: all-off rectifies) 5 % low:
-        # from 4806 rpm at 22.7 V all-off is chosen up to 5059 rpm, where it rectifies
-        "rectifying product 5 % low: all-off chosen just above the speed it rectifies from",
+        # the paper motor's K = 6166864 (T B at or below it: all-off may rectify, for k_e
+        # 10 % high and a rotor up to 1/0.95 faster than its interval says) 10 % low: at
+        # 24 V all-off is chosen up to 4879 rpm, where the worst motor rectifies from 4622
+        "rectifying product 10 % low: all-off chosen just above the speed it may rectify from",
         HEADER,
         "#define BLDC_PORT_RECTIFYING_PRODUCT ",
-        "#define BLDC_PORT_RECTIFYING_PRODUCT 5059632u",
+        "#define BLDC_PORT_RECTIFYING_PRODUCT 5550178u",
         PAPER,
         "above_rectifying",
         "not the short circuit",
     ),
     Mutant(
-        # ... 25 % high: the short chosen from 3845 rpm, where all-off is the spec's
-        "rectifying product 25 % high: the short chosen below the speed all-off rectifies from",
+        # ... 10 % high: at 24 V the short chosen from 3992 rpm, where all-off is the spec's
+        # up to 4391 rpm even read as 1/0.95 faster
+        "rectifying product 10 % high: the short chosen below the speed all-off may rectify from",
         HEADER,
         "#define BLDC_PORT_RECTIFYING_PRODUCT ",
-        "#define BLDC_PORT_RECTIFYING_PRODUCT 6657410u",
+        "#define BLDC_PORT_RECTIFYING_PRODUCT 6783550u",
         PAPER,
         "below_rectifying",
         "not all off",
     ),
     Mutant(
         # the fixture prefers the short circuit, within its 150 A rating up to 2216 rpm
-        # (T >= 3869 ticks); 5 % short: the short chosen up to 2332 rpm, over the rating
-        "short's rated interval 5 % short: the short chosen above the speed of its rating",
+        # (T >= 4072 ticks: 3869 for a rotor up to 1/0.95 faster than T says); 10 %
+        # short: the short chosen up to 2339 rpm, over the rating
+        "short's rated interval 10 % short: the short chosen above the speed of its rating",
         HEADER,
         "#define BLDC_PORT_SHORT_VALID_PERIOD ",
-        "#define BLDC_PORT_SHORT_VALID_PERIOD 3676u",
+        "#define BLDC_PORT_SHORT_VALID_PERIOD 3665u",
         SHORT_RATED,
         "above_short_rating",
         "not all off",
     ),
     Mutant(
-        # ... 25 % long: all-off from 1773 rpm, where the spec prefers the rated short
+        # ... 25 % long: all-off from 1684 rpm, where the spec prefers the rated short
         "short's rated interval 25 % long: all-off chosen where the spec's rated short is due",
         HEADER,
         "#define BLDC_PORT_SHORT_VALID_PERIOD ",
-        "#define BLDC_PORT_SHORT_VALID_PERIOD 4836u",
+        "#define BLDC_PORT_SHORT_VALID_PERIOD 5090u",
         SHORT_RATED,
         "below_short_rating",
         "not the short circuit",

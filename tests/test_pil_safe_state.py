@@ -10,6 +10,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from conftest import without_tolerances
 
 from codegen.spec_loader import load_spec
 from codegen.spec_model import BackEmfShape
@@ -19,6 +20,7 @@ from emulation.pil.safe_state import (
     RATING_BAND,
     SHORT_CIRCUIT,
     _harmonics,
+    corner,
     peak_line_emf_v,
     required_safe_state,
     short_circuit_bound_a,
@@ -74,7 +76,13 @@ def test_the_regions_should_follow_the_rating_where_the_short_is_preferred() -> 
     assert short_circuit_bound_a(spec, rated) == pytest.approx(rating, rel=1e-6)  # 1e-3 rpm
     bus = float(spec.inverter.bus_voltage_nominal_v)
     assert peak_line_emf_v(spec, 1.1 * rated) < bus
-    assert required_safe_state(spec, 0.97 * rated, bus) == SHORT_CIRCUIT
+    # the port reads the rotor up to 1 / (1 - sector_shortening) faster than it is: the
+    # short below the rated speed as it may be read, all-off above the rated speed,
+    # either between
+    said = corner(spec).said
+    assert said == pytest.approx(1 / (1 - float(spec.hall.sector_shortening)))
+    assert required_safe_state(spec, 0.97 * rated / said, bus) == SHORT_CIRCUIT
+    assert required_safe_state(spec, 0.99 * rated, bus) is None
     assert required_safe_state(spec, 1.03 * rated, bus) == ALL_OFF
     assert required_safe_state(spec, rated * (1 + RATING_BAND / 10), bus) is None
     # where all-off rectifies and the short exceeds its rating (above the speed range
@@ -88,7 +96,7 @@ def test_the_regions_should_follow_the_rating_where_the_short_is_preferred() -> 
         SHORT_CIRCUIT
     )
     # the port cannot know the speed or the bus: no preference, only the physics
-    assert required_safe_state(spec, 0.97 * rated, bus, inputs_known=False) is None
+    assert required_safe_state(spec, 0.97 * rated / said, bus, inputs_known=False) is None
     assert required_safe_state(spec, 1.03 * rated, bus, inputs_known=False) == ALL_OFF
     # a spec that prefers all-off: all-off below the rectifying speed, at any current
     all_off = replace(spec, protection=replace(spec.protection, safe_state="all_off"))
@@ -126,3 +134,72 @@ def test_the_port_should_short_below_the_rated_speed_and_switch_off_above(
         outcome = run_scenario(elf, spec, scenario)
         assert outcome.problems == [], (key, outcome.note)
         assert "meets protection.short_circuit_current_max" in outcome.note
+
+
+def _trip_with_k_e_high(elf: Path, generated: Path, scale: Fraction) -> tuple[str, float]:
+    """The paper motor's firmware `elf` braking a plant whose k_e is `scale` x the spec's,
+    on a 22.7 V bus, the rotor near 4752 rpm; the comparator trips: the gates chosen,
+    and the largest phase current over the last 10 of 30 ms after the trip (the diodes
+    rectifying into the bus where all-off is chosen above the real motor's boundary)."""
+    from emulation.pil.braking import BrakingLoop, braking_setup
+    from emulation.pil.plant_faults import _until_tripped
+    from emulation.pil.rcc import TICK_HZ
+
+    spec = load_spec(str(PAPER))
+    motor = replace(
+        spec.motor, back_emf_constant_v_per_rpm=spec.motor.back_emf_constant_v_per_rpm * scale
+    )
+    real = replace(spec, motor=motor)
+    loop = BrakingLoop(
+        elf,
+        generated / "c" / "stm32f103_port.c",
+        real,
+        replace(braking_setup(spec, short=True), start_rpm=4800.0),
+    )
+    loop.plant.bus_voltage_v = 22.7
+    loop.run.board.set_bus_voltage(22.7)
+    period = loop.run.board.pwm_period_ticks()
+    while len(loop.edges) < 14:
+        loop.advance_to(loop.machine.now + period)
+    sector = loop.plant.drive.sector_time_s(loop.plant.speed_rpm)
+    loop.advance_to(loop.machine.now + round(sector * TICK_HZ / 3))
+    loop.comparator.force(True)
+    _until_tripped(loop, period)
+    gates = loop.machine.tim1.gates()
+    state = "short" if gates == SHORT_CIRCUIT else "all-off" if gates == ALL_OFF else str(gates)
+    end = loop.machine.now + round(0.03 * TICK_HZ)
+    late = end - round(0.01 * TICK_HZ)
+    largest = 0.0
+    while loop.machine.now < end:
+        loop.advance_to(loop.machine.now + 720)
+        if loop.machine.now >= late:
+            largest = max(largest, float(abs(loop.plant.currents).max()))
+    return state, largest
+
+
+@pytest.mark.heavy(seconds=14)
+def test_a_motor_at_the_top_of_its_k_e_tolerance_should_get_the_short_where_it_rectifies(
+    tmp_path: Path,
+) -> None:
+    """A hunt: the paper motor's firmware braking a plant with k_e 10 % high (inside its
+    tolerances.back_emf_constant [-10, 10]) at about 4750 rpm on 22.7 V, 1.2 % below the
+    nominal motor's rectifying speed (4809 rpm) but above the real one's (4372 rpm). The
+    port had chosen all-off from the nominal motor, and the diodes drove 2.8 A into the
+    bus for as long as the rotor turned. Now the short, and no current after it has
+    decayed; the same firmware for the nominal motor alone (no tolerances, no sector
+    shortening: the old boundary) still chooses all-off there, and rectifies."""
+    generated = ROOT / "generated" / "paper_motor"
+    elf = build_firmware(PAPER, tmp_path / "worst", generated)
+    state, _ = _trip_with_k_e_high(elf, generated, Fraction(11, 10))
+    assert state == "short", state
+    nominal_text = without_tolerances(PAPER.read_text(encoding="utf-8"))
+    nominal_text = nominal_text.replace(
+        "  counter_bits: 16\n", "  counter_bits: 16\n  sector_shortening: 0\n", 1
+    )
+    nominal = tmp_path / "paper_motor.yaml"
+    nominal.write_text(nominal_text, encoding="utf-8")
+    old = generate(nominal, tmp_path / "nominal")
+    old_elf = build_firmware(nominal, tmp_path / "old", old)
+    old_state, old_current = _trip_with_k_e_high(old_elf, old, Fraction(11, 10))
+    assert old_state == "all-off", old_state
+    assert old_current > 1.0  # rectifying into the bus, 30 ms on

@@ -22,6 +22,7 @@ from emulation.pil.scenarios import (
     peak_line_emf_v,
     rectifying_boundary,
     run_scenario,
+    worst_line_emf_v,
 )
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -66,17 +67,27 @@ def test_each_scenario_should_latch_its_fault_in_time_and_keep_the_invariants(
 def test_the_rectifying_boundary_should_lie_inside_both_ranges_with_its_margin(
     path: Path, reachable: bool
 ) -> None:
-    """The boundary scenarios' bus and speed: the peak line EMF at the speed is the bus,
-    the bus within inverter's range, the speed 3 % either side within the controller's;
-    the paper motor's nominal 24 V rectifies only above its top speed, so a lower bus
-    of its range is taken."""
+    """The boundary scenarios' bus and speed: the worst motor's peak line EMF at the
+    speed (k_e at its upper tolerance) is the bus, the bus within inverter's range, the
+    speed 3 % either side within the controller's; below it, the speed the port may
+    read as that one (the rotor up to 1 / (1 - sector_shortening) faster than its last
+    interval says)."""
     spec = load_spec(path)
     boundary = rectifying_boundary(spec)
     assert (boundary is not None) == reachable
     if boundary is None:
         return
     bus_v, rpm = boundary
-    assert peak_line_emf_v(spec, rpm) == pytest.approx(bus_v, rel=1e-9)
+    assert worst_line_emf_v(spec, rpm) == pytest.approx(bus_v, rel=1e-9)
+    if spec.tolerances is not None:
+        assert peak_line_emf_v(spec, rpm) * (1 + float(spec.tolerances.back_emf_constant[1])) == (
+            pytest.approx(bus_v, rel=1e-9)
+        )
+    said = rectifying_boundary(spec, said=True)
+    assert said is not None
+    said_bus, said_rpm = said
+    shortening = float(spec.hall.sector_shortening)
+    assert worst_line_emf_v(spec, said_rpm / (1 - shortening)) == pytest.approx(said_bus, rel=1e-9)
     inverter, controller = spec.inverter, spec.controller
     assert float(inverter.bus_voltage_min_v) <= bus_v <= float(inverter.bus_voltage_max_v)
     assert float(controller.speed_min_rpm) < rpm * (1 - RECTIFYING_MARGIN)

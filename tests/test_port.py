@@ -24,7 +24,7 @@ from codegen.build_firmware import CFLAGS
 from codegen.port_drive import trigger_within
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
-from emulation.pil.safe_state import short_rated_speed
+from emulation.pil.safe_state import said_line_emf_v, short_rated_speed
 from verify.unity_run import WARNINGS as HOST_WARNINGS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -1135,11 +1135,17 @@ def _loop_run(spec: Spec) -> LoopRun:
     )
     # a bus in the range, the nominal voltage's code
     bus_ok = round(float(spec.inverter.bus_voltage_nominal_v / sc.volts_per_bus_code))
-    # the Hall interval of speed_max at that bus: above U_d / (2 k_e) there? Take a
-    # period well inside the rectifying region: T = K_RECT / B / 2.
+    # a Hall interval inside the rectifying region at that bus (T B <= K_RECT) where the
+    # short is within its rating (T >= the short's rated interval) and the speed within
+    # the range: half-way between the two ends (K_RECT / B / 2 had been above speed_max,
+    # where the worst motor's short exceeds the rating)
     from codegen.control.safe_state import safe_state_design
 
-    fast = safe_state_design(spec).k_rect // bus_ok // 2
+    design = safe_state_design(spec)
+    slowest = design.k_rect // bus_ok
+    fastest = max(sc.period_min_ticks, design.short_valid_period)
+    assert fastest < slowest, "no interval of the range where all-off rectifies at the bus"
+    fast = (slowest + fastest) // 2
     return LoopRun(
         milliamps=int(spec.controller.braking_current_nominal_a * 1000),
         measured=measured,
@@ -1619,7 +1625,13 @@ def test_an_explicit_clear_should_rearm_the_bridge_once_the_cause_is_gone(
     assert host_run[f"{step}_cleared_left"]["clear.left"] == 0
     assert r["port.faults"] == 0
     assert r["tim1.bdtr"] & MOE
-    assert r["tim1.ccer"] == CC4E  # armed, every switch off until the next edge
+    # armed, in the idle state until the next edge: every switch off, but for the over
+    # speed, cleared at speed_max on the nominal bus, where the worst motor the spec
+    # declares (k_e 10 % high) rectifies: the short (the PIL's physics, not the port's)
+    spec = load_spec(SPEC)
+    rpm = float(spec.controller.speed_max_rpm)
+    rectifies = said_line_emf_v(spec, rpm) >= float(spec.inverter.bus_voltage_nominal_v)
+    assert r["tim1.ccer"] == (SHORT_CCER if step == "over_speed" and rectifies else CC4E)
     assert r["tim3.dier"] == 0x6
     assert r["tim1.dier"] & 0x80  # the break interrupt on again
     # no held current: the first sector's timing runs (its interval unknown) read none,

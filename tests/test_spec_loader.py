@@ -889,8 +889,9 @@ def test_a_pwm_ripple_above_half_the_nominal_current_should_be_warned_of(tmp_pat
     """0.06 mH: the paper motor's 0.335 A of ripple grows to 3.125 A peak to peak, 62.5 %
     of its 5 A braking_current_nominal (still under its 15 A trip and 33 A sensing)."""
     text = _replace("phase_inductance: 0.56 mH", "phase_inductance: 0.06 mH")(DEFAULT_TEXT)
-    # less inductance: a larger short-circuit peak at the top speed (158 A)
-    text = _replace("short_circuit_current_max: 120 A", "short_circuit_current_max: 160 A")(text)
+    # less inductance: a larger short-circuit peak at the top speed (158 A; 190 A with k_e
+    # at its upper tolerance, R and L at their lower)
+    text = _replace("short_circuit_current_max: 120 A", "short_circuit_current_max: 200 A")(text)
     path = _write(tmp_path, text)
     warnings = load_spec(path).warnings
     # and the 15 A trip is now within a quarter of braking_current_max of the peak

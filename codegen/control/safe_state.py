@@ -19,12 +19,20 @@ Regions, at the bus voltage U_d measured now:
     n <  U_d / (lambda k_e), short within rating   both valid: `protection.safe_state`
     n <  U_d / (lambda k_e), short over rating     all-off
 
-The loader has already checked that the short is within the rating wherever all-off can
-rectify in the speed range. In the port both conditions are one integer comparison each
-on the last Hall interval T (ticks) and bus code B:
+Both boundaries are those of the worst motor the spec declares
+(`spec_drive.safe_state_corner`): k_e at its upper tolerance (all-off rectifies soonest),
+R and L at their lower ones (the short's current is largest), and a rotor up to
+`hall.sector_shortening` faster than its last Hall interval says (the factor
+c = 1 / (1 - s)). The nominal boundary had let the port choose all-off 1.2 % below it
+while the paper motor with its k_e 10 % high, inside its own tolerances, rectified into
+the bus (a hunt). The loader has already checked that the short is within the rating
+wherever all-off can rectify in the speed range, at the same corner. In the port both
+conditions are one integer comparison each on the last Hall interval T (ticks) and bus
+code B:
 
-    rectifying  <=>  T B <= K_RECT = floor(10 f_hall lambda k_e / (p V_code))
-    short valid <=>  T >= T_SHORT (the interval of the speed where the bound meets the rating)
+    rectifying  <=>  T B <= K_RECT = floor(10 f_hall lambda k_e_max c / (p V_code))
+    short valid <=>  T >= T_SHORT (c x the interval of the speed where the worst
+                                   corner's bound meets the rating)
 
 A bus code that reads low (a collapsed bus, or its ADC stuck at 0) makes T B small:
 the short circuit where the spec prefers all-off; where it prefers the short, the port
@@ -42,7 +50,12 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
 
-from codegen.spec_drive import line_to_line_peak, rectifying_speed, short_circuit_peak
+from codegen.spec_drive import (
+    line_to_line_peak,
+    rectifying_speed,
+    safe_state_corner,
+    short_circuit_peak,
+)
 from codegen.spec_model import Spec
 
 #: Bisection steps for the speed where the short-circuit bound meets the rating.
@@ -72,20 +85,21 @@ def _speed_of_period(spec: Spec, ticks: Fraction) -> Fraction:
 
 def _peak(spec: Spec, rpm: float) -> float:
     m = spec.motor
+    corner = safe_state_corner(m, spec.hall, spec.tolerances)
     return short_circuit_peak(
         speed_rpm=rpm,
-        k_e=float(m.back_emf_constant_v_per_rpm),
+        k_e=float(corner.k_e),
         pole_pairs=m.pole_pairs,
-        resistance_ohm=float(m.phase_resistance_ohm),
-        inductance_h=float(m.phase_inductance_h),
+        resistance_ohm=float(corner.resistance_ohm),
+        inductance_h=float(corner.inductance_h),
         shape=m.back_emf_shape,
         current_at_entry_a=float(spec.protection.over_current_a),
     )
 
 
 def short_valid_speed(spec: Spec) -> float | None:
-    """The highest speed at which the short-circuit bound is within the rating (rpm), or
-    None when it is at every speed up to 100 x speed_max."""
+    """The highest speed at which the short-circuit bound of the worst corner is within
+    the rating (rpm), or None when it is at every speed up to 100 x speed_max."""
     rating = float(spec.protection.short_circuit_current_max_a)
     high = 100 * float(spec.controller.speed_max_rpm)
     if _peak(spec, high) <= rating:
@@ -105,13 +119,15 @@ def short_valid_speed(spec: Spec) -> float | None:
 @lru_cache(maxsize=16)
 def safe_state_design(spec: Spec) -> SafeStateDesign:
     m, inv = spec.motor, spec.inverter
+    corner = safe_state_corner(m, spec.hall, spec.tolerances)
     lam = line_to_line_peak(m.back_emf_shape)
     volts_per_code = spec.adc.reference_v * spec.adc.bus_voltage_divider / 2**spec.adc.bits
     k = (
         10
         * spec.hall.timer_clock_hz
         * lam
-        * m.back_emf_constant_v_per_rpm
+        * corner.k_e
+        * corner.speed_factor
         / (m.pole_pairs * volts_per_code)
     )
     k_rect = k.numerator // k.denominator
@@ -121,24 +137,29 @@ def safe_state_design(spec: Spec) -> SafeStateDesign:
     elif n_short == 0.0:
         period = 1 << 32  # never
     else:
-        # T >= this <=> n <= n_short (rounded up: the short is never used above it)
-        period = math.ceil(float(10 * spec.hall.timer_clock_hz / m.pole_pairs) / n_short)
+        # T >= this <=> the rotor, up to c faster than T says, is at most n_short
+        # (rounded up: the short is never used above it)
+        period = math.ceil(
+            float(10 * spec.hall.timer_clock_hz * corner.speed_factor / m.pole_pairs) / n_short
+        )
     regions = []
     for label, volts in (
         ("bus_voltage_min", inv.bus_voltage_min_v),
         ("bus_voltage_nominal", inv.bus_voltage_nominal_v),
         ("bus_voltage_max", inv.bus_voltage_max_v),
     ):
-        n_rect = float(rectifying_speed(volts, m.back_emf_constant_v_per_rpm, m.back_emf_shape))
+        # the speed the last interval says from which all-off may rectify
+        n_rect = float(rectifying_speed(volts, corner.k_e * corner.speed_factor, m.back_emf_shape))
+        said_short = None if n_short is None else n_short / float(corner.speed_factor)
         both = (
             f"below {n_rect:.0f} rpm both are valid: {spec.protection.safe_state.replace('_', ' ')}"
-            if n_short is None or n_short >= n_rect
-            else f"below {n_short:.0f} rpm both are valid: {spec.protection.safe_state.replace('_', ' ')};"
-            f" {n_short:.0f}..{n_rect:.0f} rpm all-off (the short exceeds the rating)"
+            if said_short is None or said_short >= n_rect
+            else f"below {said_short:.0f} rpm both are valid: {spec.protection.safe_state.replace('_', ' ')};"
+            f" {said_short:.0f}..{n_rect:.0f} rpm all-off (the short may exceed the rating)"
         )
         regions.append(
-            f"{label} {float(volts):g} V: from {n_rect:.0f} rpm short circuit (all-off"
-            f" rectifies); {both}"
+            f"{label} {float(volts):g} V: from {n_rect:.0f} rpm (the speed the last Hall"
+            f" interval says) short circuit (all-off may rectify); {both}"
         )
     return SafeStateDesign(
         policy=spec.protection.safe_state,

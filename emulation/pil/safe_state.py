@@ -16,12 +16,23 @@ Where all-off rectifies the short is required; elsewhere all-off where the spec 
 it, and where it prefers the short, the short within its rating and all-off above it
 (within RATING_BAND of the rating either is accepted: the port decides on a Hall
 interval of whole ticks).
+
+Both for the worst motor the spec declares (`Corner`): k_e at its upper tolerance
+(`tolerances.back_emf_constant`), R and L at their lower ones; the drive cannot tell
+which motor it has. And the port reads the speed from the last Hall interval, which a
+rotor may outrun by `hall.sector_shortening` (a sector up to s shorter): where the worst
+motor at up to 1/(1 - s) times the rotor's speed would rectify, or exceed the short's
+rating, while at the rotor's own speed it does not, either state is accepted. A hunt
+ran the paper motor's firmware on a plant with k_e 10 % high, inside its tolerances: the
+port, deciding on the nominal motor, chose all-off 1.2 % below the nominal boundary,
+and the plant rectified 2.8 A into the bus.
 """
 
 from __future__ import annotations
 
 import bisect
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -42,6 +53,27 @@ RPM_STEPS = 1000
 SEARCH_SPAN = 100
 
 
+@dataclass(frozen=True)
+class Corner:
+    """The worst motor of the spec's declared ranges, as factors of the nominal one, and
+    how much faster than its last Hall interval says the rotor may run."""
+
+    k_e: float  # 1 + the upper k_e tolerance: the EMF is largest
+    resistance: float  # 1 + the lower R tolerance: the short's current is largest
+    inductance: float  # 1 + the lower L tolerance
+    said: float  # 1 / (1 - hall.sector_shortening)
+
+
+def corner(spec: Spec) -> Corner:
+    """The spec's worst corner (`Corner`); the nominal motor where it declares no
+    tolerances."""
+    tol = spec.tolerances
+    k_e = 1.0 + max(0.0, float(tol.back_emf_constant[1])) if tol else 1.0
+    r = 1.0 + min(0.0, float(tol.phase_resistance[0])) if tol else 1.0
+    inductance = 1.0 + min(0.0, float(tol.phase_inductance[0])) if tol else 1.0
+    return Corner(k_e, r, inductance, 1.0 / (1.0 - float(spec.hall.sector_shortening)))
+
+
 def _wave(spec: Spec) -> Waveform:
     return Waveform(tuple((float(a), float(v)) for a, v in spec.motor.back_emf_shape.points))
 
@@ -53,6 +85,19 @@ def peak_line_emf_v(spec: Spec, rpm: float) -> float:
     angles = np.linspace(0.0, 360.0, 3601)
     line = np.abs(wave.many(angles) - wave.many(angles - 120.0)).max()
     return float(spec.motor.back_emf_constant_v_per_rpm) * rpm * float(line)
+
+
+def worst_line_emf_v(spec: Spec, rpm: float) -> float:
+    """The peak line EMF of the worst motor (`Corner.k_e`) at `rpm`: all-off may rectify
+    where it reaches the bus."""
+    return peak_line_emf_v(spec, rpm) * corner(spec).k_e
+
+
+def said_line_emf_v(spec: Spec, rpm: float) -> float:
+    """The worst motor's peak line EMF at the fastest speed a rotor at `rpm` may be
+    taken to run at from its last Hall interval (`Corner.said` x `rpm`): where it
+    reaches the bus the port may choose the short."""
+    return worst_line_emf_v(spec, rpm * corner(spec).said)
 
 
 @lru_cache(maxsize=32)
@@ -67,29 +112,32 @@ def _harmonics(points: tuple[tuple[float, float], ...]) -> tuple[np.ndarray, np.
     return orders[keep], amplitudes[keep]
 
 
-def short_circuit_bound_a(spec: Spec, rpm: float) -> float:
-    """The spec's bound on the short circuit's peak phase current at `rpm` (A)."""
+def short_circuit_bound_a(spec: Spec, rpm: float, *, worst: bool = False) -> float:
+    """The spec's bound on the short circuit's peak phase current at `rpm` (A): of the
+    nominal motor, or of the worst one the spec declares (`worst`, `Corner`)."""
     motor = spec.motor
+    c = corner(spec) if worst else Corner(1.0, 1.0, 1.0, 1.0)
     orders, amplitudes = _harmonics(_wave(spec).points)
-    e = float(motor.back_emf_constant_v_per_rpm) * rpm
+    e = float(motor.back_emf_constant_v_per_rpm) * c.k_e * rpm
     omega = 2.0 * math.pi * motor.pole_pairs * rpm / 60.0
     impedance = np.hypot(
-        float(motor.phase_resistance_ohm), orders * omega * float(motor.phase_inductance_h)
+        float(motor.phase_resistance_ohm) * c.resistance,
+        orders * omega * float(motor.phase_inductance_h) * c.inductance,
     )
     steady = float((amplitudes * e / impedance).sum())
     return 2.0 * steady + float(spec.protection.over_current_a)
 
 
 def short_rated_speed(spec: Spec) -> float | None:
-    """The speed (rpm, to 1/RPM_STEPS) up to which the short circuit's bound is within
-    protection.short_circuit_current_max; None when it is at every speed up to
+    """The speed (rpm, to 1/RPM_STEPS) up to which the worst motor's short-circuit bound
+    is within protection.short_circuit_current_max; None when it is at every speed up to
     SEARCH_SPAN x controller.speed_max, 0.0 when at none. The bound grows with the
     speed: the standard library's bisection over a grid of speeds finds the last."""
     rating = float(spec.protection.short_circuit_current_max_a)
     grid = range(round(SEARCH_SPAN * float(spec.controller.speed_max_rpm) * RPM_STEPS) + 1)
 
     def bound(step: int) -> float:
-        return short_circuit_bound_a(spec, step / RPM_STEPS)
+        return short_circuit_bound_a(spec, step / RPM_STEPS, worst=True)
 
     if bound(grid[-1]) <= rating:
         return None
@@ -99,14 +147,18 @@ def short_rated_speed(spec: Spec) -> float | None:
 
 def required_idle_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...] | None:
     """The state a drive without a fault must hold with no sector's switch on (a refused
-    Hall edge, or armed before its first edge): the short circuit where all-off rectifies
-    and the short is within its rating (None within RATING_BAND of it, or where neither
-    is safe); else all-off. Not the spec's preference, as a fault's state is: the short
-    brakes the rotor with its short-circuit current, which may trip the comparator, and
-    a refusal is no fault."""
-    bound = short_circuit_bound_a(spec, rpm)
+    Hall edge, or armed before its first edge): the short circuit where all-off may
+    rectify (the worst motor's line EMF reaches the bus) and the short is within its
+    rating (None within RATING_BAND of it, or where neither is safe); else all-off,
+    except where the port, reading the speed up to `Corner.said` high, may take the
+    short (either). Not the spec's preference, as a fault's state is: the short brakes
+    the rotor with its short-circuit current, which may trip the comparator, and a
+    refusal is no fault."""
+    bound = short_circuit_bound_a(spec, rpm, worst=True)
     rating = float(spec.protection.short_circuit_current_max_a)
-    if peak_line_emf_v(spec, rpm) < bus_v:
+    if worst_line_emf_v(spec, rpm) < bus_v:
+        if said_line_emf_v(spec, rpm) >= bus_v and bound <= rating * (1 + RATING_BAND):
+            return None
         return ALL_OFF
     if bound > rating * (1 + RATING_BAND):
         return None
@@ -116,25 +168,30 @@ def required_idle_state(spec: Spec, rpm: float, bus_v: float) -> tuple[bool, ...
 def required_safe_state(
     spec: Spec, rpm: float, bus_v: float, *, inputs_known: bool = True
 ) -> tuple[bool, ...] | None:
-    """The safe state the spec requires at `rpm` and the bus `bus_v`: the short circuit
-    where all-off rectifies (the six diodes conduct into the bus); else all-off where
-    protection.safe_state prefers it; else the short within its rating, all-off above
-    it; None within RATING_BAND of the rating (either is accepted), and where no state
-    is safe (all-off rectifies and the short exceeds its rating: a bus below the spec's
-    range). Where the port cannot know the speed or the bus (`inputs_known` False: no
-    Hall interval yet, or the bus ADC stuck), only the physics: the preference decides
+    """The safe state the spec requires at `rpm` and the bus `bus_v`, for the worst
+    motor it declares (`Corner`): the short circuit where all-off may rectify (the six
+    diodes conduct into the bus); else all-off where protection.safe_state prefers it;
+    else the short within its rating, all-off above it; None within RATING_BAND of the
+    rating (either is accepted), where no state is safe (all-off rectifies and the short
+    exceeds its rating: a bus below the spec's range), and where the port, reading the
+    speed up to `Corner.said` above the rotor's, may take the other side of a boundary.
+    Where the port cannot know the speed or the bus (`inputs_known` False: no Hall
+    interval yet, or the bus ADC stuck), only the physics: the preference decides
     nothing, so either state that is safe at `rpm` and `bus_v` is."""
-    bound = short_circuit_bound_a(spec, rpm)
     rating = float(spec.protection.short_circuit_current_max_a)
+    bound = short_circuit_bound_a(spec, rpm, worst=True)
     over = bound > rating * (1 + RATING_BAND)
-    if peak_line_emf_v(spec, rpm) >= bus_v:
+    if worst_line_emf_v(spec, rpm) >= bus_v:
         return None if over else SHORT_CIRCUIT
+    if said_line_emf_v(spec, rpm) >= bus_v and not over and inputs_known:
+        return None  # the port may read the rotor as where all-off rectifies: the short
     if inputs_known and spec.protection.safe_state == "all_off":
         return ALL_OFF
     if over:
         return ALL_OFF
     if not inputs_known:
         return None
-    if bound <= rating * (1 - RATING_BAND):
+    said = short_circuit_bound_a(spec, rpm * corner(spec).said, worst=True)
+    if said <= rating * (1 - RATING_BAND):
         return SHORT_CIRCUIT
-    return None
+    return None  # rated at the rotor's speed, maybe not at the one the port reads

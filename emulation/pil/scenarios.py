@@ -77,11 +77,14 @@ from emulation.pil.runner import DriveBoard
 from emulation.pil.safe_state import (
     ALL_OFF,
     SHORT_CIRCUIT,
+    corner,
     peak_line_emf_v,
     required_idle_state,
     required_safe_state,
+    said_line_emf_v,
     short_circuit_bound_a,
     short_rated_speed,
+    worst_line_emf_v,
 )
 from emulation.pil.sample_window import LoopSampleWatch, sample_window_lines
 from emulation.pil.scs import IRQ_BASE
@@ -718,12 +721,15 @@ RECTIFYING_MARGIN = 0.03
 SPEED_RANGE_INSIDE = 0.01
 
 
-def rectifying_boundary(spec: Spec) -> tuple[float, float] | None:
+def rectifying_boundary(spec: Spec, *, said: bool = False) -> tuple[float, float] | None:
     """A bus voltage of the spec's range, as near the nominal one as can be, and the
-    speed from which all-off rectifies into it (the peak line EMF, sim's waveform of the
-    spec's EMF, reaches the bus), with RECTIFYING_MARGIN either side of that speed 1 %
-    inside the controller's range; None if no bus voltage of the range has one."""
-    per_rpm = peak_line_emf_v(spec, 1.0)
+    speed from which all-off may rectify into it (the worst motor's peak line EMF, sim's
+    waveform of the spec's EMF at k_e's upper tolerance, reaches the bus), with
+    RECTIFYING_MARGIN either side of that speed 1 % inside the controller's range; None
+    if no bus voltage of the range has one. `said`: instead the speed from which the
+    port may take the rotor to be there (`Corner.said` slower): below it all-off is
+    required where the spec prefers it."""
+    per_rpm = worst_line_emf_v(spec, 1.0) * (corner(spec).said if said else 1.0)
     lowest = (
         float(spec.controller.speed_min_rpm) * (1 + SPEED_RANGE_INSIDE) / (1 - RECTIFYING_MARGIN)
     )
@@ -779,11 +785,12 @@ def _rectifying_side(run: Run, side: int) -> Outcome:
         run,
         side,
         f"BKIN {'below' if side < 0 else 'above'} the rectifying speed",
-        rectifying_boundary(run.spec),
+        rectifying_boundary(run.spec, said=side < 0),
         "no bus voltage of the spec's range rectifies within the controller's speed range",
         lambda bus_v, rpm: (
-            f"bus {bus_v:.2f} V, where all-off rectifies from {rpm:.0f} rpm"
-            " (the safe state after the dead time is the spec's there)"
+            f"bus {bus_v:.2f} V, where all-off may rectify from {rpm:.0f} rpm"
+            + (" (said by the last Hall interval)" if side < 0 else "")
+            + " (the safe state after the dead time is the spec's there)"
         ),
     )
 
@@ -806,7 +813,12 @@ def short_rating_boundary(spec: Spec) -> tuple[float, float] | None:
         > float(controller.speed_max_rpm) * (1 - SPEED_RANGE_INSIDE)
     ):
         return None
-    line = peak_line_emf_v(spec, rpm * (1 + RECTIFYING_MARGIN) * (1 + SPEED_RANGE_INSIDE))
+    if rpm / corner(spec).said * (1 - RECTIFYING_MARGIN) < float(controller.speed_min_rpm) * (
+        1 + SPEED_RANGE_INSIDE
+    ):
+        return None
+    # all-off may not rectify even at the speed the port may read the rotor at
+    line = said_line_emf_v(spec, rpm * (1 + RECTIFYING_MARGIN) * (1 + SPEED_RANGE_INSIDE))
     for bus in (inverter.bus_voltage_nominal_v, inverter.bus_voltage_max_v):
         if line < float(bus):
             return float(bus), rpm
@@ -818,11 +830,15 @@ def _short_rating_side(run: Run, side: int) -> Outcome:
     short circuit's bound meets its rating, where the spec prefers the short: the short
     below it, all-off above it. Where the spec prefers all-off, or that speed is out of
     the controller's range, the break at the default speed and nominal bus."""
+    boundary = short_rating_boundary(run.spec)
+    if boundary is not None and side < 0:
+        # the rated speed as the port may read it: the rotor up to Corner.said faster
+        boundary = (boundary[0], boundary[1] / corner(run.spec).said)
     return _boundary_side(
         run,
         side,
         f"BKIN {'below' if side < 0 else 'above'} the short circuit's rated speed",
-        short_rating_boundary(run.spec),
+        boundary,
         "the spec prefers all-off, or its short circuit is within its rating at every"
         " speed of the controller's range (or at none)",
         lambda bus_v, rpm: (
@@ -864,7 +880,8 @@ def bus_fall_while_faulted(spec: Spec) -> tuple[float, float, float] | None:
     short circuit's current is then the least), and two bus voltages 1 % inside the
     inverter's either side of the peak line EMF at that speed: (rpm, from V, to V);
     None where no speed and bus of the ranges have both."""
-    per_rpm = peak_line_emf_v(spec, 1.0)
+    per_rpm = worst_line_emf_v(spec, 1.0)
+    said = corner(spec).said
     inverter, controller = spec.inverter, spec.controller
     floor_v = float(inverter.bus_voltage_min_v) * (1 + BUS_RANGE_INSIDE)
     ceiling_v = float(inverter.bus_voltage_max_v) * (1 - BUS_RANGE_INSIDE)
@@ -872,7 +889,9 @@ def bus_fall_while_faulted(spec: Spec) -> tuple[float, float, float] | None:
     top = float(controller.speed_max_rpm) * (1 - SPEED_RANGE_INSIDE)
     rpm = min(max(floor_v / (FALL_TO * per_rpm), bottom), top)
     line = rpm * per_rpm
-    low, high = max(line * FALL_TO, floor_v), line * FALL_FROM
+    # from above the line EMF the port may read (all-off required where preferred) to
+    # below the worst motor's (all-off may rectify: the short)
+    low, high = max(line * FALL_TO, floor_v), line * said * FALL_FROM
     if rpm < bottom or low > line * FALL_NEAREST or high > ceiling_v:
         return None
     return rpm, high, low
@@ -1387,9 +1406,9 @@ def hall_stuck_speed(spec: Spec) -> tuple[float, float] | None:
 
 def _rectifying_note(run: Run, bus_v: float) -> str:
     """The speed and bus a scenario placed above the rectifying speed, for its note."""
-    rectifying = bus_v / peak_line_emf_v(run.spec, 1.0)
+    rectifying = bus_v / worst_line_emf_v(run.spec, 1.0)
     return (
-        f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off rectifies from"
+        f"the rotor at {run.rpm:.0f} rpm, bus {bus_v:.2f} V (all-off may rectify from"
         f" {rectifying:.0f} rpm)"
     )
 
@@ -1767,8 +1786,15 @@ def _reversal(run: Run) -> Outcome:
 #: edge: a fault of its own, as a bounce does)
 BACK_STEP_MARGIN = 0.02
 #: The bus over the first half of the step back: this much above the one the scenario
-#: brakes on, above the rectifying bound at its speed (RECTIFYING_MARGIN above it)
-BACK_STEP_BUS_RISE = 0.06
+#: brakes on, above the rectifying bound at its speed (RECTIFYING_MARGIN above it), as
+#: the port may read that speed (`back_step_bus_rise`)
+
+
+def back_step_bus_rise(spec: Spec) -> float:
+    """How far the bus is above the back step's for its first half: RECTIFYING_MARGIN
+    above the worst motor's line EMF at the speed the port may read (`Corner.said` x the
+    rotor's, itself RECTIFYING_MARGIN above the bus's rectifying speed)."""
+    return corner(spec).said * (1 + RECTIFYING_MARGIN) ** 2 - 1
 
 
 def hall_back_step_speed(spec: Spec) -> tuple[float, float] | None:
@@ -1778,7 +1804,7 @@ def hall_back_step_speed(spec: Spec) -> tuple[float, float] | None:
     a sector 2 x BACK_STEP_MARGIN longer than one at speed_max (room for the step back
     late in it); None where there is none."""
     bus_v = float(spec.inverter.bus_voltage_min_v) * (1 + BUS_RANGE_INSIDE)
-    rpm = bus_v / peak_line_emf_v(spec, 1.0) * (1 + RECTIFYING_MARGIN)
+    rpm = bus_v / worst_line_emf_v(spec, 1.0) * (1 + RECTIFYING_MARGIN)
     lowest = float(spec.controller.speed_min_rpm) * (1 + SPEED_RANGE_INSIDE)
     if not lowest <= rpm <= float(spec.controller.speed_max_rpm) / (1 + 2 * BACK_STEP_MARGIN):
         return None
@@ -1831,7 +1857,7 @@ def _hall_back_step(run: Run) -> Outcome:
     # a bus above the rectifying bound until half-way through the step, then at bus_v
     # (all-off rectifies): the idle state follows it (a hunt: all-off, chosen once at
     # the back step, had rectified until the forward edge)
-    high = bus_v * (1 + BACK_STEP_BUS_RISE)
+    high = bus_v * (1 + back_step_bus_rise(run.spec))
     falls = chosen is not None and high <= float(run.spec.inverter.bus_voltage_max_v)
     fall = (back + forward) // 2 if falls else back
     if falls:

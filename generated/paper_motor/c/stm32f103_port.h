@@ -113,9 +113,9 @@
  * phase enabled, so TIM1 holds each at its idle level CR2.OISx / OISxN after a dead
  * time; the upper switches off, the lower ones on (the active short circuit) where
  * all-off would rectify into the bus, off otherwise:
- *   bus_voltage_min 20 V: from 4237 rpm short circuit (all-off rectifies); below 4237 rpm both are valid: all off
- *   bus_voltage_nominal 24 V: from 5085 rpm short circuit (all-off rectifies); below 5085 rpm both are valid: all off
- *   bus_voltage_max 30 V: from 6356 rpm short circuit (all-off rectifies); below 6356 rpm both are valid: all off
+ *   bus_voltage_min 20 V: from 3659 rpm (the speed the last Hall interval says) short circuit (all-off may rectify); below 3659 rpm both are valid: all off
+ *   bus_voltage_nominal 24 V: from 4391 rpm (the speed the last Hall interval says) short circuit (all-off may rectify); below 4391 rpm both are valid: all off
+ *   bus_voltage_max 30 V: from 5489 rpm (the speed the last Hall interval says) short circuit (all-off may rectify); below 5091 rpm both are valid: all off; 5091..5489 rpm all-off (the short may exceed the rating)
  * The region is decided on the last Hall interval T and bus code B (a bus reading low,
  * or stuck at 0, gives the short, safe at any speed) and written to CR2 after every
  * commutation and, while faulted, every PWM period; the break input finds it in place.
@@ -175,8 +175,8 @@
 #define BLDC_PORT_ADC_PRESCALER 2u /* RCC_CFGR.ADCPRE: PCLK2 / 6 = 12 MHz (<= 14 MHz) */
 #define BLDC_PORT_ADC_WAIT_LOOPS 1000u /* bound of the start-up waits (ADC power-up, calibration) */
 #define BLDC_PORT_BREAK_ACTIVE_HIGH 0u /* TIM1 BKIN (B12) is active low (BDTR.BKP = 0); the comparator trips at 15 A */
-#define BLDC_PORT_RECTIFYING_PRODUCT 5325928u /* T B at or below it: lambda k_e n >= U_d (lambda = 2), all-off rectifies: the safe state is the short circuit */
-#define BLDC_PORT_SHORT_VALID_PERIOD 0u /* Hall interval at or above it: the short circuit is within protection.short_circuit_current_max = 120 A at every speed */
+#define BLDC_PORT_RECTIFYING_PRODUCT 6166864u /* T B at or below it: lambda k_e n c >= U_d (lambda = 2, k_e at its upper tolerance, c = 1/(1 - hall.sector_shortening): the rotor up to c faster than T says), all-off may rectify: the safe state is the short circuit */
+#define BLDC_PORT_SHORT_VALID_PERIOD 1965u /* Hall interval at or above it: the short circuit is within protection.short_circuit_current_max = 120 A (up to 5359 rpm for the worst motor the spec declares, the rotor up to c faster than T says) */
 #define BLDC_PORT_SHORT_WHILE_UNKNOWN 1u /* a wrapped Hall interval (the speed unknown before the first edges, or below the counter's range): the short circuit, within the rating up to controller.speed_max */
 #define BLDC_PORT_SHORT_WHERE_BOTH 0u /* protection.safe_state = all_off: the safe state where both are valid */
 #define BLDC_PORT_OPEN_LOOP 0xffffffffu /* current reference in open loop (bldc_port_set_main_duty) */
