@@ -102,6 +102,14 @@ MUTANTS = [
         "2u, /* 101 -> 100: forward into sector 1 */",
         "pattern",
     ),
+    # bldc_commutate passes a 16-bit period; bldc_commutation_timing takes any uint32_t,
+    # and without the clamp to the Hall counter's range it passed every check (a hunt)
+    (
+        "period_not_capped_at_the_counter",
+        "const uint32_t period = (period_ticks > BLDC_PERIOD_CAP_TICKS) ? BLDC_PERIOD_CAP_TICKS : period_ticks;",
+        "const uint32_t period = period_ticks;",
+        "wide_period",
+    ),
 ]
 
 #: The same for the resistance-aware core (method improved_r).
@@ -140,6 +148,12 @@ RULE_MUTANTS = [
         "const uint32_t period = (measured > BLDC_PERIOD_MAX_TICKS) ? BLDC_PERIOD_MAX_TICKS : measured;",
         "const uint32_t period = measured;",
         "turn_on",
+    ),
+    (
+        "period_not_capped_at_the_counter",
+        "const uint32_t measured = (period_ticks > BLDC_PERIOD_CAP_TICKS) ? BLDC_PERIOD_CAP_TICKS : period_ticks;",
+        "const uint32_t measured = period_ticks;",
+        "wide_period",
     ),
 ]
 

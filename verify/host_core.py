@@ -31,6 +31,17 @@ void verify_batch(const bldc_inputs_t *in, bldc_outputs_t *out, size_t n)
         bldc_commutate(&in[k], &out[k]);
     }
 }
+size_t verify_sizeof_timing(void) { return sizeof(bldc_timing_t); }
+/* bldc_commutation_timing() on its own uint32_t parameters: args holds (bus code,
+ * period, current, main duty) per point */
+void verify_timing_batch(const uint32_t *args, bldc_timing_t *out, size_t n)
+{
+    size_t k;
+    for (k = 0; k < n; k++) {
+        const bldc_bus_t bus = bldc_bus_condition(args[4u * k]);
+        out[k] = bldc_commutation_timing(&bus, args[4u * k + 1u], args[4u * k + 2u], args[4u * k + 3u]);
+    }
+}
 """
 CFLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wconversion", "-Werror", "-fPIC", "-shared"]
 
@@ -62,6 +73,19 @@ class HostCore:
     path: Path
     input_dtype: np.dtype
     output_dtype: np.dtype
+    timing_dtype: np.dtype
+
+    def timing(self, args: npt.NDArray[np.uint32]) -> npt.NDArray[np.void]:
+        """bldc_commutation_timing() for each row (bus code, period, current, main duty)
+        of `args`, its bus from bldc_bus_condition(): every uint32_t value allowed."""
+        rows = np.ascontiguousarray(args, dtype=np.uint32).reshape(-1, 4)
+        outputs = np.zeros(rows.shape[0], dtype=self.timing_dtype)
+        self.library.verify_timing_batch(
+            rows.ctypes.data_as(ctypes.c_void_p),
+            outputs.ctypes.data_as(ctypes.c_void_p),
+            ctypes.c_size_t(rows.shape[0]),
+        )
+        return outputs
 
     def run(self, inputs: npt.NDArray[np.void]) -> npt.NDArray[np.void]:
         inputs = np.ascontiguousarray(inputs, dtype=self.input_dtype)
@@ -98,14 +122,20 @@ def build_host_core(
     build_dir: Path,
     input_dtype: np.dtype,
     output_dtype: np.dtype,
+    timing_dtype: np.dtype,
 ) -> HostCore:
     """Compile c_dir/bldc_commutation.c with the batch shim; fail on any warning."""
     dll, library = compile_with_shim(c_dir / "bldc_commutation.c", SHIM, build_dir, "verify_batch")
-    dll.verify_batch.restype = None
-    dll.verify_batch.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t]
-    for name, dtype in (("inputs", input_dtype), ("outputs", output_dtype)):
+    for entry in (dll.verify_batch, dll.verify_timing_batch):
+        entry.restype = None
+        entry.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t]
+    for name, dtype in (
+        ("inputs", input_dtype),
+        ("outputs", output_dtype),
+        ("timing", timing_dtype),
+    ):
         size = getattr(dll, f"verify_sizeof_{name}")
         size.restype = ctypes.c_size_t
         if size() != dtype.itemsize:
             raise RuntimeError(f"bldc_{name}_t is {size()} bytes in C, {dtype.itemsize} here")
-    return HostCore(dll, library, input_dtype, output_dtype)
+    return HostCore(dll, library, input_dtype, output_dtype, timing_dtype)

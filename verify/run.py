@@ -39,7 +39,7 @@ from verify.check import (
     tolerances,
 )
 from verify.current_loop import verify_loop
-from verify.host_core import build_host_core, dtype_of, load_twin
+from verify.host_core import HostCore, build_host_core, dtype_of, load_twin
 
 DEFAULT_RANDOM_POINTS = 20_000
 TWIN_SAMPLE = 8_000  # points per set run through the Python twin (it is printed from the same IR)
@@ -150,6 +150,41 @@ def _sample(n: int, count: int) -> np.ndarray:
     return np.unique(np.linspace(0, n - 1, count).astype(np.int64))
 
 
+#: Points of the check of bldc_commutation_timing() beyond the Hall counter's range
+WIDE_POINTS = 4096
+
+
+def wide_period_check(core: HostCore, o: Oracle, inputs: np.ndarray, seed: int) -> OutputCheck:
+    """bldc_commutation_timing() takes any uint32_t period, but bldc_commutate() (the
+    points above) passes the struct's 16 bits: a period beyond what the Hall counter can
+    read (the oracle's hall_counter_max) must give what the counter's full count gives.
+    A core whose clamp to the counter's range was dropped passed every other check (a
+    hunt's mutant): its periods above 65535 computed a speed below the range's."""
+    rng = np.random.default_rng(seed)
+    pick = inputs[rng.integers(0, inputs.size, WIDE_POINTS)]
+    top = o.u.hall_counter_max
+    wide = rng.integers(top + 1, 2**32, WIDE_POINTS, dtype=np.uint64)
+    wide[:2] = (top + 1, 2**32 - 1)
+    columns = (pick["bus_voltage_adc"], np.full(WIDE_POINTS, top), pick["phase_current_adc"])
+    at_top = np.stack([*columns, pick["main_duty_counts"]], axis=1).astype(np.uint32)
+    beyond = at_top.copy()
+    beyond[:, 1] = wide.astype(np.uint32)
+    expected, got = core.timing(at_top), core.timing(beyond)
+    bad = np.zeros(WIDE_POINTS, dtype=bool)
+    for name in expected.dtype.names or ():
+        bad |= expected[name] != got[name]
+    check = OutputCheck(
+        "bldc_commutation_timing beyond the Hall counter == at its full count", "mismatches", None
+    )
+    check.add(bad.astype(np.float64), bad, pick)
+    check.note = (
+        f"periods {top + 1}..2^32-1 against {top} ticks, the counter's largest"
+        f" ({WIDE_POINTS} points of the random set)"
+        + (f"; first differing period {int(wide[np.argmax(bad)])}" if bad.any() else "")
+    )
+    return check
+
+
 def twin_check(twin: ModuleType, inputs: np.ndarray, c_out: np.ndarray, check: OutputCheck) -> None:
     """C == the bit-exact Python twin on a deterministic sample of the set."""
     index = _sample(inputs.size, TWIN_SAMPLE)
@@ -206,7 +241,8 @@ def verify(
     abi = core_info["abi"]
     in_dtype = dtype_of(abi["structs"]["bldc_inputs_t"])
     out_dtype = dtype_of(abi["structs"]["bldc_outputs_t"])
-    core = build_host_core(generated / "c", build_dir, in_dtype, out_dtype)
+    timing_dtype = dtype_of(abi["structs"]["bldc_timing_t"])
+    core = build_host_core(generated / "c", build_dir, in_dtype, out_dtype, timing_dtype)
     twin = load_twin(generated)
     o = oracle(spec)
     tol = tolerances(spec)
@@ -236,6 +272,7 @@ def verify(
             evaluated[name] = check_set(o, tol, flag_bits, inputs, c_out, checks)
             twin_check(twin, inputs, c_out, checks["twin"])
             bar.update(inputs.size)
+    checks["wide_period"] = wide_period_check(core, o, sets["random"], seed)
     measured_duty = max(checks["turn_on"].max_error, checks["turn_off"].max_error)
     checks["claims"] = claims_check(core_info["claims"], tol, measured_duty)  # type: ignore[arg-type]
     # The braking-current PI (oracle/current_loop.py).
