@@ -1344,6 +1344,28 @@ def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_t
     assert f"down to {3 * stop:.0f} rpm, the lowest the run reached (it stopped short" in problem
 
 
+def test_a_pil_and_sil_difference_should_name_the_period_where_they_part(
+    paper_run: tuple[BrakingLoop, BrakingResult],
+) -> None:
+    """A hunt's init-written motor failed its run with "PIL +9.53 % vs SIL +9.53 %,
+    1.16 pp apart": two equal worst deviations, and not a word of where the runs parted
+    (the last period of the window, -1.18 against -0.03 %)."""
+    _, result = paper_run
+    first = next(c for c in result.commutations if c.sil_worst_pct is not None)
+    parted = replace(
+        first,
+        period_deviations_pct=(-4.39, -0.71, -1.18),
+        sil_period_deviations_pct=(-4.37, -0.67, -0.03),
+        extended_deviations_pct=(),
+        sil_extended_deviations_pct=(),
+        deviation_worst_pct=-4.39,
+        sil_worst_pct=-4.37,
+    )
+    assert parted.difference_pp == pytest.approx(1.15)
+    (problem,) = braking_report.problems(replace(result, commutations=[parted]))
+    assert "1.15 pp apart at period 2 of 3 from the edge (PIL -1.18 %, SIL -0.03 %)" in problem
+
+
 def _with_friction(spec: Spec, n_m_s: str) -> Spec:
     motor = replace(spec.motor, viscous_friction_n_m_s=Fraction(n_m_s))
     return replace(spec, motor=motor)

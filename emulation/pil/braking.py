@@ -213,6 +213,15 @@ class Commutation:
         and of the worst deviations' magnitudes (where the positive and the negative
         extreme of a window are nearly equal, its signed extreme flips sign on a
         hundredth of a point; the magnitudes and the periods do not)."""
+        where = self.difference_at
+        return None if where is None else where[0]
+
+    @property
+    def difference_at(self) -> tuple[float, int | None, float, float] | None:
+        """`difference_pp` and where it is: (pp, the period (0 from the edge; None where
+        the worst deviations' magnitudes differ most), the PIL's and the SIL's value
+        there). A report of two equal worst deviations "1.16 pp apart" had not said
+        that the runs parted in one period after the commutation's end (a hunt)."""
         if self.sil_worst_pct is None:
             return None
         n = self.compared_periods
@@ -225,10 +234,13 @@ class Commutation:
             # motor whose current reached zero late in its sector)
             m = min(len(self.period_deviations_pct), len(self.sil_period_deviations_pct))
             pil, sil = self.period_deviations_pct[:m], self.sil_period_deviations_pct[:m]
-        pairs = zip(pil, sil, strict=True)
-        periods = max((abs(a - b) for a, b in pairs), default=0.0)
-        extremes = abs(max(map(abs, pil), default=0.0) - max(map(abs, sil), default=0.0))
-        return max(periods, extremes)
+        gaps = [(abs(a - b), k, a, b) for k, (a, b) in enumerate(zip(pil, sil, strict=True))]
+        worst = max(gaps, default=(0.0, 0, 0.0, 0.0))
+        pil_extreme = max(map(abs, pil), default=0.0)
+        sil_extreme = max(map(abs, sil), default=0.0)
+        if abs(pil_extreme - sil_extreme) > worst[0]:
+            return abs(pil_extreme - sil_extreme), None, pil_extreme, sil_extreme
+        return worst[0], worst[1], worst[2], worst[3]
 
     @property
     def window_lengths(self) -> tuple[int, int]:

@@ -582,10 +582,18 @@ def problems(result: BrakingResult) -> list[str]:
                 f"commutation {c.index} at {c.current_a:.3f} A: the timing handler read the"
                 f" current code {c.firmware_inputs['current']} (0 A)"
             )
-        if c.difference_pp is not None and c.difference_pp > AGREEMENT_PP:
+        where = c.difference_at
+        if where is not None and where[0] > AGREEMENT_PP:
+            pp, period, pil_pct, sil_pct = where
+            at = (
+                f"their worst magnitudes ({pil_pct:.2f} and {sil_pct:.2f} %)"
+                if period is None
+                else f"period {period} of {c.compared_periods} from the edge (PIL"
+                f" {pil_pct:+.2f} %, SIL {sil_pct:+.2f} %)"
+            )
             out.append(
                 f"commutation {c.index} at {c.speed_rpm:.0f} rpm: PIL {c.deviation_worst_pct:+.2f} %"
-                f" vs SIL {c.sil_worst_pct:+.2f} %, {c.difference_pp:.2f} pp apart"
+                f" vs SIL {c.sil_worst_pct:+.2f} % at worst, {pp:.2f} pp apart at {at}"
             )
         # the two commutations end within one PWM period of each other (a zero a few ns
         # either side of a period boundary makes one window a period longer; both are
