@@ -30,6 +30,7 @@ from typing import Any, Protocol, TypeVar
 from codegen import spec_drive
 from codegen.errors import SpecError
 from codegen.spec_model import BackEmfShape, Inverter, Tolerances
+from codegen.yaml12 import ExactFloat
 
 EMF_SHAPE_KEY = "back_emf_shape"
 TOLERANCES_KEY = "tolerances"
@@ -53,6 +54,15 @@ class _Errors(Protocol):
     def error(self, path: str, value: object, problem: str, allowed: str = "") -> SpecError: ...
 
     def attempt(self, read: Callable[[], T]) -> T | None: ...
+
+
+def _exact(value: object) -> Fraction:
+    """A plain number as the exact decimal the spec wrote (a YAML float's ExactFloat.exact:
+    a table entry of 17 digits had been rounded to a double, which verify's own reading
+    of the spec then told apart)."""
+    if isinstance(value, ExactFloat) and value.exact is not None:
+        return value.exact
+    return Fraction(str(value))
 
 
 def _digits(value: Fraction, digits: int) -> str:
@@ -125,7 +135,7 @@ def back_emf_shape(r: _Errors, raw: object) -> BackEmfShape:
         where = f"{path}[{index}]"
         if not (isinstance(item, list) and len(item) == 2 and all(_plain(v) for v in item)):
             raise r.error(where, item, "must be a pair [angle_deg, e/E] of numbers", _TABLE_ALLOWED)
-        angle, value = Fraction(str(item[0])), Fraction(str(item[1]))
+        angle, value = _exact(item[0]), _exact(item[1])
         if not 0 <= angle <= 180:
             raise r.error(where, item, "angle outside the half period", "0 <= angle <= 180 deg")
         if abs(value) > 2:
@@ -189,7 +199,7 @@ def tolerances(r: _Errors, raw: object, inverter: Inverter | None) -> Tolerances
         low, high = float(item[0]), float(item[1])
         if not _PERCENT_LOW < low <= high <= _PERCENT_HIGH:
             raise r.error(path, item, "percent range empty, inverted or out of range", allowed)
-        return (Fraction(str(item[0])) / 100, Fraction(str(item[1])) / 100)
+        return (_exact(item[0]) / 100, _exact(item[1]) / 100)
 
     # every key is read (and every bad one reported) before the section is given up
     read = {key: r.attempt(lambda key=key: pair(key)) for key in TOLERANCE_KEYS}

@@ -125,6 +125,9 @@ CURRENT = _dimension("A", {"A": ONE, "mA": _MILLI})
 SPEED = _dimension("rpm", {"rpm": ONE, "krpm": Fraction(1000)})
 SENSE_GAIN = _dimension("V/A", {"V/A": ONE, "mV/A": _MILLI})
 
+#: what may stand around a value: blanks, and the line breaks of a literal block or of a
+#: quoted "...\n"
+_SPACE = " \t\r\n"
 _QUANTITY = re.compile(
     r"[ \t]*(?P<number>[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?)[ \t]*"
     r"(?P<unit>\S(?:.*\S)?)?[ \t]*\Z",
@@ -219,6 +222,15 @@ def _decimal_int(loader: yaml.SafeLoader, node: yaml.ScalarNode) -> object:
     return loader.construct_yaml_int(node)
 
 
+def _octal(text: str) -> int | None:
+    """A YAML 1.2 octal integer, 0o17, which YAML 1.1 (PyYAML) leaves a string; None for
+    anything else (the spec's reader takes 0o14 as 12: `motor.poles: 0o2` had failed
+    verify against a spec that generated)."""
+    if re.fullmatch(r"0o[0-7]+", text.strip(), re.ASCII):
+        return int(text.strip()[2:], 8)
+    return None
+
+
 _ExactLoader.add_constructor("tag:yaml.org,2002:float", _exact_float)
 _ExactLoader.add_constructor("tag:yaml.org,2002:int", _decimal_int)
 
@@ -232,7 +244,9 @@ def quantity(raw: object, dim: Dimension) -> tuple[Fraction, bool]:
     """'<number> <unit>' -> (the value in the dimension's SI unit, exact?)."""
     if not isinstance(raw, str):
         raise UnreadableError(f"not a '<number> <unit>' string ({type(raw).__name__})")
-    match = _QUANTITY.match(raw)
+    # the spec's reader takes a value with a line break after it (a literal block, a
+    # quoted "0.56 mH\n") or around it: white space is no part of a quantity
+    match = _QUANTITY.match(raw.strip(_SPACE))
     if match is None or match.group("unit") is None:
         raise UnreadableError("not a number and a unit")
     unit = dim.units.get(match.group("unit"))
@@ -248,6 +262,9 @@ def number(raw: object) -> Fraction:
     if isinstance(raw, Fraction | int):
         return Fraction(raw)
     if isinstance(raw, str):
+        octal = _octal(raw)
+        if octal is not None:
+            return Fraction(octal)
         try:
             return Fraction(raw.strip())
         except ValueError:
@@ -256,6 +273,9 @@ def number(raw: object) -> Fraction:
 
 
 def integer(raw: object) -> int:
+    octal = _octal(raw) if isinstance(raw, str) else None
+    if octal is not None:
+        return octal
     if isinstance(raw, bool) or not isinstance(raw, int):
         raise UnreadableError(f"not an integer ({type(raw).__name__})")
     return raw
@@ -266,7 +286,7 @@ def emf_shape(raw: object) -> Shape:
     if isinstance(raw, str):
         if raw.strip() == "flat":
             return True, _TRAPEZOID_120
-        match = _WIDTH.match(raw)
+        match = _WIDTH.match(raw.strip(_SPACE))
         if match is None:
             raise UnreadableError("neither 'flat' nor '<w> deg'")
         rise = (180 - Fraction(match.group("number"))) / 2
@@ -396,7 +416,8 @@ def _text(raw: object) -> str:
         return f"{float(raw):g}" if float(raw) == raw else str(raw)
     if isinstance(raw, list):
         return f"table of {len(raw)} points"
-    return str(raw)
+    # on one line: a line break in the value had broken verify's table row
+    return str(raw).replace("\r", "\\r").replace("\n", "\\n")
 
 
 def _row(

@@ -281,3 +281,38 @@ def test_a_unit_the_oracle_does_not_know_should_be_a_disagreement(tmp_path: Path
     bad = {r.key: r for r in convert(data, spec) if not r.agrees}
     assert list(bad) == ["motor.phase_inductance"]
     assert "not in the oracle's table" in bad["motor.phase_inductance"].line()
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        # YAML 1.2 octal integers, which the spec's reader takes and PyYAML leaves strings
+        ("  poles: 2\n", "  poles: 0o2\n"),
+        ("  bits: 12\n", "  bits: 0o14\n"),
+        ("  bus_voltage_divider: 11\n", "  bus_voltage_divider: 0o13\n"),
+        # a line break after the value: a quoted "...\n" and a literal block
+        ("  phase_inductance: 0.56 mH\n", '  phase_inductance: "0.56 mH\\n"\n'),
+        ("  phase_inductance: 0.56 mH\n", "  phase_inductance: |\n    0.56 mH\n"),
+        # a table entry of 17 digits: the loader had rounded it to a double
+        (
+            "  back_emf_convention: phase\n",
+            "  back_emf_convention: phase\n"
+            "  back_emf_shape: [[0, 0], [30, 0.99999999999999999], [150, 1], [180, 0]]\n",
+        ),
+    ],
+    ids=["octal-poles", "octal-bits", "octal-divider", "quoted-newline", "literal", "table-17"],
+)
+def test_a_value_the_loader_takes_should_read_the_same_to_the_oracle(
+    tmp_path: Path, old: str, new: str
+) -> None:
+    """A hunt's valid specs on which verify failed at its first check: the oracle's
+    PyYAML reading and the loader's YAML 1.2 one parted on octal integers and on a line
+    break after a value, and the loader rounded a measured table's long entries."""
+    text = PAPER.read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    path = tmp_path / "variant.yaml"
+    path.write_text(text.replace(old, new), encoding="utf-8")
+    spec = load_spec(path)
+    assert _disagreeing(path, spec) == {}
+    if "0.99999999999999999" in new:
+        assert spec.motor.back_emf_shape.points[1][1] == Fraction(99999999999999999, 10**17)
