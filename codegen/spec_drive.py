@@ -568,6 +568,12 @@ class SafeStateCorner:
     speed_factor: Fraction
 
 
+def said_speed_factor(sector_shortening: Fraction) -> Fraction:
+    """How much faster than its last Hall interval says a rotor may run: a sector up to
+    `sector_shortening` shorter than the one measured, 1 / (1 - s)."""
+    return 1 / (1 - sector_shortening)
+
+
 def safe_state_corner(motor: Any, hall: Any, tolerances: Any) -> SafeStateCorner:
     """The safe state's worst corner (`SafeStateCorner`). The nominal boundary had let
     all-off be chosen 1.2 % below it on a 22.7 V bus while the paper motor with its k_e
@@ -581,7 +587,21 @@ def safe_state_corner(motor: Any, hall: Any, tolerances: Any) -> SafeStateCorner
         k_e=motor.back_emf_constant_v_per_rpm * (1 + k_e_high),
         resistance_ohm=motor.phase_resistance_ohm * (1 + r_low),
         inductance_h=motor.phase_inductance_h * (1 + l_low),
-        speed_factor=1 / (1 - hall.sector_shortening),
+        speed_factor=said_speed_factor(hall.sector_shortening),
+    )
+
+
+def corner_short_peak(motor: Any, corner: SafeStateCorner, entry_a: Fraction, rpm: float) -> float:
+    """`short_circuit_peak` of the worst motor (`corner`) at `rpm`, entered with the
+    over-current trip's `entry_a` flowing."""
+    return short_circuit_peak(
+        speed_rpm=rpm,
+        k_e=float(corner.k_e),
+        pole_pairs=motor.pole_pairs,
+        resistance_ohm=float(corner.resistance_ohm),
+        inductance_h=float(corner.inductance_h),
+        shape=motor.back_emf_shape,
+        current_at_entry_a=float(entry_a),
     )
 
 
@@ -990,15 +1010,7 @@ def check_drive(
     corner = safe_state_corner(motor, hall, tolerances)
 
     def short_peak(speed_rpm: Fraction) -> float:
-        return short_circuit_peak(
-            speed_rpm=float(speed_rpm),
-            k_e=float(corner.k_e),
-            pole_pairs=motor.pole_pairs,
-            resistance_ohm=float(corner.resistance_ohm),
-            inductance_h=float(corner.inductance_h),
-            shape=motor.back_emf_shape,
-            current_at_entry_a=float(protection.over_current_a),
-        )
+        return corner_short_peak(motor, corner, protection.over_current_a, float(speed_rpm))
 
     n_rect = rectifying_speed(
         inverter.bus_voltage_min_v, corner.k_e * corner.speed_factor, motor.back_emf_shape

@@ -48,6 +48,7 @@ from codegen.spec_drive import (
     end_sample_room_s,
     improved_commutation_share,
     rectifying_speed,
+    said_speed_factor,
     sense_window,
     short_circuit_peak,
 )
@@ -771,7 +772,7 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         # spec would name no safe state there (the loader refuses it); the speed the last
         # Hall interval says, which may be the default sector shortening slow
         # (`spec_drive.safe_state_corner`: init writes no tolerances)
-        said = 1 / (1 - Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100))
+        said = said_speed_factor(Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100))
         n_rect = rectifying_speed(v_min, si["ke"] * said, BackEmfShape())
         if n_max >= n_rect and _short_peak(n_max, si, 0) > PROTECTION_AMPS_MAX:
             n_max = max(Fraction(1), _speed_down(n_rect * Fraction(99, 100)))

@@ -51,10 +51,10 @@ from fractions import Fraction
 from functools import lru_cache
 
 from codegen.spec_drive import (
+    corner_short_peak,
     line_to_line_peak,
     rectifying_speed,
     safe_state_corner,
-    short_circuit_peak,
 )
 from codegen.spec_model import Spec
 
@@ -84,17 +84,8 @@ def _speed_of_period(spec: Spec, ticks: Fraction) -> Fraction:
 
 
 def _peak(spec: Spec, rpm: float) -> float:
-    m = spec.motor
-    corner = safe_state_corner(m, spec.hall, spec.tolerances)
-    return short_circuit_peak(
-        speed_rpm=rpm,
-        k_e=float(corner.k_e),
-        pole_pairs=m.pole_pairs,
-        resistance_ohm=float(corner.resistance_ohm),
-        inductance_h=float(corner.inductance_h),
-        shape=m.back_emf_shape,
-        current_at_entry_a=float(spec.protection.over_current_a),
-    )
+    corner = safe_state_corner(spec.motor, spec.hall, spec.tolerances)
+    return corner_short_peak(spec.motor, corner, spec.protection.over_current_a, rpm)
 
 
 def short_valid_speed(spec: Spec) -> float | None:
