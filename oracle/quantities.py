@@ -65,6 +65,7 @@ import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from fractions import Fraction
+from operator import attrgetter
 from pathlib import Path
 from typing import Any
 
@@ -303,111 +304,51 @@ def emf_shape(raw: object) -> Shape:
 
 # ---------------------------------------------------------------------------- the keys
 
-Getter = Callable[[Spec], Any]
 
-#: (section, key, dimension, the loader's value, optional)
-QUANTITIES: tuple[tuple[str, str, Dimension, Getter, bool], ...] = (
-    ("motor", "rated_voltage", VOLTAGE, lambda s: s.motor.rated_voltage_v, False),
-    ("motor", "phase_resistance", RESISTANCE, lambda s: s.motor.phase_resistance_ohm, False),
-    ("motor", "phase_inductance", INDUCTANCE, lambda s: s.motor.phase_inductance_h, False),
-    ("motor", "rotor_inertia", INERTIA, lambda s: s.motor.rotor_inertia_kg_m2, False),
-    ("motor", "viscous_friction", FRICTION, lambda s: s.motor.viscous_friction_n_m_s, True),
-    ("inverter", "bus_voltage_nominal", VOLTAGE, lambda s: s.inverter.bus_voltage_nominal_v, False),
-    ("inverter", "bus_voltage_min", VOLTAGE, lambda s: s.inverter.bus_voltage_min_v, False),
-    ("inverter", "bus_voltage_max", VOLTAGE, lambda s: s.inverter.bus_voltage_max_v, False),
-    ("inverter", "pwm_frequency", FREQUENCY, lambda s: s.inverter.pwm_frequency_hz, False),
-    ("inverter", "timer_clock", FREQUENCY, lambda s: s.inverter.timer_clock_hz, False),
-    ("inverter", "dead_time", TIME, lambda s: s.inverter.dead_time_s, False),
-    ("hall", "timer_clock", FREQUENCY, lambda s: s.hall.timer_clock_hz, False),
-    ("adc", "reference", VOLTAGE, lambda s: s.adc.reference_v, False),
-    ("adc", "current_gain", SENSE_GAIN, lambda s: s.adc.current_gain_v_per_a, False),
-    ("adc", "current_offset", VOLTAGE, lambda s: s.adc.current_offset_v, False),
-    (
-        "controller",
-        "braking_current_min",
-        CURRENT,
-        lambda s: s.controller.braking_current_min_a,
-        False,
-    ),
-    (
-        "controller",
-        "braking_current_nominal",
-        CURRENT,
-        lambda s: s.controller.braking_current_nominal_a,
-        False,
-    ),
-    (
-        "controller",
-        "braking_current_max",
-        CURRENT,
-        lambda s: s.controller.braking_current_max_a,
-        False,
-    ),
-    ("controller", "speed_min", SPEED, lambda s: s.controller.speed_min_rpm, False),
-    ("controller", "speed_max", SPEED, lambda s: s.controller.speed_max_rpm, False),
-    ("sensing", "settling_time", TIME, lambda s: s.sensing.settling_time_s, False),
-    ("current_loop", "bandwidth", FREQUENCY, lambda s: s.current_loop.bandwidth_hz, False),
-    ("protection", "over_current", CURRENT, lambda s: s.protection.over_current_a, False),
-    (
-        "protection",
-        "short_circuit_current_max",
-        CURRENT,
-        lambda s: s.protection.short_circuit_current_max_a,
-        False,
-    ),
-    ("firmware", "hse_startup_timeout", TIME, lambda s: s.firmware.hse_startup_timeout_s, False),
-    ("firmware", "watchdog_timeout", TIME, lambda s: s.firmware.watchdog_timeout_s, False),
+#: (section, key, dimension, the Spec's field for it in the section, optional)
+QUANTITIES: tuple[tuple[str, str, Dimension, str, bool], ...] = (
+    ("motor", "rated_voltage", VOLTAGE, "rated_voltage_v", False),
+    ("motor", "phase_resistance", RESISTANCE, "phase_resistance_ohm", False),
+    ("motor", "phase_inductance", INDUCTANCE, "phase_inductance_h", False),
+    ("motor", "rotor_inertia", INERTIA, "rotor_inertia_kg_m2", False),
+    ("motor", "viscous_friction", FRICTION, "viscous_friction_n_m_s", True),
+    ("inverter", "bus_voltage_nominal", VOLTAGE, "bus_voltage_nominal_v", False),
+    ("inverter", "bus_voltage_min", VOLTAGE, "bus_voltage_min_v", False),
+    ("inverter", "bus_voltage_max", VOLTAGE, "bus_voltage_max_v", False),
+    ("inverter", "pwm_frequency", FREQUENCY, "pwm_frequency_hz", False),
+    ("inverter", "timer_clock", FREQUENCY, "timer_clock_hz", False),
+    ("inverter", "dead_time", TIME, "dead_time_s", False),
+    ("hall", "timer_clock", FREQUENCY, "timer_clock_hz", False),
+    ("adc", "reference", VOLTAGE, "reference_v", False),
+    ("adc", "current_gain", SENSE_GAIN, "current_gain_v_per_a", False),
+    ("adc", "current_offset", VOLTAGE, "current_offset_v", False),
+    ("controller", "braking_current_min", CURRENT, "braking_current_min_a", False),
+    ("controller", "braking_current_nominal", CURRENT, "braking_current_nominal_a", False),
+    ("controller", "braking_current_max", CURRENT, "braking_current_max_a", False),
+    ("controller", "speed_min", SPEED, "speed_min_rpm", False),
+    ("controller", "speed_max", SPEED, "speed_max_rpm", False),
+    ("sensing", "settling_time", TIME, "settling_time_s", False),
+    ("current_loop", "bandwidth", FREQUENCY, "bandwidth_hz", False),
+    ("protection", "over_current", CURRENT, "over_current_a", False),
+    ("protection", "short_circuit_current_max", CURRENT, "short_circuit_current_max_a", False),
+    ("firmware", "hse_startup_timeout", TIME, "hse_startup_timeout_s", False),
+    ("firmware", "watchdog_timeout", TIME, "watchdog_timeout_s", False),
 )
 
-#: (section, key, reader, scale to the Spec's value, the loader's value, optional)
-NUMBERS: tuple[tuple[str, str, Callable[[object], Fraction | int], Fraction, Getter, bool], ...] = (
-    ("motor", "poles", integer, ONE, lambda s: s.motor.poles, False),
-    ("hall", "counter_bits", integer, ONE, lambda s: s.hall.counter_bits, False),
+#: (section, key, reader, scale to the Spec's value, the Spec's field, optional)
+NUMBERS: tuple[tuple[str, str, Callable[[object], Fraction | int], Fraction, str, bool], ...] = (
+    ("motor", "poles", integer, ONE, "poles", False),
+    ("hall", "counter_bits", integer, ONE, "counter_bits", False),
     # percent of the sector -> a fraction of it
-    (
-        "hall",
-        "sector_shortening",
-        number,
-        Fraction(1, 100),
-        lambda s: s.hall.sector_shortening,
-        True,
-    ),
-    ("adc", "bits", integer, ONE, lambda s: s.adc.bits, False),
-    ("adc", "bus_voltage_divider", number, ONE, lambda s: s.adc.bus_voltage_divider, False),
-    ("sensing", "adc_sample_time", number, ONE, lambda s: s.sensing.adc_sample_cycles, False),
-    ("accuracy", "duty_counts", number, ONE, lambda s: s.accuracy.duty_counts, False),
-    (
-        "accuracy",
-        "commutation_time_ticks",
-        number,
-        ONE,
-        lambda s: s.accuracy.commutation_time_ticks,
-        False,
-    ),
-    (
-        "accuracy",
-        "current_loop_duty_counts",
-        number,
-        ONE,
-        lambda s: s.accuracy.current_loop_duty_counts,
-        False,
-    ),
-    (
-        "accuracy",
-        "ill_conditioned_above",
-        number,
-        ONE,
-        lambda s: s.accuracy.ill_conditioned_above,
-        True,
-    ),
-    (
-        "accuracy",
-        "ill_conditioned_counts",
-        number,
-        ONE,
-        lambda s: s.accuracy.ill_conditioned_counts,
-        True,
-    ),
+    ("hall", "sector_shortening", number, Fraction(1, 100), "sector_shortening", True),
+    ("adc", "bits", integer, ONE, "bits", False),
+    ("adc", "bus_voltage_divider", number, ONE, "bus_voltage_divider", False),
+    ("sensing", "adc_sample_time", number, ONE, "adc_sample_cycles", False),
+    ("accuracy", "duty_counts", number, ONE, "duty_counts", False),
+    ("accuracy", "commutation_time_ticks", number, ONE, "commutation_time_ticks", False),
+    ("accuracy", "current_loop_duty_counts", number, ONE, "current_loop_duty_counts", False),
+    ("accuracy", "ill_conditioned_above", number, ONE, "ill_conditioned_above", True),
+    ("accuracy", "ill_conditioned_counts", number, ONE, "ill_conditioned_counts", True),
 )
 
 
@@ -446,7 +387,8 @@ def convert(data: Mapping[str, Any], spec: Spec) -> tuple[Agreement, ...]:
         if not optional:  # the loader accepted a spec without it: say so
             rows.append(Agreement(key, "", None, loader, unit, True, "absent from the YAML"))
 
-    for section, key, dim, get, optional in QUANTITIES:
+    for section, key, dim, field, optional in QUANTITIES:
+        get = attrgetter(f"{section}.{field}")
         path, raw = f"{section}.{key}", _section(data, section).get(key, _ABSENT)
         if raw is _ABSENT:
             absent(path, get(spec), dim.si_unit, optional)
@@ -454,7 +396,8 @@ def convert(data: Mapping[str, Any], spec: Spec) -> tuple[Agreement, ...]:
         rows.append(
             _row(path, raw, lambda raw=raw, dim=dim: quantity(raw, dim), get(spec), dim.si_unit)
         )
-    for section, key, reader, scale, get, optional in NUMBERS:
+    for section, key, reader, scale, field, optional in NUMBERS:
+        get = attrgetter(f"{section}.{field}")
         path, raw = f"{section}.{key}", _section(data, section).get(key, _ABSENT)
         if raw is _ABSENT:
             absent(path, get(spec), "", optional)
