@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+from codegen.control.hall_timeout import hall_timeout_design
 from codegen.control.sensing import sense_design
 from codegen.core.hall import edge_index, edge_of_hall_pair
 from codegen.core.module import build_core, timing_is_leaf
@@ -411,6 +412,7 @@ def port_context(
     tim3_psc = int(hall_ratio) - 1
     hall_max = (1 << spec.hall.counter_bits) - 1
     overflow_s = Fraction(hall_max + 1) / spec.hall.timer_clock_hz
+    timeout = hall_timeout_design(spec)
     filter_s = Fraction(HALL_FILTER_SAMPLES) / hall_in
 
     pwm = _freq(inv.pwm_frequency_hz)
@@ -463,6 +465,26 @@ def port_context(
             f"{hall_max}u",
             f"{spec.hall.counter_bits}-bit Hall counter: overflows {_time(overflow_s)} after"
             " the last edge, and a longer interval reads as this value",
+        ),
+        _define(
+            "BLDC_PORT_HALL_TIMEOUT_SHIFT",
+            f"{timeout.shift}u",
+            f"Hall time-out: TIM3 CC3 at T << {timeout.shift} after the edge ending an"
+            f" interval T (codegen/control/hall_timeout.py): a rotor braking at up to"
+            f" {timeout.deceleration:.4g} rad/s^2 (the bridge's rating through the worst"
+            " k_e, on the rotor's inertia) that reaches its next edge does so by then",
+        ),
+        _define(
+            "BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX",
+            f"{timeout.period_max}u",
+            "T in [1, this]: the time-out is T << BLDC_PORT_HALL_TIMEOUT_SHIFT"
+            + (
+                f" (a mean speed from {timeout.speed_min_rpm:.0f} rpm up); above, the"
+                " counter's wrap (a rotor that slow may stop within the sector)"
+                if timeout.speed_min_rpm is not None
+                else "; 0: none, the counter's wrap at every speed (a rotor may stop within"
+                " a sector in the speed range)"
+            ),
         ),
         _define(
             "BLDC_PORT_BUS_CODE_MAX",

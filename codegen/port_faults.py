@@ -75,9 +75,12 @@ FAULTS: tuple[Fault, ...] = (
     Fault(
         "HALL_TIMEOUT",
         6,
-        "TIM3's update interrupt at the counter's wrap while the bridge switches (and the"
-        " current-loop interrupt, which reads the wrap too)",
-        "no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged",
+        "TIM3's CC3 at 4 T after the last edge (T the interval it ended, where a turning"
+        " rotor reaches its next edge by then: codegen/control/hall_timeout.py), else its"
+        " update interrupt at the counter's wrap, while the bridge switches (and the"
+        " current-loop interrupt, which reads both too)",
+        "no Hall edge in time: the rotor stopped, a sensor is unplugged, or the Hall lines"
+        " froze at a valid code",
         "always (the next edge checks again)",
     ),
     Fault(

@@ -344,6 +344,8 @@ def _fault_figures(b: Bench, stats: Stats) -> list[Figure]:
                 0.0,
                 "at the line's edge (the EXTI); the handler waits out the confirmation",
             )
+        elif name.startswith("Hall timeout") and "CC3" in name:
+            detect, how = 0.0, "at the time-out's compare match itself (TIM3's CC3 interrupt)"
         elif name.startswith("Hall timeout"):
             detect, how = 0.0, "at the wrap itself (TIM3's update interrupt)"
         elif name.startswith("over-current"):

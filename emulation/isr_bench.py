@@ -222,6 +222,7 @@ class PortRig:
         self.wait_counts = wait_counts(spec)  # BLDC_PORT_WAIT_COUNTS
         self.cc1if, self.cc2if = _bit("TIM3", "SR", "CC1IF"), _bit("TIM3", "SR", "CC2IF")
         self.uif = _bit("TIM3", "SR", "UIF")
+        self.cc3if = _bit("TIM3", "SR", "CC3IF")
         self.ispr0 = _register("NVIC", "ISPR0")
         self.tim1_egr, self.tim1_dier = _register("TIM1", "EGR"), _register("TIM1", "DIER")
         self.tim1_bdtr, self.tim1_sr = _register("TIM1", "BDTR"), _register("TIM1", "SR")
@@ -736,6 +737,13 @@ def current_loop_runs(
         return rig.sim.call(HALL_HANDLER)
 
     fault("Hall timeout (TIM3 wrap)", timeout)
+
+    def late_edge() -> CallResult:
+        # no edge by 4 intervals while the bridge switches: TIM3's CC3 match
+        rig.sim.write_u32(rig.tim3_sr, rig.cc3if)
+        return rig.sim.call(HALL_HANDLER)
+
+    fault("Hall timeout (TIM3 CC3, 4 intervals)", late_edge)
     fault("invalid Hall code", lambda: rig.hall_edge(7, inputs.periods[0]))
     fault("Hall code 0/7 without an edge (EXTI, 1 us confirmation)", lambda: rig.hall_lines(7))
     fault("over-speed", lambda: rig.hall_edge(spec.hall.sequence[2], sc.period_min_ticks - 1))

@@ -335,11 +335,32 @@ MUTANTS = (
     Mutant(
         "Hall time-out interrupt never enabled: the current loop's next look finds the wrap",
         PORT,
-        "    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE;\n}",
+        "    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE | TIM_DIER_CC3IE;\n}",
         "    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS;\n}",
         PAPER,
         "rotor_stops",
         "found by the current loop",
+    ),
+    Mutant(
+        # frozen Hall lines at 2600 rpm trip at the counter's wrap, 65 ms after the last
+        # edge: not by 4 intervals (15.4 ms) and a PWM period, the scenario's wait
+        "Hall time-out only at the counter's wrap: frozen Hall lines brake on for 65 ms",
+        HEADER,
+        "#define BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX ",
+        "#define BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX 0u",
+        PAPER,
+        "rotor_stops",
+        "MOE was never cleared",
+    ),
+    Mutant(
+        # a rotor braking at the machine's limit makes its next edge 2.35 intervals on
+        "Hall time-out of 2 intervals: a rotor braking at the machine's limit trips",
+        HEADER,
+        "#define BLDC_PORT_HALL_TIMEOUT_SHIFT ",
+        "#define BLDC_PORT_HALL_TIMEOUT_SHIFT 1u",
+        PAPER,
+        "hardest_braking",
+        "faults ['HALL_TIMEOUT'], expected none",
     ),
     Mutant(
         "timing slot published before it is filled: an edge in between applies a torn timing",

@@ -660,7 +660,7 @@ static void show(const char *step)
     seen_duty = duty;
     timing_runs = runs;
     printf("%%s tim1 ccer=%%lu ccr1=%%lu ccr2=%%lu ccr3=%%lu ccr4=%%lu egr=%%lu bdtr=%%lu cr2=%%lu "
-           "dier=%%lu tim3 dier=%%lu ccr2=%%lu egr=%%lu sr=%%lu adc cr1=%%lu htr=%%lu ltr=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
+           "dier=%%lu tim3 dier=%%lu ccr2=%%lu ccr3=%%lu egr=%%lu sr=%%lu adc cr1=%%lu htr=%%lu ltr=%%lu in bus=%%lu period=%%lu cur=%%lu duty=%%lu "
            "runs=%%u busruns=%%u breaks=%%u edge egr=%%lu sr=%%lu port faults=%%lu safe=%%lu "
            "current=%%lu status=%%lu nvic cleared=%%lu adc2 cr1=%%lu sr=%%lu exti pr=%%lu\n",
            step, (unsigned long)fake_tim1.CCER, (unsigned long)fake_tim1.CCR1,
@@ -668,7 +668,8 @@ static void show(const char *step)
            (unsigned long)fake_tim1.CCR4, (unsigned long)fake_tim1.EGR,
            (unsigned long)fake_tim1.BDTR, (unsigned long)fake_tim1.CR2,
            (unsigned long)fake_tim1.DIER, (unsigned long)fake_tim3.DIER,
-           (unsigned long)fake_tim3.CCR2, (unsigned long)fake_tim3.EGR,
+           (unsigned long)fake_tim3.CCR2, (unsigned long)fake_tim3.CCR3,
+           (unsigned long)fake_tim3.EGR,
            (unsigned long)fake_tim3.SR, (unsigned long)fake_adc1.CR1,
            (unsigned long)fake_adc1.HTR, (unsigned long)fake_adc1.LTR, (unsigned long)seen_bus, (unsigned long)seen_period, (unsigned long)seen_current,
            (unsigned long)seen_duty, timing_runs, bus_runs, break_runs, raw_egr, raw_sr,
@@ -968,6 +969,13 @@ int main(int argc, char **argv)
     clear("hall_timeout_wrap_cleared");
     STEADY();
     show("steady_wrap_armed");
+    fake_tim1.EGR = 0u;
+    fake_tim3.SR = TIM_SR_CC3IF; /* the Hall time-out's match: no edge by 4 T */
+    %(hall)s();
+    settle();
+    show("hall_timeout_cc3");
+    clear("hall_timeout_cc3_cleared");
+    STEADY();
     /* A reversal turns every output off (no fault); a wrap then is no timeout: the
      * interrupt goes off and UIF stays for the next edge to read. */
     hall_index = (hall_index + 5u) %% 6u;
@@ -1767,9 +1775,15 @@ def test_a_current_at_a_rail_between_samples_should_trip_through_adc2(
 def test_a_wrap_should_be_the_hall_timeout_only_while_the_bridge_switches(
     host_run: dict[str, dict[str, int]],
 ) -> None:
-    # the commutation end turns the wrap's interrupt on: CC1IE, CC2IE, UIE
-    assert host_run["steady_wrap_armed"]["tim3.dier"] == 0x7
+    # the commutation end turns the wrap's and the time-out's interrupts on: CC1IE, CC2IE,
+    # UIE, CC3IE; the time-out 4 T after the edge (T = 5000 ticks, within the paper
+    # motor's BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX)
+    assert host_run["steady_wrap_armed"]["tim3.dier"] == 0xF
+    assert host_run["steady_wrap_armed"]["tim3.ccr3"] == 4 * 5000
     assert host_run["steady_wrap_armed"]["port.faults"] == 0
+    # its match while the bridge switches: the Hall timeout at once
+    _assert_tripped(host_run["hall_timeout_cc3"], "HALL_TIMEOUT")
+    assert host_run["hall_timeout_cc3_cleared"]["port.faults"] == 0
     # bridge off after a reversal: no fault, the interrupt off, UIF left for the next edge
     r = host_run["wrap_idle"]
     assert r["port.faults"] == 0

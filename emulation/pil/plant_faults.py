@@ -34,7 +34,14 @@ from emulation.pil.bus import PilError
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import SHORT_CIRCUIT, short_circuit_bound_a
-from emulation.pil.scenarios import FAULT, MAIN_WAIT_PERIODS, Outcome, shorten_quiet_wait
+from emulation.pil.scenarios import (
+    FAULT,
+    MAIN_WAIT_PERIODS,
+    Outcome,
+    counter_range_end,
+    shorten_quiet_wait,
+    timeout_window,
+)
 
 #: Hall edges braked before the cause: the loop, the timing and the commutations run
 EDGES_BEFORE = SETTLING_EDGES + 2
@@ -190,26 +197,37 @@ def _bus_stuck_at_zero(loop: BrakingLoop) -> Outcome:
 
 
 def _rotor_stops(loop: BrakingLoop) -> Outcome:
-    """As the scenario without the motor (`scenarios._rotor_stops`): the wait for TIM3's
-    wrap is emulated in full up to QUIET_WAIT_TICKS (`shorten_quiet_wait`; at the slowest
-    Hall clock the counter's range is 60 s of motor time, hours of emulation with the
-    plant, and the report never finished). The rotor is blocked within a PWM period of
-    a Hall edge, while that edge's commutation runs: the chip runs on for the last Hall
-    interval, past the commutation end it scheduled (within its sector), first."""
+    """As the scenario without the motor (`scenarios._rotor_stops`): the time-out within
+    `scenarios.timeout_window` of the last edge where a turning rotor is bound to make
+    its next edge, else the counter's range, whose wait is emulated in full up to
+    QUIET_WAIT_TICKS (`shorten_quiet_wait`; at the slowest Hall clock the counter's
+    range is 60 s of motor time, hours of emulation with the plant, and the report never
+    finished). The rotor is blocked within a PWM period of a Hall edge, while that
+    edge's commutation runs: the chip runs on for the last Hall interval, past the
+    commutation end it scheduled (within its sector), first."""
     _settle(loop)
     last_edge, previous = loop.edges[-1][0], loop.edges[-2][0]
     loop.plant.speed_rpm = 0.0  # blocked
     loop.advance_to(max(loop.machine.now, 2 * last_edge - previous))
-    tim3 = loop.machine.tim3
-    wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()
-    wrap, shortened = shorten_quiet_wait(loop.machine, wrap)
-    _until_tripped(loop, wrap - loop.machine.now + 2 * loop.run.board.pwm_period_ticks())
+    period = loop.run.board.pwm_period_ticks()
+    window = timeout_window(loop.run, last_edge, last_edge - previous)
+    if window is not None:
+        _until_tripped(loop, window.cause + window.limit - loop.machine.now + period)
+        return loop.run.outcome(
+            "rotor stops (motor in the loop)",
+            "HALL_TIMEOUT",
+            window.cause,
+            window.limit,
+            f"the rotor is blocked after a Hall edge; {window.note}",
+        )
+    wrap, shortened = shorten_quiet_wait(loop.machine, counter_range_end(loop.machine, last_edge))
+    _until_tripped(loop, wrap - loop.machine.now + 2 * period)
     return loop.run.outcome(
         "rotor stops (motor in the loop)",
         "HALL_TIMEOUT",
         wrap,
-        loop.run.board.pwm_period_ticks(),
-        "the rotor is blocked after a Hall edge; latency from TIM3's wrap" + shortened,
+        period,
+        "the rotor is blocked after a Hall edge; latency from TIM3's counter range" + shortened,
     )
 
 

@@ -57,6 +57,7 @@ firmware's constants.
 
 from __future__ import annotations
 
+import math
 import random
 import time
 from collections.abc import Callable
@@ -70,6 +71,14 @@ from unicorn import UC_HOOK_MEM_WRITE
 from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
 from emulation.pil.bus import PilError, svd_interrupt
+from emulation.pil.hall_timeout import (
+    TIMEOUT_INTERVALS,
+    deceleration,
+    hardest_braking,
+    no_timeout_before_s,
+    speed_into,
+    timeout_bound_s,
+)
 from emulation.pil.iwdg import WatchdogResetError
 from emulation.pil.machine import Machine, MachineOptions
 from emulation.pil.rcc import TICK_HZ
@@ -1161,29 +1170,118 @@ def shorten_quiet_wait(machine: Machine, wrap: int) -> tuple[int, str]:
     return wrap - skipped * per_count, note
 
 
+@dataclass(frozen=True)
+class TimeoutWindow:
+    """When a Hall time-out after an edge at `last_edge` must act: not before `cause`
+    (the latest edge of a turning rotor, or the counter's range), and within `limit`
+    ticks of it."""
+
+    cause: int
+    limit: int
+    note: str
+
+
+def timeout_window(run: Run, last_edge: int, interval: int) -> TimeoutWindow | None:
+    """Where a turning rotor is bound to make its next edge within TIMEOUT_INTERVALS of
+    its last `interval` (ticks; the yardstick, `hall_timeout.timeout_bound_s`): the trip
+    after the latest such edge and by then + one PWM period. None where the counter's
+    range is the time-out (the rotor may stop within the sector)."""
+    bound = timeout_bound_s(run.spec, interval / TICK_HZ)
+    if bound is None:
+        return None
+    earliest = no_timeout_before_s(run.spec, interval / TICK_HZ)
+    assert earliest is not None  # bounded: the rotor cannot stop within the sector
+    cause = last_edge + math.ceil(earliest * TICK_HZ)
+    due = last_edge + round(bound * TICK_HZ)
+    return TimeoutWindow(
+        cause,
+        due + run.board.pwm_period_ticks() - cause,
+        f"a turning rotor braking at up to {deceleration(run.spec):.4g} rad/s^2 makes its"
+        f" next edge within {earliest * 1e3:.3g} ms of the last: the trip after that and by"
+        f" {TIMEOUT_INTERVALS} intervals ({bound * 1e3:.3g} ms) + one PWM period",
+    )
+
+
+def counter_range_end(machine: Machine, last_edge: int) -> int:
+    """The Hall counter's range after an edge: CC3 matches at ARR, a count before the
+    wrap's UIF, where the counter's range is the time-out."""
+    tim3 = machine.tim3
+    return last_edge + tim3.arr * tim3.ticks_per_count()
+
+
 def _rotor_stops(run: Run) -> Outcome:
-    """The Hall code stops changing while the bridge switches; the latency runs from
-    TIM3's wrap (the Hall time-out: its counter's range after the last edge). A sector
-    after the last edge its commutation has ended, and until the wrap nothing else
-    happens but the current loop's periods: where that wait is longer than
-    QUIET_WAIT_TICKS (the counter's range at a slow Hall clock: 58 s at 1125 Hz) TIM3's
-    counter is moved on to QUIET_WAIT_TICKS before its wrap, and the wait from there
-    and the way to the safe state are emulated in full."""
+    """The Hall code stops changing while the bridge switches: the rotor stopped, or the
+    Hall lines froze at a valid code while it turns. Where a turning rotor is bound to
+    make its next edge within TIMEOUT_INTERVALS of its last interval (`timeout_window`)
+    the trip must come after the latest such edge and by then: frozen lines had braked
+    with one sector's pattern for the Hall counter's whole range, 65 ms on the paper
+    motor, 17 sectors at 2600 rpm (a hunt). Elsewhere the latency runs from TIM3's
+    counter range after the last edge. A sector after the last edge its commutation has
+    ended, and until the time-out nothing else happens but the current loop's periods:
+    where that wait is longer than QUIET_WAIT_TICKS (the counter's range at a slow Hall
+    clock: 58 s at 1125 Hz) TIM3's counter is moved on to QUIET_WAIT_TICKS before its
+    wrap, and the wait from there and the way to the safe state are emulated in full."""
     run.turn(SETTLE_SECTORS)
-    last_edge = run.machine.now - run.sector_ticks()
-    tim3 = run.machine.tim3
-    wrap = last_edge + (tim3.arr + 1) * tim3.ticks_per_count()  # TIM3 wraps: the time-out
-    wrap, note = shorten_quiet_wait(run.machine, wrap)
-    run.run_until_tripped(wrap - run.machine.now + 2 * run.board.pwm_period_ticks())
+    sector = run.sector_ticks()
+    last_edge = run.machine.now - sector
+    period = run.board.pwm_period_ticks()
+    window = timeout_window(run, last_edge, sector)
+    if window is not None:
+        run.run_until_tripped(window.cause + window.limit - run.machine.now + period)
+        _check_timeout_source(run, window.cause)
+        return run.outcome(
+            "rotor stops",
+            "HALL_TIMEOUT",
+            window.cause,
+            window.limit,
+            "the Hall code stops changing while the bridge switches, the rotor at"
+            f" {run.rpm:.0f} rpm; {window.note}",
+        )
+    wrap, note = shorten_quiet_wait(run.machine, counter_range_end(run.machine, last_edge))
+    run.run_until_tripped(wrap - run.machine.now + 2 * period)
     _check_timeout_source(run, wrap)
     return run.outcome(
         "rotor stops",
         "HALL_TIMEOUT",
         wrap,
-        run.board.pwm_period_ticks(),
-        "the Hall code stops changing while the bridge switches; latency from TIM3's wrap"
-        " (the Hall time-out, its counter's range after the last edge)" + note,
+        period,
+        "the Hall code stops changing while the bridge switches; latency from TIM3's"
+        " counter range after the last edge (the Hall time-out where a rotor this slow may"
+        " stop within a sector)" + note,
     )
+
+
+#: PWM periods the hardest-braking scenario runs on after the late edge
+AFTER_LATE_EDGE_PERIODS = 10
+
+
+def _hardest_braking(run: Run) -> Outcome:
+    """A rotor braking as hard as the machine can (the yardstick's alpha, the bridge's
+    rated current through the worst motor) through a shortest sector and then a longest
+    one, near the slowest speed where a turning rotor is still bound to make its next
+    edge (`hall_timeout.hardest_braking`): that edge comes as late as a turning rotor's
+    can, 2.35 intervals on at equal sectors, and the Hall time-out must not trip before
+    it (one of 2 intervals would). Where no speed bounds the next edge, plain braking
+    sectors at the default speed (the time-out is the counter's wrap)."""
+    chosen = hardest_braking(run.spec)
+    if chosen is None:
+        run.turn(SETTLE_SECTORS)
+        note = (
+            "no speed of the spec bounds a turning rotor's next edge: braking at the default speed"
+        )
+    else:
+        interval, following = chosen
+        run.rpm = speed_into(run.spec, interval)
+        run.turn(SETTLE_SECTORS)
+        run.step(round(interval * TICK_HZ))  # the shortest sector, braked through at alpha
+        run.step(math.floor(following * TICK_HZ))  # the longest, its edge as late as can be
+        note = (
+            f"from {run.rpm:.0f} rpm braking at {deceleration(run.spec):.4g} rad/s^2: a"
+            f" {interval * 1e3:.4g} ms interval, then the next edge"
+            f" {following * 1e3:.4g} ms on ({following / interval:.3g} intervals)"
+        )
+    run.step(AFTER_LATE_EDGE_PERIODS * run.board.pwm_period_ticks())
+    return run.outcome("hardest braking", None, None, None, note)
 
 
 def _check_timeout_source(run: Run, wrap: int) -> None:
@@ -1972,6 +2070,7 @@ SCENARIOS = (
     Scenario("break_while_faulted", _break_while_faulted),
     Scenario("break_pulse", _break_pulse),
     Scenario("rotor_stops", _rotor_stops),
+    Scenario("hardest_braking", _hardest_braking),
     Scenario("bus_stuck_at_zero", _bus_stuck_at_zero),
     Scenario("bus_stuck_at_full_scale", _bus_stuck_at_full_scale),
     Scenario("reversal", _reversal),

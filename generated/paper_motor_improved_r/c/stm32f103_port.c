@@ -601,10 +601,10 @@ static void port_on_hall_edge(uintptr_t anchor, uint32_t status)
     tim3->EGR = ((ticks + ~tim3->CNT) >> (31u - TIM_EGR_CC2G_Pos)) & TIM_EGR_CC2G;
 }
 
-/* TIM3 wrapped (UIF, its interrupt on since the last commutation end): no Hall edge for
- * the counter's whole range. While the bridge switches that is the Hall timeout, acted
- * on now; otherwise the interrupt goes off and UIF stays set for the next edge, which
- * reads the interval as the whole range. */
+/* TIM3 wrapped (UIF), or passed the Hall time-out (CC3IF), their interrupts on since the
+ * last commutation end: no Hall edge in time. While the bridge switches that is the Hall
+ * timeout, acted on now; otherwise the interrupts go off and UIF stays set for the next
+ * edge, which reads the interval as the whole range. */
 BLDC_PORT_COLD static void port_on_wrap(uintptr_t anchor)
 {
     if ((port.steady != 0u) && (port.pending == 0u)) {
@@ -699,9 +699,29 @@ static void port_on_commutation_end(uintptr_t anchor)
     const uint32_t unended = (uint32_t)(age < BLDC_PORT_SEQUENCE_MIN_COUNTS) | imminent;
     port.stale = ((status & ADC_SR_JEOC) != 0u) ? 1u + unended : (uint32_t)converting;
     port.pending = 0u;
-    /* The Hall edge cleared UIF: a wrap from now on, with the bridge switching, is the
-     * Hall timeout (port_on_wrap). */
-    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE;
+    /* The Hall time-out of this sector (codegen/control/hall_timeout.py): a rotor that
+     * reaches its next edge at all does so within 4 T of the last one, T the interval
+     * that edge ended, wherever T <= BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX; slower, it may
+     * stop within the sector, and the counter's wrap is the time-out. CC3 matches there.
+     * Hall lines frozen at a valid code had tripped only at the wrap, 65 ms after the
+     * last edge on the paper motor (30 sectors at 4600 rpm braking with one sector's
+     * pattern; a hunt). Written after the COM event (the switch-off lag is the COM
+     * event's), and its flag cleared after it: a match of an older, smaller value (a
+     * sector after a refused edge) may have set it, and the counter, near `ticks` now,
+     * is below the new one. */
+#if BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX == 0u
+    tim3->CCR3 = BLDC_PORT_TIM3_ARR;
+#else
+    BLDC_PORT_SEQUENCE(); /* the interval's load after the COM event, not before it */
+    const uint32_t interval = port.period;
+    tim3->CCR3 = ((interval - 1u) < BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX)
+                     ? (interval << BLDC_PORT_HALL_TIMEOUT_SHIFT)
+                     : BLDC_PORT_TIM3_ARR;
+#endif
+    tim3->SR = ~TIM_SR_CC3IF;
+    /* The Hall edge cleared UIF: a wrap, or the time-out's match, from now on, with the
+     * bridge switching, is the Hall timeout (port_on_wrap). */
+    tim3->DIER = BLDC_PORT_HALL_INTERRUPTS | TIM_DIER_UIE | TIM_DIER_CC3IE;
 }
 
 /* One vector for all TIM3 events on the STM32F103: a pending commutation end first (it
@@ -718,8 +738,8 @@ BLDC_PORT_FAST_CODE BLDC_PORT_LINE_ALIGNED void TIM3_IRQHandler(void)
         port_on_hall_edge(anchor, status);
     } else if ((status & TIM_SR_CC2IF) != 0u) {
         port_on_commutation_end(anchor);
-    } else if ((status & TIM_SR_UIF) != 0u) {
-        port_on_wrap(anchor);
+    } else if ((status & (TIM_SR_UIF | TIM_SR_CC3IF)) != 0u) {
+        port_on_wrap(anchor); /* the wrap, or the Hall time-out's match */
     }
 }
 
@@ -1267,8 +1287,9 @@ BLDC_PORT_COLD static void port_adc_other(uintptr_t anchor, uint32_t status, uin
 #endif
     const uint32_t steady = port.steady;
     if ((steady != 0u) && (port.pending == 0u)) {
-        if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) != 0u) {
-            /* The Hall counter wrapped while the bridge switches: no edge for its range. */
+        if ((PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & (TIM_SR_UIF | TIM_SR_CC3IF)) != 0u) {
+            /* The Hall counter wrapped, or passed the Hall time-out, while the bridge
+             * switches: no edge in time. */
             port_trip(anchor, BLDC_FAULT_HALL_TIMEOUT);
         } else if (port_at_a_rail(measured) != 0u) {
             port_trip(anchor, BLDC_FAULT_CURRENT_SENSOR); /* at a watched rail */
@@ -1314,7 +1335,7 @@ BLDC_PORT_LINE_ALIGNED void ADC1_2_IRQHandler(void)
      * (EXTI0_IRQHandler). */
     const uint32_t watchdogs = (status | PORT_AT(anchor, ADC2, ADC_TypeDef)->SR) & ADC_SR_AWD;
     const uint32_t other = watchdogs | port_is_zero(steady) | port.pending | port.stale |
-                           (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & TIM_SR_UIF) |
+                           (PORT_AT(anchor, TIM3, TIM_TypeDef)->SR & (TIM_SR_UIF | TIM_SR_CC3IF)) |
                            (reference >> BLDC_PORT_ADC_BITS);
     if (BLDC_PORT_RARE(other != 0u)) {
         port_adc_other(anchor, status, bus, measured);
@@ -1698,6 +1719,7 @@ static void port_init_hall_timer(void)
     TIM3->SMCR |= BLDC_PORT_SMS_RESET << TIM_SMCR_SMS_Pos;
     TIM3->CCER = TIM_CCER_CC1E; /* capture on; CC2 output stays off (its pin is Hall B) */
     TIM3->CCR2 = BLDC_PORT_TIM3_ARR;
+    TIM3->CCR3 = BLDC_PORT_TIM3_ARR; /* the Hall time-out, from the first commutation end */
     TIM3->EGR = TIM_EGR_UG; /* load PSC */
     TIM3->SR = 0u;
     /* The first edge has no valid interval (the counter ran since start-up): start at

@@ -102,7 +102,7 @@
  *   BLDC_FAULT_CURRENT_SENSOR (0x0008u): a current sample at an ADC rail (0 or full scale): the sensor is open or saturated; by ADC2's analog watchdog on the current channel(s), converted continuously (every conversion, at any instant), and the current-loop interrupt's sample; clears: every current channel's last sample is off the rails
  *   BLDC_FAULT_HALL_INVALID (0x0010u): Hall code 000 or 111 (a sensor unplugged or shorted); by the Hall edge, and the EXTI on both edges of every Hall line (the code 0 or 7 for 1 us: two lines changing within TIM3's input filter make no Hall edge); clears: the Hall code now is valid
  *   BLDC_FAULT_HALL_SEQUENCE (0x0020u): a Hall code pair that is not one sector forward or back (a skipped or repeated code); by the Hall edge; clears: always (the next edge checks again)
- *   BLDC_FAULT_HALL_TIMEOUT (0x0040u): no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged; by TIM3's update interrupt at the counter's wrap while the bridge switches (and the current-loop interrupt, which reads the wrap too); clears: always (the next edge checks again)
+ *   BLDC_FAULT_HALL_TIMEOUT (0x0040u): no Hall edge in time: the rotor stopped, a sensor is unplugged, or the Hall lines froze at a valid code; by TIM3's CC3 at 4 T after the last edge (T the interval it ended, where a turning rotor reaches its next edge by then: codegen/control/hall_timeout.py), else its update interrupt at the counter's wrap, while the bridge switches (and the current-loop interrupt, which reads both too); clears: always (the next edge checks again)
  *   BLDC_FAULT_OVER_SPEED (0x0080u): a Hall interval shorter than at controller.speed_max; by the Hall edge; clears: always (the next edge checks again)
  *   BLDC_FAULT_CLOCK (0x0100u): the HSE did not start or failed: the timers do not run at their design clock; by start-up (HSE or PLL timeout) and the clock security system (NMI); clears: never: only a reset
  *   BLDC_FAULT_WATCHDOG (0x0200u): the last reset was the independent watchdog's; by start-up (RCC_CSR.IWDGRSTF); clears: always (it reports the past reset)
@@ -148,6 +148,8 @@
 #define BLDC_PORT_TIM1_DTG 0x24u /* dead time 500 ns requested, 36 t_DTS = 500 ns programmed (t_DTS = 1 / 72 MHz) */
 #define BLDC_PORT_TIM3_PSC 71u /* Hall timer ticks at 1 MHz from 72 MHz */
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
+#define BLDC_PORT_HALL_TIMEOUT_SHIFT 2u /* Hall time-out: TIM3 CC3 at T << 2 after the edge ending an interval T (codegen/control/hall_timeout.py): a rotor braking at up to 5000 rad/s^2 (the bridge's rating through the worst k_e, on the rotor's inertia) that reaches its next edge does so by then */
+#define BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX 7971u /* T in [1, this]: the time-out is T << BLDC_PORT_HALL_TIMEOUT_SHIFT (a mean speed from 1255 rpm up); above, the counter's wrap (a rotor that slow may stop within the sector) */
 #define BLDC_PORT_BUS_CODE_MAX 3385u /* the core's over-voltage threshold, 30 V: the analog watchdog's HTR trips over-voltage above it, whatever the hysteresis */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
 #define BLDC_PORT_TIM1_CCR4 3536u /* the current sample: OC4REF (PWM mode 2) rises at CNT = 3536, 63 counts before the samples end, 1 before the next period */
@@ -189,7 +191,7 @@
 #define BLDC_FAULT_CURRENT_SENSOR 0x0008u /* a current sample at an ADC rail (0 or full scale): the sensor is open or saturated */
 #define BLDC_FAULT_HALL_INVALID 0x0010u /* Hall code 000 or 111 (a sensor unplugged or shorted) */
 #define BLDC_FAULT_HALL_SEQUENCE 0x0020u /* a Hall code pair that is not one sector forward or back (a skipped or repeated code) */
-#define BLDC_FAULT_HALL_TIMEOUT 0x0040u /* no Hall edge for the Hall counter's whole range: the rotor stopped or a sensor is unplugged */
+#define BLDC_FAULT_HALL_TIMEOUT 0x0040u /* no Hall edge in time: the rotor stopped, a sensor is unplugged, or the Hall lines froze at a valid code */
 #define BLDC_FAULT_OVER_SPEED 0x0080u /* a Hall interval shorter than at controller.speed_max */
 #define BLDC_FAULT_CLOCK 0x0100u /* the HSE did not start or failed: the timers do not run at their design clock */
 #define BLDC_FAULT_WATCHDOG 0x0200u /* the last reset was the independent watchdog's */
