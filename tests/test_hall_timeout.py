@@ -20,6 +20,11 @@ SPECS = [
     ROOT / "spec" / "example_maxon_ec45_flat_48v.yaml",
     *sorted((ROOT / "tests" / "fixtures" / "specs").glob("*.yaml")),
     *sorted((ROOT / "tests" / "fixtures" / "pil").glob("*.yaml")),
+    # with motor.viscous_friction: its torque at the top speed adds to the braking's
+    ROOT / "tests" / "fixtures" / "odd" / "hv560_10mh_150deg.yaml",
+    ROOT / "tests" / "fixtures" / "odd" / "pp50_20mh_slow_loop.yaml",
+    ROOT / "tests" / "fixtures" / "odd" / "hall1125_1rpm.yaml",
+    ROOT / "tests" / "fixtures" / "odd" / "kv5000_2p_windup.yaml",
 ]
 
 

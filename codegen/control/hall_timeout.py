@@ -29,12 +29,13 @@ shortening the loader allows (25 %: r = 0.75 / 1.25). So the port waits 4 T
 T (`HallTimeout.period_max`), and the counter's whole range above it.
 
 The worst motor the spec declares (as `spec_drive.safe_state_corner`):
-* alpha = lambda k_e I / J: the braking torque sum(e_i i_i) / w is at most the peak
+* alpha = (lambda k_e I + B w_top) / J: the braking torque sum(e_i i_i) / w is at most the peak
   line-to-line EMF per unit of speed (lambda k_e, k_e at its upper tolerance) times the
   largest phase current; that current is taken as the bridge's rating
   (protection.short_circuit_current_max, which the safe state keeps every current
   within), and J as the rotor's own inertia (a load adds inertia: it only slows the
-  deceleration). A load that brakes by torque of its own beyond the machine's is not
+  deceleration); B w_top the viscous friction (motor.viscous_friction) at the top speed
+  read up to 1 / (1 - s) fast. A load that brakes by torque of its own beyond these is not
   covered: the time-out may then end a braking near the stop early, in the safe state.
 * theta_p = (1 - s) 60 deg / p and theta_n = (1 + s) 60 deg / p (s the sector
   shortening: an edge displaced by s x 30 deg shortens one sector and lengthens its
@@ -89,13 +90,18 @@ def hall_timeout_design(spec: Spec) -> HallTimeout:
     m, hall = spec.motor, spec.hall
     corner = safe_state_corner(m, hall, spec.tolerances)
     k_e = float(corner.k_e) * 60 / (2 * math.pi)  # V s/rad, mechanical
+    s = float(hall.sector_shortening)
+    # the viscous friction's torque at the fastest a rotor of the speed range turns (the
+    # top speed, up to 1 / (1 - s) faster than its interval says): a bound at every
+    # speed below
+    fastest = float(spec.controller.speed_max_rpm) * 2 * math.pi / 60 / (1 - s)
     torque = (
         float(line_to_line_peak(m.back_emf_shape))
         * k_e
         * float(spec.protection.short_circuit_current_max_a)
+        + float(m.viscous_friction_n_m_s) * fastest
     )
     alpha = torque / float(m.rotor_inertia_kg_m2)
-    s = float(hall.sector_shortening)
     sector = math.pi / 3 / m.pole_pairs
     theta_prev, theta_next = (1 - s) * sector, (1 + s) * sector
     hz = float(hall.timer_clock_hz)

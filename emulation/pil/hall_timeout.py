@@ -6,7 +6,8 @@ Computed here from the spec, apart from the port's design
 * The hardest a rotor can brake, alpha = tau_max / J: the machine's torque
   sum(e_i i_i) / w is at most the worst motor's peak line EMF per unit of speed
   (`safe_state.worst_line_emf_v`) times the largest current, the bridge's rating
-  (protection.short_circuit_current_max); J is the rotor's own inertia.
+  (protection.short_circuit_current_max), plus the viscous friction at the fastest the
+  rotor turns; J is the rotor's own inertia.
 * Sectors: each Hall edge up to s x 30 electrical degrees off its place (s the sector
   shortening), so the interval measured may belong to a sector (1 - s) 60 deg long and
   the next be (1 + s) 60 deg.
@@ -37,10 +38,14 @@ BOUNDARY_GUARD = 0.05
 
 
 def deceleration(spec: Spec) -> float:
-    """alpha, mechanical rad/s^2: the rated current through the worst motor's EMF."""
+    """alpha, mechanical rad/s^2: the rated current through the worst motor's EMF, and
+    the viscous friction at the fastest the speed range's rotor turns (speed_max, up to
+    1 / (1 - s) faster than its interval says)."""
     rpm = 1000.0
     volts_per_rad_s = worst_line_emf_v(spec, rpm) / (rpm * 2 * math.pi / 60)
     torque = volts_per_rad_s * float(spec.protection.short_circuit_current_max_a)
+    fastest = float(spec.controller.speed_max_rpm) / (1 - float(spec.hall.sector_shortening))
+    torque += float(spec.motor.viscous_friction_n_m_s) * fastest * 2 * math.pi / 60
     return torque / float(spec.motor.rotor_inertia_kg_m2)
 
 
