@@ -21,6 +21,7 @@ PAPER_IR = ROOT / "spec" / "paper_motor_improved_r.yaml"
 HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
 SHORT_RATED = ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml"
 IR_5K = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_improved_r.yaml"
+SHORT_PREFERRED = ROOT / "tests" / "fixtures" / "pil" / "paper_short_preferred.yaml"
 PORT = "c/stm32f103_port.c"
 HEADER = "c/stm32f103_port.h"
 
@@ -351,6 +352,38 @@ MUTANTS = (
         PAPER,
         "rotor_stops",
         "MOE was never cleared",
+    ),
+    Mutant(
+        # the forward edge after a refused step back, 2.1 ms into an 12 ms sector, sets
+        # the time-out to 4 x 2.1 ms: it trips before the rotor's next edge
+        "Hall time-out from the part sector after a refused edge: a rocking rotor trips",
+        PORT,
+        "(uint32_t)port.period | (0u - (uint32_t)port.after_refusal);",
+        "(uint32_t)port.period;",
+        PAPER,
+        "hall_rocks_early",
+        "faults ['HALL_TIMEOUT'], expected none",
+    ),
+    Mutant(
+        # a 3 us bounce read as a rotor a thousand times the top speed, beyond the short's
+        # rating: all-off at 4950 rpm on 24 V, where it rectifies from 4622 rpm
+        "bounce interval kept for the safe state: all-off where it rectifies",
+        PORT,
+        "            if (port.period < BLDC_PORT_INTERVAL_PLAUSIBLE_MIN) {",
+        "            if (port.period < 1u) {",
+        SHORT_PREFERRED,
+        "hall_bounce",
+        "not the short circuit",
+    ),
+    Mutant(
+        # the first bounce edge's half sector read as twice the speed, beyond the rating
+        "faulted Hall interval under the top speed's: all-off where it rectifies",
+        PORT,
+        "        port.period = (uint16_t)((shortest < BLDC_PERIOD_MIN_TICKS) ? BLDC_PERIOD_MIN_TICKS",
+        "        port.period = (uint16_t)((shortest < 1u) ? BLDC_PERIOD_MIN_TICKS",
+        SHORT_PREFERRED,
+        "hall_unplugged_bouncing",
+        "safe state",
     ),
     Mutant(
         # a rotor braking at the machine's limit makes its next edge 2.35 intervals on

@@ -197,18 +197,33 @@ def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scena
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The generator without the hall.sector_shortening margin and without the guard's
-    room for a current sample (the dead time and the end's latency alone): on the 2 us
-    fixture, sectors a little shorter than the one their timing was computed from bring
-    the edge within the dead time of the end (a switch on 137 TIM1 ticks after its
-    partner turned off, dead time 144); the scenario must see it. (With the sample room
-    the edge comes that much later: there the margin keeps the loop's sample.)"""
+    room for a current sample (the dead time and the end's latency alone): on the 40 000
+    rpm fixture with a 2.4 us dead time, sectors a little shorter than the one their
+    timing was computed from bring the edge within the dead time of the end (a switch
+    on 144 TIM1 ticks after its partner turned off, dead time 173); the scenario must
+    see it, and pass the generator's own firmware. (With the sample room the edge comes
+    that much later: there the margin keeps the loop's sample.) The fixture's own 2 us
+    (144 ticks) no longer shows it: since the end sets the Hall time-out after its COM
+    event, an edge due meanwhile waits for that tail and reaches its own COM event 154
+    ticks after the end's at the soonest."""
     import codegen.fixedpoint.scaling as scaling
     from codegen.core.module import build_core
     from codegen.generate import render_all, write_tree
-    from emulation.pil.build import link_mutant
+    from emulation.pil.build import generate, link_mutant
 
-    path = ROOT / "tests" / "fixtures" / "pil" / "fast40k_dead2us.yaml"
+    text = (ROOT / "tests" / "fixtures" / "pil" / "fast40k_dead2us.yaml").read_text("utf-8")
+    assert "  dead_time: 2 us\n" in text
+    path = tmp_path / "fast40k_dead2u4.yaml"
+    path.write_text(
+        text.replace("  dead_time: 2 us\n", "  dead_time: 2.4 us\n").replace(
+            "name: fast40k_dead2us", "name: fast40k_dead2u4"
+        ),
+        encoding="utf-8",
+    )
     spec = load_spec(str(path))
+    scenario = next(s for s in SCENARIOS if s.key == "hall_off_marks")
+    own = build_firmware(path, tmp_path / "own", generate(path, tmp_path / "own_generated"))
+    assert run_scenario(own, spec, scenario).problems == []
     monkeypatch.setattr(scaling, "sector_margin_shift", lambda shortening: None)
     monkeypatch.setattr(scaling, "end_sample_room_s", lambda *_: 0)
     build_core.cache_clear()
@@ -221,9 +236,8 @@ def test_firmware_without_the_sector_margin_should_fail_the_hall_off_marks_scena
     text = (source / "c" / "bldc_commutation.c").read_text(encoding="utf-8")
     assert "latest = period - BLDC_COMMUTATION_GUARD_TICKS;" in text  # no margin
     elf = link_mutant(source, tmp_path / "mutant", lambda folder: None)
-    scenario = next(s for s in SCENARIOS if s.key == "hall_off_marks")
     problems = run_scenario(elf, spec, scenario).problems
-    assert any("after its partner turned off (dead time 144)" in p for p in problems), problems
+    assert any("after its partner turned off (dead time 173)" in p for p in problems), problems
 
 
 @pytest.fixture(scope="module")
@@ -514,3 +528,22 @@ def test_a_clear_should_rearm_the_braking_with_a_72_mhz_hall_clock(tmp_path: Pat
     mutant = link_mutant(generated, tmp_path / "mutant", old_order)
     broken = run_scenario(mutant, spec, scenario)
     assert any("OVER_SPEED" in p for p in broken.problems), broken.problems
+
+
+def test_a_spec_preferring_the_short_should_keep_it_through_a_hall_bounce(
+    tmp_path: Path,
+) -> None:
+    """The paper motor preferring the short, rated to 5359 rpm at its worst corner: a
+    line's 3 us bounce at an edge, and a connector coming off with a line bouncing, had
+    been read as a rotor beyond the rating and got all-off where it rectifies (a hunt).
+    Both keep the short at 4950 rpm on 24 V (all-off may rectify from 4622 rpm)."""
+    from emulation.pil.build import generate
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "paper_short_preferred.yaml"
+    spec = load_spec(str(path))
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    for key in ("hall_bounce", "hall_unplugged_bouncing", "hall_rocks_early"):
+        outcome = run_scenario(elf, spec, next(s for s in SCENARIOS if s.key == key))
+        assert outcome.problems == [], (key, outcome.problems, outcome.note)
+        if key != "hall_rocks_early":
+            assert "4950 rpm, bus 24.00 V" in outcome.note, outcome.note

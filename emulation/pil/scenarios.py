@@ -1565,6 +1565,182 @@ def _hall_line_stuck(run: Run) -> Outcome:
     )
 
 
+#: A Hall line's bounce: each level held this long (longer than TIM3's input filter)
+BOUNCE_NS = 3000
+#: ... and this many changes of the line before the connector's pull-ups win (code 7)
+BOUNCE_CHANGES = 5
+#: Sectors after a bounce at which the gates are checked
+BOUNCE_CHECKS = (1, 5, 10)
+
+
+def _bounce_ticks() -> int:
+    return round(BOUNCE_NS * TICK_HZ / 1e9)
+
+
+def _bounce_place(run: Run, what: str) -> tuple[float, str]:
+    """The rotor and bus of a bounce scenario: just above the speed from which all-off
+    rectifies (`hall_stuck_speed`), where the short is due and a rotor read too fast
+    may be taken beyond a rated short; else the default speed and the nominal bus."""
+    chosen = hall_stuck_speed(run.spec)
+    if chosen is None:
+        return _no_rectifying_speed(run, f"{what} at the default speed")
+    bus_v, run.rpm = chosen
+    return bus_v, _rectifying_note(run, bus_v)
+
+
+def _hall_bounce(run: Run) -> Outcome:
+    """A real Hall edge whose line bounces (the new code, the old one BOUNCE_NS later,
+    the new one again after as long: longer than TIM3's input filter): OVER_SPEED
+    latches at the second edge (a microseconds' interval), and the safe state is the
+    one at the rotor's speed, which the last right interval tells: the bounce's
+    interval says nothing of it. A spec that prefers the short had read the 3 us as a
+    rotor beyond the short's rating and held all-off, rectifying, to the next edge (a
+    hunt: the paper motor preferring the short, 4400 rpm on 20.5 V)."""
+    bus_v, note = _bounce_place(run, "the bounce")
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS)
+    run._finish_sector()
+    before = run.spec.hall.sequence[run.sector]
+    run.sector = (run.sector + 1) % 6
+    code = run.spec.hall.sequence[run.sector]
+    sector = run.sector_ticks()
+    edge = run.machine.now
+    bounce = _bounce_ticks()
+    run.board.set_hall(code)
+    run.board.set_hall(before, at=edge + bounce)
+    run.board.set_hall(code, at=edge + 2 * bounce)
+    run._due = edge + sector
+    run.machine.run_until(edge + sector - 1)
+    cleared = run.machine.tim1.moe_cleared_at
+    period = run.board.pwm_period_ticks()
+    if cleared is not None:
+        for at in (cleared + period, edge + sector - 2):
+            _check_safe_state(run, at, bus_v, "after the bounce")
+    run.turn(max(BOUNCE_CHECKS))
+    for k in BOUNCE_CHECKS:
+        at = edge + k * sector + sector // 2
+        _check_safe_state(run, at, bus_v, f"{k} sectors after the bounce")
+    # the edge's handler, entered late (a handler ahead of it), may read the pins back at
+    # the old code: a repeated code, HALL_SEQUENCE, as much at once
+    latched = run.board.symbol("app_faults")
+    either = {FAULT["OVER_SPEED"], FAULT["HALL_SEQUENCE"]}
+    expected = (
+        "+".join(name for name in ("OVER_SPEED", "HALL_SEQUENCE") if latched & FAULT[name])
+        if latched and latched & ~sum(either) == 0
+        else "OVER_SPEED"
+    )
+    return run.outcome(
+        "Hall edge bounces",
+        expected,
+        edge + bounce,
+        bounce + period,
+        f"{note}; the edge's line back to the old code {BOUNCE_NS} ns on and forward again"
+        " as long after: OVER_SPEED at the second edge (or HALL_SEQUENCE where the edge's"
+        " handler reads the pins back at the old code)",
+    )
+
+
+def _hall_unplugged_bouncing(run: Run) -> Outcome:
+    """The Hall connector comes off half-way into a sector, one line bouncing
+    (BOUNCE_CHANGES levels BOUNCE_NS each) before the pull-ups hold code 7: OVER_SPEED
+    at the bounce's microseconds' interval, HALL_INVALID at the code 7, and from one PWM
+    period on a state safe at the rotor's speed and bus, which the port no longer knows
+    (the short circuit where all-off rectifies). The faulted port took the shortest
+    interval as the rotor's while a Hall line's fault lasts, the first bounce edge's
+    half sector among them: on a spec that prefers the short, a rotor read at twice its
+    speed, beyond the short's rating, got all-off, rectifying, for as long as the fault
+    lasted (a hunt: 4700 rpm on 20.5 V, the short rated to 5359 rpm)."""
+    bus_v, note = _bounce_place(run, "the unplugged connector")
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS)
+    sector = run.sector_ticks()
+    run.step(sector // 2, sector=sector)
+    code = run.spec.hall.sequence[run.sector]
+    line = next(b for b in range(3) if (code ^ (1 << b)) not in (0, 7))
+    start = run.machine.now
+    bounce = _bounce_ticks()
+    at = start
+    for change in range(BOUNCE_CHANGES):
+        run.board.set_hall(code ^ (1 << line) if change % 2 == 0 else code, at=at)
+        at += bounce
+    run.board.set_hall(7, at=at)
+    run._due = None
+    run.machine.run_until(start + max(BOUNCE_CHECKS) * sector + sector // 2)
+    for k in BOUNCE_CHECKS:
+        _check_safe_state(
+            run,
+            start + k * sector,
+            bus_v,
+            f"{k} sectors after the connector came off",
+            inputs_known=False,
+        )
+    return run.outcome(
+        "Hall connector off, a line bouncing",
+        "HALL_INVALID+OVER_SPEED",
+        start,
+        at - start + run.board.pwm_period_ticks(),
+        f"{note}; half-way into a sector line {line} changes {BOUNCE_CHANGES} times"
+        f" {BOUNCE_NS} ns apart, then code 7",
+    )
+
+
+#: Top-speed sectors each step of the early step back lasts (1.05: no over-speed) ...
+ROCK_STEP = 1.05
+#: ... in a sector this many times a top-speed one: the forward edge 2.1 of them on,
+#: and 4 x 1.05 after it, a time-out from the step's interval, well inside it
+ROCK_SLOWER = 10
+
+
+def _hall_rocks_early(run: Run) -> Outcome:
+    """The Hall code steps back early in a slow sector and forward again (a rotor rocking
+    over a Hall boundary, or a line's glitch longer than a top-speed sector), each step
+    ROCK_STEP top-speed sectors long, in a sector ROCK_SLOWER times a top-speed one; the
+    rotor's next edge comes a whole sector after the first. No fault may result: the
+    forward edge's interval is part of a sector and bounds no next edge. The Hall
+    time-out had been set to 4 of it and tripped 7 ms before the rotor's next edge (a
+    hunt: the paper motor at 500 rpm)."""
+    per_rpm = TICK_HZ * 60 / (run.spec.motor.pole_pairs * 6)  # a sector's ticks x rpm
+    top = per_rpm / float(run.spec.controller.speed_max_rpm)
+    tim3 = run.machine.tim3
+    counter = (tim3.arr + 1) * tim3.ticks_per_count()
+    # at most half the Hall counter's range a sector
+    rpm = max(float(run.spec.controller.speed_max_rpm) / ROCK_SLOWER, per_rpm / (counter / 2))
+    held = round(ROCK_STEP * top)
+    if per_rpm / rpm < 3 * held:
+        run.turn(SETTLE_SECTORS + 4)
+        return run.outcome(
+            "Hall code rocks early in a slow sector",
+            None,
+            None,
+            None,
+            "no sector within half the Hall counter's range has room for the steps: braking"
+            " at the default speed",
+        )
+    run.rpm = rpm
+    note = f"at {rpm:.0f} rpm"
+    run.turn(SETTLE_SECTORS)
+    sequence = run.spec.hall.sequence
+    run._finish_sector()
+    before = sequence[run.sector]
+    run.sector = (run.sector + 1) % 6
+    code = sequence[run.sector]
+    sector = run.sector_ticks()
+    edge = run.machine.now
+    run.board.set_hall(code)
+    run.board.set_hall(before, at=edge + held)
+    run.board.set_hall(code, at=edge + 2 * held)
+    run._due = edge + sector
+    run.turn(4)
+    return run.outcome(
+        "Hall code rocks early in a slow sector",
+        None,
+        None,
+        None,
+        f"{note}: back {held / TICK_HZ * 1e3:.3g} ms after an edge, forward as long after,"
+        f" the next edge {sector / TICK_HZ * 1e3:.3g} ms after the first",
+    )
+
+
 def _over_speed(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.rpm = 1.25 * float(run.spec.controller.speed_max_rpm)
@@ -2065,6 +2241,9 @@ SCENARIOS = (
     Scenario("current_sensor_high", _current_sensor_high),
     Scenario("hall_sequence", _hall_sequence),
     Scenario("hall_line_stuck", _hall_line_stuck),
+    Scenario("hall_bounce", _hall_bounce),
+    Scenario("hall_unplugged_bouncing", _hall_unplugged_bouncing),
+    Scenario("hall_rocks_early", _hall_rocks_early),
     Scenario("over_speed", _over_speed),
     Scenario("clear_over_speed", _clear_over_speed),
     Scenario("break_while_faulted", _break_while_faulted),

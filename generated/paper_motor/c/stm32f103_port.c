@@ -258,6 +258,9 @@ BLDC_PORT_FAST_DATA static const uint32_t port_edge_of_pins[64] = {
     0x10000000u, /* pins 111 -> 111: Hall 111 -> 111, invalid */
 };
 
+/* port.after_refusal after a capture no rotor makes (a line's bounce, microseconds). */
+#define PORT_AFTER_BOUNCE 2u
+
 /* A bus code no ADC gives: no sample yet (the timing is then the safe state). */
 #define BLDC_PORT_BUS_UNKNOWN UINT16_MAX
 
@@ -274,6 +277,7 @@ static struct {
     uint32_t stale;                 /* injected sequences begun before the commutation end and not yet taken (0..2) */
     volatile uint32_t *steady_compare; /* its compare register (CCRx), set with `steady` */
     uint16_t period;                /* last Hall interval in ticks, for the next timing (16 bits: the inlined core's cap to the counter's range folds away) */
+    uint16_t after_refusal;         /* 1 from a refused edge to the next commutation end, PORT_AFTER_BOUNCE from a bounce's capture (faulted) to the next: the interval then is part of a sector */
     uint32_t previous_pins;         /* Hall pin levels of the sector being left */
     uint16_t main_duty;             /* TIM1 counts: the current loop's output, or the open-loop duty */
     uint16_t bus_code;              /* the bus code of `bus` (written at the bus change; for a debugger and the PIL, no handler reads it) */
@@ -508,6 +512,9 @@ BLDC_PORT_COLD static void port_refuse(void)
 {
     const uintptr_t anchor = port_peripherals();
     const uint32_t pins = port.previous_pins;
+    /* The next edge's interval starts at this one: part of a sector, no Hall time-out's
+     * measure (port_on_commutation_end). */
+    port.after_refusal = 1u;
     if (port.pending == PORT_RECORD_INVALID) {
         /* The interval of an edge to a wrong code is no sector's (a stuck line's next
          * edge comes two sectors on): the safe state keeps the interval the last timing
@@ -520,6 +527,14 @@ BLDC_PORT_COLD static void port_refuse(void)
         if (port.timing->period_min == BLDC_PERIOD_NEVER) {
             port_outputs_off(anchor); /* no valid timing: no bus sample yet, or over-voltage */
         } else {
+            /* An interval no rotor makes (a line's bounce: microseconds) says nothing of
+             * the speed: the safe state keeps the last right edge's. A spec that prefers
+             * the short had read a 3 us bounce as a rotor beyond the short's rating and
+             * held all-off, rectifying, for the rest of the sector (a hunt). */
+            if (port.period < BLDC_PORT_INTERVAL_PLAUSIBLE_MIN) {
+                port.period = port.timed_period;
+                port.after_refusal = PORT_AFTER_BOUNCE; /* the next capture starts here */
+            }
             port_trip(anchor, BLDC_FAULT_OVER_SPEED);
         }
     } else if (PORT_AT(anchor, TIM1, TIM_TypeDef)->CCER == BLDC_PORT_CCER_SHORT) {
@@ -713,7 +728,12 @@ static void port_on_commutation_end(uintptr_t anchor)
     tim3->CCR3 = BLDC_PORT_TIM3_ARR;
 #else
     BLDC_PORT_SEQUENCE(); /* the interval's load after the COM event, not before it */
-    const uint32_t interval = port.period;
+    /* After a refused edge (a step back, then forward again) the interval is part of a
+     * sector, no bound on the next: all ones, the counter's range (a hunt: the paper
+     * motor at 500 rpm, stepping back 2.1 ms into a 20 ms sector and forward again 2.1
+     * ms later, timed out 8.4 ms on, 7 ms before its next edge). */
+    const uint32_t interval = (uint32_t)port.period | (0u - (uint32_t)port.after_refusal);
+    port.after_refusal = 0u;
     tim3->CCR3 = ((interval - 1u) < BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX)
                      ? (interval << BLDC_PORT_HALL_TIMEOUT_SHIFT)
                      : BLDC_PORT_TIM3_ARR;
@@ -1190,8 +1210,20 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
     if ((status & (TIM_SR_CC1IF | TIM_SR_UIF)) != 0u) {
         const uint32_t captured = tim3->CCR1; /* clears CC1IF */
         tim3->SR = ~TIM_SR_UIF;
-        port.period =
-            (uint16_t)(((status & TIM_SR_UIF) != 0u) ? BLDC_PORT_TIM3_ARR : captured);
+        if ((status & TIM_SR_UIF) != 0u) {
+            port.period = BLDC_PORT_TIM3_ARR;
+        } else if (captured < BLDC_PORT_INTERVAL_PLAUSIBLE_MIN) {
+            /* No rotor makes it (a line's bounce): the interval held stays, and the next
+             * capture, which starts at the bounce, is part of a sector too. */
+            port.after_refusal = PORT_AFTER_BOUNCE;
+        } else if (port.after_refusal == PORT_AFTER_BOUNCE) {
+            /* The part of a sector after a bounce: read as a rotor faster than it is, a
+             * spec whose short is rated to just above the top speed had got all-off,
+             * rectifying, for a sector (a hunt: 13 860 rpm, 6 % fast). */
+            port.after_refusal = 0u;
+        } else {
+            port.period = (uint16_t)captured;
+        }
     }
     /* A Hall line's fault: the lines' intervals are not the rotor's. A stuck line makes
      * every other interval two sectors long, and a rotor above the speed from which
@@ -1201,9 +1233,18 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
      * rotor speeding up; a stuck line's one-sector intervals), never a longer one nor a
      * wrap. Taking the speed as unknown instead put the short on a rotor at 40 000 rpm
      * whose Hall connector came off (fast40k: over the comparator's threshold, a second
-     * fault, where all-off was safe and preferred). */
+     * fault, where all-off was safe and preferred). Nor shorter than the top speed's:
+     * a spurious edge mid-sector (a line bouncing as the connector came off) had read
+     * the rotor at twice its speed, beyond a rated short's speed on a spec that prefers
+     * it, and held all-off, rectifying, for as long as the fault lasted (a hunt: 4700 rpm
+     * on 20.5 V, the short rated to 5359 rpm). Within the speed range a rotor taken at
+     * the top speed gets a state valid there and below: the short where all-off would
+     * rectify at the speed it reads, all-off where not or where the short is rated no
+     * further. */
     if ((port.faults & (BLDC_FAULT_HALL_INVALID | BLDC_FAULT_HALL_SEQUENCE)) != 0u) {
-        port.period = (uint16_t)((held < port.period) ? held : port.period);
+        const uint32_t shortest = (held < port.period) ? held : port.period;
+        port.period = (uint16_t)((shortest < BLDC_PERIOD_MIN_TICKS) ? BLDC_PERIOD_MIN_TICKS
+                                                                     : shortest);
     }
     TIM1->CR2 = port_safe_state_cr2(port.period);
     /* the bound moves with the interval; every period, so a window left behind by a

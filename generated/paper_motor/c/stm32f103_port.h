@@ -149,6 +149,7 @@
 #define BLDC_PORT_TIM3_PSC 71u /* Hall timer ticks at 1 MHz from 72 MHz */
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
 #define BLDC_PORT_HALL_TIMEOUT_SHIFT 2u /* Hall time-out: TIM3 CC3 at T << 2 after the edge ending an interval T (codegen/control/hall_timeout.py): a rotor braking at up to 5000 rad/s^2 (the bridge's rating through the worst k_e, on the rotor's inertia) that reaches its next edge does so by then */
+#define BLDC_PORT_INTERVAL_PLAUSIBLE_MIN 1000u /* a Hall interval below half the top speed's is no rotor's (a line's bounce, a few microseconds, reads as a thousand times the top speed): the safe state keeps the last right interval */
 #define BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX 7971u /* T in [1, this]: the time-out is T << BLDC_PORT_HALL_TIMEOUT_SHIFT (a mean speed from 1255 rpm up); above, the counter's wrap (a rotor that slow may stop within the sector) */
 #define BLDC_PORT_BUS_CODE_MAX 3385u /* the core's over-voltage threshold, 30 V: the analog watchdog's HTR trips over-voltage above it, whatever the hysteresis */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
