@@ -52,6 +52,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from codegen.argtypes import path_text
 from codegen.build_firmware import ELF, MASKED, Sizes, budgets, build, linked_flash
 from codegen.build_firmware import stack as stack_report
 from codegen.core.module import build_core
@@ -62,6 +63,7 @@ from codegen.fixedpoint.scaling import scaling
 from codegen.generate import generate
 from codegen.methods.base import FixedPointError
 from codegen.methods.paper_method import refused_time_bound
+from codegen.publish import os_error_line
 from codegen.render import PROJECT_ROOT
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -938,7 +940,7 @@ def parse(argv: Sequence[str]) -> argparse.Namespace:
     )
     parser.add_argument(
         "--work",
-        type=Path,
+        type=lambda text: Path(path_text(text)),
         default=DEFAULT_WORK,
         help=f"where each spec is generated and built (default {DEFAULT_WORK})",
     )
@@ -970,7 +972,15 @@ def main(argv: Sequence[str] | None = None) -> int:
             )
             return int(ExitCode.SPEC)
         except OSError as error:
-            print(f"bench: cannot read spec {spec_path}: {error.strerror}", file=sys.stderr)
+            # the spec, or the work folder the firmware is generated and built under
+            # (which had been blamed on the spec: "cannot read spec ...: Read-only")
+            spec_file = error.filename is not None and Path(error.filename) == Path(spec_path)
+            line = (
+                f"cannot read spec {spec_path}: {error.strerror}"
+                if spec_file
+                else os_error_line(error).removeprefix("error: ")
+            )
+            print(f"bench: {line}", file=sys.stderr)
             return int(ExitCode.ENVIRONMENT)
         report = run_spec(b, sections)
         missed += [(b.spec.name, f) for f in misses(report.figures)]

@@ -34,8 +34,12 @@ PHASE_NAMES = ("A", "B", "C")
 
 
 def _save(fig: plt.Figure, path: Path) -> None:
-    fig.savefig(path, dpi=DPI, metadata={"Software": None})
-    plt.close(fig)
+    try:
+        fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    except OSError as exc:  # matplotlib's has no file name: "No space left on device" alone
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
+    finally:
+        plt.close(fig)
 
 
 def _role_label(case: Case, phase: int) -> str:

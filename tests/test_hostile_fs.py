@@ -360,3 +360,91 @@ def test_make_should_pass_a_spec_path_with_shell_characters_quoted(tmp_path: Pat
     assert proc.returncode == 2
     (line,) = [x for x in proc.stderr.splitlines() if "SPEC contains" in x]
     assert "'$'" in line and "-m codegen derive" not in proc.stdout
+
+
+def _module(module: str, *args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    return subprocess.run(
+        [sys.executable, "-m", module, *args],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+
+
+def _one_line(proc: subprocess.CompletedProcess[str]) -> str:
+    """The one line on stderr, with no traceback (the tools prefix it with their name)."""
+    assert "Traceback" not in proc.stderr, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1, proc.stderr
+    return lines[0]
+
+
+def test_the_module_tools_should_refuse_a_file_in_the_way_in_one_line(tmp_path: Path) -> None:
+    """Was (a hunt): `python -m emulation.pil` printed a traceback for a missing spec or
+    firmware image; `python -m verify.prove --build FILE` a FileExistsError traceback
+    (and a read-only --generated one after the whole proof, the folder now checked
+    first); `python -m emulation --work FILE` blamed the readable spec ("cannot read
+    spec ...: Not a directory")."""
+    blocker = tmp_path / "afile"
+    blocker.write_text("not a folder\n", encoding="utf-8")
+    proc = _module("emulation.pil", str(tmp_path / "missing.yaml"), cwd=tmp_path)
+    assert proc.returncode == ExitCode.SPEC
+    assert "cannot read spec: No such file" in _one_line(proc)
+    proc = _module("emulation.pil", str(SPEC), "--elf", str(tmp_path / "none.elf"), cwd=tmp_path)
+    assert proc.returncode == ExitCode.ENVIRONMENT
+    assert "none.elf is no firmware image" in _one_line(proc)
+    proc = _module("emulation.pil", str(SPEC), "--elf", str(blocker), cwd=tmp_path)
+    assert proc.returncode == ExitCode.ENVIRONMENT
+    assert "not an ELF image" in _one_line(proc)
+    proc = _module("verify.prove", "--build", str(blocker), str(SPEC), cwd=tmp_path)
+    assert proc.returncode == ExitCode.ENVIRONMENT
+    assert f"{blocker} is a file, not a folder" in _one_line(proc)
+    proc = _module("emulation", "--only", "size", "--work", str(blocker), str(SPEC), cwd=tmp_path)
+    assert proc.returncode == ExitCode.ENVIRONMENT
+    line = _one_line(proc)
+    assert f"{blocker} is a file, not a folder" in line and "cannot read spec" not in line
+    assert blocker.read_text(encoding="utf-8") == "not a folder\n"
+
+
+@pytest.mark.parametrize(
+    ("module", "option"),
+    [("emulation.pil.report", "-o"), ("verify", "--generated"), ("verify.prove", "--build")],
+)
+def test_an_empty_path_option_should_be_refused_not_taken_as_the_current_folder(
+    tmp_path: Path, module: str, option: str
+) -> None:
+    """Was (a hunt): `python -m emulation.pil.report -o ''` wrote PIL.md into the current
+    folder (Path('') is '.'), as `bldc-codegen` refuses."""
+    proc = _module(module, option, "", str(SPEC), cwd=tmp_path)
+    assert proc.returncode == ExitCode.USAGE, proc.stderr
+    assert "is an empty path" in proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_init_should_write_through_a_link_and_refuse_a_link_to_nothing(tmp_path: Path) -> None:
+    """Was (a hunt): `init -o LINK`, LINK a symbolic link to nothing or a loop, wrote a
+    regular file in its place without --force (exists() follows the link); with --force
+    a link to a spec was replaced by a file. A link to nothing or a loop is refused in
+    one line and left as it was; --force writes through a link to its file."""
+    dangling = tmp_path / "dangling.yaml"
+    dangling.symlink_to(tmp_path / "nowhere" / "target.yaml")
+    loop = tmp_path / "loop"
+    loop.symlink_to("loop")
+    for link in (dangling, loop):
+        proc = cli("init", "m", "-o", str(link))
+        assert proc.returncode == ExitCode.ENVIRONMENT, proc.stderr
+        assert "is a symbolic link to nothing" in one_error_line(proc)
+        assert link.is_symlink()
+    real = tmp_path / "real.yaml"
+    real.write_text("mine\n", encoding="utf-8")
+    linked = tmp_path / "linked.yaml"
+    linked.symlink_to(real)
+    assert cli("init", "m", "-o", str(linked)).returncode == ExitCode.USAGE
+    assert real.read_text(encoding="utf-8") == "mine\n"
+    assert cli("init", "m", "-o", str(linked), "--force").returncode == 0
+    assert linked.is_symlink() and linked.resolve() == real
+    assert "name: m\n" in real.read_text(encoding="utf-8")

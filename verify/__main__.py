@@ -7,7 +7,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from codegen.argtypes import POINTS, SEED
+from codegen.argtypes import POINTS, SEED, path_text
 from codegen.errors import ExitCode, SpecError
 from codegen.freshness import regenerate_command
 from codegen.publish import PublishError
@@ -37,7 +37,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("spec", help="motor spec YAML")
     parser.add_argument(
         "--generated",
-        type=Path,
+        type=lambda text: Path(path_text(text)),
         help="generated folder (default: generated/<spec name> in the current folder)",
     )
     parser.add_argument("--seed", type=SEED, help="replay a random set")

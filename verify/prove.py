@@ -32,10 +32,11 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen.argtypes import whole_number
+from codegen.argtypes import path_text, whole_number
 from codegen.errors import ExitCode, SpecError
 from codegen.generate import render_all, write_tree
 from codegen.methods.base import FixedPointError
+from codegen.publish import os_error_line, require_writable_folder
 from codegen.render import PROJECT_ROOT, project_relative, render, write_atomically
 from codegen.spec_loader import load_spec
 from codegen.spec_model import Spec
@@ -536,13 +537,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         "--build",
-        type=Path,
+        type=lambda text: Path(path_text(text)),
         default=Path("build") / "prove",
         help="work folder (default build/prove under the current folder)",
     )
     parser.add_argument(
         "--generated",
-        type=Path,
+        type=lambda text: Path(path_text(text)),
         default=None,
         help="the spec's generated folder, where PROOF.md is written (one spec only;"
         " default generated/<name> under the current folder, then the project's, where"
@@ -556,13 +557,19 @@ def main(argv: list[str] | None = None) -> int:
     args.build = args.build.resolve()
     start = time.monotonic()
     try:
+        require_writable_folder(args.build)
         targets = [target_for(s, args.build, args.generated) for s in args.specs]
+        for target in targets:  # PROOF.md goes there: before Frama-C's minutes, not after
+            require_writable_folder(target.root)
     except (SpecError, FixedPointError) as exc:  # the design's refusal names its key
         print(f"prove: {exc}", file=sys.stderr)
         return int(EXIT_SPEC)
     except StaleGeneratedError as exc:
         print(f"prove: {exc}", file=sys.stderr)
         return int(ExitCode.STALE)
+    except OSError as exc:  # a traceback had said FileExistsError (--build a file)
+        print(f"prove: {os_error_line(exc).removeprefix('error: ')}", file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)
     try:
         tools = find_tools(args.build)
         outcomes = prove(targets, tools, args.build, max(1, args.jobs))
@@ -573,7 +580,11 @@ def main(argv: list[str] | None = None) -> int:
     for o in outcomes:
         proven, text = report(o, tools)
         out = o.target.root / "PROOF.md"
-        write_atomically(out, text)
+        try:
+            write_atomically(out, text)
+        except OSError as exc:
+            print(f"prove: {os_error_line(exc).removeprefix('error: ')}", file=sys.stderr)
+            return int(ExitCode.ENVIRONMENT)
         times = ", ".join(f"{r.function} {r.seconds:.1f} s" for r in o.eva)
         alarms = sum(r.alarm_count for r in o.eva)
         wp_time = " + ".join(f"{w.seconds:.1f}" for w in o.wp)

@@ -20,13 +20,26 @@ from codegen.argtypes import path_text
 from codegen.errors import ExitCode, SpecError
 from codegen.publish import check_target
 from codegen.render import PROJECT_ROOT, write_atomically
-from codegen.shown import said, shown
+from codegen.shown import on_one_line, said, shown
 
 
 def _init(args: argparse.Namespace) -> int:
     from codegen.spec_init import Datasheet, pwm_frequency_error, write_new_spec
 
     path = Path(args.output) if args.output else Path("spec") / f"{args.name}.yaml"
+    if path.is_symlink():
+        # the spec goes through a link to its file (the atomic rename had put a regular
+        # file in place of the link); a link to nothing, or a loop, is refused: exists()
+        # follows links and had said "nothing there", so init replaced it unasked
+        try:
+            path = path.resolve(strict=True)
+        except (OSError, RuntimeError):  # RuntimeError: a loop, before Python 3.13
+            print(  # the link as given: said() resolves it
+                f"error: {on_one_line(str(path))} is a symbolic link to nothing (or a loop of"
+                " links): -o takes the spec FILE to write",
+                file=sys.stderr,
+            )
+            return int(ExitCode.ENVIRONMENT)
     if path.exists() and not path.is_file():
         # --force replaces a file; a folder, a device (/dev/null) or a FIFO is never
         # replaced (the atomic rename would put a spec in place of /dev/null as root)

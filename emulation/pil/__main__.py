@@ -6,15 +6,30 @@ the emulation ran (emulated ms per wall-clock second). A measurement, not a test
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from collections import Counter
 from pathlib import Path
 
+from elftools.common.exceptions import ELFError
+
 from codegen.argtypes import decimal_number
+from codegen.errors import ExitCode, SpecError
+from codegen.publish import os_error_line
 from codegen.spec_loader import load_spec
+from emulation.pil.bus import PilError
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.runner import DriveBoard
 from emulation.pil.tim1 import gate_violations
+
+
+def _unloadable(error: OSError | PilError | ELFError) -> str:
+    """Why a firmware image does not load, in a few words."""
+    if isinstance(error, OSError):
+        return os_error_line(error).removeprefix("error: ")
+    if isinstance(error, ELFError):
+        return f"not an ELF image ({error})"
+    return str(error)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -34,9 +49,22 @@ def main(argv: list[str] | None = None) -> int:
         "--gates", action="store_true", help="record every gate edge and check the bridge"
     )
     args = parser.parse_args(argv)
-    spec = load_spec(args.spec)
+    try:
+        spec = load_spec(args.spec)
+    except SpecError as error:  # every error of the spec, one line each
+        for line in str(error).splitlines():
+            print(f"error: {line}", file=sys.stderr)
+        return int(ExitCode.SPEC)
     elf = Path(args.elf) if args.elf else Path("build") / spec.name / "firmware.elf"
-    board = DriveBoard(elf, spec)
+    if not elf.is_file():  # a traceback had said FileNotFoundError
+        hint = "" if args.elf else f" (build it: bldc-codegen firmware {args.spec})"
+        print(f"error: pil: {elf} is no firmware image{hint}", file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)
+    try:
+        board = DriveBoard(elf, spec)
+    except (OSError, PilError, ELFError) as error:
+        print(f"error: pil: {elf}: {_unloadable(error)}", file=sys.stderr)
+        return int(ExitCode.ENVIRONMENT)
     board.set_current(args.amps)
     machine = board.machine
     wall = time.perf_counter()

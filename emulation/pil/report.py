@@ -15,6 +15,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from codegen.argtypes import path_text
 from codegen.errors import ExitCode, SpecError
 from codegen.publish import PublishError, os_error_line, require_writable_folder
 from codegen.render import write_atomically
@@ -156,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "-o",
         "--output",
-        type=Path,
+        type=lambda text: Path(path_text(text)),
         default=None,
         help="the folder of PIL.md, its CSV and figures (one spec only; default"
         " generated/<name>/pil/ under the current folder)",
