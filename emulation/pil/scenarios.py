@@ -1689,6 +1689,9 @@ ROCK_STEP = 1.05
 #: ... in a sector this many times a top-speed one: the forward edge 2.1 of them on,
 #: and 4 x 1.05 after it, a time-out from the step's interval, well inside it
 ROCK_SLOWER = 10
+#: Sectors turned before the steps: fewer than SETTLE_SECTORS, slow ones are long to
+#: emulate (the timing and the commutations run from the second edge on)
+ROCK_SETTLE_SECTORS = 3
 
 
 def _hall_rocks_early(run: Run) -> Outcome:
@@ -1718,7 +1721,7 @@ def _hall_rocks_early(run: Run) -> Outcome:
         )
     run.rpm = rpm
     note = f"at {rpm:.0f} rpm"
-    run.turn(SETTLE_SECTORS)
+    run.turn(ROCK_SETTLE_SECTORS)
     sequence = run.spec.hall.sequence
     run._finish_sector()
     before = sequence[run.sector]
@@ -1730,7 +1733,7 @@ def _hall_rocks_early(run: Run) -> Outcome:
     run.board.set_hall(before, at=edge + held)
     run.board.set_hall(code, at=edge + 2 * held)
     run._due = edge + sector
-    run.turn(4)
+    run.turn(2)  # the rotor's next edge, and one more sector
     return run.outcome(
         "Hall code rocks early in a slow sector",
         None,
