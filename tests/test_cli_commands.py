@@ -1207,10 +1207,11 @@ def test_robustness_runs_from_the_cli_outside_the_repo(
 def test_init_should_write_a_duty_target_the_rule_meets_when_its_bound_is_printed(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """improved_r on a 50 mH, 0.5 ohm, 300 V motor: the rule's duty bound is 3.2300x
+    """improved_r on a 50 mH, 0.5 ohm, 300 V motor: the rule's duty bound was 3.2300x
     counts; its refusal printed 3.230, init wrote 3.23 and the design refused that too
     ("loads, but its fixed-point design does not fit"). The refusal prints the bound
-    rounded up, and init writes 3.24."""
+    rounded up, and init wrote 3.24; with zero current in the design grid the bound is
+    3.24699 counts, printed 3.247, and init writes 3.25."""
     argv = [
         *("init", "lrhl", "--pole-pairs", "2", "--resistance", "0.5 ohm"),
         *("--inductance", "50 mH", "--ke", "50 V/krpm", "--bus-voltage", "300 V"),
@@ -1219,7 +1220,7 @@ def test_init_should_write_a_duty_target_the_rule_meets_when_its_bound_is_printe
     monkeypatch.chdir(tmp_path)
     assert cli.main(argv) == 0, capsys.readouterr().err
     said = capsys.readouterr()
-    assert "init: note: accuracy.duty_counts = 3.24 counts: " in said.out + said.err, said
+    assert "init: note: accuracy.duty_counts = 3.25 counts: " in said.out + said.err, said
 
 
 def test_a_path_with_a_line_break_should_stay_on_one_line_in_every_message(

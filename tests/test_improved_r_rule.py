@@ -502,10 +502,41 @@ def test_a_rule_that_decides_no_end_should_not_claim_an_empty_bound() -> None:
         build_core(load_spec(path))
     assert caught.value.key == "accuracy.duty_counts"
     message = str(caught.value)
-    assert "the improved_r rule's duty bound 3569.738 counts over the design grid" in message
+    assert "the improved_r rule's duty bound 4224.021 counts over the design grid" in message
     # the paper's motor keeps its claim: every point is within it, decided or not
     d = build_core(load_spec(Path(__file__).parents[1] / "spec" / "paper_motor_improved_r.yaml"))
     assert d.design.claims.duty_counts == 0.641
+
+
+def test_a_commutation_from_zero_current_should_be_in_the_duty_bound() -> None:
+    """L/R = 7.8 s at 2.5 kHz: at zero current (a code at or below the offset; the core
+    clamps i at 0) the commutation ends on the first carrier boundary, and the easing
+    divides a near-cancelling rho g by 3 (1 - e) = 1.5e-4. The integer rule is 36.7
+    counts off its reference there, but the design grid began at 1 code, where the
+    commutation does not finish: generate claimed 0.576 counts and `verify` found D_on
+    36.6 counts off at -0.09 A. The grid holds zero current: the bound there is 681
+    counts, and the spec is refused in one line naming the duty target."""
+    path = Path(__file__).parent / "fixtures" / "refused" / "improved_r_tau8s_zero_current.yaml"
+    spec = load_spec(path)
+    with pytest.raises(FixedPointError) as caught:
+        build_core(spec)
+    assert caught.value.key == "accuracy.duty_counts"
+    message = str(caught.value)
+    assert "\n" not in message
+    assert message.startswith("accuracy.duty_counts = 1 counts: the improved_r rule's duty bound")
+    assert "duty bound 680.859 counts over the design grid" in message
+    assert "(allowed: >= 680.86 counts for controller.method improved_r" in message
+    # the bound is sound where the claim was not: with the target it names (in memory; a
+    # spec may not ask so much), verify's point is within it and > 1 count off
+    loose = replace(spec, accuracy=replace(spec.accuracy, duty_counts=Fraction(681)))
+    core = build_core(loose)
+    c = rule_constants(loose, core.scaling)
+    point = RuleInputs(c.period_low, c.bus_low, c.current_offset - 1)  # 750 rpm, 1.2 V, -0.09 A
+    on, off, ticks, _ = run_twin(twin_module(core), point)
+    ref = reference_points(c, [point])
+    errors = (abs(on - ref.on_exact[0]), abs(off - ref.off_exact[0]))
+    assert ticks == round(float(ref.ticks_exact[0]))
+    assert 1.0 < max(errors) <= core.design.claims.duty_counts
 
 
 def test_a_top_speed_whose_sector_holds_no_pwm_period_should_be_refused_naming_speed_max(

@@ -93,10 +93,20 @@ class RuleDesign:
     decided_points: int
 
 
+#: ADC code 0: at or below the offset, where the core reads zero current (it clamps i at
+#: 0). The current starts at zero and the end is the first carrier boundary, where the
+#: easing -rho g / (3 (1 - e)) divides a near-cancelling sum of terms of order
+#: q = (-phi_1/4) X / rho by 3 (1 - e) ~ 3 y_1: on a motor of L/R = 7.8 s at 2.5 kHz
+#: (q 1.6e7 counts, 3 y_1 1.5e-4) the integer rule was 36.7 counts off there and its bound
+#: is 681 counts, while at the grid's lowest current, 1 code, the commutation does not
+#: finish (no easing) and the design had claimed 0.576 counts.
+ZERO_CURRENT_CODE = 0
+
+
 def design_grid(c: RuleConstants, braking_current_codes: int) -> list[RuleInputs]:
-    """Speeds (geometric), bus min/mid/max, braking currents from 1 code to the spec's
-    maximum and on to the ADC's full scale (the core computes any current it is given),
-    and seeded random points of the same box."""
+    """Speeds (geometric), bus min/mid/max, zero current and braking currents from 1 code
+    to the spec's maximum and on to the ADC's full scale (the core computes any current
+    it is given), and seeded random points of the same box."""
     spaced = np.geomspace(c.period_low, c.period_high, GRID_SPEEDS).round().astype(int)
     periods = sorted(set(spaced.tolist()), reverse=True)
     buses = sorted({c.bus_low, (c.bus_low + c.bus_high) // 2, c.bus_high})
@@ -111,9 +121,8 @@ def design_grid(c: RuleConstants, braking_current_codes: int) -> list[RuleInputs
             ),
         }
     )
-    grid = [
-        RuleInputs(t, b, c.current_offset + i) for t in periods for b in buses for i in currents
-    ]
+    codes = [ZERO_CURRENT_CODE, *(c.current_offset + i for i in currents)]
+    grid = [RuleInputs(t, b, code) for t in periods for b in buses for code in codes]
     rng = random.Random(0)
     grid += [
         RuleInputs(
