@@ -41,7 +41,7 @@
  *   each step one table product and the sign of 2^(32+fc) rho g in int64; the easing
  *   by two 32-bit divides. No exponential, no psi table, no divide in the loop.
  *   Period clamped to [BLDC_PERIOD_MIN_TICKS, BLDC_PERIOD_MAX_TICKS]; current clamped at 0.
- * Claimed bounds over the design grid (1760 points, the end decided at 1617):
+ * Claimed bounds over the design grid (1880 points, the end decided at 1619):
  *   duties <= 0.641 counts at every point, t_com <= 0.0 ticks of the rule's carrier boundary where the end is decided.
  * Flags: HIGH_SPEED when Sigma < P; FAIL_AREA_CLAMPED when no pair in [0, 1] holds the
  * current (Sigma > 2P or Sigma < 0); TIME_CLAMPED when the turn-off current does not
