@@ -368,6 +368,8 @@ _CONTROLLER_KEYS = (
     "speed_max",
 )
 _ACCURACY_KEYS = ("duty_counts", "commutation_time_ticks", "current_loop_duty_counts")
+#: The largest accuracy.duty_counts a spec may ask (see `_accuracy`)
+DUTY_COUNTS_MAX = 16
 _SECTIONS = {
     "motor": _MOTOR_KEYS,
     "inverter": _INVERTER_KEYS,
@@ -752,7 +754,7 @@ def _accuracy(r: _Reader, data: Mapping[str, Any]) -> Accuracy | None:
             sec,
             "duty_counts",
             "accuracy",
-            _Range(0.5, 16, "TIM1 counts", low_inclusive=False),
+            _Range(0.5, DUTY_COUNTS_MAX, "TIM1 counts", low_inclusive=False),
         )
     )
     ticks = r.attempt(

@@ -975,7 +975,9 @@ def test_init_should_refuse_in_one_line_a_motor_whose_core_meets_no_spec_target(
     assert cli.main(argv) == ExitCode.SPEC
     err = capsys.readouterr().err.splitlines()
     assert err[0].startswith("error: spec/slow_l.yaml: accuracy.duty_counts: fixed-point"), err
-    assert "(allowed: >= 55.85 counts for controller.method improved_r, or another" in err[0]
+    assert "duty bound 55.8" in err[0] and "exceeds the target 1" in err[0], err[0]
+    # more than any spec may ask (accuracy.duty_counts <= 16): the method is to change
+    assert "(allowed: <= 16 counts, which this motor's rule does not reach" in err[0], err[0]
     assert "duty_counts: 1.0\n" in (tmp_path / "spec" / "slow_l.yaml").read_text()
 
 

@@ -525,7 +525,10 @@ def test_a_commutation_from_zero_current_should_be_in_the_duty_bound() -> None:
     assert "\n" not in message
     assert message.startswith("accuracy.duty_counts = 1 counts: the improved_r rule's duty bound")
     assert "duty bound 680.859 counts over the design grid" in message
-    assert "(allowed: >= 680.86 counts for controller.method improved_r" in message
+    # more than any spec may ask (accuracy.duty_counts <= 16): the method is to change
+    assert (
+        "(allowed: <= 16 counts, which this motor's rule does not reach: choose another" in message
+    )
     # the bound is sound where the claim was not: with the target it names (in memory; a
     # spec may not ask so much), verify's point is within it and > 1 count off
     loose = replace(spec, accuracy=replace(spec.accuracy, duty_counts=Fraction(681)))

@@ -28,6 +28,7 @@ from codegen.methods.improved_r.design import (
 )
 from codegen.methods.improved_r.ir import BUS, functions
 from codegen.methods.paper_method import round_up
+from codegen.spec_loader import DUTY_COUNTS_MAX
 from codegen.spec_model import Spec
 
 
@@ -62,6 +63,14 @@ class ImprovedR:
             # (the "duty bound ... exceeds the target" wording stays: the simulation and
             # the bench read the bound back from it)
             reachable = reachable_duty_target([str(exc)])
+            if reachable is not None and float(reachable) > DUTY_COUNTS_MAX:
+                raise FixedPointError(  # no target a spec may ask is met: the method is
+                    f"accuracy.duty_counts = {float(spec.accuracy.duty_counts):g} counts: the"
+                    f" improved_r rule's {exc}: its integer formats meet no less (allowed:"
+                    f" <= {DUTY_COUNTS_MAX} counts, which this motor's rule does not reach:"
+                    " choose another controller.method)",
+                    "accuracy.duty_counts",
+                ) from None
             if reachable is not None:
                 raise FixedPointError(
                     f"accuracy.duty_counts = {float(spec.accuracy.duty_counts):g} counts: the"
