@@ -29,16 +29,7 @@ SPEC = ROOT / "spec" / "paper_motor.yaml"
 
 
 def cli(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.run(
-        [sys.executable, "-m", "codegen", *args],
-        cwd=cwd,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=60,
-        check=False,
-    )
+    return _module("codegen", *args, cwd=cwd)
 
 
 def one_error_line(proc: subprocess.CompletedProcess[str]) -> str:
@@ -363,6 +354,7 @@ def test_make_should_pass_a_spec_path_with_shell_characters_quoted(tmp_path: Pat
 
 
 def _module(module: str, *args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    """`python -m module args` with the project on the path, in `cwd`."""
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     return subprocess.run(
         [sys.executable, "-m", module, *args],

@@ -413,6 +413,16 @@ class Run:
             )
         self._armed_edges += 1
 
+    def edge_now(self) -> tuple[int, int]:
+        """The sector entered last held to its end, then the next sector's Hall edge now
+        (the caller schedules what follows it): (the code left, the code entered)."""
+        self._finish_sector()
+        sequence = self.spec.hall.sequence
+        before = sequence[self.sector]
+        self.sector = (self.sector + 1) % 6
+        self.board.set_hall(sequence[self.sector])
+        return before, sequence[self.sector]
+
     def _finish_sector(self) -> None:
         """Hold the Hall code to the end of the sector entered last: a cause placed
         inside it (`into_sector`) leaves the rest for the next step."""
@@ -1599,14 +1609,10 @@ def _hall_bounce(run: Run) -> Outcome:
     bus_v, note = _bounce_place(run, "the bounce")
     run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
-    run._finish_sector()
-    before = run.spec.hall.sequence[run.sector]
-    run.sector = (run.sector + 1) % 6
-    code = run.spec.hall.sequence[run.sector]
+    before, code = run.edge_now()
     sector = run.sector_ticks()
     edge = run.machine.now
     bounce = _bounce_ticks()
-    run.board.set_hall(code)
     run.board.set_hall(before, at=edge + bounce)
     run.board.set_hall(code, at=edge + 2 * bounce)
     run._due = edge + sector
@@ -1722,14 +1728,9 @@ def _hall_rocks_early(run: Run) -> Outcome:
     run.rpm = rpm
     note = f"at {rpm:.0f} rpm"
     run.turn(ROCK_SETTLE_SECTORS)
-    sequence = run.spec.hall.sequence
-    run._finish_sector()
-    before = sequence[run.sector]
-    run.sector = (run.sector + 1) % 6
-    code = sequence[run.sector]
+    before, code = run.edge_now()
     sector = run.sector_ticks()
     edge = run.machine.now
-    run.board.set_hall(code)
     run.board.set_hall(before, at=edge + held)
     run.board.set_hall(code, at=edge + 2 * held)
     run._due = edge + sector
@@ -2119,13 +2120,8 @@ def _hall_back_step(run: Run) -> Outcome:
     period = run.board.pwm_period_ticks()
     top = TICK_HZ * 60 / (float(run.spec.controller.speed_max_rpm) * run.spec.motor.pole_pairs * 6)
     held = round((1 + BACK_STEP_MARGIN) * top)
-    sequence = run.spec.hall.sequence
-    run._finish_sector()
-    before = sequence[run.sector]
-    run.sector = (run.sector + 1) % 6
-    code = sequence[run.sector]
+    before, code = run.edge_now()
     sector = run.sector_ticks()
-    run.board.set_hall(code)
     back = machine.now + max(held, sector // 2)
     forward = back + max(held, 2 * period)
     run.board.set_hall(before, at=back)
