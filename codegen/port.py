@@ -475,13 +475,6 @@ def port_context(
             " k_e, on the rotor's inertia) that reaches its next edge does so by then",
         ),
         _define(
-            "BLDC_PORT_INTERVAL_PLAUSIBLE_MIN",
-            f"{max(1, sc.period_min_ticks // 2)}u",
-            "a Hall interval below half the top speed's is no rotor's (a line's bounce, a"
-            " few microseconds, reads as a thousand times the top speed): the safe state"
-            " keeps the last right interval",
-        ),
-        _define(
             "BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX",
             f"{timeout.period_max}u",
             "T in [1, this]: the time-out is T << BLDC_PORT_HALL_TIMEOUT_SHIFT"

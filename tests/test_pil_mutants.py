@@ -22,6 +22,7 @@ HUB = ROOT / "tests" / "fixtures" / "specs" / "hub_motor_46p.yaml"
 SHORT_RATED = ROOT / "tests" / "fixtures" / "pil" / "short_rated_mid_range.yaml"
 IR_5K = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_improved_r.yaml"
 SHORT_PREFERRED = ROOT / "tests" / "fixtures" / "pil" / "paper_short_preferred.yaml"
+SHORT_16P = ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml"
 PORT = "c/stm32f103_port.c"
 HEADER = "c/stm32f103_port.h"
 
@@ -369,11 +370,32 @@ MUTANTS = (
         # rating: all-off at 4950 rpm on 24 V, where it rectifies from 4622 rpm
         "bounce interval kept for the safe state: all-off where it rectifies",
         PORT,
-        "            if (port.period < BLDC_PORT_INTERVAL_PLAUSIBLE_MIN) {",
+        "            if (port.period < port_bounce_below(port.timed_period)) {",
         "            if (port.period < 1u) {",
         SHORT_PREFERRED,
         "hall_bounce",
         "not the short circuit",
+    ),
+    Mutant(
+        # every interval past twice the top speed's taken for a bounce: the safe state of
+        # 2 x held at 3 x, all-off, where it rectifies into 30 V from 2.27 x
+        "bounce judged against half the top speed's interval: a rotor past 2 x frozen",
+        PORT,
+        "        } else if (captured < port_bounce_below(held)) {",
+        "        } else if (captured < (BLDC_PERIOD_MIN_TICKS >> 1)) {",
+        SHORT_16P,
+        "overhauling",
+        "not the short circuit",
+    ),
+    Mutant(
+        # a 100 ns comparator pulse while main clears an over-current, after the pin's read
+        "break flag cleared after the clear read the pin: a pulse then is lost, re-armed",
+        PORT,
+        "        TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;",
+        "        TIM1->SR = ~TIM_SR_BIF;\n        TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;",
+        PAPER,
+        "break_during_clear",
+        "was lost",
     ),
     Mutant(
         # the first bounce edge's half sector read as twice the speed, beyond the rating

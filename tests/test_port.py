@@ -708,6 +708,13 @@ static void end_then_two_samples(unsigned code, uint32_t sr, uint32_t cnt, unsig
 static void clear(const char *step)
 {
     char name[64];
+    /* The fake SR is plain memory: the port's rc_w0 writes (SR = ~COMIF and the like)
+     * set every other bit, BIF too, where TIM1 leaves them. On the chip BIF is set only by
+     * a break event, which this harness makes (brk(), a software break): none while the
+     * input is inactive and no break is unhandled. */
+    if (break_active == 0) {
+        fake_tim1.SR &= ~TIM_SR_BIF;
+    }
     const unsigned long left = bldc_port_clear_faults();
     snprintf(name, sizeof name, "%%s", step);
     show(name);

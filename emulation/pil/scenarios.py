@@ -66,7 +66,7 @@ from fractions import Fraction
 from itertools import pairwise
 from pathlib import Path
 
-from unicorn import UC_HOOK_MEM_WRITE
+from unicorn import UC_HOOK_CODE, UC_HOOK_MEM_WRITE
 
 from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
@@ -1745,6 +1745,58 @@ def _hall_rocks_early(run: Run) -> Outcome:
     )
 
 
+#: An overhauling load: the rotor's speed step a sector (x), the speed it is driven to
+#: (x speed_max) and the sectors it holds there, the last OVERHAUL_CHECKS of them checked
+OVERHAUL_STEP = 0.02
+OVERHAUL_TOP = 3.0
+OVERHAUL_HOLD = 6
+OVERHAUL_CHECKS = 3
+
+
+def _overhauling(run: Run) -> Outcome:
+    """An overhauling load drives the rotor from 0.95 x speed_max up to OVERHAUL_TOP x,
+    OVERHAUL_STEP a sector, and holds it there, on a bus of the spec's range where
+    all-off rectifies at the held speed and not at twice the top one: OVER_SPEED at the
+    first sector shorter than the top speed's, and from then on the safe state follows
+    the rotor (the faulted port reads each interval): at the held speed the one the
+    physics requires there. The port had taken every interval past twice the top
+    speed's for a bounce and held the state of 2 x: all-off, rectifying, up to 3 x (a
+    hunt: short_sector_5k_16p on 29.5 V)."""
+    top = float(run.spec.controller.speed_max_rpm)
+    # a bus where all-off rectifies at the held speed but not at twice the top one (the
+    # old port's reading), within the spec's range where it allows
+    inv = run.spec.inverter
+    bus_v = min(
+        max(
+            worst_line_emf_v(run.spec, 0.5 * (2 + OVERHAUL_TOP) * top), float(inv.bus_voltage_min_v)
+        ),
+        float(inv.bus_voltage_max_v),
+    )
+    run.board.set_bus_voltage(bus_v)
+    run.rpm = 0.95 * top
+    run.turn(SETTLE_SECTORS)
+    cause = None
+    while run.rpm < OVERHAUL_TOP * top:
+        run.rpm = min(run.rpm * (1 + OVERHAUL_STEP), OVERHAUL_TOP * top)
+        run.turn(1)
+        if cause is None and run.rpm > top:
+            cause = run.machine.now  # the edge that ends the first sector over speed
+    run.turn(OVERHAUL_HOLD - OVERHAUL_CHECKS)
+    for k in range(OVERHAUL_CHECKS):
+        sector = run.sector_ticks()
+        run.step(sector // 2, sector=sector)
+        _check_safe_state(run, run.machine.now, bus_v, f"held at {run.rpm:.0f} rpm ({k + 1})")
+    return run.outcome(
+        "overhauling load past the top speed",
+        "OVER_SPEED",
+        cause,
+        run.board.pwm_period_ticks(),
+        f"from {0.95 * top:.0f} to {run.rpm:.0f} rpm ({OVERHAUL_TOP:g} x speed_max), "
+        f"{OVERHAUL_STEP:.0%} a sector, bus {bus_v:g} V; the safe state checked at the held"
+        " speed",
+    )
+
+
 def _over_speed(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     run.rpm = 1.25 * float(run.spec.controller.speed_max_rpm)
@@ -1794,6 +1846,61 @@ def _kept_safe_since(run: Run, since: int, what: str) -> None:
             return
     if tim1.moe:
         run.violations.append(f"MOE set {what}")
+
+
+#: Ticks (72 MHz) after the clear's entry (port_clear_masked) at which a short
+#: comparator pulse comes, one clear each: between the break pin's read and the arming
+BREAK_IN_CLEAR_TICKS = (40, 100, 160)
+#: ... and its width
+BREAK_IN_CLEAR_NS = 100
+
+
+def _break_during_clear(run: Run) -> Outcome:
+    """A 5 us comparator pulse latches OVER_CURRENT; main clears it, and a
+    BREAK_IN_CLEAR_NS pulse comes during the clear, BREAK_IN_CLEAR_TICKS after its entry
+    (three clears in turn). Each pulse must be latched and the bridge stay off: the clear
+    had cleared the break flag after it read the pin, erasing a pulse between, and armed
+    the bridge into it (a hunt: the paper motor, +100 ticks)."""
+    machine = run.machine
+    period = run.board.pwm_period_ticks()
+    run.board.set_bus_voltage(float(run.spec.inverter.bus_voltage_nominal_v))
+    run.turn(SETTLE_SECTORS)
+    run.into_sector(1 / 4)
+    start = machine.now + 10
+    run.board.set_break(True, at=start)
+    run.board.set_break(False, at=start + round(5e-6 * TICK_HZ))
+    run.run_until_tripped(period)
+    machine.run_for(4 * period)
+    entry = machine.symbol("port_clear_masked") & ~1
+    width = round(BREAK_IN_CLEAR_NS * TICK_HZ / 1e9)
+    for offset in BREAK_IN_CLEAR_TICKS:
+
+        def pulse(_uc: object, _address: int, _size: int, _data: object, k: int = offset) -> None:
+            at = machine._block_end + k
+            run.board.set_break(True, at=at)
+            run.board.set_break(False, at=at + width)
+
+        hook = machine.uc.hook_add(UC_HOOK_CODE, pulse, None, entry, entry)
+        try:
+            clear_faults(run)
+        finally:
+            machine.uc.hook_del(hook)
+        machine.run_for(3 * period)
+        if machine.tim1.moe or not run.board.symbol("app_faults") & FAULT["OVER_CURRENT"]:
+            run.violations.append(
+                f"a {BREAK_IN_CLEAR_NS} ns comparator pulse {offset} ticks into the clear was"
+                f" lost: MOE {int(machine.tim1.moe)}, faults"
+                f" {run.board.symbol('app_faults'):#x}"
+            )
+            break
+    return run.outcome(
+        "comparator pulse during the clear",
+        "OVER_CURRENT",
+        None,
+        None,
+        f"OVER_CURRENT latched, then {len(BREAK_IN_CLEAR_TICKS)} clears, each with a"
+        f" {BREAK_IN_CLEAR_NS} ns pulse {', '.join(map(str, BREAK_IN_CLEAR_TICKS))} ticks into it",
+    )
 
 
 def _break_while_faulted(run: Run) -> Outcome:
@@ -2244,8 +2351,10 @@ SCENARIOS = (
     Scenario("hall_unplugged_bouncing", _hall_unplugged_bouncing),
     Scenario("hall_rocks_early", _hall_rocks_early),
     Scenario("over_speed", _over_speed),
+    Scenario("overhauling", _overhauling),
     Scenario("clear_over_speed", _clear_over_speed),
     Scenario("break_while_faulted", _break_while_faulted),
+    Scenario("break_during_clear", _break_during_clear),
     Scenario("break_pulse", _break_pulse),
     Scenario("rotor_stops", _rotor_stops),
     Scenario("hardest_braking", _hardest_braking),

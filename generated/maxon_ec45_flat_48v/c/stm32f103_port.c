@@ -261,6 +261,19 @@ BLDC_PORT_FAST_DATA static const uint32_t port_edge_of_pins[64] = {
 /* port.after_refusal after a capture no rotor makes (a line's bounce, microseconds). */
 #define PORT_AFTER_BOUNCE 2u
 
+/* Below it a Hall interval is no rotor's after one of `reference`, the last right one:
+ * half the top speed's interval (a line's bounce lasts microseconds), or, for a rotor
+ * already over speed, half its own (a rotor does not halve its interval in one sector).
+ * A fixed half of the top speed's had taken a rotor driven past twice the top speed,
+ * faulted, for a bounce at every edge and held its safe state there: all-off,
+ * rectifying, up to 3 x (a hunt: an overhauling load on short_sector_5k_16p, 29.5 V).
+ * Half the reference alone, a slow one, had taken a rotor stepping to over speed for
+ * one, each capture after it too: the clear re-armed it (the clear_over_speed scenario). */
+static inline uint32_t port_bounce_below(uint32_t reference)
+{
+    return ((reference < BLDC_PERIOD_MIN_TICKS) ? reference : BLDC_PERIOD_MIN_TICKS) >> 1;
+}
+
 /* A bus code no ADC gives: no sample yet (the timing is then the safe state). */
 #define BLDC_PORT_BUS_UNKNOWN UINT16_MAX
 
@@ -532,7 +545,7 @@ BLDC_PORT_COLD static void port_refuse(void)
              * the speed: the safe state keeps the last right edge's. A spec that prefers
              * the short had read a 3 us bounce as a rotor beyond the short's rating and
              * held all-off, rectifying, for the rest of the sector (a hunt). */
-            if (port.period < BLDC_PORT_INTERVAL_PLAUSIBLE_MIN) {
+            if (port.period < port_bounce_below(port.timed_period)) {
                 port.period = port.timed_period;
                 port.after_refusal = PORT_AFTER_BOUNCE; /* the next capture starts here */
             }
@@ -1204,7 +1217,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
         tim3->SR = ~TIM_SR_UIF;
         if ((status & TIM_SR_UIF) != 0u) {
             port.period = BLDC_PORT_TIM3_ARR;
-        } else if (captured < BLDC_PORT_INTERVAL_PLAUSIBLE_MIN) {
+        } else if (captured < port_bounce_below(held)) {
             /* No rotor makes it (a line's bounce): the interval held stays, and the next
              * capture, which starts at the bounce, is part of a sector too. */
             port.after_refusal = PORT_AFTER_BOUNCE;
@@ -1606,7 +1619,9 @@ static uint32_t port_present_causes(uint32_t latched)
 static void port_rewatch(uint32_t kept)
 {
     if ((kept & BLDC_FAULT_OVER_CURRENT) == 0u) {
-        TIM1->SR = ~TIM_SR_BIF;
+        /* BIF is not cleared here: the clear dropped the latched break's flag before it
+         * read the pin, so a flag set now is a break since then, for the interrupt
+         * enabled here to latch (port_clear_masked) */
         TIM1->DIER = TIM_DIER_COMIE | TIM_DIER_BIE;
     }
     if ((kept & BLDC_FAULT_CURRENT_SENSOR) == 0u) {
@@ -1658,12 +1673,15 @@ static void port_arm(void)
     TIM3->CNT = BLDC_PORT_TIM3_ARR;
     TIM3->DIER = BLDC_PORT_HALL_INTERRUPTS;
     TIM1->BDTR = BLDC_PORT_TIM1_BDTR | TIM_BDTR_MOE;
-    if (*(const volatile uint32_t *)&port.requested != 0u) { /* read after the store */
-        /* A trip requested meanwhile: the NMI (the clock failure), which masking does not
-         * hold off, between the break flag's clear above and MOE: off again at once, and
-         * the break interrupt, pending, latches it (MOE had stayed set for 13-18 us,
-         * every switch off, until then; a helper's hunt). A request after this read
-         * clears MOE by its own software break. */
+    /* read after the store: a break since the clear began (BIF), or a trip requested */
+    if (((TIM1->SR & TIM_SR_BIF) != 0u) ||
+        (*(const volatile uint32_t *)&port.requested != 0u)) {
+        /* A break since the clear began (the input's pulse ended before the pin's read,
+         * or came after it), or a trip requested meanwhile: the NMI (the clock failure),
+         * which masking does not hold off, before MOE: off again at once, and the break
+         * interrupt, pending, latches it (MOE had stayed set for 13-18 us, every switch
+         * off, until then; a helper's hunt). A request after this read clears MOE by its
+         * own software break. */
         TIM1->BDTR = BLDC_PORT_TIM1_BDTR;
     } else {
         /* armed at a speed measured before (a clear): where all-off rectifies there, the
@@ -1682,6 +1700,13 @@ BLDC_PORT_NOINLINE static uint32_t port_clear_masked(void)
     const uint32_t latched = port.faults;
     if (latched == 0u) {
         return 0u; /* nothing to clear: each cause's own path watches the running drive */
+    }
+    if ((latched & BLDC_FAULT_OVER_CURRENT) != 0u) {
+        /* The latched break's flag, dropped before the pin is read (it stays set while
+         * the input is active): from here on a pulse sets it again, and arming looks at
+         * it. Cleared after the read, in port_rewatch, it had erased a 100 ns pulse that
+         * came between, and the bridge re-armed into the over-current (a hunt). */
+        TIM1->SR = ~TIM_SR_BIF;
     }
     const uint32_t remaining = port_present_causes(latched);
     port.faults = remaining;

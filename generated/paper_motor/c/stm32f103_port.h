@@ -149,7 +149,6 @@
 #define BLDC_PORT_TIM3_PSC 71u /* Hall timer ticks at 1 MHz from 72 MHz */
 #define BLDC_PORT_TIM3_ARR 65535u /* 16-bit Hall counter: overflows 65.54 ms after the last edge, and a longer interval reads as this value */
 #define BLDC_PORT_HALL_TIMEOUT_SHIFT 2u /* Hall time-out: TIM3 CC3 at T << 2 after the edge ending an interval T (codegen/control/hall_timeout.py): a rotor braking at up to 5000 rad/s^2 (the bridge's rating through the worst k_e, on the rotor's inertia) that reaches its next edge does so by then */
-#define BLDC_PORT_INTERVAL_PLAUSIBLE_MIN 1000u /* a Hall interval below half the top speed's is no rotor's (a line's bounce, a few microseconds, reads as a thousand times the top speed): the safe state keeps the last right interval */
 #define BLDC_PORT_HALL_TIMEOUT_PERIOD_MAX 7971u /* T in [1, this]: the time-out is T << BLDC_PORT_HALL_TIMEOUT_SHIFT (a mean speed from 1255 rpm up); above, the counter's wrap (a rotor that slow may stop within the sector) */
 #define BLDC_PORT_BUS_CODE_MAX 3385u /* the core's over-voltage threshold, 30 V: the analog watchdog's HTR trips over-voltage above it, whatever the hysteresis */
 #define BLDC_PORT_TIM3_IC1F 3u /* Hall input filter: 8 equal samples at 72 MHz, ignores glitches shorter than 111.1 ns and delays each edge as much */
@@ -157,8 +156,8 @@
 #define BLDC_PORT_SEQUENCE_COUNTS 504u /* TIM1 counts from an injected trigger to JEOC, one ADC cycle (and for the centre-aligned trigger one count after the peak, two counts) over */
 #define BLDC_PORT_SEQUENCE_MIN_COUNTS 464u /* TIM1 counts from an injected trigger to JEOC at the least (the trigger age's terms, no injection latency: the datasheet gives only its largest), less the commutation end's gap between its CNT and SR reads: a younger sequence has not ended, so a JEOC set then is an older one's */
 #define BLDC_PORT_IMMINENT_AGE 3588u /* a trigger age from which the next trigger comes within the commutation end's gap between its CNT read and its COM event (END_COM_GAP_CYCLES): that sequence samples the commutating bridge */
-#define BLDC_PORT_IMMINENT_READS 10u /* the commutation end's reads of the counter, at the most, while it waits out a trigger within BLDC_PORT_WAIT_COUNTS (it then fires before the COM event, for certain) */
-#define BLDC_PORT_WAIT_COUNTS 36u /* counts before the next trigger from which the commutation end's first counter read waits it out: the COM event's gap after the second read and the reads' gap (END_COM_GAP_CYCLES + END_WAIT_GAP_CYCLES) */
+#define BLDC_PORT_IMMINENT_READS 12u /* the commutation end's reads of the counter, at the most, while it waits out a trigger within BLDC_PORT_WAIT_COUNTS (it then fires before the COM event, for certain) */
+#define BLDC_PORT_WAIT_COUNTS 42u /* counts before the next trigger from which the commutation end's first counter read waits it out: the COM event's gap after the second read and the reads' gap (END_COM_GAP_CYCLES + END_WAIT_GAP_CYCLES) */
 #define BLDC_PORT_TRIGGER_WITHIN(cnt, cr1, n) ((uint32_t)((cnt) - (3536u - (n))) < (n)) /* the next injected trigger within n counts of CNT (n up to BLDC_PORT_WAIT_COUNTS): BLDC_PORT_TRIGGER_AGE(cnt, cr1) at least its cycle less n, in one compare */
 #define BLDC_PORT_AGE_CR1(tim1) 0u /* what BLDC_PORT_TRIGGER_AGE takes of CR1: its DIR bit (centre-aligned), else no read */
 #define BLDC_PORT_TRIGGER_AGE(cnt, cr1) (((cnt) >= BLDC_PORT_TIM1_CCR4) ? (cnt) - BLDC_PORT_TIM1_CCR4 : (cnt) + BLDC_PORT_TIM1_ARR + 1u - BLDC_PORT_TIM1_CCR4) /* TIM1 counts since the last injected trigger, from CNT and CR1 read before a COM event restarts the carrier: CNT = CCR4 */
