@@ -83,12 +83,6 @@ def timeout_bound_s(spec: Spec, interval_s: float) -> float | None:
     return limit
 
 
-def no_timeout_before_s(spec: Spec, interval_s: float) -> float | None:
-    """The latest edge of a turning rotor after `interval_s` (s), which no time-out may
-    precede; None where the rotor may stop within the sector."""
-    return latest_next_edge_s(spec, interval_s)
-
-
 #: The hardest braking scenario's interval: this far below the longest one after which
 #: a turning rotor is still bound to make its next edge (there the next sector may last
 #: up to 2.4 of it at equal sectors, 3.8 at 25 % sector shortening; 0.5 % below, 2.35

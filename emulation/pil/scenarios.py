@@ -75,7 +75,7 @@ from emulation.pil.hall_timeout import (
     TIMEOUT_INTERVALS,
     deceleration,
     hardest_braking,
-    no_timeout_before_s,
+    latest_next_edge_s,
     speed_into,
     timeout_bound_s,
 )
@@ -113,6 +113,11 @@ MAIN_WAIT_PERIODS = 10
 #: PWM periods a scenario waits for an instant it places its cause at (the CPU asleep,
 #: an injected sequence's end), each due within a period or two
 WAIT_PERIODS = 10
+
+
+def sector_ticks_at(spec: Spec, rpm: float) -> float:
+    """A 60 electrical degree sector at `rpm`, in ticks of 72 MHz."""
+    return TICK_HZ * 60 / (rpm * spec.motor.pole_pairs * 6)
 
 
 @dataclass(frozen=True)
@@ -439,8 +444,7 @@ class Run:
         self.step(round(sector * fraction), sector=sector)
 
     def sector_ticks(self) -> int:
-        pole_pairs = self.spec.motor.poles // 2
-        return round(TICK_HZ * 60 / (self.rpm * pole_pairs * 6))
+        return round(sector_ticks_at(self.spec, self.rpm))
 
     def next_update(self) -> int:
         tim1 = self.machine.tim1
@@ -1048,7 +1052,7 @@ def _hall_off_marks(run: Run) -> Outcome:
         # Hall clock): below it the sectors outlasted TIM3's range (the Hall timed out),
         # so the run starts at the lowest speed and its sectors stop at the top speed's
         run.rpm = float(run.spec.controller.speed_min_rpm)
-        shortest = round(TICK_HZ * 60 / (top * run.spec.motor.pole_pairs * 6))
+        shortest = round(sector_ticks_at(run.spec, top))
     run.turn(SETTLE_SECTORS)
     base = run.sector_ticks()
     for half in halves:
@@ -1100,7 +1104,7 @@ def _bus_noise(run: Run) -> Outcome:
     elapsed = machine.now - begun
     load = (machine.handler_ticks - busy) / max(1, elapsed)
     changes = len(run.board.entries_of("TIM1", "TIM1_UP_TIM10")) - changes_before
-    shortest = TICK_HZ * 60 / (top * spec.motor.pole_pairs * 6)
+    shortest = sector_ticks_at(spec, top)
     allowed = -(-elapsed // int(shortest)) + 1
     budget = float(spec.firmware.cpu_load_budget_percent) / 100
     if changes > allowed:
@@ -1199,7 +1203,7 @@ def timeout_window(run: Run, last_edge: int, interval: int) -> TimeoutWindow | N
     bound = timeout_bound_s(run.spec, interval / TICK_HZ)
     if bound is None:
         return None
-    earliest = no_timeout_before_s(run.spec, interval / TICK_HZ)
+    earliest = latest_next_edge_s(run.spec, interval / TICK_HZ)
     assert earliest is not None  # bounded: the rotor cannot stop within the sector
     cause = last_edge + math.ceil(earliest * TICK_HZ)
     due = last_edge + round(bound * TICK_HZ)
@@ -1530,12 +1534,7 @@ def _hall_line_stuck(run: Run) -> Outcome:
     circuit there). The firmware had taken the two-sector intervals as the rotor's and
     chosen all-off, rectifying, 17.6 ms after the trip on the paper motor (a hunt)."""
     name = "Hall line stuck above the rectifying speed"
-    chosen = hall_stuck_speed(run.spec)
-    if chosen is None:
-        bus_v, note = _no_rectifying_speed(run, "the line stuck at the default speed")
-    else:
-        bus_v, run.rpm = chosen
-        note = _rectifying_note(run, bus_v)
+    bus_v, note = _placed_above_rectifying(run, "the line stuck")
     run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
     sequence = run.spec.hall.sequence
@@ -1587,10 +1586,11 @@ def _bounce_ticks() -> int:
     return round(BOUNCE_NS * TICK_HZ / 1e9)
 
 
-def _bounce_place(run: Run, what: str) -> tuple[float, str]:
-    """The rotor and bus of a bounce scenario: just above the speed from which all-off
-    rectifies (`hall_stuck_speed`), where the short is due and a rotor read too fast
-    may be taken beyond a rated short; else the default speed and the nominal bus."""
+def _placed_above_rectifying(run: Run, what: str) -> tuple[float, str]:
+    """The rotor (set) and bus (returned, with the note) of a scenario just above the
+    speed from which all-off rectifies (`hall_stuck_speed`), where the short is due and
+    a rotor read too fast may be taken beyond a rated short; else the default speed and
+    the nominal bus."""
     chosen = hall_stuck_speed(run.spec)
     if chosen is None:
         return _no_rectifying_speed(run, f"{what} at the default speed")
@@ -1606,7 +1606,7 @@ def _hall_bounce(run: Run) -> Outcome:
     interval says nothing of it. A spec that prefers the short had read the 3 us as a
     rotor beyond the short's rating and held all-off, rectifying, to the next edge (a
     hunt: the paper motor preferring the short, 4400 rpm on 20.5 V)."""
-    bus_v, note = _bounce_place(run, "the bounce")
+    bus_v, note = _placed_above_rectifying(run, "the bounce")
     run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
     before, code = run.edge_now()
@@ -1656,7 +1656,7 @@ def _hall_unplugged_bouncing(run: Run) -> Outcome:
     half sector among them: on a spec that prefers the short, a rotor read at twice its
     speed, beyond the short's rating, got all-off, rectifying, for as long as the fault
     lasted (a hunt: 4700 rpm on 20.5 V, the short rated to 5359 rpm)."""
-    bus_v, note = _bounce_place(run, "the unplugged connector")
+    bus_v, note = _placed_above_rectifying(run, "the unplugged connector")
     run.board.set_bus_voltage(bus_v)
     run.turn(SETTLE_SECTORS)
     sector = run.sector_ticks()
@@ -1708,7 +1708,7 @@ def _hall_rocks_early(run: Run) -> Outcome:
     forward edge's interval is part of a sector and bounds no next edge. The Hall
     time-out had been set to 4 of it and tripped 7 ms before the rotor's next edge (a
     hunt: the paper motor at 500 rpm)."""
-    per_rpm = TICK_HZ * 60 / (run.spec.motor.pole_pairs * 6)  # a sector's ticks x rpm
+    per_rpm = sector_ticks_at(run.spec, 1.0)  # a sector's ticks x rpm
     top = per_rpm / float(run.spec.controller.speed_max_rpm)
     tim3 = run.machine.tim3
     counter = (tim3.arr + 1) * tim3.ticks_per_count()
@@ -2225,7 +2225,7 @@ def _hall_back_step(run: Run) -> Outcome:
     run.turn(SETTLE_SECTORS)
     machine, tim1 = run.machine, run.machine.tim1
     period = run.board.pwm_period_ticks()
-    top = TICK_HZ * 60 / (float(run.spec.controller.speed_max_rpm) * run.spec.motor.pole_pairs * 6)
+    top = sector_ticks_at(run.spec, float(run.spec.controller.speed_max_rpm))
     held = round((1 + BACK_STEP_MARGIN) * top)
     before, code = run.edge_now()
     sector = run.sector_ticks()
