@@ -19,6 +19,7 @@ import re
 from collections.abc import Callable
 from dataclasses import replace
 from fractions import Fraction
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -1470,6 +1471,16 @@ def test_a_brake_whose_current_collapses_at_its_edges_should_fail(tmp_path: Path
     assert steady.low and min(c.current_a for c in steady.low) < 0.5 * result.setup.current_a
     duties = [c.main_duty for c in steady.judged]
     assert min(duties) < 0.05 and max(duties) - min(duties) > 0.8, duties  # swings across
+    # the line says how much of its sector a commutation took (the loop holds its duty
+    # through one): the speed's sector agrees with the time to the next edge
+    shares = [braking_report.sector_share(result.spec, c) for c in steady.judged]
+    assert max(shares) > 0.5, shares
+    assert f"up to {100 * max(shares):.0f} % (the loop holds its duty" in found[0], found
+    for a, b in pairwise(steady.judged):
+        if b.index == a.index + 1:
+            to_next = (b.com_tick - a.com_tick) / TICK_HZ
+            share = braking_report.sector_share(result.spec, a)
+            assert share == pytest.approx(a.commutation_s / to_next, rel=0.05), (a.index, share)
     text = "\n".join(braking_report.section(result, []))
     assert "* Result: FAIL: the braking is not steady" in text
     assert "* Steady braking: at the " in text

@@ -5,6 +5,7 @@ deviation on the chip (PIL) against the SIL simulation of the same firmware."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 from itertools import pairwise
@@ -523,13 +524,23 @@ def steady_braking_problem(result: BrakingResult, steady: SteadyBraking) -> str:
         )
     duties = [c.main_duty for c in steady.judged]
     deviations = [c.deviation_worst_pct for c in steady.judged]
+    shares = sorted(sector_share(result.spec, c) for c in steady.judged)
     return (
         f"the braking is not steady: of the {len(steady.judged)} Hall edges from"
         f" {steady.slowest_rpm:.0f} rpm up, where the loop's D_max would drive"
         f" {STEADY_HEADROOM:g} x the command, {'; '.join(found)}; over those edges the main"
-        f" duty ranged {min(duties):.3f}-{max(duties):.3f} and the deviation"
-        f" {min(deviations):+.1f} % to {max(deviations):+.1f} %"
+        f" duty ranged {min(duties):.3f}-{max(duties):.3f}, the deviation"
+        f" {min(deviations):+.1f} % to {max(deviations):+.1f} % and the commutation"
+        f" {100 * shares[len(shares) // 2]:.0f} % of its sector at the median, up to"
+        f" {100 * shares[-1]:.0f} % (the loop holds its duty through a commutation)"
     )
+
+
+def sector_share(spec: Spec, c: Commutation) -> float:
+    """The commutation's length over its 60 deg sector at the edge's speed (the spec's
+    pole pairs): where it nears 1, the loop regulates over little of the sector."""
+    sector_s = 10.0 / (c.speed_rpm * spec.motor.pole_pairs) if c.speed_rpm > 0 else math.inf
+    return c.commutation_s / sector_s
 
 
 def zero_current_code(result: BrakingResult) -> int:
