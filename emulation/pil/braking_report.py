@@ -5,7 +5,6 @@ deviation on the chip (PIL) against the SIL simulation of the same firmware."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from fractions import Fraction
 from itertools import pairwise
@@ -504,7 +503,8 @@ def steady_braking_check(result: BrakingResult) -> SteadyBraking | NotJudged:
 
 def steady_braking_problem(result: BrakingResult, steady: SteadyBraking) -> str:
     """The failure line of an unsteady brake: where, how low the current and how far the
-    duty jumped, and the main duty and the deviation over the judged edges."""
+    duty jumped, and the main duty, the deviation and the commutation's share of its sector
+    over the judged edges."""
     command = result.setup.current_a
     found = []
     if steady.low:
@@ -539,8 +539,9 @@ def steady_braking_problem(result: BrakingResult, steady: SteadyBraking) -> str:
 def sector_share(spec: Spec, c: Commutation) -> float:
     """The commutation's length over its 60 deg sector at the edge's speed (the spec's
     pole pairs): where it nears 1, the loop regulates over little of the sector."""
-    sector_s = 10.0 / (c.speed_rpm * spec.motor.pole_pairs) if c.speed_rpm > 0 else math.inf
-    return c.commutation_s / sector_s
+    if c.speed_rpm <= 0:
+        return 0.0
+    return c.commutation_s / Drive.from_spec(spec).sector_time_s(c.speed_rpm)
 
 
 def zero_current_code(result: BrakingResult) -> int:
