@@ -643,16 +643,31 @@ def _check_target(p: _Paths, files: Mapping[str, str]) -> None:
             break
     unreadable = manifest_unreadable(p.target) if found and owned is None else None
     if unreadable is not None:  # it had said only that the tree's files were not the tool's
-        raise PublishError(
-            f"{p.target / MANIFEST} is unreadable ({on_one_line(unreadable)}): bldc-codegen"
-            f" cannot tell its own files in {p.target} from a stranger's ({len(found)} in the"
-            " way): move that folder away or choose another output folder"
-        )
+        raise _unreadable_manifest(p.target, unreadable, f" ({len(found)} in the way)")
     if found:
         raise PublishError(
             f"{in_the_way(found, p.target)} not written by bldc-codegen (its manifest does"
             " not list it): move it away or choose another output folder"
         )
+
+
+def _unreadable_manifest(target: Path, why: str, count: str = "") -> PublishError:
+    return PublishError(
+        f"{target / MANIFEST} is unreadable ({on_one_line(why)}): bldc-codegen cannot tell"
+        f" its own files in {target} from a stranger's{count}: move that folder away or"
+        " choose another output folder"
+    )
+
+
+def refuse_unreadable_manifest(target: Path) -> None:
+    """PublishError where `target` is a folder whose manifest.json cannot be read (not
+    JSON, a FIFO, no permission): for a command to check before its long work (publish
+    refuses it again, under its lock, where the tree's files are in the way)."""
+    folder = _paths(target).target  # a link to a folder: the folder
+    if folder.is_dir() and not folder.is_symlink():
+        unreadable = manifest_unreadable(folder)
+        if unreadable is not None:
+            raise _unreadable_manifest(folder, unreadable)
 
 
 def in_the_way(paths: list[Path], folder: Path) -> str:

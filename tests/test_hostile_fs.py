@@ -141,6 +141,32 @@ def test_an_unreadable_manifest_is_named_as_such_and_the_tree_kept(tmp_path: Pat
     assert sorted(p.name for p in tmp_path.iterdir()) == [".out.bldc-codegen.lock", "out"]
 
 
+def test_an_unreadable_manifest_is_refused_before_the_design(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Was: `generate -o` designed and rendered the whole tree (seconds) before it read
+    the output folder's manifest and refused it. The design is made to fail here: the
+    refusal must come first, the same line, the folder as it was."""
+    import codegen.generate
+    from bldc import cli as bldc_cli
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "manifest.json").write_bytes(b'{"broken')
+
+    def no_design(*args: object, **kwargs: object) -> object:
+        raise AssertionError("the design ran before the output folder was checked")
+
+    monkeypatch.setattr(codegen.generate, "render_all", no_design)
+    assert bldc_cli.main(["generate", str(SPEC), "-o", str(out)]) == ExitCode.ENVIRONMENT
+    err = capsys.readouterr().err
+    assert err.startswith(
+        f"error: output: {out / 'manifest.json'} is unreadable (it is not JSON"
+    ), err
+    assert "cannot tell its own files" in err and err.count("\n") == 1, err
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json"]
+
+
 def _publish_with_default_signals(target: Path, env: dict[str, str]) -> int:
     """The publish in a forked child whose SIGINT, SIGTERM and SIGHUP have their default
     actions, whatever the test runner's are (a background or xdist run starts with SIGINT

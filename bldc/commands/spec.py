@@ -277,8 +277,10 @@ def _generate(args: argparse.Namespace) -> int:
     target = check_target(output_dir(spec, args.output))
 
     from codegen.generate import generate, refuse_audit_folder
+    from codegen.publish import refuse_unreadable_manifest
 
     refuse_audit_folder(target)
+    refuse_unreadable_manifest(target)  # now, not after the design's seconds
     result = generate(args.spec, target, PROJECT_ROOT)
     design = result.core.design
     seconds = time.perf_counter() - started
