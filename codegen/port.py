@@ -28,6 +28,7 @@ from codegen.dead_time import (  # noqa: F401  (the port's public names)
     _time,
     dtg_dead_time_ticks,
     encode_dead_time,
+    sector_margin_shift,
 )
 from codegen.derivation import derive
 from codegen.fixedpoint.scaling import scaling
@@ -530,6 +531,10 @@ def port_context(
         "bus_hysteresis_text": f"{BUS_HYSTERESIS_CODES} code"
         f"{'' if BUS_HYSTERESIS_CODES == 1 else 's'} = {float(BUS_HYSTERESIS_CODES * volts) * 1e3:.4g} mV",
         "bus_hysteresis_duty_text": f"{float(stale):.3g} counts",
+        # hall.sector_shortening as the core's latest end takes it (2^-k >= it): a Hall
+        # interval shorter than T (1 - 2^-k) after one of T is no rotor's
+        "sector_margin_shift": sector_margin_shift(spec.hall.sector_shortening),
+        "sector_shortening_text": f"{float(spec.hall.sector_shortening) * 100:g} %",
         "bus_min_periods": gate,
         "bus_min_periods_text": f"{float(Fraction(gate) / inv.pwm_frequency_hz) * 1e6:.4g} us",
     }

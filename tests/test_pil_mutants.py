@@ -24,6 +24,12 @@ IR_5K = ROOT / "tests" / "fixtures" / "odd" / "pwm5k_improved_r.yaml"
 SHORT_PREFERRED = ROOT / "tests" / "fixtures" / "pil" / "paper_short_preferred.yaml"
 SHORT_16P = ROOT / "tests" / "fixtures" / "odd" / "short_sector_5k_16p.yaml"
 PORT = "c/stm32f103_port.c"
+#: port_refuse's test of a refused edge's part sector (shorter than a rotor makes after
+#: the last right interval), and the same with it gone
+PART_SECTOR_GUARD = (
+    "            if ((bounce != 0u) || ((measured < port_plausible_after(port.timed_period)) &&"
+)
+PART_SECTOR_GUARD_OFF = "            if ((bounce != 0u) || ((measured < 1u) &&"
 HEADER = "c/stm32f103_port.h"
 
 
@@ -36,6 +42,9 @@ class Mutant:
     spec: Path
     scenario: str  # the scenario that must report a problem
     caught_by: str  # the problem's text, as the scenario words it
+    #: further (old, new) edits of the same file: a guard another one shadows, mutated
+    #: with the one in front of it
+    also: tuple[tuple[str, str], ...] = ()
 
 
 MUTANTS = (
@@ -370,8 +379,8 @@ MUTANTS = (
         # rating: all-off at 4950 rpm on 24 V, where it rectifies from 4622 rpm
         "bounce interval kept for the safe state: all-off where it rectifies",
         PORT,
-        "            if (port.period < port_bounce_below(port.timed_period)) {",
-        "            if (port.period < 1u) {",
+        "                port.period = port.timed_period; /* the rotor's: the last right edge's */",
+        "                /* the interval measured kept */",
         SHORT_PREFERRED,
         "hall_bounce",
         "not the short circuit",
@@ -399,6 +408,8 @@ MUTANTS = (
     ),
     Mutant(
         # the first bounce edge's half sector read as twice the speed, beyond the rating
+        # the refused edge's part-sector guard (port_refuse) keeps the bounce's half
+        # sector out of the interval first: mutated too, so this guard behind it is tested
         "faulted Hall interval under the top speed's: all-off where it rectifies",
         PORT,
         "        port.period = (uint16_t)((shortest < BLDC_PERIOD_MIN_TICKS) ? BLDC_PERIOD_MIN_TICKS",
@@ -406,6 +417,18 @@ MUTANTS = (
         SHORT_PREFERRED,
         "hall_unplugged_bouncing",
         "safe state",
+        also=((PART_SECTOR_GUARD, PART_SECTOR_GUARD_OFF),),
+    ),
+    Mutant(
+        # a 2 us glitch at 0.6 of a sector at 4950 rpm: read as 8250 rpm, beyond the
+        # short's 5359 rpm rating, all-off where all-off rectifies from 4622 rpm
+        "part sector of a refused edge read as the rotor's: all-off where it rectifies",
+        PORT,
+        PART_SECTOR_GUARD,
+        PART_SECTOR_GUARD_OFF,
+        SHORT_PREFERRED,
+        "hall_glitch_late",
+        "not the short circuit",
     ),
     Mutant(
         # a rotor braking at the machine's limit makes its next edge 2.35 intervals on
@@ -470,6 +493,9 @@ def _mutate(mutant: Mutant) -> Callable[[Path], None]:
             text = "".join(lines)
         else:
             text = text.replace(mutant.old, mutant.new, 1)
+        for old, new in mutant.also:
+            assert text.count(old) == 1, f"{mutant.name}: {old!r} not once in {mutant.file}"
+            text = text.replace(old, new)
         path.write_text(text, encoding="utf-8")
 
     return edit

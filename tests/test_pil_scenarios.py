@@ -534,15 +534,16 @@ def test_a_spec_preferring_the_short_should_keep_it_through_a_hall_bounce(
     tmp_path: Path,
 ) -> None:
     """The paper motor preferring the short, rated to 5359 rpm at its worst corner: a
-    line's 3 us bounce at an edge, and a connector coming off with a line bouncing, had
-    been read as a rotor beyond the rating and got all-off where it rectifies (a hunt).
+    line's 3 us bounce at an edge, a line's 2 us glitch late in a sector, and a
+    connector coming off with a line bouncing, had been read as a rotor beyond the
+    rating and got all-off where it rectifies (hunts).
     Both keep the short at 4950 rpm on 24 V (all-off may rectify from 4622 rpm)."""
     from emulation.pil.build import generate
 
     path = ROOT / "tests" / "fixtures" / "pil" / "paper_short_preferred.yaml"
     spec = load_spec(str(path))
     elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
-    for key in ("hall_bounce", "hall_unplugged_bouncing", "hall_rocks_early"):
+    for key in ("hall_bounce", "hall_glitch_late", "hall_unplugged_bouncing", "hall_rocks_early"):
         outcome = run_scenario(elf, spec, next(s for s in SCENARIOS if s.key == key))
         assert outcome.problems == [], (key, outcome.problems, outcome.note)
         if key != "hall_rocks_early":

@@ -1646,6 +1646,61 @@ def _hall_bounce(run: Run) -> Outcome:
     )
 
 
+#: A Hall line's glitch late in a sector: where in it (a fraction of the sector) and how
+#: long (longer than TIM3's input filter and than the edge's handler takes to trip)
+GLITCH_LATE_AT = 0.6
+GLITCH_LATE_NS = 2000
+#: Checks of the gates after a late glitch, in sectors from it
+GLITCH_LATE_CHECKS = (0.2, 0.7, 1.2, 1.7)
+
+
+def _hall_glitch_late(run: Run) -> Outcome:
+    """One Hall line flips to the next sector's code for GLITCH_LATE_NS at GLITCH_LATE_AT
+    of a sector, the rotor just above the speed from which all-off rectifies: the part
+    sector up to the glitch reads as a rotor 1/GLITCH_LATE_AT x as fast, over the top
+    speed (OVER_SPEED), and the line's return is a bounce. The safe state is the one at
+    the rotor's speed from one PWM period after the trip to two sectors on: a rotor
+    shortens its interval by hall.sector_shortening at most, so the part sector is no
+    rotor's. It had been read as the rotor's: on the paper motor preferring the short,
+    rated to 5359 rpm, a rotor beyond the rating, all-off, rectifying, for up to 1.4
+    sectors (a hunt: 4900 rpm on 20.2 V)."""
+    bus_v, note = _placed_above_rectifying(run, "the glitch")
+    run.board.set_bus_voltage(bus_v)
+    run.turn(SETTLE_SECTORS)
+    sector = run.sector_ticks()
+    run.step(round(GLITCH_LATE_AT * sector), sector=sector)
+    sequence = run.spec.hall.sequence
+    code, following = sequence[run.sector], sequence[(run.sector + 1) % 6]
+    cause = run.machine.now
+    width = round(GLITCH_LATE_NS * TICK_HZ / 1e9)
+    run.board.set_hall(following)
+    run.board.set_hall(code, at=cause + width)
+    run.machine.run_until(run._due)
+    run.turn(2)
+    period = run.board.pwm_period_ticks()
+    cleared = run.machine.tim1.moe_cleared_at
+    if cleared is not None:
+        _check_safe_state(run, cleared + period, bus_v, "one PWM period after the glitch's trip")
+    for k in GLITCH_LATE_CHECKS:
+        _check_safe_state(run, cause + round(k * sector), bus_v, f"{k:g} sectors after the glitch")
+    latched = run.board.symbol("app_faults")
+    either = {FAULT["OVER_SPEED"], FAULT["HALL_SEQUENCE"]}
+    expected = (
+        "+".join(name for name in ("OVER_SPEED", "HALL_SEQUENCE") if latched & FAULT[name])
+        if latched and latched & ~sum(either) == 0
+        else "OVER_SPEED"
+    )
+    return run.outcome(
+        "Hall glitch late in a sector",
+        expected,
+        cause,
+        width + period,
+        f"{note}; one line to the next code for {GLITCH_LATE_NS} ns at {GLITCH_LATE_AT:g} of a"
+        " sector: OVER_SPEED (or HALL_SEQUENCE where the edge's handler reads the pins back),"
+        " and the safe state at the rotor's speed, not at the part sector's",
+    )
+
+
 def _hall_unplugged_bouncing(run: Run) -> Outcome:
     """The Hall connector comes off half-way into a sector, one line bouncing
     (BOUNCE_CHANGES levels BOUNCE_NS each) before the pull-ups hold code 7: OVER_SPEED
@@ -2348,6 +2403,7 @@ SCENARIOS = (
     Scenario("hall_sequence", _hall_sequence),
     Scenario("hall_line_stuck", _hall_line_stuck),
     Scenario("hall_bounce", _hall_bounce),
+    Scenario("hall_glitch_late", _hall_glitch_late),
     Scenario("hall_unplugged_bouncing", _hall_unplugged_bouncing),
     Scenario("hall_rocks_early", _hall_rocks_early),
     Scenario("over_speed", _over_speed),

@@ -274,6 +274,14 @@ static inline uint32_t port_bounce_below(uint32_t reference)
     return ((reference < BLDC_PERIOD_MIN_TICKS) ? reference : BLDC_PERIOD_MIN_TICKS) >> 1;
 }
 
+/* The shortest Hall interval a rotor makes after one of `prior` ticks:
+ * hall.sector_shortening (5 %) shorter at most, as the core's latest end takes it
+ * (1/16). A shorter one ended at an edge no rotor made. */
+static inline uint32_t port_plausible_after(uint32_t prior)
+{
+    return prior - (prior >> 4u);
+}
+
 /* A bus code no ADC gives: no sample yet (the timing is then the safe state). */
 #define BLDC_PORT_BUS_UNKNOWN UINT16_MAX
 
@@ -313,7 +321,8 @@ static struct {
     /* last: a field added above shifts the others' offsets, and the handlers' loads of
      * them past 124 bytes take 32-bit encodings (a timing handler 2 cycles slower) */
     uint32_t bus_taken;             /* `heartbeat` at the last bus change: the next waits BLDC_PORT_BUS_MIN_PERIODS runs */
-    uint32_t faulted_wait;          /* faulted: injected samples until the next faulted tick (BLDC_PORT_FAULTED_TICK_PERIODS) */
+    uint16_t faulted_wait;          /* faulted: injected samples until the next faulted tick (BLDC_PORT_FAULTED_TICK_PERIODS) */
+    uint16_t faulted_measured;      /* OVER_SPEED latched: the last Hall interval TIM3 measured, a part sector's too (a clear's over-speed test) */
 } port;
 
 /* The published timing and the one being computed, each in a 16-byte slot. The pair
@@ -424,6 +433,22 @@ static uint32_t port_idle_short(uint32_t period)
     return rectifies; /* rated at every interval */
 #else
     return rectifies & (uint32_t)(period >= BLDC_PORT_SHORT_VALID_PERIOD);
+#endif
+}
+
+/* 1 where no state is safe at this Hall interval: all-off would rectify into the bus
+ * (the latest sample, as port_idle_short) and the short is beyond its rating. The
+ * loader keeps that outside the speed range, so only an interval over speed, or one no
+ * rotor makes, reads so. */
+static inline uint32_t port_no_safe_state(uint32_t period)
+{
+#if BLDC_PORT_SHORT_VALID_PERIOD == 0u
+    (void)period;
+    return 0u; /* the short is rated at every interval */
+#else
+    const uint32_t bus = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 */
+    const uint32_t rectifies = (uint32_t)((uint64_t)period * bus <= BLDC_PORT_RECTIFYING_PRODUCT);
+    return rectifies & (uint32_t)(period < BLDC_PORT_SHORT_VALID_PERIOD);
 #endif
 }
 
@@ -544,11 +569,28 @@ BLDC_PORT_COLD static void port_refuse(void)
              * the speed: the safe state keeps the last right edge's. A spec that prefers
              * the short had read a 3 us bounce as a rotor beyond the short's rating and
              * held all-off, rectifying, for the rest of the sector (a hunt). */
-            if (port.period < port_bounce_below(port.timed_period)) {
-                port.period = port.timed_period;
-                port.after_refusal = PORT_AFTER_BOUNCE; /* the next capture starts here */
-            }
+            port.faulted_measured = port.period; /* what TIM3 measured: a clear's test */
             port_trip(anchor, BLDC_FAULT_OVER_SPEED);
+            const uint32_t measured = port.faulted_measured;
+            /* Nor does one shorter than a rotor makes after the last right interval (a
+             * line's glitch late in a sector: a part sector), where no state is safe at
+             * the speed it reads. That had been read as the rotor's: on a spec
+             * preferring the short, beyond its rating, all-off, rectifying, for 1.4
+             * sectors (a hunt: 4900 rpm on 20.2 V, a 2 us glitch at 0.6 of a sector, the
+             * short rated to 5359 rpm). Where a state is safe at the speed it reads, that
+             * one is taken: it is safe at the slower speed too (the short rated there,
+             * or all-off rectifying nothing). */
+            const uint32_t bounce = (uint32_t)(measured < port_bounce_below(port.timed_period));
+            if ((bounce != 0u) || ((measured < port_plausible_after(port.timed_period)) &&
+                                   (port_no_safe_state(measured) != 0u))) {
+                port.period = port.timed_period; /* the rotor's: the last right edge's */
+                /* The next capture starts at the bounce (or at the glitch's return, if
+                 * that came before the trip cleared CC1IF): the rest of a sector. */
+                port.after_refusal = PORT_AFTER_BOUNCE;
+                if (bounce != 0u) {
+                    port.faulted_measured = port.timed_period; /* no speed: no over-speed's */
+                } /* a part sector: a clear still sees it (port_present_causes) */
+            }
         }
     } else if (PORT_AT(anchor, TIM1, TIM_TypeDef)->CCER == BLDC_PORT_CCER_SHORT) {
         port_commutate_from_short(anchor); /* the refusal's short: the switches it holds on */
@@ -1207,6 +1249,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
         tim3->SR = ~TIM_SR_UIF;
         if ((status & TIM_SR_UIF) != 0u) {
             port.period = BLDC_PORT_TIM3_ARR;
+            port.faulted_measured = (uint16_t)BLDC_PORT_TIM3_ARR;
         } else if (captured < port_bounce_below(held)) {
             /* No rotor makes it (a line's bounce): the interval held stays, and the next
              * capture, which starts at the bounce, is part of a sector too. */
@@ -1217,6 +1260,7 @@ BLDC_PORT_COLD static void port_faulted_tick(uintptr_t anchor, uint32_t watched)
              * rectifying, for a sector (a hunt: 13 860 rpm, 6 % fast). */
             port.after_refusal = 0u;
         } else {
+            port.faulted_measured = (uint16_t)captured;
             port.period = (uint16_t)captured;
         }
     }
@@ -1560,7 +1604,8 @@ static uint32_t port_read_pins(void)
  * latched was cleared with it, and the clear re-armed into its cause; a helper's
  * hunt). Over-speed (the clear had re-armed a rotor over speed to all-off,
  * rectifying, until its second edge): the interval the faulted tick keeps from TIM3's
- * captures, against the core's top-speed bound. */
+ * captures, or the part sector a refused edge measured where the safe state keeps the
+ * last right interval (port_refuse), against the core's top-speed bound. */
 static uint32_t port_present_causes(uint32_t latched)
 {
     uint32_t present = latched & BLDC_PORT_FAULTS_PERMANENT;
@@ -1570,7 +1615,9 @@ static uint32_t port_present_causes(uint32_t latched)
     /* (not while a Hall line's fault is latched: its intervals are not the rotor's, and
      * the faulted tick keeps the shortest, a bounce's included, for the safe state) */
     if (((latched & (BLDC_FAULT_HALL_INVALID | BLDC_FAULT_HALL_SEQUENCE)) == 0u) &&
-        (port.period < BLDC_PERIOD_MIN_TICKS)) {
+        ((port.period < BLDC_PERIOD_MIN_TICKS) ||
+         (((latched & BLDC_FAULT_OVER_SPEED) != 0u) &&
+          (port.faulted_measured < BLDC_PERIOD_MIN_TICKS)))) {
         present |= BLDC_FAULT_OVER_SPEED;
     }
     /* the bus: the last injected sample and the regular group's latest */
