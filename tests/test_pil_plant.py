@@ -60,6 +60,7 @@ from emulation.pil.plant import Mechanics, MotorPlant
 from emulation.pil.plant_faults import PLANT_FAULTS, PlantFault, run_plant_fault
 from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import short_circuit_bound_a
+from emulation.pil.scenarios import SCENARIOS, run_scenario
 from emulation.pil.scs import IRQ_BASE
 from emulation.pil.tim1 import EGR_COMG
 from oracle.current_loop import loop_model
@@ -1682,3 +1683,30 @@ def test_a_loop_saturated_above_the_start_should_still_brake_below_it() -> None:
     assert held_down_to_rpm(spec, current) > setup.start_rpm > gone
     assert setup.stop_rpm == pytest.approx(gone + HELD_SHARE * (setup.start_rpm - gone))
     assert setup.stop_rpm < setup.start_rpm
+
+
+def test_a_spindle_near_the_time_outs_bound_should_be_judged_by_either_time_out(
+    tmp_path: Path,
+) -> None:
+    """A 1-pole-pair spindle at 82 800 rpm, braking at up to 2.1e7 rad/s^2: its interval
+    (725 ticks) is within hall_timeout.BOUNDARY_GUARD of the longest whose next edge is
+    bound. The firmware tripped at 4 intervals, right by the physics, and the PIL, taking
+    the cause at the counter's wrap, had reported "MOE was never cleared"; the hardest
+    braking run had started the rotor at 90 382 rpm, over its speed_max of 90 000, and
+    failed on the OVER_SPEED it rightly latched (a helper's hunt, `init` of a spindle).
+    Both judged by the physics now, and a trip before its cause is named as such."""
+    path = ROOT / "tests" / "fixtures" / "pil" / "ir_spindle_1pp_90k.yaml"
+    spec = load_spec(str(path))
+    generated = generate(path, tmp_path / "generated")
+    elf = build_firmware(path, tmp_path, generated)
+    fault = next(f for f in PLANT_FAULTS if f.key == "rotor_stops")
+    outcome = run_plant_fault(elf, generated / "c" / "stm32f103_port.c", spec, fault)
+    assert outcome.problems == [], (outcome.problems, outcome.note)
+    assert "either time-out is right" in outcome.note, outcome.note
+    assert outcome.latency_ticks is not None and outcome.limit_ticks is not None
+    assert outcome.limit_ticks < 2 * TICK_HZ // 1000  # 4 intervals, not the counter's 10.9 ms
+    hardest = next(s for s in SCENARIOS if s.key == "hardest_braking")
+    braked = run_scenario(elf, spec, hardest)
+    assert braked.problems == [], (braked.problems, braked.note)
+    early = replace(outcome, latency_ticks=None, early_ticks=5)
+    assert "MOE cleared 5 ticks before the cause" in early.problems

@@ -72,13 +72,16 @@ def latest_next_edge_s(spec: Spec, interval_s: float) -> float | None:
     return min(real) if real else None
 
 
-def timeout_bound_s(spec: Spec, interval_s: float) -> float | None:
+def timeout_bound_s(
+    spec: Spec, interval_s: float, *, guard: float = BOUNDARY_GUARD
+) -> float | None:
     """Where the PIL requires the time-out of TIMEOUT_INTERVALS intervals (s after the
     last edge); None where it accepts the counter's wrap (the rotor may stop within the
-    sector, or the bound is within BOUNDARY_GUARD of the requirement)."""
-    latest = latest_next_edge_s(spec, interval_s * (1 + BOUNDARY_GUARD))
+    sector, or the bound is within `guard` of the requirement; 0: where the time-out
+    of TIMEOUT_INTERVALS is right at all)."""
+    latest = latest_next_edge_s(spec, interval_s * (1 + guard))
     limit = TIMEOUT_INTERVALS * interval_s
-    if latest is None or latest > limit * (1 - BOUNDARY_GUARD):
+    if latest is None or latest > limit * (1 - guard):
         return None
     return limit
 
@@ -138,6 +141,28 @@ def hardest_braking(spec: Spec) -> tuple[float, float] | None:
         interval = low
         following = latest_next_edge_s(spec, interval)
         assert following is not None
+    # The rotor enters the braked sector at speed_into(interval), which under a hard
+    # braking is well above the sector's mean: kept OVER_SPEED_INSIDE below
+    # controller.speed_max (a 1-pole-pair spindle braking at 2.1e7 rad/s^2 had been
+    # started at 90 382 rpm, over its 90 000, and tripped OVER_SPEED: a helper's hunt).
+    # speed_into(t) <= w_max exactly for t in [t1, t2], the roots of
+    # alpha t^2 / 2 - w_max t + shortest; shorter intervals than the one chosen stay
+    # bounded (the rotor only leaves its sector faster).
+    alpha = deceleration(spec)
+    shortest, _ = _sectors(spec)
+    w_max = float(spec.controller.speed_max_rpm) * (1 - OVER_SPEED_INSIDE) * 2 * math.pi / 60
+    discriminant = w_max**2 - 2 * alpha * shortest
+    if discriminant < 0:
+        return None
+    t1 = (w_max - math.sqrt(discriminant)) / alpha
+    t2 = (w_max + math.sqrt(discriminant)) / alpha
+    if interval > t2:
+        interval = t2
+        following = latest_next_edge_s(spec, interval)
+        if following is None or following > room:
+            return None
+    if interval < t1:
+        return None
     return interval, following
 
 

@@ -220,6 +220,18 @@ def _rotor_stops(loop: BrakingLoop) -> Outcome:
             window.limit,
             f"the rotor is blocked after a Hall edge; {window.note}",
         )
+    band = timeout_window(loop.run, last_edge, last_edge - previous, guard=0.0)
+    if band is not None:  # near the bound's end either time-out is right (_rotor_stops)
+        _until_tripped(loop, band.cause + band.limit - loop.machine.now + period)
+        if not loop.machine.tim1.moe:
+            return loop.run.outcome(
+                "rotor stops (motor in the loop)",
+                "HALL_TIMEOUT",
+                band.cause,
+                band.limit,
+                "the rotor is blocked after a Hall edge, near the slowest speed whose next"
+                f" edge is bound (either time-out is right); {band.note}",
+            )
     wrap, shortened = shorten_quiet_wait(loop.machine, counter_range_end(loop.machine, last_edge))
     _until_tripped(loop, wrap - loop.machine.now + 2 * period)
     return loop.run.outcome(

@@ -72,6 +72,7 @@ from codegen.port_faults import FAULTS
 from codegen.spec_model import Spec
 from emulation.pil.bus import PilError, svd_interrupt
 from emulation.pil.hall_timeout import (
+    BOUNDARY_GUARD,
     TIMEOUT_INTERVALS,
     deceleration,
     hardest_braking,
@@ -139,6 +140,9 @@ class Outcome:
     published_ticks: int | None = None  # MOE cleared to app_faults set by main
     #: the current samples the loop closed on whose sampling window was checked
     samples_checked: int = 0
+    #: MOE cleared this long before the cause (the latency is None then): a trip too
+    #: early, which had been reported as "MOE was never cleared"
+    early_ticks: int | None = None
 
     @property
     def fault_names(self) -> list[str]:
@@ -157,7 +161,9 @@ class Outcome:
         if self.faults != wanted:
             out.append(f"faults {self.fault_names or ['none']}, expected {self.expected or 'none'}")
         if self.limit_ticks is not None:
-            if self.latency_ticks is None:
+            if self.latency_ticks is None and self.early_ticks is not None:
+                out.append(f"MOE cleared {self.early_ticks} ticks before the cause")
+            elif self.latency_ticks is None:
                 out.append("MOE was never cleared")
             elif not 0 <= self.latency_ticks <= self.limit_ticks:
                 out.append(f"latency {self.latency_ticks} ticks > {self.limit_ticks}")
@@ -477,9 +483,11 @@ class Run:
         violations = self.violations + [str(v) for v in gate_violations(log, dead)[:10]]
         violations += sample_window_lines(self.samples.violations(log))
         cleared = machine.tim1.moe_cleared_at
-        latency = None
+        latency = early = None
         if cleared is not None and cause is not None and cleared >= cause:
             latency = cleared - cause
+        elif cleared is not None and cause is not None:
+            early = cause - cleared
         # from the last refresh before the run (or the run's start) to now: a firmware that
         # stops refreshing shows a gap up to now, not none
         before = [t for t in machine.iwdg.refresh_log if t < self.start]
@@ -505,6 +513,7 @@ class Run:
             note=note,
             published_ticks=self.published_after,
             samples_checked=len(self.samples.used),
+            early_ticks=early,
         )
 
 
@@ -1195,12 +1204,14 @@ class TimeoutWindow:
     note: str
 
 
-def timeout_window(run: Run, last_edge: int, interval: int) -> TimeoutWindow | None:
+def timeout_window(
+    run: Run, last_edge: int, interval: int, *, guard: float = BOUNDARY_GUARD
+) -> TimeoutWindow | None:
     """Where a turning rotor is bound to make its next edge within TIMEOUT_INTERVALS of
     its last `interval` (ticks; the yardstick, `hall_timeout.timeout_bound_s`): the trip
     after the latest such edge and by then + one PWM period. None where the counter's
     range is the time-out (the rotor may stop within the sector)."""
-    bound = timeout_bound_s(run.spec, interval / TICK_HZ)
+    bound = timeout_bound_s(run.spec, interval / TICK_HZ, guard=guard)
     if bound is None:
         return None
     earliest = latest_next_edge_s(run.spec, interval / TICK_HZ)
@@ -1251,6 +1262,24 @@ def _rotor_stops(run: Run) -> Outcome:
             "the Hall code stops changing while the bridge switches, the rotor at"
             f" {run.rpm:.0f} rpm; {window.note}",
         )
+    band = timeout_window(run, last_edge, sector, guard=0.0)
+    if band is not None:
+        # within BOUNDARY_GUARD of the speed where the bound stops holding: the time-out
+        # of TIMEOUT_INTERVALS is right too, if it comes after a turning rotor's latest
+        # edge (a 1-pole-pair spindle at 82 800 rpm had tripped there and been reported
+        # as never tripping: its cause was taken at the wrap; a helper's hunt)
+        run.run_until_tripped(band.cause + band.limit - run.machine.now + period)
+        if not run.machine.tim1.moe:
+            _check_timeout_source(run, band.cause)
+            return run.outcome(
+                "rotor stops",
+                "HALL_TIMEOUT",
+                band.cause,
+                band.limit,
+                "the Hall code stops changing while the bridge switches, the rotor at"
+                f" {run.rpm:.0f} rpm, within {BOUNDARY_GUARD:.0%} of the slowest speed whose"
+                f" next edge is bound (either time-out is right); {band.note}",
+            )
     wrap, note = shorten_quiet_wait(run.machine, counter_range_end(run.machine, last_edge))
     run.run_until_tripped(wrap - run.machine.now + 2 * period)
     _check_timeout_source(run, wrap)
@@ -1280,9 +1309,7 @@ def _hardest_braking(run: Run) -> Outcome:
     chosen = hardest_braking(run.spec)
     if chosen is None:
         run.turn(SETTLE_SECTORS)
-        note = (
-            "no speed of the spec bounds a turning rotor's next edge: braking at the default speed"
-        )
+        note = "no speed of the spec's range bounds a turning rotor's next edge (or its rotor enters the braked sector over speed_max): braking at the default speed"
     else:
         interval, following = chosen
         run.rpm = speed_into(run.spec, interval)
