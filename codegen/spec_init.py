@@ -904,7 +904,19 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     # top speed): the entry's limit, noted, so that the loader judges the physics (does
     # the short circuit have to hold at speed_max?) rather than the number's range
     short_max = min(short_bound, Fraction(PROTECTION_AMPS_MAX))
-    point_lines = "\n".join(f"  - {{speed: {_num(p)} rpm, main_duty: 0.42}}" for p in points)
+
+    def steady_duty(rpm: Fraction) -> str:
+        """The duty the braking-current loop settles at there, at braking_current_nominal
+        (1 - (2E - 2RI) / U_d on the nominal bus, within [0, D_max]): a fixed 0.42 had
+        been written for every motor, a duty that cannot brake a 24-pole robot joint at
+        its low point and puts a 400 V servo's conventional D_off into the fail area
+        (a helper's hunt)."""
+        duty = 1 - (2 * si["ke"] * rpm - 2 * si["r"] * i_nom) / bus
+        return f"{math.floor(float(min(max(duty, Fraction(0)), d_max)) * 1000) / 1000:.3f}"
+
+    point_lines = "\n".join(
+        f"  - {{speed: {_num(p)} rpm, main_duty: {steady_duty(p)}}}" for p in points
+    )
     sources = {f"motor.{k}": v for k, v in motor_sources.items()} | {
         "inverter.bus_voltage_nominal": bus_source,
         "inverter.bus_voltage_min": f"{derived} 0.8 x nominal"
@@ -988,7 +1000,9 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         ),
         "operating_points": (
             f"{derived} 90 % of speed_max, and 30 % or where E = 1.5 x R x"
-            " braking_current_nominal if faster; set your test speeds"
+            " braking_current_nominal if faster, each at the duty the braking-current loop"
+            " settles at there, 1 - (2E - 2RI) / U_d at braking_current_nominal on the"
+            " nominal bus; set your test speeds"
         ),
         "accuracy.current_loop_duty_counts": (
             "assumption: 1 TIM1 count for the braking-current PI"

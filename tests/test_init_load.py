@@ -85,3 +85,38 @@ def test_a_load_just_over_its_budget_should_print_above_it() -> None:
     assert _percent(38.2, 25.0) == "38"
     assert _percent(25.6, 25.0) == "26"
     assert float(_percent(25.0000001, 25.0)) > 25.0
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        # a 24-pole-pair robot joint from line-to-line data: 6.6 and 13 rpm
+        [
+            *("--pole-pairs", "24", "--ke-line-to-line", "1500 V/krpm"),
+            *("--resistance-line-to-line", "4.4 ohm", "--inductance-line-to-line", "6.2 mH"),
+            *("--bus-voltage", "24 V", "--braking-current", "1.5 A"),
+        ],
+        [],  # the defaults
+    ],
+    ids=["robot-joint-24pp", "default"],
+)
+def test_init_should_give_each_operating_point_the_loops_steady_duty(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, argv: list[str]
+) -> None:
+    """Was: main_duty 0.42 at every point of every motor: at the robot joint's 6.6 rpm a
+    duty that brakes nothing (SIMULATION.md: it would hold -0.9 A), and a 400 V servo's
+    conventional D_off in the fail area (a helper's hunt). Now the duty the braking-
+    current loop settles at, 1 - (2E - 2RI) / U_d, from the written spec's own values."""
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["init", "motor", "-o", "motor.yaml", *argv]) == 0
+    spec = load_spec(str(tmp_path / "motor.yaml"))
+    k_e = float(spec.motor.back_emf_constant_v_per_rpm)
+    r_i = float(spec.motor.phase_resistance_ohm * spec.controller.braking_current_nominal_a)
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    for point in spec.operating_points:
+        expected = 1 - (2 * k_e * float(point.speed_rpm) - 2 * r_i) / bus
+        assert 0 <= float(point.main_duty) < 1
+        assert abs(float(point.main_duty) - min(max(expected, 0.0), 1.0)) <= 1.5e-3, (
+            point,
+            expected,
+        )
