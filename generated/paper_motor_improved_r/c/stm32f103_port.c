@@ -420,6 +420,13 @@ BLDC_PORT_COLD static void port_off_for_dead_time(TIM_TypeDef *tim1, uint32_t eg
  * loop: 30.9 A, the comparator tripped, OVER_CURRENT where all-off rectifies nothing;
  * a hunt). The latest sample, not the bus state the timing uses: that one waits for
  * the bus change's gate (BLDC_PORT_BUS_MIN_PERIODS). */
+/* 1 where all-off would rectify into a bus of code `bus` at this Hall interval (T B at
+ * or below the product: codegen/control/safe_state.py). */
+static inline uint32_t port_rectifies(uint32_t period, uint32_t bus)
+{
+    return (uint32_t)((uint64_t)period * bus <= BLDC_PORT_RECTIFYING_PRODUCT);
+}
+
 static uint32_t port_idle_short(uint32_t period)
 {
     const uint32_t bus = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 */
@@ -428,7 +435,7 @@ static uint32_t port_idle_short(uint32_t period)
          * under its range is the watchdog's fault, whose path chooses its state) */
         return 0u;
     }
-    const uint32_t rectifies = (uint32_t)((uint64_t)period * bus <= BLDC_PORT_RECTIFYING_PRODUCT);
+    const uint32_t rectifies = port_rectifies(period, bus);
 #if BLDC_PORT_SHORT_VALID_PERIOD == 0u
     return rectifies; /* rated at every interval */
 #else
@@ -447,8 +454,7 @@ static inline uint32_t port_no_safe_state(uint32_t period)
     return 0u; /* the short is rated at every interval */
 #else
     const uint32_t bus = (uint16_t)ADC1->JDR4; /* JDATA: bits 15:0 */
-    const uint32_t rectifies = (uint32_t)((uint64_t)period * bus <= BLDC_PORT_RECTIFYING_PRODUCT);
-    return rectifies & (uint32_t)(period < BLDC_PORT_SHORT_VALID_PERIOD);
+    return port_rectifies(period, bus) & (uint32_t)(period < BLDC_PORT_SHORT_VALID_PERIOD);
 #endif
 }
 
