@@ -120,6 +120,17 @@ FAULTS: tuple[Fault, ...] = (
         "raised by the application",
         "always",
     ),
+    Fault(
+        "BUS_TRANSIENT",
+        12,
+        "ADC analog watchdog on the bus channel (as OVER_VOLTAGE), where no bus conversion"
+        " its interrupt can read is outside the window any more",
+        "the bus left its window for less than a conversion and was back before the"
+        " watchdog's interrupt could read the conversion that tripped it (its entry held"
+        " by the Hall edge's handler, at the same priority): a spike or a dip, its side not"
+        " seen, so neither OVER_VOLTAGE nor UNDER_VOLTAGE is claimed",
+        "the last bus sample is within the range",
+    ),
 )
 FAULT = {f.name: f.value for f in FAULTS}
 PERMANENT = sum(f.value for f in FAULTS if f.permanent)

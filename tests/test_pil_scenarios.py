@@ -415,6 +415,71 @@ def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
     ]
 
 
+def _bus_spike(run: object, start: int, width: int) -> None:
+    """The bus 10 % above its maximum for [start, start + width) ticks, nominal else."""
+    spec = run.spec  # type: ignore[attr-defined]
+    nominal = float(spec.inverter.bus_voltage_nominal_v)
+    high = 1.1 * float(spec.inverter.bus_voltage_max_v)
+    run.board.set_bus_voltage(  # type: ignore[attr-defined]
+        lambda tick: high if start <= tick < start + width else nominal
+    )
+
+
+@pytest.mark.parametrize("delay_ns", [800, 1200, 1600])
+def test_a_spike_gone_before_the_watchdogs_entry_should_latch_bus_transient(
+    tmp_path_factory: pytest.TempPathFactory, delay_ns: int
+) -> None:
+    """A 1 us over-voltage spike sampled while the Hall edge's handler runs: the ADC's
+    interrupt, at the same priority, enters after the next conversion has overwritten
+    the one that tripped, and every bus reading it can see is back in the window. It
+    had latched UNDER_VOLTAGE (a helper's hunt); now BUS_TRANSIENT alone, the safe
+    state within a PWM period, the invariants kept."""
+    from emulation.pil.bus import svd_interrupt
+    from emulation.pil.scenarios import SETTLE_SECTORS, Run
+
+    path = SPECS["paper_motor"]
+    elf = build_firmware(path, tmp_path_factory.mktemp("spike"), checked_in(path))
+    spec = load_spec(str(path))
+    run = Run(elf, spec)
+    period = run.board.pwm_period_ticks()
+    run.turn(SETTLE_SECTORS - 1)
+    seen = len(run.machine.entry_log)
+    run.edge_now()
+    hall = 16 + svd_interrupt("TIM3", "TIM3")
+    run.wait_for(
+        lambda: any(e == hall for _, e in run.machine.entry_log[seen:]),
+        TICK_HZ // 20_000_000,
+        "the Hall edge's interrupt",
+    )
+    entry = next(t for t, e in run.machine.entry_log[seen:] if e == hall)
+    cause = entry + delay_ns * TICK_HZ // 1_000_000_000
+    _bus_spike(run, cause, TICK_HZ // 1_000_000)
+    run.run_until_tripped(2 * period)
+    outcome = run.outcome("spike", "BUS_TRANSIENT", cause, period, "1 us spike")
+    assert outcome.problems == [], outcome.problems
+
+
+def test_a_spike_a_conversion_sees_should_latch_its_side(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> None:
+    """A 2 us over-voltage spike mid-sector, away from the Hall edge's handler: a
+    conversion samples it, the watchdog's entry reads it, OVER_VOLTAGE alone."""
+    from emulation.pil.scenarios import SETTLE_SECTORS, Run
+
+    path = SPECS["paper_motor"]
+    elf = build_firmware(path, tmp_path_factory.mktemp("spike_seen"), checked_in(path))
+    spec = load_spec(str(path))
+    seen_run = Run(elf, spec)
+    period = seen_run.board.pwm_period_ticks()
+    seen_run.turn(SETTLE_SECTORS - 1)
+    seen_run.into_sector(1 / 2)
+    start = seen_run.machine.now
+    _bus_spike(seen_run, start, 2 * TICK_HZ // 1_000_000)
+    seen_run.run_until_tripped(2 * period)
+    seen_outcome = seen_run.outcome("spike", "OVER_VOLTAGE", start, period, "2 us spike")
+    assert seen_outcome.problems == [], seen_outcome.problems
+
+
 @pytest.mark.heavy(seconds=12)
 def test_a_stalled_current_loop_should_reset_within_the_time_out_at_100_khz(
     tmp_path: Path,

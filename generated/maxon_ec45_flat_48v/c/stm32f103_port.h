@@ -114,6 +114,7 @@
  *   BLDC_FAULT_WATCHDOG (0x0200u): the last reset was the independent watchdog's; by start-up (RCC_CSR.IWDGRSTF); clears: always (it reports the past reset)
  *   BLDC_FAULT_ADC (0x0400u): the ADC's calibration did not finish; by start-up; clears: never: only a reset
  *   BLDC_FAULT_EXTERNAL (0x0800u): raised by the application; by bldc_port_raise_fault(); clears: always
+ *   BLDC_FAULT_BUS_TRANSIENT (0x1000u): the bus left its window for less than a conversion and was back before the watchdog's interrupt could read the conversion that tripped it (its entry held by the Hall edge's handler, at the same priority): a spike or a dip, its side not seen, so neither OVER_VOLTAGE nor UNDER_VOLTAGE is claimed; by ADC analog watchdog on the bus channel (as OVER_VOLTAGE), where no bus conversion its interrupt can read is outside the window any more; clears: the last bus sample is within the range
  *
  * The safe state (codegen/control/safe_state.py): MOE = 0 with every output of every
  * phase enabled, so TIM1 holds each at its idle level CR2.OISx / OISxN after a dead
@@ -203,6 +204,7 @@
 #define BLDC_FAULT_WATCHDOG 0x0200u /* the last reset was the independent watchdog's */
 #define BLDC_FAULT_ADC 0x0400u /* the ADC's calibration did not finish */
 #define BLDC_FAULT_EXTERNAL 0x0800u /* raised by the application */
+#define BLDC_FAULT_BUS_TRANSIENT 0x1000u /* the bus left its window for less than a conversion and was back before the watchdog's interrupt could read the conversion that tripped it (its entry held by the Hall edge's handler, at the same priority): a spike or a dip, its side not seen, so neither OVER_VOLTAGE nor UNDER_VOLTAGE is claimed */
 
 /* What a fault does now (bldc_port_safe_state()). */
 #define BLDC_SAFE_ALL_OFF 0u       /* every switch off */

@@ -1212,7 +1212,13 @@ BLDC_PORT_COLD static void port_bus_fault(uintptr_t anchor)
     uint32_t over = (uint32_t)(highest > BLDC_PORT_ADC_HTR);
     uint32_t under = (uint32_t)(lowest < BLDC_PORT_ADC_LTR);
     if (port.faults == 0u) {
-        port_trip(anchor, (over != 0u) ? BLDC_FAULT_OVER_VOLTAGE : BLDC_FAULT_UNDER_VOLTAGE);
+        /* Neither side seen: the conversion that tripped was overwritten before this
+         * entry (held by a handler at its priority), a transient shorter than a
+         * conversion; not claimed as either side (it had latched UNDER_VOLTAGE for a
+         * 1 us over-voltage spike). */
+        port_trip(anchor, (over != 0u)    ? BLDC_FAULT_OVER_VOLTAGE
+                          : (under != 0u) ? BLDC_FAULT_UNDER_VOLTAGE
+                                          : BLDC_FAULT_BUS_TRANSIENT);
     } else {
         /* Faulted: the window is narrower than the range, and the injected slots may
          * hold the sample before the bus moved (up to a PWM period old): each entry had
