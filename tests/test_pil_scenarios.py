@@ -41,6 +41,13 @@ def built(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFacto
     return elf, load_spec(str(path))
 
 
+@pytest.fixture(scope="module")
+def paper_elf(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The checked-in paper motor's firmware, linked once for the module's own tests."""
+    path = SPECS["paper_motor"]
+    return build_firmware(path, tmp_path_factory.mktemp("paper_firmware"), checked_in(path))
+
+
 @pytest.mark.parametrize("scenario", SCENARIOS, ids=[s.key for s in SCENARIOS])
 def test_each_scenario_should_latch_its_fault_in_time_and_keep_the_invariants(
     built: tuple, scenario: Scenario
@@ -373,9 +380,7 @@ def test_a_wait_for_an_instant_that_never_comes_should_end_the_scenario() -> Non
     assert 1500 <= run.machine.now < 1507
 
 
-def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
-    tmp_path_factory: pytest.TempPathFactory,
-) -> None:
+def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(paper_elf: Path) -> None:
     """While OVER_VOLTAGE is latched the safe state's region is the bus unknown's (the
     short wherever rated); after the clear it must be the bus's again. It had outlived
     the clear until the bus moved beyond the hysteresis (a helper's hunt): a later break
@@ -385,7 +390,7 @@ def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(
     from emulation.pil.scenarios import SETTLE_SECTORS, Run, bus_fall_while_faulted, clear_faults
 
     path = SPECS["paper_motor"]
-    elf = build_firmware(path, tmp_path_factory.mktemp("ov_clear"), checked_in(path))
+    elf = paper_elf
     spec = load_spec(str(path))
     run = Run(elf, spec)
     chosen = bus_fall_while_faulted(spec)
@@ -427,7 +432,7 @@ def _bus_spike(run: object, start: int, width: int) -> None:
 
 @pytest.mark.parametrize("delay_ns", [800, 1200, 1600])
 def test_a_spike_gone_before_the_watchdogs_entry_should_latch_bus_transient(
-    tmp_path_factory: pytest.TempPathFactory, delay_ns: int
+    paper_elf: Path, delay_ns: int
 ) -> None:
     """A 1 us over-voltage spike sampled while the Hall edge's handler runs: the ADC's
     interrupt, at the same priority, enters after the next conversion has overwritten
@@ -438,9 +443,8 @@ def test_a_spike_gone_before_the_watchdogs_entry_should_latch_bus_transient(
     from emulation.pil.scenarios import SETTLE_SECTORS, Run
 
     path = SPECS["paper_motor"]
-    elf = build_firmware(path, tmp_path_factory.mktemp("spike"), checked_in(path))
     spec = load_spec(str(path))
-    run = Run(elf, spec)
+    run = Run(paper_elf, spec)
     period = run.board.pwm_period_ticks()
     run.turn(SETTLE_SECTORS - 1)
     seen = len(run.machine.entry_log)
@@ -459,17 +463,14 @@ def test_a_spike_gone_before_the_watchdogs_entry_should_latch_bus_transient(
     assert outcome.problems == [], outcome.problems
 
 
-def test_a_spike_a_conversion_sees_should_latch_its_side(
-    tmp_path_factory: pytest.TempPathFactory,
-) -> None:
+def test_a_spike_a_conversion_sees_should_latch_its_side(paper_elf: Path) -> None:
     """A 2 us over-voltage spike mid-sector, away from the Hall edge's handler: a
     conversion samples it, the watchdog's entry reads it, OVER_VOLTAGE alone."""
     from emulation.pil.scenarios import SETTLE_SECTORS, Run
 
     path = SPECS["paper_motor"]
-    elf = build_firmware(path, tmp_path_factory.mktemp("spike_seen"), checked_in(path))
     spec = load_spec(str(path))
-    seen_run = Run(elf, spec)
+    seen_run = Run(paper_elf, spec)
     period = seen_run.board.pwm_period_ticks()
     seen_run.turn(SETTLE_SECTORS - 1)
     seen_run.into_sector(1 / 2)
@@ -518,7 +519,7 @@ def test_bus_adc_noise_at_100_khz_should_stay_within_the_cpu_budget(tmp_path: Pa
 
 
 def test_a_safe_state_asked_for_before_the_record_should_be_a_problem_not_a_traceback(
-    tmp_path: Path,
+    paper_elf: Path,
 ) -> None:
     """A drive faulted at boot clears MOE before a scenario begins its gate record: the
     safe-state check then asked the record for a tick before it and the report ended in
@@ -527,7 +528,7 @@ def test_a_safe_state_asked_for_before_the_record_should_be_a_problem_not_a_trac
     from emulation.pil.scenarios import Run, _gates_in_force
 
     path = SPECS["paper_motor"]
-    run = Run(build_firmware(path, tmp_path, checked_in(path)), load_spec(str(path)))
+    run = Run(paper_elf, load_spec(str(path)))
     gates = _gates_in_force(run, 1)
     assert len(gates) == 6
     assert any("before the scenario's record began" in v for v in run.violations)
