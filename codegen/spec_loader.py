@@ -542,14 +542,17 @@ def _inverter(r: _Reader, data: Mapping[str, Any]) -> Inverter | None:
         # Eq. 18's D_on = 2 - 4E/U_d reaches twice the period's counts before its clamp,
         # and the core's compare values are 16 bits: 2 P <= 65535
         if not 256 <= period_counts <= PERIOD_COUNTS_MAX or period_counts.denominator != 1:
-            lowest = timer_clock / PERIOD_COUNTS_MAX / (2 if alignment == "center" else 1)
+            halves = 2 if alignment == "center" else 1
+            lowest = timer_clock / PERIOD_COUNTS_MAX / halves
+            highest = timer_clock / 256 / halves
             r.report(
                 "inverter.pwm_frequency",
                 sec["pwm_frequency"],
                 f"gives {_g(period_counts)} TIM1 counts per period at {_g(timer_clock)} Hz"
                 f" ({alignment}); the duties reach twice the period's counts in 16-bit"
                 " compare values",
-                f"a whole number of counts in [256, {PERIOD_COUNTS_MAX}]: at least {_g(lowest)} Hz",
+                f"a whole number of counts in [256, {PERIOD_COUNTS_MAX}]: {_g(lowest)} to"
+                f" {_g(highest)} Hz at this timer_clock, dividing it into whole counts",
             )
     if dead is not None and f_pwm is not None and dead * f_pwm * 2 >= Fraction(1, 10):
         r.report(

@@ -30,7 +30,8 @@ _RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 #: Numbers as people write them that the pattern above splits into a number and a
 #: "unit" (`0,56 mH` read as 0 and the unit ',56 mH'), and what to write instead.
 _DECIMAL_COMMA = re.compile(
-    r"[ \t]*(?P<int>[-+]?[0-9][0-9.]*),(?P<frac>[0-9]+)[ \t]*(?P<unit>.*)\Z"
+    r"[ \t]*(?P<int>[-+]?[0-9][0-9.]*),(?P<frac>[0-9]+)(?P<exp>[eE][-+]?[0-9]+)?[ \t]*"
+    r"(?P<unit>.*)\Z"
 )
 _GROUPED = re.compile(r"[ \t]*[-+]?[0-9]{1,3}(?:[,' \u00a0\u2009\u202f][0-9]{3})+(?:[.,][0-9]+)?")
 _NOT_ASCII_MINUS = "\u2212\u2010\u2011\u2012\u2013\u2014\ufe63\uff0d"
@@ -42,7 +43,8 @@ def misread_number(raw: str) -> str | None:
     usual ways (decimal comma, digit groups, a typographic minus, hex); else None."""
     if match := _DECIMAL_COMMA.match(raw):
         whole, fraction = match.group("int"), match.group("frac")
-        unit = f" {match.group('unit').strip()}".rstrip()
+        exponent = match.group("exp") or ""  # 2,4e1 V: the exponent stays with the number
+        unit = f"{exponent} {match.group('unit').strip()}".rstrip()
         if "." in whole:
             return "a comma in the number: write it with a decimal point and no separators"
         if len(fraction) == 3:  # 1,000: a thousand, or one with a decimal comma

@@ -121,6 +121,8 @@ def test_a_spec_file_that_cannot_be_written_is_named_not_its_temporary_file(
     [
         # the number read as 0 and the "unit" ',56 mH'
         ("0.56 mH", "0,56 mH", "a decimal comma: write '0.56 mH'"),
+        # the exponent had gone to the unit: "write '2.4 e1 V'" (a helper's hunt)
+        ("0.56 mH", "5,6e-1 mH", "a decimal comma: write '5.6e-1 mH'"),
         ("0.56 mH", "1,000 mH", "write '1000 mH' (thousands) or '1.000 mH' (decimal comma)"),
         ("0.56 mH", "1 000 uH", "digits in groups"),
         ("0.56 mH", "0x10 uH", "a number in another base"),

@@ -470,8 +470,16 @@ BAD_SPECS = [
         # used to be refused by the fixed-point design, naming the time accuracy)
         _replace("pwm_frequency: 20 kHz", "pwm_frequency: 2 kHz"),
         "inverter.pwm_frequency",
-        ("36000 TIM1 counts", "twice the period's counts", "at least 2197.33 Hz"),
+        ("36000 TIM1 counts", "twice the period's counts", "2197.33 to 281250 Hz"),
         id="pwm-period-beyond-16-bit-duties",
+    ),
+    pytest.param(
+        # a 1 MHz timer clock leaves 50 counts at 20 kHz: the allowed range had read
+        # "at least 30.5185 Hz", which 20 kHz is (a helper's hunt); the top is the bound
+        _replace("timer_clock: 72 MHz", "timer_clock: 1 MHz"),
+        "inverter.pwm_frequency",
+        ("50 TIM1 counts", "30.5185 to 3906.25 Hz at this timer_clock"),
+        id="pwm-period-too-few-counts",
     ),
     pytest.param(
         _replace("dead_time: 500 ns", "dead_time: 3 us"),
