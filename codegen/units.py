@@ -112,9 +112,12 @@ class Dimension:
         """The scales `unit` reads as, an SI prefix (case as written) on a spelling of
         scale 1 (its letters in any case); empty where it reads as none."""
         bases = [known for known, factor in self.scales if Fraction(factor) == 1]
+        # `K` is no SI prefix, but a datasheet's `Kohm` means kilo: read as no prefix it
+        # was answered 'ohm', a factor of 1000 (a helper's hunt)
+        prefixes = {**_SI_PREFIXES, "K": _SI_PREFIXES["k"]}
         return {
             Fraction(factor)
-            for prefix, factor in _SI_PREFIXES.items()
+            for prefix, factor in prefixes.items()
             for base in bases
             if unit.startswith(prefix) and unit[len(prefix) :].lower() == base.lower()
         }

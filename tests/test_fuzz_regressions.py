@@ -397,3 +397,15 @@ def test_a_pi_no_bandwidth_fits_should_name_the_motor_values_behind_it(
     (line,) = [x for x in err if x.startswith("error: ")]
     assert "current_loop.bandwidth" in line
     assert "L/R = 5.6 s" in line and "motor.phase_resistance = 0.0001 ohm" in line, line
+
+
+def test_a_capital_k_prefix_should_not_be_answered_with_the_unprefixed_unit(
+    tmp_path: Path,
+) -> None:
+    """'1 Kohm' (a datasheet's kilo, capitalised) was answered "did you mean 'ohm'?":
+    taken, the value is 1000 times too small (a helper's hunt). A kilo the spec does not
+    take gets no suggestion; one it takes gets its spelling ('1.2 KV': 'kV')."""
+    (line,) = refusal(tmp_path, TEXT.replace("0.21 ohm", "1 Kohm"))
+    assert "unit 'Kohm'" in line and "did you mean" not in line, line
+    (line,) = refusal(tmp_path, TEXT.replace("bus_voltage_max: 30 V", "bus_voltage_max: 0.03 KV"))
+    assert "did you mean 'kV'?" in line, line

@@ -1323,8 +1323,9 @@ def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_t
     """1 pole pair at 60 000 rpm, conventional: Eq. 20 has no end for most main duties
     down to the 10 000 rpm stop speed, every commutation fills its sector and `make pil`
     measured none of 4106 edges, then said 'the full run (`make pil`) compares them at
-    the lower speeds it brakes to' of itself. The short run still says so; the full run
-    says where it stopped."""
+    the lower speeds it brakes to' of itself. The short run says so, as a check it
+    could not judge, not a failure (a 400 A improved_r motor failed its short run and
+    passed its full one, a helper's hunt); the full run fails, saying where it stopped."""
     _, result = paper_run
     reason = (
         "a carrier restart (the previous commutation's end) within the 2 whole PWM periods"
@@ -1332,7 +1333,9 @@ def test_a_full_run_whose_commutations_all_fill_their_sectors_should_not_point_t
     )
     none = replace(result, commutations=[], unmeasured={reason: 4106})
     assert result.setup.max_edges is not None
-    (short,) = braking_report.problems(none)
+    assert braking_report.problems(none) == []
+    ((check, short),) = braking_report.not_judged(none)
+    assert check == "the commutations" and "fills its sector" in short
     assert "the full run (`make pil`) compares them" in short
     stop = result.setup.stop_rpm
     full = replace(none, setup=replace(result.setup, max_edges=None), end_rpm=stop - 1)

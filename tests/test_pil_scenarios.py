@@ -614,3 +614,22 @@ def test_a_spec_preferring_the_short_should_keep_it_through_a_hall_bounce(
         assert outcome.problems == [], (key, outcome.problems, outcome.note)
         if key != "hall_rocks_early":
             assert "4950 rpm, bus 24.00 V" in outcome.note, outcome.note
+
+
+def test_a_clock_failure_at_100_khz_should_be_published_once_main_wakes(tmp_path: Path) -> None:
+    """`bldc init --pwm-frequency '100 kHz' --pwm-alignment center --method improved_r`:
+    after the clock security system's switch to the 8 MHz HSI main runs nine times
+    slower, and the wait for it to publish CLOCK, ten PWM periods at the design clock
+    (120 us), ended first: 'faults none, expected CLOCK', 44/45 scenarios (a helper's
+    hunt). The wait is now ten periods at the clock the chip runs on; the trip itself
+    was at once all along."""
+    from emulation.pil.build import generate
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "ir_centre_100k_init.yaml"
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    scenario = next(s for s in SCENARIOS if s.key == "hse_fails_running")
+    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    assert outcome.problems == [], outcome.problems
+    assert outcome.faults == FAULT["CLOCK"]
+    assert outcome.published_ticks is not None
+    assert outcome.published_ticks > 10 * round(TICK_HZ / 100_000)  # beyond the old wait

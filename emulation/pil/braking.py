@@ -587,11 +587,10 @@ class BrakingLoop:
     def _await_faults(self) -> None:
         """After a trip, up to MAIN_WAIT_PERIODS PWM periods for main to publish
         app_faults (the outcome reads them), as the fault scenarios wait."""
-        period = self.run.board.pwm_period_ticks()
         for _ in range(MAIN_WAIT_PERIODS):
             if self.run.board.symbol("app_faults"):
                 break
-            self.advance_to(self.machine.now + period)
+            self.advance_to(self.machine.now + self.run.main_wait_ticks())
 
     def advance_to(self, target: int) -> None:
         """Run the chip and the motor to `target`, the Hall pins following the rotor

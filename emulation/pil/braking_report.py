@@ -627,11 +627,9 @@ def problems(result: BrakingResult) -> list[str]:
     steady = steady_braking_check(result)
     if isinstance(steady, SteadyBraking) and not steady.steady:
         out.append(steady_braking_problem(result, steady))
-    if not result.commutations:
+    if not result.commutations and not _short_run_too_fast(result):
         why = _unmeasured_reasons(result)
-        if "fills its sector" in why and result.setup.max_edges is not None:
-            why += "; the full run (`make pil`) compares them at the lower speeds it brakes to"
-        elif "fills its sector" in why:
+        if "fills its sector" in why:
             # the speed the run ended at, not the stop speed it aimed for: a drive that
             # braked nothing (27600 -> 27572 rpm) had been said to have run down to 3000
             reached = max(result.end_rpm, result.setup.stop_rpm)
@@ -713,10 +711,30 @@ def _steady_line(result: BrakingResult) -> str:
     )
 
 
+def _short_run_too_fast(result: BrakingResult) -> bool:
+    """A short run (its first Hall edges only) that measured no commutation because each
+    filled its sector at the start speed: nothing to judge there, not a failure (it had
+    failed the run, which the full run, braking to lower speeds, passed: a 400 A
+    improved_r motor, a helper's hunt)."""
+    return (
+        not result.commutations
+        and result.setup.max_edges is not None
+        and "fills its sector" in _unmeasured_reasons(result)
+    )
+
+
 def not_judged(result: BrakingResult) -> list[tuple[str, str]]:
     """(check, why) of every check of the braking run that had nothing to judge: no
     pass, and no failure of the firmware either (the report and the console say so)."""
     out = []
+    if _short_run_too_fast(result):
+        out.append(
+            (
+                "the commutations",
+                f"none measured in the short run ({_unmeasured_reasons(result)}); the full"
+                " run (`make pil`) compares them at the lower speeds it brakes to",
+            )
+        )
     held = held_current_check(result)
     if isinstance(held, NotJudged):
         out.append(("the held braking current", held.reason))

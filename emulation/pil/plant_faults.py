@@ -94,8 +94,9 @@ def _until_tripped(loop: BrakingLoop, limit: int) -> None:
     for _ in range(MAIN_WAIT_PERIODS):
         if loop.run.board.symbol("app_faults") or tripped is None:
             break
-        loop.advance_to(machine.now + period)
-    loop.run.published_after = None if tripped is None else machine.now - tripped
+        loop.advance_to(machine.now + loop.run.main_wait_ticks())
+    published = tripped is not None and loop.run.board.symbol("app_faults") != 0
+    loop.run.published_after = machine.now - tripped if published else None
 
 
 def follow_short_circuit(loop: BrakingLoop) -> tuple[float | None, list[str]]:
