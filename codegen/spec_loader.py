@@ -97,6 +97,8 @@ WARNINGS: dict[str, str] = {
     " accuracy.commutation_time_ticks and no declared relaxation",
     "conventional-fills-sectors": "controller.method conventional above 20 R/(p L) rpm, where"
     " its commutation, L/(2R) with the loop's steady duty, fills the sector",
+    "none-fills-sectors": "controller.method none above 20 R/(p L) rpm, where its natural"
+    " commutation, L/(2R) with the loop's steady duty, fills the sector",
     "commutation-fills-sectors": "controller.method improved or improved_r with"
     " braking_current_max L p / (20 k_e) >= 1: its commutation, I L/(2E) where 4E <= U_d,"
     " lasts a whole sector at every such speed",
@@ -1265,6 +1267,21 @@ def _check_physics(r: _Reader, data: Mapping[str, Any], p: _Parts, sensing: Sens
             " 25 mH motor held 0.29 A of its 1.5 A command at some edges, its main duty"
             " swinging 0.28 to 0.97); controller.method improved ends its commutations"
             " within the sector",
+        )
+    if controller.method == "none" and controller.speed_max_rpm > filled_above:
+        r.warn(
+            "none-fills-sectors",
+            "controller.speed_max",
+            _raw(data, "controller.speed_max"),
+            f"controller.method none keeps the loop's steady duty D = 1 - (2E - 2RI)/U_d"
+            f" through the commutation, whose natural length (Eq. 20 at that duty) is"
+            f" L/(2R) = {_g(tau / 2)} s at every speed, a whole sector above about"
+            f" 20 R/(p L) = {_g(filled_above)} rpm: there the outgoing current still flows"
+            " at the next edge and the loop samples seldom, which may not hold the braking"
+            " current steady (`make pil` judges it: a 560 V 30 mH 3 ohm motor on 5 kHz"
+            " centre-aligned PWM, its commutations 73-87 % of the sector, its main duty"
+            " swinging 0.03 to 0.99, failed its braking run); controller.method improved"
+            " ends its commutations within the sector",
         )
     if controller.method in ("improved", "improved_r"):
         _warn_commutation_fills(r, data, motor, controller)

@@ -1108,3 +1108,29 @@ def test_a_nominal_bus_within_the_adcs_error_of_a_trip_should_be_refused(
     (line,) = [x for x in str(caught.value).splitlines() if "within 3 bus-ADC codes" in x]
     assert "and the ADC's +-2 LSB error) of bus_voltage_min" in line
     assert "(allowed: >= bus_voltage_min + 0.0265869 V)" in line, line
+
+
+def test_a_none_drive_whose_natural_commutations_fill_the_sectors_should_be_warned_of(
+    tmp_path: Path,
+) -> None:
+    """controller.method none keeps the loop's duty through the commutation, whose
+    natural length is Eq. 20's L/(2R) at every speed, as the conventional one: `init
+    --method none` at 560 V, 30 mH, 3 ohm on 5 kHz centre-aligned PWM had its
+    commutations fill 73-87 % of the sector and failed its braking run with no warning,
+    where the same motor with method conventional was warned (a helper's hunt). Below
+    20 R/(p L) it is not warned."""
+    text = DEFAULT_SPEC.read_text(encoding="utf-8")
+    for old, new in (
+        ("method: improved", "method: none"),
+        ("phase_inductance: 0.56 mH", "phase_inductance: 30 mH"),
+    ):
+        assert old in text, old
+        text = text.replace(old, new)
+    spec = load_spec(_write(tmp_path, text))
+    (warning,) = [w for w in spec.warnings if w.id == "none-fills-sectors"]
+    line = str(warning)
+    assert "L/(2R) = " in line and "controller.method improved ends" in line, line
+    fast = float(str(line).split("20 R/(p L) = ")[1].split(" rpm")[0])
+    assert fast < float(spec.controller.speed_max_rpm)
+    slow = text.replace("phase_inductance: 30 mH", "phase_inductance: 0.56 mH")
+    assert "none-fills-sectors" not in [w.id for w in load_spec(_write(tmp_path, slow)).warnings]
