@@ -857,7 +857,13 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
                 if improved
                 else ""
             )
-            + f", if less; {_num(BRAKING_CURRENT_MIN_A)} A at least"
+            + (
+                f", if less; {_num(BRAKING_CURRENT_MIN_A)} A at least"
+                if i_nom >= BRAKING_CURRENT_MIN_A
+                else f"; below the {_num(BRAKING_CURRENT_MIN_A)} A init sizes the current"
+                " sensing for, as the back-EMF at speed_max drives no more: raise --speed-max"
+                " or give --braking-current and your sensing's gain"
+            )
         )
     i_max = 2 * i_nom
     # the current the sensing must read and the comparator let through: braking_current_max

@@ -1365,3 +1365,28 @@ def test_init_at_its_least_top_speed_should_write_a_gain_that_resolves_the_curre
     # every current up to the trip still reads: 1.65 V of headroom
     assert spec.protection.over_current_a * adc.current_gain_v_per_a <= Fraction(165, 100)
     assert "above init's usual 500 mV/A" in dict(spec.sources)["adc.current_gain"]
+
+
+def test_init_should_say_why_its_braking_current_is_below_its_sensing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """60 pole pairs, 5 V/krpm, 5 ohm and a 3 rpm top speed: the back-EMF there drives
+    E/R = 3 mA, and init writes half of it, under the 0.1 A it sizes the current sensing
+    for. The loader then refuses braking_current_max, a value init derived, and the source
+    had said '0.1 A at least' (a helper's hunt). The source says what happened and what
+    to change; the console points to the sources."""
+    from codegen.yaml12 import read_yaml
+
+    monkeypatch.chdir(tmp_path)
+    argv = [
+        *("init", "slow", "--pole-pairs", "60", "--ke", "5 V/krpm", "--resistance", "5 ohm"),
+        *("--inductance", "50 mH", "--bus-voltage", "300 V", "--speed-max", "3 rpm"),
+    ]
+    assert cli.main(argv) == ExitCode.SPEC
+    err = capsys.readouterr().err
+    assert "does not load yet" in err and "`sources` entry says what init derived" in err
+    data, _ = read_yaml((tmp_path / "spec" / "slow.yaml").read_bytes())
+    source = data["sources"]["controller.braking_current_nominal"]
+    assert "0.1 A at least" not in source, source
+    assert "below the 0.1 A init sizes the current sensing for" in source, source
+    assert "raise --speed-max or give --braking-current" in source, source

@@ -73,7 +73,11 @@ def _init(args: argparse.Namespace) -> int:
         state = "does not load yet" if isinstance(written.error, SpecError) else "loads, but"
         if not isinstance(written.error, SpecError):
             state += " its fixed-point design does not fit"
-        print(f"init: {said(written.path)} {state}: edit the values above", file=sys.stderr)
+        print(
+            f"init: {said(written.path)} {state}: edit the values above (each one's"
+            " `sources` entry says what init derived it from)",
+            file=sys.stderr,
+        )
         return int(ExitCode.SPEC)
     for warning in written.warnings:
         print(f"warning: {warning}", file=sys.stderr)
