@@ -18,6 +18,7 @@ from emulation.pil.scenarios import (
     RECTIFYING_MARGIN,
     SCENARIOS,
     Outcome,
+    Run,
     Scenario,
     peak_line_emf_v,
     rectifying_boundary,
@@ -420,14 +421,11 @@ def test_a_cleared_over_voltage_should_give_back_the_region_of_the_bus(paper_elf
     ]
 
 
-def _bus_spike(run: object, start: int, width: int) -> None:
+def _bus_spike(run: Run, start: int, width: int) -> None:
     """The bus 10 % above its maximum for [start, start + width) ticks, nominal else."""
-    spec = run.spec  # type: ignore[attr-defined]
-    nominal = float(spec.inverter.bus_voltage_nominal_v)
-    high = 1.1 * float(spec.inverter.bus_voltage_max_v)
-    run.board.set_bus_voltage(  # type: ignore[attr-defined]
-        lambda tick: high if start <= tick < start + width else nominal
-    )
+    nominal = float(run.spec.inverter.bus_voltage_nominal_v)
+    high = 1.1 * float(run.spec.inverter.bus_voltage_max_v)
+    run.board.set_bus_voltage(lambda tick: high if start <= tick < start + width else nominal)
 
 
 @pytest.mark.parametrize("delay_ns", [800, 1200, 1600])
@@ -440,7 +438,7 @@ def test_a_spike_gone_before_the_watchdogs_entry_should_latch_bus_transient(
     had latched UNDER_VOLTAGE (a helper's hunt); now BUS_TRANSIENT alone, the safe
     state within a PWM period, the invariants kept."""
     from emulation.pil.bus import svd_interrupt
-    from emulation.pil.scenarios import SETTLE_SECTORS, Run
+    from emulation.pil.scenarios import SETTLE_SECTORS
 
     path = SPECS["paper_motor"]
     spec = load_spec(str(path))
@@ -466,7 +464,7 @@ def test_a_spike_gone_before_the_watchdogs_entry_should_latch_bus_transient(
 def test_a_spike_a_conversion_sees_should_latch_its_side(paper_elf: Path) -> None:
     """A 2 us over-voltage spike mid-sector, away from the Hall edge's handler: a
     conversion samples it, the watchdog's entry reads it, OVER_VOLTAGE alone."""
-    from emulation.pil.scenarios import SETTLE_SECTORS, Run
+    from emulation.pil.scenarios import SETTLE_SECTORS
 
     path = SPECS["paper_motor"]
     spec = load_spec(str(path))

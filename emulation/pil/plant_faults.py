@@ -36,7 +36,6 @@ from emulation.pil.rcc import TICK_HZ
 from emulation.pil.safe_state import SHORT_CIRCUIT, short_circuit_bound_a
 from emulation.pil.scenarios import (
     FAULT,
-    MAIN_WAIT_PERIODS,
     Outcome,
     counter_range_end,
     shorten_quiet_wait,
@@ -84,19 +83,8 @@ def _third_of_sector(loop: BrakingLoop) -> int:
 
 def _until_tripped(loop: BrakingLoop, limit: int) -> None:
     """Run with the motor until MOE clears or `limit` ticks pass; then until main has
-    published app_faults (up to MAIN_WAIT_PERIODS periods more), as the scenarios do."""
-    machine, period = loop.machine, loop.run.board.pwm_period_ticks()
-    end = machine.now + limit
-    while machine.tim1.moe and machine.now < end:
-        loop.advance_to(machine.now + TICK_HZ // 1_000_000)
-    loop.advance_to(machine.now + 2 * period)
-    tripped = machine.tim1.moe_cleared_at
-    for _ in range(MAIN_WAIT_PERIODS):
-        if loop.run.board.symbol("app_faults") or tripped is None:
-            break
-        loop.advance_to(machine.now + loop.run.main_wait_ticks())
-    published = tripped is not None and loop.run.board.symbol("app_faults") != 0
-    loop.run.published_after = machine.now - tripped if published else None
+    published app_faults, as the scenarios do (`Run.run_until_tripped`)."""
+    loop.run.run_until_tripped(limit, lambda ticks: loop.advance_to(loop.machine.now + ticks))
 
 
 def follow_short_circuit(loop: BrakingLoop) -> tuple[float | None, list[str]]:

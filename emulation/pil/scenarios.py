@@ -466,21 +466,24 @@ class Run:
         hclk = self.machine.rcc.hclk_hz
         return -(-self.board.pwm_period_ticks() * TICK_HZ // hclk)
 
-    def run_until_tripped(self, limit: int) -> None:
+    def run_until_tripped(self, limit: int, advance: Callable[[int], None] | None = None) -> None:
         """Run until MOE clears or `limit` ticks pass, then two PWM periods more: main
         refreshes app_faults after an interrupt, and one that came while main was past
-        that line but before its WFI waits for the next period's."""
+        that line but before its WFI waits for the next period's. `advance(ticks)` runs
+        the chip on (default: alone; the plant faults pass one that moves the motor
+        too)."""
+        step = advance or self.machine.run_for
         end = self.machine.now + limit
         while self.machine.tim1.moe and self.machine.now < end:
-            self.machine.run_for(TICK_HZ // 1_000_000)
-        self.machine.run_for(2 * self.board.pwm_period_ticks())
+            step(TICK_HZ // 1_000_000)
+        step(2 * self.board.pwm_period_ticks())
         # main's loop publishes app_faults; it runs below every handler, so give it up
         # to MAIN_WAIT_PERIODS periods (the time it took is reported)
         tripped = self.machine.tim1.moe_cleared_at
         for _ in range(MAIN_WAIT_PERIODS):
             if self.board.symbol("app_faults") or tripped is None:
                 break
-            self.machine.run_for(self.main_wait_ticks())
+            step(self.main_wait_ticks())
         published = tripped is not None and self.board.symbol("app_faults") != 0
         self.published_after = self.machine.now - tripped if published else None
 
