@@ -103,6 +103,32 @@ def test_the_regions_should_follow_the_rating_where_the_short_is_preferred() -> 
     assert required_safe_state(all_off, 0.5 * rated, bus) == ALL_OFF
 
 
+SAID_BAND = ROOT / "tests" / "fixtures" / "pil" / "pp1_95krpm_said_band.yaml"
+
+
+def test_where_no_state_is_safe_at_every_speed_the_reading_allows_either_is_accepted() -> None:
+    """`init` with 1 pole pair at 95 000 rpm (a hunt): at 1.25 x speed_max on the nominal
+    bus all-off rectifies nothing at the rotor's speed but would at the speed the port
+    may read (Corner.said above it), and the short exceeds its rating at the rotor's
+    own. The check had required all-off, which the port cannot tell from the short's
+    side of the reading. Either is accepted there, and nowhere else around it: above
+    the rectifying speed the short is over its rating (either, no state safe), below
+    the band all-off (the spec's preference)."""
+    spec = load_spec(str(SAID_BAND))
+    said = corner(spec).said
+    bus = float(spec.inverter.bus_voltage_nominal_v)
+    rating = float(spec.protection.short_circuit_current_max_a)
+    rpm = 1.25 * float(spec.controller.speed_max_rpm)
+    assert peak_line_emf_v(spec, rpm) < bus <= peak_line_emf_v(spec, said * rpm)
+    assert short_circuit_bound_a(spec, rpm, worst=True) > rating * (1 + RATING_BAND)
+    assert required_safe_state(spec, rpm, bus) is None
+    # no state is known at the port: the physics alone, all-off rectifies nothing
+    assert required_safe_state(spec, rpm, bus, inputs_known=False) == ALL_OFF
+    # below the band (all-off rectifies at neither speed): the spec's all-off
+    below = 0.98 * bus / (said * peak_line_emf_v(spec, 1.0))
+    assert required_safe_state(spec, below, bus) == ALL_OFF
+
+
 @pytest.mark.parametrize(("path", "reachable"), [(SHORT_RATED, True), (PAPER, False), (HUB, False)])
 def test_the_rating_boundary_should_lie_inside_the_speed_range_below_rectifying(
     path: Path, reachable: bool

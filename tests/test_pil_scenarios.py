@@ -631,3 +631,23 @@ def test_a_clock_failure_at_100_khz_should_be_published_once_main_wakes(tmp_path
     assert outcome.faults == FAULT["CLOCK"]
     assert outcome.published_ticks is not None
     assert outcome.published_ticks > 10 * round(TICK_HZ / 100_000)  # beyond the old wait
+
+
+def test_a_clear_over_speed_where_no_state_is_safe_at_every_read_speed_should_pass(
+    tmp_path: Path,
+) -> None:
+    """`init m --pole-pairs 1 --kv 5000 --resistance '0.05 ohm' --inductance '10 uH'
+    --bus-voltage '24 V' --speed-max '95000 rpm' --pwm-frequency '30 kHz'` (a helper's
+    hunt): after the refused clear at 1.25 x speed_max the port holds the short, 247 A
+    on a 240 A rating, where all-off rectifies at the speed the port may read the rotor
+    at (5 % sector shortening) and not at the rotor's. The check had required all-off;
+    no state is safe at every speed the reading allows, so either is accepted. The
+    over-speed trip, the refusal and the kept safe state are still required."""
+    from emulation.pil.build import generate
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "pp1_95krpm_said_band.yaml"
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    scenario = next(s for s in SCENARIOS if s.key == "clear_over_speed")
+    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    assert outcome.problems == [], outcome.problems
+    assert outcome.faults == FAULT["OVER_SPEED"]

@@ -175,6 +175,11 @@ def required_safe_state(
     rating (either is accepted), where no state is safe (all-off rectifies and the short
     exceeds its rating: a bus below the spec's range), and where the port, reading the
     speed up to `Corner.said` above the rotor's, may take the other side of a boundary.
+    That includes all-off rectifying at the faster speed and not at the rotor's while the
+    short exceeds its rating at the rotor's: no state is safe at every speed the reading
+    allows (a hunt: a 1-pole-pair 95 000 rpm init motor at 1.25 x its top speed, on its
+    nominal bus, held the short, 247 A on 240 A, where all-off rectifies from 1.05 x
+    that speed; the check had required all-off).
     Where the port cannot know the speed or the bus (`inputs_known` False: no Hall
     interval yet, or the bus ADC stuck), only the physics: the preference decides
     nothing, so either state that is safe at `rpm` and `bus_v` is."""
@@ -183,8 +188,12 @@ def required_safe_state(
     over = bound > rating * (1 + RATING_BAND)
     if worst_line_emf_v(spec, rpm) >= bus_v:
         return None if over else SHORT_CIRCUIT
-    if said_line_emf_v(spec, rpm) >= bus_v and not over and inputs_known:
-        return None  # the port may read the rotor as where all-off rectifies: the short
+    if said_line_emf_v(spec, rpm) >= bus_v and inputs_known:
+        # the port may read the rotor as where all-off rectifies: the short (rated), or,
+        # the short beyond its rating at the rotor's speed, no state safe at every speed
+        # the rotor may have at the interval it reads (the short over its rating at the
+        # slowest, all-off rectifying at the fastest): either
+        return None
     if inputs_known and spec.protection.safe_state == "all_off":
         return ALL_OFF
     if over:
