@@ -25,7 +25,7 @@ from sim.circuit import LegVoltages, Topology, balanced, resolve, threshold_cros
 from sim.drive import Drive
 from sim.emf import BackEmf
 from sim.schedule import Schedule
-from sim.trace import Event, Trace, TraceBuilder
+from sim.trace import Event, Trace, TraceBuilder, events_at
 
 _STATES = 7  # i_a, i_b, i_c, int i_a, int i_b, int i_c, int sum e i
 _TIME_TOLERANCE = 1e-10  # s, zero-crossing location
@@ -142,9 +142,10 @@ def _run_piece(
         builder.accumulate(period, horizon, new[3:6], float(new[6]))
         t += horizon
         # A floating phase's current is exactly zero, not the integrator's 1e-50.
+        carried = currents
         currents = balanced(np.where(topology.conducting, new[:3], 0.0))
         if event is not None:
-            builder.events.append(Event(t, event.kind, event.phase))
+            builder.events += events_at(t, event, carried.tolist(), currents.tolist())
         builder.point(t, currents)
     return currents
 

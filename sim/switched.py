@@ -31,7 +31,7 @@ from sim.circuit import (
 from sim.drive import Drive
 from sim.emf import BackEmf
 from sim.schedule import Schedule
-from sim.trace import Event, Trace, TraceBuilder, Transition
+from sim.trace import Event, Trace, TraceBuilder, Transition, events_at
 
 #: Gauss-Legendre nodes and weights on [0, 1], exact for the period averages up to
 #: terms of order (a h)^6 with h at most one PWM period.
@@ -138,11 +138,12 @@ def run_piece(
         charge, energy = _quadrature(decay, i, local_c0, c1, e0, e1, t, step)
         builder.accumulate(period, step, charge, energy)
         t += step
-        if event is not None:
-            if event.kind == "zero":
-                new[event.phase] = 0.0
-            builder.events.append(Event(t, event.kind, event.phase))
+        if event is not None and event.kind == "zero":
+            new[event.phase] = 0.0
+        carried = i
         i = balanced_floats(new)
+        if event is not None:
+            builder.events += events_at(t, event, carried, i)
         currents = np.array(i)
         builder.point(t, currents)
     return currents

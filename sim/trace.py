@@ -23,6 +23,26 @@ class Event:
     phase: int
 
 
+def events_at(
+    time: float, event: Event, carried: Sequence[float], left: Sequence[float]
+) -> list[Event]:
+    """`event` at `time`, and where it is a zero, one more for each other phase whose
+    current went to zero with it (`carried` the currents at the start of the step that
+    ends at the event, `left` after it and the balance): in a star winding the last two
+    conducting phases reach zero together, the lone phase left cannot carry current.
+    Recorded for the first only, a turn-off current that died with the non-commutating
+    one had no zero (a measured EMF with a negative lobe: the two runs of one commutation tied
+    which phase's zero came first, and their windows were 26 and 43 periods)."""
+    events = [Event(time, event.kind, event.phase)]
+    if event.kind == "zero":
+        events += [
+            Event(time, "zero", k)
+            for k in range(3)
+            if k != event.phase and carried[k] != 0.0 and left[k] == 0.0
+        ]
+    return events
+
+
 @dataclass(frozen=True)
 class Transition:
     time: float

@@ -185,3 +185,55 @@ def test_an_emf_lead_should_shift_the_waveform_and_its_corners_in_time() -> None
     )
     e0, e1 = ahead.affine(0.0, 1e-5)
     assert np.allclose(e0 + e1 * 5e-6, plain.values(5e-6 + lead), atol=1e-9)
+
+
+class _Emf:
+    """Constant phase EMFs (V): the one piece `run_piece` asks for."""
+
+    def __init__(self, values: tuple[float, float, float]) -> None:
+        self._values = np.array(values)
+
+    def affine(self, _t0: float, _t1: float) -> tuple[np.ndarray, np.ndarray]:
+        return self._values, np.zeros(3)
+
+
+class _Schedule:
+    def period_index(self, _t: float) -> int:
+        return 0
+
+
+class _Recorder:
+    def __init__(self) -> None:
+        self.events: list = []
+
+    def accumulate(self, *_args: object) -> None:
+        pass
+
+    def point(self, *_args: object) -> None:
+        pass
+
+
+@pytest.mark.parametrize("model", ["switched", "averaged"])
+def test_two_phases_whose_current_dies_should_both_record_its_zero(
+    drive: Drive, model: str
+) -> None:
+    """Two phases carrying one current through the diodes (every switch off) into the
+    bus: it decays to zero in both at the same instant. Only the phase found first had
+    its zero recorded, the other set to zero by the balance, silently; a turn-off
+    current that died with the non-commutating one so had no zero, and the PIL and SIL
+    runs of one commutation (a measured EMF with a negative lobe: a hunt) tied the
+    other way round, windows of 26 and 43 PWM periods. Each phase now records it."""
+    from sim import averaged, switched
+
+    legs = LegVoltages.from_duties((0.0,) * 6, drive.bus_voltage_v)
+    for order in ((2.0, -2.0, 0.0), (0.0, 2.0, -2.0), (-2.0, 0.0, 2.0)):
+        recorder = _Recorder()
+        run_piece = switched.run_piece if model == "switched" else averaged._run_piece
+        left = run_piece(
+            drive, _Emf((0.0, 0.0, 0.0)), _Schedule(), legs, 0.0, 0.01, np.array(order), recorder
+        )
+        assert list(left) == [0.0, 0.0, 0.0]
+        zeros = [e for e in recorder.events if e.kind == "zero"]
+        carried = [k for k in range(3) if order[k] != 0.0]
+        assert sorted(e.phase for e in zeros) == carried, (model, order, zeros)
+        assert zeros[0].time == zeros[1].time > 0.0
