@@ -1015,8 +1015,20 @@ def check_drive(
     n_rect = rectifying_speed(
         inverter.bus_voltage_min_v, corner.k_e * corner.speed_factor, motor.back_emf_shape
     )
+    # Preferring the short, the port takes it only where it is rated for the fastest
+    # the rotor may run at the interval it reads (c x the speed it says), all-off
+    # elsewhere: read at speed_max, that is c x speed_max. Rated at speed_max alone
+    # (init's rating, the bound there rounded up, with safe_state edited to the short),
+    # the short was unrated from speed_max / c up, where all-off may rectify, and the
+    # port chose all-off there, rectifying (a helper's hunt: 2 pole pairs, 48 V, 698 A,
+    # 7 PIL scenarios at 18 058 rpm). Preferring all-off, the port takes the short
+    # wherever all-off may rectify when it is rated up to speed_max (`short_while_unknown`
+    # in codegen/control/safe_state.py): speed_max is the bound there.
     if controller.speed_max_rpm >= n_rect:
-        peak = short_peak(controller.speed_max_rpm)
+        fastest = controller.speed_max_rpm * (
+            corner.speed_factor if protection.safe_state == "short_circuit" else 1
+        )
+        peak = short_peak(fastest)
         if peak > protection.short_circuit_current_max_a:
             r.report(
                 "protection.short_circuit_current_max",
@@ -1024,16 +1036,25 @@ def check_drive(
                 f"above {float(n_rect):.1f} rpm (U_d/(lambda k_e c) at bus_voltage_min, k_e"
                 " at its upper tolerance, c = 1/(1 - hall.sector_shortening)) all-off may"
                 " rectify into the bus, so the safe state there is the short circuit, whose"
-                f" peak current at speed_max is up to {peak:.1f} A (2 x the steady peak +"
-                " over_current, R and L at their lower tolerances): no safe state exists at"
-                " the top of the speed range",
+                f" peak current at c x speed_max = {float(fastest):.1f} rpm (the rotor at"
+                " speed_max may run up to c faster than its Hall interval says) is up to"
+                f" {peak:.1f} A (2 x the steady peak + over_current, R and L at their lower"
+                " tolerances): no safe state exists at the top of the speed range",
                 # a rating the key cannot name is no way out: only the speed is
                 (
                     f">= {math.ceil(peak)} A, or a controller.speed_max below"
                     if math.ceil(peak) <= PROTECTION_AMPS_MAX
                     else f"<= {PROTECTION_AMPS_MAX} A, with a controller.speed_max below"
                 )
-                + f" {float(n_rect):.1f} rpm, where all-off never rectifies",
+                + f" {float(n_rect):.1f} rpm, where all-off never rectifies"
+                + (
+                    ", or protection.safe_state all_off (the short wherever all-off may"
+                    " rectify: rated up to speed_max, it is valid there)"
+                    if fastest != controller.speed_max_rpm
+                    and short_peak(controller.speed_max_rpm)
+                    <= protection.short_circuit_current_max_a
+                    else ""
+                ),
             )
     # The short circuit preferred, but within its rating at no speed of the range: the
     # firmware applies it nowhere there (all-off throughout, which the check above

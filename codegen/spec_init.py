@@ -905,7 +905,11 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
     headroom_mv = _round_down(Fraction(1650) / over_current, 1)
     resolving_mv = _round_up(CURRENT_RANGE_CODES * Fraction(5, 4) * 3300 / (4096 * i_max), 1)
     gain_mv = max(Fraction(1, 10), min(max(Fraction(500), resolving_mv), headroom_mv))
-    short_bound = _round_up(Fraction(math.ceil(_short_peak(n_max, si, over_current))), 1)
+    # at the fastest a rotor read at speed_max may run (the loader's and the port's c x
+    # speed_max, c = 1/(1 - sector_shortening)): at speed_max alone the short was unrated
+    # at the top of the range, where all-off may rectify (a helper's hunt)
+    fastest = n_max * said_speed_factor(Fraction(SECTOR_SHORTENING_DEFAULT_PERCENT, 100))
+    short_bound = _round_up(Fraction(math.ceil(_short_peak(fastest, si, over_current))), 1)
     # a bound past what a protection entry may name (a tiny, stiff motor's E/R at the
     # top speed): the entry's limit, noted, so that the loader judges the physics (does
     # the short circuit have to hold at speed_max?) rather than the number's range
@@ -1029,10 +1033,12 @@ def render_spec(name: str, sheet: Datasheet, targets: Targets = Targets()) -> st
         ),
         "protection.break_input": "assumption: open-drain comparator output, low on over-current",
         "protection.short_circuit_current_max": (
-            f"{derived} the short-circuit bound at speed_max, rounded up; set your bridge's"
+            f"{derived} the short-circuit bound at speed_max / (1 - hall.sector_shortening),"
+            " rounded up (the fastest a rotor read at speed_max may run); set your bridge's"
             " pulsed rating"
             if short_max == short_bound
-            else f"{derived} the short-circuit bound at speed_max is {_num(short_bound)} A,"
+            else f"{derived} the short-circuit bound at speed_max / (1 - hall.sector_shortening)"
+            f" is {_num(short_bound)} A,"
             f" beyond the {PROTECTION_AMPS_MAX} A a spec may name: written as that; set your"
             " bridge's pulsed rating"
         ),

@@ -1134,3 +1134,29 @@ def test_a_none_drive_whose_natural_commutations_fill_the_sectors_should_be_warn
     assert fast < float(spec.controller.speed_max_rpm)
     slow = text.replace("phase_inductance: 30 mH", "phase_inductance: 0.56 mH")
     assert "none-fills-sectors" not in [w.id for w in load_spec(_write(tmp_path, slow)).warnings]
+
+
+def test_a_preferred_short_should_be_rated_where_a_rotor_read_at_speed_max_may_run(
+    tmp_path: Path,
+) -> None:
+    """Preferring the short, the port takes it only where it is rated for the fastest a
+    rotor may run at the interval it reads, c = 1/(1 - sector_shortening) above what it
+    says; rated at speed_max alone (init's rating, 698 A, safe_state edited to the
+    short), it got all-off from speed_max / c up, where all-off may rectify (a helper's
+    hunt: 7 PIL scenarios at 18 058 rpm). The loader asks for the bound at c x
+    speed_max, naming both ways out; the same spec preferring all-off loads (the port
+    takes the short wherever all-off may rectify, rated up to speed_max)."""
+    path = ROOT / "tests" / "fixtures" / "refused" / "drone_short_preferred_rated_at_speed_max.yaml"
+    with pytest.raises(SpecError) as caught:
+        load_spec(path)
+    message = str(caught.value)
+    assert "protection.short_circuit_current_max = '698 A'" in message, message
+    assert "c x speed_max = 19200.0 rpm" in message, message
+    assert "allowed: >= 705 A" in message and "protection.safe_state all_off" in message
+    text = path.read_text().replace("safe_state: short_circuit", "safe_state: all_off")
+    preferring_off = tmp_path / "off.yaml"
+    preferring_off.write_text(text)
+    assert load_spec(preferring_off).protection.safe_state == "all_off"
+    rated = tmp_path / "rated.yaml"
+    rated.write_text(path.read_text().replace("current_max: 698 A", "current_max: 705 A"))
+    assert load_spec(rated).protection.short_circuit_current_max_a == 705
