@@ -651,3 +651,21 @@ def test_a_clear_over_speed_where_no_state_is_safe_at_every_read_speed_should_pa
     outcome = run_scenario(elf, load_spec(str(path)), scenario)
     assert outcome.problems == [], outcome.problems
     assert outcome.faults == FAULT["OVER_SPEED"]
+
+
+def test_a_clock_failure_at_60_khz_should_complete_the_short_within_a_period(
+    tmp_path: Path,
+) -> None:
+    """`init` at 60 kHz centre-aligned, safe_state edited to the short (a helper's hunt):
+    the clock failure's break clears MOE in hardware, and the break interrupt completed
+    the short after the NMI, both on the 8 MHz HSI, more than a 16.7 us PWM period after
+    the failure: one lower switch on alone ('no safe state'). The NMI's call now enables
+    every output itself, first."""
+    from emulation.pil.build import generate
+
+    path = ROOT / "tests" / "fixtures" / "pil" / "drone_60k_short_preferred.yaml"
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    scenario = next(s for s in SCENARIOS if s.key == "hse_fails_running")
+    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    assert outcome.problems == [], outcome.problems
+    assert outcome.faults == FAULT["CLOCK"]

@@ -1819,8 +1819,18 @@ void bldc_port_emergency_off(void)
 
 void bldc_port_clock_failure(void)
 {
-    /* The NMI may have interrupted a Hall edge half way: the software break clears MOE
-     * now, and the break interrupt completes the safe state after it. */
+    /* The clock failure's break has cleared MOE in hardware (RM0008 7.2.7): the enabled
+     * outputs are at their idle levels. Every output enabled here, first, so the idle
+     * levels hold for all three phases: the CPU now runs on the 8 MHz HSI, and the break
+     * interrupt's completion after this handler had come more than a PWM period after
+     * the failure at 60 kHz (one lower switch on alone; a helper's hunt). The NMI may
+     * have interrupted a Hall edge half way, whose pattern would then follow this: the
+     * software break clears MOE again, and the break interrupt, after that edge,
+     * completes the safe state and latches CLOCK. */
+    TIM_TypeDef *const tim1 = TIM1;
+    tim1->BDTR = BLDC_PORT_TIM1_BDTR; /* MOE = 0 */
+    tim1->CCER = BLDC_PORT_CCER_SAFE;
+    tim1->EGR = TIM_EGR_COMG; /* load it */
     port_request_trip(BLDC_FAULT_CLOCK);
 }
 
