@@ -46,12 +46,18 @@ def test_a_failed_step_should_report_why_not_the_specs_warnings() -> None:
     """A spec that loads with a warning (a large PWM ripple) and whose image is over its
     RAM budget: `firmware` warns on stderr and reports the budget on stdout. The error
     names the budget; the warning is not the reason (make pil once printed only it)."""
+    from codegen.build_firmware import Budget, budget_hint
     from emulation.pil.build import ToolError
 
     warning = "warning: spec/m.yaml:18: motor.phase_inductance = '0.05 mH': ripple"
-    stdout = "firmware: build/m/firmware.elf\n  RAM (variables, worst stack): 532 B of 512 B (EXCEEDED)\n"
+    budget = Budget("RAM (variables, worst stack)", 532, 512)
+    hint = budget_hint(budget, "improved_r")
+    assert hint is not None
+    stdout = f"firmware: build/m/firmware.elf\n  {budget.line()}\n  {hint}\n"
     error = ToolError("firmware spec/m.yaml", 1, warning + "\n", stdout)
-    assert error.lines == ["RAM (variables, worst stack): 532 B of 512 B (EXCEEDED)"]
+    # the budget and the key to change (the budget alone named none: a helper's hunt)
+    assert error.lines == ["RAM (variables, worst stack): 532 B of 512 B (EXCEEDED)", hint]
+    assert hint.startswith("firmware.ram_budget = 512 B") and "640 B" in hint
     assert error.returncode == 1
     failed = ToolError("generate spec/m.yaml", 3, f"{warning}\nerror: no design meets\n", "")
     assert failed.lines == ["error: no design meets"]

@@ -39,7 +39,11 @@ class ToolError(RuntimeError):
         ]
         if not self.lines:  # `firmware` reports an exceeded budget on stdout
             said = [line.strip() for line in stdout.strip().splitlines() if line.strip()]
-            self.lines = [line for line in said if "EXCEEDED" in line] or said[-1:]
+            # the exceeded budget, and the hint naming its spec key (`budget_hint`): the
+            # budget's line alone named no key (a helper's hunt: "RAM ... 584 B of 512 B")
+            self.lines = [
+                line for line in said if "EXCEEDED" in line or line.startswith("firmware.")
+            ] or said[-1:]
         super().__init__(f"bldc-codegen {step}: {' / '.join(self.lines) or 'no output'}")
 
 

@@ -43,7 +43,9 @@ class ImprovedR:
             raise FixedPointError(
                 f"motor.back_emf_shape = {spec.motor.back_emf_shape.describe()!r}: {exc};"
                 " the improved_r firmware holds the EMF affine over the commutation sector"
-                " (allowed: 'flat' or '120 deg')",
+                " (allowed: 'flat', '120 deg', or a table with no corner inside the"
+                " commutation sector and whole EMFs at the edge, as the 120 deg trapezoid's"
+                " [[0, 0], [30, 1], [150, 1], [180, 0]])",
                 "motor.back_emf_shape",
             ) from None
         try:
