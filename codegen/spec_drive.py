@@ -1029,6 +1029,12 @@ def check_drive(
             corner.speed_factor if protection.safe_state == "short_circuit" else 1
         )
         peak = short_peak(fastest)
+        # preferring the short: where a rotor read at speed_max may run
+        at = (
+            "speed_max"
+            if fastest == controller.speed_max_rpm
+            else f"c x speed_max = {float(fastest):.1f} rpm"
+        )
         if peak > protection.short_circuit_current_max_a:
             r.report(
                 "protection.short_circuit_current_max",
@@ -1036,10 +1042,9 @@ def check_drive(
                 f"above {float(n_rect):.1f} rpm (U_d/(lambda k_e c) at bus_voltage_min, k_e"
                 " at its upper tolerance, c = 1/(1 - hall.sector_shortening)) all-off may"
                 " rectify into the bus, so the safe state there is the short circuit, whose"
-                f" peak current at c x speed_max = {float(fastest):.1f} rpm (the rotor at"
-                " speed_max may run up to c faster than its Hall interval says) is up to"
-                f" {peak:.1f} A (2 x the steady peak + over_current, R and L at their lower"
-                " tolerances): no safe state exists at the top of the speed range",
+                f" peak current at {at} is up to {peak:.1f} A (2 x the steady peak +"
+                " over_current, R and L at their lowest): no safe state at the top of the"
+                " speed range",
                 # a rating the key cannot name is no way out: only the speed is
                 (
                     f">= {math.ceil(peak)} A, or a controller.speed_max below"
@@ -1048,8 +1053,7 @@ def check_drive(
                 )
                 + f" {float(n_rect):.1f} rpm, where all-off never rectifies"
                 + (
-                    ", or protection.safe_state all_off (the short wherever all-off may"
-                    " rectify: rated up to speed_max, it is valid there)"
+                    ", or safe_state all_off"
                     if fastest != controller.speed_max_rpm
                     and short_peak(controller.speed_max_rpm)
                     <= protection.short_circuit_current_max_a

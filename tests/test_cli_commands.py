@@ -647,7 +647,8 @@ def test_init_should_write_a_short_circuit_rating_a_spec_can_name(
     data, _ = read_yaml((tmp_path / "spec" / "tiny.yaml").read_bytes())
     assert data["protection"]["short_circuit_current_max"] == f"{PROTECTION_AMPS_MAX} A"
     note = data["sources"]["protection.short_circuit_current_max"]
-    assert "is 212365 A, beyond the 10000 A a spec may name" in note
+    # the bound at c x speed_max, where the port rates a preferred short (c = 1/(1 - s))
+    assert "is 221547 A, beyond the 10000 A a spec may name" in note
 
 
 @pytest.mark.parametrize(("bus", "low", "high"), [("800 V", 640, 1000), ("1.25 V", 1, "1.57")])
