@@ -614,6 +614,16 @@ def test_a_spec_preferring_the_short_should_keep_it_through_a_hall_bounce(
             assert "4950 rpm, bus 24.00 V" in outcome.note, outcome.note
 
 
+def _fixture_scenario(tmp_path: Path, fixture: str, key: str) -> Outcome:
+    """Scenario `key` on the firmware of tests/fixtures/pil/`fixture`, built in
+    `tmp_path`."""
+    from emulation.pil.build import generate
+
+    path = ROOT / "tests" / "fixtures" / "pil" / fixture
+    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
+    return run_scenario(elf, load_spec(str(path)), next(s for s in SCENARIOS if s.key == key))
+
+
 def test_a_clock_failure_at_100_khz_should_be_published_once_main_wakes(tmp_path: Path) -> None:
     """`bldc init --pwm-frequency '100 kHz' --pwm-alignment center --method improved_r`:
     after the clock security system's switch to the 8 MHz HSI main runs nine times
@@ -621,12 +631,7 @@ def test_a_clock_failure_at_100_khz_should_be_published_once_main_wakes(tmp_path
     (120 us), ended first: 'faults none, expected CLOCK', 44/45 scenarios (a helper's
     hunt). The wait is now ten periods at the clock the chip runs on; the trip itself
     was at once all along."""
-    from emulation.pil.build import generate
-
-    path = ROOT / "tests" / "fixtures" / "pil" / "ir_centre_100k_init.yaml"
-    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
-    scenario = next(s for s in SCENARIOS if s.key == "hse_fails_running")
-    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    outcome = _fixture_scenario(tmp_path, "ir_centre_100k_init.yaml", "hse_fails_running")
     assert outcome.problems == [], outcome.problems
     assert outcome.faults == FAULT["CLOCK"]
     assert outcome.published_ticks is not None
@@ -643,12 +648,7 @@ def test_a_clear_over_speed_where_no_state_is_safe_at_every_read_speed_should_pa
     at (5 % sector shortening) and not at the rotor's. The check had required all-off;
     no state is safe at every speed the reading allows, so either is accepted. The
     over-speed trip, the refusal and the kept safe state are still required."""
-    from emulation.pil.build import generate
-
-    path = ROOT / "tests" / "fixtures" / "pil" / "pp1_95krpm_said_band.yaml"
-    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
-    scenario = next(s for s in SCENARIOS if s.key == "clear_over_speed")
-    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    outcome = _fixture_scenario(tmp_path, "pp1_95krpm_said_band.yaml", "clear_over_speed")
     assert outcome.problems == [], outcome.problems
     assert outcome.faults == FAULT["OVER_SPEED"]
 
@@ -661,11 +661,6 @@ def test_a_clock_failure_at_60_khz_should_complete_the_short_within_a_period(
     the short after the NMI, both on the 8 MHz HSI, more than a 16.7 us PWM period after
     the failure: one lower switch on alone ('no safe state'). The NMI's call now enables
     every output itself, first."""
-    from emulation.pil.build import generate
-
-    path = ROOT / "tests" / "fixtures" / "pil" / "drone_60k_short_preferred.yaml"
-    elf = build_firmware(path, tmp_path, generate(path, tmp_path / "generated"))
-    scenario = next(s for s in SCENARIOS if s.key == "hse_fails_running")
-    outcome = run_scenario(elf, load_spec(str(path)), scenario)
+    outcome = _fixture_scenario(tmp_path, "drone_60k_short_preferred.yaml", "hse_fails_running")
     assert outcome.problems == [], outcome.problems
     assert outcome.faults == FAULT["CLOCK"]
