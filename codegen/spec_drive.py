@@ -1025,16 +1025,11 @@ def check_drive(
     # wherever all-off may rectify when it is rated up to speed_max (`short_while_unknown`
     # in codegen/control/safe_state.py): speed_max is the bound there.
     if controller.speed_max_rpm >= n_rect:
-        fastest = controller.speed_max_rpm * (
-            corner.speed_factor if protection.safe_state == "short_circuit" else 1
-        )
-        peak = short_peak(fastest)
+        short_preferred = protection.safe_state == "short_circuit"
         # preferring the short: where a rotor read at speed_max may run
-        at = (
-            "speed_max"
-            if fastest == controller.speed_max_rpm
-            else f"c x speed_max = {float(fastest):.1f} rpm"
-        )
+        fastest = controller.speed_max_rpm * (corner.speed_factor if short_preferred else 1)
+        peak = short_peak(fastest)
+        at = f"c x speed_max = {float(fastest):.1f} rpm" if short_preferred else "speed_max"
         if peak > protection.short_circuit_current_max_a:
             r.report(
                 "protection.short_circuit_current_max",
@@ -1054,7 +1049,7 @@ def check_drive(
                 + f" {float(n_rect):.1f} rpm, where all-off never rectifies"
                 + (
                     ", or safe_state all_off"
-                    if fastest != controller.speed_max_rpm
+                    if short_preferred
                     and short_peak(controller.speed_max_rpm)
                     <= protection.short_circuit_current_max_a
                     else ""

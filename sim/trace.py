@@ -31,8 +31,8 @@ def events_at(
     ends at the event, `left` after it and the balance): in a star winding the last two
     conducting phases reach zero together, the lone phase left cannot carry current.
     Recorded for the first only, a turn-off current that died with the non-commutating
-    one had no zero (a measured EMF with a negative lobe: the two runs of one commutation tied
-    which phase's zero came first, and their windows were 26 and 43 periods)."""
+    one had no zero (a measured EMF with a negative lobe: the two runs of one
+    commutation tied which phase's zero came first, windows of 26 and 43 periods)."""
     events = [Event(time, event.kind, event.phase)]
     if event.kind == "zero":
         events += [
