@@ -12,8 +12,10 @@ exits non-zero when flash exceeds `firmware.flash_budget` or RAM, stack included
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
+import signal
 import subprocess
 import sys
 from collections.abc import Sequence
@@ -152,12 +154,31 @@ def build(generated: Path, build_dir: Path, *, defines: Sequence[str] = ()) -> d
         return _build_in(generated, staging, defines)
 
 
+def _run_tool(argv: Sequence[str], cwd: Path | None = None) -> None:
+    """Run a toolchain step as subprocess.run(check=True) would, in a process group of its
+    own: interrupted (Ctrl-C), the whole group is killed and waited for before the
+    staging folder is removed. gcc's driver forks cc1 and as, which a kill of the driver
+    alone leaves running: a `make bench` interrupted in its build printed cc1's "cannot
+    open ... startup.su for writing" after its "interrupted" line (CI on a slow
+    machine)."""
+    process = subprocess.Popen(list(argv), cwd=cwd, start_new_session=True)
+    try:
+        status = process.wait()
+    except BaseException:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+        raise
+    if status != 0:
+        raise subprocess.CalledProcessError(status, list(argv))
+
+
 def _build_in(generated: Path, build_dir: Path, defines: Sequence[str]) -> dict[str, Sizes]:
     """`build` into the empty folder `build_dir`."""
     objects = {}
     for name, source in sources(generated).items():
         obj = build_dir / f"{name}.o"
-        subprocess.run(
+        _run_tool(
             [
                 "arm-none-eabi-gcc",
                 *CFLAGS,
@@ -170,14 +191,13 @@ def _build_in(generated: Path, build_dir: Path, defines: Sequence[str]) -> dict[
                 str(generated / source),
                 "-o",
                 str(obj),
-            ],
-            check=True,
+            ]
         )
         objects[name] = obj
     elf = build_dir / ELF
     # linked in the folder, so the map names the objects as they are there once moved
     # (core.o), not by the staging folder's path
-    subprocess.run(
+    _run_tool(
         [
             "arm-none-eabi-gcc",
             "-mcpu=cortex-m3",
@@ -191,13 +211,11 @@ def _build_in(generated: Path, build_dir: Path, defines: Sequence[str]) -> dict[
             ELF,
             f"-Wl,-Map={MAP}",
         ],
-        check=True,
         cwd=build_dir,
     )
     for kind, suffix in (("binary", "bin"), ("ihex", "hex")):
-        subprocess.run(
-            ["arm-none-eabi-objcopy", "-O", kind, str(elf), str(build_dir / f"firmware.{suffix}")],
-            check=True,
+        _run_tool(
+            ["arm-none-eabi-objcopy", "-O", kind, str(elf), str(build_dir / f"firmware.{suffix}")]
         )
     sizes = {name: section_sizes(obj) for name, obj in objects.items()}
     sizes[ELF] = section_sizes(elf)

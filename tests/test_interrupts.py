@@ -92,3 +92,34 @@ def test_the_bench_module_should_say_interrupted_in_one_line() -> None:
     _, err = bench.communicate(timeout=60)
     assert bench.returncode == 130, err
     assert "Traceback" not in err and err.strip().splitlines()[-1] == "interrupted", err
+
+
+def test_an_interrupted_toolchain_step_should_leave_none_of_its_processes(
+    tmp_path: Path,
+) -> None:
+    """gcc's driver forks cc1 and as; Ctrl-C during a build killed the driver alone, and
+    cc1 went on writing into the staging folder the build then removed ("cannot open
+    ... startup.su for writing" after bench's "interrupted": CI on a slow machine). A
+    step interrupted now takes its whole process group with it before it re-raises."""
+    from codegen.build_firmware import _run_tool
+
+    marker = tmp_path / "grandchild-wrote"
+    script = f"(sleep 1.5; touch {marker}) & wait"
+
+    def interrupt(_signum: int, _frame: object) -> None:
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    signal.setitimer(signal.ITIMER_REAL, 0.3)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            _run_tool(["bash", "-c", script])
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    time.sleep(2.0)  # past when the grandchild would have written
+    assert not marker.exists()
+    with pytest.raises(subprocess.CalledProcessError):
+        _run_tool(["bash", "-c", "exit 3"])
+    _run_tool(["bash", "-c", f"touch {marker}"])
+    assert marker.exists()
